@@ -1,0 +1,83 @@
+#pragma once
+// A scene: the objects, the sensor, the pose space, the appearance model
+// defaults and the data-collection protocol. Scenes are JSON files; the
+// built-in ones live in assets/scenes/ (see docs/scene-format.md).
+#include <sva/pose.hpp>
+#include <sva/reading.hpp>
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace sva {
+
+struct SceneObject {
+  std::string name;
+  std::filesystem::path mesh;   // absolute after loading (relative paths resolve against the scene file)
+  double size_mm = 80.0;        // largest bounding-box dimension after scaling; <= 0 keeps the mesh's units (mm)
+  bool center = true;           // move the bounding-box centre to the origin
+  Symmetry symmetry;
+  double inertial_radius_mm = 40.0;  // sphere radius of the inertial distance metric
+};
+
+// The compliant skin and its calibration (docs/sensor-model.md).
+struct SkinModel {
+  double stiffness_kpa_per_mm = 100.0;   // pressure per mm of penetration
+  double spread_mm = 0.6;                // std-dev of the elastic layer's spread
+  int rays_per_axis = 3;                 // rays per element = rays_per_axis^2
+  double noise_kpa = 0.0;                // std-dev of additive Gaussian noise
+  double contact_threshold_kpa = 2.0;    // an element is in contact above this
+  double target_pressure_kpa = 20.0;     // controller target for the mean pressure of contacting elements
+};
+
+struct PoseSpaceSpec {
+  enum class Kind { spatial, planar };  // spatial: 6-DOF (T xyz, Rodrigues xyz); planar: x, y, angle about z
+  Kind kind = Kind::spatial;
+  int translation_bins = 50;
+  double translation_min_mm = -200.0;
+  double translation_max_mm = 200.0;
+  int rotation_bins = 9;                 // per Rodrigues axis (planar: over [-pi, pi])
+};
+
+struct AppearanceSpec {
+  std::string descriptor = "mnti";  // "mn" or "mnti"
+  int clusters = 25;
+  int dist_bins = 40;
+  double dist_min_mm = 30.0;
+  double dist_max_mm = 160.0;
+};
+
+struct ProtocolSpec {
+  std::string kind = "paper3d";  // "paper3d" or "letters2d"
+  int train_per_object = 1000;   // paper3d; letters2d uses one reading per grid pose
+  int test_per_object = 100;
+  double approach_mm = 3.0;      // paper3d: start this far along the normal
+  double tilt_deg = 10.0;        // paper3d: random tilt of the initial sensor normal
+  int grid = 4;                  // letters2d: grid x grid positions
+  double grid_spacing_mm = 6.8;
+  int orientations = 12;
+  int max_iterations = 60;       // contact controller budget
+};
+
+struct Scene {
+  std::string name;
+  std::filesystem::path file;   // where it was loaded from (empty for in-memory scenes)
+  std::vector<SceneObject> objects;
+  SensorSpec sensor;
+  SkinModel skin;
+  PoseSpaceSpec pose_space;
+  AppearanceSpec appearance;
+  ProtocolSpec protocol;
+};
+
+// Parse a scene from JSON text; `origin` names the source in error messages and
+// is the directory relative mesh paths resolve against.
+Scene parse_scene(const std::string& json_text, const std::filesystem::path& origin);
+// Load a scene file, or a built-in scene by name ("paper3d", "letters2d").
+Scene load_scene(const std::string& name_or_file);
+// The scene serialised back to JSON (mesh paths absolute).
+std::string scene_to_json(const Scene& scene);
+// Directory of the built-in assets (env SVA_ASSETS overrides).
+std::filesystem::path assets_dir();
+
+}  // namespace sva

@@ -1,0 +1,101 @@
+// Dataset files (docs/file-formats.md): the producing scene as JSON, then one
+// fixed-size record per sample. The loader validates every value so that
+// later stages can trust finite numbers and in-range ids.
+#include <sva/dataset.hpp>
+
+#include <cmath>
+#include <string>
+
+#include "io/binary_file.hpp"
+
+namespace sva {
+
+namespace {
+constexpr char kMagic[] = "SVADATA1";
+constexpr std::uint32_t kVersion = 1;
+
+bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+void put3(io::BinaryWriter& w, const glm::dvec3& v) { w.put_array(&v.x, 3); }
+glm::dvec3 get3(io::BinaryReader& r) {
+  glm::dvec3 v;
+  r.get_array(&v.x, 3);
+  return v;
+}
+}  // namespace
+
+std::size_t Dataset::count_converged() const {
+  std::size_t n = 0;
+  for (const auto& s : samples) n += s.reading.status == ControllerStatus::converged;
+  return n;
+}
+
+void save_dataset(const Dataset& d, const std::filesystem::path& file) {
+  io::BinaryWriter w;
+  w.put_string(scene_to_json(d.scene));
+  w.put_string(d.split);
+  w.put<std::uint64_t>(d.seed);
+  w.put<std::uint64_t>(d.samples.size());
+  const auto elements = static_cast<std::size_t>(d.scene.sensor.elements());
+  for (const auto& s : d.samples) {
+    const Reading& r = s.reading;
+    if (r.pressure.size() != elements) throw std::logic_error("save_dataset: pressure image has the wrong size");
+    w.put<std::uint32_t>(r.object);
+    w.put<std::uint8_t>(static_cast<std::uint8_t>(r.status));
+    w.put<std::uint16_t>(r.iterations);
+    put3(w, r.position);
+    put3(w, r.normal);
+    put3(w, r.x_axis);
+    w.put_array(&s.object_pose.R[0][0], 9);
+    put3(w, s.object_pose.T);
+    w.put_array(r.pressure.data(), elements);
+  }
+  w.write_file(file, std::string_view(kMagic, 8), kVersion);
+}
+
+Dataset load_dataset(const std::filesystem::path& file) {
+  io::BinaryReader r(file, std::string_view(kMagic, 8), kVersion, "dataset");
+  Dataset d;
+  std::string scene_json = r.get_string(64 << 20);
+  try {
+    d.scene = parse_scene(scene_json, file);
+  } catch (const Error& e) {
+    r.fail(std::string("embedded scene is invalid: ") + e.what());
+  }
+  d.split = r.get_string();
+  d.seed = r.get<std::uint64_t>();
+  auto n = r.get<std::uint64_t>();
+  const auto elements = static_cast<std::size_t>(d.scene.sensor.elements());
+  const std::size_t record = 4 + 1 + 2 + 8 * (3 * 3 + 9 + 3) + 4 * elements;
+  if (n > r.remaining() / record) r.fail("sample count " + std::to_string(n) + " exceeds the file size");
+  d.samples.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    auto bad = [&](const std::string& what) { r.fail("sample " + std::to_string(i) + ": " + what); };
+    Sample& s = d.samples[i];
+    Reading& rd = s.reading;
+    rd.object = r.get<std::uint32_t>();
+    if (rd.object >= d.scene.objects.size()) bad("object id " + std::to_string(rd.object) + " out of range");
+    auto status = r.get<std::uint8_t>();
+    if (status > 2) bad("invalid controller status " + std::to_string(status));
+    rd.status = static_cast<ControllerStatus>(status);
+    rd.iterations = r.get<std::uint16_t>();
+    rd.position = get3(r);
+    rd.normal = get3(r);
+    rd.x_axis = get3(r);
+    r.get_array(&s.object_pose.R[0][0], 9);
+    s.object_pose.T = get3(r);
+    if (!finite(rd.position) || !finite(rd.normal) || !finite(rd.x_axis) || !finite(s.object_pose.T))
+      bad("non-finite sensor or object pose");
+    if (std::abs(glm::length(rd.normal) - 1.0) > 1e-6 || std::abs(glm::length(rd.x_axis) - 1.0) > 1e-6)
+      bad("sensor normal and x axis must be unit vectors");
+    for (int c = 0; c < 3; ++c)
+      if (!finite(s.object_pose.R[c])) bad("non-finite object rotation");
+    rd.pressure.resize(elements);
+    r.get_array(rd.pressure.data(), elements);
+    for (float p : rd.pressure)
+      if (!std::isfinite(p) || p < 0.0f) bad("pressure image holds a NaN, infinite or negative value");
+  }
+  r.expect_end();
+  return d;
+}
+
+}  // namespace sva

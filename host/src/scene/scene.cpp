@@ -1,0 +1,298 @@
+// Scene JSON: strict parsing. Every field is optional except the objects, but a
+// field that is present must have the right type and a sensible value; unknown
+// keys are refused so that typos do not silently fall back to defaults.
+#include <sva/error.hpp>
+#include <sva/scene.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <nlohmann/json.hpp>
+
+#ifndef SVA_SOURCE_ASSETS_DIR
+#define SVA_SOURCE_ASSETS_DIR ""
+#endif
+#ifndef SVA_INSTALL_ASSETS_DIR
+#define SVA_INSTALL_ASSETS_DIR ""
+#endif
+
+namespace sva {
+
+using nlohmann::json;
+
+namespace {
+
+class Ctx {
+ public:
+  explicit Ctx(std::string origin) : origin_(std::move(origin)) {}
+  [[noreturn]] void fail(const std::string& path, const std::string& what) const {
+    throw Error(origin_ + ": " + (path.empty() ? "" : path + ": ") + what);
+  }
+  void known_keys(const json& j, const std::string& path, std::initializer_list<const char*> keys) const {
+    std::set<std::string> ok(keys.begin(), keys.end());
+    for (auto it = j.begin(); it != j.end(); ++it)
+      if (!ok.count(it.key())) fail(path, "unknown key \"" + it.key() + "\"");
+  }
+  const json& object(const json& j, const std::string& path) const {
+    if (!j.is_object()) fail(path, "expected a JSON object, got " + std::string(j.type_name()));
+    return j;
+  }
+  double number(const json& j, const std::string& path, double lo, double hi) const {
+    if (!j.is_number()) fail(path, "expected a number, got " + std::string(j.type_name()));
+    double v = j.get<double>();
+    if (!std::isfinite(v) || v < lo || v > hi)
+      fail(path, "value " + j.dump() + " is out of range [" + fmt(lo) + ", " + fmt(hi) + "]");
+    return v;
+  }
+  int integer(const json& j, const std::string& path, int lo, int hi) const {
+    if (!j.is_number_integer()) fail(path, "expected an integer, got " + j.dump());
+    auto v = j.get<long long>();
+    if (v < lo || v > hi) fail(path, "value " + j.dump() + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    return static_cast<int>(v);
+  }
+  std::string string(const json& j, const std::string& path) const {
+    if (!j.is_string()) fail(path, "expected a string, got " + std::string(j.type_name()));
+    return j.get<std::string>();
+  }
+  bool boolean(const json& j, const std::string& path) const {
+    if (!j.is_boolean()) fail(path, "expected true or false, got " + j.dump());
+    return j.get<bool>();
+  }
+  glm::dvec3 unit_vec3(const json& j, const std::string& path) const {
+    if (!j.is_array() || j.size() != 3) fail(path, "expected an array of 3 numbers");
+    glm::dvec3 v(number(j[0], path + "[0]", -1e6, 1e6), number(j[1], path + "[1]", -1e6, 1e6),
+                 number(j[2], path + "[2]", -1e6, 1e6));
+    if (glm::length(v) < 1e-9) fail(path, "axis has zero length");
+    return glm::normalize(v);
+  }
+  static std::string fmt(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+  }
+
+ private:
+  std::string origin_;
+};
+
+template <class F>
+void opt(const json& j, const char* key, F&& f) {
+  if (j.contains(key)) f(j.at(key));
+}
+
+Symmetry parse_symmetry(const Ctx& c, const json& j, const std::string& path) {
+  Symmetry s;
+  if (j.is_string()) {
+    if (j.get<std::string>() != "none") c.fail(path, "expected \"none\" or an object {\"type\": \"axis\"|\"cyclic\", ...}");
+    return s;
+  }
+  c.object(j, path);
+  c.known_keys(j, path, {"type", "axis", "order"});
+  if (!j.contains("type")) c.fail(path, "missing \"type\"");
+  std::string type = c.string(j["type"], path + ".type");
+  if (type == "none") return s;
+  glm::dvec3 axis{0, 0, 1};
+  opt(j, "axis", [&](const json& a) { axis = c.unit_vec3(a, path + ".axis"); });
+  if (type == "axis") {
+    s.kind = Symmetry::Kind::axis;
+    s.axis = axis;
+  } else if (type == "cyclic") {
+    if (!j.contains("order")) c.fail(path, "cyclic symmetry needs \"order\"");
+    int order = c.integer(j["order"], path + ".order", 1, 360);
+    s.kind = Symmetry::Kind::discrete;
+    s.axis = axis;
+    for (int k = 0; k < order; ++k)
+      s.rotations.push_back(glm::dmat3(glm::rotate(glm::dmat4(1.0), 2.0 * M_PI * k / order, axis)));
+  } else {
+    c.fail(path + ".type", "unknown symmetry type \"" + type + "\" (none, axis, cyclic)");
+  }
+  return s;
+}
+
+json symmetry_to_json(const Symmetry& s) {
+  switch (s.kind) {
+    case Symmetry::Kind::none: return "none";
+    case Symmetry::Kind::axis: return {{"type", "axis"}, {"axis", {s.axis.x, s.axis.y, s.axis.z}}};
+    case Symmetry::Kind::discrete:
+      return {{"type", "cyclic"}, {"axis", {s.axis.x, s.axis.y, s.axis.z}}, {"order", s.rotations.size()}};
+  }
+  return "none";
+}
+
+}  // namespace
+
+std::filesystem::path assets_dir() {
+  if (const char* env = std::getenv("SVA_ASSETS")) return env;
+  std::error_code ec;
+  std::filesystem::path src = SVA_SOURCE_ASSETS_DIR;
+  if (!src.empty() && std::filesystem::exists(src / "scenes", ec)) return src;
+  return SVA_INSTALL_ASSETS_DIR;
+}
+
+Scene parse_scene(const std::string& text, const std::filesystem::path& origin) {
+  Ctx c(origin.string());
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const json::parse_error& e) {
+    c.fail("", std::string("invalid JSON: ") + e.what());
+  }
+  c.object(j, "");
+  c.known_keys(j, "", {"name", "objects", "sensor", "skin", "pose_space", "appearance", "protocol", "comment"});
+  Scene s;
+  s.file = origin;
+  s.name = origin.stem().string();
+  opt(j, "name", [&](const json& v) { s.name = c.string(v, "name"); });
+  if (!j.contains("objects")) c.fail("", "missing \"objects\"");
+  const json& objs = j["objects"];
+  if (!objs.is_array() || objs.empty()) c.fail("objects", "expected a non-empty array of objects");
+  auto base = origin.has_parent_path() ? origin.parent_path() : std::filesystem::path(".");
+  std::set<std::string> names;
+  for (std::size_t i = 0; i < objs.size(); ++i) {
+    std::string p = "objects[" + std::to_string(i) + "]";
+    const json& o = c.object(objs[i], p);
+    c.known_keys(o, p, {"name", "mesh", "size_mm", "center", "symmetry", "inertial_radius_mm"});
+    SceneObject so;
+    if (!o.contains("mesh")) c.fail(p, "missing \"mesh\"");
+    std::filesystem::path mesh = c.string(o["mesh"], p + ".mesh");
+    if (mesh.empty()) c.fail(p + ".mesh", "empty path");
+    so.mesh = mesh.is_absolute() ? mesh : std::filesystem::absolute(base / mesh).lexically_normal();
+    so.name = mesh.stem().string();
+    opt(o, "name", [&](const json& v) { so.name = c.string(v, p + ".name"); });
+    if (so.name.empty()) c.fail(p + ".name", "empty name");
+    if (!names.insert(so.name).second) c.fail(p + ".name", "duplicate object name \"" + so.name + "\"");
+    opt(o, "size_mm", [&](const json& v) { so.size_mm = c.number(v, p + ".size_mm", 0.0, 1e5); });
+    opt(o, "center", [&](const json& v) { so.center = c.boolean(v, p + ".center"); });
+    opt(o, "symmetry", [&](const json& v) { so.symmetry = parse_symmetry(c, v, p + ".symmetry"); });
+    so.inertial_radius_mm = so.size_mm > 0 ? so.size_mm / 2 : 40.0;
+    opt(o, "inertial_radius_mm", [&](const json& v) { so.inertial_radius_mm = c.number(v, p + ".inertial_radius_mm", 1e-3, 1e5); });
+    s.objects.push_back(std::move(so));
+  }
+  opt(j, "sensor", [&](const json& v) {
+    c.object(v, "sensor");
+    c.known_keys(v, "sensor", {"rows", "cols", "pitch_mm"});
+    opt(v, "rows", [&](const json& x) { s.sensor.rows = c.integer(x, "sensor.rows", 1, 64); });
+    opt(v, "cols", [&](const json& x) { s.sensor.cols = c.integer(x, "sensor.cols", 1, 64); });
+    opt(v, "pitch_mm", [&](const json& x) { s.sensor.pitch_mm = c.number(x, "sensor.pitch_mm", 0.01, 100.0); });
+  });
+  opt(j, "skin", [&](const json& v) {
+    c.object(v, "skin");
+    c.known_keys(v, "skin", {"stiffness_kpa_per_mm", "spread_mm", "rays_per_axis", "noise_kpa", "contact_threshold_kpa", "target_pressure_kpa"});
+    auto& k = s.skin;
+    opt(v, "stiffness_kpa_per_mm", [&](const json& x) { k.stiffness_kpa_per_mm = c.number(x, "skin.stiffness_kpa_per_mm", 1e-3, 1e6); });
+    opt(v, "spread_mm", [&](const json& x) { k.spread_mm = c.number(x, "skin.spread_mm", 0.0, 100.0); });
+    opt(v, "rays_per_axis", [&](const json& x) { k.rays_per_axis = c.integer(x, "skin.rays_per_axis", 1, 16); });
+    opt(v, "noise_kpa", [&](const json& x) { k.noise_kpa = c.number(x, "skin.noise_kpa", 0.0, 1e6); });
+    opt(v, "contact_threshold_kpa", [&](const json& x) { k.contact_threshold_kpa = c.number(x, "skin.contact_threshold_kpa", 0.0, 1e6); });
+    opt(v, "target_pressure_kpa", [&](const json& x) { k.target_pressure_kpa = c.number(x, "skin.target_pressure_kpa", 1e-3, 1e6); });
+    if (k.contact_threshold_kpa >= k.target_pressure_kpa) c.fail("skin", "contact_threshold_kpa must be below target_pressure_kpa");
+  });
+  opt(j, "pose_space", [&](const json& v) {
+    c.object(v, "pose_space");
+    c.known_keys(v, "pose_space", {"kind", "translation_bins", "translation_range_mm", "rotation_bins"});
+    auto& ps = s.pose_space;
+    opt(v, "kind", [&](const json& x) {
+      std::string k = c.string(x, "pose_space.kind");
+      if (k == "spatial") ps.kind = PoseSpaceSpec::Kind::spatial;
+      else if (k == "planar") ps.kind = PoseSpaceSpec::Kind::planar;
+      else c.fail("pose_space.kind", "expected \"spatial\" (6-DOF) or \"planar\" (x, y, angle), got \"" + k + "\"");
+    });
+    opt(v, "translation_bins", [&](const json& x) { ps.translation_bins = c.integer(x, "pose_space.translation_bins", 1, 4096); });
+    opt(v, "rotation_bins", [&](const json& x) { ps.rotation_bins = c.integer(x, "pose_space.rotation_bins", 1, 4096); });
+    opt(v, "translation_range_mm", [&](const json& x) {
+      if (!x.is_array() || x.size() != 2) c.fail("pose_space.translation_range_mm", "expected [min, max]");
+      ps.translation_min_mm = c.number(x[0], "pose_space.translation_range_mm[0]", -1e6, 1e6);
+      ps.translation_max_mm = c.number(x[1], "pose_space.translation_range_mm[1]", -1e6, 1e6);
+      if (ps.translation_min_mm >= ps.translation_max_mm) c.fail("pose_space.translation_range_mm", "min must be below max");
+    });
+  });
+  if (s.pose_space.kind == PoseSpaceSpec::Kind::planar) {  // the letters defaults (paper Sec 5.2); overridden below
+    s.appearance = {"mn", 100, 100, 3.0, 20.0};
+  }
+  opt(j, "appearance", [&](const json& v) {
+    c.object(v, "appearance");
+    c.known_keys(v, "appearance", {"descriptor", "clusters", "dist_bins", "dist_range_mm"});
+    auto& a = s.appearance;
+    opt(v, "descriptor", [&](const json& x) {
+      a.descriptor = c.string(x, "appearance.descriptor");
+      if (a.descriptor != "mn" && a.descriptor != "mnti") c.fail("appearance.descriptor", "expected \"mn\" or \"mnti\", got \"" + a.descriptor + "\"");
+    });
+    opt(v, "clusters", [&](const json& x) { a.clusters = c.integer(x, "appearance.clusters", 1, 4096); });
+    opt(v, "dist_bins", [&](const json& x) { a.dist_bins = c.integer(x, "appearance.dist_bins", 1, 65535); });
+    opt(v, "dist_range_mm", [&](const json& x) {
+      if (!x.is_array() || x.size() != 2) c.fail("appearance.dist_range_mm", "expected [min, max]");
+      a.dist_min_mm = c.number(x[0], "appearance.dist_range_mm[0]", 0.0, 1e6);
+      a.dist_max_mm = c.number(x[1], "appearance.dist_range_mm[1]", 0.0, 1e6);
+      if (a.dist_min_mm >= a.dist_max_mm) c.fail("appearance.dist_range_mm", "min must be below max");
+    });
+  });
+  opt(j, "protocol", [&](const json& v) {
+    c.object(v, "protocol");
+    c.known_keys(v, "protocol", {"kind", "train_per_object", "test_per_object", "approach_mm", "tilt_deg", "grid", "grid_spacing_mm", "orientations", "max_iterations"});
+    auto& p = s.protocol;
+    opt(v, "kind", [&](const json& x) {
+      p.kind = c.string(x, "protocol.kind");
+      if (p.kind != "paper3d" && p.kind != "letters2d") c.fail("protocol.kind", "expected \"paper3d\" or \"letters2d\", got \"" + p.kind + "\"");
+    });
+    opt(v, "train_per_object", [&](const json& x) { p.train_per_object = c.integer(x, "protocol.train_per_object", 0, 1000000); });
+    opt(v, "test_per_object", [&](const json& x) { p.test_per_object = c.integer(x, "protocol.test_per_object", 0, 1000000); });
+    opt(v, "approach_mm", [&](const json& x) { p.approach_mm = c.number(x, "protocol.approach_mm", 0.0, 100.0); });
+    opt(v, "tilt_deg", [&](const json& x) { p.tilt_deg = c.number(x, "protocol.tilt_deg", 0.0, 60.0); });
+    opt(v, "grid", [&](const json& x) { p.grid = c.integer(x, "protocol.grid", 1, 100); });
+    opt(v, "grid_spacing_mm", [&](const json& x) { p.grid_spacing_mm = c.number(x, "protocol.grid_spacing_mm", 0.0, 1000.0); });
+    opt(v, "orientations", [&](const json& x) { p.orientations = c.integer(x, "protocol.orientations", 1, 360); });
+    opt(v, "max_iterations", [&](const json& x) { p.max_iterations = c.integer(x, "protocol.max_iterations", 1, 10000); });
+  });
+  return s;
+}
+
+Scene load_scene(const std::string& name_or_file) {
+  std::filesystem::path file = name_or_file;
+  std::error_code ec;
+  if (!std::filesystem::exists(file, ec) && file.extension() != ".json") {
+    auto builtin = assets_dir() / "scenes" / (name_or_file + ".json");
+    if (!std::filesystem::exists(builtin, ec))
+      throw Error("scene \"" + name_or_file + "\": no such file and no built-in scene of that name (built-ins: paper3d, letters2d)");
+    file = builtin;
+  }
+  std::ifstream in(file);
+  if (!in || std::filesystem::is_directory(file, ec)) throw Error(file.string() + ": cannot read scene file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  if (ss.str().empty()) throw Error(file.string() + ": empty scene file");
+  return parse_scene(ss.str(), std::filesystem::absolute(file));
+}
+
+std::string scene_to_json(const Scene& s) {
+  json objs = json::array();
+  for (const auto& o : s.objects)
+    objs.push_back({{"name", o.name}, {"mesh", o.mesh.string()}, {"size_mm", o.size_mm}, {"center", o.center},
+                    {"symmetry", symmetry_to_json(o.symmetry)}, {"inertial_radius_mm", o.inertial_radius_mm}});
+  json j = {
+      {"name", s.name},
+      {"objects", objs},
+      {"sensor", {{"rows", s.sensor.rows}, {"cols", s.sensor.cols}, {"pitch_mm", s.sensor.pitch_mm}}},
+      {"skin", {{"stiffness_kpa_per_mm", s.skin.stiffness_kpa_per_mm}, {"spread_mm", s.skin.spread_mm},
+                {"rays_per_axis", s.skin.rays_per_axis}, {"noise_kpa", s.skin.noise_kpa},
+                {"contact_threshold_kpa", s.skin.contact_threshold_kpa}, {"target_pressure_kpa", s.skin.target_pressure_kpa}}},
+      {"pose_space", {{"kind", s.pose_space.kind == PoseSpaceSpec::Kind::planar ? "planar" : "spatial"},
+                      {"translation_bins", s.pose_space.translation_bins},
+                      {"translation_range_mm", {s.pose_space.translation_min_mm, s.pose_space.translation_max_mm}},
+                      {"rotation_bins", s.pose_space.rotation_bins}}},
+      {"appearance", {{"descriptor", s.appearance.descriptor}, {"clusters", s.appearance.clusters},
+                      {"dist_bins", s.appearance.dist_bins},
+                      {"dist_range_mm", {s.appearance.dist_min_mm, s.appearance.dist_max_mm}}}},
+      {"protocol", {{"kind", s.protocol.kind}, {"train_per_object", s.protocol.train_per_object},
+                    {"test_per_object", s.protocol.test_per_object}, {"approach_mm", s.protocol.approach_mm},
+                    {"tilt_deg", s.protocol.tilt_deg}, {"grid", s.protocol.grid},
+                    {"grid_spacing_mm", s.protocol.grid_spacing_mm}, {"orientations", s.protocol.orientations},
+                    {"max_iterations", s.protocol.max_iterations}}},
+  };
+  return j.dump(2);
+}
+
+}  // namespace sva

@@ -1,0 +1,407 @@
+#include "vulkan/context.hpp"
+
+#include <sva/error.hpp>
+
+#include <algorithm>
+#include <cstdlib>
+#include <cstring>
+#include <mutex>
+
+namespace sva::vk {
+
+namespace {
+
+void check(VkResult r, const char* what) {
+  if (r != VK_SUCCESS) throw Error(std::string("Vulkan: ") + what + " failed (VkResult " + std::to_string(r) + ")");
+}
+
+const char* type_name(VkPhysicalDeviceType t) {
+  switch (t) {
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete";
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated";
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual";
+    case VK_PHYSICAL_DEVICE_TYPE_CPU: return "cpu";
+    default: return "other";
+  }
+}
+
+}  // namespace
+
+struct Context::State {
+  VkInstance instance = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT messenger = VK_NULL_HANDLE;
+  VkPhysicalDevice physical = VK_NULL_HANDLE;
+  VkDevice device = VK_NULL_HANDLE;
+  VkQueue queue = VK_NULL_HANDLE;
+  std::uint32_t queue_family = 0;
+  VkCommandPool command_pool = VK_NULL_HANDLE;
+  VkDescriptorPool descriptor_pool = VK_NULL_HANDLE;
+  VkFence fence = VK_NULL_HANDLE;
+  VkPhysicalDeviceMemoryProperties memory{};
+  std::mutex log_mutex;
+  std::vector<std::string> log;
+};
+
+namespace {
+VKAPI_ATTR VkBool32 VKAPI_CALL on_validation(VkDebugUtilsMessageSeverityFlagBitsEXT severity,
+                                             VkDebugUtilsMessageTypeFlagsEXT, const VkDebugUtilsMessengerCallbackDataEXT* data,
+                                             void* user) {
+  if (severity >= VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT) {
+    auto* s = static_cast<Context::State*>(user);
+    std::lock_guard lock(s->log_mutex);
+    s->log.emplace_back(data && data->pMessage ? data->pMessage : "(no message)");
+  }
+  return VK_FALSE;
+}
+}  // namespace
+
+ContextOptions Context::from_environment() {
+  ContextOptions o;
+  if (const char* d = std::getenv("SVA_VK_DEVICE")) o.device = d;
+  if (const char* v = std::getenv("SVA_VK_VALIDATION")) o.validation = std::string(v) == "1";
+  return o;
+}
+
+Context::Context(const ContextOptions& options) : s_(std::make_unique<State>()) {
+  VkApplicationInfo app{VK_STRUCTURE_TYPE_APPLICATION_INFO};
+  app.pApplicationName = "sva";
+  app.apiVersion = VK_API_VERSION_1_2;
+
+  std::vector<const char*> layers, extensions;
+  if (options.validation) {
+    std::uint32_t n = 0;
+    vkEnumerateInstanceLayerProperties(&n, nullptr);
+    std::vector<VkLayerProperties> props(n);
+    vkEnumerateInstanceLayerProperties(&n, props.data());
+    bool have = std::any_of(props.begin(), props.end(),
+                            [](const auto& p) { return std::strcmp(p.layerName, "VK_LAYER_KHRONOS_validation") == 0; });
+    if (!have) throw Error("Vulkan validation requested (SVA_VK_VALIDATION=1) but VK_LAYER_KHRONOS_validation is not installed (apt-get install vulkan-validationlayers)");
+    layers.push_back("VK_LAYER_KHRONOS_validation");
+    extensions.push_back(VK_EXT_DEBUG_UTILS_EXTENSION_NAME);
+  }
+  VkInstanceCreateInfo ici{VK_STRUCTURE_TYPE_INSTANCE_CREATE_INFO};
+  ici.pApplicationInfo = &app;
+  ici.enabledLayerCount = static_cast<std::uint32_t>(layers.size());
+  ici.ppEnabledLayerNames = layers.data();
+  ici.enabledExtensionCount = static_cast<std::uint32_t>(extensions.size());
+  ici.ppEnabledExtensionNames = extensions.data();
+  VkResult r = vkCreateInstance(&ici, nullptr, &s_->instance);
+  if (r == VK_ERROR_INCOMPATIBLE_DRIVER || r == VK_ERROR_INITIALIZATION_FAILED)
+    throw Error("no Vulkan device: no Vulkan driver is installed (apt-get install mesa-vulkan-drivers for the lavapipe CPU driver)");
+  check(r, "vkCreateInstance");
+  if (options.validation) {
+    auto create = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(s_->instance, "vkCreateDebugUtilsMessengerEXT"));
+    VkDebugUtilsMessengerCreateInfoEXT mci{VK_STRUCTURE_TYPE_DEBUG_UTILS_MESSENGER_CREATE_INFO_EXT};
+    mci.messageSeverity = VK_DEBUG_UTILS_MESSAGE_SEVERITY_WARNING_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_SEVERITY_ERROR_BIT_EXT;
+    mci.messageType = VK_DEBUG_UTILS_MESSAGE_TYPE_GENERAL_BIT_EXT | VK_DEBUG_UTILS_MESSAGE_TYPE_VALIDATION_BIT_EXT |
+                      VK_DEBUG_UTILS_MESSAGE_TYPE_PERFORMANCE_BIT_EXT;
+    mci.pfnUserCallback = on_validation;
+    mci.pUserData = s_.get();
+    if (create) check(create(s_->instance, &mci, nullptr, &s_->messenger), "vkCreateDebugUtilsMessengerEXT");
+  }
+
+  std::uint32_t count = 0;
+  vkEnumeratePhysicalDevices(s_->instance, &count, nullptr);
+  std::vector<VkPhysicalDevice> devices(count);
+  vkEnumeratePhysicalDevices(s_->instance, &count, devices.data());
+
+  // Candidates must have a compute queue, 64-bit integers and 64-bit buffer atomics.
+  struct Candidate { VkPhysicalDevice dev; VkPhysicalDeviceProperties props; std::uint32_t family; };
+  std::vector<Candidate> ok;
+  std::string rejected;
+  for (auto dev : devices) {
+    VkPhysicalDeviceProperties props;
+    vkGetPhysicalDeviceProperties(dev, &props);
+    VkPhysicalDeviceShaderAtomicInt64Features atomics{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES};
+    VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+    f2.pNext = &atomics;
+    vkGetPhysicalDeviceFeatures2(dev, &f2);
+    std::uint32_t nq = 0;
+    vkGetPhysicalDeviceQueueFamilyProperties(dev, &nq, nullptr);
+    std::vector<VkQueueFamilyProperties> qf(nq);
+    vkGetPhysicalDeviceQueueFamilyProperties(dev, &nq, qf.data());
+    std::uint32_t family = UINT32_MAX;
+    for (std::uint32_t i = 0; i < nq; ++i)
+      if (qf[i].queueFlags & VK_QUEUE_COMPUTE_BIT) { family = i; break; }
+    if (family == UINT32_MAX || !f2.features.shaderInt64 || !atomics.shaderBufferInt64Atomics ||
+        props.apiVersion < VK_API_VERSION_1_2) {
+      rejected += std::string(" ") + props.deviceName + " (lacks compute/int64 atomics/Vulkan 1.2);";
+      continue;
+    }
+    ok.push_back({dev, props, family});
+  }
+  if (ok.empty())
+    throw Error("no Vulkan device: " + (devices.empty() ? std::string("the loader found no physical device") : "none usable:" + rejected));
+
+  const Candidate* pick = nullptr;
+  if (!options.device.empty()) {
+    char* end = nullptr;
+    long idx = std::strtol(options.device.c_str(), &end, 10);
+    if (end && *end == '\0') {
+      if (idx < 0 || static_cast<std::size_t>(idx) >= ok.size())
+        throw Error("Vulkan device index " + options.device + " out of range (" + std::to_string(ok.size()) + " usable)");
+      pick = &ok[static_cast<std::size_t>(idx)];
+    } else {
+      for (const auto& c : ok)
+        if (std::string(c.props.deviceName).find(options.device) != std::string::npos) { pick = &c; break; }
+      if (!pick) throw Error("no Vulkan device matches \"" + options.device + "\"");
+    }
+  } else {
+    auto rank = [](VkPhysicalDeviceType t) {
+      switch (t) {
+        case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 0;
+        case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 1;
+        case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
+        case VK_PHYSICAL_DEVICE_TYPE_CPU: return 3;
+        default: return 4;
+      }
+    };
+    pick = &*std::min_element(ok.begin(), ok.end(),
+                              [&](const auto& a, const auto& b) { return rank(a.props.deviceType) < rank(b.props.deviceType); });
+  }
+  s_->physical = pick->dev;
+  s_->queue_family = pick->family;
+  info_.name = pick->props.deviceName;
+  info_.type = type_name(pick->props.deviceType);
+  info_.max_storage_buffer_range = pick->props.limits.maxStorageBufferRange;
+  info_.max_workgroup_count_x = pick->props.limits.maxComputeWorkGroupCount[0];
+  vkGetPhysicalDeviceMemoryProperties(s_->physical, &s_->memory);
+
+  float priority = 1.0f;
+  VkDeviceQueueCreateInfo qci{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
+  qci.queueFamilyIndex = s_->queue_family;
+  qci.queueCount = 1;
+  qci.pQueuePriorities = &priority;
+  VkPhysicalDeviceShaderAtomicInt64Features atomics{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES};
+  atomics.shaderBufferInt64Atomics = VK_TRUE;
+  VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
+  f2.pNext = &atomics;
+  f2.features.shaderInt64 = VK_TRUE;
+  VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
+  dci.pNext = &f2;
+  dci.queueCreateInfoCount = 1;
+  dci.pQueueCreateInfos = &qci;
+  check(vkCreateDevice(s_->physical, &dci, nullptr, &s_->device), "vkCreateDevice");
+  vkGetDeviceQueue(s_->device, s_->queue_family, 0, &s_->queue);
+
+  VkCommandPoolCreateInfo cpi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
+  cpi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
+  cpi.queueFamilyIndex = s_->queue_family;
+  check(vkCreateCommandPool(s_->device, &cpi, nullptr, &s_->command_pool), "vkCreateCommandPool");
+  VkFenceCreateInfo fci{VK_STRUCTURE_TYPE_FENCE_CREATE_INFO};
+  check(vkCreateFence(s_->device, &fci, nullptr, &s_->fence), "vkCreateFence");
+}
+
+Context::~Context() {
+  if (!s_) return;
+  if (s_->device) {
+    vkDeviceWaitIdle(s_->device);
+    if (s_->descriptor_pool) vkDestroyDescriptorPool(s_->device, s_->descriptor_pool, nullptr);
+    if (s_->fence) vkDestroyFence(s_->device, s_->fence, nullptr);
+    if (s_->command_pool) vkDestroyCommandPool(s_->device, s_->command_pool, nullptr);
+    vkDestroyDevice(s_->device, nullptr);
+  }
+  if (s_->messenger) {
+    auto destroy = reinterpret_cast<PFN_vkDestroyDebugUtilsMessengerEXT>(
+        vkGetInstanceProcAddr(s_->instance, "vkDestroyDebugUtilsMessengerEXT"));
+    if (destroy) destroy(s_->instance, s_->messenger, nullptr);
+  }
+  if (s_->instance) vkDestroyInstance(s_->instance, nullptr);
+}
+
+std::uint32_t Context::validation_messages() const {
+  std::lock_guard lock(s_->log_mutex);
+  return static_cast<std::uint32_t>(s_->log.size());
+}
+const std::vector<std::string>& Context::validation_log() const { return s_->log; }
+
+Buffer Context::create_buffer(std::size_t bytes) {
+  if (bytes == 0) bytes = 16;
+  Buffer b;
+  b.device_ = s_->device;
+  b.size_ = bytes;
+  VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  bci.size = bytes;
+  bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT;
+  bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  check(vkCreateBuffer(s_->device, &bci, nullptr, &b.buffer_), "vkCreateBuffer");
+  VkMemoryRequirements req;
+  vkGetBufferMemoryRequirements(s_->device, b.buffer_, &req);
+  // Host-visible, coherent memory: the host fills inputs and reads results
+  // without staging copies (fast on lavapipe and on unified/ReBAR memory).
+  const VkMemoryPropertyFlags want = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  std::uint32_t type = UINT32_MAX;
+  for (std::uint32_t i = 0; i < s_->memory.memoryTypeCount; ++i)
+    if ((req.memoryTypeBits & (1u << i)) && (s_->memory.memoryTypes[i].propertyFlags & want) == want) { type = i; break; }
+  if (type == UINT32_MAX) throw Error("Vulkan: no host-visible coherent memory type");
+  VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  mai.allocationSize = req.size;
+  mai.memoryTypeIndex = type;
+  VkResult r = vkAllocateMemory(s_->device, &mai, nullptr, &b.memory_);
+  if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY)
+    throw Error("Vulkan: out of memory allocating " + std::to_string(bytes) + " bytes");
+  check(r, "vkAllocateMemory");
+  check(vkBindBufferMemory(s_->device, b.buffer_, b.memory_, 0), "vkBindBufferMemory");
+  check(vkMapMemory(s_->device, b.memory_, 0, VK_WHOLE_SIZE, 0, &b.mapped_), "vkMapMemory");
+  std::memset(b.mapped_, 0, bytes);
+  return b;
+}
+
+Pipeline Context::create_pipeline(std::span<const std::uint32_t> spirv, std::uint32_t bindings, std::uint32_t push_bytes) {
+  Pipeline p;
+  p.device_ = s_->device;
+  p.bindings_ = bindings;
+  p.push_bytes_ = push_bytes;
+  VkShaderModuleCreateInfo smi{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  smi.codeSize = spirv.size_bytes();
+  smi.pCode = spirv.data();
+  check(vkCreateShaderModule(s_->device, &smi, nullptr, &p.module_), "vkCreateShaderModule");
+  std::vector<VkDescriptorSetLayoutBinding> b(bindings);
+  for (std::uint32_t i = 0; i < bindings; ++i)
+    b[i] = {i, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, 1, VK_SHADER_STAGE_COMPUTE_BIT, nullptr};
+  VkDescriptorSetLayoutCreateInfo dli{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  dli.bindingCount = bindings;
+  dli.pBindings = b.data();
+  check(vkCreateDescriptorSetLayout(s_->device, &dli, nullptr, &p.set_layout_), "vkCreateDescriptorSetLayout");
+  VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, push_bytes};
+  VkPipelineLayoutCreateInfo pli{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  pli.setLayoutCount = 1;
+  pli.pSetLayouts = &p.set_layout_;
+  pli.pushConstantRangeCount = push_bytes ? 1 : 0;
+  pli.pPushConstantRanges = push_bytes ? &range : nullptr;
+  check(vkCreatePipelineLayout(s_->device, &pli, nullptr, &p.layout_), "vkCreatePipelineLayout");
+  VkComputePipelineCreateInfo cpi{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  cpi.stage = {VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO, nullptr, 0, VK_SHADER_STAGE_COMPUTE_BIT, p.module_, "main", nullptr};
+  cpi.layout = p.layout_;
+  check(vkCreateComputePipelines(s_->device, VK_NULL_HANDLE, 1, &cpi, nullptr, &p.pipeline_), "vkCreateComputePipelines");
+  return p;
+}
+
+void Context::run(const std::vector<Dispatch>& dispatches) {
+  if (dispatches.empty()) return;
+  if (s_->descriptor_pool) {
+    vkDestroyDescriptorPool(s_->device, s_->descriptor_pool, nullptr);
+    s_->descriptor_pool = VK_NULL_HANDLE;
+  }
+  std::uint32_t total_bindings = 0;
+  for (const auto& d : dispatches) total_bindings += std::max(1u, d.pipeline->bindings_);
+  VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, total_bindings};
+  VkDescriptorPoolCreateInfo dpi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
+  dpi.maxSets = static_cast<std::uint32_t>(dispatches.size());
+  dpi.poolSizeCount = 1;
+  dpi.pPoolSizes = &ps;
+  check(vkCreateDescriptorPool(s_->device, &dpi, nullptr, &s_->descriptor_pool), "vkCreateDescriptorPool");
+
+  VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  cai.commandPool = s_->command_pool;
+  cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  cai.commandBufferCount = 1;
+  VkCommandBuffer cmd;
+  check(vkAllocateCommandBuffers(s_->device, &cai, &cmd), "vkAllocateCommandBuffers");
+  VkCommandBufferBeginInfo cbi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  cbi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  check(vkBeginCommandBuffer(cmd, &cbi), "vkBeginCommandBuffer");
+  bool first = true;
+  for (const auto& d : dispatches) {
+    const Pipeline& p = *d.pipeline;
+    if (d.buffers.size() != p.bindings_) throw std::logic_error("Dispatch: buffer count does not match the pipeline");
+    if (d.push.size() != p.push_bytes_) throw std::logic_error("Dispatch: push-constant size does not match the pipeline");
+    if (d.groups_x > info_.max_workgroup_count_x) throw std::logic_error("Dispatch: too many workgroups");
+    VkDescriptorSetAllocateInfo dai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
+    dai.descriptorPool = s_->descriptor_pool;
+    dai.descriptorSetCount = 1;
+    dai.pSetLayouts = &p.set_layout_;
+    VkDescriptorSet set;
+    check(vkAllocateDescriptorSets(s_->device, &dai, &set), "vkAllocateDescriptorSets");
+    std::vector<VkDescriptorBufferInfo> infos(p.bindings_);
+    std::vector<VkWriteDescriptorSet> writes(p.bindings_);
+    for (std::uint32_t i = 0; i < p.bindings_; ++i) {
+      if (d.buffers[i]->size() > info_.max_storage_buffer_range)
+        throw std::logic_error("Dispatch: a binding exceeds maxStorageBufferRange; the caller must chunk it");
+      infos[i] = {d.buffers[i]->handle(), 0, VK_WHOLE_SIZE};
+      writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, set, i, 0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, nullptr, &infos[i], nullptr};
+    }
+    vkUpdateDescriptorSets(s_->device, p.bindings_, writes.data(), 0, nullptr);
+    if (!first) {
+      VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_SHADER_READ_BIT,
+                         VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT};
+      vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, 0, 1, &mb, 0,
+                           nullptr, 0, nullptr);
+    }
+    first = false;
+    vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline_);
+    vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout_, 0, 1, &set, 0, nullptr);
+    if (p.push_bytes_) vkCmdPushConstants(cmd, p.layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, p.push_bytes_, d.push.data());
+    if (d.groups_x) vkCmdDispatch(cmd, d.groups_x, 1, 1);
+  }
+  // Make shader writes visible to the host's mapped reads.
+  VkMemoryBarrier hb{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT};
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &hb, 0, nullptr, 0, nullptr);
+  check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+  VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
+  si.commandBufferCount = 1;
+  si.pCommandBuffers = &cmd;
+  check(vkResetFences(s_->device, 1, &s_->fence), "vkResetFences");
+  check(vkQueueSubmit(s_->queue, 1, &si, s_->fence), "vkQueueSubmit");
+  VkResult w = vkWaitForFences(s_->device, 1, &s_->fence, VK_TRUE, UINT64_MAX);
+  vkFreeCommandBuffers(s_->device, s_->command_pool, 1, &cmd);
+  check(w, "vkWaitForFences");
+}
+
+void Buffer::release() {
+  if (device_) {
+    if (mapped_) vkUnmapMemory(device_, memory_);
+    if (buffer_) vkDestroyBuffer(device_, buffer_, nullptr);
+    if (memory_) vkFreeMemory(device_, memory_, nullptr);
+  }
+  device_ = VK_NULL_HANDLE;
+  buffer_ = VK_NULL_HANDLE;
+  memory_ = VK_NULL_HANDLE;
+  mapped_ = nullptr;
+  size_ = 0;
+}
+Buffer::~Buffer() { release(); }
+Buffer::Buffer(Buffer&& o) noexcept { *this = std::move(o); }
+Buffer& Buffer::operator=(Buffer&& o) noexcept {
+  if (this != &o) {
+    release();
+    std::swap(device_, o.device_);
+    std::swap(buffer_, o.buffer_);
+    std::swap(memory_, o.memory_);
+    std::swap(mapped_, o.mapped_);
+    std::swap(size_, o.size_);
+  }
+  return *this;
+}
+
+void Pipeline::release() {
+  if (device_) {
+    if (pipeline_) vkDestroyPipeline(device_, pipeline_, nullptr);
+    if (layout_) vkDestroyPipelineLayout(device_, layout_, nullptr);
+    if (set_layout_) vkDestroyDescriptorSetLayout(device_, set_layout_, nullptr);
+    if (module_) vkDestroyShaderModule(device_, module_, nullptr);
+  }
+  device_ = VK_NULL_HANDLE;
+  pipeline_ = VK_NULL_HANDLE;
+  layout_ = VK_NULL_HANDLE;
+  set_layout_ = VK_NULL_HANDLE;
+  module_ = VK_NULL_HANDLE;
+}
+Pipeline::~Pipeline() { release(); }
+Pipeline::Pipeline(Pipeline&& o) noexcept { *this = std::move(o); }
+Pipeline& Pipeline::operator=(Pipeline&& o) noexcept {
+  if (this != &o) {
+    release();
+    std::swap(device_, o.device_);
+    std::swap(module_, o.module_);
+    std::swap(set_layout_, o.set_layout_);
+    std::swap(layout_, o.layout_);
+    std::swap(pipeline_, o.pipeline_);
+    std::swap(bindings_, o.bindings_);
+    std::swap(push_bytes_, o.push_bytes_);
+  }
+  return *this;
+}
+
+}  // namespace sva::vk

@@ -1,0 +1,108 @@
+#pragma once
+// A small Vulkan compute context: instance, device selection, host-visible
+// storage buffers, compute pipelines from embedded SPIR-V, and recorded
+// sequences of dispatches. Everything the GPU backend needs and nothing more.
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace sva::vk {
+
+struct ContextOptions {
+  std::string device;       // "" = prefer a discrete GPU; else an index or a substring of the device name (env SVA_VK_DEVICE)
+  bool validation = false;  // enable VK_LAYER_KHRONOS_validation if present (env SVA_VK_VALIDATION=1)
+};
+
+struct DeviceInfo {
+  std::string name;
+  std::string type;  // "discrete", "integrated", "cpu", ...
+  std::uint64_t max_storage_buffer_range = 0;
+  std::uint32_t max_workgroup_count_x = 0;
+};
+
+class Context;
+
+class Buffer {
+ public:
+  Buffer() = default;
+  Buffer(Buffer&&) noexcept;
+  Buffer& operator=(Buffer&&) noexcept;
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+  ~Buffer();
+  std::size_t size() const { return size_; }
+  void* data() { return mapped_; }
+  template <class T>
+  T* as() { return static_cast<T*>(mapped_); }
+  VkBuffer handle() const { return buffer_; }
+
+ private:
+  friend class Context;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkBuffer buffer_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  void* mapped_ = nullptr;
+  std::size_t size_ = 0;
+  void release();
+};
+
+class Pipeline {
+ public:
+  Pipeline() = default;
+  Pipeline(Pipeline&&) noexcept;
+  Pipeline& operator=(Pipeline&&) noexcept;
+  Pipeline(const Pipeline&) = delete;
+  ~Pipeline();
+  std::uint32_t bindings() const { return bindings_; }
+
+ private:
+  friend class Context;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkShaderModule module_ = VK_NULL_HANDLE;
+  VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
+  VkPipelineLayout layout_ = VK_NULL_HANDLE;
+  VkPipeline pipeline_ = VK_NULL_HANDLE;
+  std::uint32_t bindings_ = 0;
+  std::uint32_t push_bytes_ = 0;
+  void release();
+};
+
+// One dispatch of a recorded sequence; consecutive dispatches are separated by
+// a full compute->compute memory barrier.
+struct Dispatch {
+  const Pipeline* pipeline;
+  std::vector<Buffer*> buffers;      // one per binding, in binding order
+  std::vector<std::uint8_t> push;    // push-constant bytes
+  std::uint32_t groups_x = 1;
+};
+
+class Context {
+ public:
+  explicit Context(const ContextOptions& options = from_environment());
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  static ContextOptions from_environment();
+  const DeviceInfo& info() const { return info_; }
+  // Validation messages of severity warning or error seen so far.
+  std::uint32_t validation_messages() const;
+  const std::vector<std::string>& validation_log() const;
+
+  Buffer create_buffer(std::size_t bytes);
+  Pipeline create_pipeline(std::span<const std::uint32_t> spirv, std::uint32_t bindings, std::uint32_t push_bytes);
+  // Records the dispatches into one command buffer, submits and waits.
+  void run(const std::vector<Dispatch>& dispatches);
+
+  struct State;
+
+ private:
+  std::unique_ptr<State> s_;
+  DeviceInfo info_;
+};
+
+}  // namespace sva::vk

@@ -1,0 +1,64 @@
+#pragma once
+// The SVA pair map (paper Sec 3): for every object, all ordered pairs of its
+// training readings whose distance is in range, stored under every key
+// (class a, class b, distance bin) with non-zero weight. Laid out for the GPU:
+// sorted keys with CSR offsets, structure of arrays, compact types.
+//
+// This header is the contract between the map builder (appearance issue) and
+// the recognizer backends (CPU reference and Vulkan). Both read these arrays
+// directly.
+#include <sva/pose.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "appearance/appearance_model.hpp"
+
+namespace sva {
+
+// Key packing: key = (class_a * n_classes + class_b) * n_dist_bins + dist_bin.
+struct PairKeySpace {
+  std::uint32_t n_classes = 0;
+  std::uint32_t n_dist_bins = 0;
+  std::uint32_t pack(std::uint32_t ca, std::uint32_t cb, std::uint32_t d) const { return (ca * n_classes + cb) * n_dist_bins + d; }
+};
+
+struct MapObject {
+  std::string name;
+  Symmetry symmetry;
+  double inertial_radius_mm = 40.0;
+};
+
+// One row per training reading that entered the map (object frame, mm).
+struct MapReadings {
+  std::vector<std::uint32_t> object;
+  std::vector<float> px, py, pz;     // contact position
+  std::vector<float> nx, ny, nz;     // unit surface normal
+  std::vector<float> norm_conf;      // Algorithm 1
+  std::size_t size() const { return object.size(); }
+};
+
+struct PairMap {
+  AppearanceModel appearance;   // descriptor, medoids, psi, T_a: classifies new readings
+  DistanceBins distance;        // Eq 13 binning
+  PairKeySpace key_space;
+  std::vector<MapObject> objects;
+  MapReadings readings;
+
+  // CSR over sorted keys: entries of keys[i] are [offsets[i], offsets[i+1]).
+  std::vector<std::uint32_t> keys;      // strictly increasing
+  std::vector<std::uint32_t> offsets;   // keys.size() + 1
+  // Entries, structure of arrays: the ordered pair (reading_a, reading_b) and
+  // its weight under this key: product of the soft class weights of a and b
+  // and the distance-bin weight (Eq 15 with uniform class priors).
+  std::vector<std::uint32_t> entry_a;
+  std::vector<std::uint32_t> entry_b;
+  std::vector<float> entry_weight;
+
+  std::size_t entry_count() const { return entry_a.size(); }
+  // Index range of a key's entries; {0, 0} when the key is absent.
+  std::pair<std::uint32_t, std::uint32_t> find(std::uint32_t key) const;
+};
+
+}  // namespace sva

@@ -1,0 +1,73 @@
+#pragma once
+// The public recognition API: build a recognizer from a map and a pose space,
+// feed it readings one at a time, read the estimate. This is what a robot
+// perception stack includes.
+#include <sva/map.hpp>
+#include <sva/pose.hpp>
+#include <sva/reading.hpp>
+#include <sva/scene.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace sva {
+
+enum class BackendKind { cpu, vulkan };
+enum class Method { sva, appearance };  // appearance: the appearance-only baseline of [15]
+
+struct RecognizerOptions {
+  BackendKind backend = BackendKind::cpu;
+  Method method = Method::sva;
+  // Floor of every pair factor (DESIGN 4): factor = eps + S_p(x). See docs/recognition.md.
+  double eps = 1e-6;
+  // Speed knobs (defaults keep the paper's accuracy; docs/recognition.md):
+  float likelihood_cutoff = 0.0f;       // skip matches whose Eq 15 likelihood is below this
+  double object_prune_probability = 0.0;  // skip map entries of objects whose posterior is below this
+  int max_pairs_per_update = 0;         // 0 = all earlier readings (both orders); else the most recent ones
+  unsigned threads = 0;                 // CPU backend: 0 = all cores; results do not depend on it
+  std::string vulkan_device;            // "" = prefer a discrete GPU (env SVA_VK_DEVICE)
+};
+
+struct Hypothesis {
+  std::uint32_t object = 0;
+  std::string object_name;
+  RigidPose pose;             // pose of the object (x_world = R x_object + T)
+  double probability = 0.0;   // posterior mass of this bin
+};
+
+struct Estimate {
+  std::size_t readings = 0;                 // readings seen so far
+  std::uint32_t object = 0;                 // the object with the most mass summed over poses
+  std::string object_name;
+  std::vector<double> object_probability;   // per object, sums to 1
+  RigidPose pose;                           // refined continuous pose of `object`
+  RigidPose bin_pose;                       // centre of its best bin
+  bool pose_valid = false;                  // false until a pair has voted (and for Method::appearance)
+  std::vector<Hypothesis> top;              // best bins, most probable first
+  std::uint64_t votes = 0;                  // votes cast by the last update
+};
+
+class Recognizer {
+ public:
+  Recognizer(const Map& map, const PoseSpaceSpec& pose_space, const RecognizerOptions& options = {});
+  ~Recognizer();
+  Recognizer(Recognizer&&) noexcept;
+  Recognizer& operator=(Recognizer&&) noexcept;
+
+  // Adds one reading (robot frame) and updates the belief with its pairs with
+  // every earlier reading, in both orders (Eq 3-5). Readings that are not
+  // `converged` or that cannot be described are refused with sva::Error.
+  void add_reading(const Reading& reading);
+  Estimate estimate(std::size_t top_k = 5) const;
+  void reset();
+  std::size_t readings() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace sva

@@ -8,9 +8,11 @@
 // the recognizer backends (CPU reference and Vulkan). Both read these arrays
 // directly.
 #include <sva/pose.hpp>
+#include <sva/scene.hpp>
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "appearance/appearance_model.hpp"
@@ -40,6 +42,11 @@ struct MapReadings {
 };
 
 struct PairMap {
+  // Compatibility with the data it was trained on (recognizer, evaluation).
+  std::string scene_name;
+  PoseSpaceSpec pose_space;
+  std::uint64_t scene_hash = 0;  // FNV-1a 64 of the dataset's scene JSON
+
   AppearanceModel appearance;   // descriptor, medoids, psi, T_a: classifies new readings
   DistanceBins distance;        // Eq 13 binning
   PairKeySpace key_space;

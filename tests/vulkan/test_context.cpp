@@ -52,7 +52,12 @@ TEST_CASE("fixed-point scatter on the GPU equals the CPU sum bit for bit") {
   Push push{n, bins};
   std::vector<std::uint8_t> pb(sizeof push);
   std::memcpy(pb.data(), &push, sizeof push);
-  ctx->run({{&pipeline, {&weights, &bin_ids, &sums}, pb, (n + SVA_WORKGROUP_SIZE - 1) / SVA_WORKGROUP_SIZE}});
+  std::vector<double> kernel_ms;
+  ctx->run({{&pipeline, {&weights, &bin_ids, &sums}, pb, (n + SVA_WORKGROUP_SIZE - 1) / SVA_WORKGROUP_SIZE}}, &kernel_ms);
+  if (ctx->info().timestamps) {
+    REQUIRE(kernel_ms.size() == 1);
+    CHECK(kernel_ms[0] >= 0.0);
+  }
   std::vector<std::int64_t> got(sums.as<std::int64_t>(), sums.as<std::int64_t>() + bins);
   CHECK(got == expect);
   CHECK(ctx->validation_messages() == 0);

@@ -37,6 +37,8 @@ struct Context::State {
   VkCommandPool command_pool = VK_NULL_HANDLE;
   VkDescriptorPool descriptor_pool = VK_NULL_HANDLE;
   VkFence fence = VK_NULL_HANDLE;
+  VkQueryPool queries = VK_NULL_HANDLE;
+  std::uint32_t query_capacity = 0;
   VkPhysicalDeviceMemoryProperties memory{};
   std::mutex log_mutex;
   std::vector<std::string> log;
@@ -107,7 +109,7 @@ Context::Context(const ContextOptions& options) : s_(std::make_unique<State>()) 
   vkEnumeratePhysicalDevices(s_->instance, &count, devices.data());
 
   // Candidates must have a compute queue, 64-bit integers and 64-bit buffer atomics.
-  struct Candidate { VkPhysicalDevice dev; VkPhysicalDeviceProperties props; std::uint32_t family; };
+  struct Candidate { VkPhysicalDevice dev; VkPhysicalDeviceProperties props; std::uint32_t family; std::uint32_t timestamp_bits; };
   std::vector<Candidate> ok;
   std::string rejected;
   for (auto dev : devices) {
@@ -129,7 +131,7 @@ Context::Context(const ContextOptions& options) : s_(std::make_unique<State>()) 
       rejected += std::string(" ") + props.deviceName + " (lacks compute/int64 atomics/Vulkan 1.2);";
       continue;
     }
-    ok.push_back({dev, props, family});
+    ok.push_back({dev, props, family, qf[family].timestampValidBits});
   }
   if (ok.empty())
     throw Error("no Vulkan device: " + (devices.empty() ? std::string("the loader found no physical device") : "none usable:" + rejected));
@@ -166,6 +168,8 @@ Context::Context(const ContextOptions& options) : s_(std::make_unique<State>()) 
   info_.type = type_name(pick->props.deviceType);
   info_.max_storage_buffer_range = pick->props.limits.maxStorageBufferRange;
   info_.max_workgroup_count_x = pick->props.limits.maxComputeWorkGroupCount[0];
+  info_.timestamps = pick->timestamp_bits > 0 && pick->props.limits.timestampPeriod > 0;
+  info_.timestamp_period_ns = pick->props.limits.timestampPeriod;
   vkGetPhysicalDeviceMemoryProperties(s_->physical, &s_->memory);
 
   float priority = 1.0f;
@@ -198,6 +202,7 @@ Context::~Context() {
   if (s_->device) {
     vkDeviceWaitIdle(s_->device);
     if (s_->descriptor_pool) vkDestroyDescriptorPool(s_->device, s_->descriptor_pool, nullptr);
+    if (s_->queries) vkDestroyQueryPool(s_->device, s_->queries, nullptr);
     if (s_->fence) vkDestroyFence(s_->device, s_->fence, nullptr);
     if (s_->command_pool) vkDestroyCommandPool(s_->device, s_->command_pool, nullptr);
     vkDestroyDevice(s_->device, nullptr);
@@ -278,8 +283,18 @@ Pipeline Context::create_pipeline(std::span<const std::uint32_t> spirv, std::uin
   return p;
 }
 
-void Context::run(const std::vector<Dispatch>& dispatches) {
+void Context::run(const std::vector<Dispatch>& dispatches, std::vector<double>* kernel_ms) {
   if (dispatches.empty()) return;
+  const bool timing = kernel_ms && info_.timestamps;
+  const auto n_queries = static_cast<std::uint32_t>(2 * dispatches.size());
+  if (timing && s_->query_capacity < n_queries) {
+    if (s_->queries) vkDestroyQueryPool(s_->device, s_->queries, nullptr);
+    VkQueryPoolCreateInfo qpi{VK_STRUCTURE_TYPE_QUERY_POOL_CREATE_INFO};
+    qpi.queryType = VK_QUERY_TYPE_TIMESTAMP;
+    qpi.queryCount = n_queries;
+    check(vkCreateQueryPool(s_->device, &qpi, nullptr, &s_->queries), "vkCreateQueryPool");
+    s_->query_capacity = n_queries;
+  }
   if (s_->descriptor_pool) {
     vkDestroyDescriptorPool(s_->device, s_->descriptor_pool, nullptr);
     s_->descriptor_pool = VK_NULL_HANDLE;
@@ -302,7 +317,9 @@ void Context::run(const std::vector<Dispatch>& dispatches) {
   VkCommandBufferBeginInfo cbi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
   cbi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   check(vkBeginCommandBuffer(cmd, &cbi), "vkBeginCommandBuffer");
+  if (timing) vkCmdResetQueryPool(cmd, s_->queries, 0, n_queries);
   bool first = true;
+  std::uint32_t index = 0;
   for (const auto& d : dispatches) {
     const Pipeline& p = *d.pipeline;
     if (d.buffers.size() != p.bindings_) throw std::logic_error("Dispatch: buffer count does not match the pipeline");
@@ -333,7 +350,10 @@ void Context::run(const std::vector<Dispatch>& dispatches) {
     vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.pipeline_);
     vkCmdBindDescriptorSets(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, p.layout_, 0, 1, &set, 0, nullptr);
     if (p.push_bytes_) vkCmdPushConstants(cmd, p.layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, p.push_bytes_, d.push.data());
+    if (timing) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, s_->queries, 2 * index);
     if (d.groups_x) vkCmdDispatch(cmd, d.groups_x, 1, 1);
+    if (timing) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, s_->queries, 2 * index + 1);
+    ++index;
   }
   // Make shader writes visible to the host's mapped reads.
   VkMemoryBarrier hb{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT};
@@ -347,6 +367,15 @@ void Context::run(const std::vector<Dispatch>& dispatches) {
   VkResult w = vkWaitForFences(s_->device, 1, &s_->fence, VK_TRUE, UINT64_MAX);
   vkFreeCommandBuffers(s_->device, s_->command_pool, 1, &cmd);
   check(w, "vkWaitForFences");
+  if (timing) {
+    std::vector<std::uint64_t> ticks(n_queries);
+    check(vkGetQueryPoolResults(s_->device, s_->queries, 0, n_queries, ticks.size() * sizeof(std::uint64_t), ticks.data(),
+                                sizeof(std::uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
+          "vkGetQueryPoolResults");
+    kernel_ms->clear();
+    for (std::size_t i = 0; i < dispatches.size(); ++i)
+      kernel_ms->push_back(static_cast<double>(ticks[2 * i + 1] - ticks[2 * i]) * info_.timestamp_period_ns * 1e-6);
+  }
 }
 
 void Buffer::release() {

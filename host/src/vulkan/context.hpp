@@ -22,6 +22,8 @@ struct DeviceInfo {
   std::string type;  // "discrete", "integrated", "cpu", ...
   std::uint64_t max_storage_buffer_range = 0;
   std::uint32_t max_workgroup_count_x = 0;
+  bool timestamps = false;        // per-dispatch GPU timing available
+  double timestamp_period_ns = 0;
 };
 
 class Context;
@@ -95,8 +97,10 @@ class Context {
 
   Buffer create_buffer(std::size_t bytes);
   Pipeline create_pipeline(std::span<const std::uint32_t> spirv, std::uint32_t bindings, std::uint32_t push_bytes);
-  // Records the dispatches into one command buffer, submits and waits.
-  void run(const std::vector<Dispatch>& dispatches);
+  // Records the dispatches into one command buffer, submits and waits. When
+  // `kernel_ms` is given and the device supports timestamps, it receives the
+  // GPU time of each dispatch (for "where does the time go").
+  void run(const std::vector<Dispatch>& dispatches, std::vector<double>* kernel_ms = nullptr);
 
   struct State;
 

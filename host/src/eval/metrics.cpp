@@ -1,0 +1,89 @@
+#include "eval/metrics.hpp"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+namespace sva::eval {
+
+namespace {
+
+// The vector v with sk(v) = (M - M^T) / 2; glm is column-major (M[col][row]).
+glm::dvec3 unskew_antisymmetric(const glm::dmat3& M) {
+  return 0.5 * glm::dvec3(M[1][2] - M[2][1], M[2][0] - M[0][2], M[0][1] - M[1][0]);
+}
+
+double trace(const glm::dmat3& M) { return M[0][0] + M[1][1] + M[2][2]; }
+
+glm::dmat3 skew(const glm::dvec3& a) {
+  // Columns of [a]x.
+  return glm::dmat3(glm::dvec3(0.0, a.z, -a.y), glm::dvec3(-a.z, 0.0, a.x), glm::dvec3(a.y, -a.x, 0.0));
+}
+
+// The angle whose cosine is (trace - 1) / 2 when only the best trace is known
+// (the axis case below), clamped against rounding.
+double angle_from_trace(double tr) { return std::acos(std::clamp((tr - 1.0) / 2.0, -1.0, 1.0)); }
+
+}  // namespace
+
+double rotation_angle(const glm::dmat3& R) {
+  const double s = glm::length(unskew_antisymmetric(R));  // sin(theta)
+  const double c = (trace(R) - 1.0) / 2.0;                // cos(theta)
+  return std::atan2(s, c);
+}
+
+double angular_error(const glm::dmat3& R_true, const glm::dmat3& R_est, const Symmetry& symmetry) {
+  // The estimate is as good as the truth composed with any symmetry S of the
+  // object (object frame): error = min_S angle((R_true S)^T R_est)
+  // = min_S angle(Q S) with Q = R_est^T R_true.
+  const glm::dmat3 Q = glm::transpose(R_est) * R_true;
+  switch (symmetry.kind) {
+    case Symmetry::Kind::none:
+      return rotation_angle(Q);
+    case Symmetry::Kind::discrete: {
+      double best = rotation_angle(Q);  // the identity is always a symmetry
+      for (const auto& S : symmetry.rotations) best = std::min(best, rotation_angle(Q * S));
+      return best;
+    }
+    case Symmetry::Kind::axis: {
+      // With S = R_a(g) = cos g I + sin g [a]x + (1 - cos g) a a^T,
+      // trace(Q S) = A cos g + B sin g + C, maximal at sqrt(A^2 + B^2) + C;
+      // the smallest angle is the one with the largest trace.
+      const glm::dvec3 a = glm::normalize(symmetry.axis);
+      const double aQa = glm::dot(a, Q * a);
+      const double A = trace(Q) - aQa;
+      const double B = trace(Q * skew(a));
+      const double best_trace = std::sqrt(A * A + B * B) + aQa;
+      return std::min(angle_from_trace(best_trace), rotation_angle(Q));
+    }
+  }
+  assert(false);
+  return rotation_angle(Q);
+}
+
+double inertial_distance(double translation_error_mm, double angle_rad, double radius_mm) {
+  const double rot = 0.8 * radius_mm * radius_mm * (1.0 - std::cos(angle_rad));
+  return std::sqrt(translation_error_mm * translation_error_mm + std::max(0.0, rot));
+}
+
+PoseError pose_error(const RigidPose& truth, const RigidPose& estimate, const Symmetry& symmetry, double inertial_radius_mm) {
+  PoseError e;
+  e.translation_mm = glm::length(estimate.T - truth.T);
+  e.angular_rad = angular_error(truth.R, estimate.R, symmetry);
+  e.inertial_mm = inertial_distance(e.translation_mm, e.angular_rad, inertial_radius_mm);
+  return e;
+}
+
+std::optional<double> median(std::vector<double> values) { return percentile(std::move(values), 50.0); }
+
+std::optional<double> percentile(std::vector<double> values, double p) {
+  if (values.empty()) return std::nullopt;
+  std::sort(values.begin(), values.end());
+  const double pos = std::clamp(p, 0.0, 100.0) / 100.0 * static_cast<double>(values.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(pos));
+  const std::size_t hi = std::min(lo + 1, values.size() - 1);
+  const double f = pos - static_cast<double>(lo);
+  return values[lo] + f * (values[hi] - values[lo]);
+}
+
+}  // namespace sva::eval

@@ -1,0 +1,40 @@
+#pragma once
+// The error metrics of the paper's Sec 5 (DESIGN 7): translational error,
+// angular error minimised over the object's symmetries (Eq 22), inertial
+// distance, and the order statistics the curves report.
+#include <sva/pose.hpp>
+
+#include <optional>
+#include <vector>
+
+namespace sva::eval {
+
+// The angle of a rotation matrix, in [0, pi]. Uses atan2 of the skew and
+// symmetric parts so it stays accurate near 0 and near pi, where acos of the
+// trace loses half the digits.
+double rotation_angle(const glm::dmat3& R);
+
+// Angle of the rotation that aligns the estimate with the truth, taking the
+// object's symmetry into account (Eq 22): for an axis of revolution the
+// minimum over all rotations about the axis (closed form), for a discrete
+// group the minimum over its elements. Radians in [0, pi].
+double angular_error(const glm::dmat3& R_true, const glm::dmat3& R_est, const Symmetry& symmetry);
+
+// The RMS displacement of a solid sphere of radius r carried by the error
+// (DESIGN 7): sqrt(|dT|^2 + (4/5) r^2 (1 - cos theta)).
+double inertial_distance(double translation_error_mm, double angle_rad, double radius_mm);
+
+struct PoseError {
+  double translation_mm = 0.0;
+  double angular_rad = 0.0;
+  double inertial_mm = 0.0;
+};
+PoseError pose_error(const RigidPose& truth, const RigidPose& estimate, const Symmetry& symmetry, double inertial_radius_mm);
+
+// Median (mean of the two middle values for an even count) and the p-th
+// percentile (0..100, linear interpolation between closest ranks); nullopt for
+// an empty set. The input is taken by value because it is sorted.
+std::optional<double> median(std::vector<double> values);
+std::optional<double> percentile(std::vector<double> values, double p);
+
+}  // namespace sva::eval

@@ -1,0 +1,185 @@
+#include "eval/report.hpp"
+
+#include <sva/error.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+#include <system_error>
+#include <unistd.h>
+
+#include <nlohmann/json.hpp>
+
+namespace sva::eval {
+
+using nlohmann::json;
+
+namespace {
+
+json opt(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
+
+std::string cell(const std::optional<double>& v, const char* fmt) {
+  if (!v) return "-";
+  char buf[64];
+  std::snprintf(buf, sizeof buf, fmt, *v);
+  return buf;
+}
+
+std::string num(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+std::string csv_quote(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  return q + "\"";
+}
+
+}  // namespace
+
+std::string to_json(const EvalResult& result, const Curve& curve) {
+  json j;
+  j["scene"] = result.scene;
+  j["backend"] = result.backend;
+  j["method"] = result.method;
+  j["trials"] = result.trials.size();
+  j["seed"] = result.seed;
+  j["max_readings"] = result.max_readings;
+  j["objects"] = result.objects;
+  json points = json::array();
+  for (const auto& p : curve.points) {
+    points.push_back({{"readings", p.readings},
+                      {"accuracy", p.accuracy},
+                      {"pose_trials", p.pose_trials},
+                      {"translation_error_mm", opt(p.translation_error_mm)},
+                      {"angular_error_deg", opt(p.angular_error_deg)},
+                      {"inertial_error_mm", opt(p.inertial_error_mm)},
+                      {"update_ms", opt(p.update_ms)},
+                      {"update_ms_p95", opt(p.update_ms_p95)}});
+  }
+  j["curve"] = std::move(points);
+  return j.dump(2) + "\n";
+}
+
+std::string to_csv(const EvalResult& result) {
+  std::ostringstream s;
+  s << "trial,object,object_name,readings,sample,estimated_object,correct,true_object_probability,pose_valid,"
+       "translation_error_mm,angular_error_deg,inertial_error_mm,update_ms\n";
+  for (const auto& t : result.trials) {
+    const std::string name = t.object < result.objects.size() ? result.objects[t.object] : "";
+    for (std::size_t k = 0; k < t.steps.size(); ++k) {
+      const StepResult& st = t.steps[k];
+      s << t.index << ',' << t.object << ',' << csv_quote(name) << ',' << (k + 1) << ','
+        << (k < t.samples.size() ? std::to_string(t.samples[k]) : std::string()) << ',' << st.estimated_object << ','
+        << (st.correct ? 1 : 0) << ',' << num(st.true_object_probability) << ',' << (st.pose_valid ? 1 : 0) << ',';
+      if (st.has_pose_error())
+        s << num(st.translation_error_mm) << ',' << num(st.angular_error_rad * 180.0 / std::numbers::pi) << ','
+          << num(st.inertial_error_mm);
+      else
+        s << ",,";
+      s << ',' << num(st.update_ms) << '\n';
+    }
+  }
+  return s.str();
+}
+
+std::string format_table(const Curve& curve) {
+  std::ostringstream s;
+  s << "scene " << curve.scene << ", method " << curve.method << ", backend " << curve.backend << ", "
+    << curve.trials << " trials (errors: median over trials with the right object)\n";
+  char line[256];
+  std::snprintf(line, sizeof line, "%8s %9s %6s %10s %10s %12s %10s %10s\n", "readings", "accuracy", "posed", "trans mm",
+                "angle deg", "inertial mm", "ms/update", "p95 ms");
+  s << line;
+  for (const auto& p : curve.points) {
+    std::snprintf(line, sizeof line, "%8zu %8.1f%% %6zu %10s %10s %12s %10s %10s\n", p.readings, 100.0 * p.accuracy,
+                  p.pose_trials, cell(p.translation_error_mm, "%.2f").c_str(), cell(p.angular_error_deg, "%.2f").c_str(),
+                  cell(p.inertial_error_mm, "%.2f").c_str(), cell(p.update_ms, "%.3f").c_str(),
+                  cell(p.update_ms_p95, "%.3f").c_str());
+    s << line;
+  }
+  return s.str();
+}
+
+Curve read_curve_json(const std::filesystem::path& file) {
+  const std::string name = file.string();
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw Error(name + ": cannot open the evaluation summary");
+  std::stringstream buf;
+  buf << in.rdbuf();
+  json j;
+  try {
+    j = json::parse(buf.str());
+  } catch (const json::parse_error& e) {
+    throw Error(name + ": invalid JSON: " + e.what());
+  }
+  auto fail = [&](const std::string& what) -> void { throw Error(name + ": " + what); };
+  if (!j.is_object()) fail("expected a JSON object (an sva eval summary)");
+  Curve c;
+  for (const char* key : {"scene", "backend", "method"})
+    if (!j.contains(key) || !j[key].is_string()) fail(std::string("missing or non-string \"") + key + "\"");
+  c.scene = j["scene"].get<std::string>();
+  c.backend = j["backend"].get<std::string>();
+  c.method = j["method"].get<std::string>();
+  c.label = c.method;
+  if (!j.contains("trials") || !j["trials"].is_number_unsigned()) fail("missing or invalid \"trials\"");
+  c.trials = j["trials"].get<std::size_t>();
+  if (!j.contains("curve") || !j["curve"].is_array()) fail("missing \"curve\" array");
+  auto number = [&](const json& p, const char* key, std::size_t i) -> std::optional<double> {
+    const std::string where = "curve[" + std::to_string(i) + "]." + key;
+    if (!p.contains(key)) fail("missing " + where);
+    if (p[key].is_null()) return std::nullopt;
+    if (!p[key].is_number() || !std::isfinite(p[key].get<double>())) fail(where + " is not a finite number");
+    return p[key].get<double>();
+  };
+  for (std::size_t i = 0; i < j["curve"].size(); ++i) {
+    const json& p = j["curve"][i];
+    if (!p.is_object()) fail("curve[" + std::to_string(i) + "] is not an object");
+    CurvePoint pt;
+    auto readings = number(p, "readings", i);
+    auto accuracy = number(p, "accuracy", i);
+    if (!readings || *readings < 1 || !accuracy || *accuracy < 0 || *accuracy > 1)
+      fail("curve[" + std::to_string(i) + "]: readings must be >= 1 and accuracy in [0, 1]");
+    pt.readings = static_cast<std::size_t>(*readings);
+    pt.accuracy = *accuracy;
+    pt.translation_error_mm = number(p, "translation_error_mm", i);
+    pt.angular_error_deg = number(p, "angular_error_deg", i);
+    pt.inertial_error_mm = number(p, "inertial_error_mm", i);
+    pt.update_ms = number(p, "update_ms", i);
+    pt.update_ms_p95 = number(p, "update_ms_p95", i);
+    if (p.contains("pose_trials") && p["pose_trials"].is_number_unsigned()) pt.pose_trials = p["pose_trials"].get<std::size_t>();
+    c.points.push_back(pt);
+  }
+  return c;
+}
+
+void write_text_atomic(const std::filesystem::path& file, const std::string& text) {
+  const std::string name = file.string();
+  if (name.empty()) throw Error("empty output file name");
+  auto tmp = file;
+  tmp += ".tmp." + std::to_string(::getpid());
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw Error(name + ": cannot write (does the directory exist?)");
+    out.write(text.data(), static_cast<std::streamsize>(text.size()));
+    out.flush();
+    if (!out) {
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);
+      throw Error(name + ": write failed (disk full?)");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, file, ec);
+  if (ec) {
+    std::filesystem::remove(tmp, ec);
+    throw Error(name + ": cannot rename the finished file into place");
+  }
+}
+
+}  // namespace sva::eval

@@ -1,0 +1,28 @@
+#pragma once
+// Evaluation reports: the JSON summary (schema in docs/evaluation.md), the
+// per-step CSV, the stdout table, and reading a JSON summary back (for
+// overlaying another run in a plot). Files are written atomically.
+#include <filesystem>
+#include <string>
+
+#include "eval/results.hpp"
+
+namespace sva::eval {
+
+// {"scene", "backend", "method", "trials", "seed", "max_readings", "objects",
+//  "curve": [{"readings", "accuracy", "translation_error_mm", "angular_error_deg",
+//             "inertial_error_mm", "update_ms", "update_ms_p95", "pose_trials"}]}
+// Everything but update_ms and update_ms_p95 depends only on the inputs and seed.
+std::string to_json(const EvalResult& result, const Curve& curve);
+// One row per (trial, readings).
+std::string to_csv(const EvalResult& result);
+// The curve as a fixed-width table (readings, accuracy, errors, ms/update).
+std::string format_table(const Curve& curve);
+
+// Reads a JSON summary written by to_json; errors name the file and field.
+Curve read_curve_json(const std::filesystem::path& file);
+
+// Writes text to a temporary file next to `file` and renames it into place.
+void write_text_atomic(const std::filesystem::path& file, const std::string& text);
+
+}  // namespace sva::eval

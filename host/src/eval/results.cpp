@@ -1,0 +1,44 @@
+#include "eval/results.hpp"
+
+#include <cassert>
+#include <numbers>
+
+#include "eval/metrics.hpp"
+
+namespace sva::eval {
+
+Curve summarize(const EvalResult& result) {
+  Curve c;
+  c.label = result.method;
+  c.scene = result.scene;
+  c.backend = result.backend;
+  c.method = result.method;
+  c.trials = result.trials.size();
+  for (std::size_t n = 1; n <= result.max_readings; ++n) {
+    CurvePoint p;
+    p.readings = n;
+    std::size_t correct = 0;
+    std::vector<double> t_err, a_err, i_err, ms;
+    for (const auto& trial : result.trials) {
+      assert(trial.steps.size() == result.max_readings);
+      const StepResult& s = trial.steps[n - 1];
+      correct += s.correct;
+      ms.push_back(s.update_ms);
+      if (!s.has_pose_error()) continue;
+      t_err.push_back(s.translation_error_mm);
+      a_err.push_back(s.angular_error_rad * 180.0 / std::numbers::pi);
+      i_err.push_back(s.inertial_error_mm);
+    }
+    p.accuracy = result.trials.empty() ? 0.0 : static_cast<double>(correct) / static_cast<double>(result.trials.size());
+    p.pose_trials = t_err.size();
+    p.translation_error_mm = median(t_err);
+    p.angular_error_deg = median(a_err);
+    p.inertial_error_mm = median(i_err);
+    p.update_ms = median(ms);
+    p.update_ms_p95 = percentile(ms, 95.0);
+    c.points.push_back(p);
+  }
+  return c;
+}
+
+}  // namespace sva::eval

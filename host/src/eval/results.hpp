@@ -1,0 +1,65 @@
+#pragma once
+// What an evaluation produces: per trial and per reading the estimate's
+// correctness, pose errors and update time; and the curve that summarises
+// them against the number of readings (the paper's Fig. 4 and 5).
+#include <sva/pose.hpp>
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace sva::eval {
+
+// The state after one more reading of a trial.
+struct StepResult {
+  std::uint32_t estimated_object = 0;
+  bool correct = false;
+  double true_object_probability = 0.0;
+  bool pose_valid = false;       // the recognizer had a pose estimate (never for the appearance-only method)
+  double translation_error_mm = 0.0;  // meaningful when correct && pose_valid
+  double angular_error_rad = 0.0;
+  double inertial_error_mm = 0.0;
+  double update_ms = 0.0;        // add_reading + estimate (timing: varies run to run)
+  bool has_pose_error() const { return correct && pose_valid; }
+};
+
+struct TrialResult {
+  std::size_t index = 0;
+  std::uint32_t object = 0;
+  RigidPose pose;                  // true pose
+  std::vector<std::size_t> samples;  // test sample presented at each step
+  std::vector<StepResult> steps;   // steps[n - 1]: after n readings
+};
+
+// One point of the curve. Error medians are over the trials whose estimated
+// object is right (and which have a pose) at that step; empty when none.
+struct CurvePoint {
+  std::size_t readings = 0;
+  double accuracy = 0.0;           // fraction of trials with the right object, 0..1
+  std::size_t pose_trials = 0;     // trials the error medians are over
+  std::optional<double> translation_error_mm, angular_error_deg, inertial_error_mm;
+  std::optional<double> update_ms, update_ms_p95;  // over all trials
+};
+
+struct Curve {
+  std::string label;               // legend text (the method, or a file name)
+  std::string scene, backend, method;
+  std::size_t trials = 0;
+  std::vector<CurvePoint> points;
+};
+
+struct EvalResult {
+  std::string scene;
+  std::string backend;             // "cpu" | "vulkan"
+  std::string method;              // "sva" | "appearance"
+  std::uint64_t seed = 0;
+  std::size_t max_readings = 0;
+  std::vector<std::string> objects;
+  std::vector<TrialResult> trials;
+};
+
+// The curve of a result: one point per reading count 1..max_readings.
+Curve summarize(const EvalResult& result);
+
+}  // namespace sva::eval

@@ -1,0 +1,132 @@
+// Metrics against hand-computed cases: Eq 22 with an axis and with a discrete
+// group, the inertial distance formula, order statistics.
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <numbers>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "eval/metrics.hpp"
+#include "eval/trials.hpp"
+#include "util/rng.hpp"
+
+using namespace sva;
+using namespace sva::eval;
+
+namespace {
+
+glm::dmat3 rot(double angle, glm::dvec3 axis) { return glm::dmat3(glm::rotate(glm::dmat4(1.0), angle, glm::normalize(axis))); }
+
+Symmetry axis_symmetry(glm::dvec3 axis) {
+  Symmetry s;
+  s.kind = Symmetry::Kind::axis;
+  s.axis = glm::normalize(axis);
+  return s;
+}
+
+Symmetry cyclic(int order, glm::dvec3 axis) {
+  Symmetry s;
+  s.kind = Symmetry::Kind::discrete;
+  s.axis = axis;
+  for (int k = 0; k < order; ++k) s.rotations.push_back(rot(2.0 * std::numbers::pi * k / order, axis));
+  return s;
+}
+
+// Eq 22 by brute force: the smallest angle over a fine sweep about the axis.
+double brute_axis_error(const glm::dmat3& R, const glm::dmat3& Rh, glm::dvec3 axis) {
+  double best = 10.0;
+  for (int k = 0; k < 20000; ++k) {
+    double g = 2.0 * std::numbers::pi * k / 20000;
+    best = std::min(best, rotation_angle(glm::transpose(Rh) * R * rot(g, axis)));
+  }
+  return best;
+}
+
+}  // namespace
+
+TEST_CASE("rotation_angle is exact near 0, in the middle and near pi") {
+  for (double a : {0.0, 1e-7, 0.3, 1.0, 2.0, std::numbers::pi - 1e-7, std::numbers::pi})
+    for (glm::dvec3 axis : {glm::dvec3(1, 0, 0), glm::dvec3(0.3, -0.5, 0.8), glm::dvec3(0, 0, -1)})
+      CHECK(rotation_angle(rot(a, axis)) == Approx(a).margin(1e-9));
+}
+
+TEST_CASE("angular error without symmetry is the angle of R R_hat^T") {
+  glm::dmat3 R = rot(0.7, {1, 2, 3});
+  glm::dmat3 Rh = R * rot(0.25, {0, 1, 0});
+  CHECK(angular_error(R, Rh, Symmetry{}) == Approx(0.25).margin(1e-12));
+  CHECK(angular_error(R, R, Symmetry{}) == Approx(0.0).margin(1e-12));
+  // Symmetric in its arguments.
+  CHECK(angular_error(Rh, R, Symmetry{}) == Approx(0.25).margin(1e-12));
+}
+
+TEST_CASE("Eq 22 with an axis: a rotation about the symmetry axis has zero error") {
+  const glm::dvec3 zeta(0.2, -0.4, 1.0);
+  const Symmetry sym = axis_symmetry(zeta);
+  glm::dmat3 R = rot(1.1, {0.5, 0.5, -0.2});
+  for (double g : {0.1, 1.0, 2.5, std::numbers::pi, -2.0}) {
+    // The estimate differs from the truth only by a spin about the object's axis.
+    glm::dmat3 Rh = R * rot(g, zeta);
+    CHECK(angular_error(R, Rh, sym) == Approx(0.0).margin(1e-6));
+    CHECK(angular_error(R, Rh, Symmetry{}) == Approx(std::abs(g)).margin(1e-9));
+  }
+  // A tilt of the axis cannot be explained away: 0.3 rad about a perpendicular axis stays 0.3.
+  glm::dvec3 perp = glm::normalize(glm::cross(zeta, glm::dvec3(1, 0, 0)));
+  CHECK(angular_error(R, R * rot(0.3, perp) * rot(1.7, zeta), sym) == Approx(0.3).margin(1e-6));
+}
+
+TEST_CASE("Eq 22 closed form agrees with a brute-force sweep about the axis") {
+  util::Rng rng(7, 1);
+  const glm::dvec3 zeta(0, 0, 1);
+  for (int i = 0; i < 25; ++i) {
+    glm::dmat3 R = uniform_rotation(rng), Rh = uniform_rotation(rng);
+    CHECK(angular_error(R, Rh, axis_symmetry(zeta)) == Approx(brute_axis_error(R, Rh, zeta)).margin(2e-3));
+  }
+}
+
+TEST_CASE("the letter I: its 180-degree rotation has zero error, 90 degrees does not") {
+  const Symmetry letter_i = cyclic(2, {0, 0, 1});
+  glm::dmat3 R = rot(0.4, {0, 0, 1});
+  CHECK(angular_error(R, R * rot(std::numbers::pi, {0, 0, 1}), letter_i) == Approx(0.0).margin(1e-9));
+  CHECK(angular_error(R, R * rot(std::numbers::pi / 2, {0, 0, 1}), letter_i) == Approx(std::numbers::pi / 2).margin(1e-9));
+  // 170 degrees is 10 degrees from the symmetric pose.
+  CHECK(angular_error(R, R * rot(170.0 * std::numbers::pi / 180, {0, 0, 1}), letter_i) ==
+        Approx(10.0 * std::numbers::pi / 180).margin(1e-9));
+}
+
+TEST_CASE("the letter O: any in-plane rotation has zero error") {
+  const Symmetry letter_o = axis_symmetry({0, 0, 1});
+  PoseSpaceSpec planar;
+  planar.kind = PoseSpaceSpec::Kind::planar;
+  util::Rng rng(3, 2);
+  for (int i = 0; i < 50; ++i) {
+    RigidPose a = random_pose(rng, planar), b = random_pose(rng, planar);
+    CHECK(angular_error(a.R, b.R, letter_o) == Approx(0.0).margin(1e-6));
+  }
+}
+
+TEST_CASE("inertial distance follows sqrt(|dT|^2 + 4/5 r^2 (1 - cos theta))") {
+  CHECK(inertial_distance(3.0, 0.0, 40.0) == Approx(3.0));
+  // theta = 90 degrees, r = 40: 4/5 * 1600 = 1280; with dT = 4: sqrt(16 + 1280) = 36.
+  CHECK(inertial_distance(4.0, std::numbers::pi / 2, 40.0) == Approx(36.0));
+  // theta = 180 degrees, no translation: sqrt(8/5) r.
+  CHECK(inertial_distance(0.0, std::numbers::pi, 10.0) == Approx(std::sqrt(1.6) * 10.0));
+  RigidPose truth{rot(0.5, {1, 0, 0}), {10, 20, 30}};
+  RigidPose est{truth.R * rot(std::numbers::pi / 2, {0, 1, 0}), truth.T + glm::dvec3(0, 3, 4)};
+  PoseError e = pose_error(truth, est, Symmetry{}, 40.0);
+  CHECK(e.translation_mm == Approx(5.0));
+  CHECK(e.angular_rad == Approx(std::numbers::pi / 2));
+  CHECK(e.inertial_mm == Approx(std::sqrt(25.0 + 1280.0)));
+}
+
+TEST_CASE("median and percentile") {
+  CHECK_FALSE(median({}).has_value());
+  CHECK(*median({5.0}) == 5.0);
+  CHECK(*median({4.0, 1.0, 3.0}) == 3.0);
+  CHECK(*median({4.0, 1.0, 3.0, 2.0}) == 2.5);
+  std::vector<double> v;
+  for (int i = 0; i <= 100; ++i) v.push_back(100 - i);
+  CHECK(*percentile(v, 95.0) == Approx(95.0));
+  CHECK(*percentile(v, 0.0) == 0.0);
+  CHECK(*percentile(v, 100.0) == 100.0);
+}

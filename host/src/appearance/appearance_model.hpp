@@ -6,6 +6,7 @@
 #include <sva/scene.hpp>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace sva {
@@ -41,14 +42,25 @@ class AppearanceModel {
  public:
   DescriptorKind descriptor = DescriptorKind::mnti;
   SensorCalibration calibration;
+  // Descriptor parameters (docs/appearance.md): the MN image is mn_size x
+  // mn_size samples at one element pitch around the centroid; MNTI pads it to
+  // mnti_pad x mnti_pad and keeps |F(kx, ky)| for |kx|, ky < mnti_freqs
+  // (half plane, so no coefficient is counted twice).
+  std::uint32_t mn_size = 8;
+  std::uint32_t mnti_pad = 16;
+  std::uint32_t mnti_freqs = 4;
   std::uint32_t descriptor_size = 0;
   std::vector<float> medoids;   // n_classes x descriptor_size, unit rows
   std::vector<float> psi;       // Eq 7 per class (a variance)
   float prune_ratio = 0.75f;    // T_a
 
   std::uint32_t n_classes() const { return static_cast<std::uint32_t>(psi.size()); }
-  // Unit-length descriptor of a reading's pressure image.
+  // Unit-length descriptor of a reading's pressure image. Throws sva::Error
+  // when the image cannot be described (wrong size, non-finite values, no
+  // element above the contact threshold); see describable().
   std::vector<float> describe(const Reading& r) const;
+  // Why a reading cannot be described, or "" when it can.
+  std::string why_not_describable(const Reading& r) const;
   // Soft classes of a descriptor (Eq 8-12): non-empty, weights sum to 1.
   std::vector<ClassWeight> classify(const std::vector<float>& descriptor) const;
   // Algorithm 1 on a reading's image.

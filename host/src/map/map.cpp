@@ -1,10 +1,11 @@
-// sva::Map: the public handle over a PairMap (skeleton; training and the file
-// format are filled in by map_builder.cpp and map_file.cpp).
+// sva::Map: the public handle over a shared, immutable PairMap.
 #include <sva/error.hpp>
 #include <sva/map.hpp>
 
 #include <algorithm>
 
+#include "map/map_builder.hpp"
+#include "map/map_file.hpp"
 #include "map/pair_map.hpp"
 
 namespace sva {
@@ -14,11 +15,20 @@ const PairMap& require(const std::shared_ptr<const PairMap>& m) {
   if (!m) throw Error("map: the map is empty (not trained or loaded)");
   return *m;
 }
+template <class T>
+std::size_t bytes_of(const std::vector<T>& v) {
+  return v.size() * sizeof(T);
+}
 }  // namespace
 
-Map Map::train(const Dataset&, const TrainOptions&, TrainReport*) { throw Error("sva train: being built (skeleton)"); }
-Map Map::load(const std::filesystem::path& file) { throw Error(file.string() + ": map loading is being built (skeleton)"); }
-void Map::save(const std::filesystem::path& file) const { throw Error(file.string() + ": map saving is being built (skeleton)"); }
+Map Map::train(const Dataset& data, const TrainOptions& options, TrainReport* report) {
+  const TrainParameters params = resolve_train_parameters(data.scene, options);
+  return Map(train_pair_map(data, params, report));
+}
+
+Map Map::load(const std::filesystem::path& file) { return Map(load_pair_map(file)); }
+
+void Map::save(const std::filesystem::path& file) const { save_pair_map(require(map_), file); }
 
 std::size_t Map::objects() const { return require(map_).objects.size(); }
 std::uint32_t Map::classes() const { return require(map_).key_space.n_classes; }
@@ -27,8 +37,11 @@ std::size_t Map::keys() const { return require(map_).keys.size(); }
 std::size_t Map::readings() const { return require(map_).readings.size(); }
 std::size_t Map::bytes() const {
   const PairMap& m = require(map_);
-  return m.keys.size() * 4 + m.offsets.size() * 4 + m.entry_a.size() * 4 + m.entry_b.size() * 4 + m.entry_weight.size() * 4 +
-         m.readings.size() * (4 + 7 * 4);
+  const MapReadings& r = m.readings;
+  return bytes_of(m.keys) + bytes_of(m.offsets) + bytes_of(m.entry_a) + bytes_of(m.entry_b) + bytes_of(m.entry_weight) +
+         bytes_of(r.object) + bytes_of(r.px) + bytes_of(r.py) + bytes_of(r.pz) + bytes_of(r.nx) + bytes_of(r.ny) +
+         bytes_of(r.nz) + bytes_of(r.norm_conf) + bytes_of(m.appearance.medoids) + bytes_of(m.appearance.psi) +
+         bytes_of(m.baseline.class_given_object);
 }
 const std::string& Map::scene_name() const { return require(map_).scene_name; }
 const PoseSpaceSpec& Map::pose_space() const { return require(map_).pose_space; }

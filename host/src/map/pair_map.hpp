@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "appearance/appearance_baseline.hpp"
 #include "appearance/appearance_model.hpp"
 
 namespace sva {
@@ -46,12 +47,15 @@ struct PairMap {
   std::string scene_name;
   PoseSpaceSpec pose_space;
   std::uint64_t scene_hash = 0;  // FNV-1a 64 of the dataset's scene JSON
+  std::uint64_t train_seed = 0;
+  double ambiguity = 0.0;        // A: mean number of soft classes per training reading (Sec 1)
 
   AppearanceModel appearance;   // descriptor, medoids, psi, T_a: classifies new readings
   DistanceBins distance;        // Eq 13 binning
   PairKeySpace key_space;
   std::vector<MapObject> objects;
   MapReadings readings;
+  AppearanceBaseline baseline;  // appearance-only recognition of [15] (the paper's comparison)
 
   // CSR over sorted keys: entries of keys[i] are [offsets[i], offsets[i+1]).
   std::vector<std::uint32_t> keys;      // strictly increasing

@@ -1,0 +1,264 @@
+#include "map/map_builder.hpp"
+
+#include <sva/error.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <memory>
+
+#include "appearance/descriptor.hpp"
+#include "appearance/pam.hpp"
+#include "appearance/soft_classes.hpp"
+#include "io/binary_file.hpp"
+#include "util/interrupt.hpp"
+#include "util/parallel.hpp"
+#include "util/progress.hpp"
+
+namespace sva {
+
+namespace {
+
+// Key spaces above this would need count tables too large to be sensible.
+constexpr std::uint64_t kMaxKeySpace = 1ull << 26;
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+}  // namespace
+
+TrainParameters resolve_train_parameters(const Scene& scene, const TrainOptions& o) {
+  TrainParameters p;
+  const std::string desc = o.descriptor.value_or(scene.appearance.descriptor);
+  if (desc == "mn") p.descriptor = DescriptorKind::mn;
+  else if (desc == "mnti") p.descriptor = DescriptorKind::mnti;
+  else throw Error("descriptor \"" + desc + "\": expected \"mn\" or \"mnti\"");
+  const int clusters = o.clusters.value_or(scene.appearance.clusters);
+  if (clusters < 1 || clusters > 4096) throw Error("clusters " + std::to_string(clusters) + ": expected 1 to 4096");
+  p.clusters = static_cast<std::uint32_t>(clusters);
+  const int bins = o.dist_bins.value_or(scene.appearance.dist_bins);
+  if (bins < 1 || bins > 100000) throw Error("distance bins " + std::to_string(bins) + ": expected 1 to 100000");
+  p.distance.count = static_cast<std::uint32_t>(bins);
+  p.distance.min_mm = o.dist_min_mm.value_or(scene.appearance.dist_min_mm);
+  p.distance.max_mm = o.dist_max_mm.value_or(scene.appearance.dist_max_mm);
+  if (!std::isfinite(p.distance.min_mm) || !std::isfinite(p.distance.max_mm) || p.distance.min_mm < 0 ||
+      p.distance.min_mm >= p.distance.max_mm)
+    throw Error("distance range " + std::to_string(p.distance.min_mm) + ":" + std::to_string(p.distance.max_mm) +
+                " mm: expected 0 <= min < max, both finite");
+  const std::uint64_t space = static_cast<std::uint64_t>(p.clusters) * p.clusters * p.distance.count;
+  if (space > kMaxKeySpace)
+    throw Error("clusters x clusters x distance bins = " + std::to_string(space) + " keys: more than the supported " +
+                std::to_string(kMaxKeySpace));
+  p.seed = o.seed;
+  p.threads = o.threads;
+  p.progress = o.progress;
+  return p;
+}
+
+void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>& classes, unsigned threads, bool progress) {
+  const MapReadings& rd = map.readings;
+  const std::size_t n = rd.size();
+  const std::uint64_t space = static_cast<std::uint64_t>(map.key_space.n_classes) * map.key_space.n_classes *
+                              map.key_space.n_dist_bins;
+  // Readings are grouped by object; each reading pairs with its own object's.
+  std::vector<std::size_t> first(map.objects.size() + 1, 0);
+  for (std::size_t i = 0; i < n; ++i) first[rd.object[i] + 1] = i + 1;
+  for (std::size_t o = 1; o < first.size(); ++o) first[o] = std::max(first[o], first[o - 1]);
+
+  // Every entry of reading a (as the first of the pair), in a fixed order:
+  // b, then class of a, class of b, distance bin.
+  auto for_each_entry = [&](std::size_t a, auto&& emit) {
+    const std::uint32_t obj = rd.object[a];
+    const double ax = rd.px[a], ay = rd.py[a], az = rd.pz[a];
+    for (std::size_t b = first[obj]; b < first[obj + 1]; ++b) {
+      if (b == a) continue;
+      const double dx = rd.px[b] - ax, dy = rd.py[b] - ay, dz = rd.pz[b] - az;
+      const auto bins = map.distance.bins(std::sqrt(dx * dx + dy * dy + dz * dz));
+      if (bins.empty()) continue;
+      for (const auto& ca : classes[a])
+        for (const auto& cb : classes[b])
+          for (const auto& bin : bins) {
+            const float w = ca.weight * cb.weight * bin.weight;
+            if (!(w > 0.0f)) continue;
+            emit(map.key_space.pack(ca.cls, cb.cls, bin.bin), static_cast<std::uint32_t>(b), std::min(w, 1.0f));
+          }
+    }
+  };
+
+  // Counting sort into CSR. Chunks are fixed ranges of readings (not one per
+  // thread), so the entry order within a key - chunk by chunk - is the same
+  // for any thread count.
+  const std::size_t max_chunks = std::max<std::size_t>(1, (std::size_t{1} << 24) / space);
+  const std::size_t chunk = std::max<std::size_t>(16, (n + max_chunks - 1) / max_chunks);
+  const std::size_t chunks = n ? (n + chunk - 1) / chunk : 0;
+  std::vector<std::vector<std::uint32_t>> cursor(chunks);
+  std::unique_ptr<util::Progress> bar;
+  if (progress) bar = std::make_unique<util::Progress>("map: pairs", 2 * chunks);
+  std::vector<std::uint64_t> chunk_total(chunks, 0);
+  util::parallel_for(chunks, [&](std::size_t c) {
+    auto& count = cursor[c];
+    count.assign(space, 0);
+    std::uint64_t total = 0;
+    for (std::size_t a = c * chunk; a < std::min(n, (c + 1) * chunk); ++a)
+      for_each_entry(a, [&](std::uint32_t key, std::uint32_t, float) {
+        ++count[key];
+        ++total;
+      });
+    chunk_total[c] = total;
+    if (bar) bar->advance();
+  }, threads);
+  std::uint64_t total = 0;
+  for (auto t : chunk_total) total += t;
+  if (total >= std::numeric_limits<std::uint32_t>::max())
+    throw Error("the map would hold " + std::to_string(total) +
+                " entries, more than 32-bit offsets allow: use fewer readings, classes or a narrower distance range");
+  map.keys.clear();
+  map.offsets.assign(1, 0);
+  std::uint32_t run = 0;
+  for (std::uint64_t key = 0; key < space; ++key) {
+    const std::uint32_t start = run;
+    for (std::size_t c = 0; c < chunks; ++c) {
+      const std::uint32_t k = cursor[c][key];
+      cursor[c][key] = run;
+      run += k;
+    }
+    if (run != start) {
+      map.keys.push_back(static_cast<std::uint32_t>(key));
+      map.offsets.push_back(run);
+    }
+  }
+  map.entry_a.assign(total, 0);
+  map.entry_b.assign(total, 0);
+  map.entry_weight.assign(total, 0.0f);
+  util::parallel_for(chunks, [&](std::size_t c) {
+    auto& pos = cursor[c];
+    for (std::size_t a = c * chunk; a < std::min(n, (c + 1) * chunk); ++a)
+      for_each_entry(a, [&](std::uint32_t key, std::uint32_t b, float w) {
+        const std::uint32_t at = pos[key]++;
+        map.entry_a[at] = static_cast<std::uint32_t>(a);
+        map.entry_b[at] = b;
+        map.entry_weight[at] = w;
+      });
+    std::vector<std::uint32_t>().swap(pos);
+    if (bar) bar->advance();
+  }, threads);
+  if (bar) bar->finish();
+}
+
+std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParameters& p, TrainReport* report) {
+  TrainReport rep;
+  const Scene& scene = data.scene;
+  if (scene.objects.empty()) throw Error("dataset has no objects");
+  if (data.samples.empty()) throw Error("dataset has no readings");
+  auto map = std::make_shared<PairMap>();
+  map->scene_name = scene.name;
+  map->pose_space = scene.pose_space;
+  const std::string scene_json = scene_to_json(scene);
+  map->scene_hash = io::fnv1a64(reinterpret_cast<const std::uint8_t*>(scene_json.data()), scene_json.size());
+  map->train_seed = p.seed;
+  for (const auto& o : scene.objects) map->objects.push_back({o.name, o.symmetry, o.inertial_radius_mm});
+
+  AppearanceModel& model = map->appearance;
+  model.descriptor = p.descriptor;
+  model.calibration.sensor = scene.sensor;
+  model.calibration.stiffness_kpa_per_mm = scene.skin.stiffness_kpa_per_mm;
+  model.calibration.contact_threshold_kpa = scene.skin.contact_threshold_kpa;
+  if (!(model.calibration.stiffness_kpa_per_mm > 0)) throw Error("scene \"" + scene.name + "\": skin stiffness must be positive");
+  model.mn_size = static_cast<std::uint32_t>(std::max(scene.sensor.rows, scene.sensor.cols)) + 2;
+  model.mnti_pad = 2 * model.mn_size;
+  model.mnti_freqs = std::min<std::uint32_t>(4, model.mnti_pad / 2);
+  model.descriptor_size = p.descriptor == DescriptorKind::mn ? model.mn_size * model.mn_size
+                                                             : appearance::fourier_magnitude_count(model.mnti_freqs);
+
+  // Usable readings, grouped by object (stable within an object).
+  std::vector<std::size_t> use;
+  for (std::uint32_t o = 0; o < scene.objects.size(); ++o)
+    for (std::size_t i = 0; i < data.samples.size(); ++i) {
+      const Reading& r = data.samples[i].reading;
+      if (r.object != o) continue;
+      if (r.status != ControllerStatus::converged) {
+        ++rep.skipped_not_converged;
+        continue;
+      }
+      if (!model.why_not_describable(r).empty()) {
+        ++rep.skipped_undescribable;
+        continue;
+      }
+      use.push_back(i);
+    }
+  std::vector<std::size_t> per_object(scene.objects.size(), 0);
+  for (auto i : use) ++per_object[data.samples[i].reading.object];
+  for (std::uint32_t o = 0; o < scene.objects.size(); ++o)
+    if (per_object[o] == 0)
+      throw Error("object \"" + scene.objects[o].name + "\" has no usable training reading (converged, with contact)");
+  const std::size_t n = use.size();
+  rep.readings_used = n;
+
+  MapReadings& rd = map->readings;
+  rd.object.resize(n);
+  for (auto* v : {&rd.px, &rd.py, &rd.pz, &rd.nx, &rd.ny, &rd.nz, &rd.norm_conf}) v->resize(n);
+  const std::uint32_t dim = model.descriptor_size;
+  std::vector<float> descriptors(n * dim);
+  {
+    std::unique_ptr<util::Progress> bar;
+    if (p.progress) bar = std::make_unique<util::Progress>("describe", n);
+    util::parallel_for(n, [&](std::size_t j) {
+      const Sample& s = data.samples[use[j]];
+      const Reading& r = s.reading;
+      // Positions and normals in the object frame (the pose the object had
+      // when the reading was taken; identity in simulation).
+      const RigidPose inv = s.object_pose.inverse();
+      const glm::dvec3 pos = inv.apply(r.position);
+      glm::dvec3 nrm = inv.rotate(r.normal);
+      const double len = glm::length(nrm);
+      if (!(len > 0) || !std::isfinite(len)) throw Error("training reading " + std::to_string(use[j]) + " has a zero normal");
+      nrm /= len;
+      rd.object[j] = r.object;
+      rd.px[j] = static_cast<float>(pos.x), rd.py[j] = static_cast<float>(pos.y), rd.pz[j] = static_cast<float>(pos.z);
+      rd.nx[j] = static_cast<float>(nrm.x), rd.ny[j] = static_cast<float>(nrm.y), rd.nz[j] = static_cast<float>(nrm.z);
+      if (!std::isfinite(rd.px[j]) || !std::isfinite(rd.py[j]) || !std::isfinite(rd.pz[j]))
+        throw Error("training reading " + std::to_string(use[j]) + " has a position out of float range");
+      rd.norm_conf[j] = model.norm_conf(r);
+      const auto d = model.describe(r);
+      std::copy(d.begin(), d.end(), descriptors.begin() + static_cast<std::ptrdiff_t>(j * dim));
+      if (bar) bar->advance();
+    }, p.threads);
+    if (bar) bar->finish();
+  }
+
+  auto t0 = std::chrono::steady_clock::now();
+  appearance::PamOptions po;
+  po.k = p.clusters;
+  po.seed = p.seed;
+  po.threads = p.threads;
+  po.progress = p.progress;
+  const auto clusters = appearance::pam(descriptors, dim, po);
+  rep.clustering_seconds = seconds_since(t0);
+  rep.clustering_loss = clusters.loss;
+  const auto k = static_cast<std::uint32_t>(clusters.medoids.size());
+  model.medoids.resize(static_cast<std::size_t>(k) * dim);
+  for (std::uint32_t i = 0; i < k; ++i)
+    std::copy_n(&descriptors[static_cast<std::size_t>(clusters.medoids[i]) * dim], dim, &model.medoids[static_cast<std::size_t>(i) * dim]);
+  model.psi = appearance::cluster_psi(descriptors, model.medoids, clusters.membership, dim);
+
+  t0 = std::chrono::steady_clock::now();
+  std::vector<std::vector<ClassWeight>> classes(n);
+  util::parallel_for(n, [&](std::size_t j) {
+    classes[j] = appearance::soft_classes(&descriptors[j * dim], model.medoids, model.psi, dim, model.prune_ratio);
+  }, p.threads);
+  std::size_t class_count = 0;
+  for (const auto& c : classes) class_count += c.size();
+  map->ambiguity = static_cast<double>(class_count) / static_cast<double>(n);
+
+  map->distance = p.distance;
+  map->key_space = {k, p.distance.count};
+  build_pair_index(*map, classes, p.threads, p.progress);
+  map->baseline = AppearanceBaseline::fit(static_cast<std::uint32_t>(scene.objects.size()), k, rd.object, classes);
+  rep.map_build_seconds = seconds_since(t0);
+  if (report) *report = rep;
+  return map;
+}
+
+}  // namespace sva

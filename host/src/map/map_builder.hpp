@@ -1,0 +1,30 @@
+#pragma once
+// Training: descriptors of every usable training reading, PAM appearance
+// classes, soft classes, then every ordered same-object pair in the distance
+// range under each of its (class a, class b, distance bin) keys.
+#include <sva/dataset.hpp>
+#include <sva/map.hpp>
+
+#include "map/pair_map.hpp"
+
+namespace sva {
+
+// The resolved training parameters (options over scene defaults), validated.
+struct TrainParameters {
+  DescriptorKind descriptor = DescriptorKind::mnti;
+  std::uint32_t clusters = 25;
+  DistanceBins distance;
+  std::uint64_t seed = 1;
+  unsigned threads = 0;
+  bool progress = false;
+};
+TrainParameters resolve_train_parameters(const Scene& scene, const TrainOptions& options);
+
+// The pair entries and CSR index for readings whose appearance classes are
+// known (`classes[i]` for reading i of map.readings); fills map.keys, offsets
+// and entries. Deterministic for any thread count.
+void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>& classes, unsigned threads, bool progress);
+
+std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParameters& params, TrainReport* report);
+
+}  // namespace sva

@@ -1,0 +1,265 @@
+#include "map/map_file.hpp"
+
+#include <sva/error.hpp>
+
+#include <cmath>
+#include <limits>
+#include <string_view>
+
+#include "appearance/descriptor.hpp"
+#include "io/binary_file.hpp"
+
+namespace sva {
+
+namespace {
+
+constexpr std::size_t kMaxObjects = 1 << 16;
+constexpr std::uint32_t kMaxClasses = 4096;
+constexpr std::uint32_t kMaxBins = 100000;
+constexpr std::uint64_t kMaxKeySpace = 1ull << 26;
+
+void put_symmetry(io::BinaryWriter& w, const Symmetry& s) {
+  w.put<std::uint8_t>(static_cast<std::uint8_t>(s.kind));
+  w.put_array(&s.axis.x, 3);
+  w.put<std::uint64_t>(s.rotations.size());
+  for (const auto& m : s.rotations) w.put_array(&m[0][0], 9);
+}
+
+Symmetry get_symmetry(io::BinaryReader& r) {
+  Symmetry s;
+  const auto kind = r.get<std::uint8_t>();
+  if (kind > 2) r.fail("invalid symmetry kind " + std::to_string(kind));
+  s.kind = static_cast<Symmetry::Kind>(kind);
+  r.get_array(&s.axis.x, 3);
+  const auto n = r.get<std::uint64_t>();
+  if (n > 4096 || n > r.remaining() / (9 * sizeof(double))) r.fail("symmetry group size " + std::to_string(n) + " is invalid");
+  s.rotations.resize(n);
+  for (auto& m : s.rotations) r.get_array(&m[0][0], 9);
+  return s;
+}
+
+template <class T>
+bool all_finite(const std::vector<T>& v) {
+  for (const auto& x : v)
+    if (!std::isfinite(x)) return false;
+  return true;
+}
+
+}  // namespace
+
+void save_pair_map(const PairMap& m, const std::filesystem::path& file) {
+  validate_pair_map(m, "map to save");
+  io::BinaryWriter w;
+  w.put_string(m.scene_name);
+  w.put<std::uint64_t>(m.scene_hash);
+  w.put<std::uint64_t>(m.train_seed);
+  w.put<double>(m.ambiguity);
+  w.put<std::uint8_t>(static_cast<std::uint8_t>(m.pose_space.kind));
+  w.put<std::int32_t>(m.pose_space.translation_bins);
+  w.put<double>(m.pose_space.translation_min_mm);
+  w.put<double>(m.pose_space.translation_max_mm);
+  w.put<std::int32_t>(m.pose_space.rotation_bins);
+
+  const AppearanceModel& a = m.appearance;
+  w.put<std::uint8_t>(static_cast<std::uint8_t>(a.descriptor));
+  w.put<std::int32_t>(a.calibration.sensor.rows);
+  w.put<std::int32_t>(a.calibration.sensor.cols);
+  w.put<double>(a.calibration.sensor.pitch_mm);
+  w.put<double>(a.calibration.stiffness_kpa_per_mm);
+  w.put<double>(a.calibration.contact_threshold_kpa);
+  w.put<std::uint32_t>(a.mn_size);
+  w.put<std::uint32_t>(a.mnti_pad);
+  w.put<std::uint32_t>(a.mnti_freqs);
+  w.put<std::uint32_t>(a.descriptor_size);
+  w.put<float>(a.prune_ratio);
+  w.put_vector(a.medoids);
+  w.put_vector(a.psi);
+
+  w.put<std::uint32_t>(m.distance.count);
+  w.put<double>(m.distance.min_mm);
+  w.put<double>(m.distance.max_mm);
+  w.put<std::uint32_t>(m.key_space.n_classes);
+  w.put<std::uint32_t>(m.key_space.n_dist_bins);
+
+  w.put<std::uint64_t>(m.objects.size());
+  for (const auto& o : m.objects) {
+    w.put_string(o.name);
+    put_symmetry(w, o.symmetry);
+    w.put<double>(o.inertial_radius_mm);
+  }
+
+  const MapReadings& rd = m.readings;
+  w.put_vector(rd.object);
+  for (const auto* v : {&rd.px, &rd.py, &rd.pz, &rd.nx, &rd.ny, &rd.nz, &rd.norm_conf}) w.put_vector(*v);
+
+  w.put<double>(m.baseline.smoothing);
+  w.put_vector(m.baseline.class_given_object);
+
+  w.put_vector(m.keys);
+  w.put_vector(m.offsets);
+  w.put_vector(m.entry_a);
+  w.put_vector(m.entry_b);
+  w.put_vector(m.entry_weight);
+  w.write_file(file, std::string_view(kMapMagic, 8), kMapVersion);
+}
+
+std::shared_ptr<PairMap> load_pair_map(const std::filesystem::path& file) {
+  io::BinaryReader r(file, std::string_view(kMapMagic, 8), kMapVersion, "map");
+  auto mp = std::make_shared<PairMap>();
+  PairMap& m = *mp;
+  m.scene_name = r.get_string(4096);
+  m.scene_hash = r.get<std::uint64_t>();
+  m.train_seed = r.get<std::uint64_t>();
+  m.ambiguity = r.get<double>();
+  const auto kind = r.get<std::uint8_t>();
+  if (kind > 1) r.fail("invalid pose space kind " + std::to_string(kind));
+  m.pose_space.kind = static_cast<PoseSpaceSpec::Kind>(kind);
+  m.pose_space.translation_bins = r.get<std::int32_t>();
+  m.pose_space.translation_min_mm = r.get<double>();
+  m.pose_space.translation_max_mm = r.get<double>();
+  m.pose_space.rotation_bins = r.get<std::int32_t>();
+
+  AppearanceModel& a = m.appearance;
+  const auto desc = r.get<std::uint8_t>();
+  if (desc > 1) r.fail("invalid descriptor kind " + std::to_string(desc));
+  a.descriptor = static_cast<DescriptorKind>(desc);
+  a.calibration.sensor.rows = r.get<std::int32_t>();
+  a.calibration.sensor.cols = r.get<std::int32_t>();
+  a.calibration.sensor.pitch_mm = r.get<double>();
+  a.calibration.stiffness_kpa_per_mm = r.get<double>();
+  a.calibration.contact_threshold_kpa = r.get<double>();
+  a.mn_size = r.get<std::uint32_t>();
+  a.mnti_pad = r.get<std::uint32_t>();
+  a.mnti_freqs = r.get<std::uint32_t>();
+  a.descriptor_size = r.get<std::uint32_t>();
+  a.prune_ratio = r.get<float>();
+  a.medoids = r.get_vector<float>();
+  a.psi = r.get_vector<float>();
+
+  m.distance.count = r.get<std::uint32_t>();
+  m.distance.min_mm = r.get<double>();
+  m.distance.max_mm = r.get<double>();
+  m.key_space.n_classes = r.get<std::uint32_t>();
+  m.key_space.n_dist_bins = r.get<std::uint32_t>();
+
+  const auto n_objects = r.get<std::uint64_t>();
+  if (n_objects == 0 || n_objects > kMaxObjects) r.fail("object count " + std::to_string(n_objects) + " is invalid");
+  m.objects.resize(n_objects);
+  for (auto& o : m.objects) {
+    o.name = r.get_string(4096);
+    o.symmetry = get_symmetry(r);
+    o.inertial_radius_mm = r.get<double>();
+  }
+
+  MapReadings& rd = m.readings;
+  rd.object = r.get_vector<std::uint32_t>();
+  for (auto* v : {&rd.px, &rd.py, &rd.pz, &rd.nx, &rd.ny, &rd.nz, &rd.norm_conf}) *v = r.get_vector<float>();
+
+  m.baseline.smoothing = r.get<double>();
+  m.baseline.class_given_object = r.get_vector<double>();
+  m.baseline.n_objects = static_cast<std::uint32_t>(m.objects.size());
+  m.baseline.n_classes = m.key_space.n_classes;
+
+  m.keys = r.get_vector<std::uint32_t>();
+  m.offsets = r.get_vector<std::uint32_t>();
+  m.entry_a = r.get_vector<std::uint32_t>();
+  m.entry_b = r.get_vector<std::uint32_t>();
+  m.entry_weight = r.get_vector<float>();
+  r.expect_end();
+  validate_pair_map(m, file.string());
+  return mp;
+}
+
+void validate_pair_map(const PairMap& m, const std::string& origin) {
+  auto fail = [&](const std::string& what) { throw Error(origin + ": invalid map: " + what); };
+  const auto& ps = m.pose_space;
+  if (ps.translation_bins < 1 || ps.rotation_bins < 1 || !std::isfinite(ps.translation_min_mm) ||
+      !std::isfinite(ps.translation_max_mm) || ps.translation_min_mm >= ps.translation_max_mm)
+    fail("pose space is invalid");
+  if (!std::isfinite(m.ambiguity) || m.ambiguity < 0) fail("appearance ambiguity is not a finite non-negative number");
+
+  const AppearanceModel& a = m.appearance;
+  const auto& cal = a.calibration;
+  if (cal.sensor.rows < 1 || cal.sensor.cols < 1 || cal.sensor.rows > 1024 || cal.sensor.cols > 1024 ||
+      !(cal.sensor.pitch_mm > 0) || !std::isfinite(cal.sensor.pitch_mm))
+    fail("sensor geometry is invalid");
+  if (!(cal.stiffness_kpa_per_mm > 0) || !std::isfinite(cal.stiffness_kpa_per_mm) || !std::isfinite(cal.contact_threshold_kpa))
+    fail("sensor calibration is invalid");
+  if (a.mn_size < 1 || a.mn_size > 4096) fail("MN size " + std::to_string(a.mn_size) + " is invalid");
+  const std::uint32_t expect_size = a.descriptor == DescriptorKind::mn ? a.mn_size * a.mn_size : appearance::fourier_magnitude_count(a.mnti_freqs);
+  if (a.descriptor == DescriptorKind::mnti && (a.mnti_pad < a.mn_size || a.mnti_pad > 8192 || a.mnti_freqs < 1 || a.mnti_freqs > a.mnti_pad / 2 + 1))
+    fail("MNTI parameters are invalid");
+  if (a.descriptor_size != expect_size) fail("descriptor size " + std::to_string(a.descriptor_size) + " does not match its parameters");
+  if (!(a.prune_ratio > 0.0f && a.prune_ratio <= 1.0f)) fail("pruning ratio T_a must lie in (0, 1]");
+  const std::uint32_t k = m.key_space.n_classes;
+  if (k < 1 || k > kMaxClasses) fail("class count " + std::to_string(k) + " is invalid");
+  if (a.psi.size() != k) fail("psi has " + std::to_string(a.psi.size()) + " values for " + std::to_string(k) + " classes");
+  for (float v : a.psi)
+    if (!(v > 0) || !std::isfinite(v)) fail("psi values must be positive and finite");
+  if (a.medoids.size() != static_cast<std::size_t>(k) * a.descriptor_size) fail("medoid table has the wrong size");
+  if (!all_finite(a.medoids)) fail("medoid table has a non-finite value");
+  for (std::uint32_t i = 0; i < k; ++i) {
+    const float* row = &a.medoids[static_cast<std::size_t>(i) * a.descriptor_size];
+    const double len2 = appearance::affinity(row, row, a.descriptor_size);
+    if (std::fabs(len2 - 1.0) > 1e-3) fail("medoid " + std::to_string(i) + " is not unit length");
+  }
+
+  const DistanceBins& d = m.distance;
+  if (d.count < 1 || d.count > kMaxBins || d.count != m.key_space.n_dist_bins) fail("distance bin count is invalid");
+  if (!std::isfinite(d.min_mm) || !std::isfinite(d.max_mm) || d.min_mm < 0 || d.min_mm >= d.max_mm) fail("distance range is invalid");
+  const std::uint64_t space = static_cast<std::uint64_t>(k) * k * d.count;
+  if (space > kMaxKeySpace) fail("key space is too large");
+
+  if (m.objects.empty()) fail("no objects");
+  for (const auto& o : m.objects) {
+    if (!std::isfinite(o.inertial_radius_mm) || o.inertial_radius_mm < 0) fail("object \"" + o.name + "\": invalid inertial radius");
+    if (!std::isfinite(o.symmetry.axis.x) || !std::isfinite(o.symmetry.axis.y) || !std::isfinite(o.symmetry.axis.z))
+      fail("object \"" + o.name + "\": invalid symmetry axis");
+    for (const auto& R : o.symmetry.rotations)
+      for (int c = 0; c < 3; ++c)
+        for (int rr = 0; rr < 3; ++rr)
+          if (!std::isfinite(R[c][rr])) fail("object \"" + o.name + "\": invalid symmetry rotation");
+  }
+
+  const MapReadings& rd = m.readings;
+  const std::size_t n = rd.size();
+  if (n == 0) fail("no readings");
+  if (n > std::numeric_limits<std::uint32_t>::max()) fail("too many readings");
+  for (const auto* v : {&rd.px, &rd.py, &rd.pz, &rd.nx, &rd.ny, &rd.nz, &rd.norm_conf})
+    if (v->size() != n) fail("reading table columns have different lengths");
+  for (std::size_t i = 0; i < n; ++i) {
+    if (rd.object[i] >= m.objects.size()) fail("reading " + std::to_string(i) + " names object " + std::to_string(rd.object[i]) + ", out of range");
+    if (i && rd.object[i] < rd.object[i - 1]) fail("reading table is not grouped by object");
+    if (!std::isfinite(rd.px[i]) || !std::isfinite(rd.py[i]) || !std::isfinite(rd.pz[i])) fail("reading " + std::to_string(i) + ": non-finite position");
+    const double len = std::sqrt(double(rd.nx[i]) * rd.nx[i] + double(rd.ny[i]) * rd.ny[i] + double(rd.nz[i]) * rd.nz[i]);
+    if (!(std::fabs(len - 1.0) <= 1e-3)) fail("reading " + std::to_string(i) + ": normal is not unit length");
+    if (!(rd.norm_conf[i] >= 0.0f && rd.norm_conf[i] <= 1.0f)) fail("reading " + std::to_string(i) + ": normConf outside [0, 1]");
+  }
+
+  const AppearanceBaseline& b = m.baseline;
+  if (!(b.smoothing > 0) || !std::isfinite(b.smoothing)) fail("baseline smoothing must be positive");
+  if (b.n_objects != m.objects.size() || b.n_classes != k || b.class_given_object.size() != m.objects.size() * k)
+    fail("baseline table has the wrong size");
+  for (double v : b.class_given_object)
+    if (!(v > 0 && v <= 1)) fail("baseline probabilities must lie in (0, 1]");
+
+  if (m.offsets.size() != m.keys.size() + 1) fail("offsets must have one more element than keys");
+  if (m.offsets.front() != 0) fail("offsets must start at 0");
+  const std::size_t entries = m.entry_a.size();
+  if (m.entry_b.size() != entries || m.entry_weight.size() != entries) fail("entry columns have different lengths");
+  if (m.offsets.back() != entries) fail("last offset " + std::to_string(m.offsets.back()) + " does not match the " + std::to_string(entries) + " entries");
+  for (std::size_t i = 0; i < m.keys.size(); ++i) {
+    if (m.keys[i] >= space) fail("key " + std::to_string(m.keys[i]) + " is outside the key space");
+    if (i && m.keys[i] <= m.keys[i - 1]) fail("keys are not strictly increasing");
+    if (m.offsets[i + 1] <= m.offsets[i]) fail("offsets are not strictly increasing (empty or negative key range)");
+  }
+  for (std::size_t e = 0; e < entries; ++e) {
+    if (m.entry_a[e] >= n || m.entry_b[e] >= n) fail("entry " + std::to_string(e) + " references a reading out of range");
+    if (m.entry_a[e] == m.entry_b[e]) fail("entry " + std::to_string(e) + " pairs a reading with itself");
+    if (rd.object[m.entry_a[e]] != rd.object[m.entry_b[e]]) fail("entry " + std::to_string(e) + " pairs readings of different objects");
+    const float w = m.entry_weight[e];
+    if (!(w > 0.0f && w <= 1.0f)) fail("entry " + std::to_string(e) + " has weight outside (0, 1]");
+  }
+}
+
+}  // namespace sva

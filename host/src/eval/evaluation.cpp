@@ -1,0 +1,85 @@
+#include "eval/evaluation.hpp"
+
+#include <sva/error.hpp>
+
+#include <cmath>
+#include <sstream>
+
+#include "eval/trial_runner.hpp"
+#include "map/pair_map.hpp"
+
+namespace sva::eval {
+
+namespace {
+
+class RecognizerSession final : public Session {
+ public:
+  RecognizerSession(const Map& map, const RecognizerOptions& options) : recognizer_(map, map.pose_space(), options) {}
+  void add_reading(const Reading& reading) override { recognizer_.add_reading(reading); }
+  Estimate estimate() const override { return recognizer_.estimate(1); }
+  void reset() override { recognizer_.reset(); }
+
+ private:
+  Recognizer recognizer_;
+};
+
+std::string join(const std::vector<std::string>& v) {
+  std::string s;
+  for (const auto& x : v) s += (s.empty() ? "" : ", ") + x;
+  return s;
+}
+
+std::string fmt(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
+}  // namespace
+
+const char* backend_name(BackendKind backend) { return backend == BackendKind::vulkan ? "vulkan" : "cpu"; }
+const char* method_name(Method method) { return method == Method::appearance ? "appearance" : "sva"; }
+
+void check_compatible(const Map& map, const Dataset& test, const std::string& map_name, const std::string& data_name) {
+  const std::string both = "the map " + map_name + " and the test set " + data_name;
+  if (map.scene_name() != test.scene.name)
+    throw Error(both + " come from different scenes (\"" + map.scene_name() + "\" and \"" + test.scene.name + "\")");
+  const auto names = map.object_names();
+  std::vector<std::string> test_names;
+  for (const auto& o : test.scene.objects) test_names.push_back(o.name);
+  if (names != test_names)
+    throw Error(both + " have different objects ([" + join(names) + "] and [" + join(test_names) + "])");
+  const auto& cal = map.internal().appearance.calibration;
+  const SensorSpec& s = test.scene.sensor;
+  if (cal.sensor.rows != s.rows || cal.sensor.cols != s.cols || std::abs(cal.sensor.pitch_mm - s.pitch_mm) > 1e-9)
+    throw Error(both + " use different sensors (" + std::to_string(cal.sensor.rows) + "x" + std::to_string(cal.sensor.cols) +
+                " at " + fmt(cal.sensor.pitch_mm) + " mm and " + std::to_string(s.rows) + "x" + std::to_string(s.cols) +
+                " at " + fmt(s.pitch_mm) + " mm): their descriptors do not compare");
+  if (std::abs(cal.contact_threshold_kpa - test.scene.skin.contact_threshold_kpa) > 1e-9 ||
+      std::abs(cal.stiffness_kpa_per_mm - test.scene.skin.stiffness_kpa_per_mm) > 1e-9)
+    throw Error(both + " use different skin calibrations (contact threshold " + fmt(cal.contact_threshold_kpa) + " and " +
+                fmt(test.scene.skin.contact_threshold_kpa) + " kPa, stiffness " + fmt(cal.stiffness_kpa_per_mm) + " and " +
+                fmt(test.scene.skin.stiffness_kpa_per_mm) + " kPa/mm)");
+}
+
+EvalResult run_evaluation(const Map& map, const Dataset& test, const EvalOptions& options) {
+  check_compatible(map, test, options.map_name, options.data_name);
+  TrialSetup setup;
+  setup.trials = options.trials;
+  setup.max_readings = options.max_readings;
+  setup.seed = options.seed;
+  setup.pose_space = map.pose_space();
+  setup.threads = options.threads;
+  setup.progress = options.progress;
+  setup.source = options.data_name;
+  setup.scene = map.scene_name();
+  setup.backend = backend_name(options.recognizer.backend);
+  setup.method = method_name(options.recognizer.method);
+  RecognizerOptions ro = options.recognizer;
+  // Trials already occupy the cores; a recognizer on one thread each avoids
+  // oversubscription (its results do not depend on its thread count).
+  if (options.trials > 1) ro.threads = 1;
+  return run_trials(test, setup, [&] { return std::make_unique<RecognizerSession>(map, ro); });
+}
+
+}  // namespace sva::eval

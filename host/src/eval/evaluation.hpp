@@ -1,0 +1,42 @@
+#pragma once
+// The evaluation the CLI (`sva eval`) and the demo call: recognition trials of
+// a map against a test set through sva::Recognizer, summarised as a curve.
+//
+//   eval::EvalOptions o;  o.trials = 30;  o.max_readings = 30;
+//   eval::EvalResult r = eval::run_evaluation(map, test, o);
+//   eval::Curve c = eval::summarize(r);          // results.hpp
+//   std::fputs(eval::format_table(c).c_str(), stdout);  // report.hpp
+//   eval::write_figure({c, baseline}, "fig.png");  // figure.hpp
+#include <sva/dataset.hpp>
+#include <sva/map.hpp>
+#include <sva/recognizer.hpp>
+
+#include <string>
+
+#include "eval/results.hpp"
+
+namespace sva::eval {
+
+struct EvalOptions {
+  std::size_t trials = 0;           // >= 1
+  std::size_t max_readings = 30;    // >= 1
+  std::uint64_t seed = 1;
+  RecognizerOptions recognizer;     // backend, method, eps, speed knobs
+  unsigned threads = 0;             // trials in parallel; 0 = util::default_threads()
+  bool progress = true;
+  std::string map_name = "map";     // names the files in errors
+  std::string data_name = "test set";
+};
+
+// Throws sva::Error naming both files when the test set cannot be evaluated
+// against the map: another scene, other objects (names or order), another
+// sensor geometry or skin calibration (the descriptors would not compare).
+void check_compatible(const Map& map, const Dataset& test, const std::string& map_name, const std::string& data_name);
+
+// Runs the trials; poses are drawn from the map's pose space.
+EvalResult run_evaluation(const Map& map, const Dataset& test, const EvalOptions& options);
+
+const char* backend_name(BackendKind backend);
+const char* method_name(Method method);
+
+}  // namespace sva::eval

@@ -1,0 +1,124 @@
+#include "eval/trial_runner.hpp"
+
+#include <sva/error.hpp>
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <mutex>
+#include <optional>
+#include <vector>
+
+#include "eval/metrics.hpp"
+#include "eval/trials.hpp"
+#include "util/interrupt.hpp"
+#include "util/parallel.hpp"
+#include "util/progress.hpp"
+
+namespace sva::eval {
+
+namespace {
+
+// Sessions are expensive to build (a Vulkan backend opens a device), so each
+// worker borrows one from a pool and resets it between trials.
+class SessionPool {
+ public:
+  explicit SessionPool(const SessionFactory& make) : make_(make) {}
+  std::unique_ptr<Session> take() {
+    {
+      std::lock_guard lock(mutex_);
+      if (!free_.empty()) {
+        auto s = std::move(free_.back());
+        free_.pop_back();
+        return s;
+      }
+    }
+    auto s = make_();
+    if (!s) throw std::logic_error("eval: the session factory returned no session");
+    return s;
+  }
+  void give_back(std::unique_ptr<Session> s) {
+    std::lock_guard lock(mutex_);
+    free_.push_back(std::move(s));
+  }
+
+ private:
+  const SessionFactory& make_;
+  std::mutex mutex_;
+  std::vector<std::unique_ptr<Session>> free_;
+};
+
+}  // namespace
+
+EvalResult run_trials(const Dataset& test, const TrialSetup& setup, const SessionFactory& make_session) {
+  if (setup.trials == 0) throw Error("the number of trials must be at least 1, got 0");
+  if (setup.max_readings == 0) throw Error("the number of readings per trial must be at least 1, got 0");
+  const TrialGenerator generator(test, setup.pose_space, setup.seed, setup.max_readings, setup.source);
+
+  EvalResult result;
+  result.scene = setup.scene.empty() ? test.scene.name : setup.scene;
+  result.backend = setup.backend;
+  result.method = setup.method;
+  result.seed = setup.seed;
+  result.max_readings = setup.max_readings;
+  for (const auto& o : test.scene.objects) result.objects.push_back(o.name);
+  result.trials.resize(setup.trials);
+
+  SessionPool pool(make_session);
+  std::optional<util::Progress> progress;
+  if (setup.progress) progress.emplace("eval " + setup.method, setup.trials);
+
+  util::parallel_for(
+      setup.trials,
+      [&](std::size_t t) {
+        const Trial trial = generator.make(t);
+        const SceneObject& object = test.scene.objects[trial.object];
+        TrialResult& out = result.trials[t];
+        out.index = t;
+        out.object = trial.object;
+        out.pose = trial.pose;
+        out.samples = trial.samples;
+        out.steps.resize(trial.readings.size());
+
+        auto session = pool.take();
+        session->reset();
+        for (std::size_t k = 0; k < trial.readings.size(); ++k) {
+          util::throw_if_interrupted();
+          const auto start = std::chrono::steady_clock::now();
+          Estimate est;
+          try {
+            session->add_reading(trial.readings[k]);
+            est = session->estimate();
+          } catch (const Interrupted&) {
+            throw;
+          } catch (const Error& e) {
+            throw Error(setup.source + ": trial " + std::to_string(t) + ", reading " + std::to_string(k + 1) +
+                        " (sample " + std::to_string(trial.samples[k]) + "): " + e.what());
+          }
+          const auto stop = std::chrono::steady_clock::now();
+          StepResult& s = out.steps[k];
+          s.update_ms = std::chrono::duration<double, std::milli>(stop - start).count();
+          s.estimated_object = est.object;
+          s.correct = est.object == trial.object;
+          s.true_object_probability =
+              trial.object < est.object_probability.size() ? est.object_probability[trial.object] : 0.0;
+          s.pose_valid = est.pose_valid;
+          if (s.pose_valid && !(std::isfinite(est.pose.T.x) && std::isfinite(est.pose.T.y) && std::isfinite(est.pose.T.z) &&
+                                std::isfinite(est.pose.R[0][0] + est.pose.R[1][1] + est.pose.R[2][2])))
+            throw std::logic_error("eval: the recognizer returned a non-finite pose in trial " + std::to_string(t));
+          if (s.has_pose_error()) {
+            const PoseError e = pose_error(trial.pose, est.pose, object.symmetry, object.inertial_radius_mm);
+            s.translation_error_mm = e.translation_mm;
+            s.angular_error_rad = e.angular_rad;
+            s.inertial_error_mm = e.inertial_mm;
+          }
+        }
+        pool.give_back(std::move(session));
+        if (progress) progress->advance();
+      },
+      setup.threads);
+  if (progress) progress->finish();
+  return result;
+}
+
+}  // namespace sva::eval

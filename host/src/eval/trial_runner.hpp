@@ -1,0 +1,45 @@
+#pragma once
+// Runs recognition trials and records, after every reading, whether the
+// object is right and how far the pose is off. The recognizer is reached
+// through `Session`, so the runner can be tested with a scripted session and
+// the same loop serves the CPU and Vulkan backends and both methods.
+#include <sva/dataset.hpp>
+#include <sva/recognizer.hpp>
+#include <sva/scene.hpp>
+
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "eval/results.hpp"
+
+namespace sva::eval {
+
+// One recognition session: readings in, estimate out. reset() must make it
+// behave exactly like a fresh one (sessions are reused across trials).
+class Session {
+ public:
+  virtual ~Session() = default;
+  virtual void add_reading(const Reading& reading) = 0;
+  virtual Estimate estimate() const = 0;
+  virtual void reset() = 0;
+};
+using SessionFactory = std::function<std::unique_ptr<Session>()>;
+
+struct TrialSetup {
+  std::size_t trials = 0;          // >= 1; trial t uses object t mod objects
+  std::size_t max_readings = 0;    // >= 1
+  std::uint64_t seed = 1;
+  PoseSpaceSpec pose_space;        // where the random object poses come from
+  unsigned threads = 0;            // trials run in parallel; 0 = util::default_threads()
+  bool progress = true;
+  std::string source = "test set"; // names the test set in errors
+  std::string scene, backend, method;  // copied into the result
+};
+
+// Runs setup.trials trials on the test set. Each trial's randomness comes from
+// util::Rng(seed, trial) and each trial writes only its own result, so
+// everything but the timings is independent of the thread count.
+EvalResult run_trials(const Dataset& test, const TrialSetup& setup, const SessionFactory& make_session);
+
+}  // namespace sva::eval

@@ -47,6 +47,8 @@ struct Estimate {
   bool pose_valid = false;                  // false until a pair has voted (and for Method::appearance)
   std::vector<Hypothesis> top;              // best bins, most probable first
   std::uint64_t votes = 0;                  // votes cast by the last update
+  std::uint64_t votes_outside = 0;          // votes of the last update whose pose fell outside the pose space
+                                            // (many: the space may not contain the object's pose)
 };
 
 class Recognizer {

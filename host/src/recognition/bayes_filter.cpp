@@ -1,0 +1,131 @@
+#include "recognition/bayes_filter.hpp"
+
+#include <sva/error.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace sva {
+
+BayesFilter::BayesFilter(const PairMap& map, const PoseSpace& space, const FilterOptions& options)
+    : map_(&map), space_(&space), options_(options), belief_(space, options.eps) {
+  if (space.objects() != map.objects.size())
+    throw Error("pose space has " + std::to_string(space.objects()) + " objects but the map has " +
+                std::to_string(map.objects.size()));
+  if (!(options.object_prune_probability >= 0.0 && options.object_prune_probability < 1.0))
+    throw Error("recognizer option object_prune_probability = " + std::to_string(options.object_prune_probability) +
+                " must be in [0, 1)");
+  if (options.max_pairs_per_update < 0)
+    throw Error("recognizer option max_pairs_per_update = " + std::to_string(options.max_pairs_per_update) +
+                " must be >= 0");
+}
+
+void BayesFilter::reset() {
+  belief_.reset();
+  readings_.clear();
+  last_ = {};
+}
+
+namespace {
+ObservedPatch patch_of(const ObservedReading& r) {
+  ObservedPatch p;
+  for (int k = 0; k < 3; ++k) {
+    p.position[k] = static_cast<float>(r.position[k]);
+    p.normal[k] = static_cast<float>(r.normal[k]);
+  }
+  p.norm_conf = r.norm_conf;
+  return p;
+}
+}  // namespace
+
+void BayesFilter::queue_pairs(const ObservedReading& reading, std::uint32_t session, VoteBatch* batch) const {
+  // Earlier readings, most recent first, so that a cap keeps the newest pairs.
+  const std::size_t t = readings_.size();
+  const std::size_t budget = options_.max_pairs_per_update > 0
+                                 ? static_cast<std::size_t>(options_.max_pairs_per_update)
+                                 : 2 * t;
+  // Session row of the object mask.
+  if (options_.object_prune_probability > 0.0 && belief_.pairs_folded() > 0) {
+    const std::vector<double> p = belief_.object_probability();
+    if (batch->object_active.size() < std::size_t{session + 1} * space_->objects())
+      batch->object_active.resize(std::size_t{session + 1} * space_->objects(), 1);
+    for (std::uint32_t o = 0; o < space_->objects(); ++o)
+      batch->object_active[std::size_t{session} * space_->objects() + o] = p[o] >= options_.object_prune_probability;
+  }
+  batch->sessions = std::max(batch->sessions, session + 1);
+  std::size_t queued = 0;
+  for (std::size_t j = 0; j < t && queued < budget; ++j) {
+    const std::size_t i = t - 1 - j;
+    for (int order = 0; order < 2 && queued < budget; ++order) {
+      const ObservedReading& a = order == 0 ? readings_[i] : reading;
+      const ObservedReading& b = order == 0 ? reading : readings_[i];
+      PairQuery q;
+      q.a = patch_of(a);
+      q.b = patch_of(b);
+      q.session = session;
+      q.key_begin = static_cast<std::uint32_t>(batch->keys.size());
+      const double d = glm::length(b.position - a.position);
+      if (d >= SVA_MIN_PAIR_SEPARATION_MM) {  // coincident points define no axis: no keys, no vote
+        const std::vector<BinWeight> bins = map_->distance.bins(d);
+        for (const ClassWeight& ca : a.classes)
+          for (const ClassWeight& cb : b.classes)
+            for (const BinWeight& db : bins) {
+              const float w = ca.weight * cb.weight * db.weight;
+              if (w > 0.0f) batch->keys.push_back({map_->key_space.pack(ca.cls, cb.cls, db.bin), w});
+            }
+      }
+      q.key_end = static_cast<std::uint32_t>(batch->keys.size());
+      batch->pairs.push_back(q);
+      ++queued;
+    }
+  }
+}
+
+UpdateStats BayesFilter::fold(const ObservedReading& reading, const PairVotes* votes, std::size_t count) {
+  UpdateStats st;
+  st.pairs = count;
+  for (std::size_t i = 0; i < count; ++i) {
+    st.matches += votes[i].matches;
+    st.votes += votes[i].votes;
+    st.votes_outside += votes[i].votes_outside;
+    if (belief_.fold(votes[i])) ++st.pairs_folded;
+  }
+  readings_.push_back(reading);
+  last_ = st;
+  return st;
+}
+
+UpdateStats BayesFilter::add(const ObservedReading& reading, VoteBackend& backend) {
+  return update_sessions({this}, {reading}, backend)[0];
+}
+
+std::vector<UpdateStats> update_sessions(const std::vector<BayesFilter*>& sessions,
+                                         const std::vector<ObservedReading>& readings, VoteBackend& backend) {
+  if (sessions.size() != readings.size()) throw Error("update_sessions: one reading per session is required");
+  for (const BayesFilter* f : sessions)
+    if (&f->map() != &sessions.front()->map() || f->space().objects() != sessions.front()->space().objects())
+      throw Error("update_sessions: all sessions of a batch must use the same map and pose space");
+  std::vector<ObservedReading> valid;
+  valid.reserve(readings.size());
+  for (std::size_t s = 0; s < sessions.size(); ++s) {
+    const std::string what = "reading " + std::to_string(sessions[s]->readings() + 1);
+    valid.push_back(validated(readings[s], sessions[s]->map(), what.c_str()));
+  }
+  VoteBatch batch;
+  std::vector<std::size_t> first(sessions.size() + 1, 0);
+  for (std::size_t s = 0; s < sessions.size(); ++s) {
+    first[s] = batch.pairs.size();
+    sessions[s]->queue_pairs(valid[s], static_cast<std::uint32_t>(s), &batch);
+  }
+  first[sessions.size()] = batch.pairs.size();
+  if (!batch.object_active.empty())
+    batch.object_active.resize(std::size_t{batch.sessions} * sessions.front()->space().objects(), 1);
+  const std::vector<PairVotes> votes = batch.pairs.empty() ? std::vector<PairVotes>{} : backend.vote(batch);
+  std::vector<UpdateStats> out;
+  for (std::size_t s = 0; s < sessions.size(); ++s)
+    out.push_back(sessions[s]->fold(valid[s], votes.data() + first[s], first[s + 1] - first[s]));
+  return out;
+}
+
+}  // namespace sva

@@ -1,0 +1,67 @@
+#pragma once
+// The SVA Bayes filter of one recognition session (Eq 3-5): each new reading
+// is paired with every earlier one in both orders, the pairs' votes come from
+// a VoteBackend, and each pair factor is folded into the log-domain belief.
+// Several sessions can update in one backend call (update_sessions), which is
+// how batch evaluation keeps a GPU busy.
+#include <memory>
+#include <vector>
+
+#include "map/pair_map.hpp"
+#include "recognition/belief.hpp"
+#include "recognition/observed_reading.hpp"
+#include "recognition/pose_space.hpp"
+#include "recognition/vote_backend.hpp"
+
+namespace sva {
+
+struct FilterOptions {
+  double eps = 1e-6;
+  double object_prune_probability = 0.0;  // objects below this posterior stop receiving votes
+  int max_pairs_per_update = 0;           // 0 = all; else pairs with the most recent readings
+};
+
+struct UpdateStats {
+  std::size_t pairs = 0;          // pairs sent to the backend
+  std::size_t pairs_folded = 0;   // pairs that had votes
+  std::uint64_t matches = 0;
+  std::uint64_t votes = 0;
+  std::uint64_t votes_outside = 0;
+};
+
+class BayesFilter {
+ public:
+  BayesFilter(const PairMap& map, const PoseSpace& space, const FilterOptions& options);
+
+  // Adds one reading and updates the belief through `backend`.
+  UpdateStats add(const ObservedReading& reading, VoteBackend& backend);
+  BeliefEstimate estimate(std::size_t top_k) const { return belief_.estimate(top_k); }
+  void reset();
+
+  std::size_t readings() const { return readings_.size(); }
+  const Belief& belief() const { return belief_; }
+  const UpdateStats& last_update() const { return last_; }
+  const PoseSpace& space() const { return *space_; }
+  const PairMap& map() const { return *map_; }
+
+  // Batch building blocks: queue the pairs of `reading` (validated) as
+  // `session`, then fold the backend's answer for them.
+  void queue_pairs(const ObservedReading& reading, std::uint32_t session, VoteBatch* batch) const;
+  UpdateStats fold(const ObservedReading& reading, const PairVotes* votes, std::size_t count);
+
+ private:
+  const PairMap* map_;
+  const PoseSpace* space_;
+  FilterOptions options_;
+  Belief belief_;
+  std::vector<ObservedReading> readings_;
+  UpdateStats last_;
+};
+
+// Updates several independent sessions, each with its next reading, in one
+// backend call. Readings are validated first; results equal calling add() on
+// each session in turn.
+std::vector<UpdateStats> update_sessions(const std::vector<BayesFilter*>& sessions,
+                                         const std::vector<ObservedReading>& readings, VoteBackend& backend);
+
+}  // namespace sva

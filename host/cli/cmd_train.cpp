@@ -1,4 +1,88 @@
+// sva train: build the SVA pair map from a training dataset.
+#include <sva/dataset.hpp>
+#include <sva/map.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <limits>
+#include <string>
+
 #include "args.hpp"
+#include "map/pair_map.hpp"
+
 namespace sva::cli {
-int cmd_train(const std::vector<std::string>&) { throw Error("sva train: being built (skeleton)"); }
+
+namespace {
+// "MIN:MAX" in mm.
+std::pair<double, double> parse_range(const std::string& text) {
+  const auto colon = text.find(':');
+  auto bad = [&] { return Error("sva train: --dist-range expects MIN:MAX in mm (e.g. 30:160), got \"" + text + "\""); };
+  if (colon == std::string::npos) throw bad();
+  const std::string a = text.substr(0, colon), b = text.substr(colon + 1);
+  char* end = nullptr;
+  const double lo = std::strtod(a.c_str(), &end);
+  if (a.empty() || *end != '\0') throw bad();
+  const double hi = std::strtod(b.c_str(), &end);
+  if (b.empty() || *end != '\0') throw bad();
+  if (!std::isfinite(lo) || !std::isfinite(hi) || lo < 0 || lo >= hi)
+    throw Error("sva train: --dist-range " + text + ": expected 0 <= MIN < MAX");
+  return {lo, hi};
+}
+}  // namespace
+
+int cmd_train(const std::vector<std::string>& argv) {
+  Args a("sva train",
+         "Build the SVA pair map: appearance classes (PAM on MN/MNTI descriptors) and every same-object pair of training "
+         "readings under its (class, class, distance bin) keys. Defaults come from the dataset's scene.",
+         argv);
+  a.option("--data", "TRAIN", "training dataset (from sva simulate)");
+  a.option("--out", "MAP", "map file to write");
+  a.option("--descriptor", "mn|mnti", "appearance descriptor (default: the scene's)");
+  a.option("--clusters", "N", "appearance classes n_C (default: the scene's, 25 for paper3d)");
+  a.option("--dist-bins", "N", "distance bins (default: the scene's)");
+  a.option("--dist-range", "MIN:MAX", "distance range in mm (default: the scene's)");
+  a.option("--seed", "S", "seed of the clustering's candidate order (default 1)");
+  a.option("--threads", "N", "worker threads (default: SVA_THREADS or all cores); results do not depend on it");
+  if (!a.parse()) return 0;
+  const std::string data_file = a.required("--data");
+  const std::string out_file = a.required("--out");
+
+  TrainOptions o;
+  if (auto d = a.get("--descriptor")) {
+    if (*d != "mn" && *d != "mnti") throw Error("sva train: --descriptor expects mn or mnti, got \"" + *d + "\"");
+    o.descriptor = *d;
+  }
+  if (a.has("--clusters")) o.clusters = static_cast<int>(a.integer("--clusters", 25, 1, 4096));
+  if (a.has("--dist-bins")) o.dist_bins = static_cast<int>(a.integer("--dist-bins", 40, 1, 100000));
+  if (auto r = a.get("--dist-range")) {
+    auto [lo, hi] = parse_range(*r);
+    o.dist_min_mm = lo;
+    o.dist_max_mm = hi;
+  }
+  o.seed = static_cast<std::uint64_t>(a.integer("--seed", 1, 0, std::numeric_limits<long long>::max()));
+  o.threads = static_cast<unsigned>(a.integer("--threads", 0, 0, 1024));
+  o.progress = true;
+
+  const Dataset data = load_dataset(data_file);
+  TrainReport rep;
+  const Map map = Map::train(data, o, &rep);
+  map.save(out_file);
+
+  const PairMap& m = map.internal();
+  std::printf("%s: SVA map of scene \"%s\" from %s\n", out_file.c_str(), m.scene_name.c_str(), data_file.c_str());
+  std::printf("  descriptor     %s (%u values)\n", m.appearance.descriptor == DescriptorKind::mn ? "MN" : "MNTI",
+              m.appearance.descriptor_size);
+  std::printf("  readings       %zu used, %zu skipped (not converged), %zu skipped (no contact to describe)\n",
+              rep.readings_used, rep.skipped_not_converged, rep.skipped_undescribable);
+  std::printf("  classes        %u (PAM loss %.4f, %.2f s)\n", m.key_space.n_classes, rep.clustering_loss, rep.clustering_seconds);
+  std::printf("  ambiguity A    %.3f classes per reading\n", m.ambiguity);
+  std::printf("  distance bins  %u over %g-%g mm\n", m.distance.count, m.distance.min_mm, m.distance.max_mm);
+  std::printf("  map            %zu entries under %zu keys, %.1f MB (%.2f bytes/entry), built in %.2f s\n", map.entries(),
+              map.keys(), static_cast<double>(map.bytes()) / 1e6,
+              map.entries() ? static_cast<double>(map.bytes()) / static_cast<double>(map.entries()) : 0.0,
+              rep.map_build_seconds);
+  return 0;
+}
+
 }  // namespace sva::cli

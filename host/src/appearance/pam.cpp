@@ -115,14 +115,16 @@ double pam_loss(const std::vector<float>& points, std::uint32_t dim, const std::
   return loss;
 }
 
-PamResult pam(const std::vector<float>& points, std::uint32_t dim, const PamOptions& opt) {
-  assert(dim > 0 && !points.empty() && points.size() % dim == 0);
-  const std::size_t n = points.size() / dim;
-  const std::size_t k = std::max<std::size_t>(1, std::min<std::size_t>(opt.k, n));
-  Dissimilarity dis(points, dim, n <= opt.max_matrix_points, opt.threads);
-  std::vector<float> scratch(n);
+namespace {
 
+// FasterPAM from the given medoids: visit candidates in `order`, apply the
+// best swap for a candidate as soon as it improves the loss, stop after a
+// full cycle without one.
+PamResult swap_search(const Dissimilarity& dis, std::vector<std::uint32_t> medoids, const std::vector<std::uint32_t>& order) {
+  const std::size_t n = dis.size(), k = medoids.size();
+  std::vector<float> scratch(n);
   State s;
+  s.medoid = std::move(medoids);
   s.near.assign(n, 0);
   s.second.assign(n, 0);
   s.dnear.assign(n, kNoSecond);
@@ -139,41 +141,12 @@ PamResult pam(const std::vector<float>& points, std::uint32_t dim, const PamOpti
       rows[slot] = owned[slot].data();
     }
   };
-
-  // BUILD: greedily add the point that lowers the loss most (ties: lowest index).
-  std::unique_ptr<util::Progress> progress;
-  if (opt.progress) progress = std::make_unique<util::Progress>("clustering: PAM BUILD", k);
   std::vector<char> is_medoid(n, 0);
-  std::vector<double> gain(n);
-  constexpr std::size_t block = 64;
-  const std::size_t blocks = (n + block - 1) / block;
   for (std::size_t m = 0; m < k; ++m) {
-    util::parallel_for(blocks, [&](std::size_t b) {
-      std::vector<float> local(dis.cached() ? 0 : n);
-      for (std::size_t c = b * block; c < std::min(n, (b + 1) * block); ++c) {
-        if (is_medoid[c]) continue;
-        gain[c] = build_gain(dis.row(c, local.data()), s.dnear.data(), n);
-      }
-    }, opt.threads);
-    std::size_t best = n;
-    for (std::size_t c = 0; c < n; ++c)
-      if (!is_medoid[c] && (best == n || gain[c] < gain[best])) best = c;
-    is_medoid[best] = 1;
-    s.medoid.push_back(static_cast<std::uint32_t>(best));
-    set_row(m, s.medoid.back());
-    const float* r = rows[m];
-    for (std::size_t o = 0; o < n; ++o) s.dnear[o] = std::min(s.dnear[o], r[o]);
-    if (progress) progress->advance();
+    is_medoid[s.medoid[m]] = 1;
+    set_row(m, s.medoid[m]);
   }
-  if (progress) progress->finish();
   assign(s, rows, n);
-
-  // FasterPAM: visit candidates in a seeded order, apply the best swap for a
-  // candidate as soon as it improves, stop after a full cycle without one.
-  std::vector<std::uint32_t> order(n);
-  std::iota(order.begin(), order.end(), 0u);
-  util::Rng rng(opt.seed, 0x9a3c1u);
-  for (std::size_t i = n; i > 1; --i) std::swap(order[i - 1], order[rng.below(i)]);
   std::vector<double> removal(k), delta(k);
   auto update_removal = [&] {
     std::fill(removal.begin(), removal.end(), 0.0);
@@ -217,11 +190,78 @@ PamResult pam(const std::vector<float>& points, std::uint32_t dim, const PamOpti
     ++res.swaps;
     since_swap = 0;
   }
-
   res.medoids = s.medoid;
   res.membership = s.near;
   for (std::size_t o = 0; o < n; ++o) res.loss += s.dnear[o];
   return res;
+}
+
+// BUILD: greedily add the point that lowers the loss most (ties: lowest index).
+std::vector<std::uint32_t> build(const Dissimilarity& dis, std::size_t k, unsigned threads, bool progress) {
+  const std::size_t n = dis.size();
+  std::unique_ptr<util::Progress> bar;
+  if (progress) bar = std::make_unique<util::Progress>("clustering: PAM BUILD", k);
+  std::vector<std::uint32_t> medoids;
+  std::vector<float> dnear(n, kNoSecond), scratch(n);
+  std::vector<char> is_medoid(n, 0);
+  std::vector<double> gain(n);
+  constexpr std::size_t block = 64;
+  const std::size_t blocks = (n + block - 1) / block;
+  for (std::size_t m = 0; m < k; ++m) {
+    util::parallel_for(blocks, [&](std::size_t b) {
+      std::vector<float> local(dis.cached() ? 0 : n);
+      for (std::size_t c = b * block; c < std::min(n, (b + 1) * block); ++c) {
+        if (is_medoid[c]) continue;
+        gain[c] = build_gain(dis.row(c, local.data()), dnear.data(), n);
+      }
+    }, threads);
+    std::size_t best = n;
+    for (std::size_t c = 0; c < n; ++c)
+      if (!is_medoid[c] && (best == n || gain[c] < gain[best])) best = c;
+    is_medoid[best] = 1;
+    medoids.push_back(static_cast<std::uint32_t>(best));
+    const float* r = dis.row(best, scratch.data());
+    for (std::size_t o = 0; o < n; ++o) dnear[o] = std::min(dnear[o], r[o]);
+    if (bar) bar->advance();
+  }
+  if (bar) bar->finish();
+  return medoids;
+}
+
+}  // namespace
+
+PamResult pam(const std::vector<float>& points, std::uint32_t dim, const PamOptions& opt) {
+  assert(dim > 0 && !points.empty() && points.size() % dim == 0);
+  const std::size_t n = points.size() / dim;
+  const std::size_t k = std::max<std::size_t>(1, std::min<std::size_t>(opt.k, n));
+  const Dissimilarity dis(points, dim, n <= opt.max_matrix_points, opt.threads);
+
+  std::vector<std::uint32_t> order(n);
+  std::iota(order.begin(), order.end(), 0u);
+  util::Rng rng(opt.seed, 0x9a3c1u);
+  for (std::size_t i = n; i > 1; --i) std::swap(order[i - 1], order[rng.below(i)]);
+
+  PamResult best = swap_search(dis, build(dis, k, opt.threads, opt.progress), order);
+  // Swap search stops in a local optimum, as classic PAM does; restarts from
+  // seeded random medoids keep the best, which finds the global optimum of
+  // small sets far more often than one descent.
+  std::unique_ptr<util::Progress> bar;
+  if (opt.progress && opt.restarts) bar = std::make_unique<util::Progress>("clustering: FasterPAM restarts", opt.restarts);
+  for (std::uint32_t r = 1; r <= opt.restarts && k < n; ++r) {
+    util::Rng pick(opt.seed, 0x5eedu, r);
+    std::vector<std::uint32_t> all(n);
+    std::iota(all.begin(), all.end(), 0u);
+    for (std::size_t i = 0; i < k; ++i) std::swap(all[i], all[i + pick.below(n - i)]);
+    all.resize(k);
+    PamResult res = swap_search(dis, all, order);
+    res.swaps += best.swaps;
+    res.passes += best.passes;
+    if (res.loss < best.loss - kMinGain) best = std::move(res);
+    else best.swaps = res.swaps, best.passes = res.passes;
+    if (bar) bar->advance();
+  }
+  if (bar) bar->finish();
+  return best;
 }
 
 }  // namespace sva::appearance

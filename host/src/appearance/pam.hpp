@@ -3,7 +3,7 @@
 // descriptors: BUILD initialisation, then FasterPAM swaps (Schubert &
 // Rousseeuw 2021: eager swaps, O(n) per candidate with cached nearest and
 // second-nearest medoids) until no single swap lowers the loss, which is
-// classic PAM's stopping rule.
+// classic PAM's stopping rule; then a few restarts from random medoids.
 #include <cstdint>
 #include <vector>
 
@@ -11,7 +11,8 @@ namespace sva::appearance {
 
 struct PamOptions {
   std::uint32_t k = 25;
-  std::uint64_t seed = 1;            // order in which swap candidates are visited
+  std::uint64_t seed = 1;            // order in which swap candidates are visited, restart medoids
+  std::uint32_t restarts = 2;        // extra swap searches from seeded random medoids; the best wins
   // Up to this many points the n x n float dissimilarity matrix is kept in
   // memory (n = 16384: 1 GiB); beyond, rows are recomputed on the fly.
   std::size_t max_matrix_points = 16384;

@@ -1,0 +1,37 @@
+#pragma once
+// The Vulkan vote backend: the same VoteBackend contract as the CPU reference,
+// with the per-match work (likelihood, alignment, beta sampling, fixed-point
+// scatter) in shaders/match_votes.comp. The map is uploaded once, split into
+// chunks that respect maxStorageBufferRange; a batch of pairs from any number
+// of sessions runs in one submission; a hash-table overflow grows the table
+// and reruns the batch, so no vote is ever dropped.
+#include <memory>
+#include <string>
+
+#include "recognition/vote_backend.hpp"
+
+namespace sva {
+
+struct VulkanBackendOptions {
+  std::string device;               // "" = prefer a discrete GPU (env SVA_VK_DEVICE)
+  std::size_t max_chunk_entries = 0;  // 0 = as large as one binding allows (tests force tiny chunks)
+  std::size_t initial_table_slots = 1 << 14;
+};
+
+struct VulkanBackendStats {
+  std::string device;
+  std::size_t chunks = 0;          // map chunks
+  unsigned table_grows = 0;        // overflow reruns so far
+  std::size_t table_slots = 0;
+  double last_kernel_ms = 0.0;     // GPU time of the last batch's match kernels
+  double last_host_ms = 0.0;       // host time of the last batch: preparation and read-back
+  std::uint32_t validation_messages = 0;  // Vulkan validation-layer warnings and errors (SVA_VK_VALIDATION=1)
+};
+
+class VulkanVoteBackend;
+std::unique_ptr<VoteBackend> make_vulkan_vote_backend(const PairMap& map, const PoseSpace& space, const VoteSettings& settings,
+                                                      const VulkanBackendOptions& options = {});
+// Statistics of a backend made by make_vulkan_vote_backend (nullptr for other backends).
+const VulkanBackendStats* vulkan_backend_stats(const VoteBackend& backend);
+
+}  // namespace sva

@@ -1,0 +1,134 @@
+#version 460
+// The heavy loop of recognition on the GPU: one invocation per (observed pair
+// key, map entry) match. It evaluates the match likelihood (Eq 15), aligns the
+// observed pair to the map pair (Sec 4.1, 4.3), samples the Gaussian in beta and
+// scatters each sample's fixed-point vote into a hash table keyed by
+// (pair, pose bin). The math is sva_vote_math.h, the same text the CPU
+// reference compiles, so bins and integer sums agree bit for bit.
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_shader_atomic_int64 : require
+#extension GL_GOOGLE_include_directive : require
+#include "sva_shared.h"
+#include "sva_hash.h"
+#include "sva_vote_math.h"
+#include "sva_gpu_layout.h"
+
+layout(local_size_x = SVA_WORKGROUP_SIZE) in;
+
+layout(std430, set = 0, binding = 0) readonly buffer Pairs { SvaGpuPair pairs[]; };
+layout(std430, set = 0, binding = 1) readonly buffer KeyItems { SvaGpuKeyItem key_items[]; };
+layout(std430, set = 0, binding = 2) readonly buffer WorkItems { SvaGpuWorkItem work[]; };
+layout(std430, set = 0, binding = 3) readonly buffer WorkOffsets { uint work_offset[]; };
+layout(std430, set = 0, binding = 4) readonly buffer Readings { SvaGpuReading readings[]; };
+layout(std430, set = 0, binding = 5) readonly buffer EntryA { uint entry_a[]; };
+layout(std430, set = 0, binding = 6) readonly buffer EntryB { uint entry_b[]; };
+layout(std430, set = 0, binding = 7) readonly buffer EntryWeight { float entry_weight[]; };
+layout(std430, set = 0, binding = 8) readonly buffer ObjectActive { uint object_active[]; };
+layout(std430, set = 0, binding = 9) buffer TableKeys { uint64_t table_key[]; };
+layout(std430, set = 0, binding = 10) buffer TableSums { int64_t table_sum[]; };
+layout(std430, set = 0, binding = 11) buffer PairCounters { uint64_t counters[]; };  // 3 per pair: matches, votes, outside
+layout(std430, set = 0, binding = 12) buffer Status { uint overflow; };
+
+layout(push_constant) uniform Push { SvaMatchParams pc; };
+
+SvaPatch patch_of_reading(uint r) {
+  SvaPatch p;
+  p.p = vec3(readings[r].px, readings[r].py, readings[r].pz);
+  p.n = vec3(readings[r].nx, readings[r].ny, readings[r].nz);
+  p.conf = readings[r].conf;
+  return p;
+}
+
+// The linear index of a packed bin key in (object, tx, ty, tz, rx, ry, rz)
+// order: the same order as the packed key, so sorting either sorts both.
+uint64_t linear_bin(uint64_t key) {
+  uint object = uint(key >> SVA_KEY_OBJECT_SHIFT);
+  uint tx = uint(key >> SVA_KEY_TX_SHIFT) & 1023u;
+  uint ty = uint(key >> SVA_KEY_TY_SHIFT) & 1023u;
+  uint tz = uint(key >> SVA_KEY_TZ_SHIFT) & 1023u;
+  uint rx = uint(key >> SVA_KEY_RX_SHIFT) & 255u;
+  uint ry = uint(key >> SVA_KEY_RY_SHIFT) & 255u;
+  uint rz = uint(key >> SVA_KEY_RZ_SHIFT) & 255u;
+  uint64_t t = uint64_t(pc.translation_bins);
+  uint64_t r = uint64_t(pc.rotation_bins);
+  uint64_t i = uint64_t(object);
+  i = i * t + uint64_t(tx);
+  i = i * t + uint64_t(ty);
+  i = i * uint64_t(pc.dim_tz) + uint64_t(tz);
+  i = i * uint64_t(pc.dim_rxy) + uint64_t(rx);
+  i = i * uint64_t(pc.dim_rxy) + uint64_t(ry);
+  i = i * r + uint64_t(rz);
+  return i;
+}
+
+void scatter(uint64_t key, int64_t units) {
+  uint mask = pc.capacity - 1u;
+  uint slot = uint(sva_hash64(key)) & mask;
+  for (uint probe = 0u; probe < SVA_HASH_MAX_PROBE; ++probe) {
+    uint64_t prev = atomicCompSwap(table_key[slot], SVA_HASH_EMPTY_KEY, key);
+    if (prev == SVA_HASH_EMPTY_KEY || prev == key) {
+      atomicAdd(table_sum[slot], units);
+      return;
+    }
+    slot = (slot + 1u) & mask;
+  }
+  atomicOr(overflow, 1u);
+}
+
+void main() {
+  uint w = pc.base + gl_GlobalInvocationID.x;
+  if (w >= pc.total) return;
+  // The work item holding w: the last j with work_offset[j] <= w.
+  uint lo = 0u, hi = pc.work_items;  // invariant: work_offset[lo] <= w < work_offset[hi]
+  for (uint step = 0u; step < SVA_MAX_SEARCH_STEPS; ++step) {
+    if (hi - lo <= 1u) break;
+    uint mid = (lo + hi) >> 1;
+    if (work_offset[mid] <= w) lo = mid; else hi = mid;
+  }
+  SvaGpuWorkItem item = work[lo];
+  uint e = item.entry_begin + (w - work_offset[lo]);
+  SvaGpuKeyItem ki = key_items[item.key_item];
+  uint q = ki.pair;
+  uint ra = entry_a[e];
+  uint rb = entry_b[e];
+  uint object = readings[ra].object;
+  uint session = pairs[q].session;
+  if (object_active[session * pc.objects + object] == 0u) return;
+  precise float likelihood = ki.weight * entry_weight[e];
+  if (!(likelihood > 0.0f) || likelihood < pc.likelihood_cutoff) return;
+
+  SvaPatch a1, b1;
+  a1.p = vec3(pairs[q].ax, pairs[q].ay, pairs[q].az);
+  a1.n = vec3(pairs[q].anx, pairs[q].any, pairs[q].anz);
+  a1.conf = pairs[q].aconf;
+  b1.p = vec3(pairs[q].bx, pairs[q].by, pairs[q].bz);
+  b1.n = vec3(pairs[q].bnx, pairs[q].bny, pairs[q].bnz);
+  b1.conf = pairs[q].bconf;
+  SvaPoseGrid grid;
+  grid.kind = int(pc.grid_kind);
+  grid.translation_bins = pc.translation_bins;
+  grid.translation_min = pc.translation_min;
+  grid.translation_width = pc.translation_width;
+  grid.rotation_bins = pc.rotation_bins;
+  grid.rotation_width = pc.rotation_width;
+
+  SvaAlignment al = sva_align(a1, b1, patch_of_reading(ra), patch_of_reading(rb));
+  int n = sva_beta_sample_count(al, grid);
+  if (n == 0) return;
+  atomicAdd(counters[3u * q], uint64_t(1));
+  float wsum = sva_beta_weight_sum(al, n);
+  uint64_t pair_base = uint64_t(q) * (uint64_t(pc.bins_lo) | (uint64_t(pc.bins_hi) << 32));
+  uint inside = 0u, outside = 0u;
+  for (int s = 0; s < SVA_MAX_BETA_SAMPLES; ++s) {
+    if (s >= n) break;
+    SvaVote v = sva_vote(al, grid, object, likelihood, wsum, s, n);
+    if (v.inside == 0) {
+      ++outside;
+      continue;
+    }
+    ++inside;
+    if (v.mass > int64_t(0)) scatter(pair_base + linear_bin(v.key), v.mass);
+  }
+  if (inside != 0u) atomicAdd(counters[3u * q + 1u], uint64_t(inside));
+  if (outside != 0u) atomicAdd(counters[3u * q + 2u], uint64_t(outside));
+}

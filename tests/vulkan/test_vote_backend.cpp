@@ -1,0 +1,139 @@
+#include <catch2/catch.hpp>
+
+#include <sva/error.hpp>
+
+#include "recognition/fixture.hpp"
+#include "test_support.hpp"
+#include "vulkan/vulkan_vote_backend.hpp"
+
+using namespace sva;
+
+namespace {
+
+std::unique_ptr<VoteBackend> make_gpu(const PairMap& map, const PoseSpace& space, const VoteSettings& vs,
+                                      const VulkanBackendOptions& o = {}) {
+  try {
+    return make_vulkan_vote_backend(map, space, vs, o);
+  } catch (const Error& e) {
+    test::skip(e.what());
+  }
+}
+
+// Several sessions, each a different pose of a different object, with a few
+// readings each; returns the batch of the last readings' pairs.
+VoteBatch make_batch(const test::World& w, const PoseSpace& space, const test::WorldSpec& spec, int sessions, int readings,
+                     std::vector<std::unique_ptr<BayesFilter>>* filters) {
+  VoteBatch batch;
+  for (int s = 0; s < sessions; ++s) {
+    const int object = s % spec.objects;
+    const RigidPose pose = test::random_pose(100 + static_cast<std::uint64_t>(s), spec.planar ? 8.0 : 150.0, spec.planar);
+    auto f = std::make_unique<BayesFilter>(*w.map, space, FilterOptions{});
+    auto backend = make_cpu_vote_backend(*w.map, space, {});
+    for (int r = 0; r + 1 < readings; ++r) f->add(test::observe(w.objects[object][static_cast<std::size_t>(r * 7 % spec.points)], pose), *backend);
+    f->queue_pairs(test::observe(w.objects[object][static_cast<std::size_t>(readings * 7 % spec.points)], pose),
+                   static_cast<std::uint32_t>(s), &batch);
+    if (filters) filters->push_back(std::move(f));
+  }
+  return batch;
+}
+
+void require_identical(const std::vector<PairVotes>& cpu, const std::vector<PairVotes>& gpu) {
+  REQUIRE(cpu.size() == gpu.size());
+  std::uint64_t votes = 0;
+  for (std::size_t i = 0; i < cpu.size(); ++i) {
+    INFO("pair " << i);
+    CHECK(cpu[i].matches == gpu[i].matches);
+    CHECK(cpu[i].votes == gpu[i].votes);
+    CHECK(cpu[i].votes_outside == gpu[i].votes_outside);
+    CHECK(cpu[i].keys == gpu[i].keys);
+    CHECK(cpu[i].mass == gpu[i].mass);
+    votes += cpu[i].votes;
+  }
+  CHECK(votes > 1000);  // the comparison covered real work
+}
+
+}  // namespace
+
+TEST_CASE("Vulkan votes equal the CPU reference bit for bit (spatial, several sessions)") {
+  test::WorldSpec spec;
+  auto w = test::make_world(spec);
+  PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
+  VoteBatch batch = make_batch(w, space, spec, 4, 5, nullptr);
+  auto cpu = make_cpu_vote_backend(*w.map, space, {});
+  auto gpu = make_gpu(*w.map, space, {});
+  require_identical(cpu->vote(batch), gpu->vote(batch));
+  CHECK(vulkan_backend_stats(*gpu)->validation_messages == 0);
+}
+
+TEST_CASE("Vulkan votes equal the CPU reference on a planar space with pruned objects") {
+  test::WorldSpec spec;
+  spec.planar = true;
+  spec.dist_min = 1.0;
+  spec.dist_max = 30.0;
+  auto w = test::make_world(spec);
+  PoseSpace space(test::letters_space(), static_cast<std::uint32_t>(spec.objects));
+  VoteBatch batch = make_batch(w, space, spec, 3, 6, nullptr);
+  batch.object_active.assign(std::size_t{batch.sessions} * space.objects(), 1);
+  batch.object_active[1] = 0;  // session 0 no longer votes for object 1
+  VoteSettings vs;
+  vs.likelihood_cutoff = 0.05f;
+  auto cpu = make_cpu_vote_backend(*w.map, space, vs);
+  auto gpu = make_gpu(*w.map, space, vs);
+  require_identical(cpu->vote(batch), gpu->vote(batch));
+}
+
+TEST_CASE("Vulkan backend: tiny map chunks and a tiny table still give the exact CPU answer") {
+  test::WorldSpec spec;
+  auto w = test::make_world(spec);
+  PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
+  VoteBatch batch = make_batch(w, space, spec, 2, 4, nullptr);
+  VulkanBackendOptions o;
+  o.max_chunk_entries = 97;     // the map split into many chunks (lavapipe's 128 MiB rule, exercised small)
+  o.initial_table_slots = 64;   // overflow: the table grows and the batch reruns
+  auto gpu = make_gpu(*w.map, space, {}, o);
+  auto cpu = make_cpu_vote_backend(*w.map, space, {});
+  require_identical(cpu->vote(batch), gpu->vote(batch));
+  const VulkanBackendStats* st = vulkan_backend_stats(*gpu);
+  REQUIRE(st != nullptr);
+  CHECK(st->chunks > 10);
+  CHECK(st->table_grows >= 1);
+  CHECK(st->validation_messages == 0);
+}
+
+TEST_CASE("Vulkan backend folds into identical beliefs through update_sessions") {
+  test::WorldSpec spec;
+  auto w = test::make_world(spec);
+  PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
+  auto gpu = make_gpu(*w.map, space, {});
+  auto cpu = make_cpu_vote_backend(*w.map, space, {});
+  std::vector<std::unique_ptr<BayesFilter>> fc, fg;
+  std::vector<RigidPose> poses;
+  for (int s = 0; s < 3; ++s) {
+    fc.push_back(std::make_unique<BayesFilter>(*w.map, space, FilterOptions{}));
+    fg.push_back(std::make_unique<BayesFilter>(*w.map, space, FilterOptions{}));
+    poses.push_back(test::random_pose(500 + static_cast<std::uint64_t>(s), 150.0));
+  }
+  for (int r = 0; r < 5; ++r) {
+    std::vector<ObservedReading> obs;
+    for (int s = 0; s < 3; ++s) obs.push_back(test::observe(w.objects[static_cast<std::size_t>(s)][static_cast<std::size_t>(r * 11 % spec.points)], poses[static_cast<std::size_t>(s)]));
+    std::vector<BayesFilter*> pc, pg;
+    for (int s = 0; s < 3; ++s) {
+      pc.push_back(fc[static_cast<std::size_t>(s)].get());
+      pg.push_back(fg[static_cast<std::size_t>(s)].get());
+    }
+    update_sessions(pc, obs, *cpu);
+    update_sessions(pg, obs, *gpu);
+  }
+  for (int s = 0; s < 3; ++s) {
+    const auto a = fc[static_cast<std::size_t>(s)]->estimate(5), b = fg[static_cast<std::size_t>(s)]->estimate(5);
+    CHECK(a.object == b.object);
+    CHECK(a.object_probability == b.object_probability);
+    REQUIRE(a.top.size() == b.top.size());
+    for (std::size_t i = 0; i < a.top.size(); ++i) CHECK(a.top[i].probability == b.top[i].probability);
+    const Belief& bc = fc[static_cast<std::size_t>(s)]->belief();
+    const Belief& bg = fg[static_cast<std::size_t>(s)]->belief();
+    CHECK(bc.pairs_folded() == bg.pairs_folded());
+    CHECK(bc.touched() == bg.touched());
+    for (const auto& h : a.top) CHECK(bc.offset(h.key) == bg.offset(h.key));
+  }
+}

@@ -12,6 +12,7 @@
 #include "recognition/bayes_filter.hpp"
 #include "recognition/pose_space.hpp"
 #include "recognition/vote_backend.hpp"
+#include "vulkan/vulkan_vote_backend.hpp"
 
 namespace sva {
 
@@ -66,11 +67,16 @@ Recognizer::Recognizer(const Map& map, const PoseSpaceSpec& pose_space, const Re
                 " must be a finite number >= 0");
   impl_ = std::make_unique<Impl>(map, pose_space, options);
   if (options.method == Method::sva) {
-    if (options.backend == BackendKind::vulkan) throw Error("the Vulkan backend is not built yet");
     VoteSettings vs;
     vs.likelihood_cutoff = options.likelihood_cutoff;
     vs.threads = options.threads;
-    impl_->backend = make_cpu_vote_backend(*impl_->pair_map, impl_->space, vs);
+    if (options.backend == BackendKind::vulkan) {
+      VulkanBackendOptions vo;
+      vo.device = options.vulkan_device;
+      impl_->backend = make_vulkan_vote_backend(*impl_->pair_map, impl_->space, vs, vo);
+    } else {
+      impl_->backend = make_cpu_vote_backend(*impl_->pair_map, impl_->space, vs);
+    }
     FilterOptions fo;
     fo.eps = options.eps;
     fo.object_prune_probability = options.object_prune_probability;

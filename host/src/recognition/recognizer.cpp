@@ -10,6 +10,7 @@
 #include "appearance/appearance_baseline.hpp"
 #include "map/pair_map.hpp"
 #include "recognition/bayes_filter.hpp"
+#include "recognition/describe_reading.hpp"
 #include "recognition/pose_space.hpp"
 #include "recognition/vote_backend.hpp"
 #include "vulkan/vulkan_vote_backend.hpp"
@@ -32,26 +33,7 @@ struct Recognizer::Impl {
         space(spec, static_cast<std::uint32_t>(m.internal().objects.size())) {}
 
   ObservedReading observe(const Reading& r) const {
-    const std::string what = "reading " + std::to_string(readings + 1);
-    if (r.status != ControllerStatus::converged)
-      throw Error(what + ": the contact controller did not converge (status " +
-                  std::to_string(static_cast<int>(r.status)) + "); it is not used");
-    const auto& cal = pair_map->appearance.calibration;
-    if (r.pressure.size() != static_cast<std::size_t>(cal.sensor.elements()))
-      throw Error(what + ": " + std::to_string(r.pressure.size()) + " pressure values, but the map's sensor has " +
-                  std::to_string(cal.sensor.elements()));
-    for (float v : r.pressure)
-      if (!std::isfinite(v)) throw Error(what + ": the pressure image has a non-finite value");
-    ObservedReading o;
-    o.position = r.position;
-    o.normal = r.normal;
-    try {
-      o.norm_conf = pair_map->appearance.norm_conf(r);
-      o.classes = pair_map->appearance.classify(pair_map->appearance.describe(r));
-    } catch (const Error& e) {
-      throw Error(what + ": " + e.what());
-    }
-    return validated(o, *pair_map, what.c_str());
+    return describe_reading(*pair_map, r, "reading " + std::to_string(readings + 1));
   }
 };
 

@@ -1,0 +1,39 @@
+#pragma once
+// Batch recognition: many independent recognition sessions against one map,
+// stepped together so that one backend call (one GPU submission with the
+// Vulkan backend) carries the pairs of every session that got a new reading.
+// Each session's results equal those of a Recognizer fed the same readings.
+#include <sva/recognizer.hpp>
+
+#include <memory>
+#include <span>
+#include <vector>
+
+namespace sva {
+
+class BatchRecognizer {
+ public:
+  BatchRecognizer(const Map& map, const PoseSpaceSpec& pose_space, std::size_t sessions,
+                  const RecognizerOptions& options = {});
+  ~BatchRecognizer();
+  BatchRecognizer(BatchRecognizer&&) noexcept;
+  BatchRecognizer& operator=(BatchRecognizer&&) noexcept;
+
+  std::size_t sessions() const;
+  // Adds readings[i] to session sessions[i] (distinct sessions), all in one
+  // update. Every reading is checked before any session changes: on error
+  // (sva::Error naming the session and reading) nothing is updated.
+  void add_readings(std::span<const std::size_t> sessions, std::span<const Reading> readings);
+  Estimate estimate(std::size_t session, std::size_t top_k = 5) const;
+  void reset(std::size_t session);
+  std::size_t readings(std::size_t session) const;
+  // The backend in use ("cpu" or "vulkan") and, for Vulkan, the device.
+  std::string backend_description() const;
+
+  struct Impl;
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace sva

@@ -1,0 +1,184 @@
+// Batch recognition and the single-session Recognizer on top of it: each
+// session is a Bayes filter (Method::sva) or an appearance-only posterior
+// (Method::appearance); one backend serves all sessions.
+#include <sva/batch_recognizer.hpp>
+#include <sva/error.hpp>
+#include <sva/recognizer.hpp>
+
+#include <cmath>
+#include <set>
+#include <string>
+
+#include "appearance/appearance_baseline.hpp"
+#include "map/pair_map.hpp"
+#include "recognition/bayes_filter.hpp"
+#include "recognition/describe_reading.hpp"
+#include "recognition/pose_space.hpp"
+#include "recognition/vote_backend.hpp"
+#include "vulkan/vulkan_vote_backend.hpp"
+
+namespace sva {
+
+struct BatchRecognizer::Impl {
+  struct Session {
+    std::unique_ptr<BayesFilter> filter;
+    std::vector<double> appearance_log_posterior;
+    std::size_t readings = 0;
+    std::uint64_t last_votes = 0;
+  };
+
+  Map map;  // keeps the shared PairMap alive
+  const PairMap* pair_map = nullptr;
+  RecognizerOptions options;
+  PoseSpace space;
+  std::unique_ptr<VoteBackend> backend;
+  std::vector<Session> sessions;
+
+  Impl(const Map& m, const PoseSpaceSpec& spec, const RecognizerOptions& o)
+      : map(m), pair_map(&m.internal()), options(o), space(spec, static_cast<std::uint32_t>(m.internal().objects.size())) {}
+
+  Session& at(std::size_t s) {
+    if (s >= sessions.size())
+      throw Error("session " + std::to_string(s) + " out of range (" + std::to_string(sessions.size()) + " sessions)");
+    return sessions[s];
+  }
+};
+
+BatchRecognizer::BatchRecognizer(const Map& map, const PoseSpaceSpec& pose_space, std::size_t sessions,
+                                 const RecognizerOptions& options) {
+  if (map.empty()) throw Error("recognizer: the map is empty (not trained or not loaded)");
+  if (sessions == 0) throw Error("batch recognizer: need at least one session");
+  if (pose_space.kind != map.pose_space().kind)
+    throw Error(std::string("recognizer: the pose space is ") +
+                (pose_space.kind == PoseSpaceSpec::Kind::planar ? "planar" : "spatial") + " but map '" + map.scene_name() +
+                "' was trained for a " + (map.pose_space().kind == PoseSpaceSpec::Kind::planar ? "planar" : "spatial") +
+                " scene");
+  if (!(options.likelihood_cutoff >= 0.0f) || !std::isfinite(options.likelihood_cutoff))
+    throw Error("recognizer option likelihood_cutoff = " + std::to_string(options.likelihood_cutoff) +
+                " must be a finite number >= 0");
+  impl_ = std::make_unique<Impl>(map, pose_space, options);
+  impl_->sessions.resize(sessions);
+  if (options.method == Method::sva) {
+    VoteSettings vs;
+    vs.likelihood_cutoff = options.likelihood_cutoff;
+    vs.threads = options.threads;
+    if (options.backend == BackendKind::vulkan) {
+      VulkanBackendOptions vo;
+      vo.device = options.vulkan_device;
+      impl_->backend = make_vulkan_vote_backend(*impl_->pair_map, impl_->space, vs, vo);
+    } else {
+      impl_->backend = make_cpu_vote_backend(*impl_->pair_map, impl_->space, vs);
+    }
+    FilterOptions fo;
+    fo.eps = options.eps;
+    fo.object_prune_probability = options.object_prune_probability;
+    fo.max_pairs_per_update = options.max_pairs_per_update;
+    for (auto& s : impl_->sessions) s.filter = std::make_unique<BayesFilter>(*impl_->pair_map, impl_->space, fo);
+  } else {
+    if (impl_->pair_map->baseline.n_objects != impl_->pair_map->objects.size())
+      throw Error("recognizer: map '" + map.scene_name() + "' has no appearance baseline");
+    for (auto& s : impl_->sessions) s.appearance_log_posterior.assign(impl_->pair_map->objects.size(), 0.0);
+  }
+}
+
+BatchRecognizer::~BatchRecognizer() = default;
+BatchRecognizer::BatchRecognizer(BatchRecognizer&&) noexcept = default;
+BatchRecognizer& BatchRecognizer::operator=(BatchRecognizer&&) noexcept = default;
+
+std::size_t BatchRecognizer::sessions() const { return impl_->sessions.size(); }
+
+void BatchRecognizer::add_readings(std::span<const std::size_t> sessions, std::span<const Reading> readings) {
+  if (sessions.size() != readings.size())
+    throw Error("batch recognizer: " + std::to_string(sessions.size()) + " sessions but " + std::to_string(readings.size()) +
+                " readings");
+  std::set<std::size_t> seen;
+  std::vector<ObservedReading> observed;
+  observed.reserve(readings.size());
+  for (std::size_t i = 0; i < sessions.size(); ++i) {
+    Impl::Session& s = impl_->at(sessions[i]);
+    if (!seen.insert(sessions[i]).second)
+      throw Error("batch recognizer: session " + std::to_string(sessions[i]) + " appears twice in one update");
+    observed.push_back(describe_reading(*impl_->pair_map, readings[i],
+                                        (impl_->sessions.size() > 1 ? "session " + std::to_string(sessions[i]) + ", " : std::string()) +
+                                            "reading " + std::to_string(s.readings + 1)));
+  }
+  if (impl_->options.method == Method::sva) {
+    std::vector<BayesFilter*> filters;
+    for (std::size_t i : sessions) filters.push_back(impl_->sessions[i].filter.get());
+    const std::vector<UpdateStats> stats = update_sessions(filters, observed, *impl_->backend);
+    for (std::size_t i = 0; i < sessions.size(); ++i) impl_->sessions[sessions[i]].last_votes = stats[i].votes;
+  } else {
+    for (std::size_t i = 0; i < sessions.size(); ++i)
+      impl_->pair_map->baseline.update(impl_->sessions[sessions[i]].appearance_log_posterior, observed[i].classes);
+  }
+  for (std::size_t i : sessions) ++impl_->sessions[i].readings;
+}
+
+Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const {
+  const Impl::Session& s = impl_->at(session);
+  Estimate e;
+  e.readings = s.readings;
+  e.votes = s.last_votes;
+  const auto& objects = impl_->pair_map->objects;
+  if (!s.filter) {
+    e.object_probability = AppearanceBaseline::posterior(s.appearance_log_posterior);
+    for (std::uint32_t o = 1; o < e.object_probability.size(); ++o)
+      if (e.object_probability[o] > e.object_probability[e.object]) e.object = o;
+    e.object_name = objects[e.object].name;
+    return e;
+  }
+  const BeliefEstimate b = s.filter->estimate(top_k);
+  e.object = b.object;
+  e.object_name = objects[b.object].name;
+  e.object_probability = b.object_probability;
+  e.pose_valid = b.pose_valid;
+  e.pose = b.pose;
+  e.bin_pose = b.bin_pose;
+  for (const BinHypothesis& h : b.top) {
+    Hypothesis out;
+    out.object = h.object;
+    out.object_name = objects[h.object].name;
+    out.pose = h.pose;
+    out.probability = h.probability;
+    e.top.push_back(out);
+  }
+  e.votes_outside = s.filter->last_update().votes_outside;
+  return e;
+}
+
+void BatchRecognizer::reset(std::size_t session) {
+  Impl::Session& s = impl_->at(session);
+  s.readings = 0;
+  s.last_votes = 0;
+  if (s.filter) s.filter->reset();
+  std::fill(s.appearance_log_posterior.begin(), s.appearance_log_posterior.end(), 0.0);
+}
+
+std::size_t BatchRecognizer::readings(std::size_t session) const { return impl_->at(session).readings; }
+
+std::string BatchRecognizer::backend_description() const {
+  if (!impl_->backend) return "appearance";
+  if (const VulkanBackendStats* st = vulkan_backend_stats(*impl_->backend)) return "vulkan: " + st->device;
+  return impl_->backend->name();
+}
+
+// The single-session Recognizer is a batch of one.
+struct Recognizer::Impl {
+  BatchRecognizer batch;
+};
+
+Recognizer::Recognizer(const Map& map, const PoseSpaceSpec& pose_space, const RecognizerOptions& options)
+    : impl_(std::make_unique<Impl>(Impl{BatchRecognizer(map, pose_space, 1, options)})) {}
+Recognizer::~Recognizer() = default;
+Recognizer::Recognizer(Recognizer&&) noexcept = default;
+Recognizer& Recognizer::operator=(Recognizer&&) noexcept = default;
+
+void Recognizer::add_reading(const Reading& reading) {
+  const std::size_t session = 0;
+  impl_->batch.add_readings(std::span(&session, 1), std::span(&reading, 1));
+}
+Estimate Recognizer::estimate(std::size_t top_k) const { return impl_->batch.estimate(0, top_k); }
+void Recognizer::reset() { impl_->batch.reset(0); }
+std::size_t Recognizer::readings() const { return impl_->batch.readings(0); }
+
+}  // namespace sva

@@ -1,0 +1,258 @@
+// The Bayes filter's numerical robustness (DESIGN 4) and its bad-input errors.
+#include <catch2/catch.hpp>
+
+#include <sva/error.hpp>
+
+#include <cmath>
+
+#include "fixture.hpp"
+
+using namespace sva;
+using namespace sva::test;
+
+namespace {
+
+struct Session {
+  World world;
+  PoseSpace space;
+  std::unique_ptr<VoteBackend> backend;
+  BayesFilter filter;
+  Session(const WorldSpec& ws, const PoseSpaceSpec& spec, const FilterOptions& fo = {}, const VoteSettings& vs = {})
+      : world(make_world(ws)), space(spec, static_cast<std::uint32_t>(ws.objects)),
+        backend(make_cpu_vote_backend(*world.map, space, vs)), filter(*world.map, space, fo) {}
+  UpdateStats add(const ObservedReading& r) { return filter.add(r, *backend); }
+};
+
+// The true bin's rank among all touched bins (0 = best) and whether it is finite.
+std::size_t rank_of_truth(const BayesFilter& f, std::uint32_t object, const RigidPose& truth) {
+  std::uint64_t key = 0;
+  REQUIRE(f.space().bin_of(object, truth, &key));
+  // Best of the true bin and its neighbours: the truth can sit at a bin edge.
+  double best = 0.0;
+  f.space().for_each_neighbour(key, [&](std::uint64_t k) { best = std::max(best, f.belief().offset(k)); });
+  const BeliefEstimate e = f.estimate(50);
+  std::size_t rank = 0;
+  for (const BinHypothesis& h : e.top)
+    if (f.belief().offset(h.key) > best) ++rank;
+  return rank;
+}
+
+void require_finite(const BeliefEstimate& e) {
+  for (double p : e.object_probability) REQUIRE(std::isfinite(p));
+  for (const BinHypothesis& h : e.top) REQUIRE(std::isfinite(h.probability));
+  if (e.pose_valid) {
+    for (int k = 0; k < 3; ++k) REQUIRE(std::isfinite(e.pose.T[k]));
+    for (int c = 0; c < 3; ++c)
+      for (int r = 0; r < 3; ++r) REQUIRE(std::isfinite(e.pose.R[c][r]));
+  }
+}
+
+}  // namespace
+
+TEST_CASE("200 readings: no NaN or Inf, the true pose stays on top") {
+  WorldSpec ws;
+  ws.objects = 2;
+  ws.points = 40;
+  Session s(ws, paper_space());
+  const RigidPose truth = random_pose(77, 100.0);
+  util::Rng rng(8);
+  for (int i = 0; i < 200; ++i) {
+    s.add(observe(s.world.objects[1][rng.below(40)], truth));
+    if (i % 50 == 49) {
+      const BeliefEstimate e = s.filter.estimate(5);
+      require_finite(e);
+      CHECK(e.object == 1);
+      CHECK(rank_of_truth(s.filter, 1, truth) == 0);
+    }
+  }
+  const BeliefEstimate e = s.filter.estimate(5);
+  CHECK(glm::length(e.pose.T - truth.T) < 1.5 * bin_width(paper_space()));
+}
+
+TEST_CASE("a reading from a part never seen in training does not destroy the true hypothesis") {
+  WorldSpec ws;
+  Session s(ws, paper_space());
+  const RigidPose truth = random_pose(12, 80.0);
+  util::Rng rng(2);
+  for (int i = 0; i < 8; ++i) s.add(observe(s.world.objects[0][rng.below(80)], truth));
+  REQUIRE(s.filter.estimate(1).object == 0);
+  // Off the surface, with a normal that matches nothing, in a class seen elsewhere.
+  WorldPoint alien{{60.0, -5.0, 40.0}, glm::normalize(glm::dvec3(1, 1, 0)), 2};
+  s.add(observe(alien, truth));
+  for (int i = 0; i < 3; ++i) s.add(observe(s.world.objects[0][rng.below(80)], truth));
+  const BeliefEstimate e = s.filter.estimate(5);
+  require_finite(e);
+  CHECK(e.object == 0);
+  CHECK(rank_of_truth(s.filter, 0, truth) == 0);
+}
+
+TEST_CASE("the same reading repeated adds no information and no NaN") {
+  WorldSpec ws;
+  Session s(ws, paper_space());
+  const RigidPose truth = random_pose(13, 80.0);
+  const ObservedReading r = observe(s.world.objects[2][5], truth);
+  s.add(r);
+  const UpdateStats st = s.add(r);  // coincident with the first: no axis, pair skipped
+  CHECK(st.pairs == 2);
+  CHECK(st.pairs_folded == 0);
+  CHECK(s.filter.belief().touched() == 0);
+  const BeliefEstimate e = s.filter.estimate(3);
+  require_finite(e);
+  CHECK_FALSE(e.pose_valid);
+}
+
+TEST_CASE("every pair out of distance range leaves the belief uniform") {
+  WorldSpec ws;
+  Session s(ws, paper_space());
+  ObservedReading a = observe(s.world.objects[0][0], RigidPose{});
+  ObservedReading b = a;
+  b.position += glm::dvec3(500.0, 0.0, 0.0);  // beyond dist_max
+  s.add(a);
+  const UpdateStats st = s.add(b);
+  CHECK(st.votes == 0);
+  CHECK(s.filter.belief().touched() == 0);
+  const BeliefEstimate e = s.filter.estimate(3);
+  require_finite(e);
+  CHECK_FALSE(e.pose_valid);
+  for (double p : e.object_probability) CHECK(p == Approx(1.0 / 3.0));
+}
+
+TEST_CASE("a single-object map localises with probability 1") {
+  WorldSpec ws;
+  ws.objects = 1;
+  Session s(ws, paper_space());
+  const RigidPose truth = random_pose(14, 100.0);
+  util::Rng rng(3);
+  for (int i = 0; i < 8; ++i) s.add(observe(s.world.objects[0][rng.below(80)], truth));
+  const BeliefEstimate e = s.filter.estimate(3);
+  require_finite(e);
+  CHECK(e.object_probability.size() == 1);
+  CHECK(e.object_probability[0] == 1.0);
+  CHECK(e.pose_valid);
+  CHECK(glm::length(e.pose.T - truth.T) < 1.5 * bin_width(paper_space()));
+}
+
+TEST_CASE("a translation range that excludes the true pose is reported, not crashed") {
+  WorldSpec ws;
+  PoseSpaceSpec spec = paper_space();
+  spec.translation_min_mm = 300.0;
+  spec.translation_max_mm = 500.0;
+  Session s(ws, spec);
+  const RigidPose truth = random_pose(15, 50.0);
+  util::Rng rng(4);
+  UpdateStats st;
+  for (int i = 0; i < 5; ++i) st = s.add(observe(s.world.objects[0][rng.below(80)], truth));
+  CHECK(st.votes_outside > 0);
+  CHECK(st.votes == 0);
+  require_finite(s.filter.estimate(3));
+}
+
+TEST_CASE("edge contacts and normals along the pair axis spread votes without NaN") {
+  WorldSpec ws;
+  Session s(ws, paper_space());
+  const RigidPose truth = random_pose(16, 80.0);
+  util::Rng rng(5);
+  for (int i = 0; i < 6; ++i) {
+    const UpdateStats st = s.add(observe(s.world.objects[1][rng.below(80)], truth, 0.0f));  // normConf = 0
+    if (i > 0) CHECK(st.votes > 0);
+  }
+  const BeliefEstimate e = s.filter.estimate(5);
+  require_finite(e);
+  CHECK(e.pose_valid);
+}
+
+TEST_CASE("bad input is refused with sva::Error") {
+  WorldSpec ws;
+  Session s(ws, paper_space());
+  ObservedReading r = observe(s.world.objects[0][0], RigidPose{});
+  ObservedReading bad = r;
+  bad.position.x = std::nan("");
+  CHECK_THROWS_WITH(s.add(bad), Catch::Contains("position"));
+  bad = r;
+  bad.normal = glm::dvec3(0.0);
+  CHECK_THROWS_WITH(s.add(bad), Catch::Contains("normal"));
+  bad = r;
+  bad.classes = {{99, 1.0f}};
+  CHECK_THROWS_WITH(s.add(bad), Catch::Contains("class 99"));
+  bad = r;
+  bad.classes.clear();
+  CHECK_THROWS_AS(s.add(bad), Error);
+  bad = r;
+  bad.norm_conf = std::nanf("");
+  CHECK_THROWS_AS(s.add(bad), Error);
+  CHECK(s.filter.readings() == 0);  // refused readings leave no trace
+  // Options and a pose space that does not match the map.
+  FilterOptions fo;
+  fo.eps = 0.0;
+  CHECK_THROWS_WITH(BayesFilter(*s.world.map, s.space, fo), Catch::Contains("eps"));
+  PoseSpace wrong(paper_space(), 5);
+  CHECK_THROWS_WITH(BayesFilter(*s.world.map, wrong, {}), Catch::Contains("objects"));
+}
+
+TEST_CASE("results do not depend on the thread count") {
+  WorldSpec ws;
+  VoteSettings one, two;
+  one.threads = 1;
+  two.threads = 2;
+  Session a(ws, paper_space(), {}, one), b(ws, paper_space(), {}, two);
+  const RigidPose truth = random_pose(17, 100.0);
+  util::Rng rng(6);
+  for (int i = 0; i < 8; ++i) {
+    const ObservedReading r = observe(a.world.objects[1][rng.below(80)], truth);
+    a.add(r);
+    b.add(r);
+  }
+  // Same pair votes, bit for bit, and the same belief.
+  VoteBatch batch;
+  a.filter.queue_pairs(observe(a.world.objects[1][3], truth), 0, &batch);
+  const auto va = a.backend->vote(batch), vb = b.backend->vote(batch);
+  REQUIRE(va.size() == vb.size());
+  for (std::size_t i = 0; i < va.size(); ++i) {
+    CHECK(va[i].keys == vb[i].keys);
+    CHECK(va[i].mass == vb[i].mass);
+  }
+  const BeliefEstimate ea = a.filter.estimate(10), eb = b.filter.estimate(10);
+  CHECK(ea.object_probability == eb.object_probability);
+  REQUIRE(ea.top.size() == eb.top.size());
+  for (std::size_t i = 0; i < ea.top.size(); ++i) {
+    CHECK(ea.top[i].key == eb.top[i].key);
+    CHECK(ea.top[i].probability == eb.top[i].probability);
+  }
+}
+
+TEST_CASE("a batch of sessions gives the same beliefs as updating each alone") {
+  WorldSpec ws;
+  const World w = make_world(ws);
+  PoseSpace space(paper_space(), 3);
+  auto backend = make_cpu_vote_backend(*w.map, space, {});
+  BayesFilter s0(*w.map, space, {}), s1(*w.map, space, {}), r0(*w.map, space, {}), r1(*w.map, space, {});
+  const RigidPose t0 = random_pose(18, 100.0), t1 = random_pose(19, 100.0);
+  util::Rng rng(7);
+  for (int i = 0; i < 6; ++i) {
+    const ObservedReading a = observe(w.objects[0][rng.below(80)], t0), b = observe(w.objects[2][rng.below(80)], t1);
+    update_sessions({&s0, &s1}, {a, b}, *backend);
+    r0.add(a, *backend);
+    r1.add(b, *backend);
+  }
+  CHECK(s0.estimate(5).object_probability == r0.estimate(5).object_probability);
+  CHECK(s1.estimate(5).object_probability == r1.estimate(5).object_probability);
+  CHECK(s1.estimate(5).best_key == r1.estimate(5).best_key);
+}
+
+TEST_CASE("speed knobs: pair cap, likelihood cut-off and object pruning keep the answer") {
+  WorldSpec ws;
+  FilterOptions fo;
+  fo.max_pairs_per_update = 6;
+  fo.object_prune_probability = 1e-3;
+  VoteSettings vs;
+  vs.likelihood_cutoff = 0.5f;
+  Session s(ws, paper_space(), fo, vs);
+  const RigidPose truth = random_pose(20, 100.0);
+  util::Rng rng(9);
+  UpdateStats st;
+  for (int i = 0; i < 12; ++i) st = s.add(observe(s.world.objects[2][rng.below(80)], truth));
+  CHECK(st.pairs == 6);
+  const BeliefEstimate e = s.filter.estimate(3);
+  CHECK(e.object == 2);
+  CHECK(glm::length(e.pose.T - truth.T) < 1.5 * bin_width(paper_space()));
+}

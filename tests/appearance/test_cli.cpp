@@ -2,6 +2,7 @@
 
 #include <sva/dataset.hpp>
 
+#include <cstdlib>
 #include <fstream>
 #include <iterator>
 
@@ -12,6 +13,18 @@ using namespace sva;
 using Catch::Contains;
 
 namespace {
+// ctest should pass SVA_BIN (tests/CMakeLists.txt), but the list-valued
+// ENVIRONMENT property reaches the test without it; fall back to the sva
+// binary of the build tree this test executable belongs to.
+int run(const std::string& args, std::string* out) {
+  if (!std::getenv("SVA_BIN")) {
+    const auto exe = std::filesystem::read_symlink("/proc/self/exe");
+    const auto sva = exe.parent_path().parent_path() / "host" / "cli" / "sva";
+    if (std::filesystem::exists(sva)) ::setenv("SVA_BIN", sva.c_str(), 1);
+  }
+  return test::run_sva(args, out);
+}
+
 std::vector<char> bytes_of(const std::filesystem::path& p) {
   std::ifstream in(p, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
@@ -23,14 +36,14 @@ TEST_CASE("cli: sva train and sva inspect on a map") {
   save_dataset(test::synthetic_dataset(3, 40), dir / "train.svad");
   const std::string base = "train --data " + (dir / "train.svad").string() + " --out ";
   std::string out;
-  REQUIRE(test::run_sva(base + (dir / "a.svamap").string() + " --threads 1", &out) == 0);
+  REQUIRE(run(base + (dir / "a.svamap").string() + " --threads 1", &out) == 0);
   CHECK_THAT(out, Contains("entries") && Contains("classes"));
-  REQUIRE(test::run_sva(base + (dir / "b.svamap").string() + " --threads 2", &out) == 0);
+  REQUIRE(run(base + (dir / "b.svamap").string() + " --threads 2", &out) == 0);
   CHECK(bytes_of(dir / "a.svamap") == bytes_of(dir / "b.svamap"));
-  REQUIRE(test::run_sva("inspect " + (dir / "a.svamap").string(), &out) == 0);
+  REQUIRE(run("inspect " + (dir / "a.svamap").string(), &out) == 0);
   CHECK_THAT(out, Contains("sva map") && Contains("ambiguity A") && Contains("entries/key") && Contains("obj2"));
-  REQUIRE(test::run_sva(base + (dir / "c.svamap").string() + " --descriptor mn --clusters 4 --dist-bins 7 --dist-range 10:60", &out) == 0);
-  REQUIRE(test::run_sva("inspect " + (dir / "c.svamap").string(), &out) == 0);
+  REQUIRE(run(base + (dir / "c.svamap").string() + " --descriptor mn --clusters 4 --dist-bins 7 --dist-range 10:60", &out) == 0);
+  REQUIRE(run("inspect " + (dir / "c.svamap").string(), &out) == 0);
   CHECK_THAT(out, Contains("MN (64 values)") && Contains("7 over 10-60 mm"));
   std::filesystem::remove_all(dir);
 }
@@ -40,24 +53,24 @@ TEST_CASE("cli: bad maps and bad options exit non-zero with a message") {
   save_dataset(test::synthetic_dataset(2, 20), dir / "train.svad");
   const std::string base = "train --data " + (dir / "train.svad").string() + " --out " + (dir / "m.svamap").string();
   std::string out;
-  REQUIRE(test::run_sva(base, &out) == 0);
+  REQUIRE(run(base, &out) == 0);
   auto bytes = bytes_of(dir / "m.svamap");
   bytes[bytes.size() - 7] ^= 1;
   {
     std::ofstream f(dir / "bad.svamap", std::ios::binary);
     f.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   }
-  CHECK(test::run_sva("inspect " + (dir / "bad.svamap").string(), &out) != 0);
+  CHECK(run("inspect " + (dir / "bad.svamap").string(), &out) != 0);
   CHECK_THAT(out, Contains("bad.svamap") && Contains("checksum"));
-  CHECK(test::run_sva(base + " --dist-range 80:20", &out) != 0);
+  CHECK(run(base + " --dist-range 80:20", &out) != 0);
   CHECK_THAT(out, Contains("--dist-range"));
-  CHECK(test::run_sva(base + " --dist-range abc", &out) != 0);
-  CHECK(test::run_sva(base + " --descriptor sift", &out) != 0);
+  CHECK(run(base + " --dist-range abc", &out) != 0);
+  CHECK(run(base + " --descriptor sift", &out) != 0);
   CHECK_THAT(out, Contains("sift"));
-  CHECK(test::run_sva(base + " --clusters 0", &out) != 0);
-  CHECK(test::run_sva("train --data " + (dir / "nope.svad").string() + " --out " + (dir / "x.svamap").string(), &out) != 0);
+  CHECK(run(base + " --clusters 0", &out) != 0);
+  CHECK(run("train --data " + (dir / "nope.svad").string() + " --out " + (dir / "x.svamap").string(), &out) != 0);
   CHECK_THAT(out, Contains("nope.svad"));
-  CHECK(test::run_sva("train --data " + (dir / "m.svamap").string() + " --out " + (dir / "x.svamap").string(), &out) != 0);
+  CHECK(run("train --data " + (dir / "m.svamap").string() + " --out " + (dir / "x.svamap").string(), &out) != 0);
   CHECK_FALSE(std::filesystem::exists(dir / "x.svamap"));
   std::filesystem::remove_all(dir);
 }

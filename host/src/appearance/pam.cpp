@@ -47,12 +47,16 @@ class Dissimilarity {
   bool cached() const { return matrix_ != nullptr; }
 
  private:
-  void compute(std::size_t i, float* out) const {
+  void compute(std::size_t i, float* __restrict out) const {
     std::fill(out, out + n_, 0.0f);
+    const std::size_t whole = n_ / 8 * 8;
     for (std::uint32_t t = 0; t < dim_; ++t) {
       const float a = points_[i * dim_ + t];
-      const float* col = &transposed_[t * n_];
-      for (std::size_t j = 0; j < n_; ++j) out[j] += a * col[j];
+      const float* __restrict col = &transposed_[t * n_];
+      // Fixed 8-wide blocks: vectorised at -O2 without any reordering of sums.
+      for (std::size_t j = 0; j < whole; j += 8)
+        for (std::size_t l = 0; l < 8; ++l) out[j + l] += a * col[j + l];
+      for (std::size_t j = whole; j < n_; ++j) out[j] += a * col[j];
     }
     for (std::size_t j = 0; j < n_; ++j) out[j] = std::max(0.0f, 1.0f - out[j]);
     out[i] = 0.0f;

@@ -157,9 +157,6 @@ TEST_CASE("Recognizer: refused readings, options and maps") {
   const Estimate e = rec.estimate();
   for (double p : e.object_probability) CHECK(std::isfinite(p));
 
-  RecognizerOptions vk;
-  vk.backend = BackendKind::vulkan;
-  CHECK_THROWS_WITH(Recognizer(t.map, paper_space(), vk), Catch::Contains("Vulkan backend is not built yet"));
   CHECK_THROWS_WITH(Recognizer(t.map, letters_space()), Catch::Contains("planar"));
   PoseSpaceSpec empty = paper_space();
   empty.translation_bins = 0;

@@ -14,10 +14,10 @@ layout(std430, set = 0, binding = 0) readonly buffer Weights { float weight[]; }
 layout(std430, set = 0, binding = 1) readonly buffer Bins { uint bin[]; };
 layout(std430, set = 0, binding = 2) buffer Sums { int64_t sums[]; };
 
-layout(push_constant) uniform Push { uint count; uint bin_count; } pc;
+layout(push_constant) uniform Push { uint count; uint bin_count; uint base; } pc;  // base: first index of this dispatch
 
 void main() {
-  uint i = gl_GlobalInvocationID.x;
+  uint i = pc.base + gl_GlobalInvocationID.x;
   if (i >= pc.count) return;
   uint b = bin[i];
   if (b >= pc.bin_count) return;

@@ -1,4 +1,259 @@
+// sva bench: speed of recognition on one machine, next to the accuracy it buys.
+// Time per update at chosen reading counts and votes per second, for the CPU
+// reference and the Vulkan backend (one session, and a batch of sessions in
+// one submission), and the bare fixed-point atomic scatter on the same device
+// (the roofline of the vote scatter), with the ratios between them.
+#include <sva/batch_recognizer.hpp>
+#include <sva/dataset.hpp>
+#include <sva/error.hpp>
+#include <sva/map.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
 #include "args.hpp"
+#include "core/fixed_point.hpp"
+#include "eval/evaluation.hpp"
+#include "eval/metrics.hpp"
+#include "eval/trials.hpp"
+#include "spv/fixed_point_scatter.h"
+#include "util/interrupt.hpp"
+#include "util/parallel.hpp"
+#include "util/progress.hpp"
+#include "util/rng.hpp"
+#include "vulkan/context.hpp"
+
 namespace sva::cli {
-int cmd_bench(const std::vector<std::string>&) { throw Error("sva bench: being built (skeleton)"); }
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using nlohmann::json;
+
+struct Checkpoint {
+  std::vector<double> update_ms;   // per trial (batched: per session-update)
+  std::uint64_t votes = 0;
+  double seconds = 0.0;
+  std::size_t correct = 0, trials = 0;
+  std::vector<double> translation_mm;
+  std::vector<double> kernel_ms, backend_host_ms;
+};
+
+std::vector<std::size_t> parse_checkpoints(const std::string& text) {
+  std::vector<std::size_t> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    char* end = nullptr;
+    long v = std::strtol(item.c_str(), &end, 10);
+    if (item.empty() || *end != '\0' || v < 1 || v > 100000) throw Error("sva bench: --readings expects a list like 10,30,100, got \"" + text + "\"");
+    out.push_back(static_cast<std::size_t>(v));
+  }
+  std::sort(out.begin(), out.end());
+  out.erase(std::unique(out.begin(), out.end()), out.end());
+  return out;
+}
+
+// Runs `sessions` trials in lock step (one update carries one reading of each)
+// and records the checkpoints. sessions = 1 measures the single-session latency.
+json run_backend(const Map& map, const Dataset& test, BackendKind backend, std::size_t trials, std::size_t sessions,
+                 const std::vector<std::size_t>& checkpoints, std::uint64_t seed, const std::string& label) {
+  const std::size_t max_readings = checkpoints.back();
+  eval::TrialGenerator gen(test, map.pose_space(), seed, max_readings);
+  RecognizerOptions ro;
+  ro.backend = backend;
+  std::map<std::size_t, Checkpoint> cp;
+  std::uint64_t all_votes = 0;
+  double all_seconds = 0.0;
+  std::string device;
+  util::Progress progress(label, trials * max_readings);
+  for (std::size_t first = 0; first < trials; first += sessions) {
+    const std::size_t n = std::min(sessions, trials - first);
+    BatchRecognizer rec(map, map.pose_space(), n, ro);
+    device = rec.backend_description();
+    std::vector<eval::Trial> tr;
+    for (std::size_t i = 0; i < n; ++i) tr.push_back(gen.make(first + i));
+    std::vector<std::size_t> ids(n);
+    for (std::size_t i = 0; i < n; ++i) ids[i] = i;
+    for (std::size_t step = 1; step <= max_readings; ++step) {
+      util::throw_if_interrupted();
+      std::vector<Reading> rd;
+      for (std::size_t i = 0; i < n; ++i) rd.push_back(tr[i].readings[step - 1]);
+      const auto t0 = Clock::now();
+      rec.add_readings(ids, rd);
+      const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
+      std::uint64_t votes = 0;
+      std::vector<Estimate> est;
+      for (std::size_t i = 0; i < n; ++i) {
+        est.push_back(rec.estimate(i, 1));
+        votes += est.back().votes;
+      }
+      all_votes += votes;
+      all_seconds += secs;
+      progress.advance(n);
+      if (!std::binary_search(checkpoints.begin(), checkpoints.end(), step)) continue;
+      Checkpoint& c = cp[step];
+      c.update_ms.push_back(1e3 * secs / static_cast<double>(n));
+      c.votes += votes;
+      c.seconds += secs;
+      const auto t = rec.last_backend_timing();
+      c.kernel_ms.push_back(t.kernel_ms);
+      c.backend_host_ms.push_back(t.host_ms);
+      for (std::size_t i = 0; i < n; ++i) {
+        ++c.trials;
+        if (est[i].object != tr[i].object) continue;
+        ++c.correct;
+        if (est[i].pose_valid) c.translation_mm.push_back(glm::length(est[i].pose.T - tr[i].pose.T));
+      }
+    }
+  }
+  progress.finish();
+  json j = {{"backend", eval::backend_name(backend)}, {"device", device}, {"sessions_per_submission", sessions},
+            {"trials", trials}, {"votes_per_second", all_seconds > 0 ? static_cast<double>(all_votes) / all_seconds : 0.0}};
+  json points = json::array();
+  for (auto& [step, c] : cp) {
+    auto med = [](const std::vector<double>& v) -> json {
+      auto m = eval::median(v);
+      return m ? json(*m) : json(nullptr);
+    };
+    points.push_back({{"readings", step},
+                      {"update_ms", med(c.update_ms)},
+                      {"votes_per_update", c.trials ? static_cast<double>(c.votes) / static_cast<double>(c.trials) : 0.0},
+                      {"votes_per_second", c.seconds > 0 ? static_cast<double>(c.votes) / c.seconds : 0.0},
+                      {"gpu_kernel_ms", med(c.kernel_ms)},
+                      {"backend_host_ms", med(c.backend_host_ms)},
+                      {"accuracy", c.trials ? static_cast<double>(c.correct) / static_cast<double>(c.trials) : 0.0},
+                      {"translation_error_mm", med(c.translation_mm)}});
+  }
+  j["curve"] = points;
+  return j;
+}
+
+// The bare scatter: quantise and atomically add N weights into M bins, the
+// least work a vote can take on this device.
+json roofline(std::size_t votes, std::size_t bins) {
+  vk::Context ctx;
+  util::Rng rng(5);
+  auto w = ctx.create_buffer(votes * sizeof(float));
+  auto b = ctx.create_buffer(votes * sizeof(std::uint32_t));
+  auto s = ctx.create_buffer(bins * sizeof(std::int64_t));
+  for (std::size_t i = 0; i < votes; ++i) {
+    w.as<float>()[i] = static_cast<float>(rng.uniform());
+    b.as<std::uint32_t>()[i] = static_cast<std::uint32_t>(rng.below(bins));
+  }
+  auto pipeline = ctx.create_pipeline(sva_spv_fixed_point_scatter, 3, 12);
+  // One dispatch covers at most maxComputeWorkGroupCount[0] workgroups.
+  std::vector<vk::Dispatch> dispatches;
+  const std::size_t per = std::size_t{ctx.info().max_workgroup_count_x} * SVA_WORKGROUP_SIZE;
+  for (std::size_t base = 0; base < votes; base += per) {
+    std::uint32_t push[3] = {static_cast<std::uint32_t>(votes), static_cast<std::uint32_t>(bins), static_cast<std::uint32_t>(base)};
+    std::vector<std::uint8_t> pb(sizeof push);
+    std::memcpy(pb.data(), push, sizeof push);
+    const std::size_t n = std::min(per, votes - base);
+    dispatches.push_back({&pipeline, {&w, &b, &s}, pb, static_cast<std::uint32_t>((n + SVA_WORKGROUP_SIZE - 1) / SVA_WORKGROUP_SIZE)});
+  }
+  std::vector<double> kernel;
+  double best_kernel = 1e30, best_wall = 1e30;
+  for (int rep = 0; rep < 3; ++rep) {
+    const auto t0 = Clock::now();
+    ctx.run(dispatches, &kernel);
+    best_wall = std::min(best_wall, std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
+    double k = 0.0;
+    for (double m : kernel) k += m;
+    if (!kernel.empty()) best_kernel = std::min(best_kernel, k);
+  }
+  const double ms = best_kernel < 1e30 ? best_kernel : best_wall;
+  return {{"device", ctx.info().name + " (" + ctx.info().type + ")"}, {"votes", votes}, {"bins", bins},
+          {"kernel_ms", ms}, {"votes_per_second", 1e3 * static_cast<double>(votes) / ms}};
+}
+
+}  // namespace
+
+int cmd_bench(const std::vector<std::string>& argv) {
+  Args a("sva bench",
+         "Measure recognition speed on this machine next to the accuracy it buys: time per update and votes per\n"
+         "second for the CPU reference and the Vulkan backend (one session, and a batch of sessions per\n"
+         "submission), the bare atomic-scatter roofline of the device, and the ratios.",
+         argv);
+  a.option("--map", "MAP", "map file (sva train)")
+      .option("--data", "TEST", "test dataset (sva simulate)")
+      .option("--json", "OUT.json", "write the figures as JSON")
+      .option("--backend", "cpu|vulkan|both", "backends to measure (default both)")
+      .option("--readings", "LIST", "reading counts to report, e.g. 10,30,100 (default)")
+      .option("--trials", "N", "trials per backend (default 3)")
+      .option("--batch", "N", "sessions per submission for the batched Vulkan run (default 16; 0 = skip)")
+      .option("--seed", "S", "trial seed (default 1)")
+      .option("--roofline-votes", "N", "votes in the bare-scatter measurement (default 4194304)");
+  if (!a.parse()) return 0;
+  const std::string map_file = a.required("--map"), data_file = a.required("--data");
+  const std::string which = a.get_or("--backend", "both");
+  if (which != "cpu" && which != "vulkan" && which != "both") throw Error("sva bench: --backend must be cpu, vulkan or both, got \"" + which + "\"");
+  const auto checkpoints = parse_checkpoints(a.get_or("--readings", "10,30,100"));
+  const auto trials = static_cast<std::size_t>(a.integer("--trials", 3, 1, 100000));
+  const auto batch = static_cast<std::size_t>(a.integer("--batch", 16, 0, 4096));
+  const auto seed = static_cast<std::uint64_t>(a.integer("--seed", 1, 0, INT64_MAX));
+  const auto roof_votes = static_cast<std::size_t>(a.integer("--roofline-votes", 1 << 22, 1024, 1 << 26));
+  const Map map = Map::load(map_file);
+  const Dataset test = load_dataset(data_file);
+  eval::check_compatible(map, test, map_file, data_file);
+
+  json out = {{"map", map_file}, {"data", data_file}, {"scene", map.scene_name()}, {"map_entries", map.entries()},
+              {"threads", util::default_threads()}};
+  json runs = json::array();
+  if (which != "vulkan") runs.push_back(run_backend(map, test, BackendKind::cpu, trials, 1, checkpoints, seed, "cpu"));
+  if (which != "cpu") {
+    runs.push_back(run_backend(map, test, BackendKind::vulkan, trials, 1, checkpoints, seed, "vulkan"));
+    if (batch > 1)
+      runs.push_back(run_backend(map, test, BackendKind::vulkan, std::max(trials, batch), batch, checkpoints, seed, "vulkan batch"));
+    out["roofline"] = roofline(roof_votes, 1 << 20);
+  }
+  out["runs"] = runs;
+
+  // Ratios against the CPU reference (per update) and the roofline (votes/s).
+  std::printf("%-14s %-9s %9s %12s %14s %10s %12s\n", "run", "readings", "ms/update", "votes/update", "votes/s", "accuracy", "trans. mm");
+  const json* cpu = nullptr;
+  for (const auto& r : runs)
+    if (r["backend"] == "cpu") cpu = &r;
+  for (auto& r : out["runs"]) {
+    const std::string name = std::string(r["backend"]) + (r["sessions_per_submission"].get<std::size_t>() > 1 ? " batch" : "");
+    for (std::size_t i = 0; i < r["curve"].size(); ++i) {
+      auto& p = r["curve"][i];
+      const double ms = p["update_ms"].is_null() ? 0.0 : p["update_ms"].get<double>();
+      if (cpu && r["backend"] != "cpu" && i < (*cpu)["curve"].size() && ms > 0 && !(*cpu)["curve"][i]["update_ms"].is_null())
+        p["speedup_vs_cpu"] = (*cpu)["curve"][i]["update_ms"].get<double>() / ms;
+      std::printf("%-14s %-9zu %9.2f %12.0f %14.3g %10.2f %12s\n", name.c_str(), p["readings"].get<std::size_t>(), ms,
+                  p["votes_per_update"].get<double>(), p["votes_per_second"].get<double>(), p["accuracy"].get<double>(),
+                  p["translation_error_mm"].is_null() ? "-" : std::to_string(p["translation_error_mm"].get<double>()).substr(0, 6).c_str());
+    }
+    if (out.contains("roofline") && r["backend"] == "vulkan")
+      r["fraction_of_roofline"] = r["votes_per_second"].get<double>() / out["roofline"]["votes_per_second"].get<double>();
+  }
+  if (out.contains("roofline"))
+    std::printf("roofline (bare atomic scatter on %s): %.3g votes/s\n", out["roofline"]["device"].get<std::string>().c_str(),
+                out["roofline"]["votes_per_second"].get<double>());
+  for (const auto& r : out["runs"]) {
+    if (r.contains("fraction_of_roofline"))
+      std::printf("%s (%zu per submission): %.3g votes/s = %.1f%% of the roofline\n", r["device"].get<std::string>().c_str(),
+                  r["sessions_per_submission"].get<std::size_t>(), r["votes_per_second"].get<double>(),
+                  100.0 * r["fraction_of_roofline"].get<double>());
+  }
+  if (auto path = a.get("--json")) {
+    const std::string tmp = *path + ".tmp";
+    {
+      std::ofstream f(tmp);
+      if (!f) throw Error(*path + ": cannot open for writing");
+      f << out.dump(2) << "\n";
+      if (!f) throw Error(*path + ": write failed");
+    }
+    std::rename(tmp.c_str(), path->c_str());
+  }
+  return 0;
+}
+
 }  // namespace sva::cli

@@ -24,7 +24,7 @@ std::unique_ptr<sva::vk::Context> make_context() {
 }
 
 struct Push {
-  std::uint32_t count, bin_count;
+  std::uint32_t count, bin_count, base;
 };
 
 }  // namespace
@@ -49,7 +49,7 @@ TEST_CASE("fixed-point scatter on the GPU equals the CPU sum bit for bit") {
     if (b < bins) expect[b] += sva::to_fixed(w);
   }
   auto pipeline = ctx->create_pipeline(sva_spv_fixed_point_scatter, 3, sizeof(Push));
-  Push push{n, bins};
+  Push push{n, bins, 0};
   std::vector<std::uint8_t> pb(sizeof push);
   std::memcpy(pb.data(), &push, sizeof push);
   std::vector<double> kernel_ms;

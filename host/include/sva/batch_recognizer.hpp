@@ -29,6 +29,13 @@ class BatchRecognizer {
   std::size_t readings(std::size_t session) const;
   // The backend in use ("cpu" or "vulkan") and, for Vulkan, the device.
   std::string backend_description() const;
+  // Where the last update's vote time went (Vulkan: GPU kernel time and the
+  // backend's host-side preparation and read-back; CPU: all host).
+  struct Timing {
+    double kernel_ms = 0.0;
+    double host_ms = 0.0;
+  };
+  Timing last_backend_timing() const;
 
   struct Impl;
 

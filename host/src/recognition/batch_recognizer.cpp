@@ -162,6 +162,16 @@ std::string BatchRecognizer::backend_description() const {
   return impl_->backend->name();
 }
 
+BatchRecognizer::Timing BatchRecognizer::last_backend_timing() const {
+  Timing t;
+  if (impl_->backend)
+    if (const VulkanBackendStats* st = vulkan_backend_stats(*impl_->backend)) {
+      t.kernel_ms = st->last_kernel_ms;
+      t.host_ms = st->last_host_ms;
+    }
+  return t;
+}
+
 // The single-session Recognizer is a batch of one.
 struct Recognizer::Impl {
   BatchRecognizer batch;

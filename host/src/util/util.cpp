@@ -105,6 +105,7 @@ void Progress::finish() {
   finished_ = true;
   if (g_quiet) return;
   std::lock_guard lock(mutex_);
+  if (!tty_ && last_decile_ == 10) return;  // the 100% line is already out
   draw(done_, true);
 }
 

@@ -1,0 +1,125 @@
+// The contact sheet of `sva simulate --preview`: per reading, the pressure
+// image as a heat map beside an oblique view of all contact points of that
+// object, with this reading's point and normal highlighted.
+#include <sva/error.hpp>
+#include <sva/sim/simulate.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+#include "plot/canvas.hpp"
+
+namespace sva::sim {
+
+namespace {
+
+const char* status_word(ControllerStatus s) {
+  switch (s) {
+    case ControllerStatus::converged: return "ok";
+    case ControllerStatus::not_converged: return "NOT CONV";
+    case ControllerStatus::no_contact: return "NO CONTACT";
+  }
+  return "?";
+}
+
+// A fixed oblique view: azimuth 35 degrees, elevation 25 degrees, z up.
+glm::dvec2 project(const glm::dvec3& p) {
+  const double az = 35.0 * M_PI / 180.0, el = 25.0 * M_PI / 180.0;
+  double x = std::cos(az) * p.x + std::sin(az) * p.y;
+  double d = -std::sin(az) * p.x + std::cos(az) * p.y;
+  double y = std::cos(el) * p.z - std::sin(el) * d;
+  return {x, y};
+}
+
+}  // namespace
+
+void write_preview(const Dataset& data, const std::filesystem::path& png, int max_readings) {
+  if (max_readings < 1) throw Error("preview: max_readings must be at least 1");
+  const std::size_t n = data.samples.size();
+  const int shown = static_cast<int>(std::min<std::size_t>(n, static_cast<std::size_t>(max_readings)));
+  const int S = 84, cell_w = 2 * S + 14, cell_h = S + 30, cols = std::max(1, std::min(shown, 6));
+  const int rows = std::max(1, (shown + cols - 1) / cols);
+  const int header = 34;
+  plot::Canvas cv(cols * cell_w + 10, header + rows * cell_h + 24);
+
+  // Colour scale: the 99th percentile of the non-zero pressures, so that a few
+  // saturated elements do not wash out every other image.
+  std::vector<float> all;
+  for (const auto& s : data.samples)
+    for (float p : s.reading.pressure)
+      if (p > 0) all.push_back(p);
+  float pmax = 1;
+  if (!all.empty()) {
+    auto k = all.begin() + static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(all.size() - 1));
+    std::nth_element(all.begin(), k, all.end());
+    pmax = std::max(*k, 1e-3f);
+  }
+  char title[256];
+  std::snprintf(title, sizeof title, "%s / %s: %zu readings (%zu converged), showing %d", data.scene.name.c_str(),
+                data.split.c_str(), n, data.count_converged(), shown);
+  cv.text(6, 6, title, plot::kBlack, 2);
+
+  // Per object: the projected bounds of its contact points.
+  std::map<std::uint32_t, std::pair<glm::dvec2, glm::dvec2>> bounds;
+  for (const auto& s : data.samples) {
+    if (s.reading.status == ControllerStatus::no_contact) continue;
+    glm::dvec2 q = project(s.reading.position);
+    auto [it, fresh] = bounds.try_emplace(s.reading.object, q, q);
+    if (!fresh) it->second = {glm::min(it->second.first, q), glm::max(it->second.second, q)};
+  }
+
+  const int rs = data.scene.sensor.rows, cs = data.scene.sensor.cols;
+  for (int c = 0; c < shown; ++c) {
+    // Evenly spaced over the dataset so that every object appears.
+    std::size_t idx = shown > 1 ? static_cast<std::size_t>(c) * (n - 1) / static_cast<std::size_t>(shown - 1) : 0;
+    const Reading& r = data.samples[idx].reading;
+    int ox = 6 + (c % cols) * cell_w, oy = header + (c / cols) * cell_h;
+    // Heat map: row 0 (most negative sensor y) at the bottom, like a plot.
+    int ew = std::max(1, S / std::max(rs, cs));
+    for (int i = 0; i < rs; ++i)
+      for (int j = 0; j < cs; ++j) {
+        float p = r.pressure.size() == static_cast<std::size_t>(rs * cs) ? r.pressure[static_cast<std::size_t>(i * cs + j)] : 0.0f;
+        cv.fill_rect(ox + j * ew, oy + (rs - 1 - i) * ew, ew, ew, plot::colormap(p / pmax));
+      }
+    cv.rect(ox - 1, oy - 1, cs * ew + 2, rs * ew + 2, plot::kGrey);
+    // Contact view.
+    int vx = ox + S + 8;
+    cv.rect(vx, oy, S, S, plot::kLightGrey);
+    auto b = bounds.find(r.object);
+    if (b != bounds.end()) {
+      glm::dvec2 lo = b->second.first, hi = b->second.second;
+      double span = std::max({hi.x - lo.x, hi.y - lo.y, 1e-6});
+      auto to_px = [&](const glm::dvec3& p) {
+        glm::dvec2 q = (project(p) - 0.5 * (lo + hi)) / span;
+        return glm::dvec2(vx + S / 2.0 + q.x * (S - 8), oy + S / 2.0 - q.y * (S - 8));
+      };
+      for (const auto& s : data.samples) {
+        if (s.reading.object != r.object || s.reading.status == ControllerStatus::no_contact) continue;
+        glm::dvec2 q = to_px(s.reading.position);
+        cv.set(static_cast<int>(q.x), static_cast<int>(q.y), plot::kGrey);
+      }
+      if (r.status != ControllerStatus::no_contact) {
+        glm::dvec2 q = to_px(r.position), e = to_px(r.position + 0.25 * span * r.normal);
+        cv.line(q.x, q.y, e.x, e.y, plot::kRed, 1);
+        cv.fill_circle(q.x, q.y, 3.0, plot::kRed);
+      }
+    }
+    std::string name = r.object < data.scene.objects.size() ? data.scene.objects[r.object].name : "?";
+    char cap[160];
+    std::snprintf(cap, sizeof cap, "#%zu %s", idx, name.c_str());
+    cv.text(ox, oy + S + 4, cap, plot::kBlack);
+    std::snprintf(cap, sizeof cap, "%s, %d it", status_word(r.status), static_cast<int>(r.iterations));
+    cv.text(ox, oy + S + 15, cap, r.status == ControllerStatus::converged ? plot::kGrey : plot::kRed);
+  }
+  // Colour scale.
+  int ly = header + rows * cell_h + 4;
+  for (int k = 0; k < 200; ++k) cv.fill_rect(6 + k, ly, 1, 10, plot::colormap(k / 199.0));
+  char scale[64];
+  std::snprintf(scale, sizeof scale, "0 .. %.1f kPa (99th percentile)", static_cast<double>(pmax));
+  cv.text(212, ly + 1, scale, plot::kBlack);
+  cv.write_png(png);
+}
+
+}  // namespace sva::sim

@@ -1,0 +1,159 @@
+// The data-collection protocols of the paper: paper3d (Sec 5.1: random surface
+// points, tilted approach, controller until convergence) and letters2d
+// (Sec 5.2: a grid of planar poses pressed straight down). Every reading draws
+// from its own random stream (seed, split, object, index), so datasets are the
+// same bytes whatever the thread count.
+#include <sva/error.hpp>
+#include <sva/sim/simulate.hpp>
+#include <sva/sim/tactile_sensor.hpp>
+
+#include <cmath>
+#include <memory>
+
+#include "util/parallel.hpp"
+#include "util/progress.hpp"
+#include "util/rng.hpp"
+
+namespace sva::sim {
+
+namespace {
+
+constexpr std::uint64_t kTrainStream = 1, kTestStream = 2;
+
+glm::dvec3 rotate(const glm::dvec3& v, double a, const glm::dvec3& k) {
+  return v * std::cos(a) + glm::cross(k, v) * std::sin(a) + k * glm::dot(k, v) * (1.0 - std::cos(a));
+}
+
+void basis(const glm::dvec3& n, glm::dvec3& t1, glm::dvec3& t2) {
+  glm::dvec3 h = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
+  t1 = glm::normalize(glm::cross(h, n));
+  t2 = glm::cross(n, t1);
+}
+
+// A surface point the sensor can approach: nothing of the object lies within
+// the approach distance along its normal (this skips faces buried inside
+// overlapping parts and turns normals of inside-out triangles around).
+void accessible_point(const ObjectGeometry& g, util::Rng& rng, double clearance, glm::dvec3& p, glm::dvec3& n) {
+  for (int attempt = 0; attempt < 64; ++attempt) {
+    g.sample_surface(rng.uniform(), rng.uniform(), rng.uniform(), p, n);
+    if (!g.intersect(p, n, 1e-3, clearance).hit) return;
+    if (!g.intersect(p, -n, 1e-3, clearance).hit) {
+      n = -n;
+      return;
+    }
+  }
+  // A surface with no accessible point in 64 tries: keep the last one; the
+  // controller will flag the reading if it cannot converge there.
+}
+
+struct Job {
+  std::uint64_t stream;
+  std::uint32_t object;
+  std::uint32_t index;
+};
+
+Reading paper3d_reading(const TactileSensor& sensor, const Scene& scene, std::uint64_t seed, const Job& job) {
+  const auto& pr = scene.protocol;
+  util::Rng rng(seed, job.stream, job.object, job.index);
+  glm::dvec3 p, n;
+  accessible_point(sensor.object(), rng, pr.approach_mm + TactileSensor::kRayHeadroomMm, p, n);
+  glm::dvec3 t1, t2;
+  basis(n, t1, t2);
+  const double tilt = pr.tilt_deg * M_PI / 180.0 * rng.uniform();
+  const double phi = 2.0 * M_PI * rng.uniform();
+  SensorPose start;
+  start.normal = glm::normalize(rotate(n, tilt, std::cos(phi) * t1 + std::sin(phi) * t2));
+  basis(start.normal, t1, t2);
+  const double psi = 2.0 * M_PI * rng.uniform();  // rotation about the normal is not controlled
+  start.x_axis = std::cos(psi) * t1 + std::sin(psi) * t2;
+  start.position = p + pr.approach_mm * n;
+  ControllerSettings cs;
+  cs.max_iterations = pr.max_iterations;
+  Reading r = press(sensor, start, cs, util::splitmix64(rng.next()));
+  r.object = job.object;
+  return r;
+}
+
+Reading letters2d_reading(const TactileSensor& sensor, const Scene& scene, std::uint64_t seed, const Job& job) {
+  const auto& pr = scene.protocol;
+  const int poses = pr.grid * pr.grid * pr.orientations;
+  const int q = static_cast<int>(job.index % static_cast<std::uint32_t>(poses));
+  const int a = q % pr.orientations, cell = q / pr.orientations;
+  const int i = cell / pr.grid, j = cell % pr.grid;
+  util::Rng rng(seed, job.stream, job.object, job.index);
+  double x = (j - 0.5 * (pr.grid - 1)) * pr.grid_spacing_mm;
+  double y = (i - 0.5 * (pr.grid - 1)) * pr.grid_spacing_mm;
+  double angle = 2.0 * M_PI * a / pr.orientations;
+  // Test readings (and training readings beyond one per pose) are the same
+  // poses placed again: a tiny positioning jitter, and their own noise stream.
+  if (job.stream != kTrainStream || static_cast<int>(job.index) >= poses) {
+    x += 0.1 * rng.normal();
+    y += 0.1 * rng.normal();
+    angle += 0.5 * M_PI / 180.0 * rng.normal();
+  }
+  const Mesh& mesh = sensor.object().mesh();
+  SensorPose start;
+  start.normal = {0, 0, 1};
+  start.x_axis = {std::cos(angle), std::sin(angle), 0.0};
+  start.position = {x, y, mesh.bounds_max.z + pr.approach_mm};
+  ControllerSettings cs;
+  cs.max_iterations = pr.max_iterations;
+  cs.reorient = false;  // the letters are pressed flat against the array
+  cs.recenter = false;
+  Reading r = press(sensor, start, cs, util::splitmix64(rng.next()));
+  r.object = job.object;
+  return r;
+}
+
+}  // namespace
+
+SimulatedData simulate(const Scene& scene, const SimulateOptions& options) {
+  if (scene.objects.empty()) throw Error("scene \"" + scene.name + "\" has no objects");
+  const auto& pr = scene.protocol;
+  const bool letters = pr.kind == "letters2d";
+  if (!letters && pr.kind != "paper3d") throw Error("scene \"" + scene.name + "\": unknown protocol \"" + pr.kind + "\"");
+  const int per_pose = pr.grid * pr.grid * pr.orientations;
+  const int train_n = options.train_per_object >= 0 ? options.train_per_object : (letters ? per_pose : pr.train_per_object);
+  const int test_n = options.test_per_object >= 0 ? options.test_per_object : (letters ? per_pose : pr.test_per_object);
+
+  // Every mesh is loaded and validated before any work starts.
+  std::vector<std::unique_ptr<ObjectGeometry>> geometry;
+  std::vector<std::unique_ptr<TactileSensor>> sensors;
+  const double reach = pr.approach_mm + 10.0;
+  for (const auto& o : scene.objects) {
+    geometry.push_back(std::make_unique<ObjectGeometry>(load_object_mesh(o)));
+    sensors.push_back(std::make_unique<TactileSensor>(*geometry.back(), scene.sensor, scene.skin, reach));
+  }
+
+  std::vector<Job> jobs;
+  for (std::uint64_t stream : {kTrainStream, kTestStream}) {
+    const int n = stream == kTrainStream ? train_n : test_n;
+    for (std::uint32_t o = 0; o < scene.objects.size(); ++o)
+      for (int k = 0; k < n; ++k) jobs.push_back({stream, o, static_cast<std::uint32_t>(k)});
+  }
+  std::vector<Reading> readings(jobs.size());
+  util::Progress progress("simulate " + scene.name, jobs.size());
+  util::parallel_for(
+      jobs.size(),
+      [&](std::size_t i) {
+        const Job& job = jobs[i];
+        const TactileSensor& s = *sensors[job.object];
+        readings[i] = letters ? letters2d_reading(s, scene, options.seed, job) : paper3d_reading(s, scene, options.seed, job);
+        progress.advance();
+      },
+      options.threads);
+  progress.finish();
+
+  SimulatedData out;
+  out.train.scene = out.test.scene = scene;
+  out.train.split = "train";
+  out.test.split = "test";
+  out.train.seed = out.test.seed = options.seed;
+  for (std::size_t i = 0; i < jobs.size(); ++i) {
+    Dataset& d = jobs[i].stream == kTrainStream ? out.train : out.test;
+    d.samples.push_back({std::move(readings[i]), RigidPose{}});
+  }
+  return out;
+}
+
+}  // namespace sva::sim

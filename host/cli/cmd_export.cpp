@@ -1,4 +1,116 @@
+// sva export: a dataset as CSV (one row per reading) and PLY (contact points
+// with normals, coloured by object), for other tools.
+#include <sva/dataset.hpp>
+
+#include <cstdio>
+#include <fstream>
+
 #include "args.hpp"
+#include "plot/canvas.hpp"
+
 namespace sva::cli {
-int cmd_export(const std::vector<std::string>&) { throw Error("sva export: being built (skeleton)"); }
+
+namespace {
+
+const char* status_name(ControllerStatus s) {
+  switch (s) {
+    case ControllerStatus::converged: return "converged";
+    case ControllerStatus::not_converged: return "not_converged";
+    case ControllerStatus::no_contact: return "no_contact";
+  }
+  return "unknown";
+}
+
+// Writes through a temporary name and renames, so that an interrupted export
+// never leaves a file that looks complete.
+template <class F>
+void write_atomically(const std::filesystem::path& file, F&& body) {
+  std::filesystem::path tmp = file;
+  tmp += ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    if (!out) throw Error(file.string() + ": cannot write");
+    try {
+      body(out);
+    } catch (...) {
+      out.close();
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);
+      throw;
+    }
+    out.flush();
+    if (!out) {
+      std::error_code ec;
+      std::filesystem::remove(tmp, ec);
+      throw Error(file.string() + ": write failed (disk full?)");
+    }
+  }
+  std::filesystem::rename(tmp, file);
+}
+
+std::string csv_field(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char c : s) q += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return q + "\"";
+}
+
+}  // namespace
+
+int cmd_export(const std::vector<std::string>& argv) {
+  Args a("sva export",
+         "Write a dataset as CSV (one row per reading: object, status, iterations, position, normal, x axis,\n"
+         "pressures) and PLY (contact points with normals, coloured by object) into DIR.",
+         argv);
+  a.option("--data", "FILE", "a dataset file (.svad) from sva simulate").option("--out", "DIR", "output directory (created if needed)");
+  if (!a.parse()) return 0;
+  const std::filesystem::path file = a.required("--data"), dir = a.required("--out");
+  Dataset d = load_dataset(file);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec || !std::filesystem::is_directory(dir, ec)) throw Error(dir.string() + ": cannot create output directory");
+  const std::string stem = file.stem().string();
+  const auto csv = dir / (stem + ".csv"), ply = dir / (stem + ".ply");
+  const int elements = d.scene.sensor.elements();
+
+  write_atomically(csv, [&](std::ofstream& out) {
+    out << "object,object_name,status,iterations,px,py,pz,nx,ny,nz,xx,xy,xz";
+    for (int i = 0; i < d.scene.sensor.rows; ++i)
+      for (int j = 0; j < d.scene.sensor.cols; ++j) out << ",p_r" << i << "c" << j;
+    out << "\n";
+    char buf[64];
+    auto num = [&](double v) {
+      std::snprintf(buf, sizeof buf, "%.9g", v);
+      return std::string(buf);
+    };
+    for (const auto& s : d.samples) {
+      const Reading& r = s.reading;
+      out << r.object << "," << csv_field(d.scene.objects[r.object].name) << "," << status_name(r.status) << "," << r.iterations;
+      for (const auto* v : {&r.position, &r.normal, &r.x_axis}) out << "," << num(v->x) << "," << num(v->y) << "," << num(v->z);
+      for (int k = 0; k < elements; ++k) out << "," << num(r.pressure[static_cast<std::size_t>(k)]);
+      out << "\n";
+    }
+  });
+
+  std::size_t points = 0;
+  for (const auto& s : d.samples) points += s.reading.status != ControllerStatus::no_contact;
+  write_atomically(ply, [&](std::ofstream& out) {
+    out << "ply\nformat ascii 1.0\ncomment sva dataset " << file.filename().string() << " (" << d.split << "), scene "
+        << d.scene.name << "\ncomment contact points with outward normals, coloured by object\nelement vertex " << points
+        << "\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\n"
+           "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uint object\nend_header\n";
+    char buf[256];
+    for (const auto& s : d.samples) {
+      const Reading& r = s.reading;
+      if (r.status == ControllerStatus::no_contact) continue;
+      plot::Rgb c = plot::palette(r.object);
+      std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f %.6f %.6f %.6f %d %d %d %u\n", r.position.x, r.position.y, r.position.z,
+                    r.normal.x, r.normal.y, r.normal.z, c.r, c.g, c.b, r.object);
+      out << buf;
+    }
+  });
+  std::printf("wrote %s (%zu readings) and %s (%zu contact points)\n", csv.c_str(), d.samples.size(), ply.c_str(), points);
+  return 0;
+}
+
 }  // namespace sva::cli

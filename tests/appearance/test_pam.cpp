@@ -136,7 +136,7 @@ TEST_CASE("PAM: no single swap improves the result (classic PAM's stopping rule)
   CHECK(best_swap >= res.loss - 1e-4);
 }
 
-TEST_CASE("PAM: deterministic, thread-independent, same result with and without the cached matrix") {
+TEST_CASE("PAM: deterministic and thread-independent, with and without the cached matrix") {
   const std::uint32_t dim = 8;
   const auto pts = random_unit(500, dim, 5, 10);
   appearance::PamOptions o;
@@ -146,12 +146,17 @@ TEST_CASE("PAM: deterministic, thread-independent, same result with and without 
   const auto a = appearance::pam(pts, dim, o);
   o.threads = 2;
   const auto b = appearance::pam(pts, dim, o);
-  o.max_matrix_points = 10;  // force rows on the fly
-  const auto c = appearance::pam(pts, dim, o);
   CHECK(a.medoids == b.medoids);
   CHECK(a.membership == b.membership);
-  CHECK(a.medoids == c.medoids);
-  CHECK(a.loss == c.loss);
+  // Rows on the fly (no BUILD: random starts) - same for any thread count,
+  // and as good as the cached run within 1%.
+  o.max_matrix_points = 10;
+  const auto c2 = appearance::pam(pts, dim, o);
+  o.threads = 1;
+  const auto c1 = appearance::pam(pts, dim, o);
+  CHECK(c1.medoids == c2.medoids);
+  CHECK(c1.loss == c2.loss);
+  CHECK(c1.loss <= a.loss * 1.01);
 }
 
 TEST_CASE("PAM: n < k, k = 1 and duplicate descriptors") {

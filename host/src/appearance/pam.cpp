@@ -245,19 +245,29 @@ PamResult pam(const std::vector<float>& points, std::uint32_t dim, const PamOpti
   util::Rng rng(opt.seed, 0x9a3c1u);
   for (std::size_t i = n; i > 1; --i) std::swap(order[i - 1], order[rng.below(i)]);
 
-  PamResult best = swap_search(dis, build(dis, k, opt.threads, opt.progress), order);
-  // Swap search stops in a local optimum, as classic PAM does; restarts from
-  // seeded random medoids keep the best, which finds the global optimum of
-  // small sets far more often than one descent.
-  std::unique_ptr<util::Progress> bar;
-  if (opt.progress && opt.restarts) bar = std::make_unique<util::Progress>("clustering: FasterPAM restarts", opt.restarts);
-  for (std::uint32_t r = 1; r <= opt.restarts && k < n; ++r) {
+  auto random_medoids = [&](std::uint32_t r) {
     util::Rng pick(opt.seed, 0x5eedu, r);
     std::vector<std::uint32_t> all(n);
     std::iota(all.begin(), all.end(), 0u);
     for (std::size_t i = 0; i < k; ++i) std::swap(all[i], all[i + pick.below(n - i)]);
     all.resize(k);
-    PamResult res = swap_search(dis, all, order);
+    return all;
+  };
+  // BUILD reads the whole matrix k times: cheap when it is cached, k full
+  // passes of n^2 inner products when not. Then start from seeded random
+  // medoids instead, as FasterPAM does; the swaps and restarts do the rest.
+  std::unique_ptr<util::Progress> bar;
+  if (opt.progress && !dis.cached()) bar = std::make_unique<util::Progress>("clustering: FasterPAM (rows on the fly)", 1 + opt.restarts);
+  PamResult best = swap_search(dis, dis.cached() ? build(dis, k, opt.threads, opt.progress) : random_medoids(0), order);
+  // Swap search stops in a local optimum, as classic PAM does; restarts from
+  // seeded random medoids keep the best, which finds the global optimum of
+  // small sets far more often than one descent.
+  if (opt.progress && dis.cached() && opt.restarts)
+    bar = std::make_unique<util::Progress>("clustering: FasterPAM restarts", opt.restarts);
+  else if (bar)
+    bar->advance();
+  for (std::uint32_t r = 1; r <= opt.restarts && k < n; ++r) {
+    PamResult res = swap_search(dis, random_medoids(r), order);
     res.swaps += best.swaps;
     res.passes += best.passes;
     if (res.loss < best.loss - kMinGain) best = std::move(res);

@@ -28,32 +28,22 @@ bool Belief::fold(const PairVotes& votes) {
   for (std::int64_t m : votes.mass) total += m;  // <= 2^56 by the vote clamp
   if (total <= 0) return false;
   const double inv = 1.0 / (static_cast<double>(total) * eps_);
-  offset_.reserve(offset_.size() + votes.keys.size());
   for (std::size_t i = 0; i < votes.keys.size(); ++i) {
     if (votes.mass[i] <= 0) continue;
     const double add = std::log1p(static_cast<double>(votes.mass[i]) * inv);
     assert(std::isfinite(add) && add > 0.0);
-    offset_[votes.keys[i]] += add;
+    offset_.add(votes.keys[i], add);
   }
   ++pairs_;
   return true;
 }
 
-double Belief::offset(std::uint64_t key) const {
-  auto it = offset_.find(key);
-  return it == offset_.end() ? 0.0 : it->second;
-}
+double Belief::offset(std::uint64_t key) const { return offset_.get(key); }
 
 Belief::Sorted Belief::sorted() const {
   Sorted s;
-  s.keys.reserve(offset_.size());
-  for (const auto& kv : offset_) s.keys.push_back(kv.first);
-  std::sort(s.keys.begin(), s.keys.end());
-  s.offsets.resize(s.keys.size());
-  for (std::size_t i = 0; i < s.keys.size(); ++i) {
-    s.offsets[i] = offset_.at(s.keys[i]);
-    s.max_offset = std::max(s.max_offset, s.offsets[i]);
-  }
+  offset_.sorted(&s.keys, &s.offsets);
+  for (double o : s.offsets) s.max_offset = std::max(s.max_offset, o);
   return s;
 }
 

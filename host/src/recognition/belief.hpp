@@ -5,11 +5,11 @@
 // belief is stored as offset(x) = sum_p log(1 + S_p(x) / eps) for touched bins
 // only; every untouched bin has offset 0 (the shared baseline).
 #include <cstdint>
-#include <unordered_map>
 #include <vector>
 
 #include <sva/pose.hpp>
 
+#include "recognition/bin_accumulator.hpp"
 #include "recognition/pose_space.hpp"
 #include "recognition/vote_backend.hpp"
 
@@ -61,7 +61,7 @@ class Belief {
 
   const PoseSpace* space_;
   double eps_;
-  std::unordered_map<std::uint64_t, double> offset_;
+  BinTable<double> offset_;
   std::size_t pairs_ = 0;
 };
 

@@ -1,28 +1,97 @@
 #pragma once
-// Sums fixed-point vote mass per pose-bin key: open addressing with a
-// well-mixed hash, grown at half load. Integer sums do not depend on the order
-// of the votes, so the sorted read-out is the same for any schedule.
+// Sums per pose-bin key: open addressing with a well-mixed hash, grown at half
+// load. Used with 64-bit fixed-point vote mass (integer sums do not depend on
+// the order of the votes, so the sorted read-out is the same for any
+// schedule) and for the belief's log-domain offsets (folded in pair order).
+#include <algorithm>
+#include <cassert>
 #include <cstdint>
 #include <vector>
 
 namespace sva {
 
-class BinAccumulator {
+template <class Value>
+class BinTable {
  public:
-  explicit BinAccumulator(std::size_t expected = 1024);
-  void add(std::uint64_t key, std::int64_t mass);
+  explicit BinTable(std::size_t expected = 1024) { init(expected); }
+
+  void add(std::uint64_t key, Value v) { slot(key) += v; }
+  // The value of a key, or Value{} when absent.
+  Value get(std::uint64_t key) const {
+    std::size_t i = mix(key) & mask_;
+    for (;;) {
+      if (keys_[i] == key) return values_[i];
+      if (keys_[i] == kEmpty) return Value{};
+      i = (i + 1) & mask_;
+    }
+  }
   std::size_t size() const { return size_; }
-  // Touched keys in increasing order with their sums.
-  void sorted(std::vector<std::uint64_t>* keys, std::vector<std::int64_t>* mass) const;
-  void clear();
+  void clear() { init(1024); }
+  // Touched keys in increasing order with their values.
+  void sorted(std::vector<std::uint64_t>* keys, std::vector<Value>* values) const {
+    std::vector<std::uint64_t> k;
+    k.reserve(size_);
+    for (std::uint64_t key : keys_)
+      if (key != kEmpty) k.push_back(key);
+    std::sort(k.begin(), k.end());
+    values->resize(k.size());
+    for (std::size_t j = 0; j < k.size(); ++j) (*values)[j] = get(k[j]);
+    *keys = std::move(k);
+  }
 
  private:
   static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
-  void grow();
+  static std::uint64_t mix(std::uint64_t x) {
+    x ^= x >> 31;
+    x *= 0x7fb5d329728ea185ull;
+    x ^= x >> 27;
+    x *= 0x81dadef4bc2dd44dull;
+    x ^= x >> 33;
+    return x;
+  }
+  void init(std::size_t expected) {
+    std::size_t cap = 16;
+    while (cap < 2 * expected) cap *= 2;
+    keys_.assign(cap, kEmpty);
+    values_.assign(cap, Value{});
+    mask_ = cap - 1;
+    size_ = 0;
+  }
+  Value& slot(std::uint64_t key) {
+    assert(key != kEmpty);
+    if ((size_ + 1) * 2 > keys_.size()) grow();
+    std::size_t i = mix(key) & mask_;
+    for (;;) {
+      if (keys_[i] == key) return values_[i];
+      if (keys_[i] == kEmpty) {
+        keys_[i] = key;
+        ++size_;
+        return values_[i];
+      }
+      i = (i + 1) & mask_;
+    }
+  }
+  void grow() {
+    std::vector<std::uint64_t> old_keys(keys_.size() * 2, kEmpty);
+    std::vector<Value> old_values(keys_.size() * 2, Value{});
+    old_keys.swap(keys_);
+    old_values.swap(values_);
+    mask_ = keys_.size() - 1;
+    for (std::size_t j = 0; j < old_keys.size(); ++j) {
+      if (old_keys[j] == kEmpty) continue;
+      std::size_t i = mix(old_keys[j]) & mask_;
+      while (keys_[i] != kEmpty) i = (i + 1) & mask_;
+      keys_[i] = old_keys[j];
+      values_[i] = old_values[j];
+    }
+  }
   std::vector<std::uint64_t> keys_;
-  std::vector<std::int64_t> mass_;
+  std::vector<Value> values_;
   std::size_t size_ = 0;
   std::size_t mask_ = 0;
 };
+
+// Fixed-point vote mass per bin.
+using BinAccumulator = BinTable<std::int64_t>;
 
 }  // namespace sva

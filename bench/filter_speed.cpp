@@ -1,0 +1,110 @@
+// Time per Bayes-filter update as readings accumulate, on a trained map and
+// its test readings (CPU reference backend), with votes per second and the
+// recognition error those updates buy.
+//   filter_speed MAP.svam TEST.svad [trials=3] [readings=100] [threads=0]
+// Trial t recognises object t % objects from its test readings, drawn at
+// random, moved by a random pose (rotation arbitrary, translation in the pose
+// space's range, as in the paper's protocol).
+#include <sva/dataset.hpp>
+#include <sva/error.hpp>
+#include <sva/map.hpp>
+#include <sva/recognizer.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "recognition/rotation.hpp"
+#include "util/rng.hpp"
+
+namespace {
+
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[v.size() / 2];
+}
+double p95(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  return v[std::min(v.size() - 1, static_cast<std::size_t>(std::ceil(0.95 * static_cast<double>(v.size()))) - 1)];
+}
+
+}  // namespace
+
+int main(int argc, char** argv) try {
+  if (argc < 3) {
+    std::fprintf(stderr, "usage: filter_speed MAP.svam TEST.svad [trials=3] [readings=100] [threads=0]\n");
+    return 2;
+  }
+  const sva::Map map = sva::Map::load(argv[1]);
+  const sva::Dataset test = sva::load_dataset(argv[2]);
+  const int trials = argc > 3 ? std::atoi(argv[3]) : 3;
+  const int readings = argc > 4 ? std::atoi(argv[4]) : 100;
+  sva::RecognizerOptions options;
+  options.threads = argc > 5 ? static_cast<unsigned>(std::atoi(argv[5])) : 0;
+  const sva::PoseSpaceSpec space = map.pose_space();
+  const std::size_t objects = map.objects();
+  std::vector<std::vector<const sva::Reading*>> by_object(objects);
+  for (const sva::Sample& s : test.samples)
+    if (s.reading.status == sva::ControllerStatus::converged && s.reading.object < objects) by_object[s.reading.object].push_back(&s.reading);
+
+  const int marks[] = {10, 30, 100};
+  std::vector<double> at_mark[3];
+  double total_votes = 0.0, total_seconds = 0.0;
+  int correct = 0;
+  std::vector<double> terr;
+  for (int t = 0; t < trials; ++t) {
+    const std::uint32_t object = static_cast<std::uint32_t>(t % static_cast<int>(objects));
+    const auto& pool = by_object[object];
+    if (pool.empty()) continue;
+    sva::util::Rng rng(2026, static_cast<std::uint64_t>(t));
+    sva::RigidPose truth;
+    const glm::dvec3 axis = glm::normalize(glm::dvec3(rng.normal(), rng.normal(), rng.normal()));
+    truth.R = sva::rotation::exp(axis * rng.uniform(0.0, std::numbers::pi));
+    const double lo = space.translation_min_mm, hi = space.translation_max_mm;
+    truth.T = {rng.uniform(lo, hi), rng.uniform(lo, hi), space.kind == sva::PoseSpaceSpec::Kind::planar ? 0.0 : rng.uniform(lo, hi)};
+    if (space.kind == sva::PoseSpaceSpec::Kind::planar) truth.R = sva::rotation::about_z(rng.uniform(-3.1, 3.1));
+    sva::Recognizer rec(map, space, options);
+    for (int i = 0; i < readings; ++i) {
+      sva::Reading r = *pool[rng.below(pool.size())];
+      r.position = truth.apply(r.position);
+      r.normal = truth.rotate(r.normal);
+      r.x_axis = truth.rotate(r.x_axis);
+      const auto t0 = std::chrono::steady_clock::now();
+      rec.add_reading(r);
+      const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+      const sva::Estimate e = rec.estimate(1);
+      total_votes += static_cast<double>(e.votes);
+      total_seconds += sec;
+      for (int m = 0; m < 3; ++m)
+        if (i + 1 == marks[m]) at_mark[m].push_back(sec);
+    }
+    const sva::Estimate e = rec.estimate(1);
+    if (e.object == object) {
+      ++correct;
+      terr.push_back(glm::length(e.pose.T - truth.T));
+    }
+    std::printf("trial %d: object %u -> %s (p = %.3f)%s\n", t, object, e.object_name.c_str(), e.object_probability[e.object],
+                e.object == object ? "" : "  WRONG");
+    std::fflush(stdout);
+  }
+  std::printf("\nCPU reference backend, %s threads, map: %zu entries, %zu objects\n",
+              options.threads ? std::to_string(options.threads).c_str() : "all", map.entries(), objects);
+  for (int m = 0; m < 3; ++m)
+    if (!at_mark[m].empty())
+      std::printf("update at reading %3d: median %.3f s, p95 %.3f s (%zu trials)\n", marks[m], median(at_mark[m]), p95(at_mark[m]),
+                  at_mark[m].size());
+  std::printf("votes per second: %.3g (%.3g votes in %.1f s of updates)\n", total_votes / std::max(total_seconds, 1e-9), total_votes,
+              total_seconds);
+  std::printf("after %d readings: %d/%d objects right, median translation error %.1f mm\n", readings, correct, trials, median(terr));
+  return 0;
+} catch (const sva::Error& e) {
+  std::fprintf(stderr, "filter_speed: %s\n", e.what());
+  return 1;
+}

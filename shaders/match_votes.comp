@@ -17,7 +17,7 @@ layout(local_size_x = SVA_WORKGROUP_SIZE) in;
 
 layout(std430, set = 0, binding = 0) readonly buffer Pairs { SvaGpuPair pairs[]; };
 layout(std430, set = 0, binding = 1) readonly buffer KeyItems { SvaGpuKeyItem key_items[]; };
-layout(std430, set = 0, binding = 2) readonly buffer WorkItems { SvaGpuWorkItem work[]; };
+layout(std430, set = 0, binding = 2) readonly buffer Ranges { SvaGpuRange ranges[]; };
 layout(std430, set = 0, binding = 3) readonly buffer WorkOffsets { uint work_offset[]; };
 layout(std430, set = 0, binding = 4) readonly buffer Readings { SvaGpuReading readings[]; };
 layout(std430, set = 0, binding = 5) readonly buffer EntryA { uint entry_a[]; };
@@ -28,6 +28,7 @@ layout(std430, set = 0, binding = 9) buffer TableKeys { uint64_t table_key[]; };
 layout(std430, set = 0, binding = 10) buffer TableSums { int64_t table_sum[]; };
 layout(std430, set = 0, binding = 11) buffer PairCounters { uint64_t counters[]; };  // 3 per pair: matches, votes, outside
 layout(std430, set = 0, binding = 12) buffer Status { uint overflow; };
+layout(std430, set = 0, binding = 13) readonly buffer Scan { SvaScanResult scan; };
 
 layout(push_constant) uniform Push { SvaMatchParams pc; };
 
@@ -76,18 +77,20 @@ void scatter(uint64_t key, int64_t units) {
 }
 
 void main() {
-  uint w = pc.base + gl_GlobalInvocationID.x;
-  if (w >= pc.total) return;
-  // The work item holding w: the last j with work_offset[j] <= w.
-  uint lo = 0u, hi = pc.work_items;  // invariant: work_offset[lo] <= w < work_offset[hi]
+  // A 2-D indirect dispatch (x is capped at maxComputeWorkGroupCount[0]).
+  uint w = (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * SVA_WORKGROUP_SIZE + gl_LocalInvocationID.x;
+  if (w >= scan.total) return;
+  // The key item holding match w: the last k with work_offset[k] <= w (items
+  // with no match in this chunk share their offset with the next one).
+  uint lo = 0u, hi = pc.key_items;  // invariant: work_offset[lo] <= w < work_offset[hi]
   for (uint step = 0u; step < SVA_MAX_SEARCH_STEPS; ++step) {
     if (hi - lo <= 1u) break;
     uint mid = (lo + hi) >> 1;
     if (work_offset[mid] <= w) lo = mid; else hi = mid;
   }
-  SvaGpuWorkItem item = work[lo];
-  uint e = item.entry_begin + (w - work_offset[lo]);
-  SvaGpuKeyItem ki = key_items[item.key_item];
+  // Entry index within the bound chunk.
+  uint e = max(ranges[lo].begin, pc.chunk_begin) - pc.chunk_begin + (w - work_offset[lo]);
+  SvaGpuKeyItem ki = key_items[lo];
   uint q = ki.pair;
   uint ra = entry_a[e];
   uint rb = entry_b[e];

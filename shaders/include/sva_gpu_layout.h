@@ -17,13 +17,37 @@ struct SvaGpuPair {
 // One map key an observed pair looks up (VoteBatch::keys) and its weight.
 struct SvaGpuKeyItem {
   uint pair;
+  uint key;
   float weight;
+  uint pad;
 };
 
-// A run of map entries (local to one chunk) matched against one key item.
-struct SvaGpuWorkItem {
-  uint key_item;
-  uint entry_begin;
+// The map entries [begin, end) stored under a key item's key (empty if absent).
+struct SvaGpuRange {
+  uint begin;
+  uint end;
+};
+
+// Written by scan_matches.comp: the indirect dispatch of match_votes.comp
+// (VkDispatchIndirectCommand first) and the number of matches in the chunk.
+struct SvaScanResult {
+  uint groups_x, groups_y, groups_z;
+  uint total;
+  uint too_many;  // 1: more than 2^32 - 1 matches in one chunk (the host splits the batch)
+};
+
+// Push constants of expand_pair_keys.comp.
+struct SvaExpandParams {
+  uint key_items;
+  uint map_keys;
+};
+
+// Push constants of scan_matches.comp.
+struct SvaScanParams {
+  uint key_items;
+  uint chunk_begin;   // map entries of this chunk: [chunk_begin, chunk_end)
+  uint chunk_end;
+  uint max_groups_x;  // maxComputeWorkGroupCount[0]
 };
 
 // One training reading of the map: position, normConf, normal, object.
@@ -35,9 +59,9 @@ struct SvaGpuReading {
 
 // Push constants of match_votes.comp (<= 128 bytes).
 struct SvaMatchParams {
-  uint base;             // first work index of this dispatch
-  uint total;            // work indices in this chunk
-  uint work_items;       // SvaGpuWorkItem count (work_offset has one more)
+  uint key_items;        // work_offset has key_items + 1 values
+  uint chunk_begin;      // first map entry of the bound chunk
+  uint chunk_end;
   uint capacity;         // hash table slots (power of two)
   uint objects;
   uint grid_kind;
@@ -53,7 +77,11 @@ struct SvaMatchParams {
   uint bins_hi;
 };
 
-// Probes of the binary search over work offsets: enough for 2^32 items.
+// Probes of a binary search: enough for 2^32 items.
 #define SVA_MAX_SEARCH_STEPS 33
+// Invocations of the single-workgroup scan; each sums a contiguous block.
+#define SVA_SCAN_WIDTH 256
+// Key items per batch such that a scan block stays far below lavapipe's loop cut-off.
+#define SVA_MAX_KEY_ITEMS (SVA_SCAN_WIDTH * 16384)
 
 #endif

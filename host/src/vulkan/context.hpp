@@ -80,6 +80,9 @@ struct Dispatch {
   std::vector<Buffer*> buffers;      // one per binding, in binding order
   std::vector<std::uint8_t> push;    // push-constant bytes
   std::uint32_t groups_x = 1;
+  // When set, the workgroup counts come from this buffer (VkDispatchIndirectCommand
+  // at offset 0), written by an earlier dispatch of the same run.
+  Buffer* indirect = nullptr;
 };
 
 class Context {

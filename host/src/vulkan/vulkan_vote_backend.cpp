@@ -7,7 +7,9 @@
 #include <chrono>
 #include <cstring>
 
+#include "spv/expand_pair_keys.h"
 #include "spv/match_votes.h"
+#include "spv/scan_matches.h"
 #include "util/interrupt.hpp"
 #include "vulkan/context.hpp"
 
@@ -18,13 +20,15 @@ using uint = std::uint32_t;
 using std::uint64_t;
 #include "sva_gpu_layout.h"
 #include "sva_hash.h"
+constexpr std::uint64_t SVA_HASH_EMPTY_KEY_VALUE = SVA_HASH_EMPTY_KEY;
 }  // namespace gpu
 
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
-std::vector<std::uint8_t> bytes_of(const gpu::SvaMatchParams& p) {
+template <class T>
+std::vector<std::uint8_t> bytes_of(const T& p) {
   std::vector<std::uint8_t> b(sizeof p);
   std::memcpy(b.data(), &p, sizeof p);
   return b;
@@ -41,7 +45,9 @@ class VulkanVoteBackend final : public VoteBackend {
  public:
   VulkanVoteBackend(const PairMap& map, const PoseSpace& space, const VoteSettings& settings, const VulkanBackendOptions& options)
       : map_(map), space_(space), settings_(settings), ctx_(context_options(options)),
-        pipeline_(ctx_.create_pipeline(sva_spv_match_votes, 13, sizeof(gpu::SvaMatchParams))) {
+        expand_(ctx_.create_pipeline(sva_spv_expand_pair_keys, 4, sizeof(gpu::SvaExpandParams))),
+        scan_(ctx_.create_pipeline(sva_spv_scan_matches, 3, sizeof(gpu::SvaScanParams))),
+        pipeline_(ctx_.create_pipeline(sva_spv_match_votes, 14, sizeof(gpu::SvaMatchParams))) {
     stats_.device = ctx_.info().name + " (" + ctx_.info().type + ")";
     const std::size_t range_entries = ctx_.info().max_storage_buffer_range / sizeof(std::uint32_t);
     chunk_ = options.max_chunk_entries ? std::min(options.max_chunk_entries, range_entries) : range_entries;
@@ -53,6 +59,12 @@ class VulkanVoteBackend final : public VoteBackend {
     auto* g = readings_.as<gpu::SvaGpuReading>();
     for (std::size_t i = 0; i < r.size(); ++i)
       g[i] = {r.px[i], r.py[i], r.pz[i], r.norm_conf[i], r.nx[i], r.ny[i], r.nz[i], r.object[i]};
+    if (map.keys.size() * sizeof(std::uint32_t) >= ctx_.info().max_storage_buffer_range)
+      throw Error("map has too many keys for one GPU binding (" + std::to_string(map.keys.size()) + ")");
+    map_keys_ = ctx_.create_buffer(map.keys.size() * sizeof(std::uint32_t));
+    map_offsets_ = ctx_.create_buffer(map.offsets.size() * sizeof(std::uint32_t));
+    if (!map.keys.empty()) std::memcpy(map_keys_.data(), map.keys.data(), map.keys.size() * sizeof(std::uint32_t));
+    if (!map.offsets.empty()) std::memcpy(map_offsets_.data(), map.offsets.data(), map.offsets.size() * sizeof(std::uint32_t));
     const std::size_t entries = map.entry_count();
     for (std::size_t begin = 0; begin < entries || begin == 0; begin += chunk_) {
       const std::size_t n = std::min(chunk_, entries - begin);
@@ -84,77 +96,78 @@ class VulkanVoteBackend final : public VoteBackend {
 
   std::vector<PairVotes> vote(const VoteBatch& batch) override {
     const auto t0 = Clock::now();
+    kernel_ms_ = 0.0;
     std::vector<PairVotes> out(batch.pairs.size());
-    if (batch.pairs.empty()) return out;
-    const std::size_t P = batch.pairs.size();
-    if (bins_total_ > 0 && P > (UINT64_MAX >> 2) / bins_total_) throw Error("vote batch too large for 64-bit GPU keys");
-    const std::uint32_t objects = space_.objects();
+    vote_pairs(batch, 0, batch.pairs.size(), out);
+    stats_.table_slots = slots_;
+    stats_.last_kernel_ms = kernel_ms_;
+    stats_.last_host_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count() - kernel_ms_;
+    stats_.validation_messages = ctx_.validation_messages();
+    return out;
+  }
 
-    // Observed pairs and the map ranges of their keys (host: a binary search each).
+ private:
+  struct Chunk {
+    std::size_t begin = 0, count = 0;
+    vk::Buffer a, b, w, offsets, scan;
+  };
+
+  // Votes of pairs [first, last) of the batch into out[first, last). All work
+  // runs in one submission: expand keys to map ranges, then per map chunk a
+  // scan of its matches and the indirect match kernel. A batch too large for
+  // one pass (key items or 2^32 matches in a chunk) is split in halves.
+  void vote_pairs(const VoteBatch& batch, std::size_t first, std::size_t last, std::vector<PairVotes>& out) {
+    if (first >= last) return;
+    const std::size_t P = last - first;
+    const std::uint32_t objects = space_.objects();
+    std::vector<gpu::SvaGpuKeyItem> items;
+    for (std::size_t q = first; q < last; ++q)
+      for (std::uint32_t k = batch.pairs[q].key_begin; k < batch.pairs[q].key_end; ++k)
+        items.push_back({static_cast<std::uint32_t>(q - first), batch.keys[k].key, batch.keys[k].weight, 0u});
+    if (items.empty()) return;  // no pair looks anything up: no votes
+    if (items.size() > SVA_MAX_KEY_ITEMS && P > 1) {
+      split(batch, first, last, out);
+      return;
+    }
+    if (items.size() > SVA_MAX_KEY_ITEMS) throw Error("one observed pair has more map keys than the GPU backend handles");
+    if (bins_total_ > 0 && P > (UINT64_MAX >> 2) / bins_total_) {
+      split(batch, first, last, out);
+      return;
+    }
+    const std::size_t K = items.size();
     ensure(ctx_, pairs_, P * sizeof(gpu::SvaGpuPair));
     auto* gp = pairs_.as<gpu::SvaGpuPair>();
     for (std::size_t q = 0; q < P; ++q) {
-      const PairQuery& pq = batch.pairs[q];
+      const PairQuery& pq = batch.pairs[first + q];
       gp[q] = {pq.a.position[0], pq.a.position[1], pq.a.position[2], pq.a.norm_conf, pq.a.normal[0], pq.a.normal[1],
                pq.a.normal[2], pq.session, pq.b.position[0], pq.b.position[1], pq.b.position[2], pq.b.norm_conf,
                pq.b.normal[0], pq.b.normal[1], pq.b.normal[2], 0u};
     }
-    struct Range {
-      std::uint32_t item, begin, end;
-    };
-    std::vector<gpu::SvaGpuKeyItem> items;
-    std::vector<Range> ranges;
-    for (std::size_t q = 0; q < P; ++q) {
-      const PairQuery& pq = batch.pairs[q];
-      for (std::uint32_t k = pq.key_begin; k < pq.key_end; ++k) {
-        auto [b, e] = map_.find(batch.keys[k].key);
-        if (b == e) continue;
-        ranges.push_back({static_cast<std::uint32_t>(items.size()), b, e});
-        items.push_back({static_cast<std::uint32_t>(q), batch.keys[k].weight});
-      }
-    }
-    ensure(ctx_, key_items_, items.size() * sizeof(gpu::SvaGpuKeyItem));
-    if (!items.empty()) std::memcpy(key_items_.data(), items.data(), items.size() * sizeof(gpu::SvaGpuKeyItem));
+    ensure(ctx_, key_items_, K * sizeof(gpu::SvaGpuKeyItem));
+    std::memcpy(key_items_.data(), items.data(), K * sizeof(gpu::SvaGpuKeyItem));
+    ensure(ctx_, ranges_, K * sizeof(gpu::SvaGpuRange));
     const std::size_t sessions = std::max<std::uint32_t>(batch.sessions, 1);
     ensure(ctx_, active_, sessions * objects * sizeof(std::uint32_t));
     auto* act = active_.as<std::uint32_t>();
     for (std::size_t i = 0; i < sessions * objects; ++i)
       act[i] = batch.object_active.empty() ? 1u : (i < batch.object_active.size() && batch.object_active[i] ? 1u : 0u);
-
-    // Per chunk: the runs of its entries each key item matches, with offsets.
-    struct ChunkWork {
-      std::size_t chunk;
-      std::uint32_t total, items;
-    };
-    std::vector<ChunkWork> plan;
-    for (std::size_t c = 0; c < chunks_.size(); ++c) {
-      Chunk& ch = chunks_[c];
-      std::vector<gpu::SvaGpuWorkItem> work;
-      std::vector<std::uint32_t> offset{0};
-      std::uint64_t total = 0;
-      for (const Range& r : ranges) {
-        const std::size_t b = std::max<std::size_t>(r.begin, ch.begin), e = std::min<std::size_t>(r.end, ch.begin + ch.count);
-        if (b >= e) continue;
-        work.push_back({r.item, static_cast<std::uint32_t>(b - ch.begin)});
-        total += e - b;
-        if (total > UINT32_MAX) throw Error("vote batch has more than 2^32 matches in one map chunk; use smaller batches");
-        offset.push_back(static_cast<std::uint32_t>(total));
-      }
-      if (total == 0) continue;
-      ensure(ctx_, ch.work, work.size() * sizeof(gpu::SvaGpuWorkItem));
-      ensure(ctx_, ch.offsets, offset.size() * sizeof(std::uint32_t));
-      std::memcpy(ch.work.data(), work.data(), work.size() * sizeof(gpu::SvaGpuWorkItem));
-      std::memcpy(ch.offsets.data(), offset.data(), offset.size() * sizeof(std::uint32_t));
-      plan.push_back({c, static_cast<std::uint32_t>(total), static_cast<std::uint32_t>(work.size())});
+    for (Chunk& ch : chunks_) {
+      ensure(ctx_, ch.offsets, (K + 1) * sizeof(std::uint32_t));
+      ensure(ctx_, ch.scan, sizeof(gpu::SvaScanResult));
     }
     ensure(ctx_, counters_, P * 3 * sizeof(std::uint64_t));
     ensure(ctx_, status_, sizeof(std::uint32_t));
 
-    double kernel_ms = 0.0;
+    const auto grid = space_.grid();
     for (;;) {
       util::throw_if_interrupted();
-      if (slots_ * sizeof(std::uint64_t) > ctx_.info().max_storage_buffer_range)
-        throw Error("GPU vote table would exceed one binding (" + std::to_string(slots_) + " slots); use smaller batches");
+      if (slots_ * sizeof(std::uint64_t) > ctx_.info().max_storage_buffer_range) {
+        if (P > 1) {
+          split(batch, first, last, out);
+          return;
+        }
+        throw Error("GPU vote table would exceed one binding (" + std::to_string(slots_) + " slots) for one pair");
+      }
       ensure(ctx_, table_keys_, slots_ * sizeof(std::uint64_t));
       ensure(ctx_, table_sums_, slots_ * sizeof(std::int64_t));
       std::memset(table_keys_.data(), 0xff, slots_ * sizeof(std::uint64_t));
@@ -162,42 +175,51 @@ class VulkanVoteBackend final : public VoteBackend {
       std::memset(counters_.data(), 0, P * 3 * sizeof(std::uint64_t));
       *status_.as<std::uint32_t>() = 0;
       std::vector<vk::Dispatch> dispatches;
-      const std::uint64_t per_dispatch = std::uint64_t{ctx_.info().max_workgroup_count_x} * SVA_WORKGROUP_SIZE;
-      for (const ChunkWork& cw : plan) {
-        Chunk& ch = chunks_[cw.chunk];
-        for (std::uint64_t base = 0; base < cw.total; base += per_dispatch) {
-          gpu::SvaMatchParams p{};
-          p.base = static_cast<std::uint32_t>(base);
-          p.total = cw.total;
-          p.work_items = cw.items;
-          p.capacity = static_cast<std::uint32_t>(slots_);
-          p.objects = objects;
-          const auto grid = space_.grid();
-          p.grid_kind = static_cast<std::uint32_t>(grid.kind);
-          p.translation_bins = grid.translation_bins;
-          p.translation_min = grid.translation_min;
-          p.translation_width = grid.translation_width;
-          p.rotation_bins = grid.rotation_bins;
-          p.rotation_width = grid.rotation_width;
-          p.likelihood_cutoff = settings_.likelihood_cutoff;
-          p.dim_tz = dim_tz_;
-          p.dim_rxy = dim_rxy_;
-          p.bins_lo = static_cast<std::uint32_t>(bins_total_ & 0xffffffffu);
-          p.bins_hi = static_cast<std::uint32_t>(bins_total_ >> 32);
-          const std::uint64_t n = std::min<std::uint64_t>(per_dispatch, cw.total - base);
-          dispatches.push_back({&pipeline_,
-                                {&pairs_, &key_items_, &ch.work, &ch.offsets, &readings_, &ch.a, &ch.b, &ch.w, &active_,
-                                 &table_keys_, &table_sums_, &counters_, &status_},
-                                bytes_of(p),
-                                static_cast<std::uint32_t>((n + SVA_WORKGROUP_SIZE - 1) / SVA_WORKGROUP_SIZE)});
-        }
+      gpu::SvaExpandParams ep{static_cast<std::uint32_t>(K), static_cast<std::uint32_t>(map_.keys.size())};
+      dispatches.push_back({&expand_, {&key_items_, &map_keys_, &map_offsets_, &ranges_}, bytes_of(ep),
+                            static_cast<std::uint32_t>((K + SVA_WORKGROUP_SIZE - 1) / SVA_WORKGROUP_SIZE)});
+      for (Chunk& ch : chunks_) {
+        if (ch.count == 0) continue;
+        gpu::SvaScanParams sp{static_cast<std::uint32_t>(K), static_cast<std::uint32_t>(ch.begin),
+                              static_cast<std::uint32_t>(ch.begin + ch.count), ctx_.info().max_workgroup_count_x};
+        dispatches.push_back({&scan_, {&ranges_, &ch.offsets, &ch.scan}, bytes_of(sp), 1});
+        gpu::SvaMatchParams p{};
+        p.key_items = static_cast<std::uint32_t>(K);
+        p.chunk_begin = static_cast<std::uint32_t>(ch.begin);
+        p.chunk_end = static_cast<std::uint32_t>(ch.begin + ch.count);
+        p.capacity = static_cast<std::uint32_t>(slots_);
+        p.objects = objects;
+        p.grid_kind = static_cast<std::uint32_t>(grid.kind);
+        p.translation_bins = grid.translation_bins;
+        p.translation_min = grid.translation_min;
+        p.translation_width = grid.translation_width;
+        p.rotation_bins = grid.rotation_bins;
+        p.rotation_width = grid.rotation_width;
+        p.likelihood_cutoff = settings_.likelihood_cutoff;
+        p.dim_tz = dim_tz_;
+        p.dim_rxy = dim_rxy_;
+        p.bins_lo = static_cast<std::uint32_t>(bins_total_ & 0xffffffffu);
+        p.bins_hi = static_cast<std::uint32_t>(bins_total_ >> 32);
+        vk::Dispatch d{&pipeline_,
+                       {&pairs_, &key_items_, &ranges_, &ch.offsets, &readings_, &ch.a, &ch.b, &ch.w, &active_, &table_keys_,
+                        &table_sums_, &counters_, &status_, &ch.scan},
+                       bytes_of(p), 0};
+        d.indirect = &ch.scan;
+        dispatches.push_back(std::move(d));
       }
       std::vector<double> ms;
       ctx_.run(dispatches, &ms);
-      kernel_ms = 0.0;
-      for (double m : ms) kernel_ms += m;
+      for (double m : ms) kernel_ms_ += m;
+      bool too_many = false;
+      for (Chunk& ch : chunks_)
+        if (ch.count && ch.scan.as<gpu::SvaScanResult>()->too_many) too_many = true;
+      if (too_many) {
+        if (P == 1) throw Error("one observed pair matches more than 2^32 map entries in one chunk");
+        split(batch, first, last, out);
+        return;
+      }
       if (*status_.as<std::uint32_t>() == 0) break;
-      slots_ *= 4;  // overflow: nothing partial is kept; grow and rerun the whole batch
+      slots_ *= 4;  // overflow: nothing partial is kept; grow and rerun
       ++stats_.table_grows;
     }
 
@@ -206,33 +228,28 @@ class VulkanVoteBackend final : public VoteBackend {
     const auto* ts = table_sums_.as<std::int64_t>();
     std::vector<std::pair<std::uint64_t, std::int64_t>> all;
     for (std::size_t s = 0; s < slots_; ++s)
-      if (tk[s] != SVA_HASH_EMPTY_KEY) all.emplace_back(tk[s], ts[s]);
+      if (tk[s] != gpu::SVA_HASH_EMPTY_KEY_VALUE) all.emplace_back(tk[s], ts[s]);
     std::sort(all.begin(), all.end());
     const auto* cnt = counters_.as<std::uint64_t>();
     for (std::size_t q = 0; q < P; ++q) {
-      out[q].matches = cnt[3 * q];
-      out[q].votes = cnt[3 * q + 1];
-      out[q].votes_outside = cnt[3 * q + 2];
+      out[first + q].matches = cnt[3 * q];
+      out[first + q].votes = cnt[3 * q + 1];
+      out[first + q].votes_outside = cnt[3 * q + 2];
     }
     for (const auto& [key, mass] : all) {
       const std::uint64_t q = key / bins_total_;
-      out[q].keys.push_back(bin_key(key % bins_total_));
-      out[q].mass.push_back(mass);
+      out[first + q].keys.push_back(bin_key(key % bins_total_));
+      out[first + q].mass.push_back(mass);
     }
     // Keep about half load next time: fewer probes, rarely a rerun.
     slots_ = std::max(slots_, std::bit_ceil(std::max<std::size_t>(2 * all.size(), 1024)));
-    stats_.table_slots = slots_;
-    stats_.last_kernel_ms = kernel_ms;
-    stats_.last_host_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count() - kernel_ms;
-    stats_.validation_messages = ctx_.validation_messages();
-    return out;
   }
 
- private:
-  struct Chunk {
-    std::size_t begin = 0, count = 0;
-    vk::Buffer a, b, w, work, offsets;
-  };
+  void split(const VoteBatch& batch, std::size_t first, std::size_t last, std::vector<PairVotes>& out) {
+    const std::size_t mid = first + (last - first) / 2;
+    vote_pairs(batch, first, mid, out);
+    vote_pairs(batch, mid, last, out);
+  }
 
   static vk::ContextOptions context_options(const VulkanBackendOptions& o) {
     vk::ContextOptions c = vk::Context::from_environment();
@@ -265,8 +282,9 @@ class VulkanVoteBackend final : public VoteBackend {
   const PoseSpace& space_;
   VoteSettings settings_;
   vk::Context ctx_;
-  vk::Pipeline pipeline_;
-  vk::Buffer readings_, pairs_, key_items_, active_, table_keys_, table_sums_, counters_, status_;
+  vk::Pipeline expand_, scan_, pipeline_;
+  vk::Buffer readings_, map_keys_, map_offsets_, pairs_, key_items_, ranges_, active_, table_keys_, table_sums_, counters_, status_;
+  double kernel_ms_ = 0.0;
   std::vector<Chunk> chunks_;
   std::size_t chunk_ = 0, slots_ = 0;
   std::uint32_t dim_tz_ = 1, dim_rxy_ = 1;

@@ -63,11 +63,13 @@ std::vector<std::size_t> parse_checkpoints(const std::string& text) {
 // Runs `sessions` trials in lock step (one update carries one reading of each)
 // and records the checkpoints. sessions = 1 measures the single-session latency.
 json run_backend(const Map& map, const Dataset& test, BackendKind backend, std::size_t trials, std::size_t sessions,
-                 const std::vector<std::size_t>& checkpoints, std::uint64_t seed, const std::string& label) {
+                 const std::vector<std::size_t>& checkpoints, std::uint64_t seed, const std::string& label,
+                 const std::string& device_choice) {
   const std::size_t max_readings = checkpoints.back();
   eval::TrialGenerator gen(test, map.pose_space(), seed, max_readings);
   RecognizerOptions ro;
   ro.backend = backend;
+  ro.vulkan_device = device_choice;
   std::map<std::size_t, Checkpoint> cp;
   std::uint64_t all_votes = 0;
   double all_seconds = 0.0;
@@ -137,8 +139,10 @@ json run_backend(const Map& map, const Dataset& test, BackendKind backend, std::
 
 // The bare scatter: quantise and atomically add N weights into M bins, the
 // least work a vote can take on this device.
-json roofline(std::size_t votes, std::size_t bins) {
-  vk::Context ctx;
+json roofline(std::size_t votes, std::size_t bins, const std::string& device) {
+  vk::ContextOptions co = vk::Context::from_environment();
+  if (!device.empty()) co.device = device;
+  vk::Context ctx(co);
   util::Rng rng(5);
   auto w = ctx.create_buffer(votes * sizeof(float));
   auto b = ctx.create_buffer(votes * sizeof(std::uint32_t));
@@ -189,6 +193,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
       .option("--trials", "N", "trials per backend (default 3)")
       .option("--batch", "N", "sessions per submission for the batched Vulkan run (default 16; 0 = skip)")
       .option("--seed", "S", "trial seed (default 1)")
+      .option("--device", "NAME|INDEX", "Vulkan device (default: prefer a discrete GPU; env SVA_VK_DEVICE)")
       .option("--roofline-votes", "N", "votes in the bare-scatter measurement (default 4194304)");
   if (!a.parse()) return 0;
   const std::string map_file = a.required("--map"), data_file = a.required("--data");
@@ -199,6 +204,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
   const auto batch = static_cast<std::size_t>(a.integer("--batch", 16, 0, 4096));
   const auto seed = static_cast<std::uint64_t>(a.integer("--seed", 1, 0, INT64_MAX));
   const auto roof_votes = static_cast<std::size_t>(a.integer("--roofline-votes", 1 << 22, 1024, 1 << 26));
+  const std::string dev = a.get_or("--device", "");
   const Map map = Map::load(map_file);
   const Dataset test = load_dataset(data_file);
   eval::check_compatible(map, test, map_file, data_file);
@@ -206,12 +212,12 @@ int cmd_bench(const std::vector<std::string>& argv) {
   json out = {{"map", map_file}, {"data", data_file}, {"scene", map.scene_name()}, {"map_entries", map.entries()},
               {"threads", util::default_threads()}};
   json runs = json::array();
-  if (which != "vulkan") runs.push_back(run_backend(map, test, BackendKind::cpu, trials, 1, checkpoints, seed, "cpu"));
+  if (which != "vulkan") runs.push_back(run_backend(map, test, BackendKind::cpu, trials, 1, checkpoints, seed, "cpu", dev));
   if (which != "cpu") {
-    runs.push_back(run_backend(map, test, BackendKind::vulkan, trials, 1, checkpoints, seed, "vulkan"));
+    runs.push_back(run_backend(map, test, BackendKind::vulkan, trials, 1, checkpoints, seed, "vulkan", dev));
     if (batch > 1)
-      runs.push_back(run_backend(map, test, BackendKind::vulkan, std::max(trials, batch), batch, checkpoints, seed, "vulkan batch"));
-    out["roofline"] = roofline(roof_votes, 1 << 20);
+      runs.push_back(run_backend(map, test, BackendKind::vulkan, std::max(trials, batch), batch, checkpoints, seed, "vulkan batch", dev));
+    out["roofline"] = roofline(roof_votes, 1 << 20, dev);
   }
   out["runs"] = runs;
 

@@ -151,6 +151,7 @@ int cmd_recognize(const std::vector<std::string>& argv) {
       .option("--out", "RESULTS.jsonl", "where the estimates go")
       .option("--backend", "auto|cpu|vulkan", "vote backend (default auto: Vulkan when a device exists, else CPU)")
       .option("--sessions-per-submission", "N", "sessions stepped together (default 64)")
+      .option("--device", "NAME|INDEX", "Vulkan device (default: prefer a discrete GPU; env SVA_VK_DEVICE)")
       .option("--top", "K", "hypotheses reported per session (default 3)")
       .option("--write-sessions", "FILE.jsonl", "write trials as a sessions file instead (needs --map, --data)")
       .option("--data", "TEST", "test dataset for --write-sessions")
@@ -170,6 +171,7 @@ int cmd_recognize(const std::vector<std::string>& argv) {
   if (backend == "cpu") ro.backend = BackendKind::cpu;
   else if (backend == "vulkan" || backend == "auto") ro.backend = BackendKind::vulkan;
   else throw Error("sva recognize: --backend expects auto, cpu or vulkan, got \"" + backend + "\"");
+  ro.vulkan_device = a.get_or("--device", "");
 
   std::size_t total_readings = 0;
   for (const auto& s : sessions) total_readings += s.readings.size();

@@ -1,4 +1,109 @@
+// sva eval: recognition trials on test readings (paper Sec 5); prints the
+// curve and writes the JSON summary, the per-step CSV and the figure.
+#include <sva/dataset.hpp>
+#include <sva/map.hpp>
+#include <sva/recognizer.hpp>
+
+#include <cstdio>
+#include <filesystem>
+#include <string>
+#include <vector>
+
 #include "args.hpp"
+#include "eval/evaluation.hpp"
+#include "eval/figure.hpp"
+#include "eval/report.hpp"
+#include "eval/results.hpp"
+
 namespace sva::cli {
-int cmd_eval(const std::vector<std::string>&) { throw Error("sva eval: being built (skeleton)"); }
+
+namespace {
+
+// Refuse an output path whose directory is missing before hours of trials.
+void check_writable(const std::string& option, const std::string& file) {
+  if (file.empty()) throw Error("sva eval: " + option + " needs a file name");
+  const auto dir = std::filesystem::path(file).parent_path();
+  std::error_code ec;
+  if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
+    throw Error("sva eval: " + option + " " + file + ": directory " + dir.string() + " does not exist");
+}
+
+}  // namespace
+
+int cmd_eval(const std::vector<std::string>& argv) {
+  Args a("sva eval",
+         "Run recognition trials: each trial takes an object (cycling through the objects), a random pose from the "
+         "map's pose space and that object's test readings, transformed by the pose, in random order; after every "
+         "reading it records whether the object is right, the translational, angular (with the object's symmetries) "
+         "and inertial errors, and the update time. Prints the curve; see docs/evaluation.md.",
+         argv);
+  a.option("--map", "MAP", "map file (sva train)");
+  a.option("--data", "TEST", "test dataset (sva simulate ... test.svad)");
+  a.option("--trials", "N", "trials (default: 3 repetitions x objects, as in the paper)");
+  a.option("--max-readings", "M", "readings per trial (default 30)");
+  a.option("--seed", "S", "seed of the poses and reading orders (default 1)");
+  a.option("--backend", "cpu|vulkan", "vote backend (default cpu)");
+  a.option("--method", "sva|appearance", "sva, or the appearance-only baseline of [15] (default sva)");
+  a.option("--json", "OUT.json", "write the summary curve as JSON");
+  a.option("--csv", "OUT.csv", "write one row per (trial, readings)");
+  a.option("--plot", "OUT.png", "write the figure (accuracy and errors against readings, like the paper's Fig. 4/5)");
+  a.option("--compare", "OTHER.json", "add another run's curve (e.g. the other method) to the figure", true);
+  a.option("--threads", "N", "trials run in parallel (default: SVA_THREADS or all cores); results do not depend on it");
+  a.option("--eps", "E", "floor of every pair factor (default 1e-6; docs/recognition.md)");
+  if (!a.parse()) return 0;
+
+  const std::string map_file = a.required("--map");
+  const std::string data_file = a.required("--data");
+  eval::EvalOptions o;
+  o.max_readings = static_cast<std::size_t>(a.integer("--max-readings", 30, 1, 100000));
+  o.seed = static_cast<std::uint64_t>(a.integer("--seed", 1, 0, std::numeric_limits<long long>::max()));
+  o.threads = static_cast<unsigned>(a.integer("--threads", 0, 1, 1024));
+  const std::string backend = a.get_or("--backend", "cpu");
+  if (backend == "cpu") o.recognizer.backend = BackendKind::cpu;
+  else if (backend == "vulkan") o.recognizer.backend = BackendKind::vulkan;
+  else throw Error("sva eval: --backend expects cpu or vulkan, got \"" + backend + "\"");
+  const std::string method = a.get_or("--method", "sva");
+  if (method == "sva") o.recognizer.method = Method::sva;
+  else if (method == "appearance") o.recognizer.method = Method::appearance;
+  else throw Error("sva eval: --method expects sva or appearance, got \"" + method + "\"");
+  o.recognizer.eps = a.number("--eps", o.recognizer.eps, 1e-300, 1.0);
+  if (a.has("--eps") && !(o.recognizer.eps > 0)) throw Error("sva eval: --eps must be positive");
+  const auto json_file = a.get("--json"), csv_file = a.get("--csv"), plot_file = a.get("--plot");
+  if (json_file) check_writable("--json", *json_file);
+  if (csv_file) check_writable("--csv", *csv_file);
+  if (plot_file) check_writable("--plot", *plot_file);
+  const auto compare_files = a.all("--compare");
+  if (!compare_files.empty() && !plot_file) throw Error("sva eval: --compare adds curves to the figure; give --plot too");
+  long long trials_arg = -1;
+  if (a.has("--trials")) trials_arg = a.integer("--trials", 0, 1, 100000000);
+
+  o.data_name = data_file;
+  o.map_name = map_file;
+  const Dataset test = load_dataset(data_file);
+  const Map map = Map::load(map_file);
+  eval::check_compatible(map, test, map_file, data_file);
+  o.trials = trials_arg > 0 ? static_cast<std::size_t>(trials_arg) : 3 * test.scene.objects.size();
+
+  std::vector<eval::Curve> others;
+  for (const auto& f : compare_files) {
+    eval::Curve c = eval::read_curve_json(f);
+    if (c.scene != map.scene_name())
+      throw Error("sva eval: --compare " + f + " is from scene \"" + c.scene + "\", this run is on \"" + map.scene_name() + "\"");
+    if (c.method == method) c.label = std::filesystem::path(f).stem().string();
+    others.push_back(std::move(c));
+  }
+
+  const eval::EvalResult result = eval::run_evaluation(map, test, o);
+  const eval::Curve curve = eval::summarize(result);
+  std::fputs(eval::format_table(curve).c_str(), stdout);
+  if (json_file) eval::write_text_atomic(*json_file, eval::to_json(result, curve));
+  if (csv_file) eval::write_text_atomic(*csv_file, eval::to_csv(result));
+  if (plot_file) {
+    std::vector<eval::Curve> curves{curve};
+    curves.insert(curves.end(), others.begin(), others.end());
+    eval::write_figure(curves, *plot_file);
+  }
+  return 0;
+}
+
 }  // namespace sva::cli

@@ -130,3 +130,20 @@ TEST_CASE("median and percentile") {
   CHECK(*percentile(v, 0.0) == 0.0);
   CHECK(*percentile(v, 100.0) == 100.0);
 }
+
+TEST_CASE("rotation_vector inverts axis-angle, also near 0 and pi") {
+  util::Rng rng(21, 4);
+  for (int i = 0; i < 200; ++i) {
+    glm::dmat3 R = uniform_rotation(rng);
+    glm::dvec3 v = rotation_vector(R);
+    REQUIRE(glm::length(v) <= std::numbers::pi + 1e-12);
+    glm::dmat3 back = glm::length(v) > 0 ? rot(glm::length(v), v) : glm::dmat3(1.0);
+    CHECK(rotation_angle(glm::transpose(back) * R) < 1e-9);
+  }
+  for (double a : {0.0, 1e-9, std::numbers::pi - 1e-9, std::numbers::pi}) {
+    const glm::dvec3 axis = glm::normalize(glm::dvec3(0.2, -0.7, 0.4));
+    glm::dvec3 v = rotation_vector(rot(a, axis));
+    CHECK(glm::length(v) == Approx(a).margin(1e-9));
+    if (a > 1.0) CHECK(std::abs(glm::dot(glm::normalize(v), axis)) == Approx(1.0).margin(1e-6));
+  }
+}

@@ -179,7 +179,7 @@ TEST_CASE("runner refuses zero trials and reports a failing reading with its tri
   CHECK_THROWS_WITH(run_trials(d, setup, factory), Catch::Contains("t.svad") && Catch::Contains("trial 0"));
 }
 
-TEST_CASE("CSV has one row per trial and reading; JSON summaries read back") {
+TEST_CASE("CSV has one row per trial and reading and JSON summaries read back") {
   Dataset d = make_test_set(2, 6);
   EvalResult r = run_trials(d, setup_for(4, 3, 2), [] { return std::make_unique<ScriptedSession>(2); });
   const std::string csv = to_csv(r);
@@ -188,7 +188,11 @@ TEST_CASE("CSV has one row per trial and reading; JSON summaries read back") {
   std::size_t rows = 0;
   std::getline(lines, line);
   CHECK(line.rfind("trial,object,object_name,readings", 0) == 0);
-  while (std::getline(lines, line)) ++rows;
+  const auto columns = std::count(line.begin(), line.end(), ',');
+  while (std::getline(lines, line)) {
+    ++rows;
+    CHECK(std::count(line.begin(), line.end(), ',') == columns);
+  }
   CHECK(rows == 4 * 3);
 
   Curve c = summarize(r);

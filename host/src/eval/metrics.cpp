@@ -32,6 +32,22 @@ double rotation_angle(const glm::dmat3& R) {
   return std::atan2(s, c);
 }
 
+glm::dvec3 rotation_vector(const glm::dmat3& R) {
+  const double theta = rotation_angle(R);
+  if (theta < 1e-12) return glm::dvec3(0.0);
+  const glm::dvec3 s = unskew_antisymmetric(R);  // sin(theta) * axis
+  if (std::sin(theta) > 1e-6) return theta / glm::length(s) * s;
+  // Near pi the skew part vanishes: the axis is the dominant column of
+  // (R + I) / 2 = u u^T (+ O(pi - theta)), its sign taken from the skew part.
+  const glm::dmat3 B = 0.5 * (R + glm::dmat3(1.0));
+  int k = 0;
+  for (int i = 1; i < 3; ++i)
+    if (B[i][i] > B[k][k]) k = i;
+  glm::dvec3 u = glm::normalize(B[k]);
+  if (glm::dot(u, s) < 0.0) u = -u;
+  return theta * u;
+}
+
 double angular_error(const glm::dmat3& R_true, const glm::dmat3& R_est, const Symmetry& symmetry) {
   // The estimate is as good as the truth composed with any symmetry S of the
   // object (object frame): error = min_S angle((R_true S)^T R_est)

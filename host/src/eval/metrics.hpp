@@ -14,6 +14,9 @@ namespace sva::eval {
 // trace loses half the digits.
 double rotation_angle(const glm::dmat3& R);
 
+// The rotation vector (axis times angle, radians) of R; stable near 0 and pi.
+glm::dvec3 rotation_vector(const glm::dmat3& R);
+
 // Angle of the rotation that aligns the estimate with the truth, taking the
 // object's symmetry into account (Eq 22): for an axis of revolution the
 // minimum over all rotations about the axis (closed form), for a discrete

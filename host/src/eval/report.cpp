@@ -1,5 +1,7 @@
 #include "eval/report.hpp"
 
+#include "eval/metrics.hpp"
+
 #include <sva/error.hpp>
 
 #include <cmath>
@@ -31,6 +33,12 @@ std::string num(double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.9g", v);
   return buf;
+}
+
+// Translation (mm) and rotation vector (rad): six CSV cells.
+std::string pose_cells(const RigidPose& p) {
+  const glm::dvec3 r = rotation_vector(p.R);
+  return num(p.T.x) + ',' + num(p.T.y) + ',' + num(p.T.z) + ',' + num(r.x) + ',' + num(r.y) + ',' + num(r.z);
 }
 
 std::string csv_quote(const std::string& s) {
@@ -69,7 +77,8 @@ std::string to_json(const EvalResult& result, const Curve& curve) {
 std::string to_csv(const EvalResult& result) {
   std::ostringstream s;
   s << "trial,object,object_name,readings,sample,estimated_object,correct,true_object_probability,pose_valid,"
-       "translation_error_mm,angular_error_deg,inertial_error_mm,update_ms\n";
+       "translation_error_mm,angular_error_deg,inertial_error_mm,update_ms,"
+       "true_tx,true_ty,true_tz,true_rx,true_ry,true_rz,est_tx,est_ty,est_tz,est_rx,est_ry,est_rz\n";
   for (const auto& t : result.trials) {
     const std::string name = t.object < result.objects.size() ? result.objects[t.object] : "";
     for (std::size_t k = 0; k < t.steps.size(); ++k) {
@@ -82,7 +91,10 @@ std::string to_csv(const EvalResult& result) {
           << num(st.inertial_error_mm);
       else
         s << ",,";
-      s << ',' << num(st.update_ms) << '\n';
+      s << ',' << num(st.update_ms) << ',' << pose_cells(t.pose) << ',';
+      if (st.pose_valid) s << pose_cells(st.estimate);
+      else s << ",,,,,";
+      s << '\n';
     }
   }
   return s.str();

@@ -21,6 +21,7 @@ struct StepResult {
   double angular_error_rad = 0.0;
   double inertial_error_mm = 0.0;
   double update_ms = 0.0;        // add_reading + estimate (timing: varies run to run)
+  RigidPose estimate;            // the estimated pose (when pose_valid)
   bool has_pose_error() const { return correct && pose_valid; }
 };
 

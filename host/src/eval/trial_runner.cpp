@@ -106,6 +106,7 @@ EvalResult run_trials(const Dataset& test, const TrialSetup& setup, const Sessio
           if (s.pose_valid && !(std::isfinite(est.pose.T.x) && std::isfinite(est.pose.T.y) && std::isfinite(est.pose.T.z) &&
                                 std::isfinite(est.pose.R[0][0] + est.pose.R[1][1] + est.pose.R[2][2])))
             throw std::logic_error("eval: the recognizer returned a non-finite pose in trial " + std::to_string(t));
+          if (s.pose_valid) s.estimate = est.pose;
           if (s.has_pose_error()) {
             const PoseError e = pose_error(trial.pose, est.pose, object.symmetry, object.inertial_radius_mm);
             s.translation_error_mm = e.translation_mm;

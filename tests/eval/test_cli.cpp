@@ -1,0 +1,223 @@
+// sva eval through the CLI on a tiny synthetic scene (two objects, readings on
+// spheres with spatially varying pressure patterns): outputs, determinism of
+// everything but the timings, and every bad input the issue lists.
+#include <catch2/catch.hpp>
+
+#include <sva/dataset.hpp>
+#include <sva/map.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+#include "test_support.hpp"
+
+using namespace sva;
+
+namespace {
+
+Scene tiny_scene(const std::string& name = "tiny") {
+  Scene s;
+  s.name = name;
+  for (const char* o : {"ball", "pebble"}) {
+    SceneObject so;
+    so.name = o;
+    so.mesh = std::string("/nonexistent/") + o + ".glb";
+    so.size_mm = 80.0;
+    so.inertial_radius_mm = 40.0;
+    s.objects.push_back(so);
+  }
+  s.appearance.clusters = 6;
+  s.appearance.dist_bins = 16;
+  s.appearance.dist_min_mm = 10.0;
+  s.appearance.dist_max_mm = 80.0;
+  return s;
+}
+
+// An elliptic pressure blob whose widths depend on where it is on the object
+// and on the object, so appearance varies over the surface.
+std::vector<float> blob(const glm::dvec3& p, std::uint32_t object, const SensorSpec& sensor) {
+  const double a = 1.2 + 1.5 * (0.5 + 0.5 * std::sin(p.z / 12.0 + 1.7 * object));
+  const double b = 0.7 + 0.8 * (0.5 + 0.5 * std::cos(p.x / 15.0 - object));
+  const double th = std::atan2(p.y, p.x);
+  std::vector<float> img(static_cast<std::size_t>(sensor.elements()));
+  for (int r = 0; r < sensor.rows; ++r)
+    for (int c = 0; c < sensor.cols; ++c) {
+      const double x = (c - (sensor.cols - 1) / 2.0) * sensor.pitch_mm, y = (r - (sensor.rows - 1) / 2.0) * sensor.pitch_mm;
+      const double u = std::cos(th) * x + std::sin(th) * y, v = -std::sin(th) * x + std::cos(th) * y;
+      img[static_cast<std::size_t>(r * sensor.cols + c)] = static_cast<float>(30.0 * std::exp(-u * u / (2 * a * a) - v * v / (2 * b * b)));
+    }
+  return img;
+}
+
+// Points on a sphere of radius 40 (a Fibonacci lattice, shifted per split).
+Dataset tiny_dataset(const Scene& scene, const std::string& split, int per_object, double shift) {
+  Dataset d;
+  d.scene = scene;
+  d.split = split;
+  for (std::uint32_t o = 0; o < scene.objects.size(); ++o)
+    for (int i = 0; i < per_object; ++i) {
+      const double z = 1.0 - 2.0 * (i + 0.5) / per_object;
+      const double phi = i * std::numbers::pi * (3.0 - std::sqrt(5.0)) + shift;
+      const glm::dvec3 n(std::sqrt(1 - z * z) * std::cos(phi), std::sqrt(1 - z * z) * std::sin(phi), z);
+      Sample s;
+      s.reading.object = o;
+      s.reading.position = 40.0 * n;
+      s.reading.normal = n;
+      s.reading.x_axis = glm::normalize(glm::cross(n, std::abs(n.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
+      s.reading.pressure = blob(s.reading.position, o, scene.sensor);
+      d.samples.push_back(s);
+    }
+  return d;
+}
+
+struct Fixture {
+  std::filesystem::path dir;
+  std::string map, test;
+  Fixture() : dir(sva::test::temp_dir("eval-cli")) {
+    const Scene scene = tiny_scene();
+    Dataset train = tiny_dataset(scene, "train", 48, 0.0);
+    TrainOptions o;
+    o.threads = 1;
+    Map::train(train, o).save(dir / "tiny.svam");
+    save_dataset(tiny_dataset(scene, "test", 12, 0.05), dir / "test.svad");
+    map = (dir / "tiny.svam").string();
+    test = (dir / "test.svad").string();
+  }
+  ~Fixture() { std::filesystem::remove_all(dir); }
+  std::string base() const { return "eval --map " + map + " --data " + test + " "; }
+  std::string path(const std::string& name) const { return (dir / name).string(); }
+};
+
+std::string read_file(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+nlohmann::json without_timing(const std::string& file) {
+  auto j = nlohmann::json::parse(read_file(file));
+  for (auto& p : j["curve"]) {
+    p.erase("update_ms");
+    p.erase("update_ms_p95");
+  }
+  return j;
+}
+
+}  // namespace
+
+TEST_CASE("sva eval writes the JSON curve, CSV and figure with non-timing fields the same run to run and on 1 or 2 threads") {
+  Fixture f;
+  std::string out;
+  const std::string common = f.base() + "--trials 4 --max-readings 5 --seed 7 ";
+  REQUIRE(sva::test::run_sva(common + "--threads 1 --json " + f.path("a.json") + " --csv " + f.path("a.csv") +
+                                 " --plot " + f.path("a.png"), &out) == 0);
+  CHECK(out.find("readings") != std::string::npos);
+  REQUIRE(sva::test::run_sva(common + "--threads 2 --json " + f.path("b.json"), &out) == 0);
+
+  auto a = without_timing(f.path("a.json")), b = without_timing(f.path("b.json"));
+  CHECK(a == b);
+  CHECK(a["scene"] == "tiny");
+  CHECK(a["backend"] == "cpu");
+  CHECK(a["method"] == "sva");
+  CHECK(a["trials"] == 4);
+  REQUIRE(a["curve"].size() == 5);
+  for (const auto& p : a["curve"]) {
+    CHECK(p["accuracy"].get<double>() >= 0.0);
+    CHECK(p["accuracy"].get<double>() <= 1.0);
+    for (const char* key : {"translation_error_mm", "angular_error_deg", "inertial_error_mm"})
+      CHECK((p[key].is_null() || p[key].get<double>() >= 0.0));
+  }
+  auto full = nlohmann::json::parse(read_file(f.path("a.json")));
+  CHECK(full["curve"][4]["update_ms"].is_number());
+  CHECK(full["curve"][4]["update_ms_p95"].get<double>() >= full["curve"][4]["update_ms"].get<double>());
+
+  const std::string csv = read_file(f.path("a.csv"));
+  CHECK(std::count(csv.begin(), csv.end(), '\n') == 1 + 4 * 5);
+  const std::string png = read_file(f.path("a.png"));
+  REQUIRE(png.size() > 8);
+  CHECK(png.substr(1, 3) == "PNG");
+
+  // Another seed gives other trials.
+  REQUIRE(sva::test::run_sva(f.base() + "--trials 4 --max-readings 5 --seed 8 --json " + f.path("c.json"), &out) == 0);
+  auto c = nlohmann::json::parse(read_file(f.path("c.json")));
+  CHECK(c["seed"] == 8);
+}
+
+TEST_CASE("sva eval overlays another method's curve with --compare") {
+  Fixture f;
+  std::string out;
+  const std::string common = f.base() + "--trials 2 --max-readings 4 ";
+  REQUIRE(sva::test::run_sva(common + "--method appearance --json " + f.path("app.json"), &out) == 0);
+  auto app = nlohmann::json::parse(read_file(f.path("app.json")));
+  CHECK(app["method"] == "appearance");
+  for (const auto& p : app["curve"]) CHECK(p["translation_error_mm"].is_null());  // the baseline has no pose
+  REQUIRE(sva::test::run_sva(common + "--plot " + f.path("fig.png") + " --compare " + f.path("app.json"), &out) == 0);
+  CHECK(std::filesystem::file_size(f.path("fig.png")) > 1000);
+  CHECK(sva::test::run_sva(common + "--compare " + f.path("app.json"), &out) != 0);
+  CHECK(out.find("--plot") != std::string::npos);
+  CHECK(sva::test::run_sva(common + "--plot " + f.path("x.png") + " --compare " + f.path("nope.json"), &out) != 0);
+  CHECK(out.find("nope.json") != std::string::npos);
+}
+
+TEST_CASE("sva eval refuses bad options with the value named") {
+  Fixture f;
+  std::string out;
+  struct Case {
+    std::string args, expect;
+  };
+  for (const Case& c : {Case{"--trials 0", "--trials 0"}, Case{"--max-readings 0", "--max-readings 0"},
+                        Case{"--trials -3", "--trials -3"}, Case{"--max-readings x", "--max-readings"},
+                        Case{"--backend cuda", "cuda"}, Case{"--method geometry", "geometry"},
+                        Case{"--json /nonexistent-dir/a.json", "/nonexistent-dir"}}) {
+    INFO(c.args);
+    CHECK(sva::test::run_sva(f.base() + c.args, &out) != 0);
+    CHECK(out.find(c.expect) != std::string::npos);
+    CHECK(out.find("internal error") == std::string::npos);
+  }
+  CHECK(sva::test::run_sva("eval --data " + f.test, &out) != 0);
+  CHECK(out.find("--map") != std::string::npos);
+  CHECK(sva::test::run_sva("eval --map " + f.map + " --data " + f.path("missing.svad"), &out) != 0);
+  CHECK(out.find("missing.svad") != std::string::npos);
+}
+
+TEST_CASE("sva eval refuses test sets that cannot be evaluated against the map") {
+  Fixture f;
+  std::string out;
+  auto run_with = [&](const Dataset& d, const std::string& name) {
+    save_dataset(d, f.dir / name);
+    const int rc = sva::test::run_sva("eval --map " + f.map + " --data " + f.path(name) + " --trials 2 --max-readings 3", &out);
+    CHECK(out.find("internal error") == std::string::npos);
+    return rc;
+  };
+  SECTION("another scene") {
+    CHECK(run_with(tiny_dataset(tiny_scene("other"), "test", 6, 0.1), "other.svad") != 0);
+    CHECK(out.find("different scenes") != std::string::npos);
+  }
+  SECTION("another sensor, so the descriptors do not compare") {
+    Scene s = tiny_scene();
+    s.sensor = {4, 4, 2.0};
+    CHECK(run_with(tiny_dataset(s, "test", 6, 0.1), "sensor.svad") != 0);
+    CHECK(out.find("different sensors") != std::string::npos);
+  }
+  SECTION("readings with NaN") {
+    Dataset d = tiny_dataset(tiny_scene(), "test", 6, 0.1);
+    d.samples[3].reading.position.x = std::nan("");
+    CHECK(run_with(d, "nan.svad") != 0);
+    CHECK(out.find("nan.svad") != std::string::npos);
+    CHECK(out.find("sample 3") != std::string::npos);
+  }
+  SECTION("an empty test set") {
+    Dataset d = tiny_dataset(tiny_scene(), "test", 6, 0.1);
+    for (auto& s : d.samples) s.reading.status = ControllerStatus::no_contact;
+    CHECK(run_with(d, "empty.svad") != 0);
+    CHECK(out.find("empty") != std::string::npos);
+    d.samples.clear();
+    CHECK(run_with(d, "none.svad") != 0);
+    CHECK(out.find("empty") != std::string::npos);
+  }
+}

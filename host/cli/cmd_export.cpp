@@ -1,5 +1,6 @@
 // sva export: a dataset as CSV (one row per reading) and PLY (contact points
 // with normals, coloured by object), for other tools.
+#include <unistd.h>
 #include <sva/dataset.hpp>
 
 #include <cstdio>
@@ -26,7 +27,7 @@ const char* status_name(ControllerStatus s) {
 template <class F>
 void write_atomically(const std::filesystem::path& file, F&& body) {
   std::filesystem::path tmp = file;
-  tmp += ".tmp";
+  tmp += ".tmp." + std::to_string(::getpid());
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) throw Error(file.string() + ": cannot write");

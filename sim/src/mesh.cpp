@@ -1,6 +1,7 @@
 // glTF loading through tinygltf. tinygltf parses the container; everything it
 // hands back is validated here before use, because a malformed file must give
 // a message naming the file and the fault, never an out-of-bounds read.
+#include <unistd.h>
 #include <sva/error.hpp>
 #include <sva/sim/mesh.hpp>
 
@@ -431,7 +432,7 @@ void save_glb(const Mesh& mesh, const std::filesystem::path& file, bool with_nor
   tinygltf::TinyGLTF gltf;
   if (!gltf.WriteGltfSceneToStream(&model, out, false, true)) throw Error(file.string() + ": cannot encode glTF");
   std::filesystem::path tmp = file;
-  tmp += ".tmp";
+  tmp += ".tmp." + std::to_string(::getpid());
   {
     std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
     const std::string s = out.str();

@@ -140,6 +140,46 @@ ObjectGeometry::Hit ObjectGeometry::intersect(const glm::dvec3& o, const glm::dv
   return h;
 }
 
+void ObjectGeometry::intersect_parallel(const std::vector<glm::dvec3>& origins, const glm::dvec3& d, double tfar,
+                                        std::vector<Hit>& hits) const {
+  thread_local std::vector<RTCRayHit> rays;
+  rays.resize(origins.size());
+  for (std::size_t i = 0; i < origins.size(); ++i) {
+    RTCRayHit& rh = rays[i];
+    rh.ray.org_x = static_cast<float>(origins[i].x);
+    rh.ray.org_y = static_cast<float>(origins[i].y);
+    rh.ray.org_z = static_cast<float>(origins[i].z);
+    rh.ray.dir_x = static_cast<float>(d.x);
+    rh.ray.dir_y = static_cast<float>(d.y);
+    rh.ray.dir_z = static_cast<float>(d.z);
+    rh.ray.tnear = 0.0f;
+    rh.ray.tfar = static_cast<float>(tfar);
+    rh.ray.time = 0.0f;
+    rh.ray.mask = 0xFFFFFFFFu;
+    rh.ray.id = static_cast<unsigned>(i);
+    rh.ray.flags = 0;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  }
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  if (!rays.empty()) rtcIntersect1M(impl_->scene, &ctx, rays.data(), static_cast<unsigned>(rays.size()), sizeof(RTCRayHit));
+  hits.resize(origins.size());
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    const RTCRayHit& rh = rays[i];
+    Hit& h = hits[i];
+    h = Hit{};
+    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+    h.hit = true;
+    h.t = rh.ray.tfar;
+    h.triangle = rh.hit.primID;
+    glm::dvec3 n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+    double len = glm::length(n);
+    h.normal = len > 0 ? n / len : glm::dvec3(0.0);
+  }
+}
+
 void ObjectGeometry::sample_surface(double u0, double u1, double u2, glm::dvec3& point, glm::dvec3& normal) const {
   const auto& cdf = impl_->cdf;
   double target = u0 * cdf.back();

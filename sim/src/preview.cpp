@@ -24,8 +24,10 @@ const char* status_word(ControllerStatus s) {
   return "?";
 }
 
-// A fixed oblique view: azimuth 35 degrees, elevation 25 degrees, z up.
-glm::dvec2 project(const glm::dvec3& p) {
+// A fixed oblique view (azimuth 35 degrees, elevation 25 degrees, z up) for
+// 3D scenes; straight down for planar ones.
+glm::dvec2 project(const glm::dvec3& p, bool top_down) {
+  if (top_down) return {p.x, p.y};
   const double az = 35.0 * M_PI / 180.0, el = 25.0 * M_PI / 180.0;
   double x = std::cos(az) * p.x + std::sin(az) * p.y;
   double d = -std::sin(az) * p.x + std::cos(az) * p.y;
@@ -39,6 +41,7 @@ void write_preview(const Dataset& data, const std::filesystem::path& png, int ma
   if (max_readings < 1) throw Error("preview: max_readings must be at least 1");
   const std::size_t n = data.samples.size();
   const int shown = static_cast<int>(std::min<std::size_t>(n, static_cast<std::size_t>(max_readings)));
+  const bool top_down = data.scene.pose_space.kind == PoseSpaceSpec::Kind::planar;
   const int S = 84, cell_w = 2 * S + 14, cell_h = S + 30, cols = std::max(1, std::min(shown, 6));
   const int rows = std::max(1, (shown + cols - 1) / cols);
   const int header = 34;
@@ -65,7 +68,7 @@ void write_preview(const Dataset& data, const std::filesystem::path& png, int ma
   std::map<std::uint32_t, std::pair<glm::dvec2, glm::dvec2>> bounds;
   for (const auto& s : data.samples) {
     if (s.reading.status == ControllerStatus::no_contact) continue;
-    glm::dvec2 q = project(s.reading.position);
+    glm::dvec2 q = project(s.reading.position, top_down);
     auto [it, fresh] = bounds.try_emplace(s.reading.object, q, q);
     if (!fresh) it->second = {glm::min(it->second.first, q), glm::max(it->second.second, q)};
   }
@@ -92,7 +95,7 @@ void write_preview(const Dataset& data, const std::filesystem::path& png, int ma
       glm::dvec2 lo = b->second.first, hi = b->second.second;
       double span = std::max({hi.x - lo.x, hi.y - lo.y, 1e-6});
       auto to_px = [&](const glm::dvec3& p) {
-        glm::dvec2 q = (project(p) - 0.5 * (lo + hi)) / span;
+        glm::dvec2 q = (project(p, top_down) - 0.5 * (lo + hi)) / span;
         return glm::dvec2(vx + S / 2.0 + q.x * (S - 8), oy + S / 2.0 - q.y * (S - 8));
       };
       for (const auto& s : data.samples) {

@@ -45,13 +45,21 @@ TactileImage TactileSensor::touch(const SensorPose& pose, std::uint64_t noise_se
   TactileImage img;
   double gap = std::numeric_limits<double>::infinity();
   glm::dvec3 normal_sum(0.0);
+  thread_local std::vector<glm::dvec3> origins;
+  thread_local std::vector<ObjectGeometry::Hit> hits;
+  origins.resize(static_cast<std::size_t>(nx * ny));
   for (int a = 0; a < ny; ++a) {
     const double v = (a - m + 0.5) * sub - 0.5 * sensor_.rows * sensor_.pitch_mm;
-    const bool row_in = a >= m && a < ny - m;
     for (int b = 0; b < nx; ++b) {
       const double u = (b - m + 0.5) * sub - 0.5 * sensor_.cols * sensor_.pitch_mm;
-      const glm::dvec3 origin = pose.position + u * x + v * y + H * n;
-      ObjectGeometry::Hit h = object_.intersect(origin, down, 0.0, H + reach_mm_);
+      origins[static_cast<std::size_t>(a * nx + b)] = pose.position + u * x + v * y + H * n;
+    }
+  }
+  object_.intersect_parallel(origins, down, H + reach_mm_, hits);
+  for (int a = 0; a < ny; ++a) {
+    const bool row_in = a >= m && a < ny - m;
+    for (int b = 0; b < nx; ++b) {
+      const ObjectGeometry::Hit& h = hits[static_cast<std::size_t>(a * nx + b)];
       if (!h.hit) continue;
       const double d = std::clamp(H - h.t, 0.0, H);  // penetration into the skin
       depth[static_cast<std::size_t>(a * nx + b)] = d;

@@ -1,5 +1,6 @@
 #include "plot/canvas.hpp"
 
+#include <unistd.h>
 #include <sva/error.hpp>
 
 #include <algorithm>
@@ -122,7 +123,7 @@ int Canvas::text_width(const std::string& s, int scale) {
 
 void Canvas::write_png(const std::filesystem::path& file) const {
   std::filesystem::path tmp = file;
-  tmp += ".tmp";
+  tmp += ".tmp." + std::to_string(::getpid());
   if (!stbi_write_png(tmp.c_str(), w_, h_, 3, px_.data(), w_ * 3)) {
     std::error_code ec;
     std::filesystem::remove(tmp, ec);

@@ -126,7 +126,7 @@ json symmetry_to_json(const Symmetry& s) {
 }  // namespace
 
 std::filesystem::path assets_dir() {
-  if (const char* env = std::getenv("SVA_ASSETS")) return env;
+  if (const char* env = std::getenv("SVA_ASSETS"); env && *env) return env;
   std::error_code ec;
   std::filesystem::path src = SVA_SOURCE_ASSETS_DIR;
   if (!src.empty() && std::filesystem::exists(src / "scenes", ec)) return src;

@@ -2,8 +2,12 @@
 // every kind of bad input giving a message that names the file and the fault.
 #include <catch2/catch.hpp>
 
+#include <csignal>
 #include <cstdlib>
 #include <fstream>
+#include <sys/wait.h>
+#include <thread>
+#include <unistd.h>
 #include <limits>
 #include <sstream>
 
@@ -182,4 +186,25 @@ TEST_CASE("demo: simulates into its cache once, then reuses it") {
   CHECK(slurp(dir / "data" / "tiny" / "train.svad") == first);
   REQUIRE(sva::test::run_sva(args + " --seed 9", &output) == 0);
   CHECK_THAT(output, Contains("simulating again"));
+}
+
+TEST_CASE("simulate: Ctrl-C stops cleanly and leaves no output") {
+  auto dir = sva::test::temp_dir("sim-interrupt");
+  const char* bin = std::getenv("SVA_BIN");
+  REQUIRE(bin);
+  const std::string out = (dir / "out").string();
+  pid_t pid = ::fork();
+  REQUIRE(pid >= 0);
+  if (pid == 0) {
+    ::execl(bin, bin, "--quiet", "simulate", "--scene", "paper3d", "--out", out.c_str(), "--threads", "2", static_cast<char*>(nullptr));
+    std::_Exit(127);
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(800));  // meshes loaded, simulation under way
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 130);
+  CHECK_FALSE(fs::exists(dir / "out" / "train.svad"));
+  CHECK_FALSE(fs::exists(dir / "out" / "test.svad"));
 }

@@ -75,13 +75,14 @@ int cmd_train(const std::vector<std::string>& argv) {
               m.appearance.descriptor_size);
   std::printf("  readings       %zu used, %zu skipped (not converged), %zu skipped (no contact to describe)\n",
               rep.readings_used, rep.skipped_not_converged, rep.skipped_undescribable);
-  std::printf("  classes        %u (PAM loss %.4f, %.2f s)\n", m.key_space.n_classes, rep.clustering_loss, rep.clustering_seconds);
+  std::printf("  classes        %u (PAM loss %.4f, %.2f s, %.2f s CPU)\n", m.key_space.n_classes, rep.clustering_loss,
+              rep.clustering_seconds, rep.clustering_cpu_seconds);
   std::printf("  ambiguity A    %.3f classes per reading\n", m.ambiguity);
   std::printf("  distance bins  %u over %g-%g mm\n", m.distance.count, m.distance.min_mm, m.distance.max_mm);
-  std::printf("  map            %zu entries under %zu keys, %.1f MB (%.2f bytes/entry), built in %.2f s\n", map.entries(),
-              map.keys(), static_cast<double>(map.bytes()) / 1e6,
+  std::printf("  map            %zu entries under %zu keys, %.1f MB (%.2f bytes/entry), built in %.2f s (%.2f s CPU)\n",
+              map.entries(), map.keys(), static_cast<double>(map.bytes()) / 1e6,
               map.entries() ? static_cast<double>(map.bytes()) / static_cast<double>(map.entries()) : 0.0,
-              rep.map_build_seconds);
+              rep.map_build_seconds, rep.map_build_cpu_seconds);
   return 0;
 }
 

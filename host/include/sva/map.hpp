@@ -35,8 +35,10 @@ struct TrainReport {
   std::size_t readings_used = 0;
   std::size_t skipped_not_converged = 0;
   std::size_t skipped_undescribable = 0;   // all-zero image or nothing above the contact threshold
-  double clustering_seconds = 0.0;
+  double clustering_seconds = 0.0;        // wall clock
   double map_build_seconds = 0.0;
+  double clustering_cpu_seconds = 0.0;    // process CPU time, all threads (meaningful on a loaded machine)
+  double map_build_cpu_seconds = 0.0;
   double clustering_loss = 0.0;            // PAM loss: sum of (1 - affinity) to the medoid
 };
 

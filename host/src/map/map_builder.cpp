@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -26,6 +27,7 @@ constexpr std::uint64_t kMaxKeySpace = 1ull << 26;
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }
+double cpu_seconds_since(std::clock_t c0) { return static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC; }
 
 }  // namespace
 
@@ -229,6 +231,7 @@ std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParamete
   }
 
   auto t0 = std::chrono::steady_clock::now();
+  auto c0 = std::clock();
   appearance::PamOptions po;
   po.k = p.clusters;
   po.seed = p.seed;
@@ -236,6 +239,7 @@ std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParamete
   po.progress = p.progress;
   const auto clusters = appearance::pam(descriptors, dim, po);
   rep.clustering_seconds = seconds_since(t0);
+  rep.clustering_cpu_seconds = cpu_seconds_since(c0);
   rep.clustering_loss = clusters.loss;
   const auto k = static_cast<std::uint32_t>(clusters.medoids.size());
   model.medoids.resize(static_cast<std::size_t>(k) * dim);
@@ -244,6 +248,7 @@ std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParamete
   model.psi = appearance::cluster_psi(descriptors, model.medoids, clusters.membership, dim);
 
   t0 = std::chrono::steady_clock::now();
+  c0 = std::clock();
   std::vector<std::vector<ClassWeight>> classes(n);
   util::parallel_for(n, [&](std::size_t j) {
     classes[j] = appearance::soft_classes(&descriptors[j * dim], model.medoids, model.psi, dim, model.prune_ratio);
@@ -257,6 +262,7 @@ std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParamete
   build_pair_index(*map, classes, p.threads, p.progress);
   map->baseline = AppearanceBaseline::fit(static_cast<std::uint32_t>(scene.objects.size()), k, rd.object, classes);
   rep.map_build_seconds = seconds_since(t0);
+  rep.map_build_cpu_seconds = cpu_seconds_since(c0);
   if (report) *report = rep;
   return map;
 }

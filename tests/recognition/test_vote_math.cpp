@@ -161,6 +161,32 @@ TEST_CASE("two-point alignment recovers a known pose") {
   }
 }
 
+TEST_CASE("two-point alignment of anti-parallel axes (180-degree rotations)") {
+  // The object is turned half way round an axis perpendicular to the pair:
+  // the observed axis is the map axis reversed, R1 takes the fixed half-turn
+  // branch and beta-hat must still recover the pose exactly.
+  util::Rng rng(37);
+  for (int i = 0; i < 50; ++i) {
+    const glm::dvec3 u = glm::normalize(glm::dvec3(rng.normal(), rng.normal(), rng.normal()));
+    glm::dvec3 perp = glm::normalize(glm::cross(u, glm::dvec3(rng.normal(), rng.normal(), rng.normal())));
+    RigidPose pose;
+    pose.R = rotation::exp(perp * std::numbers::pi);
+    pose.T = glm::dvec3(rng.uniform(-100, 100), rng.uniform(-100, 100), rng.uniform(-100, 100));
+    const glm::dvec3 pa(rng.uniform(-20, 20), rng.uniform(-20, 20), rng.uniform(-20, 20));
+    const glm::dvec3 pb = pa + 30.0 * u;
+    const glm::dvec3 na = glm::normalize(glm::dvec3(rng.normal(), rng.normal(), rng.normal()));
+    const glm::dvec3 nb = glm::normalize(glm::dvec3(rng.normal(), rng.normal(), rng.normal()));
+    const vm::SvaAlignment al = vm::sva_align(patch(pose.apply(pa), pose.rotate(na)), patch(pose.apply(pb), pose.rotate(nb)),
+                                              patch(pa, na), patch(pb, nb));
+    REQUIRE(al.valid == 1);
+    CHECK(glm::dot(d3(al.axis), u) < -0.99999);
+    const glm::dmat3 R = mat_of(vm::sva_quat_mul(vm::sva_quat_axis_angle(al.axis, al.beta_hat), al.q1));
+    CHECK(angle_between(R, pose.R) < 1e-3);
+    const glm::dvec3 T = d3(al.c_obs - vm::sva_quat_rotate(vm::sva_quat_axis_angle(al.axis, al.beta_hat), al.c_map_r));
+    CHECK(glm::length(T - pose.T) < 1e-2);
+  }
+}
+
 TEST_CASE("reflection case: normals that only a reflection would align still give a proper rotation") {
   // The map normal at a is the mirror image of the observed one (through the
   // plane holding the axis and b's normal): an unconstrained SVD fit of

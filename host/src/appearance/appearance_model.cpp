@@ -35,11 +35,15 @@ std::string AppearanceModel::why_not_describable(const Reading& r) const {
   if (r.pressure.size() != static_cast<std::size_t>(s.elements()))
     return "pressure image has " + std::to_string(r.pressure.size()) + " elements, the sensor has " + std::to_string(s.elements());
   bool contact = false;
+  double mass = 0;
   for (float p : r.pressure) {
     if (!std::isfinite(p)) return "pressure image has a non-finite value";
     contact = contact || p > calibration.contact_threshold_kpa;
+    mass += p > 0 ? p : 0.0f;
   }
-  if (!contact) return "no element is above the contact threshold (" + std::to_string(calibration.contact_threshold_kpa) + " kPa)";
+  // The mass test matters only for a threshold <= 0: moments need weight.
+  if (!contact || !(mass > 0))
+    return "no element is above the contact threshold (" + std::to_string(calibration.contact_threshold_kpa) + " kPa)";
   return {};
 }
 

@@ -22,7 +22,7 @@ namespace sva {
 namespace {
 
 // Key spaces above this would need count tables too large to be sensible.
-constexpr std::uint64_t kMaxKeySpace = 1ull << 26;
+constexpr std::uint64_t kMaxKeySpace = kMaxPairKeySpace;
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -16,7 +16,7 @@ namespace {
 constexpr std::size_t kMaxObjects = 1 << 16;
 constexpr std::uint32_t kMaxClasses = 4096;
 constexpr std::uint32_t kMaxBins = 100000;
-constexpr std::uint64_t kMaxKeySpace = 1ull << 26;
+constexpr std::uint64_t kMaxKeySpace = kMaxPairKeySpace;
 
 void put_symmetry(io::BinaryWriter& w, const Symmetry& s) {
   w.put<std::uint8_t>(static_cast<std::uint8_t>(s.kind));

@@ -20,6 +20,10 @@
 
 namespace sva {
 
+// Largest key space (classes^2 x distance bins) a map may have: keeps keys in
+// 32 bits and the builder's count tables bounded.
+inline constexpr std::uint64_t kMaxPairKeySpace = 1ull << 26;
+
 // Key packing: key = (class_a * n_classes + class_b) * n_dist_bins + dist_bin.
 struct PairKeySpace {
   std::uint32_t n_classes = 0;

@@ -211,3 +211,38 @@ TEST_CASE("letters2d readings are pressed straight down on the grid") {
   }
   CHECK(differs == data.train.samples.size());  // test readings are new readings of the same poses
 }
+
+TEST_CASE("calibration: pressure is stiffness times penetration, spread blurs a step") {
+  auto dir = test::temp_dir("sim-calibration");
+  auto file = test::write_gltf(plane_mesh(100), dir / "plane.gltf");
+  sim::ObjectGeometry geom(sim::load_mesh(file));
+  SkinModel skin;
+  skin.stiffness_kpa_per_mm = 150;
+  sim::TactileSensor sensor(geom, SensorSpec{}, skin);
+  for (double depth : {0.0, 0.1, 0.37, 1.5}) {
+    auto img = sensor.touch({{0, 0, -depth}, {0, 0, 1}, {1, 0, 0}});
+    for (float p : img.pressure) CHECK(p == Approx(150.0 * depth).margin(1e-3));
+    CHECK(img.contacts == (150.0 * depth > skin.contact_threshold_kpa ? 36 : 0));
+  }
+  // Half of the array over a 1 mm step: the elastic layer spreads the edge
+  // over neighbouring columns; without spread the columns are sharp.
+  auto step = test::write_gltf(test::box_mesh({-50, -50, -50}, {0, 50, 0}), dir / "step.gltf");
+  sim::ObjectGeometry block(sim::load_mesh(step));
+  for (double spread : {0.0, 1.0}) {
+    skin.spread_mm = spread;
+    sim::TactileSensor s(block, SensorSpec{}, skin);
+    auto img = s.touch({{0, 0, -0.2}, {0, 0, 1}, {1, 0, 0}});
+    // Columns 0-2 lie over the block (x < 0), 3-5 over nothing.
+    INFO("spread " << spread);
+    if (spread == 0.0) {
+      CHECK(img.pressure[0] == Approx(30.0).margin(1e-3));
+      CHECK(img.pressure[2] == Approx(30.0).margin(1e-3));
+      CHECK(img.pressure[3] == Approx(0.0).margin(1e-6));
+    } else {
+      CHECK(img.pressure[0] == Approx(30.0).epsilon(0.01));
+      CHECK(img.pressure[2] < 29.0);
+      CHECK(img.pressure[3] > 1.0);
+      CHECK(img.pressure[2] + img.pressure[3] == Approx(30.0).epsilon(0.05));  // the spread conserves load
+    }
+  }
+}

@@ -7,6 +7,8 @@
 #include <sva/map.hpp>
 
 #include <cmath>
+#include <cstdlib>
+#include <sys/wait.h>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -220,4 +222,21 @@ TEST_CASE("sva eval refuses test sets that cannot be evaluated against the map")
     CHECK(run_with(d, "none.svad") != 0);
     CHECK(out.find("empty") != std::string::npos);
   }
+}
+
+TEST_CASE("sva eval stops cleanly on Ctrl-C and leaves no output") {
+  Fixture f;
+  const char* bin = std::getenv("SVA_BIN");
+  REQUIRE(bin != nullptr);
+  // A run far longer than the 1 s after which timeout sends SIGINT.
+  const std::string cmd = "timeout --preserve-status -s INT 1 " + std::string(bin) + " --quiet " + f.base() +
+                          "--trials 1000000 --max-readings 30 --json " + f.path("never.json") + " > " + f.path("log.txt") + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 130);
+  // Stopped by the CLI's handler (a kill by the signal would read 130 too).
+  CHECK(read_file(f.path("log.txt")).find("interrupted") != std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(f.path("never.json")));
+  for (const auto& e : std::filesystem::directory_iterator(f.dir))
+    CHECK(e.path().filename().string().find("never") == std::string::npos);
 }

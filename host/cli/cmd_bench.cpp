@@ -12,7 +12,6 @@
 #include <chrono>
 #include <cstdio>
 #include <cstring>
-#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
@@ -22,6 +21,7 @@
 #include "eval/evaluation.hpp"
 #include "eval/metrics.hpp"
 #include "eval/trials.hpp"
+#include "io/text_file.hpp"
 #include "spv/fixed_point_scatter.h"
 #include "util/interrupt.hpp"
 #include "util/parallel.hpp"
@@ -249,16 +249,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
                   r["sessions_per_submission"].get<std::size_t>(), r["votes_per_second"].get<double>(),
                   100.0 * r["fraction_of_roofline"].get<double>());
   }
-  if (auto path = a.get("--json")) {
-    const std::string tmp = *path + ".tmp";
-    {
-      std::ofstream f(tmp);
-      if (!f) throw Error(*path + ": cannot open for writing");
-      f << out.dump(2) << "\n";
-      if (!f) throw Error(*path + ": write failed");
-    }
-    std::rename(tmp.c_str(), path->c_str());
-  }
+  if (auto path = a.get("--json")) io::write_text_file(*path, out.dump(2) + "\n");
   return 0;
 }
 

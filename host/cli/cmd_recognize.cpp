@@ -15,6 +15,7 @@
 #include "args.hpp"
 #include "eval/evaluation.hpp"
 #include "eval/trials.hpp"
+#include "io/text_file.hpp"
 #include "map/pair_map.hpp"
 #include "recognition/rotation.hpp"
 #include "util/interrupt.hpp"
@@ -116,23 +117,19 @@ int write_sessions(const Args& a, const std::string& out_file) {
   const auto n = static_cast<std::size_t>(a.integer("--trials", static_cast<long long>(map.objects()), 1, 10000000));
   const auto m = static_cast<std::size_t>(a.integer("--max-readings", 30, 1, 100000));
   eval::TrialGenerator gen(test, map.pose_space(), static_cast<std::uint64_t>(a.integer("--seed", 1, 0, INT64_MAX)), m, data_file);
-  const std::string tmp = out_file + ".tmp";
-  {
-    std::ofstream f(tmp);
-    if (!f) throw Error(out_file + ": cannot open for writing");
-    for (std::size_t t = 0; t < n; ++t) {
-      const eval::Trial tr = gen.make(t);
-      json readings = json::array();
-      for (const Reading& r : tr.readings)
-        readings.push_back({{"position", vec3_json(r.position)}, {"normal", vec3_json(r.normal)},
-                            {"x_axis", vec3_json(r.x_axis)}, {"pressure", r.pressure}});
-      json truth = pose_json(tr.pose);
-      truth["object"] = test.scene.objects[tr.object].name;
-      f << json{{"id", "trial-" + std::to_string(t)}, {"truth", truth}, {"readings", readings}}.dump() << "\n";
-    }
-    if (!f) throw Error(out_file + ": write failed");
+  std::string text;
+  for (std::size_t t = 0; t < n; ++t) {
+    util::throw_if_interrupted();
+    const eval::Trial tr = gen.make(t);
+    json readings = json::array();
+    for (const Reading& r : tr.readings)
+      readings.push_back({{"position", vec3_json(r.position)}, {"normal", vec3_json(r.normal)},
+                          {"x_axis", vec3_json(r.x_axis)}, {"pressure", r.pressure}});
+    json truth = pose_json(tr.pose);
+    truth["object"] = test.scene.objects[tr.object].name;
+    text += json{{"id", "trial-" + std::to_string(t)}, {"truth", truth}, {"readings", readings}}.dump() + "\n";
   }
-  std::rename(tmp.c_str(), out_file.c_str());
+  io::write_text_file(out_file, text);
   std::printf("wrote %zu sessions of %zu readings to %s\n", n, m, out_file.c_str());
   return 0;
 }
@@ -230,14 +227,9 @@ int cmd_recognize(const std::vector<std::string>& argv) {
     }
   }
   progress.finish();
-  const std::string tmp = out_file + ".tmp";
-  {
-    std::ofstream f(tmp);
-    if (!f) throw Error(out_file + ": cannot open for writing");
-    for (const auto& l : lines) f << l << "\n";
-    if (!f) throw Error(out_file + ": write failed");
-  }
-  std::rename(tmp.c_str(), out_file.c_str());
+  std::string text;
+  for (const auto& l : lines) text += l + "\n";
+  io::write_text_file(out_file, text);
   std::fprintf(stderr, "recognised %zu sessions (%zu readings) with %s; wrote %s\n", sessions.size(), total_readings,
                device.c_str(), out_file.c_str());
   return 0;

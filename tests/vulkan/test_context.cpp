@@ -9,19 +9,11 @@
 
 #include "core/fixed_point.hpp"
 #include "spv/fixed_point_scatter.h"
-#include "test_support.hpp"
+#include "vk_test_support.hpp"
 #include "util/rng.hpp"
 #include "vulkan/context.hpp"
 
 namespace {
-
-std::unique_ptr<sva::vk::Context> make_context() {
-  try {
-    return std::make_unique<sva::vk::Context>();
-  } catch (const sva::Error& e) {
-    sva::test::skip(e.what());
-  }
-}
 
 struct Push {
   std::uint32_t count, bin_count, base;
@@ -30,7 +22,7 @@ struct Push {
 }  // namespace
 
 TEST_CASE("fixed-point scatter on the GPU equals the CPU sum bit for bit") {
-  auto ctx = make_context();
+  auto ctx = sva::test::vulkan_context_or_skip();
   INFO("device: " << ctx->info().name);
   const std::uint32_t n = 100000, bins = 97;
   sva::util::Rng rng(7);

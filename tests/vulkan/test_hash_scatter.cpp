@@ -2,18 +2,11 @@
 
 #include <sva/error.hpp>
 
-#include "test_support.hpp"
+#include "vk_test_support.hpp"
 #include "util/rng.hpp"
 #include "vulkan/hash_scatter.hpp"
 
 namespace {
-std::unique_ptr<sva::vk::Context> make_context() {
-  try {
-    return std::make_unique<sva::vk::Context>();
-  } catch (const sva::Error& e) {
-    sva::test::skip(e.what());
-  }
-}
 
 void random_votes(std::size_t n, std::uint64_t distinct, std::vector<std::uint64_t>& keys, std::vector<float>& weights) {
   sva::util::Rng rng(11, n, distinct);
@@ -27,7 +20,7 @@ void random_votes(std::size_t n, std::uint64_t distinct, std::vector<std::uint64
 }  // namespace
 
 TEST_CASE("GPU hash scatter equals the CPU reference exactly, growing the table on overflow") {
-  auto ctx = make_context();
+  auto ctx = sva::test::vulkan_context_or_skip();
   std::vector<std::uint64_t> keys;
   std::vector<float> weights;
   random_votes(50000, 5000, keys, weights);
@@ -41,7 +34,7 @@ TEST_CASE("GPU hash scatter equals the CPU reference exactly, growing the table 
 }
 
 TEST_CASE("GPU hash scatter gives the same sums when the input is split into tiny chunks") {
-  auto ctx = make_context();
+  auto ctx = sva::test::vulkan_context_or_skip();
   std::vector<std::uint64_t> keys;
   std::vector<float> weights;
   random_votes(3000, 400, keys, weights);

@@ -6,7 +6,7 @@ set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 if [[ -z "${SVA:-}" ]]; then
-  for c in "$ROOT/build/sva" "$ROOT/build/host/cli/sva" "$ROOT/build-ci/host/cli/sva" "$ROOT/build-eval/host/cli/sva"; do
+  for c in "$ROOT/build/sva" "$ROOT/build-ci/sva" "$ROOT/build-eval/sva" "$ROOT/build/host/cli/sva"; do
     [[ -x "$c" ]] && SVA="$c" && break
   done
 fi

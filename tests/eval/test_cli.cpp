@@ -240,3 +240,20 @@ TEST_CASE("sva eval stops cleanly on Ctrl-C and leaves no output") {
   for (const auto& e : std::filesystem::directory_iterator(f.dir))
     CHECK(e.path().filename().string().find("never") == std::string::npos);
 }
+
+TEST_CASE("sva eval gives the same curve on the Vulkan backend as on the CPU") {
+  Fixture f;
+  std::string out;
+  const std::string common = f.base() + "--trials 4 --max-readings 5 --seed 3 ";
+  REQUIRE(sva::test::run_sva(common + "--backend cpu --json " + f.path("cpu.json"), &out) == 0);
+  if (sva::test::run_sva(common + "--backend vulkan --json " + f.path("vk.json"), &out) != 0) {
+    if (out.find("ulkan") != std::string::npos && out.find("internal error") == std::string::npos)
+      sva::test::skip("no Vulkan device: " + out);
+    FAIL(out);
+  }
+  auto cpu = without_timing(f.path("cpu.json")), vk = without_timing(f.path("vk.json"));
+  CHECK(vk["backend"] == "vulkan");
+  cpu.erase("backend");
+  vk.erase("backend");
+  CHECK(cpu == vk);
+}

@@ -14,6 +14,7 @@
 #include "eval/figure.hpp"
 #include "eval/report.hpp"
 #include "eval/results.hpp"
+#include "io/text_file.hpp"
 
 namespace sva::cli {
 
@@ -96,8 +97,8 @@ int cmd_eval(const std::vector<std::string>& argv) {
   const eval::EvalResult result = eval::run_evaluation(map, test, o);
   const eval::Curve curve = eval::summarize(result);
   std::fputs(eval::format_table(curve).c_str(), stdout);
-  if (json_file) eval::write_text_atomic(*json_file, eval::to_json(result, curve));
-  if (csv_file) eval::write_text_atomic(*csv_file, eval::to_csv(result));
+  if (json_file) io::write_text_file(*json_file, eval::to_json(result, curve));
+  if (csv_file) io::write_text_file(*csv_file, eval::to_csv(result));
   if (plot_file) {
     std::vector<eval::Curve> curves{curve};
     curves.insert(curves.end(), others.begin(), others.end());

@@ -9,8 +9,6 @@
 #include <fstream>
 #include <numbers>
 #include <sstream>
-#include <system_error>
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
@@ -168,30 +166,6 @@ Curve read_curve_json(const std::filesystem::path& file) {
     c.points.push_back(pt);
   }
   return c;
-}
-
-void write_text_atomic(const std::filesystem::path& file, const std::string& text) {
-  const std::string name = file.string();
-  if (name.empty()) throw Error("empty output file name");
-  auto tmp = file;
-  tmp += ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error(name + ": cannot write (does the directory exist?)");
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw Error(name + ": write failed (disk full?)");
-    }
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, file, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw Error(name + ": cannot rename the finished file into place");
-  }
 }
 
 }  // namespace sva::eval

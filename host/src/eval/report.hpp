@@ -1,7 +1,7 @@
 #pragma once
 // Evaluation reports: the JSON summary (schema in docs/evaluation.md), the
 // per-step CSV, the stdout table, and reading a JSON summary back (for
-// overlaying another run in a plot). Files are written atomically.
+// overlaying another run in a plot). Write files with io::write_text_file.
 #include <filesystem>
 #include <string>
 
@@ -21,8 +21,5 @@ std::string format_table(const Curve& curve);
 
 // Reads a JSON summary written by to_json; errors name the file and field.
 Curve read_curve_json(const std::filesystem::path& file);
-
-// Writes text to a temporary file next to `file` and renames it into place.
-void write_text_atomic(const std::filesystem::path& file, const std::string& text);
 
 }  // namespace sva::eval

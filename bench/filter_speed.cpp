@@ -2,6 +2,7 @@
 // its test readings (CPU reference backend), with votes per second and the
 // recognition error those updates buy.
 //   filter_speed MAP.svam TEST.svad [trials=3] [readings=100] [threads=0]
+//                [object_prune_probability=0] [max_pairs_per_update=0] [likelihood_cutoff=0]
 // Trial t recognises object t % objects from its test readings, drawn at
 // random, moved by a random pose (rotation arbitrary, translation in the pose
 // space's range, as in the paper's protocol).
@@ -49,7 +50,7 @@ double p95(std::vector<double> v) {
 
 int main(int argc, char** argv) try {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: filter_speed MAP.svam TEST.svad [trials=3] [readings=100] [threads=0]\n");
+    std::fprintf(stderr, "usage: filter_speed MAP.svam TEST.svad [trials=3] [readings=100] [threads=0] [prune=0] [max_pairs=0] [cutoff=0]\n");
     return 2;
   }
   const sva::Map map = sva::Map::load(argv[1]);
@@ -58,6 +59,9 @@ int main(int argc, char** argv) try {
   const int readings = argc > 4 ? std::atoi(argv[4]) : 100;
   sva::RecognizerOptions options;
   options.threads = argc > 5 ? static_cast<unsigned>(std::atoi(argv[5])) : 0;
+  options.object_prune_probability = argc > 6 ? std::atof(argv[6]) : 0.0;
+  options.max_pairs_per_update = argc > 7 ? std::atoi(argv[7]) : 0;
+  options.likelihood_cutoff = argc > 8 ? static_cast<float>(std::atof(argv[8])) : 0.0f;
   const sva::PoseSpaceSpec space = map.pose_space();
   const std::size_t objects = map.objects();
   std::vector<std::vector<const sva::Reading*>> by_object(objects);
@@ -109,8 +113,9 @@ int main(int argc, char** argv) try {
                 e.object == object ? "" : "  WRONG");
     std::fflush(stdout);
   }
-  std::printf("\nCPU reference backend, %s threads, map: %zu entries, %zu objects\n",
-              options.threads ? std::to_string(options.threads).c_str() : "all", map.entries(), objects);
+  std::printf("\nCPU reference backend, %s threads, map: %zu entries, %zu objects; object prune %g, max pairs %d, likelihood cut-off %g\n",
+              options.threads ? std::to_string(options.threads).c_str() : "all", map.entries(), objects,
+              options.object_prune_probability, options.max_pairs_per_update, static_cast<double>(options.likelihood_cutoff));
   for (int m = 0; m < 3; ++m)
     if (!at_mark[m].empty())
       std::printf("update at reading %3d: wall median %.3f s, p95 %.3f s; CPU median %.3f s (%zu trials)\n", marks[m],

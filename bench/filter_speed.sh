@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Benchmark of the Bayes filter (CPU reference backend): time per update at 10,
 # 30 and 100 readings, votes per second, and the error after the run.
-#   bench/filter_speed.sh [BUILD_DIR=build] [trials=3] [readings=100] [threads=2]
+#   bench/filter_speed.sh [BUILD_DIR=build] [trials=3] [readings=100] [threads=2] [prune max_pairs cutoff]
 # Simulates paper3d and trains its map first (cached in $SVA_BENCH_DIR, default /tmp/sva-bench-p3d).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
@@ -20,4 +20,4 @@ tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 libs=$(find "$build" -name 'libsva_core.a' | tr '\n' ' ')
 c++ -std=c++20 -O2 -I"$root/host/include" -I"$root/host/src" -I"$root/shaders/include" "$here/filter_speed.cpp" $libs $libs -lvulkan -lpthread -o "$tmp/filter_speed"
-SVA_THREADS=$threads "$tmp/filter_speed" "$data/map.svam" "$data/test.svad" "$trials" "$readings" "$threads"
+SVA_THREADS=$threads "$tmp/filter_speed" "$data/map.svam" "$data/test.svad" "$trials" "$readings" "$threads" "${@:5}"

@@ -7,47 +7,13 @@
 #include <fstream>
 
 #include "args.hpp"
+#include "io/text_file.hpp"
 #include "plot/canvas.hpp"
 
 namespace sva::cli {
 
 namespace {
 
-const char* status_name(ControllerStatus s) {
-  switch (s) {
-    case ControllerStatus::converged: return "converged";
-    case ControllerStatus::not_converged: return "not_converged";
-    case ControllerStatus::no_contact: return "no_contact";
-  }
-  return "unknown";
-}
-
-// Writes through a temporary name and renames, so that an interrupted export
-// never leaves a file that looks complete.
-template <class F>
-void write_atomically(const std::filesystem::path& file, F&& body) {
-  std::filesystem::path tmp = file;
-  tmp += ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error(file.string() + ": cannot write");
-    try {
-      body(out);
-    } catch (...) {
-      out.close();
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw;
-    }
-    out.flush();
-    if (!out) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw Error(file.string() + ": write failed (disk full?)");
-    }
-  }
-  std::filesystem::rename(tmp, file);
-}
 
 std::string csv_field(const std::string& s) {
   if (s.find_first_of(",\"\n") == std::string::npos) return s;
@@ -74,7 +40,7 @@ int cmd_export(const std::vector<std::string>& argv) {
   const auto csv = dir / (stem + ".csv"), ply = dir / (stem + ".ply");
   const int elements = d.scene.sensor.elements();
 
-  write_atomically(csv, [&](std::ofstream& out) {
+  io::write_file_atomically(csv, [&](std::ostream& out) {
     out << "object,object_name,status,iterations,px,py,pz,nx,ny,nz,xx,xy,xz";
     for (int i = 0; i < d.scene.sensor.rows; ++i)
       for (int j = 0; j < d.scene.sensor.cols; ++j) out << ",p_r" << i << "c" << j;
@@ -86,7 +52,7 @@ int cmd_export(const std::vector<std::string>& argv) {
     };
     for (const auto& s : d.samples) {
       const Reading& r = s.reading;
-      out << r.object << "," << csv_field(d.scene.objects[r.object].name) << "," << status_name(r.status) << "," << r.iterations;
+      out << r.object << "," << csv_field(d.scene.objects[r.object].name) << "," << to_string(r.status) << "," << r.iterations;
       for (const auto* v : {&r.position, &r.normal, &r.x_axis}) out << "," << num(v->x) << "," << num(v->y) << "," << num(v->z);
       for (int k = 0; k < elements; ++k) out << "," << num(r.pressure[static_cast<std::size_t>(k)]);
       out << "\n";
@@ -95,7 +61,7 @@ int cmd_export(const std::vector<std::string>& argv) {
 
   std::size_t points = 0;
   for (const auto& s : d.samples) points += s.reading.status != ControllerStatus::no_contact;
-  write_atomically(ply, [&](std::ofstream& out) {
+  io::write_file_atomically(ply, [&](std::ostream& out) {
     out << "ply\nformat ascii 1.0\ncomment sva dataset " << file.filename().string() << " (" << d.split << "), scene "
         << d.scene.name << "\ncomment contact points with outward normals, coloured by object\nelement vertex " << points
         << "\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\n"

@@ -14,15 +14,6 @@
 namespace sva::cli {
 
 namespace {
-const char* status_name(ControllerStatus s) {
-  switch (s) {
-    case ControllerStatus::converged: return "converged";
-    case ControllerStatus::not_converged: return "not converged";
-    case ControllerStatus::no_contact: return "no contact";
-  }
-  return "?";
-}
-
 void inspect_dataset(const std::string& file) {
   Dataset d = load_dataset(file);
   std::printf("%s: sva dataset (format 1)\n", file.c_str());
@@ -48,7 +39,6 @@ void inspect_dataset(const std::string& file) {
     std::printf("  %-16s %8zu %10zu %8zu %14.2f %12.1f\n", d.scene.objects[o].name.c_str(), total, conv, total - conv,
                 total ? mean_p[o] / static_cast<double>(total) : 0.0, total ? iters[o] / static_cast<double>(total) : 0.0);
   }
-  (void)status_name;
 }
 void inspect_map(const std::string& file) {
   const Map map = Map::load(file);

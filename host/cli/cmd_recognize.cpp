@@ -96,10 +96,13 @@ std::vector<SessionIn> read_sessions(const std::string& file, int elements) {
       if (jr.contains("status")) {
         if (!jr["status"].is_string()) throw Error(w + ".status: expected a string");
         const std::string st = jr["status"];
-        if (st == "converged") rd.status = ControllerStatus::converged;
-        else if (st == "not_converged") rd.status = ControllerStatus::not_converged;
-        else if (st == "no_contact") rd.status = ControllerStatus::no_contact;
-        else throw Error(w + ".status: expected converged, not_converged or no_contact");
+        bool known = false;
+        for (auto c : {ControllerStatus::converged, ControllerStatus::not_converged, ControllerStatus::no_contact})
+          if (st == to_string(c)) {
+            rd.status = c;
+            known = true;
+          }
+        if (!known) throw Error(w + ".status: expected converged, not_converged or no_contact");
       }
       s.readings.push_back(std::move(rd));
     }

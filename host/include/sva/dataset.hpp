@@ -1,6 +1,6 @@
 #pragma once
 // A dataset: readings of the objects of one scene, with ground truth.
-// Binary file format: docs/file-formats.md.
+// Binary file format: docs/dataset-format.md.
 #include <sva/pose.hpp>
 #include <sva/reading.hpp>
 #include <sva/scene.hpp>

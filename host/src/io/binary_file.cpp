@@ -1,7 +1,8 @@
 #include "io/binary_file.hpp"
 
+#include "io/text_file.hpp"
+
 #include <fstream>
-#include <unistd.h>
 
 namespace sva::io {
 
@@ -20,33 +21,17 @@ std::uint64_t fnv1a64(const std::uint8_t* data, std::size_t size) {
 
 void BinaryWriter::write_file(const std::filesystem::path& file, std::string_view magic8, std::uint32_t version) const {
   if (magic8.size() != 8) throw std::logic_error("magic must be 8 bytes");
-  std::error_code ec;
-  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
-  auto tmp = file;
-  tmp += ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error(file.string() + ": cannot open for writing");
-    std::uint32_t reserved = 0;
-    std::uint64_t size = bytes_.size();
-    std::uint64_t sum = fnv1a64(bytes_.data(), bytes_.size());
+  write_file_atomically(file, [&](std::ostream& out) {
+    const std::uint32_t reserved = 0;
+    const std::uint64_t size = bytes_.size();
+    const std::uint64_t sum = fnv1a64(bytes_.data(), bytes_.size());
     out.write(magic8.data(), 8);
     out.write(reinterpret_cast<const char*>(&version), 4);
     out.write(reinterpret_cast<const char*>(&reserved), 4);
     out.write(reinterpret_cast<const char*>(&size), 8);
     out.write(reinterpret_cast<const char*>(&sum), 8);
     out.write(reinterpret_cast<const char*>(bytes_.data()), static_cast<std::streamsize>(bytes_.size()));
-    out.flush();
-    if (!out) {
-      std::filesystem::remove(tmp, ec);
-      throw Error(file.string() + ": write failed (disk full?)");
-    }
-  }
-  std::filesystem::rename(tmp, file, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw Error(file.string() + ": cannot rename temporary file into place");
-  }
+  });
 }
 
 BinaryReader::BinaryReader(const std::filesystem::path& file, std::string_view magic8, std::uint32_t version,

@@ -7,25 +7,33 @@
 
 namespace sva::io {
 
-void write_text_file(const std::filesystem::path& file, std::string_view text) {
+void write_file_atomically(const std::filesystem::path& file, const std::function<void(std::ostream&)>& body) {
+  std::error_code ec;
+  if (file.has_parent_path()) std::filesystem::create_directories(file.parent_path(), ec);
   auto tmp = file;
   tmp += ".tmp." + std::to_string(::getpid());
-  std::error_code ec;
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out) throw Error(file.string() + ": cannot open for writing");
-    out.write(text.data(), static_cast<std::streamsize>(text.size()));
-    out.flush();
-    if (!out) {
+    try {
+      body(out);
+      out.flush();
+      if (!out) throw Error(file.string() + ": write failed (disk full?)");
+    } catch (...) {
+      out.close();
       std::filesystem::remove(tmp, ec);
-      throw Error(file.string() + ": write failed (disk full?)");
+      throw;
     }
   }
   std::filesystem::rename(tmp, file, ec);
   if (ec) {
     std::filesystem::remove(tmp, ec);
-    throw Error(file.string() + ": cannot rename the temporary file into place");
+    throw Error(file.string() + ": cannot rename the temporary file into place (" + ec.message() + ")");
   }
+}
+
+void write_text_file(const std::filesystem::path& file, std::string_view text) {
+  write_file_atomically(file, [&](std::ostream& out) { out.write(text.data(), static_cast<std::streamsize>(text.size())); });
 }
 
 }  // namespace sva::io

@@ -1,12 +1,18 @@
 #pragma once
-// Text outputs (JSON, JSON Lines, CSV) written atomically: to a temporary name
-// first, renamed into place only when complete, so an error or Ctrl-C never
-// leaves a partial file that looks complete.
+// Every output file is written atomically: to a temporary name first, renamed
+// into place only when complete, so an error or Ctrl-C never leaves a partial
+// file that looks complete.
 #include <filesystem>
+#include <functional>
+#include <iosfwd>
 #include <string_view>
 
 namespace sva::io {
 
+// Runs `body` on a stream to a temporary file beside `file`, then renames it
+// into place; on any exception the temporary file is removed and the
+// exception propagates.
+void write_file_atomically(const std::filesystem::path& file, const std::function<void(std::ostream&)>& body);
 void write_text_file(const std::filesystem::path& file, std::string_view text);
 
 }  // namespace sva::io

@@ -55,7 +55,10 @@ void write_figure(const std::vector<Curve>& curves, const std::filesystem::path&
         s.x.push_back(static_cast<double>(p.readings));
         s.y.push_back(panels[k].get(p));
       }
-      series.push_back(std::move(s));
+      // A curve without pose errors (the appearance-only baseline) stays out
+      // of the error panels rather than cluttering their legends.
+      const bool any = std::any_of(s.y.begin(), s.y.end(), [](double v) { return std::isfinite(v); });
+      if (any || panels[k].percent) series.push_back(std::move(s));
     }
     plot::ChartOptions o;
     o.title = panels[k].title;

@@ -5,6 +5,8 @@
 #include <cmath>
 #include <sstream>
 
+#include <sva/batch_recognizer.hpp>
+
 #include "eval/trial_runner.hpp"
 #include "map/pair_map.hpp"
 
@@ -21,6 +23,23 @@ class RecognizerSession final : public Session {
 
  private:
   Recognizer recognizer_;
+};
+
+class RecognizerBatch final : public SessionBatch {
+ public:
+  RecognizerBatch(const Map& map, std::size_t sessions, const RecognizerOptions& options)
+      : batch_(map, map.pose_space(), sessions, options) {}
+  std::size_t size() const override { return batch_.sessions(); }
+  void add_readings(std::span<const std::size_t> sessions, std::span<const Reading> readings) override {
+    batch_.add_readings(sessions, readings);
+  }
+  Estimate estimate(std::size_t session) const override { return batch_.estimate(session, 1); }
+  void reset() override {
+    for (std::size_t s = 0; s < batch_.sessions(); ++s) batch_.reset(s);
+  }
+
+ private:
+  BatchRecognizer batch_;
 };
 
 std::string join(const std::vector<std::string>& v) {
@@ -76,6 +95,12 @@ EvalResult run_evaluation(const Map& map, const Dataset& test, const EvalOptions
   setup.backend = backend_name(options.recognizer.backend);
   setup.method = method_name(options.recognizer.method);
   RecognizerOptions ro = options.recognizer;
+  // The Vulkan backend runs the trials in lock step, a batch per submission
+  // (one device, one upload of the map), as batch recognition does.
+  if (ro.backend == BackendKind::vulkan && ro.method == Method::sva) {
+    RecognizerBatch batch(map, std::min<std::size_t>(options.trials, options.vulkan_batch), ro);
+    return run_trials_batched(test, setup, batch);
+  }
   // Trials already occupy the cores; a recognizer on one thread each avoids
   // oversubscription (its results do not depend on its thread count).
   if (options.trials > 1) ro.threads = 1;

@@ -23,6 +23,7 @@ struct EvalOptions {
   std::uint64_t seed = 1;
   RecognizerOptions recognizer;     // backend, method, eps, speed knobs
   unsigned threads = 0;             // trials in parallel; 0 = util::default_threads()
+  std::size_t vulkan_batch = 64;    // Vulkan backend: trials stepped together per submission
   bool progress = true;
   std::string map_name = "map";     // names the files in errors
   std::string data_name = "test set";

@@ -48,13 +48,28 @@ class SessionPool {
   std::vector<std::unique_ptr<Session>> free_;
 };
 
-}  // namespace
+// What one step of a trial shows: the estimate against the truth.
+void record_step(StepResult& s, const Estimate& est, const Trial& trial, const SceneObject& object, double update_ms) {
+  s.update_ms = update_ms;
+  s.estimated_object = est.object;
+  s.correct = est.object == trial.object;
+  s.true_object_probability = trial.object < est.object_probability.size() ? est.object_probability[trial.object] : 0.0;
+  s.pose_valid = est.pose_valid;
+  if (s.pose_valid && !(std::isfinite(est.pose.T.x) && std::isfinite(est.pose.T.y) && std::isfinite(est.pose.T.z) &&
+                        std::isfinite(est.pose.R[0][0] + est.pose.R[1][1] + est.pose.R[2][2])))
+    throw std::logic_error("eval: the recognizer returned a non-finite pose in trial " + std::to_string(trial.index));
+  if (s.pose_valid) s.estimate = est.pose;
+  if (s.has_pose_error()) {
+    const PoseError e = pose_error(trial.pose, est.pose, object.symmetry, object.inertial_radius_mm);
+    s.translation_error_mm = e.translation_mm;
+    s.angular_error_rad = e.angular_rad;
+    s.inertial_error_mm = e.inertial_mm;
+  }
+}
 
-EvalResult run_trials(const Dataset& test, const TrialSetup& setup, const SessionFactory& make_session) {
+EvalResult empty_result(const Dataset& test, const TrialSetup& setup) {
   if (setup.trials == 0) throw Error("the number of trials must be at least 1, got 0");
   if (setup.max_readings == 0) throw Error("the number of readings per trial must be at least 1, got 0");
-  const TrialGenerator generator(test, setup.pose_space, setup.seed, setup.max_readings, setup.source);
-
   EvalResult result;
   result.scene = setup.scene.empty() ? test.scene.name : setup.scene;
   result.backend = setup.backend;
@@ -63,6 +78,22 @@ EvalResult run_trials(const Dataset& test, const TrialSetup& setup, const Sessio
   result.max_readings = setup.max_readings;
   for (const auto& o : test.scene.objects) result.objects.push_back(o.name);
   result.trials.resize(setup.trials);
+  return result;
+}
+
+void start_trial(TrialResult& out, const Trial& trial) {
+  out.index = trial.index;
+  out.object = trial.object;
+  out.pose = trial.pose;
+  out.samples = trial.samples;
+  out.steps.resize(trial.readings.size());
+}
+
+}  // namespace
+
+EvalResult run_trials(const Dataset& test, const TrialSetup& setup, const SessionFactory& make_session) {
+  EvalResult result = empty_result(test, setup);
+  const TrialGenerator generator(test, setup.pose_space, setup.seed, setup.max_readings, setup.source);
 
   SessionPool pool(make_session);
   std::optional<util::Progress> progress;
@@ -74,11 +105,7 @@ EvalResult run_trials(const Dataset& test, const TrialSetup& setup, const Sessio
         const Trial trial = generator.make(t);
         const SceneObject& object = test.scene.objects[trial.object];
         TrialResult& out = result.trials[t];
-        out.index = t;
-        out.object = trial.object;
-        out.pose = trial.pose;
-        out.samples = trial.samples;
-        out.steps.resize(trial.readings.size());
+        start_trial(out, trial);
 
         auto session = pool.take();
         session->reset();
@@ -96,28 +123,53 @@ EvalResult run_trials(const Dataset& test, const TrialSetup& setup, const Sessio
                         " (sample " + std::to_string(trial.samples[k]) + "): " + e.what());
           }
           const auto stop = std::chrono::steady_clock::now();
-          StepResult& s = out.steps[k];
-          s.update_ms = std::chrono::duration<double, std::milli>(stop - start).count();
-          s.estimated_object = est.object;
-          s.correct = est.object == trial.object;
-          s.true_object_probability =
-              trial.object < est.object_probability.size() ? est.object_probability[trial.object] : 0.0;
-          s.pose_valid = est.pose_valid;
-          if (s.pose_valid && !(std::isfinite(est.pose.T.x) && std::isfinite(est.pose.T.y) && std::isfinite(est.pose.T.z) &&
-                                std::isfinite(est.pose.R[0][0] + est.pose.R[1][1] + est.pose.R[2][2])))
-            throw std::logic_error("eval: the recognizer returned a non-finite pose in trial " + std::to_string(t));
-          if (s.pose_valid) s.estimate = est.pose;
-          if (s.has_pose_error()) {
-            const PoseError e = pose_error(trial.pose, est.pose, object.symmetry, object.inertial_radius_mm);
-            s.translation_error_mm = e.translation_mm;
-            s.angular_error_rad = e.angular_rad;
-            s.inertial_error_mm = e.inertial_mm;
-          }
+          record_step(out.steps[k], est, trial, object, std::chrono::duration<double, std::milli>(stop - start).count());
         }
         pool.give_back(std::move(session));
         if (progress) progress->advance();
       },
       setup.threads);
+  if (progress) progress->finish();
+  return result;
+}
+
+EvalResult run_trials_batched(const Dataset& test, const TrialSetup& setup, SessionBatch& batch) {
+  EvalResult result = empty_result(test, setup);
+  const TrialGenerator generator(test, setup.pose_space, setup.seed, setup.max_readings, setup.source);
+  std::optional<util::Progress> progress;
+  if (setup.progress) progress.emplace("eval " + setup.method + " (batches of " + std::to_string(batch.size()) + ")", setup.trials);
+  for (std::size_t first = 0; first < setup.trials; first += batch.size()) {
+    const std::size_t n = std::min(batch.size(), setup.trials - first);
+    std::vector<Trial> trials;
+    for (std::size_t i = 0; i < n; ++i) {
+      trials.push_back(generator.make(first + i));
+      start_trial(result.trials[first + i], trials.back());
+    }
+    batch.reset();
+    std::vector<std::size_t> ids(n);
+    for (std::size_t i = 0; i < n; ++i) ids[i] = i;
+    for (std::size_t k = 0; k < setup.max_readings; ++k) {
+      util::throw_if_interrupted();
+      std::vector<Reading> readings;
+      for (const Trial& t : trials) readings.push_back(t.readings[k]);
+      const auto start = std::chrono::steady_clock::now();
+      try {
+        batch.add_readings(ids, readings);
+      } catch (const Interrupted&) {
+        throw;
+      } catch (const Error& e) {
+        throw Error(setup.source + ": trials " + std::to_string(first) + "-" + std::to_string(first + n - 1) + ", reading " +
+                    std::to_string(k + 1) + ": " + e.what());
+      }
+      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      for (std::size_t i = 0; i < n; ++i) {
+        const Trial& trial = trials[i];
+        record_step(result.trials[first + i].steps[k], batch.estimate(i), trial, test.scene.objects[trial.object],
+                    ms / static_cast<double>(n));
+      }
+    }
+    if (progress) progress->advance(n);
+  }
   if (progress) progress->finish();
   return result;
 }

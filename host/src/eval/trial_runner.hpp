@@ -9,6 +9,7 @@
 
 #include <functional>
 #include <memory>
+#include <span>
 #include <string>
 
 #include "eval/results.hpp"
@@ -26,6 +27,18 @@ class Session {
 };
 using SessionFactory = std::function<std::unique_ptr<Session>()>;
 
+// Many sessions stepped together: one call adds the next reading of each
+// listed session (one backend update, one GPU submission). reset() makes every
+// session fresh.
+class SessionBatch {
+ public:
+  virtual ~SessionBatch() = default;
+  virtual std::size_t size() const = 0;
+  virtual void add_readings(std::span<const std::size_t> sessions, std::span<const Reading> readings) = 0;
+  virtual Estimate estimate(std::size_t session) const = 0;
+  virtual void reset() = 0;
+};
+
 struct TrialSetup {
   std::size_t trials = 0;          // >= 1; trial t uses object t mod objects
   std::size_t max_readings = 0;    // >= 1
@@ -41,5 +54,11 @@ struct TrialSetup {
 // util::Rng(seed, trial) and each trial writes only its own result, so
 // everything but the timings is independent of the thread count.
 EvalResult run_trials(const Dataset& test, const TrialSetup& setup, const SessionFactory& make_session);
+
+// The same trials run in lock step, batch.size() at a time: step k adds the
+// k-th reading of every trial of the group in one call. Results equal
+// run_trials' (but for timings: a step's time is the batch update's time
+// divided by the number of trials in it).
+EvalResult run_trials_batched(const Dataset& test, const TrialSetup& setup, SessionBatch& batch);
 
 }  // namespace sva::eval

@@ -1,8 +1,9 @@
-// sva demo: the main job, as separate stages. At this stage: simulate the
-// default scene into a cache (reused when the scene and seed match), draw
-// previews and print a summary. Later stages (train, eval) slot in after
-// stage_simulate and read its datasets.
+// sva demo: the main job, as separate stages: simulate the default scene into
+// a cache (reused when the scene and seed match), draw previews, train the map
+// (cached with the data), evaluate SVA and the appearance-only baseline, print
+// the table and write the figure.
 #include <sva/dataset.hpp>
+#include <sva/map.hpp>
 #include <sva/scene.hpp>
 
 #include <array>
@@ -11,6 +12,11 @@
 #include <map>
 
 #include "args.hpp"
+#include "eval/evaluation.hpp"
+#include "eval/figure.hpp"
+#include "eval/report.hpp"
+#include "io/binary_file.hpp"
+#include "io/text_file.hpp"
 
 #if __has_include(<sva/sim/simulate.hpp>)
 #include <sva/sim/simulate.hpp>
@@ -27,6 +33,9 @@ struct DemoConfig {
   std::uint64_t seed = 1;
   int train = -1, test = -1;
   unsigned threads = 0;
+  std::size_t trials = 0;        // 0: two repetitions over the objects
+  std::size_t max_readings = 20;
+  BackendKind backend = BackendKind::cpu;
 };
 
 struct DemoData {
@@ -101,6 +110,66 @@ void stage_preview(const DemoConfig& cfg, const DemoData& data) {
 #endif
 }
 
+// The map is cached beside the data it was trained on: reused only when the
+// datasets were reused and the map was trained from this scene.
+Map stage_train(const DemoConfig& cfg, const DemoData& data) {
+  const auto file = cfg.work / "data" / data.train.scene.name / "map.svam";
+  const std::string scene_json = scene_to_json(data.train.scene);
+  const std::uint64_t hash = io::fnv1a64(reinterpret_cast<const std::uint8_t*>(scene_json.data()), scene_json.size());
+  std::error_code ec;
+  if (data.reused && std::filesystem::exists(file, ec)) {
+    try {
+      Map m = Map::load(file);
+      if (m.scene_hash() == hash) {
+        std::printf("[train]    reusing cached map %s (%zu entries)\n", file.c_str(), m.entries());
+        return m;
+      }
+    } catch (const Error& e) {
+      std::printf("[train]    cached map is unusable (%s): training again\n", e.what());
+    }
+  }
+  TrainOptions o;
+  o.threads = cfg.threads;
+  o.progress = true;
+  TrainReport rep;
+  const auto t0 = std::chrono::steady_clock::now();
+  Map m = Map::train(data.train, o, &rep);
+  const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  m.save(file);
+  std::printf("[train]    %zu readings, %u classes, %zu map entries (%.1f MB) in %.1f s -> %s\n", rep.readings_used,
+              m.classes(), m.entries(), static_cast<double>(m.bytes()) / 1e6, secs, file.c_str());
+  return m;
+}
+
+// SVA and the appearance-only baseline on the same trials, like the paper's figures.
+void stage_evaluate(const DemoConfig& cfg, const Map& map, const DemoData& data) {
+  std::vector<eval::Curve> curves;
+  for (Method method : {Method::appearance, Method::sva}) {
+    eval::EvalOptions o;
+    o.trials = cfg.trials ? cfg.trials : 2 * data.test.scene.objects.size();
+    o.max_readings = cfg.max_readings;
+    o.seed = cfg.seed;
+    o.threads = cfg.threads;
+    o.recognizer.method = method;
+    o.recognizer.backend = cfg.backend;
+    o.map_name = "the demo map";
+    o.data_name = data.test_file.string();
+    const auto t0 = std::chrono::steady_clock::now();
+    const eval::EvalResult r = eval::run_evaluation(map, data.test, o);
+    const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    const eval::Curve c = eval::summarize(r);
+    const auto json = cfg.work / ("eval_" + std::string(eval::method_name(method)) + ".json");
+    io::write_text_file(json, eval::to_json(r, c));
+    std::printf("[evaluate] %s: %zu trials x %zu readings in %.1f s (%s backend) -> %s\n", eval::method_name(method), o.trials,
+                o.max_readings, secs, eval::backend_name(cfg.backend), json.c_str());
+    std::fputs(eval::format_table(c).c_str(), stdout);
+    curves.push_back(c);
+  }
+  const auto png = cfg.work / "eval.png";
+  eval::write_figure(curves, png);
+  std::printf("[evaluate] figure (accuracy and pose errors against readings): %s\n", png.c_str());
+}
+
 void stage_summary(const DemoData& data) {
   std::printf("[summary]  scene %s, %zu objects, seed %llu\n", data.train.scene.name.c_str(), data.train.scene.objects.size(),
               static_cast<unsigned long long>(data.train.seed));
@@ -129,13 +198,20 @@ void stage_summary(const DemoData& data) {
 }  // namespace
 
 int cmd_demo(const std::vector<std::string>& argv) {
-  Args a("sva demo", "Simulate the default scene (cached), draw previews and summarise what sva sees.", argv);
+  Args a("sva demo",
+         "The main job: simulate the default scene (cached in --work), draw previews, train the SVA map, evaluate\n"
+         "SVA and the appearance-only baseline on random poses of the test readings, print accuracy, pose errors and\n"
+         "time per update against readings, and write the figure (DIR/eval.png).",
+         argv);
   a.option("--work", "DIR", "work and cache directory (default ./sva-demo)")
       .option("--scene", "NAME|FILE", "scene (default paper3d)")
       .option("--seed", "S", "random seed (default 1)")
       .option("--train", "N", "training readings per object (default: the scene's)")
       .option("--test", "N", "test readings per object (default: the scene's)")
-      .option("--threads", "N", "worker threads (default: SVA_THREADS or all cores)");
+      .option("--threads", "N", "worker threads (default: SVA_THREADS or all cores)")
+      .option("--trials", "N", "evaluation trials (default: 2 repetitions over the objects)")
+      .option("--max-readings", "M", "readings per trial (default 20)")
+      .option("--backend", "cpu|vulkan", "vote backend for the evaluation (default cpu)");
   if (!a.parse()) return 0;
   DemoConfig cfg;
   cfg.work = a.get_or("--work", "sva-demo");
@@ -144,13 +220,23 @@ int cmd_demo(const std::vector<std::string>& argv) {
   cfg.train = static_cast<int>(a.integer("--train", -1, 0, 10000000));
   cfg.test = static_cast<int>(a.integer("--test", -1, 0, 10000000));
   cfg.threads = static_cast<unsigned>(a.integer("--threads", 0, 1, 1024));
+  cfg.trials = static_cast<std::size_t>(a.integer("--trials", 0, 1, 1000000));
+  cfg.max_readings = static_cast<std::size_t>(a.integer("--max-readings", 20, 1, 100000));
+  const std::string backend = a.get_or("--backend", "cpu");
+  if (backend == "vulkan") cfg.backend = BackendKind::vulkan;
+  else if (backend != "cpu") throw Error("sva demo: --backend expects cpu or vulkan, got \"" + backend + "\"");
   Scene scene = load_scene(cfg.scene_name);
   std::error_code ec;
   std::filesystem::create_directories(cfg.work, ec);
   if (ec) throw Error(cfg.work.string() + ": cannot create work directory: " + ec.message());
+  const auto t0 = std::chrono::steady_clock::now();
   DemoData data = stage_simulate(cfg, scene);
   stage_preview(cfg, data);
   stage_summary(data);
+  const Map map = stage_train(cfg, data);
+  stage_evaluate(cfg, map, data);
+  std::printf("[done]     %.0f s in all; outputs in %s\n",
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), cfg.work.c_str());
   return 0;
 }
 

@@ -253,10 +253,13 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
 Scene load_scene(const std::string& name_or_file) {
   std::filesystem::path file = name_or_file;
   std::error_code ec;
-  if (!std::filesystem::exists(file, ec) && file.extension() != ".json") {
+  // A bare name (no directory, no .json) is a built-in scene, whatever files
+  // the current directory holds.
+  const bool bare = file.extension() != ".json" && !file.has_parent_path();
+  if (bare) {
     auto builtin = assets_dir() / "scenes" / (name_or_file + ".json");
     if (!std::filesystem::exists(builtin, ec))
-      throw Error("scene \"" + name_or_file + "\": no such file and no built-in scene of that name (built-ins: paper3d, letters2d)");
+      throw Error("scene \"" + name_or_file + "\": no built-in scene of that name (built-ins: paper3d, letters2d, tiny; or give a .json file)");
     file = builtin;
   }
   std::ifstream in(file);

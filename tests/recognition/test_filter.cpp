@@ -169,6 +169,9 @@ TEST_CASE("bad input is refused with sva::Error") {
   bad.position.x = std::nan("");
   CHECK_THROWS_WITH(s.add(bad), Catch::Contains("position"));
   bad = r;
+  bad.position.z = 1e12;  // finite in double, infinite in the float vote math
+  CHECK_THROWS_WITH(s.add(bad), Catch::Contains("10 km"));
+  bad = r;
   bad.normal = glm::dvec3(0.0);
   CHECK_THROWS_WITH(s.add(bad), Catch::Contains("normal"));
   bad = r;

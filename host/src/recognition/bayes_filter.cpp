@@ -103,6 +103,7 @@ UpdateStats BayesFilter::add(const ObservedReading& reading, VoteBackend& backen
 std::vector<UpdateStats> update_sessions(const std::vector<BayesFilter*>& sessions,
                                          const std::vector<ObservedReading>& readings, VoteBackend& backend) {
   if (sessions.size() != readings.size()) throw Error("update_sessions: one reading per session is required");
+  if (sessions.empty()) return {};
   for (const BayesFilter* f : sessions)
     if (&f->map() != &sessions.front()->map() || f->space().objects() != sessions.front()->space().objects())
       throw Error("update_sessions: all sessions of a batch must use the same map and pose space");

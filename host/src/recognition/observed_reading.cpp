@@ -14,6 +14,9 @@ bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.
 ObservedReading validated(const ObservedReading& r, const PairMap& map, const char* what) {
   const std::string w = what;
   if (!finite(r.position)) throw Error(w + ": the sensor position is not finite");
+  // The vote math runs in float (24-bit mantissa): beyond 1e7 mm its steps exceed a millimetre.
+  if (std::fabs(r.position.x) > 1e7 || std::fabs(r.position.y) > 1e7 || std::fabs(r.position.z) > 1e7)
+    throw Error(w + ": the sensor position is more than 10 km from the origin (units are mm)");
   if (!finite(r.normal)) throw Error(w + ": the sensor normal is not finite");
   const double len = glm::length(r.normal);
   if (!(len > 1e-9)) throw Error(w + ": the sensor normal has zero length");

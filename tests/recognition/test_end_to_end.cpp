@@ -78,3 +78,26 @@ TEST_CASE("synthetic planar letters are recognised and localised") {
     CHECK(std::fabs(r.estimate.pose.T.z) < 1e-9);
   }
 }
+
+TEST_CASE("the refined pose beats the centre of the best bin") {
+  WorldSpec ws;
+  ws.planar = true;
+  ws.objects = 2;
+  ws.points = 60;
+  ws.dist_min = 3.0;
+  ws.dist_max = 20.0;
+  ws.dist_bins = 17;
+  const World w = make_world(ws);
+  const PoseSpaceSpec spec = letters_space();
+  double refined = 0.0, centre = 0.0;
+  for (std::uint32_t trial = 0; trial < 8; ++trial) {
+    const std::uint32_t object = trial % 2;
+    const RigidPose truth = random_pose(700 + trial, 8.0, true);
+    const RunResult r = run(w, spec, object, truth, 15, 40 + trial);
+    REQUIRE(r.estimate.pose_valid);
+    refined += glm::length(r.estimate.pose.T - truth.T);
+    centre += glm::length(r.estimate.bin_pose.T - truth.T);
+  }
+  std::printf("mean translation error: refined %.3f mm, bin centre %.3f mm\n", refined / 8, centre / 8);
+  CHECK(refined < 0.95 * centre);
+}

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <numbers>
 #include <numeric>
 #include <string>
 
@@ -80,6 +81,53 @@ std::vector<double> Belief::object_probability() const {
   return p;
 }
 
+double Belief::offset_in(const Sorted& s, const BinIndex& b) const {
+  const std::uint64_t key = space_->pack(b);
+  auto it = std::lower_bound(s.keys.begin(), s.keys.end(), key);
+  return (it != s.keys.end() && *it == key) ? s.offsets[static_cast<std::size_t>(it - s.keys.begin())] : 0.0;
+}
+
+// Sub-bin refinement: along each axis of the pose grid, a parabola through the
+// log-belief of the best bin and its two neighbours (untouched bins at the
+// baseline, offset 0) puts the peak between bin centres, as peak interpolation
+// does for histograms: near its maximum, the log-belief that many pairs
+// concentrate is close to quadratic. An axis whose neighbour lies outside the
+// grid keeps the centre; the planar angle wraps around.
+double Belief::axis_shift(const Sorted& s, const BinIndex& c, bool rotation, int k) const {
+  const int bins = rotation ? space_->spec().rotation_bins : space_->spec().translation_bins;
+  const bool wraps = rotation && space_->planar();
+  const int i = rotation ? c.r[k] : c.t[k];
+  int lo = i - 1, hi = i + 1;
+  if (wraps) {
+    lo = (lo + bins) % bins;
+    hi %= bins;
+  } else if (lo < 0 || hi >= bins) {
+    return 0.0;
+  }
+  BinIndex m = c, p = c;
+  (rotation ? m.r[k] : m.t[k]) = lo;
+  (rotation ? p.r[k] : p.t[k]) = hi;
+  const double om = offset_in(s, m), oc = offset_in(s, c), op = offset_in(s, p);
+  const double curvature = om - 2.0 * oc + op;
+  if (!(curvature < 0.0)) return 0.0;  // flat: no better guess than the centre
+  return std::clamp(0.5 * (om - op) / curvature, -0.5, 0.5);
+}
+
+RigidPose Belief::refine(const Sorted& s, std::uint64_t best) const {
+  const BinIndex c = space_->unpack(best);
+  const PoseSpaceSpec& spec = space_->spec();
+  const bool planar = space_->planar();
+  glm::dvec3 t = space_->translation_centre(c), r = space_->rotation_centre(c);
+  const double tw = (spec.translation_max_mm - spec.translation_min_mm) / spec.translation_bins;
+  const double rw = 2.0 * std::numbers::pi / spec.rotation_bins;
+  for (int k = 0; k < (planar ? 2 : 3); ++k) t[k] += tw * axis_shift(s, c, false, k);
+  for (int k = planar ? 2 : 0; k < 3; ++k) r[k] += rw * axis_shift(s, c, true, k);
+  RigidPose pose;
+  pose.T = t;
+  pose.R = rotation::exp(r);
+  return pose;
+}
+
 BeliefEstimate Belief::estimate(std::size_t top_k) const {
   BeliefEstimate e;
   const Sorted s = sorted();
@@ -105,25 +153,7 @@ BeliefEstimate Belief::estimate(std::size_t top_k) const {
     e.pose_valid = true;
     e.best_key = s.keys[best];
     e.bin_pose = space_->centre(e.best_key);
-    // Refinement: weights exp(offset - M) over the neighbourhood (untouched
-    // neighbours at the baseline). Rotations are averaged as small offsets
-    // from the best bin's rotation, so the mean never straddles |r| = pi.
-    const BinIndex centre = space_->unpack(e.best_key);
-    const glm::dmat3 Rc = rotation::exp(space_->rotation_centre(centre));
-    const glm::dmat3 RcT = glm::transpose(Rc);
-    double wsum = 0.0;
-    glm::dvec3 tsum(0.0), rsum(0.0);
-    space_->for_each_neighbour(e.best_key, [&](std::uint64_t key) {
-      auto it = std::lower_bound(s.keys.begin(), s.keys.end(), key);
-      const double off = (it != s.keys.end() && *it == key) ? s.offsets[static_cast<std::size_t>(it - s.keys.begin())] : 0.0;
-      const double w = std::exp(off - s.max_offset);
-      const BinIndex b = space_->unpack(key);
-      wsum += w;
-      tsum += w * space_->translation_centre(b);
-      rsum += w * rotation::log(RcT * rotation::exp(space_->rotation_centre(b)));
-    });
-    e.pose.T = tsum / wsum;
-    e.pose.R = Rc * rotation::exp(rsum / wsum);
+    e.pose = refine(s, e.best_key);
   }
 
   // Top-k bins over all objects: largest offset first, ties to the smaller key.

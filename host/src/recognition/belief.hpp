@@ -27,7 +27,7 @@ struct BeliefEstimate {
   std::vector<double> object_probability;  // sums to 1
   bool pose_valid = false;                 // the best object has a touched bin
   std::uint64_t best_key = 0;
-  RigidPose pose;       // refined: mass-weighted mean over the 3^d neighbourhood of the best bin
+  RigidPose pose;       // refined below the bin size: per-axis parabolic peak of the log-belief around the best bin
   RigidPose bin_pose;   // centre of the best bin
   std::vector<BinHypothesis> top;
 };
@@ -58,6 +58,9 @@ class Belief {
   };
   Sorted sorted() const;
   std::vector<double> object_log_mass(const Sorted& s) const;  // log of mass relative to exp(max_offset)
+  double offset_in(const Sorted& s, const BinIndex& b) const;
+  double axis_shift(const Sorted& s, const BinIndex& c, bool rotation, int k) const;
+  RigidPose refine(const Sorted& s, std::uint64_t best) const;
 
   const PoseSpace* space_;
   double eps_;

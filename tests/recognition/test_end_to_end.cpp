@@ -29,6 +29,18 @@ RunResult run(const World& w, const PoseSpaceSpec& spec, std::uint32_t object, c
   return {filter.estimate(5), truth};
 }
 
+// A planar world like the raised letters: points on z = 0, normals +z.
+World letters_world(int objects) {
+  WorldSpec ws;
+  ws.planar = true;
+  ws.objects = objects;
+  ws.points = 60;
+  ws.dist_min = 3.0;
+  ws.dist_max = 20.0;
+  ws.dist_bins = 17;
+  return make_world(ws);
+}
+
 }  // namespace
 
 TEST_CASE("synthetic 3-D objects are recognised and localised") {
@@ -55,14 +67,7 @@ TEST_CASE("synthetic 3-D objects are recognised and localised") {
 }
 
 TEST_CASE("synthetic planar letters are recognised and localised") {
-  WorldSpec ws;
-  ws.planar = true;
-  ws.objects = 3;
-  ws.points = 60;
-  ws.dist_min = 3.0;
-  ws.dist_max = 20.0;
-  ws.dist_bins = 17;
-  const World w = make_world(ws);
+  const World w = letters_world(3);
   const PoseSpaceSpec spec = letters_space();
   for (std::uint32_t object = 0; object < 3; ++object) {
     const RigidPose truth = random_pose(300 + object, 8.0, true);
@@ -80,14 +85,7 @@ TEST_CASE("synthetic planar letters are recognised and localised") {
 }
 
 TEST_CASE("the refined pose beats the centre of the best bin") {
-  WorldSpec ws;
-  ws.planar = true;
-  ws.objects = 2;
-  ws.points = 60;
-  ws.dist_min = 3.0;
-  ws.dist_max = 20.0;
-  ws.dist_bins = 17;
-  const World w = make_world(ws);
+  const World w = letters_world(2);
   const PoseSpaceSpec spec = letters_space();
   double refined = 0.0, centre = 0.0;
   for (std::uint32_t trial = 0; trial < 8; ++trial) {

@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/hash.hpp"
+
 namespace sva {
 
 template <class Value>
@@ -40,15 +42,9 @@ class BinTable {
   }
 
  private:
-  static constexpr std::uint64_t kEmpty = ~std::uint64_t{0};
-  static std::uint64_t mix(std::uint64_t x) {
-    x ^= x >> 31;
-    x *= 0x7fb5d329728ea185ull;
-    x ^= x >> 27;
-    x *= 0x81dadef4bc2dd44dull;
-    x ^= x >> 33;
-    return x;
-  }
+  static constexpr std::uint64_t kEmpty = hash::kEmptyKey;
+  // The GPU tables' hash: one mixing function for every pose-bin table.
+  static std::uint64_t mix(std::uint64_t x) { return hash::sva_hash64(x); }
   void init(std::size_t expected) {
     std::size_t cap = 16;
     while (cap < 2 * expected) cap *= 2;

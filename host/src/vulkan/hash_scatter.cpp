@@ -9,13 +9,12 @@
 #include <sva/error.hpp>
 
 #include "core/fixed_point.hpp"
+#include "core/hash.hpp"
 #include "spv/hash_scatter.h"
 
 namespace sva::vk {
 
 namespace {
-using std::uint64_t;
-#include "sva_hash.h"
 
 struct Push {
   std::uint32_t count, capacity;
@@ -35,6 +34,7 @@ HashScatter::HashScatter(Context& context, std::size_t initial_capacity)
 std::vector<std::pair<std::uint64_t, std::int64_t>> HashScatter::run(std::span<const std::uint64_t> keys,
                                                                      std::span<const float> weights) {
   assert(keys.size() == weights.size());
+  assert(std::none_of(keys.begin(), keys.end(), [](std::uint64_t k) { return k == hash::kEmptyKey; }));
   const std::size_t chunk = std::max<std::size_t>(1, std::min(max_chunk_, keys.size()));
   Buffer key_buf = ctx_.create_buffer(chunk * sizeof(std::uint64_t));
   Buffer weight_buf = ctx_.create_buffer(chunk * sizeof(float));
@@ -67,7 +67,7 @@ std::vector<std::pair<std::uint64_t, std::int64_t>> HashScatter::run(std::span<c
     const auto* tk = table_keys.as<std::uint64_t>();
     const auto* ts = table_sums.as<std::int64_t>();
     for (std::size_t s = 0; s < capacity_; ++s)
-      if (tk[s] != SVA_HASH_EMPTY_KEY) out.emplace_back(tk[s], ts[s]);
+      if (tk[s] != hash::kEmptyKey) out.emplace_back(tk[s], ts[s]);
     std::sort(out.begin(), out.end());
     return out;
   }

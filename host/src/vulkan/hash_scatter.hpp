@@ -16,7 +16,7 @@ namespace sva::vk {
 class HashScatter {
  public:
   explicit HashScatter(Context& context, std::size_t initial_capacity = 1 << 12);
-  // Votes with key == SVA_HASH_EMPTY_KEY are a caller bug (asserted).
+  // Votes with key == hash::kEmptyKey (all ones) are a caller bug (asserted).
   std::vector<std::pair<std::uint64_t, std::int64_t>> run(std::span<const std::uint64_t> keys, std::span<const float> weights);
   // Largest number of votes per dispatch chunk (tests force tiny chunks).
   void set_max_chunk(std::size_t votes) { max_chunk_ = votes; }

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cstring>
 
+#include "core/hash.hpp"
 #include "spv/expand_pair_keys.h"
 #include "spv/match_votes.h"
 #include "spv/scan_matches.h"
@@ -19,8 +20,6 @@ namespace gpu {
 using uint = std::uint32_t;
 using std::uint64_t;
 #include "sva_gpu_layout.h"
-#include "sva_hash.h"
-constexpr std::uint64_t SVA_HASH_EMPTY_KEY_VALUE = SVA_HASH_EMPTY_KEY;
 }  // namespace gpu
 
 namespace {
@@ -228,7 +227,7 @@ class VulkanVoteBackend final : public VoteBackend {
     const auto* ts = table_sums_.as<std::int64_t>();
     std::vector<std::pair<std::uint64_t, std::int64_t>> all;
     for (std::size_t s = 0; s < slots_; ++s)
-      if (tk[s] != gpu::SVA_HASH_EMPTY_KEY_VALUE) all.emplace_back(tk[s], ts[s]);
+      if (tk[s] != hash::kEmptyKey) all.emplace_back(tk[s], ts[s]);
     std::sort(all.begin(), all.end());
     const auto* cnt = counters_.as<std::uint64_t>();
     for (std::size_t q = 0; q < P; ++q) {

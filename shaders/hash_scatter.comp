@@ -1,9 +1,6 @@
 #version 460
-// Fixed-point scatter of (key, weight) votes into an open-addressing hash table
-// with 64-bit keys: claim a slot with atomicCompSwap on the key, add the
-// quantised weight with a 64-bit integer atomicAdd. Linear probing is bounded
-// by SVA_HASH_MAX_PROBE; a vote that finds no slot raises the overflow flag and
-// the host grows the table and runs again, so no vote is ever dropped.
+// Bare hash scatter of (key, weight) votes, the vote kernel's scatter without
+// the vote math: the roofline of hashed voting on a device (sva bench).
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
 #extension GL_GOOGLE_include_directive : require
@@ -18,6 +15,8 @@ layout(std430, set = 0, binding = 2) buffer TableKeys { uint64_t table_key[]; };
 layout(std430, set = 0, binding = 3) buffer TableSums { int64_t table_sum[]; };
 layout(std430, set = 0, binding = 4) buffer Status { uint overflow; };
 
+#include "sva_hash_scatter.glsl"
+
 layout(push_constant) uniform Push {
   uint count;      // votes in this chunk
   uint capacity;   // table slots, a power of two
@@ -28,16 +27,5 @@ void main() {
   if (i >= pc.count) return;
   int64_t units = SVA_TO_FIXED(vote_weight[i]);
   if (units == 0) return;  // the CPU reference drops zero votes too
-  uint64_t key = vote_key[i];
-  uint mask = pc.capacity - 1u;
-  uint slot = uint(sva_hash64(key)) & mask;
-  for (uint probe = 0u; probe < SVA_HASH_MAX_PROBE; ++probe) {
-    uint64_t prev = atomicCompSwap(table_key[slot], SVA_HASH_EMPTY_KEY, key);
-    if (prev == SVA_HASH_EMPTY_KEY || prev == key) {
-      atomicAdd(table_sum[slot], units);
-      return;
-    }
-    slot = (slot + 1u) & mask;
-  }
-  atomicOr(overflow, 1u);
+  sva_hash_scatter(vote_key[i], units, pc.capacity);
 }

@@ -62,19 +62,7 @@ uint64_t linear_bin(uint64_t key) {
   return i;
 }
 
-void scatter(uint64_t key, int64_t units) {
-  uint mask = pc.capacity - 1u;
-  uint slot = uint(sva_hash64(key)) & mask;
-  for (uint probe = 0u; probe < SVA_HASH_MAX_PROBE; ++probe) {
-    uint64_t prev = atomicCompSwap(table_key[slot], SVA_HASH_EMPTY_KEY, key);
-    if (prev == SVA_HASH_EMPTY_KEY || prev == key) {
-      atomicAdd(table_sum[slot], units);
-      return;
-    }
-    slot = (slot + 1u) & mask;
-  }
-  atomicOr(overflow, 1u);
-}
+#include "sva_hash_scatter.glsl"
 
 void main() {
   // A 2-D indirect dispatch (x is capped at maxComputeWorkGroupCount[0]).
@@ -130,7 +118,7 @@ void main() {
       continue;
     }
     ++inside;
-    if (v.mass > int64_t(0)) scatter(pair_base + linear_bin(v.key), v.mass);
+    if (v.mass > int64_t(0)) sva_hash_scatter(pair_base + linear_bin(v.key), v.mass, pc.capacity);
   }
   if (inside != 0u) atomicAdd(counters[3u * q + 1u], uint64_t(inside));
   if (outside != 0u) atomicAdd(counters[3u * q + 2u], uint64_t(outside));

@@ -40,6 +40,7 @@ std::vector<std::pair<std::uint64_t, std::int64_t>> HashScatter::run(std::span<c
   Buffer weight_buf = ctx_.create_buffer(chunk * sizeof(float));
   Buffer status = ctx_.create_buffer(sizeof(std::uint32_t));
   for (;;) {
+    kernel_ms_ = 0.0;
     // The table must fit one binding too; a histogram that large is a caller error.
     if (capacity_ * sizeof(std::int64_t) > ctx_.info().max_storage_buffer_range)
       throw Error("GPU vote table would exceed the device's storage-buffer range (" + std::to_string(capacity_) + " slots)");
@@ -54,8 +55,11 @@ std::vector<std::pair<std::uint64_t, std::int64_t>> HashScatter::run(std::span<c
       Push push{static_cast<std::uint32_t>(n), static_cast<std::uint32_t>(capacity_)};
       std::vector<std::uint8_t> pb(sizeof push);
       std::memcpy(pb.data(), &push, sizeof push);
+      std::vector<double> ms;
       ctx_.run({{&pipeline_, {&key_buf, &weight_buf, &table_keys, &table_sums, &status}, pb,
-                 static_cast<std::uint32_t>((n + SVA_WORKGROUP_SIZE - 1) / SVA_WORKGROUP_SIZE)}});
+                 static_cast<std::uint32_t>((n + SVA_WORKGROUP_SIZE - 1) / SVA_WORKGROUP_SIZE)}},
+               &ms);
+      for (double m : ms) kernel_ms_ += m;
       if (*status.as<std::uint32_t>() != 0) break;
     }
     if (*status.as<std::uint32_t>() != 0) {

@@ -22,6 +22,8 @@ class HashScatter {
   void set_max_chunk(std::size_t votes) { max_chunk_ = votes; }
   std::size_t capacity() const { return capacity_; }
   unsigned grow_count() const { return grows_; }
+  // GPU time of the last run's kernels (0 without timestamps).
+  double last_kernel_ms() const { return kernel_ms_; }
 
  private:
   Context& ctx_;
@@ -29,6 +31,7 @@ class HashScatter {
   std::size_t capacity_;
   std::size_t max_chunk_;
   unsigned grows_ = 0;
+  double kernel_ms_ = 0.0;
 };
 
 // CPU reference of the same scatter (exact integer sums per key, sorted).

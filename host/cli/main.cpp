@@ -19,7 +19,7 @@ struct Command {
 };
 
 const Command kCommands[] = {
-    {"demo", "simulate the default scene and show what sva sees (the main job)", sva::cli::cmd_demo},
+    {"demo", "the main job: simulate the default scene, train, evaluate, print the table and draw the figure", sva::cli::cmd_demo},
     {"simulate", "simulate tactile readings of a scene's objects with the Embree simulator", sva::cli::cmd_simulate},
     {"inspect", "summarise a dataset or map file", sva::cli::cmd_inspect},
     {"export", "write a dataset as CSV and PLY (contact points with normals)", sva::cli::cmd_export},
@@ -63,7 +63,11 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "\nsva %s: interrupted; no partial output was kept\n", c.name);
       return 130;
     } catch (const sva::Error& e) {
-      std::fprintf(stderr, "sva %s: error: %s\n", c.name, e.what());
+      // Argument errors already name the command; say it once.
+      std::string message = e.what();
+      const std::string prefix = std::string("sva ") + c.name + ": ";
+      if (message.rfind(prefix, 0) == 0) message.erase(0, prefix.size());
+      std::fprintf(stderr, "sva %s: error: %s\n", c.name, message.c_str());
       return 1;
     } catch (const std::bad_alloc&) {
       std::fprintf(stderr, "sva %s: error: out of memory\n", c.name);

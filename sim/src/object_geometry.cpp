@@ -110,9 +110,9 @@ ObjectGeometry::~ObjectGeometry() {
 
 const Mesh& ObjectGeometry::mesh() const { return impl_->mesh; }
 
-ObjectGeometry::Hit ObjectGeometry::intersect(const glm::dvec3& o, const glm::dvec3& d, double tnear, double tfar) const {
-  RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
+namespace {
+
+RTCRayHit make_ray(const glm::dvec3& o, const glm::dvec3& d, double tnear, double tfar, unsigned id) {
   RTCRayHit rh;
   rh.ray.org_x = static_cast<float>(o.x);
   rh.ray.org_y = static_cast<float>(o.y);
@@ -124,60 +124,46 @@ ObjectGeometry::Hit ObjectGeometry::intersect(const glm::dvec3& o, const glm::dv
   rh.ray.tfar = static_cast<float>(tfar);
   rh.ray.time = 0.0f;
   rh.ray.mask = 0xFFFFFFFFu;
-  rh.ray.id = 0;
+  rh.ray.id = id;
   rh.ray.flags = 0;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  rtcIntersect1(impl_->scene, &ctx, &rh);
-  Hit h;
+  return rh;
+}
+
+ObjectGeometry::Hit hit_of(const RTCRayHit& rh) {
+  ObjectGeometry::Hit h;
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
   h.hit = true;
   h.t = rh.ray.tfar;
   h.triangle = rh.hit.primID;
-  glm::dvec3 n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-  double len = glm::length(n);
+  const glm::dvec3 n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
+  const double len = glm::length(n);
   h.normal = len > 0 ? n / len : glm::dvec3(0.0);
   return h;
+}
+
+}  // namespace
+
+ObjectGeometry::Hit ObjectGeometry::intersect(const glm::dvec3& o, const glm::dvec3& d, double tnear, double tfar) const {
+  RTCIntersectContext ctx;
+  rtcInitIntersectContext(&ctx);
+  RTCRayHit rh = make_ray(o, d, tnear, tfar, 0);
+  rtcIntersect1(impl_->scene, &ctx, &rh);
+  return hit_of(rh);
 }
 
 void ObjectGeometry::intersect_parallel(const std::vector<glm::dvec3>& origins, const glm::dvec3& d, double tfar,
                                         std::vector<Hit>& hits) const {
   thread_local std::vector<RTCRayHit> rays;
   rays.resize(origins.size());
-  for (std::size_t i = 0; i < origins.size(); ++i) {
-    RTCRayHit& rh = rays[i];
-    rh.ray.org_x = static_cast<float>(origins[i].x);
-    rh.ray.org_y = static_cast<float>(origins[i].y);
-    rh.ray.org_z = static_cast<float>(origins[i].z);
-    rh.ray.dir_x = static_cast<float>(d.x);
-    rh.ray.dir_y = static_cast<float>(d.y);
-    rh.ray.dir_z = static_cast<float>(d.z);
-    rh.ray.tnear = 0.0f;
-    rh.ray.tfar = static_cast<float>(tfar);
-    rh.ray.time = 0.0f;
-    rh.ray.mask = 0xFFFFFFFFu;
-    rh.ray.id = static_cast<unsigned>(i);
-    rh.ray.flags = 0;
-    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
-  }
+  for (std::size_t i = 0; i < origins.size(); ++i) rays[i] = make_ray(origins[i], d, 0.0, tfar, static_cast<unsigned>(i));
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   if (!rays.empty()) rtcIntersect1M(impl_->scene, &ctx, rays.data(), static_cast<unsigned>(rays.size()), sizeof(RTCRayHit));
   hits.resize(origins.size());
-  for (std::size_t i = 0; i < rays.size(); ++i) {
-    const RTCRayHit& rh = rays[i];
-    Hit& h = hits[i];
-    h = Hit{};
-    if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-    h.hit = true;
-    h.t = rh.ray.tfar;
-    h.triangle = rh.hit.primID;
-    glm::dvec3 n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-    double len = glm::length(n);
-    h.normal = len > 0 ? n / len : glm::dvec3(0.0);
-  }
+  for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = hit_of(rays[i]);
 }
 
 void ObjectGeometry::sample_surface(double u0, double u1, double u2, glm::dvec3& point, glm::dvec3& normal) const {

@@ -25,8 +25,9 @@ struct TestMesh {
 // buffer as `bin`. The caller may edit the JSON before write_json().
 inline nlohmann::json gltf_json(const TestMesh& m, const std::filesystem::path& bin, int mode = 4) {
   std::vector<unsigned char> bytes(m.positions.size() * 12 + m.indices.size() * 4);
-  std::memcpy(bytes.data(), m.positions.data(), m.positions.size() * 12);
-  std::memcpy(bytes.data() + m.positions.size() * 12, m.indices.data(), m.indices.size() * 4);
+  // memcpy from an empty vector's null data() is undefined, even for 0 bytes.
+  if (!m.positions.empty()) std::memcpy(bytes.data(), m.positions.data(), m.positions.size() * 12);
+  if (!m.indices.empty()) std::memcpy(bytes.data() + m.positions.size() * 12, m.indices.data(), m.indices.size() * 4);
   std::ofstream(bin, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
   glm::vec3 lo(1e30f), hi(-1e30f);
   for (auto p : m.positions) lo = glm::min(lo, p), hi = glm::max(hi, p);

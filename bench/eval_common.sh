@@ -4,13 +4,7 @@
 # the defaults of TRIALS / MAX_READINGS set by the caller.
 set -euo pipefail
 
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-if [[ -z "${SVA:-}" ]]; then
-  for c in "$ROOT/build/sva" "$ROOT/build-ci/sva" "$ROOT/build-eval/sva" "$ROOT/build/host/cli/sva"; do
-    [[ -x "$c" ]] && SVA="$c" && break
-  done
-fi
-[[ -x "${SVA:-}" ]] || { echo "bench: no sva binary; build it or set SVA=/path/to/sva" >&2; exit 2; }
+source "$(dirname "${BASH_SOURCE[0]}")/find_sva.sh"
 
 OUT="${OUT:-/tmp/sva-bench/$SCENE}"
 SEED="${SEED:-1}"

@@ -5,13 +5,7 @@
 # speed buys. Goal: <= 60 s on 2 cores.
 #   usage: bench/simulate_paper3d.sh            (SVA=/path/to/sva THREADS=2 SEED=1 OUT=dir to override)
 set -euo pipefail
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-if [[ -z "${SVA:-}" ]]; then
-  for c in "$ROOT/build/sva" "$ROOT/build-sim/sva" "$ROOT/build-ci/sva" "$ROOT/build/host/cli/sva" "$ROOT/build-sim/host/cli/sva"; do
-    [[ -x "$c" ]] && SVA="$c" && break
-  done
-fi
-[[ -x "${SVA:-}" ]] || { echo "bench: no sva binary; build it or set SVA=/path/to/sva" >&2; exit 2; }
+source "$(dirname "${BASH_SOURCE[0]}")/find_sva.sh"
 THREADS="${THREADS:-2}"
 SEED="${SEED:-1}"
 OUT="${OUT:-$(mktemp -d /tmp/sva-bench-sim.XXXXXX)}"

@@ -380,28 +380,23 @@ void save_glb(const Mesh& mesh, const std::filesystem::path& file, bool with_nor
   m.update_bounds();
   tinygltf::Primitive prim;
   prim.mode = TINYGLTF_MODE_TRIANGLES;
-  {
-    std::size_t bytes = m.positions.size() * sizeof(glm::vec3);
+  // One float VEC3 vertex attribute: its buffer view and accessor.
+  auto add_vec3_attribute = [&](const std::vector<glm::vec3>& v, const char* name, bool with_bounds) {
+    const std::size_t bytes = v.size() * sizeof(glm::vec3);
     tinygltf::Accessor a;
-    a.bufferView = add_view(append(m.positions.data(), bytes), bytes, TINYGLTF_TARGET_ARRAY_BUFFER);
+    a.bufferView = add_view(append(v.data(), bytes), bytes, TINYGLTF_TARGET_ARRAY_BUFFER);
     a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
     a.type = TINYGLTF_TYPE_VEC3;
-    a.count = m.positions.size();
-    a.minValues = {m.bounds_min.x, m.bounds_min.y, m.bounds_min.z};
-    a.maxValues = {m.bounds_max.x, m.bounds_max.y, m.bounds_max.z};
+    a.count = v.size();
+    if (with_bounds) {
+      a.minValues = {m.bounds_min.x, m.bounds_min.y, m.bounds_min.z};
+      a.maxValues = {m.bounds_max.x, m.bounds_max.y, m.bounds_max.z};
+    }
     model.accessors.push_back(a);
-    prim.attributes["POSITION"] = static_cast<int>(model.accessors.size() - 1);
-  }
-  if (with_normals && m.normals.size() == m.positions.size()) {
-    std::size_t bytes = m.normals.size() * sizeof(glm::vec3);
-    tinygltf::Accessor a;
-    a.bufferView = add_view(append(m.normals.data(), bytes), bytes, TINYGLTF_TARGET_ARRAY_BUFFER);
-    a.componentType = TINYGLTF_COMPONENT_TYPE_FLOAT;
-    a.type = TINYGLTF_TYPE_VEC3;
-    a.count = m.normals.size();
-    model.accessors.push_back(a);
-    prim.attributes["NORMAL"] = static_cast<int>(model.accessors.size() - 1);
-  }
+    prim.attributes[name] = static_cast<int>(model.accessors.size() - 1);
+  };
+  add_vec3_attribute(m.positions, "POSITION", true);
+  if (with_normals && m.normals.size() == m.positions.size()) add_vec3_attribute(m.normals, "NORMAL", false);
   {
     std::size_t bytes = m.triangles.size() * sizeof(glm::uvec3);
     tinygltf::Accessor a;

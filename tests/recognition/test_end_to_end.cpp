@@ -20,11 +20,11 @@ RunResult run(const World& w, const PoseSpaceSpec& spec, std::uint32_t object, c
               std::uint64_t seed) {
   PoseSpace space(spec, static_cast<std::uint32_t>(w.map->objects.size()));
   auto backend = make_cpu_vote_backend(*w.map, space, {});
-  BayesFilter filter(*w.map, space, {});
+  BayesFilter filter(*w.map, space, {}, *backend);
   util::Rng rng(seed, 5);
   for (int i = 0; i < readings; ++i) {
     const auto& pts = w.objects[object];
-    filter.add(observe(pts[rng.below(pts.size())], truth), *backend);
+    filter.add(observe(pts[rng.below(pts.size())], truth));
   }
   return {filter.estimate(5), truth};
 }

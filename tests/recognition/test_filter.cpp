@@ -19,8 +19,8 @@ struct Session {
   BayesFilter filter;
   Session(const WorldSpec& ws, const PoseSpaceSpec& spec, const FilterOptions& fo = {}, const VoteSettings& vs = {})
       : world(make_world(ws)), space(spec, static_cast<std::uint32_t>(ws.objects)),
-        backend(make_cpu_vote_backend(*world.map, space, vs)), filter(*world.map, space, fo) {}
-  UpdateStats add(const ObservedReading& r) { return filter.add(r, *backend); }
+        backend(make_cpu_vote_backend(*world.map, space, vs)), filter(*world.map, space, fo, *backend) {}
+  UpdateStats add(const ObservedReading& r) { return filter.add(r); }
 };
 
 // The true bin's rank among all touched bins (0 = best) and whether it is finite.
@@ -28,12 +28,13 @@ std::size_t rank_of_truth(const BayesFilter& f, std::uint32_t object, const Rigi
   std::uint64_t key = 0;
   REQUIRE(f.space().bin_of(object, truth, &key));
   // Best of the true bin and its neighbours: the truth can sit at a bin edge.
-  double best = 0.0;
-  f.space().for_each_neighbour(key, [&](std::uint64_t k) { best = std::max(best, f.belief().offset(k)); });
-  const BeliefEstimate e = f.estimate(50);
+  std::vector<std::uint64_t> near;
+  f.space().for_each_neighbour(key, [&](std::uint64_t k) { near.push_back(k); });
+  std::uint64_t best = 0;
+  for (std::uint64_t o : f.belief().offsets(near)) best = std::max(best, o);
   std::size_t rank = 0;
-  for (const BinHypothesis& h : e.top)
-    if (f.belief().offset(h.key) > best) ++rank;
+  for (const BinOffset& b : f.belief().best_bins(50))
+    if (b.offset > best) ++rank;
   return rank;
 }
 
@@ -187,9 +188,11 @@ TEST_CASE("bad input is refused with sva::Error") {
   // Options and a pose space that does not match the map.
   FilterOptions fo;
   fo.eps = 0.0;
-  CHECK_THROWS_WITH(BayesFilter(*s.world.map, s.space, fo), Catch::Contains("eps"));
+  CHECK_THROWS_WITH(BayesFilter(*s.world.map, s.space, fo, *s.backend), Catch::Contains("eps"));
+  fo.eps = 1e-13;  // below the fixed-point fold's resolution
+  CHECK_THROWS_WITH(BayesFilter(*s.world.map, s.space, fo, *s.backend), Catch::Contains("eps"));
   PoseSpace wrong(paper_space(), 5);
-  CHECK_THROWS_WITH(BayesFilter(*s.world.map, wrong, {}), Catch::Contains("objects"));
+  CHECK_THROWS_WITH(BayesFilter(*s.world.map, wrong, {}, *s.backend), Catch::Contains("objects"));
 }
 
 TEST_CASE("results do not depend on the thread count") {
@@ -228,15 +231,18 @@ TEST_CASE("a batch of sessions gives the same beliefs as updating each alone") {
   const World w = make_world(ws);
   PoseSpace space(paper_space(), 3);
   auto backend = make_cpu_vote_backend(*w.map, space, {});
-  BayesFilter s0(*w.map, space, {}), s1(*w.map, space, {}), r0(*w.map, space, {}), r1(*w.map, space, {});
+  BayesFilter s0(*w.map, space, {}, *backend), s1(*w.map, space, {}, *backend), r0(*w.map, space, {}, *backend),
+      r1(*w.map, space, {}, *backend);
   const RigidPose t0 = random_pose(18, 100.0), t1 = random_pose(19, 100.0);
   util::Rng rng(7);
   for (int i = 0; i < 6; ++i) {
     const ObservedReading a = observe(w.objects[0][rng.below(80)], t0), b = observe(w.objects[2][rng.below(80)], t1);
-    update_sessions({&s0, &s1}, {a, b}, *backend);
-    r0.add(a, *backend);
-    r1.add(b, *backend);
+    update_sessions({&s0, &s1}, {a, b});
+    r0.add(a);
+    r1.add(b);
   }
+  CHECK(s0.belief().table() == r0.belief().table());
+  CHECK(s1.belief().table() == r1.belief().table());
   CHECK(s0.estimate(5).object_probability == r0.estimate(5).object_probability);
   CHECK(s1.estimate(5).object_probability == r1.estimate(5).object_probability);
   CHECK(s1.estimate(5).best_key == r1.estimate(5).best_key);

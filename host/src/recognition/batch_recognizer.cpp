@@ -73,7 +73,8 @@ BatchRecognizer::BatchRecognizer(const Map& map, const PoseSpaceSpec& pose_space
     fo.eps = options.eps;
     fo.object_prune_probability = options.object_prune_probability;
     fo.max_pairs_per_update = options.max_pairs_per_update;
-    for (auto& s : impl_->sessions) s.filter = std::make_unique<BayesFilter>(*impl_->pair_map, impl_->space, fo);
+    for (auto& s : impl_->sessions)
+      s.filter = std::make_unique<BayesFilter>(*impl_->pair_map, impl_->space, fo, *impl_->backend);
   } else {
     if (impl_->pair_map->baseline.n_objects != impl_->pair_map->objects.size())
       throw Error("recognizer: map '" + map.scene_name() + "' has no appearance baseline");
@@ -105,7 +106,7 @@ void BatchRecognizer::add_readings(std::span<const std::size_t> sessions, std::s
   if (impl_->options.method == Method::sva) {
     std::vector<BayesFilter*> filters;
     for (std::size_t i : sessions) filters.push_back(impl_->sessions[i].filter.get());
-    const std::vector<UpdateStats> stats = update_sessions(filters, observed, *impl_->backend);
+    const std::vector<UpdateStats> stats = update_sessions(filters, observed);
     for (std::size_t i = 0; i < sessions.size(); ++i) impl_->sessions[sessions[i]].last_votes = stats[i].votes;
   } else {
     for (std::size_t i = 0; i < sessions.size(); ++i)

@@ -8,8 +8,8 @@
 
 namespace sva {
 
-BayesFilter::BayesFilter(const PairMap& map, const PoseSpace& space, const FilterOptions& options)
-    : map_(&map), space_(&space), options_(options), belief_(space, options.eps) {
+BayesFilter::BayesFilter(const PairMap& map, const PoseSpace& space, const FilterOptions& options, VoteBackend& backend)
+    : map_(&map), space_(&space), options_(options), backend_(&backend), belief_(backend.make_belief(space, options.eps)) {
   if (space.objects() != map.objects.size())
     throw Error("pose space has " + std::to_string(space.objects()) + " objects but the map has " +
                 std::to_string(map.objects.size()));
@@ -22,7 +22,7 @@ BayesFilter::BayesFilter(const PairMap& map, const PoseSpace& space, const Filte
 }
 
 void BayesFilter::reset() {
-  belief_.reset();
+  belief_->reset();
   readings_.clear();
   last_ = {};
 }
@@ -46,8 +46,8 @@ void BayesFilter::queue_pairs(const ObservedReading& reading, std::uint32_t sess
                                  ? static_cast<std::size_t>(options_.max_pairs_per_update)
                                  : 2 * t;
   // Session row of the object mask.
-  if (options_.object_prune_probability > 0.0 && belief_.pairs_folded() > 0) {
-    const std::vector<double> p = belief_.object_probability();
+  if (options_.object_prune_probability > 0.0 && belief_->pairs_folded() > 0) {
+    const std::vector<double> p = object_probability(belief_->summarise(), *space_);
     if (batch->object_active.size() < std::size_t{session + 1} * space_->objects())
       batch->object_active.resize(std::size_t{session + 1} * space_->objects(), 1);
     for (std::uint32_t o = 0; o < space_->objects(); ++o)
@@ -82,31 +82,30 @@ void BayesFilter::queue_pairs(const ObservedReading& reading, std::uint32_t sess
   }
 }
 
-UpdateStats BayesFilter::fold(const ObservedReading& reading, const PairVotes* votes, std::size_t count) {
+UpdateStats BayesFilter::record(const ObservedReading& reading, const PairStats* pairs, std::size_t count) {
   UpdateStats st;
   st.pairs = count;
   for (std::size_t i = 0; i < count; ++i) {
-    st.matches += votes[i].matches;
-    st.votes += votes[i].votes;
-    st.votes_outside += votes[i].votes_outside;
-    if (belief_.fold(votes[i])) ++st.pairs_folded;
+    st.matches += pairs[i].matches;
+    st.votes += pairs[i].votes;
+    st.votes_outside += pairs[i].votes_outside;
+    if (pairs[i].folded) ++st.pairs_folded;
   }
   readings_.push_back(reading);
   last_ = st;
   return st;
 }
 
-UpdateStats BayesFilter::add(const ObservedReading& reading, VoteBackend& backend) {
-  return update_sessions({this}, {reading}, backend)[0];
-}
+UpdateStats BayesFilter::add(const ObservedReading& reading) { return update_sessions({this}, {reading})[0]; }
 
 std::vector<UpdateStats> update_sessions(const std::vector<BayesFilter*>& sessions,
-                                         const std::vector<ObservedReading>& readings, VoteBackend& backend) {
+                                         const std::vector<ObservedReading>& readings) {
   if (sessions.size() != readings.size()) throw Error("update_sessions: one reading per session is required");
   if (sessions.empty()) return {};
+  VoteBackend& backend = sessions.front()->backend();
   for (const BayesFilter* f : sessions)
-    if (&f->map() != &sessions.front()->map() || f->space().objects() != sessions.front()->space().objects())
-      throw Error("update_sessions: all sessions of a batch must use the same map and pose space");
+    if (&f->map() != &sessions.front()->map() || &f->space() != &sessions.front()->space() || &f->backend() != &backend)
+      throw Error("update_sessions: all sessions of a batch must share one map, pose space and backend");
   std::vector<ObservedReading> valid;
   valid.reserve(readings.size());
   for (std::size_t s = 0; s < sessions.size(); ++s) {
@@ -122,10 +121,13 @@ std::vector<UpdateStats> update_sessions(const std::vector<BayesFilter*>& sessio
   first[sessions.size()] = batch.pairs.size();
   if (!batch.object_active.empty())
     batch.object_active.resize(std::size_t{batch.sessions} * sessions.front()->space().objects(), 1);
-  const std::vector<PairVotes> votes = batch.pairs.empty() ? std::vector<PairVotes>{} : backend.vote(batch);
+  std::vector<BeliefState*> beliefs;
+  for (BayesFilter* f : sessions) beliefs.push_back(&f->mutable_belief());
+  const std::vector<PairStats> stats =
+      batch.pairs.empty() ? std::vector<PairStats>{} : backend.vote_and_fold(batch, beliefs);
   std::vector<UpdateStats> out;
   for (std::size_t s = 0; s < sessions.size(); ++s)
-    out.push_back(sessions[s]->fold(valid[s], votes.data() + first[s], first[s + 1] - first[s]));
+    out.push_back(sessions[s]->record(valid[s], stats.data() + first[s], first[s + 1] - first[s]));
   return out;
 }
 

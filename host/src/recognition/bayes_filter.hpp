@@ -1,9 +1,10 @@
 #pragma once
 // The SVA Bayes filter of one recognition session (Eq 3-5): each new reading
-// is paired with every earlier one in both orders, the pairs' votes come from
-// a VoteBackend, and each pair factor is folded into the log-domain belief.
-// Several sessions can update in one backend call (update_sessions), which is
-// how batch evaluation keeps a GPU busy.
+// is paired with every earlier one in both orders, and the backend votes each
+// pair and folds its factor into the session's log-domain belief, which lives
+// with the backend (on the device for Vulkan). Several sessions can update in
+// one backend call (update_sessions), which is how batch evaluation keeps a
+// GPU busy.
 #include <memory>
 #include <vector>
 
@@ -31,37 +32,41 @@ struct UpdateStats {
 
 class BayesFilter {
  public:
-  BayesFilter(const PairMap& map, const PoseSpace& space, const FilterOptions& options);
+  // The belief is made by `backend`, which must outlive the filter.
+  BayesFilter(const PairMap& map, const PoseSpace& space, const FilterOptions& options, VoteBackend& backend);
 
-  // Adds one reading and updates the belief through `backend`.
-  UpdateStats add(const ObservedReading& reading, VoteBackend& backend);
-  BeliefEstimate estimate(std::size_t top_k) const { return belief_.estimate(top_k); }
+  // Adds one reading and updates the belief.
+  UpdateStats add(const ObservedReading& reading);
+  BeliefEstimate estimate(std::size_t top_k) const { return sva::estimate(*belief_, *space_, top_k); }
   void reset();
 
   std::size_t readings() const { return readings_.size(); }
-  const Belief& belief() const { return belief_; }
+  const BeliefState& belief() const { return *belief_; }
+  VoteBackend& backend() const { return *backend_; }
   const UpdateStats& last_update() const { return last_; }
   const PoseSpace& space() const { return *space_; }
   const PairMap& map() const { return *map_; }
 
   // Batch building blocks: queue the pairs of `reading` (validated) as
-  // `session`, then fold the backend's answer for them.
+  // `session`, then record the reading and the backend's statistics.
   void queue_pairs(const ObservedReading& reading, std::uint32_t session, VoteBatch* batch) const;
-  UpdateStats fold(const ObservedReading& reading, const PairVotes* votes, std::size_t count);
+  UpdateStats record(const ObservedReading& reading, const PairStats* pairs, std::size_t count);
+  BeliefState& mutable_belief() { return *belief_; }
 
  private:
   const PairMap* map_;
   const PoseSpace* space_;
   FilterOptions options_;
-  Belief belief_;
+  VoteBackend* backend_;
+  std::unique_ptr<BeliefState> belief_;
   std::vector<ObservedReading> readings_;
   UpdateStats last_;
 };
 
 // Updates several independent sessions, each with its next reading, in one
-// backend call. Readings are validated first; results equal calling add() on
-// each session in turn.
+// call of their common backend. Readings are validated first; results equal
+// calling add() on each session in turn.
 std::vector<UpdateStats> update_sessions(const std::vector<BayesFilter*>& sessions,
-                                         const std::vector<ObservedReading>& readings, VoteBackend& backend);
+                                         const std::vector<ObservedReading>& readings);
 
 }  // namespace sva

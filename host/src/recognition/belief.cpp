@@ -6,17 +6,131 @@
 #include <cassert>
 #include <cmath>
 #include <numbers>
-#include <numeric>
-#include <string>
 
+#include "recognition/belief_math.hpp"
 #include "recognition/rotation.hpp"
+#include "recognition/vote_backend.hpp"
 
 namespace sva {
 
-Belief::Belief(const PoseSpace& space, double eps) : space_(&space), eps_(eps) {
-  if (!std::isfinite(eps) || !(eps > 0.0) || eps >= 1.0)
-    throw Error("recognizer option eps = " + std::to_string(eps) + " must be in (0, 1)");
+namespace {
+
+// Mass of each object relative to a bin at the maximum (weight 2^mass_bits):
+// touched bins by their weights, untouched bins at the baseline offset 0. All
+// integer up to the final conversion (each object's sum stays below 2^62).
+std::vector<double> object_mass(const BeliefSummary& s, const PoseSpace& space) {
+  const std::uint32_t bits = belief_math::mass_bits(space.bins_per_object());
+  const std::uint64_t baseline = belief_math::sva_exp2_neg_units(s.max_offset, bits);
+  std::vector<double> mass(space.objects());
+  for (std::uint32_t o = 0; o < space.objects(); ++o) {
+    assert(s.touched[o] <= space.bins_per_object());
+    const std::uint64_t untouched = space.bins_per_object() - s.touched[o];
+    mass[o] = static_cast<double>(s.touched_mass[o] + untouched * baseline);
+  }
+  return mass;
 }
+
+double units_to_bits(std::uint64_t units) { return static_cast<double>(units) / belief_math::kUnitsPerBit; }
+
+// Sub-bin refinement: along each axis of the pose grid, a parabola through the
+// log-belief of the best bin and its two neighbours (untouched bins at the
+// baseline, offset 0) puts the peak between bin centres, as peak interpolation
+// does for histograms: near its maximum, the log-belief that many pairs
+// concentrate is close to quadratic. An axis whose neighbour lies outside the
+// grid keeps the centre; the planar angle wraps around.
+RigidPose refine(const BeliefState& belief, const PoseSpace& space, std::uint64_t best) {
+  const BinIndex c = space.unpack(best);
+  const PoseSpaceSpec& spec = space.spec();
+  const bool planar = space.planar();
+  struct Axis { bool rotation; int k; };
+  std::vector<Axis> axes;
+  for (int k = 0; k < (planar ? 2 : 3); ++k) axes.push_back({false, k});
+  for (int k = planar ? 2 : 0; k < 3; ++k) axes.push_back({true, k});
+  // Neighbour keys of every axis (or none when the axis ends at the grid's edge).
+  std::vector<std::uint64_t> keys{best};
+  std::vector<bool> has(axes.size(), false);
+  for (std::size_t a = 0; a < axes.size(); ++a) {
+    const Axis ax = axes[a];
+    const int bins = ax.rotation ? spec.rotation_bins : spec.translation_bins;
+    const int i = ax.rotation ? c.r[ax.k] : c.t[ax.k];
+    int lo = i - 1, hi = i + 1;
+    if (ax.rotation && planar) {
+      lo = (lo + bins) % bins;
+      hi %= bins;
+    } else if (lo < 0 || hi >= bins) {
+      continue;
+    }
+    BinIndex m = c, p = c;
+    (ax.rotation ? m.r[ax.k] : m.t[ax.k]) = lo;
+    (ax.rotation ? p.r[ax.k] : p.t[ax.k]) = hi;
+    keys.push_back(space.pack(m));
+    keys.push_back(space.pack(p));
+    has[a] = true;
+  }
+  const std::vector<std::uint64_t> off = belief.offsets(keys);
+  glm::dvec3 t = space.translation_centre(c), r = space.rotation_centre(c);
+  const double tw = (spec.translation_max_mm - spec.translation_min_mm) / spec.translation_bins;
+  const double rw = 2.0 * std::numbers::pi / spec.rotation_bins;
+  const double oc = units_to_bits(off[0]);
+  std::size_t next = 1;
+  for (std::size_t a = 0; a < axes.size(); ++a) {
+    if (!has[a]) continue;
+    const double om = units_to_bits(off[next]), op = units_to_bits(off[next + 1]);
+    next += 2;
+    const double curvature = om - 2.0 * oc + op;
+    if (!(curvature < 0.0)) continue;  // flat: no better guess than the centre
+    const double shift = std::clamp(0.5 * (om - op) / curvature, -0.5, 0.5);
+    if (axes[a].rotation) r[axes[a].k] += rw * shift;
+    else t[axes[a].k] += tw * shift;
+  }
+  RigidPose pose;
+  pose.T = t;
+  pose.R = rotation::exp(r);
+  return pose;
+}
+
+}  // namespace
+
+std::vector<double> object_probability(const BeliefSummary& summary, const PoseSpace& space) {
+  std::vector<double> p = object_mass(summary, space);
+  double z = 0.0;
+  for (double m : p) z += m;
+  assert(z > 0.0);  // a bin at the maximum weighs 2^mass_bits >= 1
+  for (double& v : p) v /= z;
+  return p;
+}
+
+BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::size_t top_k) {
+  BeliefEstimate e;
+  const BeliefSummary s = belief.summarise();
+  const std::vector<double> mass = object_mass(s, space);
+  double z = 0.0;
+  for (double m : mass) z += m;
+  e.object_probability.resize(mass.size());
+  for (std::size_t o = 0; o < mass.size(); ++o) e.object_probability[o] = mass[o] / z;
+  e.object = 0;
+  for (std::uint32_t o = 1; o < mass.size(); ++o)
+    if (mass[o] > mass[e.object]) e.object = o;
+  if (s.touched[e.object] > 0) {
+    e.pose_valid = true;
+    e.best_key = s.best_key[e.object];
+    e.bin_pose = space.centre(e.best_key);
+    e.pose = refine(belief, space, e.best_key);
+  }
+  // A bin's probability: its weight 2^(offset - M) at mass_bits over the total.
+  const double scale = std::ldexp(1.0, static_cast<int>(belief_math::mass_bits(space.bins_per_object()))) / z;
+  for (const BinOffset& b : belief.best_bins(top_k)) {
+    BinHypothesis h;
+    h.key = b.key;
+    h.object = PoseSpace::object_of(b.key);
+    h.pose = space.centre(b.key);
+    h.probability = std::exp2(-units_to_bits(s.max_offset - b.offset)) * scale;
+    e.top.push_back(h);
+  }
+  return e;
+}
+
+Belief::Belief(const PoseSpace& space, double eps) : space_(&space), eps_units_(belief_math::eps_units(eps)) {}
 
 void Belief::reset() {
   offset_.clear();
@@ -25,155 +139,59 @@ void Belief::reset() {
 
 bool Belief::fold(const PairVotes& votes) {
   assert(votes.keys.size() == votes.mass.size());
-  std::int64_t total = 0;
-  for (std::int64_t m : votes.mass) total += m;  // <= 2^56 by the vote clamp
-  if (total <= 0) return false;
-  const double inv = 1.0 / (static_cast<double>(total) * eps_);
-  for (std::size_t i = 0; i < votes.keys.size(); ++i) {
-    if (votes.mass[i] <= 0) continue;
-    const double add = std::log1p(static_cast<double>(votes.mass[i]) * inv);
-    assert(std::isfinite(add) && add > 0.0);
-    offset_.add(votes.keys[i], add);
-  }
+  std::uint64_t total = 0;
+  for (std::int64_t m : votes.mass) total += static_cast<std::uint64_t>(std::max<std::int64_t>(m, 0));  // < 2^63
+  if (total == 0) return false;
+  for (std::size_t i = 0; i < votes.keys.size(); ++i)
+    if (votes.mass[i] > 0)
+      offset_.add(votes.keys[i], belief_math::sva_fold_units(static_cast<std::uint64_t>(votes.mass[i]), total, eps_units_));
   ++pairs_;
   return true;
 }
 
-double Belief::offset(std::uint64_t key) const { return offset_.get(key); }
-
-Belief::Sorted Belief::sorted() const {
-  Sorted s;
-  offset_.sorted(&s.keys, &s.offsets);
-  for (double o : s.offsets) s.max_offset = std::max(s.max_offset, o);
+BeliefSummary Belief::summarise() const {
+  const std::uint32_t n = space_->objects();
+  BeliefSummary s;
+  s.touched.assign(n, 0);
+  s.touched_mass.assign(n, 0);
+  s.best_offset.assign(n, 0);
+  s.best_key.assign(n, 0);
+  offset_.for_each([&](std::uint64_t, std::uint64_t off) { s.max_offset = std::max(s.max_offset, off); });
+  const std::uint32_t bits = belief_math::mass_bits(space_->bins_per_object());
+  offset_.for_each([&](std::uint64_t key, std::uint64_t off) {
+    const std::uint32_t o = PoseSpace::object_of(key);
+    s.touched_mass[o] += belief_math::sva_exp2_neg_units(s.max_offset - off, bits);
+    if (s.touched[o] == 0 || off > s.best_offset[o] || (off == s.best_offset[o] && key < s.best_key[o])) {
+      s.best_offset[o] = off;
+      s.best_key[o] = key;
+    }
+    ++s.touched[o];
+  });
   return s;
 }
 
-std::vector<double> Belief::object_log_mass(const Sorted& s) const {
-  // mass_o / exp(M) = (untouched_o) exp(-M) + sum_touched exp(off - M), summed in key order.
-  const std::uint32_t n = space_->objects();
-  std::vector<double> touched_sum(n, 0.0);
-  std::vector<double> touched_count(n, 0.0);
-  for (std::size_t i = 0; i < s.keys.size(); ++i) {
-    const std::uint32_t o = PoseSpace::object_of(s.keys[i]);
-    touched_sum[o] += std::exp(s.offsets[i] - s.max_offset);
-    touched_count[o] += 1.0;
-  }
-  std::vector<double> out(n);
-  for (std::uint32_t o = 0; o < n; ++o) {
-    const double untouched = space_->bins_per_object() - touched_count[o];
-    // log(untouched * exp(-M) + touched_sum), stable for large M.
-    const double a = std::log(std::max(untouched, 0.0)) - s.max_offset;
-    const double b = touched_sum[o] > 0.0 ? std::log(touched_sum[o]) : -INFINITY;
-    const double hi = std::max(a, b);
-    out[o] = hi + std::log(std::exp(a - hi) + std::exp(b - hi));
-  }
+std::vector<BinOffset> Belief::best_bins(std::size_t k) const {
+  std::vector<BinOffset> all = table();
+  k = std::min(k, all.size());
+  std::partial_sort(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(k), all.end(),
+                    [](const BinOffset& a, const BinOffset& b) { return a.offset != b.offset ? a.offset > b.offset : a.key < b.key; });
+  all.resize(k);
+  return all;
+}
+
+std::vector<std::uint64_t> Belief::offsets(std::span<const std::uint64_t> keys) const {
+  std::vector<std::uint64_t> out;
+  out.reserve(keys.size());
+  for (std::uint64_t k : keys) out.push_back(offset_.get(k));
   return out;
 }
 
-std::vector<double> Belief::object_probability() const {
-  const Sorted s = sorted();
-  const std::vector<double> lm = object_log_mass(s);
-  const double hi = *std::max_element(lm.begin(), lm.end());
-  std::vector<double> p(lm.size());
-  double z = 0.0;
-  for (std::size_t o = 0; o < lm.size(); ++o) z += p[o] = std::exp(lm[o] - hi);
-  for (double& v : p) v /= z;
-  return p;
-}
-
-double Belief::offset_in(const Sorted& s, const BinIndex& b) const {
-  const std::uint64_t key = space_->pack(b);
-  auto it = std::lower_bound(s.keys.begin(), s.keys.end(), key);
-  return (it != s.keys.end() && *it == key) ? s.offsets[static_cast<std::size_t>(it - s.keys.begin())] : 0.0;
-}
-
-// Sub-bin refinement: along each axis of the pose grid, a parabola through the
-// log-belief of the best bin and its two neighbours (untouched bins at the
-// baseline, offset 0) puts the peak between bin centres, as peak interpolation
-// does for histograms: near its maximum, the log-belief that many pairs
-// concentrate is close to quadratic. An axis whose neighbour lies outside the
-// grid keeps the centre; the planar angle wraps around.
-double Belief::axis_shift(const Sorted& s, const BinIndex& c, bool rotation, int k) const {
-  const int bins = rotation ? space_->spec().rotation_bins : space_->spec().translation_bins;
-  const bool wraps = rotation && space_->planar();
-  const int i = rotation ? c.r[k] : c.t[k];
-  int lo = i - 1, hi = i + 1;
-  if (wraps) {
-    lo = (lo + bins) % bins;
-    hi %= bins;
-  } else if (lo < 0 || hi >= bins) {
-    return 0.0;
-  }
-  BinIndex m = c, p = c;
-  (rotation ? m.r[k] : m.t[k]) = lo;
-  (rotation ? p.r[k] : p.t[k]) = hi;
-  const double om = offset_in(s, m), oc = offset_in(s, c), op = offset_in(s, p);
-  const double curvature = om - 2.0 * oc + op;
-  if (!(curvature < 0.0)) return 0.0;  // flat: no better guess than the centre
-  return std::clamp(0.5 * (om - op) / curvature, -0.5, 0.5);
-}
-
-RigidPose Belief::refine(const Sorted& s, std::uint64_t best) const {
-  const BinIndex c = space_->unpack(best);
-  const PoseSpaceSpec& spec = space_->spec();
-  const bool planar = space_->planar();
-  glm::dvec3 t = space_->translation_centre(c), r = space_->rotation_centre(c);
-  const double tw = (spec.translation_max_mm - spec.translation_min_mm) / spec.translation_bins;
-  const double rw = 2.0 * std::numbers::pi / spec.rotation_bins;
-  for (int k = 0; k < (planar ? 2 : 3); ++k) t[k] += tw * axis_shift(s, c, false, k);
-  for (int k = planar ? 2 : 0; k < 3; ++k) r[k] += rw * axis_shift(s, c, true, k);
-  RigidPose pose;
-  pose.T = t;
-  pose.R = rotation::exp(r);
-  return pose;
-}
-
-BeliefEstimate Belief::estimate(std::size_t top_k) const {
-  BeliefEstimate e;
-  const Sorted s = sorted();
-  const std::vector<double> lm = object_log_mass(s);
-  const double hi = *std::max_element(lm.begin(), lm.end());
-  e.object_probability.resize(lm.size());
-  double z = 0.0;
-  for (std::size_t o = 0; o < lm.size(); ++o) z += e.object_probability[o] = std::exp(lm[o] - hi);
-  for (double& v : e.object_probability) v /= z;
-  // log Z relative to exp(M): the normaliser of bin probabilities.
-  const double log_z = hi + std::log(z);
-  e.object = 0;
-  for (std::uint32_t o = 1; o < e.object_probability.size(); ++o)
-    if (e.object_probability[o] > e.object_probability[e.object]) e.object = o;
-
-  // Best bin of the chosen object; ties go to the smaller key (keys are sorted).
-  std::size_t best = s.keys.size();
-  for (std::size_t i = 0; i < s.keys.size(); ++i) {
-    if (PoseSpace::object_of(s.keys[i]) != e.object) continue;
-    if (best == s.keys.size() || s.offsets[i] > s.offsets[best]) best = i;
-  }
-  if (best < s.keys.size()) {
-    e.pose_valid = true;
-    e.best_key = s.keys[best];
-    e.bin_pose = space_->centre(e.best_key);
-    e.pose = refine(s, e.best_key);
-  }
-
-  // Top-k bins over all objects: largest offset first, ties to the smaller key.
-  std::vector<std::size_t> order(s.keys.size());
-  std::iota(order.begin(), order.end(), std::size_t{0});
-  const std::size_t k = std::min(top_k, order.size());
-  std::partial_sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k), order.end(),
-                    [&](std::size_t a, std::size_t b) {
-                      if (s.offsets[a] != s.offsets[b]) return s.offsets[a] > s.offsets[b];
-                      return s.keys[a] < s.keys[b];
-                    });
-  for (std::size_t i = 0; i < k; ++i) {
-    BinHypothesis h;
-    h.key = s.keys[order[i]];
-    h.object = PoseSpace::object_of(h.key);
-    h.pose = space_->centre(h.key);
-    h.probability = std::exp(s.offsets[order[i]] - s.max_offset - log_z);
-    e.top.push_back(h);
-  }
-  return e;
+std::vector<BinOffset> Belief::table() const {
+  std::vector<std::uint64_t> keys, values;
+  offset_.sorted(&keys, &values);
+  std::vector<BinOffset> out(keys.size());
+  for (std::size_t i = 0; i < keys.size(); ++i) out[i] = {keys[i], values[i]};
+  return out;
 }
 
 }  // namespace sva

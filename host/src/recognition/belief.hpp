@@ -2,18 +2,27 @@
 // The belief over (object, pose bin) in the log domain (DESIGN 4, Eq 3-5).
 // Every pair factor has a floor: factor(x) = eps + S_p(x), with S_p the pair's
 // votes normalised over the whole space. The common eps^P cancels, so the
-// belief is stored as offset(x) = sum_p log(1 + S_p(x) / eps) for touched bins
+// belief is stored as offset(x) = sum_p log2(1 + S_p(x) / eps) for touched bins
 // only; every untouched bin has offset 0 (the shared baseline).
+//
+// Offsets and the estimate's reductions are integers (sva_belief_math.h):
+// fixed-point bits of evidence, summed in any order with the same result. So a
+// belief can live wherever its backend folds (host memory for the CPU
+// reference, device memory for Vulkan) and every backend answers alike:
+// BeliefState is the interface, `Belief` the CPU reference, and the estimate
+// is computed once, here, from a BeliefState's reductions.
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <sva/pose.hpp>
 
 #include "recognition/bin_accumulator.hpp"
 #include "recognition/pose_space.hpp"
-#include "recognition/vote_backend.hpp"
 
 namespace sva {
+
+struct PairVotes;
 
 struct BinHypothesis {
   std::uint64_t key = 0;
@@ -32,39 +41,67 @@ struct BeliefEstimate {
   std::vector<BinHypothesis> top;
 };
 
-class Belief {
+// A touched bin and its offset in belief units (2^32 per bit of evidence).
+struct BinOffset {
+  std::uint64_t key = 0;
+  std::uint64_t offset = 0;
+  bool operator==(const BinOffset&) const = default;
+};
+
+// The integer reductions an estimate needs, per object.
+struct BeliefSummary {
+  std::uint64_t max_offset = 0;             // M over all touched bins (0 when none)
+  std::vector<std::uint64_t> touched;       // touched bins
+  std::vector<std::uint64_t> touched_mass;  // sum of sva_exp2_neg_units(M - offset, mass_bits) over touched bins
+  std::vector<std::uint64_t> best_offset;   // largest offset
+  std::vector<std::uint64_t> best_key;      // smallest key with the largest offset (when touched > 0)
+  bool operator==(const BeliefSummary&) const = default;
+};
+
+class BeliefState {
+ public:
+  virtual ~BeliefState() = default;
+  virtual void reset() = 0;
+  virtual std::size_t pairs_folded() const = 0;
+  virtual std::size_t touched() const = 0;
+  virtual BeliefSummary summarise() const = 0;
+  // The k bins with the largest offsets, ties to the smaller key, best first.
+  virtual std::vector<BinOffset> best_bins(std::size_t k) const = 0;
+  // The offsets of `keys` (0 for untouched bins).
+  virtual std::vector<std::uint64_t> offsets(std::span<const std::uint64_t> keys) const = 0;
+  // Every touched bin, in key order (tests and inspection; costs a full read-out).
+  virtual std::vector<BinOffset> table() const = 0;
+};
+
+// Posterior per object from the reductions (untouched bins at the baseline).
+std::vector<double> object_probability(const BeliefSummary& summary, const PoseSpace& space);
+// The estimate of any backend's belief: best object, its best bin refined
+// below the bin size, and the top-k bins over all objects.
+BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::size_t top_k);
+
+// The CPU reference belief.
+class Belief final : public BeliefState {
  public:
   Belief(const PoseSpace& space, double eps);
 
   // Multiplies in one pair factor. A pair with no vote mass leaves the belief
   // unchanged (it carries no information about the pose). Returns whether it folded.
   bool fold(const PairVotes& votes);
-  void reset();
 
-  std::size_t touched() const { return offset_.size(); }
-  std::size_t pairs_folded() const { return pairs_; }
-  double eps() const { return eps_; }
-  // Offset of a bin (0 when untouched).
-  double offset(std::uint64_t key) const;
-  // Posterior per object (untouched bins counted at the baseline).
-  std::vector<double> object_probability() const;
-  BeliefEstimate estimate(std::size_t top_k) const;
+  void reset() override;
+  std::size_t pairs_folded() const override { return pairs_; }
+  std::size_t touched() const override { return offset_.size(); }
+  BeliefSummary summarise() const override;
+  std::vector<BinOffset> best_bins(std::size_t k) const override;
+  std::vector<std::uint64_t> offsets(std::span<const std::uint64_t> keys) const override;
+  std::vector<BinOffset> table() const override;
+
+  std::uint64_t offset(std::uint64_t key) const { return offset_.get(key); }
 
  private:
-  struct Sorted {
-    std::vector<std::uint64_t> keys;
-    std::vector<double> offsets;
-    double max_offset = 0.0;
-  };
-  Sorted sorted() const;
-  std::vector<double> object_log_mass(const Sorted& s) const;  // log of mass relative to exp(max_offset)
-  double offset_in(const Sorted& s, const BinIndex& b) const;
-  double axis_shift(const Sorted& s, const BinIndex& c, bool rotation, int k) const;
-  RigidPose refine(const Sorted& s, std::uint64_t best) const;
-
   const PoseSpace* space_;
-  double eps_;
-  BinTable<double> offset_;
+  std::uint64_t eps_units_;
+  BinTable<std::uint64_t> offset_;
   std::size_t pairs_ = 0;
 };
 

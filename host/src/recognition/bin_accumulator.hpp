@@ -2,7 +2,7 @@
 // Sums per pose-bin key: open addressing with a well-mixed hash, grown at half
 // load. Used with 64-bit fixed-point vote mass (integer sums do not depend on
 // the order of the votes, so the sorted read-out is the same for any
-// schedule) and for the belief's log-domain offsets (folded in pair order).
+// schedule) and for the belief's fixed-point log-domain offsets.
 #include <algorithm>
 #include <cassert>
 #include <cstdint>
@@ -29,6 +29,12 @@ class BinTable {
   }
   std::size_t size() const { return size_; }
   void clear() { init(1024); }
+  // Visits every touched key in slot order (for order-independent reductions).
+  template <class Fn>
+  void for_each(Fn&& fn) const {
+    for (std::size_t i = 0; i < keys_.size(); ++i)
+      if (keys_[i] != kEmpty) fn(keys_[i], values_[i]);
+  }
   // Touched keys in increasing order with their values.
   void sorted(std::vector<std::uint64_t>* keys, std::vector<Value>* values) const {
     std::vector<std::uint64_t> k;

@@ -3,8 +3,11 @@
 // Gaussian in beta into pose bins, with the shared math of sva_vote_math.h.
 // Pairs run in parallel; each pair's sums are integers, so the result does not
 // depend on the thread count.
+#include <sva/error.hpp>
+
 #include <algorithm>
 #include <cassert>
+#include <string>
 
 #include "recognition/bin_accumulator.hpp"
 #include "recognition/vote_backend.hpp"
@@ -46,6 +49,25 @@ class CpuVoteBackend final : public VoteBackend {
     std::vector<PairVotes> out(batch.pairs.size());
     util::parallel_for(
         batch.pairs.size(), [&](std::size_t i) { vote_pair(batch, batch.pairs[i], &out[i]); }, settings_.threads);
+    return out;
+  }
+
+  std::unique_ptr<BeliefState> make_belief(const PoseSpace& space, double eps) override {
+    return std::make_unique<Belief>(space, eps);
+  }
+
+  // Folds in pair order; the fixed-point offsets make any order give the same belief.
+  std::vector<PairStats> vote_and_fold(const VoteBatch& batch, std::span<BeliefState* const> beliefs) override {
+    std::vector<PairVotes> votes = vote(batch);
+    std::vector<PairStats> out(votes.size());
+    for (std::size_t i = 0; i < votes.size(); ++i) {
+      const std::uint32_t s = batch.pairs[i].session;
+      assert(s < beliefs.size());
+      auto* belief = dynamic_cast<Belief*>(beliefs[s]);
+      if (!belief) throw Error("cpu backend: session " + std::to_string(s) + " has a belief made by another backend");
+      out[i] = votes[i];
+      out[i].folded = belief->fold(votes[i]);
+    }
     return out;
   }
 

@@ -29,7 +29,7 @@ class PoseSpace {
   // The grid as the vote math sees it.
   vote_math::SvaPoseGrid grid() const { return grid_; }
   // Bins per object (all of them, touched or not).
-  double bins_per_object() const { return bins_per_object_; }
+  std::uint64_t bins_per_object() const { return bins_per_object_; }
 
   static std::uint32_t object_of(std::uint64_t key) { return static_cast<std::uint32_t>(key >> SVA_KEY_OBJECT_SHIFT); }
   BinIndex unpack(std::uint64_t key) const;
@@ -49,7 +49,7 @@ class PoseSpace {
   PoseSpaceSpec spec_;
   std::uint32_t objects_;
   vote_math::SvaPoseGrid grid_{};
-  double bins_per_object_ = 0.0;
+  std::uint64_t bins_per_object_ = 0;
 };
 
 template <class Fn>

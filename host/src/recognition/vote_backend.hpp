@@ -1,15 +1,20 @@
 #pragma once
-// The one interface behind which vote backends live (CPU reference now, Vulkan
-// next). A call takes a batch of observed pairs from any number of independent
-// recognition sessions and returns, per pair, its votes folded per pose bin:
-// fixed-point masses sorted by bin key. The backend does the per-match math
-// (sva_vote_math.h); everything around it (pair keys, the log-domain belief,
-// the estimate) is the caller's, so every backend gives the same answers.
+// The one interface behind which backends live (the CPU reference and
+// Vulkan). A backend owns the sessions' beliefs (make_belief: host memory or
+// device memory) and, given a batch of observed pairs from any number of
+// independent sessions, votes every pair and folds it into its session's
+// belief (vote_and_fold). vote() returns the pairs' votes instead, per pose
+// bin as fixed-point masses sorted by key: the contract the backends are
+// tested against. The per-match math (sva_vote_math.h) and the fold
+// (sva_belief_math.h) are shared text; pair keys and the estimate are the
+// caller's, so every backend gives the same answers.
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "map/pair_map.hpp"
+#include "recognition/belief.hpp"
 #include "recognition/pose_space.hpp"
 
 namespace sva {
@@ -42,12 +47,16 @@ struct VoteBatch {
   std::vector<std::uint8_t> object_active;
 };
 
-struct PairVotes {
-  std::vector<std::uint64_t> keys;   // strictly increasing pose-bin keys
-  std::vector<std::int64_t> mass;    // fixed point (SVA_FIXED_ONE = 1)
+struct PairStats {
   std::uint64_t matches = 0;         // map entries aligned
   std::uint64_t votes = 0;           // beta samples inside the pose space
   std::uint64_t votes_outside = 0;   // beta samples outside it (or not planar)
+  bool folded = false;               // vote_and_fold: the pair had vote mass and was folded
+};
+
+struct PairVotes : PairStats {
+  std::vector<std::uint64_t> keys;   // strictly increasing pose-bin keys
+  std::vector<std::int64_t> mass;    // fixed point (SVA_FIXED_ONE = 1)
 };
 
 struct VoteSettings {
@@ -59,6 +68,11 @@ class VoteBackend {
  public:
   virtual ~VoteBackend() = default;
   virtual std::vector<PairVotes> vote(const VoteBatch& batch) = 0;
+  // A fresh belief (no pair folded) that lives with this backend.
+  virtual std::unique_ptr<BeliefState> make_belief(const PoseSpace& space, double eps) = 0;
+  // Votes every pair of the batch and folds it into beliefs[pair.session]
+  // (each made by this backend's make_belief). Returns per-pair statistics.
+  virtual std::vector<PairStats> vote_and_fold(const VoteBatch& batch, std::span<BeliefState* const> beliefs) = 0;
   virtual const char* name() const = 0;
 };
 

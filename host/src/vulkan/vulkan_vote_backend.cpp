@@ -93,6 +93,19 @@ class VulkanVoteBackend final : public VoteBackend {
   const char* name() const override { return "vulkan"; }
   const VulkanBackendStats& stats() const { return stats_; }
 
+  std::unique_ptr<BeliefState> make_belief(const PoseSpace& space, double eps) override {
+    return std::make_unique<Belief>(space, eps);
+  }
+  std::vector<PairStats> vote_and_fold(const VoteBatch& batch, std::span<BeliefState* const> beliefs) override {
+    std::vector<PairVotes> votes = vote(batch);
+    std::vector<PairStats> out(votes.size());
+    for (std::size_t i = 0; i < votes.size(); ++i) {
+      out[i] = votes[i];
+      out[i].folded = dynamic_cast<Belief*>(beliefs[batch.pairs[i].session])->fold(votes[i]);
+    }
+    return out;
+  }
+
   std::vector<PairVotes> vote(const VoteBatch& batch) override {
     const auto t0 = Clock::now();
     kernel_ms_ = 0.0;

@@ -77,6 +77,67 @@ struct SvaMatchParams {
   uint bins_hi;
 };
 
+// One session of a fold: its belief table (device address of `capacity` keys
+// followed by `capacity` offsets, capacity a power of two) and whether this
+// pass folds into it (0: the session's pairs only add to their totals).
+struct SvaGpuSession {
+  uint table_lo, table_hi;
+  uint capacity;
+  uint fold;
+};
+
+// What a fold pass reports per session.
+struct SvaGpuSessionStatus {
+  uint overflow;      // a key found no slot within SVA_HASH_MAX_PROBE: grow and fold again
+  uint missing;       // internal error: the add pass did not find a reserved key
+  uint inserted;      // keys new to the table
+  uint vote_entries;  // vote-table entries of the session's pairs (bounds the new keys)
+};
+
+// Push constants of belief_fold.comp.
+struct SvaFoldParams {
+  uint slots;             // vote-table slots
+  uint bins_lo, bins_hi;  // pose bins of the whole space (the vote key is pair * bins + bin)
+  uint eps_lo, eps_hi;    // sva::belief_math::eps_units
+  uint pass;              // SVA_FOLD_RESERVE or SVA_FOLD_ADD
+};
+#define SVA_FOLD_RESERVE 0u
+#define SVA_FOLD_ADD 1u
+
+// Push constants of belief_rehash.comp: move every key of the old table into the new one.
+struct SvaRehashParams {
+  uint old_lo, old_hi, old_capacity;
+  uint new_lo, new_hi, new_capacity;
+};
+
+// Push constants of belief_reduce.comp, one session's table per dispatch.
+struct SvaReduceParams {
+  uint table_lo, table_hi, capacity;
+  uint pass;                   // SVA_REDUCE_MAX, SVA_REDUCE_MASS or SVA_REDUCE_SELECT
+  uint objects;
+  uint mass_bits;
+  uint bins_lo, bins_hi;       // pose bins per object
+  uint select_bucket;          // SELECT: bins whose distance bucket is <= this
+  uint select_capacity;        // SELECT: room in the candidate list
+};
+#define SVA_REDUCE_MAX 0u
+#define SVA_REDUCE_MASS 1u
+#define SVA_REDUCE_SELECT 2u
+
+// The summary buffer of belief_reduce.comp (uint64 words): the maximum, the
+// candidate count, four per-object arrays, then the histogram of distances
+// below the maximum (bucket = SVA_BELIEF_BUCKET(d), see sva_belief_table.glsl).
+#define SVA_SUMMARY_MAX 0
+#define SVA_SUMMARY_CANDIDATES 1
+#define SVA_SUMMARY_OBJECTS 2  // then touched[o], touched_mass[o], best_offset[o], best_key[o], each `objects` long
+#define SVA_BELIEF_BUCKETS 1025  // 0 for d = 0, then 16 per bit of the highest set bit of d
+
+// Push constants of belief_lookup.comp.
+struct SvaLookupParams {
+  uint table_lo, table_hi, capacity;
+  uint queries;
+};
+
 // Probes of a binary search: enough for 2^32 items.
 #define SVA_MAX_SEARCH_STEPS 33
 // Invocations of the single-workgroup scan; each sums a contiguous block.

@@ -7,6 +7,8 @@
 #include <cstring>
 #include <mutex>
 
+#include "sva_shared.h"  // SVA_WORKGROUP_SIZE
+
 namespace sva::vk {
 
 namespace {
@@ -115,9 +117,9 @@ Context::Context(const ContextOptions& options) : s_(std::make_unique<State>()) 
   for (auto dev : devices) {
     VkPhysicalDeviceProperties props;
     vkGetPhysicalDeviceProperties(dev, &props);
-    VkPhysicalDeviceShaderAtomicInt64Features atomics{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES};
+    VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
     VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-    f2.pNext = &atomics;
+    if (props.apiVersion >= VK_API_VERSION_1_2) f2.pNext = &v12;
     vkGetPhysicalDeviceFeatures2(dev, &f2);
     std::uint32_t nq = 0;
     vkGetPhysicalDeviceQueueFamilyProperties(dev, &nq, nullptr);
@@ -126,9 +128,9 @@ Context::Context(const ContextOptions& options) : s_(std::make_unique<State>()) 
     std::uint32_t family = UINT32_MAX;
     for (std::uint32_t i = 0; i < nq; ++i)
       if (qf[i].queueFlags & VK_QUEUE_COMPUTE_BIT) { family = i; break; }
-    if (family == UINT32_MAX || !f2.features.shaderInt64 || !atomics.shaderBufferInt64Atomics ||
+    if (family == UINT32_MAX || !f2.features.shaderInt64 || !v12.shaderBufferInt64Atomics || !v12.bufferDeviceAddress ||
         props.apiVersion < VK_API_VERSION_1_2) {
-      rejected += std::string(" ") + props.deviceName + " (lacks compute/int64 atomics/Vulkan 1.2);";
+      rejected += std::string(" ") + props.deviceName + " (lacks compute/int64 atomics/buffer device address/Vulkan 1.2);";
       continue;
     }
     ok.push_back({dev, props, family, qf[family].timestampValidBits});
@@ -168,6 +170,12 @@ Context::Context(const ContextOptions& options) : s_(std::make_unique<State>()) 
   info_.type = type_name(pick->props.deviceType);
   info_.max_storage_buffer_range = pick->props.limits.maxStorageBufferRange;
   info_.max_workgroup_count_x = pick->props.limits.maxComputeWorkGroupCount[0];
+  info_.max_workgroup_count_y = pick->props.limits.maxComputeWorkGroupCount[1];
+  VkPhysicalDeviceMaintenance3Properties m3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+  VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
+  p2.pNext = &m3;
+  vkGetPhysicalDeviceProperties2(pick->dev, &p2);
+  info_.max_allocation = m3.maxMemoryAllocationSize;
   info_.timestamps = pick->timestamp_bits > 0 && pick->props.limits.timestampPeriod > 0;
   info_.timestamp_period_ns = pick->props.limits.timestampPeriod;
   vkGetPhysicalDeviceMemoryProperties(s_->physical, &s_->memory);
@@ -177,10 +185,13 @@ Context::Context(const ContextOptions& options) : s_(std::make_unique<State>()) 
   qci.queueFamilyIndex = s_->queue_family;
   qci.queueCount = 1;
   qci.pQueuePriorities = &priority;
-  VkPhysicalDeviceShaderAtomicInt64Features atomics{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SHADER_ATOMIC_INT64_FEATURES};
-  atomics.shaderBufferInt64Atomics = VK_TRUE;
+  // 64-bit atomics for the vote and belief tables; device addresses for the
+  // belief tables, which grow past one binding's range (maxStorageBufferRange).
+  VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  v12.shaderBufferInt64Atomics = VK_TRUE;
+  v12.bufferDeviceAddress = VK_TRUE;
   VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-  f2.pNext = &atomics;
+  f2.pNext = &v12;
   f2.features.shaderInt64 = VK_TRUE;
   VkDeviceCreateInfo dci{VK_STRUCTURE_TYPE_DEVICE_CREATE_INFO};
   dci.pNext = &f2;
@@ -228,8 +239,11 @@ Buffer Context::create_buffer(std::size_t bytes) {
   b.size_ = bytes;
   VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   bci.size = bytes;
+  if (bytes > info_.max_allocation)
+    throw Error("Vulkan: a buffer of " + std::to_string(bytes) + " bytes exceeds the device's largest allocation (" +
+                std::to_string(info_.max_allocation) + " bytes)");
   bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
-              VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT;
+              VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
   bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   check(vkCreateBuffer(s_->device, &bci, nullptr, &b.buffer_), "vkCreateBuffer");
   VkMemoryRequirements req;
@@ -241,7 +255,10 @@ Buffer Context::create_buffer(std::size_t bytes) {
   for (std::uint32_t i = 0; i < s_->memory.memoryTypeCount; ++i)
     if ((req.memoryTypeBits & (1u << i)) && (s_->memory.memoryTypes[i].propertyFlags & want) == want) { type = i; break; }
   if (type == UINT32_MAX) throw Error("Vulkan: no host-visible coherent memory type");
+  VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+  flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
   VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  mai.pNext = &flags;
   mai.allocationSize = req.size;
   mai.memoryTypeIndex = type;
   VkResult r = vkAllocateMemory(s_->device, &mai, nullptr, &b.memory_);
@@ -250,8 +267,20 @@ Buffer Context::create_buffer(std::size_t bytes) {
   check(r, "vkAllocateMemory");
   check(vkBindBufferMemory(s_->device, b.buffer_, b.memory_, 0), "vkBindBufferMemory");
   check(vkMapMemory(s_->device, b.memory_, 0, VK_WHOLE_SIZE, 0, &b.mapped_), "vkMapMemory");
+  VkBufferDeviceAddressInfo ai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+  ai.buffer = b.buffer_;
+  b.address_ = vkGetBufferDeviceAddress(s_->device, &ai);
   std::memset(b.mapped_, 0, bytes);
   return b;
+}
+
+Grid Context::grid(std::uint64_t invocations) const {
+  const std::uint64_t groups = std::max<std::uint64_t>((invocations + SVA_WORKGROUP_SIZE - 1) / SVA_WORKGROUP_SIZE, 1);
+  const std::uint64_t x = std::min<std::uint64_t>(groups, info_.max_workgroup_count_x);
+  const std::uint64_t y = (groups + x - 1) / x;
+  if (y > info_.max_workgroup_count_y)
+    throw Error("Vulkan: " + std::to_string(invocations) + " invocations exceed the device's workgroup grid");
+  return {static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y)};
 }
 
 Pipeline Context::create_pipeline(std::span<const std::uint32_t> spirv, std::uint32_t bindings, std::uint32_t push_bytes) {
@@ -325,7 +354,8 @@ void Context::run(const std::vector<Dispatch>& dispatches, std::vector<double>* 
     const Pipeline& p = *d.pipeline;
     if (d.buffers.size() != p.bindings_) throw std::logic_error("Dispatch: buffer count does not match the pipeline");
     if (d.push.size() != p.push_bytes_) throw std::logic_error("Dispatch: push-constant size does not match the pipeline");
-    if (d.groups_x > info_.max_workgroup_count_x) throw std::logic_error("Dispatch: too many workgroups");
+    if (d.groups_x > info_.max_workgroup_count_x || d.groups_y > info_.max_workgroup_count_y)
+      throw std::logic_error("Dispatch: too many workgroups");
     VkDescriptorSetAllocateInfo dai{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_ALLOCATE_INFO};
     dai.descriptorPool = s_->descriptor_pool;
     dai.descriptorSetCount = 1;
@@ -356,7 +386,7 @@ void Context::run(const std::vector<Dispatch>& dispatches, std::vector<double>* 
     if (p.push_bytes_) vkCmdPushConstants(cmd, p.layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, p.push_bytes_, d.push.data());
     if (timing) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, s_->queries, 2 * index);
     if (d.indirect) vkCmdDispatchIndirect(cmd, d.indirect->handle(), 0);
-    else if (d.groups_x) vkCmdDispatch(cmd, d.groups_x, 1, 1);
+    else if (d.groups_x && d.groups_y) vkCmdDispatch(cmd, d.groups_x, d.groups_y, 1);
     if (timing) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, s_->queries, 2 * index + 1);
     ++index;
   }
@@ -394,6 +424,7 @@ void Buffer::release() {
   memory_ = VK_NULL_HANDLE;
   mapped_ = nullptr;
   size_ = 0;
+  address_ = 0;
 }
 Buffer::~Buffer() { release(); }
 Buffer::Buffer(Buffer&& o) noexcept { *this = std::move(o); }
@@ -405,6 +436,7 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
     std::swap(memory_, o.memory_);
     std::swap(mapped_, o.mapped_);
     std::swap(size_, o.size_);
+    std::swap(address_, o.address_);
   }
   return *this;
 }

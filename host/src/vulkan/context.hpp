@@ -22,11 +22,17 @@ struct DeviceInfo {
   std::string type;  // "discrete", "integrated", "cpu", ...
   std::uint64_t max_storage_buffer_range = 0;
   std::uint32_t max_workgroup_count_x = 0;
+  std::uint32_t max_workgroup_count_y = 0;
+  std::uint64_t max_allocation = 0;  // maxMemoryAllocationSize
   bool timestamps = false;        // per-dispatch GPU timing available
   double timestamp_period_ns = 0;
 };
 
 class Context;
+
+struct Grid {
+  std::uint32_t x = 1, y = 1;
+};
 
 class Buffer {
  public:
@@ -38,17 +44,27 @@ class Buffer {
   ~Buffer();
   std::size_t size() const { return size_; }
   void* data() { return mapped_; }
+  const void* data() const { return mapped_; }
   template <class T>
   T* as() { return static_cast<T*>(mapped_); }
+  template <class T>
+  const T* as() const { return static_cast<const T*>(mapped_); }
   VkBuffer handle() const { return buffer_; }
+  // For shaders that reach the buffer through GL_EXT_buffer_reference.
+  VkDeviceAddress device_address() const { return address_; }
 
  private:
   friend class Context;
+
+struct Grid {
+  std::uint32_t x = 1, y = 1;
+};
   VkDevice device_ = VK_NULL_HANDLE;
   VkBuffer buffer_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
   void* mapped_ = nullptr;
   std::size_t size_ = 0;
+  VkDeviceAddress address_ = 0;
   void release();
 };
 
@@ -63,6 +79,10 @@ class Pipeline {
 
  private:
   friend class Context;
+
+struct Grid {
+  std::uint32_t x = 1, y = 1;
+};
   VkDevice device_ = VK_NULL_HANDLE;
   VkShaderModule module_ = VK_NULL_HANDLE;
   VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
@@ -80,6 +100,7 @@ struct Dispatch {
   std::vector<Buffer*> buffers;      // one per binding, in binding order
   std::vector<std::uint8_t> push;    // push-constant bytes
   std::uint32_t groups_x = 1;
+  std::uint32_t groups_y = 1;
   // When set, the workgroup counts come from this buffer (VkDispatchIndirectCommand
   // at offset 0), written by an earlier dispatch of the same run.
   Buffer* indirect = nullptr;
@@ -99,6 +120,9 @@ class Context {
   const std::vector<std::string>& validation_log() const;
 
   Buffer create_buffer(std::size_t bytes);
+  // A 2-D grid of SVA_WORKGROUP_SIZE-wide workgroups covering `invocations`
+  // (x is capped at maxComputeWorkGroupCount[0]); shaders flatten it back.
+  Grid grid(std::uint64_t invocations) const;
   Pipeline create_pipeline(std::span<const std::uint32_t> spirv, std::uint32_t bindings, std::uint32_t push_bytes);
   // Records the dispatches into one command buffer, submits and waits. When
   // `kernel_ms` is given and the device supports timestamps, it receives the

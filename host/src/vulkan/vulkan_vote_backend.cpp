@@ -6,13 +6,21 @@
 #include <bit>
 #include <chrono>
 #include <cstring>
+#include <functional>
+#include <stdexcept>
 
 #include "core/hash.hpp"
+#include "spv/belief_fold.h"
+#include "spv/belief_lookup.h"
+#include "spv/belief_reduce.h"
+#include "spv/belief_rehash.h"
 #include "spv/expand_pair_keys.h"
 #include "spv/match_votes.h"
 #include "spv/scan_matches.h"
 #include "util/interrupt.hpp"
 #include "vulkan/context.hpp"
+#include "vulkan/gpu_belief.hpp"
+#include "vulkan/linear_bins.hpp"
 
 namespace sva {
 
@@ -43,10 +51,19 @@ void ensure(vk::Context& ctx, vk::Buffer& b, std::size_t bytes) {
 class VulkanVoteBackend final : public VoteBackend {
  public:
   VulkanVoteBackend(const PairMap& map, const PoseSpace& space, const VoteSettings& settings, const VulkanBackendOptions& options)
-      : map_(map), space_(space), settings_(settings), ctx_(context_options(options)),
+      : map_(map), space_(space), settings_(settings), ctx_(context_options(options)), bins_(space),
         expand_(ctx_.create_pipeline(sva_spv_expand_pair_keys, 4, sizeof(gpu::SvaExpandParams))),
         scan_(ctx_.create_pipeline(sva_spv_scan_matches, 3, sizeof(gpu::SvaScanParams))),
-        pipeline_(ctx_.create_pipeline(sva_spv_match_votes, 14, sizeof(gpu::SvaMatchParams))) {
+        pipeline_(ctx_.create_pipeline(sva_spv_match_votes, 14, sizeof(gpu::SvaMatchParams))),
+        fold_(ctx_.create_pipeline(sva_spv_belief_fold, 6, sizeof(gpu::SvaFoldParams))),
+        beliefs_{&ctx_,
+                 &space,
+                 LinearBins(space),
+                 ctx_.create_pipeline(sva_spv_belief_rehash, 1, sizeof(gpu::SvaRehashParams)),
+                 ctx_.create_pipeline(sva_spv_belief_reduce, 2, sizeof(gpu::SvaReduceParams)),
+                 ctx_.create_pipeline(sva_spv_belief_lookup, 1, sizeof(gpu::SvaLookupParams)),
+                 std::max<std::size_t>(options.initial_belief_slots, 64),
+                 0.0} {
     stats_.device = ctx_.info().name + " (" + ctx_.info().type + ")";
     const std::size_t range_entries = ctx_.info().max_storage_buffer_range / sizeof(std::uint32_t);
     chunk_ = options.max_chunk_entries ? std::min(options.max_chunk_entries, range_entries) : range_entries;
@@ -82,39 +99,40 @@ class VulkanVoteBackend final : public VoteBackend {
       if (entries == 0) break;
     }
     stats_.chunks = chunks_.size();
-    const auto& spec = space.spec();
-    dim_tz_ = space.planar() ? 1u : static_cast<std::uint32_t>(spec.translation_bins);
-    dim_rxy_ = space.planar() ? 1u : static_cast<std::uint32_t>(spec.rotation_bins);
-    bins_total_ = std::uint64_t{space.objects()} * static_cast<std::uint64_t>(spec.translation_bins) *
-                  static_cast<std::uint64_t>(spec.translation_bins) * dim_tz_ * dim_rxy_ * dim_rxy_ *
-                  static_cast<std::uint64_t>(spec.rotation_bins);
+    bins_total_ = bins_.total();
   }
 
   const char* name() const override { return "vulkan"; }
   const VulkanBackendStats& stats() const { return stats_; }
 
-  std::unique_ptr<BeliefState> make_belief(const PoseSpace& space, double eps) override {
-    return std::make_unique<Belief>(space, eps);
-  }
-  std::vector<PairStats> vote_and_fold(const VoteBatch& batch, std::span<BeliefState* const> beliefs) override {
-    std::vector<PairVotes> votes = vote(batch);
-    std::vector<PairStats> out(votes.size());
-    for (std::size_t i = 0; i < votes.size(); ++i) {
-      out[i] = votes[i];
-      out[i].folded = dynamic_cast<Belief*>(beliefs[batch.pairs[i].session])->fold(votes[i]);
-    }
+
+  std::vector<PairVotes> vote(const VoteBatch& batch) override {
+    std::vector<PairVotes> out(batch.pairs.size());
+    timed([&] {
+      vote_pairs(batch, 0, batch.pairs.size(), [&](std::size_t first, std::size_t last) { read_back(first, last, out); });
+    });
     return out;
   }
 
-  std::vector<PairVotes> vote(const VoteBatch& batch) override {
-    const auto t0 = Clock::now();
-    kernel_ms_ = 0.0;
-    std::vector<PairVotes> out(batch.pairs.size());
-    vote_pairs(batch, 0, batch.pairs.size(), out);
-    stats_.table_slots = slots_;
-    stats_.last_kernel_ms = kernel_ms_;
-    stats_.last_host_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count() - kernel_ms_;
-    stats_.validation_messages = ctx_.validation_messages();
+  std::unique_ptr<BeliefState> make_belief(const PoseSpace& space, double eps) override {
+    if (&space != &space_) throw Error("vulkan backend: a belief must use the backend's pose space");
+    return std::make_unique<GpuBelief>(beliefs_, eps);
+  }
+
+  std::vector<PairStats> vote_and_fold(const VoteBatch& batch, std::span<BeliefState* const> beliefs) override {
+    std::vector<GpuBelief*> gb;
+    for (BeliefState* b : beliefs) {
+      auto* g = dynamic_cast<GpuBelief*>(b);
+      if (!g) throw Error("vulkan backend: a session's belief was made by another backend");
+      gb.push_back(g);
+    }
+    for (const PairQuery& q : batch.pairs)
+      if (q.session >= gb.size()) throw Error("vulkan backend: pair of session " + std::to_string(q.session) + " has no belief");
+    std::vector<PairStats> out(batch.pairs.size());
+    timed([&] {
+      vote_pairs(batch, 0, batch.pairs.size(), [&](std::size_t first, std::size_t last) { fold(batch, first, last, gb, out); });
+      for (GpuBelief* g : gb) g->keep_half_empty();
+    });
     return out;
   }
 
@@ -124,11 +142,26 @@ class VulkanVoteBackend final : public VoteBackend {
     vk::Buffer a, b, w, offsets, scan;
   };
 
-  // Votes of pairs [first, last) of the batch into out[first, last). All work
-  // runs in one submission: expand keys to map ranges, then per map chunk a
-  // scan of its matches and the indirect match kernel. A batch too large for
-  // one pass (key items or 2^32 matches in a chunk) is split in halves.
-  void vote_pairs(const VoteBatch& batch, std::size_t first, std::size_t last, std::vector<PairVotes>& out) {
+  template <class Fn>
+  void timed(Fn&& fn) {
+    const auto t0 = Clock::now();
+    kernel_ms_ = 0.0;
+    beliefs_.kernel_ms = 0.0;
+    fn();
+    kernel_ms_ += beliefs_.kernel_ms;
+    stats_.table_slots = slots_;
+    stats_.last_kernel_ms = kernel_ms_;
+    stats_.last_host_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count() - kernel_ms_;
+    stats_.validation_messages = ctx_.validation_messages();
+  }
+
+  // Votes of pairs [first, last) of the batch into the vote table, then
+  // consume(first, last) while the table holds them. All vote work runs in
+  // one submission: expand keys to map ranges, then per map chunk a scan of
+  // its matches and the indirect match kernel. A batch too large for one pass
+  // (key items, table or 2^32 matches in a chunk) is split in halves.
+  using Consumer = std::function<void(std::size_t, std::size_t)>;
+  void vote_pairs(const VoteBatch& batch, std::size_t first, std::size_t last, const Consumer& consume) {
     if (first >= last) return;
     const std::size_t P = last - first;
     const std::uint32_t objects = space_.objects();
@@ -136,14 +169,17 @@ class VulkanVoteBackend final : public VoteBackend {
     for (std::size_t q = first; q < last; ++q)
       for (std::uint32_t k = batch.pairs[q].key_begin; k < batch.pairs[q].key_end; ++k)
         items.push_back({static_cast<std::uint32_t>(q - first), batch.keys[k].key, batch.keys[k].weight, 0u});
-    if (items.empty()) return;  // no pair looks anything up: no votes
+    if (items.empty()) {  // no pair looks anything up: no votes
+      consume_empty(first, last, consume);
+      return;
+    }
     if (items.size() > SVA_MAX_KEY_ITEMS && P > 1) {
-      split(batch, first, last, out);
+      split(batch, first, last, consume);
       return;
     }
     if (items.size() > SVA_MAX_KEY_ITEMS) throw Error("one observed pair has more map keys than the GPU backend handles");
     if (bins_total_ > 0 && P > (UINT64_MAX >> 2) / bins_total_) {
-      split(batch, first, last, out);
+      split(batch, first, last, consume);
       return;
     }
     const std::size_t K = items.size();
@@ -175,7 +211,7 @@ class VulkanVoteBackend final : public VoteBackend {
       util::throw_if_interrupted();
       if (slots_ * sizeof(std::uint64_t) > ctx_.info().max_storage_buffer_range) {
         if (P > 1) {
-          split(batch, first, last, out);
+          split(batch, first, last, consume);
           return;
         }
         throw Error("GPU vote table would exceed one binding (" + std::to_string(slots_) + " slots) for one pair");
@@ -208,8 +244,8 @@ class VulkanVoteBackend final : public VoteBackend {
         p.rotation_bins = grid.rotation_bins;
         p.rotation_width = grid.rotation_width;
         p.likelihood_cutoff = settings_.likelihood_cutoff;
-        p.dim_tz = dim_tz_;
-        p.dim_rxy = dim_rxy_;
+        p.dim_tz = bins_.dim_tz();
+        p.dim_rxy = bins_.dim_rxy();
         p.bins_lo = static_cast<std::uint32_t>(bins_total_ & 0xffffffffu);
         p.bins_hi = static_cast<std::uint32_t>(bins_total_ >> 32);
         vk::Dispatch d{&pipeline_,
@@ -227,7 +263,7 @@ class VulkanVoteBackend final : public VoteBackend {
         if (ch.count && ch.scan.as<gpu::SvaScanResult>()->too_many) too_many = true;
       if (too_many) {
         if (P == 1) throw Error("one observed pair matches more than 2^32 map entries in one chunk");
-        split(batch, first, last, out);
+        split(batch, first, last, consume);
         return;
       }
       if (*status_.as<std::uint32_t>() == 0) break;
@@ -235,32 +271,136 @@ class VulkanVoteBackend final : public VoteBackend {
       ++stats_.table_grows;
     }
 
-    // Read back, sorted by (pair, pose bin): the linear bin order is the key order.
+    consume(first, last);
+  }
+
+  // A sub-batch without any key item: its pairs have no votes; the consumer
+  // still sees them (with an empty table) so that their statistics are set.
+  void consume_empty(std::size_t first, std::size_t last, const Consumer& consume) {
+    const std::size_t P = last - first;
+    ensure(ctx_, counters_, P * 3 * sizeof(std::uint64_t));
+    std::memset(counters_.data(), 0, P * 3 * sizeof(std::uint64_t));
+    ensure(ctx_, table_keys_, slots_ * sizeof(std::uint64_t));
+    ensure(ctx_, table_sums_, slots_ * sizeof(std::int64_t));
+    std::memset(table_keys_.data(), 0xff, slots_ * sizeof(std::uint64_t));
+    ensure(ctx_, pairs_, P * sizeof(gpu::SvaGpuPair));
+    consume(first, last);
+  }
+
+  template <class Stats>  // PairStats or PairVotes
+  void set_counters(std::size_t first, std::size_t last, std::vector<Stats>& out) const {
+    const auto* cnt = counters_.as<std::uint64_t>();
+    for (std::size_t q = 0; q < last - first; ++q) {
+      out[first + q].matches = cnt[3 * q];
+      out[first + q].votes = cnt[3 * q + 1];
+      out[first + q].votes_outside = cnt[3 * q + 2];
+    }
+  }
+
+  // vote(): the table's sums, sorted by (pair, pose bin), as the CPU reference returns them.
+  void read_back(std::size_t first, std::size_t last, std::vector<PairVotes>& out) {
     const auto* tk = table_keys_.as<std::uint64_t>();
     const auto* ts = table_sums_.as<std::int64_t>();
     std::vector<std::pair<std::uint64_t, std::int64_t>> all;
     for (std::size_t s = 0; s < slots_; ++s)
       if (tk[s] != hash::kEmptyKey) all.emplace_back(tk[s], ts[s]);
     std::sort(all.begin(), all.end());
-    const auto* cnt = counters_.as<std::uint64_t>();
-    for (std::size_t q = 0; q < P; ++q) {
-      out[first + q].matches = cnt[3 * q];
-      out[first + q].votes = cnt[3 * q + 1];
-      out[first + q].votes_outside = cnt[3 * q + 2];
-    }
+    set_counters(first, last, out);
     for (const auto& [key, mass] : all) {
       const std::uint64_t q = key / bins_total_;
-      out[first + q].keys.push_back(bin_key(key % bins_total_));
+      out[first + q].keys.push_back(bins_.key(key % bins_total_));
       out[first + q].mass.push_back(mass);
     }
-    // Keep about half load next time: fewer probes, rarely a rerun.
-    slots_ = std::max(slots_, std::bit_ceil(std::max<std::size_t>(2 * all.size(), 1024)));
+    keep_vote_table_half_empty(all.size());
   }
 
-  void split(const VoteBatch& batch, std::size_t first, std::size_t last, std::vector<PairVotes>& out) {
+  // Keep about half load next time: fewer probes, rarely a rerun.
+  void keep_vote_table_half_empty(std::size_t entries) {
+    slots_ = std::max(slots_, std::bit_ceil(std::max<std::size_t>(2 * entries, 1024)));
+  }
+
+  // vote_and_fold(): belief_fold.comp folds the table into the sessions'
+  // beliefs on the device. A session whose table overflows (a key found no
+  // slot) is skipped by the ADD pass; its table grows to hold every key its
+  // pairs voted for, and only that session folds again.
+  void fold(const VoteBatch& batch, std::size_t first, std::size_t last, const std::vector<GpuBelief*>& beliefs,
+            std::vector<PairStats>& out) {
+    const std::size_t P = last - first, S = beliefs.size();
+    set_counters(first, last, out);
+    ensure(ctx_, sessions_, S * sizeof(gpu::SvaGpuSession));
+    ensure(ctx_, session_status_, S * sizeof(gpu::SvaGpuSessionStatus));
+    ensure(ctx_, pair_totals_, P * sizeof(std::uint64_t));
+    auto* sess = sessions_.as<gpu::SvaGpuSession>();
+    auto* st = session_status_.as<gpu::SvaGpuSessionStatus>();
+    // Only the sessions with pairs in this sub-batch fold.
+    std::vector<std::uint8_t> pending(S, 0);
+    for (std::size_t q = first; q < last; ++q) pending[batch.pairs[q].session] = 1;
+    std::uint64_t eps = 0;
+    for (std::size_t s = 0; s < S; ++s) {
+      if (!pending[s]) continue;
+      if (eps != 0 && beliefs[s]->eps_units() != eps)
+        throw Error("vulkan backend: all sessions of one update must use the same eps");
+      eps = beliefs[s]->eps_units();
+    }
+    std::vector<std::uint64_t> inserted(S, 0);
+    for (;;) {
+      for (std::size_t s = 0; s < S; ++s) {
+        const VkDeviceAddress a = beliefs[s]->address();
+        sess[s] = {static_cast<std::uint32_t>(a & 0xffffffffu), static_cast<std::uint32_t>(a >> 32), beliefs[s]->capacity(),
+                   pending[s] ? 1u : 0u};
+        st[s] = {};
+      }
+      std::memset(pair_totals_.data(), 0, P * sizeof(std::uint64_t));
+      gpu::SvaFoldParams p{static_cast<std::uint32_t>(slots_), static_cast<std::uint32_t>(bins_total_ & 0xffffffffu),
+                           static_cast<std::uint32_t>(bins_total_ >> 32), static_cast<std::uint32_t>(eps & 0xffffffffu),
+                           static_cast<std::uint32_t>(eps >> 32), SVA_FOLD_RESERVE};
+      const vk::Grid g = ctx_.grid(slots_);
+      std::vector<vk::Dispatch> ds;
+      for (std::uint32_t pass : {SVA_FOLD_RESERVE, SVA_FOLD_ADD}) {
+        p.pass = pass;
+        vk::Dispatch d{&fold_, {&table_keys_, &table_sums_, &pairs_, &pair_totals_, &sessions_, &session_status_}, bytes_of(p), g.x};
+        d.groups_y = g.y;
+        ds.push_back(std::move(d));
+      }
+      std::vector<double> ms;
+      ctx_.run(ds, &ms);
+      for (double m : ms) kernel_ms_ += m;
+      bool again = false;
+      for (std::size_t s = 0; s < S; ++s) {
+        if (!pending[s]) continue;
+        if (st[s].missing) throw std::logic_error("belief_fold: a reserved key was not found");
+        inserted[s] += st[s].inserted;
+        beliefs[s]->record(st[s].inserted, 0);
+        if (st[s].overflow) {
+          // Room for every key the session's pairs voted for, at half load.
+          beliefs[s]->grow(2 * (beliefs[s]->touched() + st[s].vote_entries));
+          ++stats_.table_grows;
+          again = true;
+        } else {
+          pending[s] = 0;
+        }
+      }
+      if (!again) break;
+      util::throw_if_interrupted();
+    }
+    const auto* totals = pair_totals_.as<std::uint64_t>();
+    std::vector<std::size_t> folded(S, 0);
+    for (std::size_t q = 0; q < P; ++q) {
+      out[first + q].folded = totals[q] > 0;
+      if (totals[q] > 0) ++folded[batch.pairs[first + q].session];
+    }
+    for (std::size_t s = 0; s < S; ++s)
+      if (folded[s]) beliefs[s]->record(0, folded[s]);
+    std::size_t entries = 0;
+    const auto* tk = table_keys_.as<std::uint64_t>();
+    for (std::size_t s = 0; s < slots_; ++s) entries += tk[s] != hash::kEmptyKey;
+    keep_vote_table_half_empty(entries);
+  }
+
+  void split(const VoteBatch& batch, std::size_t first, std::size_t last, const Consumer& consume) {
     const std::size_t mid = first + (last - first) / 2;
-    vote_pairs(batch, first, mid, out);
-    vote_pairs(batch, mid, last, out);
+    vote_pairs(batch, first, mid, consume);
+    vote_pairs(batch, mid, last, consume);
   }
 
   static vk::ContextOptions context_options(const VulkanBackendOptions& o) {
@@ -269,37 +409,18 @@ class VulkanVoteBackend final : public VoteBackend {
     return c;
   }
 
-  // Inverse of the shader's linear_bin.
-  std::uint64_t bin_key(std::uint64_t linear) const {
-    const auto& spec = space_.spec();
-    const std::uint64_t T = static_cast<std::uint64_t>(spec.translation_bins), R = static_cast<std::uint64_t>(spec.rotation_bins);
-    BinIndex b;
-    b.r[2] = static_cast<int>(linear % R);
-    linear /= R;
-    b.r[1] = static_cast<int>(linear % dim_rxy_);
-    linear /= dim_rxy_;
-    b.r[0] = static_cast<int>(linear % dim_rxy_);
-    linear /= dim_rxy_;
-    b.t[2] = static_cast<int>(linear % dim_tz_);
-    linear /= dim_tz_;
-    b.t[1] = static_cast<int>(linear % T);
-    linear /= T;
-    b.t[0] = static_cast<int>(linear % T);
-    linear /= T;
-    b.object = static_cast<std::uint32_t>(linear);
-    return space_.pack(b);
-  }
-
   const PairMap& map_;
   const PoseSpace& space_;
   VoteSettings settings_;
   vk::Context ctx_;
-  vk::Pipeline expand_, scan_, pipeline_;
+  LinearBins bins_;
+  vk::Pipeline expand_, scan_, pipeline_, fold_;
+  GpuBeliefKernels beliefs_;
   vk::Buffer readings_, map_keys_, map_offsets_, pairs_, key_items_, ranges_, active_, table_keys_, table_sums_, counters_, status_;
+  vk::Buffer sessions_, session_status_, pair_totals_;
   double kernel_ms_ = 0.0;
   std::vector<Chunk> chunks_;
   std::size_t chunk_ = 0, slots_ = 0;
-  std::uint32_t dim_tz_ = 1, dim_rxy_ = 1;
   std::uint64_t bins_total_ = 0;
   VulkanBackendStats stats_;
 };

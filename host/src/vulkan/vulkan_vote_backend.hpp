@@ -1,10 +1,12 @@
 #pragma once
-// The Vulkan vote backend: the same VoteBackend contract as the CPU reference,
-// with the per-match work (likelihood, alignment, beta sampling, fixed-point
-// scatter) in shaders/match_votes.comp. The map is uploaded once, split into
-// chunks that respect maxStorageBufferRange; a batch of pairs from any number
-// of sessions runs in one submission; a hash-table overflow grows the table
-// and reruns the batch, so no vote is ever dropped.
+// The Vulkan backend: the same VoteBackend contract as the CPU reference, with
+// the per-match work (likelihood, alignment, beta sampling, fixed-point
+// scatter) in shaders/match_votes.comp, the fold into each session's belief in
+// belief_fold.comp and the estimate's reductions in belief_reduce.comp; the
+// beliefs stay in device memory (vulkan/gpu_belief.hpp). The map is uploaded
+// once, split into chunks that respect maxStorageBufferRange; a batch of pairs
+// from any number of sessions votes in one submission and folds in another; a
+// hash-table overflow grows the table and reruns, so no vote is ever dropped.
 #include <memory>
 #include <string>
 
@@ -15,7 +17,8 @@ namespace sva {
 struct VulkanBackendOptions {
   std::string device;               // "" = prefer a discrete GPU (env SVA_VK_DEVICE)
   std::size_t max_chunk_entries = 0;  // 0 = as large as one binding allows (tests force tiny chunks)
-  std::size_t initial_table_slots = 1 << 14;
+  std::size_t initial_table_slots = 1 << 14;   // vote table (grows on overflow)
+  std::size_t initial_belief_slots = 1 << 12;  // each session's belief table (grows at half load and on overflow)
 };
 
 struct VulkanBackendStats {

@@ -1,0 +1,205 @@
+#include "vulkan/gpu_belief.hpp"
+
+#include <sva/error.hpp>
+
+#include <algorithm>
+#include <bit>
+#include <cassert>
+#include <cstring>
+#include <string>
+
+#include "recognition/belief_math.hpp"
+
+namespace sva {
+
+namespace gpu {
+using uint = std::uint32_t;
+using std::uint64_t;
+#include "sva_gpu_layout.h"
+}  // namespace gpu
+
+namespace {
+
+template <class T>
+std::vector<std::uint8_t> bytes_of(const T& p) {
+  std::vector<std::uint8_t> b(sizeof p);
+  std::memcpy(b.data(), &p, sizeof p);
+  return b;
+}
+
+std::uint32_t lo(std::uint64_t v) { return static_cast<std::uint32_t>(v & 0xffffffffu); }
+std::uint32_t hi(std::uint64_t v) { return static_cast<std::uint32_t>(v >> 32); }
+
+void ensure(vk::Context& ctx, vk::Buffer& b, std::size_t bytes) {
+  if (b.size() < std::max<std::size_t>(bytes, 16)) b = ctx.create_buffer(std::max<std::size_t>(bytes, 16));
+}
+
+// The most slots a table may have (its index is a 32-bit uint in the shaders).
+constexpr std::uint64_t kMaxSlots = std::uint64_t{1} << 31;
+
+}  // namespace
+
+GpuBelief::GpuBelief(GpuBeliefKernels& kernels, double eps) : k_(&kernels), eps_units_(belief_math::eps_units(eps)) {
+  reset();
+}
+
+void GpuBelief::allocate(vk::Buffer& b, std::uint32_t capacity) const {
+  b = k_->ctx->create_buffer(std::size_t{capacity} * 2 * sizeof(std::uint64_t));  // keys, then offsets (zeroed)
+  std::memset(b.data(), 0xff, std::size_t{capacity} * sizeof(std::uint64_t));
+}
+
+void GpuBelief::reset() {
+  capacity_ = static_cast<std::uint32_t>(std::bit_ceil(std::max<std::size_t>(k_->initial_slots, 64)));
+  allocate(table_, capacity_);
+  count_ = 0;
+  pairs_ = 0;
+  summary_cache_.reset();
+}
+
+void GpuBelief::record(std::uint64_t inserted, std::size_t folded) {
+  count_ += inserted;
+  pairs_ += folded;
+  summary_cache_.reset();
+}
+
+void GpuBelief::grow(std::uint64_t slots) {
+  std::uint64_t cap = std::bit_ceil(std::max<std::uint64_t>(slots, 2 * std::uint64_t{capacity_}));
+  vk::Buffer status = k_->ctx->create_buffer(sizeof(std::uint32_t));
+  for (;;) {
+    if (cap > kMaxSlots)
+      throw Error("GPU belief table would need more than 2^31 slots (" + std::to_string(count_) + " touched bins)");
+    vk::Buffer next;
+    allocate(next, static_cast<std::uint32_t>(cap));
+    *status.as<std::uint32_t>() = 0;
+    gpu::SvaRehashParams p{lo(table_.device_address()), hi(table_.device_address()), capacity_,
+                           lo(next.device_address()),   hi(next.device_address()),   static_cast<std::uint32_t>(cap)};
+    const vk::Grid g = k_->ctx->grid(capacity_);
+    vk::Dispatch d{&k_->rehash, {&status}, bytes_of(p), g.x};
+    d.groups_y = g.y;
+    std::vector<double> ms;
+    k_->ctx->run({d}, &ms);
+    for (double m : ms) k_->kernel_ms += m;
+    if (*status.as<std::uint32_t>() == 0) {
+      table_ = std::move(next);
+      capacity_ = static_cast<std::uint32_t>(cap);
+      return;
+    }
+    cap *= 2;  // a probe run too long even at this load: spread further
+  }
+}
+
+void GpuBelief::reduce() const {
+  const std::uint32_t objects = k_->space->objects();
+  const std::size_t words = SVA_SUMMARY_OBJECTS + 4 * std::size_t{objects} + SVA_BELIEF_BUCKETS;
+  ensure(*k_->ctx, summary_, words * sizeof(std::uint64_t));
+  auto* w = summary_.as<std::uint64_t>();
+  std::fill(w, w + words, std::uint64_t{0});
+  std::uint64_t* best_key = w + SVA_SUMMARY_OBJECTS + 3 * objects;
+  std::fill(best_key, best_key + objects, ~std::uint64_t{0});
+  ensure(*k_->ctx, candidates_, 2 * sizeof(std::uint64_t));
+  gpu::SvaReduceParams p{};
+  p.table_lo = lo(table_.device_address());
+  p.table_hi = hi(table_.device_address());
+  p.capacity = capacity_;
+  p.objects = objects;
+  p.mass_bits = belief_math::mass_bits(k_->space->bins_per_object());
+  p.bins_lo = lo(k_->bins.per_object());
+  p.bins_hi = hi(k_->bins.per_object());
+  const vk::Grid g = k_->ctx->grid(capacity_);
+  std::vector<vk::Dispatch> ds;
+  for (std::uint32_t pass : {SVA_REDUCE_MAX, SVA_REDUCE_MASS}) {
+    p.pass = pass;
+    vk::Dispatch d{&k_->reduce, {&summary_, &candidates_}, bytes_of(p), g.x};
+    d.groups_y = g.y;
+    ds.push_back(std::move(d));
+  }
+  std::vector<double> ms;
+  k_->ctx->run(ds, &ms);
+  for (double m : ms) k_->kernel_ms += m;
+
+  BeliefSummary s;
+  s.max_offset = w[SVA_SUMMARY_MAX];
+  const std::uint64_t* o = w + SVA_SUMMARY_OBJECTS;
+  s.touched.assign(o, o + objects);
+  s.touched_mass.assign(o + objects, o + 2 * objects);
+  s.best_offset.assign(o + 2 * objects, o + 3 * objects);
+  s.best_key.assign(objects, 0);
+  for (std::uint32_t i = 0; i < objects; ++i)
+    if (s.touched[i] > 0) s.best_key[i] = k_->bins.key(best_key[i]);
+  histogram_.assign(o + 4 * objects, o + 4 * objects + SVA_BELIEF_BUCKETS);
+  summary_cache_ = std::move(s);
+}
+
+BeliefSummary GpuBelief::summarise() const {
+  if (!summary_cache_) reduce();
+  return *summary_cache_;
+}
+
+std::vector<BinOffset> GpuBelief::best_bins(std::size_t k) const {
+  k = std::min(k, count_);
+  if (k == 0) return {};
+  if (!summary_cache_) reduce();
+  // The smallest bucket bound that holds at least k bins: those bins contain the top k.
+  std::uint32_t bucket = 0;
+  std::uint64_t n = 0;
+  for (; bucket < SVA_BELIEF_BUCKETS; ++bucket)
+    if ((n += histogram_[bucket]) >= k) break;
+  assert(bucket < SVA_BELIEF_BUCKETS);
+  ensure(*k_->ctx, candidates_, n * 2 * sizeof(std::uint64_t));
+  summary_.as<std::uint64_t>()[SVA_SUMMARY_CANDIDATES] = 0;
+  gpu::SvaReduceParams p{};
+  p.table_lo = lo(table_.device_address());
+  p.table_hi = hi(table_.device_address());
+  p.capacity = capacity_;
+  p.pass = SVA_REDUCE_SELECT;
+  p.objects = k_->space->objects();
+  p.mass_bits = belief_math::mass_bits(k_->space->bins_per_object());
+  p.bins_lo = lo(k_->bins.per_object());
+  p.bins_hi = hi(k_->bins.per_object());
+  p.select_bucket = bucket;
+  p.select_capacity = static_cast<std::uint32_t>(n);
+  const vk::Grid g = k_->ctx->grid(capacity_);
+  vk::Dispatch d{&k_->reduce, {&summary_, &candidates_}, bytes_of(p), g.x};
+  d.groups_y = g.y;
+  std::vector<double> ms;
+  k_->ctx->run({d}, &ms);
+  for (double m : ms) k_->kernel_ms += m;
+  if (summary_.as<std::uint64_t>()[SVA_SUMMARY_CANDIDATES] != n)
+    throw std::logic_error("GPU belief: top-k selection found a different number of bins than its histogram");
+  const auto* c = candidates_.as<std::uint64_t>();
+  std::vector<BinOffset> out(n);
+  for (std::size_t i = 0; i < n; ++i) out[i] = {k_->bins.key(c[2 * i]), c[2 * i + 1]};
+  std::partial_sort(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(k), out.end(),
+                    [](const BinOffset& a, const BinOffset& b) { return a.offset != b.offset ? a.offset > b.offset : a.key < b.key; });
+  out.resize(k);
+  return out;
+}
+
+std::vector<std::uint64_t> GpuBelief::offsets(std::span<const std::uint64_t> keys) const {
+  if (keys.empty()) return {};
+  ensure(*k_->ctx, queries_, keys.size() * sizeof(std::uint64_t));
+  auto* q = queries_.as<std::uint64_t>();
+  for (std::size_t i = 0; i < keys.size(); ++i) q[i] = k_->bins.linear(keys[i]);
+  gpu::SvaLookupParams p{lo(table_.device_address()), hi(table_.device_address()), capacity_,
+                         static_cast<std::uint32_t>(keys.size())};
+  const vk::Grid g = k_->ctx->grid(keys.size());
+  vk::Dispatch d{&k_->lookup, {&queries_}, bytes_of(p), g.x};
+  d.groups_y = g.y;
+  std::vector<double> ms;
+  k_->ctx->run({d}, &ms);
+  for (double m : ms) k_->kernel_ms += m;
+  return std::vector<std::uint64_t>(q, q + keys.size());
+}
+
+std::vector<BinOffset> GpuBelief::table() const {
+  const auto* keys = table_.as<std::uint64_t>();
+  const auto* offsets = keys + capacity_;
+  std::vector<BinOffset> out;
+  out.reserve(count_);
+  for (std::uint32_t i = 0; i < capacity_; ++i)
+    if (keys[i] != ~std::uint64_t{0}) out.push_back({k_->bins.key(keys[i]), offsets[i]});
+  std::sort(out.begin(), out.end(), [](const BinOffset& a, const BinOffset& b) { return a.key < b.key; });
+  return out;
+}
+
+}  // namespace sva

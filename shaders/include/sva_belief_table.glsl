@@ -1,0 +1,58 @@
+// GLSL only: a session's belief table on the device, reached through its
+// device address (GL_EXT_buffer_reference) because it grows past what one
+// binding may span. Layout: `capacity` keys (uint64, SVA_HASH_EMPTY_KEY when
+// free) followed by `capacity` offsets (uint64 belief units); capacity is a
+// power of two. Keys are linear pose-bin indices (object included), whose
+// order is the packed keys' order. Open addressing with the vote table's hash
+// and probe bound. The includer enables GL_EXT_buffer_reference and
+// GL_EXT_shader_explicit_arithmetic_types_int64 and includes sva_shared.h and
+// sva_hash.h.
+layout(buffer_reference, std430, buffer_reference_align = 8) buffer SvaWords { uint64_t w[]; };
+
+SvaWords sva_table_keys(uint lo, uint hi) { return SvaWords(uint64_t(lo) | (uint64_t(hi) << 32)); }
+SvaWords sva_table_offsets(uint lo, uint hi, uint capacity) {
+  return SvaWords((uint64_t(lo) | (uint64_t(hi) << 32)) + uint64_t(capacity) * 8ul);
+}
+
+// The slot holding `key`, inserting it when absent (`inserted` tells); capacity
+// when no slot was found within SVA_HASH_MAX_PROBE.
+uint sva_table_reserve(SvaWords keys, uint capacity, uint64_t key, out bool inserted) {
+  uint mask = capacity - 1u;
+  uint slot = uint(sva_hash64(key)) & mask;
+  inserted = false;
+  for (uint probe = 0u; probe < SVA_HASH_MAX_PROBE; ++probe) {
+    uint64_t prev = atomicCompSwap(keys.w[slot], SVA_HASH_EMPTY_KEY, key);
+    if (prev == SVA_HASH_EMPTY_KEY) inserted = true;
+    if (prev == SVA_HASH_EMPTY_KEY || prev == key) return slot;
+    slot = (slot + 1u) & mask;
+  }
+  return capacity;
+}
+
+// The slot holding `key`, or capacity when absent. Reads only: every insert
+// happened in an earlier dispatch.
+uint sva_table_find(SvaWords keys, uint capacity, uint64_t key) {
+  uint mask = capacity - 1u;
+  uint slot = uint(sva_hash64(key)) & mask;
+  for (uint probe = 0u; probe < SVA_HASH_MAX_PROBE; ++probe) {
+    uint64_t k = keys.w[slot];
+    if (k == key) return slot;
+    if (k == SVA_HASH_EMPTY_KEY) return capacity;
+    slot = (slot + 1u) & mask;
+  }
+  return capacity;
+}
+
+// Histogram bucket of a distance d below the maximum: monotone in d, 16
+// buckets per power of two, so a top-k threshold rarely takes many extra bins.
+uint sva_distance_bucket(uint64_t d) {
+  if (d == 0ul) return 0u;
+  uint p = sva_msb64(d);
+  uint sub = p >= 4u ? uint(d >> (p - 4u)) & 15u : uint(d << (4u - p)) & 15u;
+  return 1u + p * 16u + sub;
+}
+
+// Flat invocation index of a 2-D grid of SVA_WORKGROUP_SIZE-wide groups (vk::Context::grid).
+uint sva_flat_index() {
+  return (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * SVA_WORKGROUP_SIZE + gl_LocalInvocationID.x;
+}

@@ -1,0 +1,155 @@
+// The device-resident belief (fold, growth, reductions, top-k, lookups) against
+// the CPU reference: identical tables, summaries and estimates, bit for bit.
+#include <catch2/catch.hpp>
+
+#include <sva/error.hpp>
+
+#include "recognition/fixture.hpp"
+#include "test_support.hpp"
+#include "vulkan/vulkan_vote_backend.hpp"
+
+using namespace sva;
+
+namespace {
+
+std::unique_ptr<VoteBackend> make_gpu(const PairMap& map, const PoseSpace& space, const VoteSettings& vs,
+                                      const VulkanBackendOptions& o = {}) {
+  try {
+    return make_vulkan_vote_backend(map, space, vs, o);
+  } catch (const Error& e) {
+    test::skip(e.what());
+  }
+}
+
+// Sessions on both backends, fed the same readings in lock step.
+struct Twin {
+  std::unique_ptr<VoteBackend> cpu, gpu;
+  std::vector<std::unique_ptr<BayesFilter>> fc, fg;
+  Twin(const test::World& w, const PoseSpace& space, int sessions, const FilterOptions& fo, const VoteSettings& vs,
+       const VulkanBackendOptions& vo) {
+    gpu = make_gpu(*w.map, space, vs, vo);
+    cpu = make_cpu_vote_backend(*w.map, space, vs);
+    for (int s = 0; s < sessions; ++s) {
+      fc.push_back(std::make_unique<BayesFilter>(*w.map, space, fo, *cpu));
+      fg.push_back(std::make_unique<BayesFilter>(*w.map, space, fo, *gpu));
+    }
+  }
+  void add(const std::vector<ObservedReading>& obs) {
+    std::vector<BayesFilter*> pc, pg;
+    for (std::size_t s = 0; s < obs.size(); ++s) {
+      pc.push_back(fc[s].get());
+      pg.push_back(fg[s].get());
+    }
+    const auto a = update_sessions(pc, obs), b = update_sessions(pg, obs);
+    for (std::size_t s = 0; s < obs.size(); ++s) {
+      CHECK(a[s].pairs_folded == b[s].pairs_folded);
+      CHECK(a[s].votes == b[s].votes);
+      CHECK(a[s].matches == b[s].matches);
+    }
+  }
+  void require_same(std::size_t s) const {
+    INFO("session " << s);
+    const BeliefState& c = fc[s]->belief();
+    const BeliefState& g = fg[s]->belief();
+    CHECK(c.pairs_folded() == g.pairs_folded());
+    CHECK(c.touched() == g.touched());
+    const std::vector<BinOffset> table = c.table();
+    CHECK(table == g.table());
+    CHECK(c.summarise() == g.summarise());
+    for (std::size_t k : {std::size_t{1}, std::size_t{5}, std::size_t{64}, table.size() + 3}) CHECK(c.best_bins(k) == g.best_bins(k));
+    // Lookups of touched and untouched bins.
+    std::vector<std::uint64_t> keys;
+    for (std::size_t i = 0; i < table.size(); i += 1 + table.size() / 50) keys.push_back(table[i].key);
+    keys.push_back(table.empty() ? 0 : table.back().key + 1);
+    CHECK(c.offsets(keys) == g.offsets(keys));
+    const BeliefEstimate a = fc[s]->estimate(5), b = fg[s]->estimate(5);
+    CHECK(a.object == b.object);
+    CHECK(a.object_probability == b.object_probability);
+    CHECK(a.pose_valid == b.pose_valid);
+    CHECK(a.best_key == b.best_key);
+    for (int k = 0; k < 3; ++k) CHECK(a.pose.T[k] == b.pose.T[k]);
+    REQUIRE(a.top.size() == b.top.size());
+    for (std::size_t i = 0; i < a.top.size(); ++i) {
+      CHECK(a.top[i].key == b.top[i].key);
+      CHECK(a.top[i].probability == b.top[i].probability);
+    }
+  }
+};
+
+}  // namespace
+
+TEST_CASE("GPU beliefs: tiny tables grow through overflow and stay identical to the CPU reference") {
+  test::WorldSpec spec;
+  auto w = test::make_world(spec);
+  PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
+  VulkanBackendOptions vo;
+  vo.initial_belief_slots = 64;  // the first fold overflows; the tables grow and fold again
+  vo.initial_table_slots = 256;
+  vo.max_chunk_entries = 500;
+  Twin t(w, space, 3, {}, {}, vo);
+  for (int r = 0; r < 6; ++r) {
+    std::vector<ObservedReading> obs;
+    for (std::size_t s = 0; s < 3; ++s)
+      obs.push_back(test::observe(w.objects[s][static_cast<std::size_t>(r * 13 + 5) % w.objects[s].size()],
+                                  test::random_pose(700 + s, 150.0)));
+    t.add(obs);
+  }
+  for (std::size_t s = 0; s < 3; ++s) {
+    t.require_same(s);
+    CHECK(t.fg[s]->belief().touched() > 1000);  // far past the 64 slots it started with
+  }
+  const VulkanBackendStats* st = vulkan_backend_stats(*t.gpu);
+  REQUIRE(st != nullptr);
+  CHECK(st->table_grows >= 3);
+  CHECK(st->validation_messages == 0);
+}
+
+TEST_CASE("GPU beliefs: planar space, pruning and a reset session match the CPU reference") {
+  test::WorldSpec spec;
+  spec.planar = true;
+  spec.dist_min = 1.0;
+  spec.dist_max = 30.0;
+  auto w = test::make_world(spec);
+  PoseSpace space(test::letters_space(), static_cast<std::uint32_t>(spec.objects));
+  FilterOptions fo;
+  fo.object_prune_probability = 1e-3;  // the object mask comes from the GPU's reductions
+  fo.max_pairs_per_update = 8;
+  Twin t(w, space, 2, fo, {}, {});
+  const RigidPose p0 = test::random_pose(31, 8.0, true), p1 = test::random_pose(32, 8.0, true);
+  for (int r = 0; r < 9; ++r) {
+    if (r == 4) {  // session 1 starts over
+      t.fc[1]->reset();
+      t.fg[1]->reset();
+      CHECK(t.fg[1]->belief().touched() == 0);
+      CHECK(t.fg[1]->belief().summarise() == t.fc[1]->belief().summarise());
+    }
+    t.add({test::observe(w.objects[1][static_cast<std::size_t>(r * 7) % w.objects[1].size()], p0),
+           test::observe(w.objects[2][static_cast<std::size_t>(r * 5 + 1) % w.objects[2].size()], p1)});
+  }
+  t.require_same(0);
+  t.require_same(1);
+  CHECK(t.fg[0]->estimate(1).object == 1);
+  CHECK(vulkan_backend_stats(*t.gpu)->validation_messages == 0);
+}
+
+TEST_CASE("GPU beliefs: an empty belief and a misuse are reported, not crashed") {
+  test::WorldSpec spec;
+  auto w = test::make_world(spec);
+  PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
+  auto gpu = make_gpu(*w.map, space, {});
+  auto cpu = make_cpu_vote_backend(*w.map, space, {});
+  BayesFilter g(*w.map, space, {}, *gpu), c(*w.map, space, {}, *cpu);
+  CHECK(g.belief().summarise() == c.belief().summarise());
+  CHECK(g.belief().best_bins(5).empty());
+  const BeliefEstimate e = g.estimate(5);
+  CHECK_FALSE(e.pose_valid);
+  CHECK(e.object_probability == c.estimate(5).object_probability);
+  // A belief of one backend cannot be folded by another.
+  std::vector<BeliefState*> wrong{&c.mutable_belief()};
+  VoteBatch batch;
+  g.queue_pairs(test::observe(w.objects[0][0], RigidPose{}), 0, &batch);
+  CHECK_THROWS_WITH(gpu->vote_and_fold(batch, wrong), Catch::Contains("another backend"));
+  FilterOptions bad;
+  bad.eps = 2.0;
+  CHECK_THROWS_WITH(BayesFilter(*w.map, space, bad, *gpu), Catch::Contains("eps"));
+}

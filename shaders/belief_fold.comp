@@ -2,10 +2,11 @@
 // Folds every voted pair into its session's belief (Eq 3-5 in the log domain):
 // offset(x) += log2(1 + S_p(x) / eps), with S_p the pair's votes over its
 // total, computed from the integers by sva_fold_units exactly as the CPU
-// reference does. One invocation per vote-table slot, in two passes:
+// reference does. Per vote-table slot, in passes:
 //  RESERVE: add the slot's mass to its pair's total and insert the bin into
 //           the session's table (a full table raises the session's overflow
 //           flag: the host grows that table and folds the session again);
+//  PAIR_LOG: per pair, the log2(total eps) that all its bins subtract;
 //  ADD:     add the slot's term to the reserved bin. Integer atomics, so the
 //           order of the additions does not change the sums.
 // Sessions whose `fold` is 0 are skipped (a rerun after a growth folds only
@@ -25,33 +26,49 @@ layout(local_size_x = SVA_WORKGROUP_SIZE) in;
 layout(std430, set = 0, binding = 0) readonly buffer VoteKeys { uint64_t vote_key[]; };
 layout(std430, set = 0, binding = 1) readonly buffer VoteSums { int64_t vote_sum[]; };
 layout(std430, set = 0, binding = 2) readonly buffer Pairs { SvaGpuPair pairs[]; };
-layout(std430, set = 0, binding = 3) buffer PairTotals { uint64_t pair_total[]; };
+layout(std430, set = 0, binding = 3) buffer PairTotals { uint64_t pair_total[]; };  // totals, then log2(total eps)
 layout(std430, set = 0, binding = 4) readonly buffer Sessions { SvaGpuSession sessions[]; };
 layout(std430, set = 0, binding = 5) buffer Status { SvaGpuSessionStatus status[]; };
 
 layout(push_constant) uniform Push { SvaFoldParams pc; };
 
-void main() {
-  uint i = sva_flat_index();
+// Per-session counters of this invocation's slots, added to the session's
+// status once per run of slots of one session rather than once per slot: a
+// batch's sessions are few, so this removes most contended atomics.
+uint run_session = 0xffffffffu;
+uint run_entries = 0u, run_inserted = 0u;
+
+void flush_run() {
+  if (run_session == 0xffffffffu) return;
+  if (run_entries != 0u) atomicAdd(status[run_session].vote_entries, run_entries);
+  if (run_inserted != 0u) atomicAdd(status[run_session].inserted, run_inserted);
+  run_entries = 0u;
+  run_inserted = 0u;
+}
+
+void fold_slot(uint i) {
   if (i >= pc.slots) return;
   uint64_t key = vote_key[i];
   if (key == SVA_HASH_EMPTY_KEY) return;
   int64_t mass = vote_sum[i];
   if (mass <= 0l) return;  // the scatter adds positive masses only; kept for safety
-  uint64_t bins = uint64_t(pc.bins_lo) | (uint64_t(pc.bins_hi) << 32);
-  uint64_t q = key / bins;
-  uint64_t bin = key - q * bins;
-  uint s = pairs[uint(q)].session;
-  if (pc.pass == SVA_FOLD_RESERVE) atomicAdd(pair_total[uint(q)], uint64_t(mass));
+  uint q = uint(key >> pc.pair_shift);
+  uint64_t bin = key & ((1ul << pc.pair_shift) - 1ul);
+  uint s = pairs[q].session;
+  if (pc.pass == SVA_FOLD_RESERVE) atomicAdd(pair_total[q], uint64_t(mass));
   if (sessions[s].fold == 0u) return;
   SvaWords keys = sva_table_keys(sessions[s].table_lo, sessions[s].table_hi);
   uint capacity = sessions[s].capacity;
   if (pc.pass == SVA_FOLD_RESERVE) {
-    atomicAdd(status[s].vote_entries, 1u);
+    if (s != run_session) {
+      flush_run();
+      run_session = s;
+    }
+    ++run_entries;
     bool inserted;
     uint slot = sva_table_reserve(keys, capacity, bin, inserted);
     if (slot == capacity) atomicOr(status[s].overflow, 1u);
-    else if (inserted) atomicAdd(status[s].inserted, 1u);
+    else if (inserted) ++run_inserted;
     return;
   }
   if (status[s].overflow != 0u) return;  // the session folds again after its table grows
@@ -62,5 +79,19 @@ void main() {
   }
   uint64_t eps_units = uint64_t(pc.eps_lo) | (uint64_t(pc.eps_hi) << 32);
   SvaWords offsets = sva_table_offsets(sessions[s].table_lo, sessions[s].table_hi, capacity);
-  atomicAdd(offsets.w[slot], sva_fold_units(uint64_t(mass), pair_total[uint(q)], eps_units));
+  uint64_t floor_log = pair_total[pc.pairs + q];
+  atomicAdd(offsets.w[slot], sva_fold_units_given(uint64_t(mass), pair_total[q], eps_units, floor_log));
+}
+
+void main() {
+  if (pc.pass == SVA_FOLD_PAIR_LOG) {
+    uint q = sva_flat_index();
+    if (q < pc.pairs && pair_total[q] != 0ul) {
+      uint64_t eps_units = uint64_t(pc.eps_lo) | (uint64_t(pc.eps_hi) << 32);
+      pair_total[pc.pairs + q] = sva_floor_log(pair_total[q], eps_units);
+    }
+    return;
+  }
+  for (uint k = 0u; k < SVA_SLOTS_PER_INVOCATION; ++k) fold_slot(sva_table_slot(k));
+  flush_run();
 }

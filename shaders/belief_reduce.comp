@@ -26,13 +26,12 @@ layout(std430, set = 0, binding = 1) buffer Candidates { uint64_t candidate[]; }
 
 layout(push_constant) uniform Push { SvaReduceParams pc; };
 
-void main() {
-  uint i = sva_flat_index();
+void reduce_slot(uint i) {
   if (i >= pc.capacity) return;
   uint64_t key = sva_table_keys(pc.table_lo, pc.table_hi).w[i];
   if (key == SVA_HASH_EMPTY_KEY) return;
   uint64_t offset = sva_table_offsets(pc.table_lo, pc.table_hi, pc.capacity).w[i];
-  uint object = uint(key / (uint64_t(pc.bins_lo) | (uint64_t(pc.bins_hi) << 32)));
+  uint object = uint(key >> pc.object_shift);
   uint touched = SVA_SUMMARY_OBJECTS + object;
   uint mass = touched + pc.objects;
   uint best_offset = mass + pc.objects;
@@ -57,4 +56,8 @@ void main() {
     candidate[2u * uint(n)] = key;
     candidate[2u * uint(n) + 1u] = offset;
   }
+}
+
+void main() {
+  for (uint k = 0u; k < SVA_SLOTS_PER_INVOCATION; ++k) reduce_slot(sva_table_slot(k));
 }

@@ -18,8 +18,7 @@ layout(std430, set = 0, binding = 0) buffer Status { uint overflow; };
 
 layout(push_constant) uniform Push { SvaRehashParams pc; };
 
-void main() {
-  uint i = sva_flat_index();
+void move_slot(uint i) {
   if (i >= pc.old_capacity) return;
   uint64_t key = sva_table_keys(pc.old_lo, pc.old_hi).w[i];
   if (key == SVA_HASH_EMPTY_KEY) return;
@@ -31,4 +30,8 @@ void main() {
     return;
   }
   sva_table_offsets(pc.new_lo, pc.new_hi, pc.new_capacity).w[slot] = offset;
+}
+
+void main() {
+  for (uint k = 0u; k < SVA_SLOTS_PER_INVOCATION; ++k) move_slot(sva_table_slot(k));
 }

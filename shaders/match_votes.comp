@@ -52,14 +52,13 @@ uint64_t linear_bin(uint64_t key) {
   uint rz = uint(key >> SVA_KEY_RZ_SHIFT) & 255u;
   uint64_t t = uint64_t(pc.translation_bins);
   uint64_t r = uint64_t(pc.rotation_bins);
-  uint64_t i = uint64_t(object);
-  i = i * t + uint64_t(tx);
+  uint64_t i = uint64_t(tx);
   i = i * t + uint64_t(ty);
   i = i * uint64_t(pc.dim_tz) + uint64_t(tz);
   i = i * uint64_t(pc.dim_rxy) + uint64_t(rx);
   i = i * uint64_t(pc.dim_rxy) + uint64_t(ry);
   i = i * r + uint64_t(rz);
-  return i;
+  return (uint64_t(object) << pc.object_shift) | i;
 }
 
 #include "sva_hash_scatter.glsl"
@@ -108,7 +107,7 @@ void main() {
   if (n == 0) return;
   atomicAdd(counters[3u * q], uint64_t(1));
   float wsum = sva_beta_weight_sum(al, n);
-  uint64_t pair_base = uint64_t(q) * (uint64_t(pc.bins_lo) | (uint64_t(pc.bins_hi) << 32));
+  uint64_t pair_base = uint64_t(q) << pc.pair_shift;
   uint inside = 0u, outside = 0u;
   for (int s = 0; s < SVA_MAX_BETA_SAMPLES; ++s) {
     if (s >= n) break;
@@ -118,7 +117,7 @@ void main() {
       continue;
     }
     ++inside;
-    if (v.mass > int64_t(0)) sva_hash_scatter(pair_base + linear_bin(v.key), v.mass, pc.capacity);
+    if (v.mass > int64_t(0)) sva_hash_scatter(pair_base | linear_bin(v.key), v.mass, pc.capacity);
   }
   if (inside != 0u) atomicAdd(counters[3u * q + 1u], uint64_t(inside));
   if (outside != 0u) atomicAdd(counters[3u * q + 2u], uint64_t(outside));

@@ -43,7 +43,8 @@ struct Checkpoint {
   double seconds = 0.0;
   std::size_t correct = 0, trials = 0;
   std::vector<double> translation_mm;
-  std::vector<double> kernel_ms, backend_host_ms;
+  std::vector<double> kernel_ms, backend_host_ms, fold_ms;
+  std::vector<double> estimate_ms;  // per session: object, refined pose and top-1 after the update
 };
 
 std::vector<std::size_t> parse_checkpoints(const std::string& text) {
@@ -93,21 +94,25 @@ json run_backend(const Map& map, const Dataset& test, BackendKind backend, std::
       const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
       std::uint64_t votes = 0;
       std::vector<Estimate> est;
+      const auto t1 = Clock::now();
       for (std::size_t i = 0; i < n; ++i) {
         est.push_back(rec.estimate(i, 1));
         votes += est.back().votes;
       }
+      const double estimate_secs = std::chrono::duration<double>(Clock::now() - t1).count();
       all_votes += votes;
       all_seconds += secs;
       progress.advance(n);
       if (!std::binary_search(checkpoints.begin(), checkpoints.end(), step)) continue;
       Checkpoint& c = cp[step];
       c.update_ms.push_back(1e3 * secs / static_cast<double>(n));
+      c.estimate_ms.push_back(1e3 * estimate_secs / static_cast<double>(n));
       c.votes += votes;
       c.seconds += secs;
       const auto t = rec.last_backend_timing();
       c.kernel_ms.push_back(t.kernel_ms);
       c.backend_host_ms.push_back(t.host_ms);
+      c.fold_ms.push_back(t.fold_ms);
       for (std::size_t i = 0; i < n; ++i) {
         ++c.trials;
         if (est[i].object != tr[i].object) continue;
@@ -131,6 +136,8 @@ json run_backend(const Map& map, const Dataset& test, BackendKind backend, std::
                       {"votes_per_second", c.seconds > 0 ? static_cast<double>(c.votes) / c.seconds : 0.0},
                       {"gpu_kernel_ms", med(c.kernel_ms)},
                       {"backend_host_ms", med(c.backend_host_ms)},
+                      {"gpu_fold_ms", med(c.fold_ms)},
+                      {"estimate_ms", med(c.estimate_ms)},
                       {"accuracy", c.trials ? static_cast<double>(c.correct) / static_cast<double>(c.trials) : 0.0},
                       {"translation_error_mm", med(c.translation_mm)}});
   }
@@ -239,7 +246,8 @@ int cmd_bench(const std::vector<std::string>& argv) {
   out["runs"] = runs;
 
   // Ratios against the CPU reference (per update) and the roofline (votes/s).
-  std::printf("%-14s %-9s %9s %12s %14s %10s %12s\n", "run", "readings", "ms/update", "votes/update", "votes/s", "accuracy", "trans. mm");
+  std::printf("%-14s %-9s %9s %12s %14s %10s %12s %10s %9s %9s %9s\n", "run", "readings", "ms/update", "votes/update", "votes/s",
+              "accuracy", "trans. mm", "kernel ms", "fold ms", "host ms", "est. ms");
   const json* cpu = nullptr;
   for (const auto& r : runs)
     if (r["backend"] == "cpu") cpu = &r;
@@ -250,9 +258,11 @@ int cmd_bench(const std::vector<std::string>& argv) {
       const double ms = p["update_ms"].is_null() ? 0.0 : p["update_ms"].get<double>();
       if (cpu && r["backend"] != "cpu" && i < (*cpu)["curve"].size() && ms > 0 && !(*cpu)["curve"][i]["update_ms"].is_null())
         p["speedup_vs_cpu"] = (*cpu)["curve"][i]["update_ms"].get<double>() / ms;
-      std::printf("%-14s %-9zu %9.2f %12.0f %14.3g %10.2f %12s\n", name.c_str(), p["readings"].get<std::size_t>(), ms,
+      auto num = [&](const char* key) { return p[key].is_null() ? 0.0 : p[key].get<double>(); };
+      std::printf("%-14s %-9zu %9.2f %12.0f %14.3g %10.2f %12s %10.2f %9.2f %9.2f %9.2f\n", name.c_str(), p["readings"].get<std::size_t>(), ms,
                   p["votes_per_update"].get<double>(), p["votes_per_second"].get<double>(), p["accuracy"].get<double>(),
-                  p["translation_error_mm"].is_null() ? "-" : std::to_string(p["translation_error_mm"].get<double>()).substr(0, 6).c_str());
+                  p["translation_error_mm"].is_null() ? "-" : std::to_string(p["translation_error_mm"].get<double>()).substr(0, 6).c_str(),
+                  num("gpu_kernel_ms"), num("gpu_fold_ms"), num("backend_host_ms"), num("estimate_ms"));
     }
     if (out.contains("roofline") && r["backend"] == "vulkan")
       r["fraction_of_roofline"] = r["votes_per_second"].get<double>() / out["roofline"]["votes_per_second"].get<double>();

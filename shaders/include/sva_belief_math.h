@@ -109,10 +109,20 @@ SVA_BFN uint64_t sva_log2_u128(SvaU128 v) {
 // One pair's evidence for one bin, log2(1 + mass / (total * eps)), in belief
 // units: log2(mass 2^48 + total eps_units) - log2(total eps_units). Needs
 // 0 < mass <= total < 2^63 and 0 < eps_units < 2^48; the result is >= 0.
+// The second term is the same for every bin of a pair: sva_floor_log computes
+// it once, sva_fold_units_given takes it.
+SVA_BFN uint64_t sva_floor_log(uint64_t total, uint64_t eps_units) {
+  return sva_log2_u128(sva_mul_u64(total, eps_units));
+}
+
+SVA_BFN uint64_t sva_fold_units_given(uint64_t mass, uint64_t total, uint64_t eps_units, uint64_t floor_log) {
+  SvaU128 with_votes =
+      sva_add_u128(sva_mul_u64(total, eps_units), sva_u128(mass >> (64 - SVA_EPS_FRAC_BITS), mass << SVA_EPS_FRAC_BITS));
+  return sva_log2_u128(with_votes) - floor_log;
+}
+
 SVA_BFN uint64_t sva_fold_units(uint64_t mass, uint64_t total, uint64_t eps_units) {
-  SvaU128 floor_mass = sva_mul_u64(total, eps_units);
-  SvaU128 with_votes = sva_add_u128(floor_mass, sva_u128(mass >> (64 - SVA_EPS_FRAC_BITS), mass << SVA_EPS_FRAC_BITS));
-  return sva_log2_u128(with_votes) - sva_log2_u128(floor_mass);
+  return sva_fold_units_given(mass, total, eps_units, sva_floor_log(total, eps_units));
 }
 
 // floor(2^(mass_bits - d / 2^32)) for d >= 0 in belief units: the weight of a

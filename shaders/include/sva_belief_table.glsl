@@ -56,3 +56,11 @@ uint sva_distance_bucket(uint64_t d) {
 uint sva_flat_index() {
   return (gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x) * SVA_WORKGROUP_SIZE + gl_LocalInvocationID.x;
 }
+
+// The k-th slot (k < SVA_SLOTS_PER_INVOCATION) of this invocation, for
+// kernels launched over ceil(slots / SVA_SLOTS_PER_INVOCATION) invocations:
+// neighbouring invocations read neighbouring slots at every k.
+uint sva_table_slot(uint k) {
+  uint group = gl_WorkGroupID.y * gl_NumWorkGroups.x + gl_WorkGroupID.x;
+  return (group * SVA_SLOTS_PER_INVOCATION + k) * SVA_WORKGROUP_SIZE + gl_LocalInvocationID.x;
+}

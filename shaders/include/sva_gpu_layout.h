@@ -73,8 +73,8 @@ struct SvaMatchParams {
   float likelihood_cutoff;
   uint dim_tz;           // 1 for planar spaces
   uint dim_rxy;          // 1 for planar spaces
-  uint bins_lo;          // pose bins per (object-inclusive) space, low and high words
-  uint bins_hi;
+  uint object_shift;     // linear bin = object << object_shift | index within the object
+  uint pair_shift;       // vote key = pair << pair_shift | linear bin
 };
 
 // One session of a fold: its belief table (device address of `capacity` keys
@@ -97,12 +97,14 @@ struct SvaGpuSessionStatus {
 // Push constants of belief_fold.comp.
 struct SvaFoldParams {
   uint slots;             // vote-table slots
-  uint bins_lo, bins_hi;  // pose bins of the whole space (the vote key is pair * bins + bin)
+  uint pair_shift;        // vote key = pair << pair_shift | linear bin
   uint eps_lo, eps_hi;    // sva::belief_math::eps_units
   uint pass;              // SVA_FOLD_RESERVE or SVA_FOLD_ADD
+  uint pairs;             // pairs of the batch (SVA_FOLD_PAIR_LOG)
 };
 #define SVA_FOLD_RESERVE 0u
-#define SVA_FOLD_ADD 1u
+#define SVA_FOLD_PAIR_LOG 1u  // per pair: log2(total eps), the term every bin of the pair subtracts
+#define SVA_FOLD_ADD 2u
 
 // Push constants of belief_rehash.comp: move every key of the old table into the new one.
 struct SvaRehashParams {
@@ -116,7 +118,7 @@ struct SvaReduceParams {
   uint pass;                   // SVA_REDUCE_MAX, SVA_REDUCE_MASS or SVA_REDUCE_SELECT
   uint objects;
   uint mass_bits;
-  uint bins_lo, bins_hi;       // pose bins per object
+  uint object_shift;           // object = linear bin >> object_shift
   uint select_bucket;          // SELECT: bins whose distance bucket is <= this
   uint select_capacity;        // SELECT: room in the candidate list
 };
@@ -137,6 +139,11 @@ struct SvaLookupParams {
   uint table_lo, table_hi, capacity;
   uint queries;
 };
+
+// Table slots each invocation of the fold, rehash and reduction kernels visits
+// (a bounded loop): fewer, fuller workgroups; a workgroup covers
+// SVA_WORKGROUP_SIZE * SVA_SLOTS_PER_INVOCATION consecutive slots.
+#define SVA_SLOTS_PER_INVOCATION 16u
 
 // Probes of a binary search: enough for 2^32 items.
 #define SVA_MAX_SEARCH_STEPS 33

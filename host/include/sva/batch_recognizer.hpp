@@ -34,6 +34,7 @@ class BatchRecognizer {
   struct Timing {
     double kernel_ms = 0.0;
     double host_ms = 0.0;
+    double fold_ms = 0.0;  // of kernel_ms: the fold into the beliefs
   };
   Timing last_backend_timing() const;
 

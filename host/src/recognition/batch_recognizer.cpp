@@ -169,6 +169,7 @@ BatchRecognizer::Timing BatchRecognizer::last_backend_timing() const {
     if (const VulkanBackendStats* st = vulkan_backend_stats(*impl_->backend)) {
       t.kernel_ms = st->last_kernel_ms;
       t.host_ms = st->last_host_ms;
+      t.fold_ms = st->last_fold_ms;
     }
   return t;
 }

@@ -142,9 +142,11 @@ bool Belief::fold(const PairVotes& votes) {
   std::uint64_t total = 0;
   for (std::int64_t m : votes.mass) total += static_cast<std::uint64_t>(std::max<std::int64_t>(m, 0));  // < 2^63
   if (total == 0) return false;
+  const std::uint64_t floor_log = belief_math::sva_floor_log(total, eps_units_);
   for (std::size_t i = 0; i < votes.keys.size(); ++i)
     if (votes.mass[i] > 0)
-      offset_.add(votes.keys[i], belief_math::sva_fold_units(static_cast<std::uint64_t>(votes.mass[i]), total, eps_units_));
+      offset_.add(votes.keys[i], belief_math::sva_fold_units_given(static_cast<std::uint64_t>(votes.mass[i]), total,
+                                                                   eps_units_, floor_log));
   ++pairs_;
   return true;
 }

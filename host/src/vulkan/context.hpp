@@ -55,10 +55,6 @@ class Buffer {
 
  private:
   friend class Context;
-
-struct Grid {
-  std::uint32_t x = 1, y = 1;
-};
   VkDevice device_ = VK_NULL_HANDLE;
   VkBuffer buffer_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;
@@ -79,10 +75,6 @@ class Pipeline {
 
  private:
   friend class Context;
-
-struct Grid {
-  std::uint32_t x = 1, y = 1;
-};
   VkDevice device_ = VK_NULL_HANDLE;
   VkShaderModule module_ = VK_NULL_HANDLE;
   VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;

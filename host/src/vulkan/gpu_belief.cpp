@@ -39,6 +39,10 @@ constexpr std::uint64_t kMaxSlots = std::uint64_t{1} << 31;
 
 }  // namespace
 
+std::uint64_t slot_invocations(std::uint64_t slots) {
+  return (slots + SVA_SLOTS_PER_INVOCATION - 1) / SVA_SLOTS_PER_INVOCATION;
+}
+
 GpuBelief::GpuBelief(GpuBeliefKernels& kernels, double eps) : k_(&kernels), eps_units_(belief_math::eps_units(eps)) {
   reset();
 }
@@ -73,7 +77,7 @@ void GpuBelief::grow(std::uint64_t slots) {
     *status.as<std::uint32_t>() = 0;
     gpu::SvaRehashParams p{lo(table_.device_address()), hi(table_.device_address()), capacity_,
                            lo(next.device_address()),   hi(next.device_address()),   static_cast<std::uint32_t>(cap)};
-    const vk::Grid g = k_->ctx->grid(capacity_);
+    const vk::Grid g = k_->ctx->grid(slot_invocations(capacity_));
     vk::Dispatch d{&k_->rehash, {&status}, bytes_of(p), g.x};
     d.groups_y = g.y;
     std::vector<double> ms;
@@ -103,9 +107,8 @@ void GpuBelief::reduce() const {
   p.capacity = capacity_;
   p.objects = objects;
   p.mass_bits = belief_math::mass_bits(k_->space->bins_per_object());
-  p.bins_lo = lo(k_->bins.per_object());
-  p.bins_hi = hi(k_->bins.per_object());
-  const vk::Grid g = k_->ctx->grid(capacity_);
+  p.object_shift = k_->bins.object_shift();
+  const vk::Grid g = k_->ctx->grid(slot_invocations(capacity_));
   std::vector<vk::Dispatch> ds;
   for (std::uint32_t pass : {SVA_REDUCE_MAX, SVA_REDUCE_MASS}) {
     p.pass = pass;
@@ -154,11 +157,10 @@ std::vector<BinOffset> GpuBelief::best_bins(std::size_t k) const {
   p.pass = SVA_REDUCE_SELECT;
   p.objects = k_->space->objects();
   p.mass_bits = belief_math::mass_bits(k_->space->bins_per_object());
-  p.bins_lo = lo(k_->bins.per_object());
-  p.bins_hi = hi(k_->bins.per_object());
+  p.object_shift = k_->bins.object_shift();
   p.select_bucket = bucket;
   p.select_capacity = static_cast<std::uint32_t>(n);
-  const vk::Grid g = k_->ctx->grid(capacity_);
+  const vk::Grid g = k_->ctx->grid(slot_invocations(capacity_));
   vk::Dispatch d{&k_->reduce, {&summary_, &candidates_}, bytes_of(p), g.x};
   d.groups_y = g.y;
   std::vector<double> ms;

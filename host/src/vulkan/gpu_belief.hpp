@@ -16,6 +16,9 @@
 
 namespace sva {
 
+// Invocations of a kernel that visits `slots` table slots, SVA_SLOTS_PER_INVOCATION each.
+std::uint64_t slot_invocations(std::uint64_t slots);
+
 // The pipelines and constants every GpuBelief of one backend shares.
 struct GpuBeliefKernels {
   vk::Context* ctx = nullptr;
@@ -48,7 +51,7 @@ class GpuBelief final : public BeliefState {
   void grow(std::uint64_t slots);
   // Keeps the load at most one half for the next update.
   void keep_half_empty() {
-    if (2 * count_ > capacity_) grow(4 * count_);
+    if (2 * count_ > capacity_) grow(2 * count_);
   }
 
  private:

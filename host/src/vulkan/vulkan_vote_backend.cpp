@@ -99,7 +99,6 @@ class VulkanVoteBackend final : public VoteBackend {
       if (entries == 0) break;
     }
     stats_.chunks = chunks_.size();
-    bins_total_ = bins_.total();
   }
 
   const char* name() const override { return "vulkan"; }
@@ -146,9 +145,12 @@ class VulkanVoteBackend final : public VoteBackend {
   void timed(Fn&& fn) {
     const auto t0 = Clock::now();
     kernel_ms_ = 0.0;
+    fold_ms_ = 0.0;
     beliefs_.kernel_ms = 0.0;
     fn();
-    kernel_ms_ += beliefs_.kernel_ms;
+    fold_ms_ += beliefs_.kernel_ms;  // table growth during the fold
+    kernel_ms_ += fold_ms_;
+    stats_.last_fold_ms = fold_ms_;
     stats_.table_slots = slots_;
     stats_.last_kernel_ms = kernel_ms_;
     stats_.last_host_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count() - kernel_ms_;
@@ -178,7 +180,7 @@ class VulkanVoteBackend final : public VoteBackend {
       return;
     }
     if (items.size() > SVA_MAX_KEY_ITEMS) throw Error("one observed pair has more map keys than the GPU backend handles");
-    if (bins_total_ > 0 && P > (UINT64_MAX >> 2) / bins_total_) {
+    if (P > bins_.max_pairs()) {
       split(batch, first, last, consume);
       return;
     }
@@ -246,8 +248,8 @@ class VulkanVoteBackend final : public VoteBackend {
         p.likelihood_cutoff = settings_.likelihood_cutoff;
         p.dim_tz = bins_.dim_tz();
         p.dim_rxy = bins_.dim_rxy();
-        p.bins_lo = static_cast<std::uint32_t>(bins_total_ & 0xffffffffu);
-        p.bins_hi = static_cast<std::uint32_t>(bins_total_ >> 32);
+        p.object_shift = bins_.object_shift();
+        p.pair_shift = bins_.pair_shift();
         vk::Dispatch d{&pipeline_,
                        {&pairs_, &key_items_, &ranges_, &ch.offsets, &readings_, &ch.a, &ch.b, &ch.w, &active_, &table_keys_,
                         &table_sums_, &counters_, &status_, &ch.scan},
@@ -307,8 +309,8 @@ class VulkanVoteBackend final : public VoteBackend {
     std::sort(all.begin(), all.end());
     set_counters(first, last, out);
     for (const auto& [key, mass] : all) {
-      const std::uint64_t q = key / bins_total_;
-      out[first + q].keys.push_back(bins_.key(key % bins_total_));
+      const std::uint64_t q = bins_.pair_of(key);
+      out[first + q].keys.push_back(bins_.key(bins_.bin_of(key)));
       out[first + q].mass.push_back(mass);
     }
     keep_vote_table_half_empty(all.size());
@@ -329,7 +331,7 @@ class VulkanVoteBackend final : public VoteBackend {
     set_counters(first, last, out);
     ensure(ctx_, sessions_, S * sizeof(gpu::SvaGpuSession));
     ensure(ctx_, session_status_, S * sizeof(gpu::SvaGpuSessionStatus));
-    ensure(ctx_, pair_totals_, P * sizeof(std::uint64_t));
+    ensure(ctx_, pair_totals_, 2 * P * sizeof(std::uint64_t));  // totals, then log2(total eps)
     auto* sess = sessions_.as<gpu::SvaGpuSession>();
     auto* st = session_status_.as<gpu::SvaGpuSessionStatus>();
     // Only the sessions with pairs in this sub-batch fold.
@@ -350,21 +352,20 @@ class VulkanVoteBackend final : public VoteBackend {
                    pending[s] ? 1u : 0u};
         st[s] = {};
       }
-      std::memset(pair_totals_.data(), 0, P * sizeof(std::uint64_t));
-      gpu::SvaFoldParams p{static_cast<std::uint32_t>(slots_), static_cast<std::uint32_t>(bins_total_ & 0xffffffffu),
-                           static_cast<std::uint32_t>(bins_total_ >> 32), static_cast<std::uint32_t>(eps & 0xffffffffu),
-                           static_cast<std::uint32_t>(eps >> 32), SVA_FOLD_RESERVE};
-      const vk::Grid g = ctx_.grid(slots_);
+      std::memset(pair_totals_.data(), 0, 2 * P * sizeof(std::uint64_t));
+      gpu::SvaFoldParams p{static_cast<std::uint32_t>(slots_), bins_.pair_shift(), static_cast<std::uint32_t>(eps & 0xffffffffu),
+                           static_cast<std::uint32_t>(eps >> 32), SVA_FOLD_RESERVE, static_cast<std::uint32_t>(P)};
       std::vector<vk::Dispatch> ds;
-      for (std::uint32_t pass : {SVA_FOLD_RESERVE, SVA_FOLD_ADD}) {
+      for (std::uint32_t pass : {SVA_FOLD_RESERVE, SVA_FOLD_PAIR_LOG, SVA_FOLD_ADD}) {
         p.pass = pass;
+        const vk::Grid g = ctx_.grid(pass == SVA_FOLD_PAIR_LOG ? P : slot_invocations(slots_));
         vk::Dispatch d{&fold_, {&table_keys_, &table_sums_, &pairs_, &pair_totals_, &sessions_, &session_status_}, bytes_of(p), g.x};
         d.groups_y = g.y;
         ds.push_back(std::move(d));
       }
       std::vector<double> ms;
       ctx_.run(ds, &ms);
-      for (double m : ms) kernel_ms_ += m;
+      for (double m : ms) fold_ms_ += m;
       bool again = false;
       for (std::size_t s = 0; s < S; ++s) {
         if (!pending[s]) continue;
@@ -418,10 +419,9 @@ class VulkanVoteBackend final : public VoteBackend {
   GpuBeliefKernels beliefs_;
   vk::Buffer readings_, map_keys_, map_offsets_, pairs_, key_items_, ranges_, active_, table_keys_, table_sums_, counters_, status_;
   vk::Buffer sessions_, session_status_, pair_totals_;
-  double kernel_ms_ = 0.0;
+  double kernel_ms_ = 0.0, fold_ms_ = 0.0;
   std::vector<Chunk> chunks_;
   std::size_t chunk_ = 0, slots_ = 0;
-  std::uint64_t bins_total_ = 0;
   VulkanBackendStats stats_;
 };
 

@@ -26,7 +26,8 @@ struct VulkanBackendStats {
   std::size_t chunks = 0;          // map chunks
   unsigned table_grows = 0;        // overflow reruns so far
   std::size_t table_slots = 0;
-  double last_kernel_ms = 0.0;     // GPU time of the last batch's match kernels
+  double last_kernel_ms = 0.0;     // GPU time of the last batch: vote kernels and fold kernels
+  double last_fold_ms = 0.0;       // of which the fold into the beliefs (belief_fold.comp, growth)
   double last_host_ms = 0.0;       // host time of the last batch: preparation and read-back
   std::uint32_t validation_messages = 0;  // Vulkan validation-layer warnings and errors (SVA_VK_VALIDATION=1)
 };

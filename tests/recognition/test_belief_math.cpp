@@ -105,6 +105,13 @@ TEST_CASE("eps and mass-bit parameters") {
   CHECK_THROWS_WITH(bm::eps_units(1e-13), Catch::Contains("eps"));
   CHECK_THROWS_WITH(bm::eps_units(1.0), Catch::Contains("eps"));
   CHECK_THROWS_WITH(bm::eps_units(std::nan("")), Catch::Contains("eps"));
+  // The pair bound keeps the largest possible offset below 2^63 units.
+  for (double eps : {1e-12, 1e-6, 0.5}) {
+    const std::uint64_t eu = bm::eps_units(eps);
+    const std::uint64_t worst_term = bm::sva_fold_units(std::uint64_t{1} << 56, std::uint64_t{1} << 56, eu);
+    CHECK(bm::max_pairs(eu) > 50'000'000);
+    CHECK(static_cast<double>(bm::max_pairs(eu)) * static_cast<double>(worst_term) < std::ldexp(1.0, 63));
+  }
   CHECK(bm::mass_bits(6751269) == 39);  // paper3d: 21^3 x 9^3 bins per object
   CHECK(bm::mass_bits(31752) == 40);    // letters: 21 x 21 x 72
   // Any bin count keeps bins x 2^mass_bits below 2^62.

@@ -77,3 +77,21 @@ TEST_CASE("an impossible device request is a clear error") {
     CHECK((m.find("no-such-gpu-name") != std::string::npos || m.find("no Vulkan device") != std::string::npos));
   }
 }
+
+TEST_CASE("buffers have device addresses and fills clear exactly their range") {
+  auto ctx = sva::test::vulkan_context_or_skip();
+  auto a = ctx->create_buffer(4096), b = ctx->create_buffer(64);
+  CHECK(a.device_address() != 0);
+  CHECK(b.device_address() != 0);
+  CHECK(a.device_address() != b.device_address());
+  std::memset(a.data(), 0x11, 4096);
+  ctx->run({}, nullptr, {{&a, 0xffffffffu, 1024, 2048}, {&b, 7u}});
+  const auto* w = a.as<std::uint32_t>();
+  CHECK(w[255] == 0x11111111u);
+  CHECK(w[256] == 0xffffffffu);
+  CHECK(w[767] == 0xffffffffu);
+  CHECK(w[768] == 0x11111111u);
+  for (int i = 0; i < 16; ++i) CHECK(b.as<std::uint32_t>()[i] == 7u);
+  CHECK_THROWS_AS(ctx->run({}, nullptr, {{&b, 0u, 2, 8}}), std::logic_error);  // misaligned
+  CHECK(ctx->validation_messages() == 0);
+}

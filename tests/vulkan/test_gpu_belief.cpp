@@ -60,7 +60,10 @@ struct Twin {
     // Lookups of touched and untouched bins.
     std::vector<std::uint64_t> keys;
     for (std::size_t i = 0; i < table.size(); i += 1 + table.size() / 50) keys.push_back(table[i].key);
-    keys.push_back(table.empty() ? 0 : table.back().key + 1);
+    if (!table.empty())  // an untouched neighbour of a touched bin
+      fc[s]->space().for_each_neighbour(table.front().key, [&](std::uint64_t k) {
+        if (c.offsets(std::vector<std::uint64_t>{k})[0] == 0) keys.push_back(k);
+      });
     CHECK(c.offsets(keys) == g.offsets(keys));
     const BeliefEstimate a = fc[s]->estimate(5), b = fg[s]->estimate(5);
     CHECK(a.object == b.object);

@@ -3,6 +3,8 @@
 // stepped together so that one backend call (one GPU submission with the
 // Vulkan backend) carries the pairs of every session that got a new reading.
 // Each session's results equal those of a Recognizer fed the same readings.
+// Not thread-safe: with the Vulkan backend even estimate() runs GPU work, so
+// call one BatchRecognizer from one thread at a time.
 #include <sva/recognizer.hpp>
 
 #include <memory>

@@ -1,5 +1,7 @@
 #include "recognition/bayes_filter.hpp"
 
+#include "recognition/belief_math.hpp"
+
 #include <sva/error.hpp>
 
 #include <algorithm>
@@ -9,7 +11,8 @@
 namespace sva {
 
 BayesFilter::BayesFilter(const PairMap& map, const PoseSpace& space, const FilterOptions& options, VoteBackend& backend)
-    : map_(&map), space_(&space), options_(options), backend_(&backend), belief_(backend.make_belief(space, options.eps)) {
+    : map_(&map), space_(&space), options_(options), backend_(&backend), belief_(backend.make_belief(space, options.eps)),
+      max_pairs_(belief_math::max_pairs(belief_math::eps_units(options.eps))) {
   if (space.objects() != map.objects.size())
     throw Error("pose space has " + std::to_string(space.objects()) + " objects but the map has " +
                 std::to_string(map.objects.size()));
@@ -54,6 +57,9 @@ void BayesFilter::queue_pairs(const ObservedReading& reading, std::uint32_t sess
       batch->object_active[std::size_t{session} * space_->objects() + o] = p[o] >= options_.object_prune_probability;
   }
   batch->sessions = std::max(batch->sessions, session + 1);
+  if (belief_->pairs_folded() + budget > max_pairs_)
+    throw Error("recognition session has folded " + std::to_string(belief_->pairs_folded()) +
+                " pairs; more could overflow its fixed-point belief (reset the session or cap max_pairs_per_update)");
   std::size_t queued = 0;
   for (std::size_t j = 0; j < t && queued < budget; ++j) {
     const std::size_t i = t - 1 - j;

@@ -59,6 +59,7 @@ class BayesFilter {
   FilterOptions options_;
   VoteBackend* backend_;
   std::unique_ptr<BeliefState> belief_;
+  std::uint64_t max_pairs_;  // fixed-point headroom (belief_math::max_pairs)
   std::vector<ObservedReading> readings_;
   UpdateStats last_;
 };

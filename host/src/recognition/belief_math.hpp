@@ -25,6 +25,14 @@ inline uint64_t eps_units(double eps) {
   return static_cast<uint64_t>(std::llround(std::ldexp(eps, SVA_EPS_FRAC_BITS)));
 }
 
+// The most pairs a belief may fold before a bin's offset could pass 2^63
+// units: each pair adds at most log2(1 + 1/eps) bits (about 1e8 pairs, 14,000
+// readings, at eps = 1e-6).
+inline std::uint64_t max_pairs(uint64_t eps_units) {
+  const double bits_per_pair = std::log2(1.0 + std::ldexp(1.0, SVA_EPS_FRAC_BITS) / static_cast<double>(eps_units)) + 1.0;
+  return static_cast<std::uint64_t>(std::ldexp(1.0, 63 - SVA_BELIEF_FRAC_BITS) / bits_per_pair);
+}
+
 // Fractional bits of the object-mass weights for a pose space with `bins`
 // bins per object: every bin weighs at most 2^mass_bits, so an object's mass
 // stays below 2^62. Ordinary spaces get all SVA_MAX_MASS_BITS bits (paper3d:

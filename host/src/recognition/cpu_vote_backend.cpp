@@ -62,7 +62,7 @@ class CpuVoteBackend final : public VoteBackend {
     std::vector<PairStats> out(votes.size());
     for (std::size_t i = 0; i < votes.size(); ++i) {
       const std::uint32_t s = batch.pairs[i].session;
-      assert(s < beliefs.size());
+      if (s >= beliefs.size()) throw Error("cpu backend: pair of session " + std::to_string(s) + " has no belief");
       auto* belief = dynamic_cast<Belief*>(beliefs[s]);
       if (!belief) throw Error("cpu backend: session " + std::to_string(s) + " has a belief made by another backend");
       out[i] = votes[i];

@@ -248,20 +248,33 @@ Buffer Context::create_buffer(std::size_t bytes) {
   check(vkCreateBuffer(s_->device, &bci, nullptr, &b.buffer_), "vkCreateBuffer");
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(s_->device, b.buffer_, &req);
-  // Host-visible, coherent memory: the host fills inputs and reads results
-  // without staging copies (fast on lavapipe and on unified/ReBAR memory).
-  const VkMemoryPropertyFlags want = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
-  std::uint32_t type = UINT32_MAX;
-  for (std::uint32_t i = 0; i < s_->memory.memoryTypeCount; ++i)
-    if ((req.memoryTypeBits & (1u << i)) && (s_->memory.memoryTypes[i].propertyFlags & want) == want) { type = i; break; }
-  if (type == UINT32_MAX) throw Error("Vulkan: no host-visible coherent memory type");
+  // Host-mapped, coherent memory, the device's own where it has such (lavapipe,
+  // integrated GPUs, discrete GPUs with a large BAR): the host fills inputs and
+  // reads results without staging copies, and the kernels' atomics stay on the
+  // device. Otherwise (or when that heap is full) host memory.
+  const VkMemoryPropertyFlags mapped = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  std::vector<std::uint32_t> types;
+  for (VkMemoryPropertyFlags want : {mapped | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, mapped})
+    for (std::uint32_t i = 0; i < s_->memory.memoryTypeCount; ++i)
+      if ((req.memoryTypeBits & (1u << i)) && (s_->memory.memoryTypes[i].propertyFlags & want) == want &&
+          std::find(types.begin(), types.end(), i) == types.end())
+        types.push_back(i);
+  if (types.empty()) throw Error("Vulkan: no host-visible coherent memory type");
   VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
   flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
   VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
   mai.pNext = &flags;
   mai.allocationSize = req.size;
-  mai.memoryTypeIndex = type;
-  VkResult r = vkAllocateMemory(s_->device, &mai, nullptr, &b.memory_);
+  VkResult r = VK_ERROR_OUT_OF_DEVICE_MEMORY;
+  for (std::uint32_t type : types) {
+    mai.memoryTypeIndex = type;
+    r = vkAllocateMemory(s_->device, &mai, nullptr, &b.memory_);
+    if (r == VK_SUCCESS) {
+      b.device_local_ = (s_->memory.memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT) != 0;
+      break;
+    }
+    if (r != VK_ERROR_OUT_OF_DEVICE_MEMORY && r != VK_ERROR_OUT_OF_HOST_MEMORY) break;
+  }
   if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY)
     throw Error("Vulkan: out of memory allocating " + std::to_string(bytes) + " bytes");
   check(r, "vkAllocateMemory");
@@ -313,9 +326,10 @@ Pipeline Context::create_pipeline(std::span<const std::uint32_t> spirv, std::uin
   return p;
 }
 
-void Context::run(const std::vector<Dispatch>& dispatches, std::vector<double>* kernel_ms) {
-  if (dispatches.empty()) return;
-  const bool timing = kernel_ms && info_.timestamps;
+void Context::run(const std::vector<Dispatch>& dispatches, std::vector<double>* kernel_ms, const std::vector<Fill>& fills) {
+  if (dispatches.empty() && fills.empty()) return;
+  const bool timing = kernel_ms && info_.timestamps && !dispatches.empty();
+  if (kernel_ms) kernel_ms->clear();
   const auto n_queries = static_cast<std::uint32_t>(2 * dispatches.size());
   if (timing && s_->query_capacity < n_queries) {
     if (s_->queries) vkDestroyQueryPool(s_->device, s_->queries, nullptr);
@@ -331,9 +345,9 @@ void Context::run(const std::vector<Dispatch>& dispatches, std::vector<double>* 
   }
   std::uint32_t total_bindings = 0;
   for (const auto& d : dispatches) total_bindings += std::max(1u, d.pipeline->bindings_);
-  VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, total_bindings};
+  VkDescriptorPoolSize ps{VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, std::max<std::uint32_t>(total_bindings, 1)};
   VkDescriptorPoolCreateInfo dpi{VK_STRUCTURE_TYPE_DESCRIPTOR_POOL_CREATE_INFO};
-  dpi.maxSets = static_cast<std::uint32_t>(dispatches.size());
+  dpi.maxSets = std::max<std::uint32_t>(static_cast<std::uint32_t>(dispatches.size()), 1);
   dpi.poolSizeCount = 1;
   dpi.pPoolSizes = &ps;
   check(vkCreateDescriptorPool(s_->device, &dpi, nullptr, &s_->descriptor_pool), "vkCreateDescriptorPool");
@@ -348,6 +362,17 @@ void Context::run(const std::vector<Dispatch>& dispatches, std::vector<double>* 
   cbi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
   check(vkBeginCommandBuffer(cmd, &cbi), "vkBeginCommandBuffer");
   if (timing) vkCmdResetQueryPool(cmd, s_->queries, 0, n_queries);
+  for (const Fill& f : fills) {
+    const std::size_t bytes = f.bytes ? f.bytes : f.buffer->size() - f.offset;
+    if (f.offset % 4 || bytes % 4 || f.offset + bytes > f.buffer->size()) throw std::logic_error("Fill: range not in the buffer or not 4-byte aligned");
+    vkCmdFillBuffer(cmd, f.buffer->handle(), f.offset, bytes, f.value);
+  }
+  if (!fills.empty()) {
+    VkMemoryBarrier fb{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_TRANSFER_WRITE_BIT,
+                       VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_HOST_READ_BIT};
+    vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
+                         0, 1, &fb, 0, nullptr, 0, nullptr);
+  }
   bool first = true;
   std::uint32_t index = 0;
   for (const auto& d : dispatches) {
@@ -425,6 +450,7 @@ void Buffer::release() {
   mapped_ = nullptr;
   size_ = 0;
   address_ = 0;
+  device_local_ = false;
 }
 Buffer::~Buffer() { release(); }
 Buffer::Buffer(Buffer&& o) noexcept { *this = std::move(o); }
@@ -437,6 +463,7 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
     std::swap(mapped_, o.mapped_);
     std::swap(size_, o.size_);
     std::swap(address_, o.address_);
+    std::swap(device_local_, o.device_local_);
   }
   return *this;
 }

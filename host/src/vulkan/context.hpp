@@ -52,6 +52,10 @@ class Buffer {
   VkBuffer handle() const { return buffer_; }
   // For shaders that reach the buffer through GL_EXT_buffer_reference.
   VkDeviceAddress device_address() const { return address_; }
+  // Whether the memory is the device's own (device-local and host-mapped, as
+  // on lavapipe, integrated GPUs and discrete GPUs with a large BAR) rather
+  // than host memory the device reaches over the bus.
+  bool device_local() const { return device_local_; }
 
  private:
   friend class Context;
@@ -61,6 +65,7 @@ class Buffer {
   void* mapped_ = nullptr;
   std::size_t size_ = 0;
   VkDeviceAddress address_ = 0;
+  bool device_local_ = false;
   void release();
 };
 
@@ -83,6 +88,15 @@ class Pipeline {
   std::uint32_t bindings_ = 0;
   std::uint32_t push_bytes_ = 0;
   void release();
+};
+
+// A fill of a buffer range with a 32-bit pattern, recorded before a run's
+// dispatches: clearing large device tables costs the host nothing.
+struct Fill {
+  Buffer* buffer;
+  std::uint32_t value = 0;
+  std::size_t offset = 0;
+  std::size_t bytes = 0;  // 0 = to the end of the buffer
 };
 
 // One dispatch of a recorded sequence; consecutive dispatches are separated by
@@ -116,10 +130,11 @@ class Context {
   // (x is capped at maxComputeWorkGroupCount[0]); shaders flatten it back.
   Grid grid(std::uint64_t invocations) const;
   Pipeline create_pipeline(std::span<const std::uint32_t> spirv, std::uint32_t bindings, std::uint32_t push_bytes);
-  // Records the dispatches into one command buffer, submits and waits. When
-  // `kernel_ms` is given and the device supports timestamps, it receives the
-  // GPU time of each dispatch (for "where does the time go").
-  void run(const std::vector<Dispatch>& dispatches, std::vector<double>* kernel_ms = nullptr);
+  // Records the fills, then the dispatches, into one command buffer, submits
+  // and waits. When `kernel_ms` is given and the device supports timestamps,
+  // it receives the GPU time of each dispatch (for "where does the time go").
+  void run(const std::vector<Dispatch>& dispatches, std::vector<double>* kernel_ms = nullptr,
+           const std::vector<Fill>& fills = {});
 
   struct State;
 

@@ -49,7 +49,7 @@ GpuBelief::GpuBelief(GpuBeliefKernels& kernels, double eps) : k_(&kernels), eps_
 
 void GpuBelief::allocate(vk::Buffer& b, std::uint32_t capacity) const {
   b = k_->ctx->create_buffer(std::size_t{capacity} * 2 * sizeof(std::uint64_t));  // keys, then offsets (zeroed)
-  std::memset(b.data(), 0xff, std::size_t{capacity} * sizeof(std::uint64_t));
+  k_->ctx->run({}, nullptr, {{&b, 0xffffffffu, 0, std::size_t{capacity} * sizeof(std::uint64_t)}});
 }
 
 void GpuBelief::reset() {
@@ -148,6 +148,17 @@ std::vector<BinOffset> GpuBelief::best_bins(std::size_t k) const {
   for (; bucket < SVA_BELIEF_BUCKETS; ++bucket)
     if ((n += histogram_[bucket]) >= k) break;
   assert(bucket < SVA_BELIEF_BUCKETS);
+  const auto best_first = [](const BinOffset& a, const BinOffset& b) {
+    return a.offset != b.offset ? a.offset > b.offset : a.key < b.key;
+  };
+  if (n * 2 * sizeof(std::uint64_t) > k_->ctx->info().max_storage_buffer_range) {
+    // So many bins tie near the maximum that their list would not fit one
+    // binding: sort the whole table on the host instead (same answer).
+    std::vector<BinOffset> all = table();
+    std::partial_sort(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(k), all.end(), best_first);
+    all.resize(k);
+    return all;
+  }
   ensure(*k_->ctx, candidates_, n * 2 * sizeof(std::uint64_t));
   summary_.as<std::uint64_t>()[SVA_SUMMARY_CANDIDATES] = 0;
   gpu::SvaReduceParams p{};
@@ -171,8 +182,7 @@ std::vector<BinOffset> GpuBelief::best_bins(std::size_t k) const {
   const auto* c = candidates_.as<std::uint64_t>();
   std::vector<BinOffset> out(n);
   for (std::size_t i = 0; i < n; ++i) out[i] = {k_->bins.key(c[2 * i]), c[2 * i + 1]};
-  std::partial_sort(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(k), out.end(),
-                    [](const BinOffset& a, const BinOffset& b) { return a.offset != b.offset ? a.offset > b.offset : a.key < b.key; });
+  std::partial_sort(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(k), out.end(), best_first);
   out.resize(k);
   return out;
 }

@@ -211,8 +211,9 @@ class VulkanVoteBackend final : public VoteBackend {
     const auto grid = space_.grid();
     for (;;) {
       util::throw_if_interrupted();
-      if (slots_ * sizeof(std::uint64_t) > ctx_.info().max_storage_buffer_range) {
+      if (slots_ > max_slots()) {
         if (P > 1) {
+          slots_ = max_slots();  // each half starts from the largest table one binding holds
           split(batch, first, last, consume);
           return;
         }
@@ -220,8 +221,8 @@ class VulkanVoteBackend final : public VoteBackend {
       }
       ensure(ctx_, table_keys_, slots_ * sizeof(std::uint64_t));
       ensure(ctx_, table_sums_, slots_ * sizeof(std::int64_t));
-      std::memset(table_keys_.data(), 0xff, slots_ * sizeof(std::uint64_t));
-      std::memset(table_sums_.data(), 0, slots_ * sizeof(std::int64_t));
+      const std::vector<vk::Fill> clear{{&table_keys_, 0xffffffffu, 0, slots_ * sizeof(std::uint64_t)},
+                                        {&table_sums_, 0u, 0, slots_ * sizeof(std::int64_t)}};
       std::memset(counters_.data(), 0, P * 3 * sizeof(std::uint64_t));
       *status_.as<std::uint32_t>() = 0;
       std::vector<vk::Dispatch> dispatches;
@@ -258,7 +259,7 @@ class VulkanVoteBackend final : public VoteBackend {
         dispatches.push_back(std::move(d));
       }
       std::vector<double> ms;
-      ctx_.run(dispatches, &ms);
+      ctx_.run(dispatches, &ms, clear);
       for (double m : ms) kernel_ms_ += m;
       bool too_many = false;
       for (Chunk& ch : chunks_)
@@ -284,7 +285,7 @@ class VulkanVoteBackend final : public VoteBackend {
     std::memset(counters_.data(), 0, P * 3 * sizeof(std::uint64_t));
     ensure(ctx_, table_keys_, slots_ * sizeof(std::uint64_t));
     ensure(ctx_, table_sums_, slots_ * sizeof(std::int64_t));
-    std::memset(table_keys_.data(), 0xff, slots_ * sizeof(std::uint64_t));
+    ctx_.run({}, nullptr, {{&table_keys_, 0xffffffffu, 0, slots_ * sizeof(std::uint64_t)}});
     ensure(ctx_, pairs_, P * sizeof(gpu::SvaGpuPair));
     consume(first, last);
   }
@@ -318,7 +319,12 @@ class VulkanVoteBackend final : public VoteBackend {
 
   // Keep about half load next time: fewer probes, rarely a rerun.
   void keep_vote_table_half_empty(std::size_t entries) {
-    slots_ = std::max(slots_, std::bit_ceil(std::max<std::size_t>(2 * entries, 1024)));
+    slots_ = std::min(max_slots(), std::max(slots_, std::bit_ceil(std::max<std::size_t>(2 * entries, 1024))));
+  }
+
+  // The largest power-of-two vote table that one binding can hold.
+  std::size_t max_slots() const {
+    return std::bit_floor(static_cast<std::size_t>(ctx_.info().max_storage_buffer_range / sizeof(std::uint64_t)));
   }
 
   // vote_and_fold(): belief_fold.comp folds the table into the sessions'
@@ -345,6 +351,8 @@ class VulkanVoteBackend final : public VoteBackend {
       eps = beliefs[s]->eps_units();
     }
     std::vector<std::uint64_t> inserted(S, 0);
+    std::size_t entries = 0;  // vote-table entries, counted by the first RESERVE pass
+    bool first_pass = true;
     for (;;) {
       for (std::size_t s = 0; s < S; ++s) {
         const VkDeviceAddress a = beliefs[s]->address();
@@ -370,6 +378,7 @@ class VulkanVoteBackend final : public VoteBackend {
       for (std::size_t s = 0; s < S; ++s) {
         if (!pending[s]) continue;
         if (st[s].missing) throw std::logic_error("belief_fold: a reserved key was not found");
+        if (first_pass) entries += st[s].vote_entries;
         inserted[s] += st[s].inserted;
         beliefs[s]->record(st[s].inserted, 0);
         if (st[s].overflow) {
@@ -381,6 +390,7 @@ class VulkanVoteBackend final : public VoteBackend {
           pending[s] = 0;
         }
       }
+      first_pass = false;
       if (!again) break;
       util::throw_if_interrupted();
     }
@@ -392,9 +402,6 @@ class VulkanVoteBackend final : public VoteBackend {
     }
     for (std::size_t s = 0; s < S; ++s)
       if (folded[s]) beliefs[s]->record(0, folded[s]);
-    std::size_t entries = 0;
-    const auto* tk = table_keys_.as<std::uint64_t>();
-    for (std::size_t s = 0; s < slots_; ++s) entries += tk[s] != hash::kEmptyKey;
     keep_vote_table_half_empty(entries);
   }
 

@@ -173,7 +173,9 @@ BeliefSummary Belief::summarise() const {
 }
 
 std::vector<BinOffset> Belief::best_bins(std::size_t k) const {
-  std::vector<BinOffset> all = table();
+  std::vector<BinOffset> all;  // slot order: partial_sort needs no sorted read-out
+  all.reserve(offset_.size());
+  offset_.for_each([&](std::uint64_t key, std::uint64_t off) { all.push_back({key, off}); });
   k = std::min(k, all.size());
   std::partial_sort(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(k), all.end(),
                     [](const BinOffset& a, const BinOffset& b) { return a.offset != b.offset ? a.offset > b.offset : a.key < b.key; });

@@ -142,6 +142,20 @@ std::vector<BinOffset> GpuBelief::best_bins(std::size_t k) const {
   k = std::min(k, count_);
   if (k == 0) return {};
   if (!summary_cache_) reduce();
+  if (k == 1) {
+    // The best bin overall is the best of the objects' best bins (largest
+    // offset, then smaller key): the reductions already hold it.
+    const BeliefSummary& s = *summary_cache_;
+    BinOffset best;
+    bool found = false;
+    for (std::size_t o = 0; o < s.touched.size(); ++o) {
+      if (s.touched[o] == 0) continue;
+      const BinOffset c{s.best_key[o], s.best_offset[o]};
+      if (!found || c.offset > best.offset || (c.offset == best.offset && c.key < best.key)) best = c;
+      found = true;
+    }
+    return {best};
+  }
   // The smallest bucket bound that holds at least k bins: those bins contain the top k.
   std::uint32_t bucket = 0;
   std::uint64_t n = 0;

@@ -5,21 +5,11 @@
 #include <sva/error.hpp>
 
 #include "recognition/fixture.hpp"
-#include "test_support.hpp"
-#include "vulkan/vulkan_vote_backend.hpp"
+#include "vk_test_support.hpp"
 
 using namespace sva;
 
 namespace {
-
-std::unique_ptr<VoteBackend> make_gpu(const PairMap& map, const PoseSpace& space, const VoteSettings& vs,
-                                      const VulkanBackendOptions& o = {}) {
-  try {
-    return make_vulkan_vote_backend(map, space, vs, o);
-  } catch (const Error& e) {
-    test::skip(e.what());
-  }
-}
 
 // Sessions on both backends, fed the same readings in lock step.
 struct Twin {
@@ -27,7 +17,7 @@ struct Twin {
   std::vector<std::unique_ptr<BayesFilter>> fc, fg;
   Twin(const test::World& w, const PoseSpace& space, int sessions, const FilterOptions& fo, const VoteSettings& vs,
        const VulkanBackendOptions& vo) {
-    gpu = make_gpu(*w.map, space, vs, vo);
+    gpu = test::vulkan_backend_or_skip(*w.map, space, vs, vo);
     cpu = make_cpu_vote_backend(*w.map, space, vs);
     for (int s = 0; s < sessions; ++s) {
       fc.push_back(std::make_unique<BayesFilter>(*w.map, space, fo, *cpu));
@@ -139,7 +129,7 @@ TEST_CASE("GPU beliefs: an empty belief and a misuse are reported, not crashed")
   test::WorldSpec spec;
   auto w = test::make_world(spec);
   PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
-  auto gpu = make_gpu(*w.map, space, {});
+  auto gpu = test::vulkan_backend_or_skip(*w.map, space, {});
   auto cpu = make_cpu_vote_backend(*w.map, space, {});
   BayesFilter g(*w.map, space, {}, *gpu), c(*w.map, space, {}, *cpu);
   CHECK(g.belief().summarise() == c.belief().summarise());

@@ -3,21 +3,11 @@
 #include <sva/error.hpp>
 
 #include "recognition/fixture.hpp"
-#include "test_support.hpp"
-#include "vulkan/vulkan_vote_backend.hpp"
+#include "vk_test_support.hpp"
 
 using namespace sva;
 
 namespace {
-
-std::unique_ptr<VoteBackend> make_gpu(const PairMap& map, const PoseSpace& space, const VoteSettings& vs,
-                                      const VulkanBackendOptions& o = {}) {
-  try {
-    return make_vulkan_vote_backend(map, space, vs, o);
-  } catch (const Error& e) {
-    test::skip(e.what());
-  }
-}
 
 // Several sessions, each a different pose of a different object, with a few
 // readings each; returns the batch of the last readings' pairs.
@@ -61,7 +51,7 @@ TEST_CASE("Vulkan votes equal the CPU reference bit for bit (spatial, several se
   PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
   VoteBatch batch = make_batch(w, space, spec, 4, 5, nullptr);
   auto cpu = make_cpu_vote_backend(*w.map, space, {});
-  auto gpu = make_gpu(*w.map, space, {});
+  auto gpu = test::vulkan_backend_or_skip(*w.map, space, {});
   require_identical(cpu->vote(batch), gpu->vote(batch));
   CHECK(vulkan_backend_stats(*gpu)->validation_messages == 0);
 }
@@ -79,7 +69,7 @@ TEST_CASE("Vulkan votes equal the CPU reference on a planar space with pruned ob
   VoteSettings vs;
   vs.likelihood_cutoff = 0.05f;
   auto cpu = make_cpu_vote_backend(*w.map, space, vs);
-  auto gpu = make_gpu(*w.map, space, vs);
+  auto gpu = test::vulkan_backend_or_skip(*w.map, space, vs);
   require_identical(cpu->vote(batch), gpu->vote(batch));
 }
 
@@ -91,7 +81,7 @@ TEST_CASE("Vulkan backend: tiny map chunks and a tiny table still give the exact
   VulkanBackendOptions o;
   o.max_chunk_entries = 97;     // the map split into many chunks (lavapipe's 128 MiB rule, exercised small)
   o.initial_table_slots = 64;   // overflow: the table grows and the batch reruns
-  auto gpu = make_gpu(*w.map, space, {}, o);
+  auto gpu = test::vulkan_backend_or_skip(*w.map, space, {}, o);
   auto cpu = make_cpu_vote_backend(*w.map, space, {});
   require_identical(cpu->vote(batch), gpu->vote(batch));
   const VulkanBackendStats* st = vulkan_backend_stats(*gpu);
@@ -105,7 +95,7 @@ TEST_CASE("Vulkan backend folds into identical beliefs through update_sessions")
   test::WorldSpec spec;
   auto w = test::make_world(spec);
   PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
-  auto gpu = make_gpu(*w.map, space, {});
+  auto gpu = test::vulkan_backend_or_skip(*w.map, space, {});
   auto cpu = make_cpu_vote_backend(*w.map, space, {});
   std::vector<std::unique_ptr<BayesFilter>> fc, fg;
   std::vector<RigidPose> poses;

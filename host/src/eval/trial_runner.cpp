@@ -137,7 +137,10 @@ EvalResult run_trials_batched(const Dataset& test, const TrialSetup& setup, Sess
   EvalResult result = empty_result(test, setup);
   const TrialGenerator generator(test, setup.pose_space, setup.seed, setup.max_readings, setup.source);
   std::optional<util::Progress> progress;
-  if (setup.progress) progress.emplace("eval " + setup.method + " (batches of " + std::to_string(batch.size()) + ")", setup.trials);
+  // Progress in readings (trials x readings): a batch steps all its trials together.
+  if (setup.progress)
+    progress.emplace("eval " + setup.method + " readings (batches of " + std::to_string(batch.size()) + " trials)",
+                     setup.trials * setup.max_readings);
   for (std::size_t first = 0; first < setup.trials; first += batch.size()) {
     const std::size_t n = std::min(batch.size(), setup.trials - first);
     std::vector<Trial> trials;
@@ -167,8 +170,8 @@ EvalResult run_trials_batched(const Dataset& test, const TrialSetup& setup, Sess
         record_step(result.trials[first + i].steps[k], batch.estimate(i), trial, test.scene.objects[trial.object],
                     ms / static_cast<double>(n));
       }
+      if (progress) progress->advance(n);
     }
-    if (progress) progress->advance(n);
   }
   if (progress) progress->finish();
   return result;

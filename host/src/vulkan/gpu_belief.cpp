@@ -9,30 +9,16 @@
 #include <string>
 
 #include "recognition/belief_math.hpp"
+#include "vulkan/gpu_layout.hpp"
 
 namespace sva {
 
-namespace gpu {
-using uint = std::uint32_t;
-using std::uint64_t;
-#include "sva_gpu_layout.h"
-}  // namespace gpu
-
 namespace {
 
-template <class T>
-std::vector<std::uint8_t> bytes_of(const T& p) {
-  std::vector<std::uint8_t> b(sizeof p);
-  std::memcpy(b.data(), &p, sizeof p);
-  return b;
-}
-
-std::uint32_t lo(std::uint64_t v) { return static_cast<std::uint32_t>(v & 0xffffffffu); }
-std::uint32_t hi(std::uint64_t v) { return static_cast<std::uint32_t>(v >> 32); }
-
-void ensure(vk::Context& ctx, vk::Buffer& b, std::size_t bytes) {
-  if (b.size() < std::max<std::size_t>(bytes, 16)) b = ctx.create_buffer(std::max<std::size_t>(bytes, 16));
-}
+using gpu::ensure;
+using gpu::hi;
+using gpu::lo;
+using gpu::push_bytes;
 
 // The most slots a table may have (its index is a 32-bit uint in the shaders).
 constexpr std::uint64_t kMaxSlots = std::uint64_t{1} << 31;
@@ -78,7 +64,7 @@ void GpuBelief::grow(std::uint64_t slots) {
     gpu::SvaRehashParams p{lo(table_.device_address()), hi(table_.device_address()), capacity_,
                            lo(next.device_address()),   hi(next.device_address()),   static_cast<std::uint32_t>(cap)};
     const vk::Grid g = k_->ctx->grid(slot_invocations(capacity_));
-    vk::Dispatch d{&k_->rehash, {&status}, bytes_of(p), g.x};
+    vk::Dispatch d{&k_->rehash, {&status}, push_bytes(p), g.x};
     d.groups_y = g.y;
     std::vector<double> ms;
     k_->ctx->run({d}, &ms);
@@ -112,7 +98,7 @@ void GpuBelief::reduce() const {
   std::vector<vk::Dispatch> ds;
   for (std::uint32_t pass : {SVA_REDUCE_MAX, SVA_REDUCE_MASS}) {
     p.pass = pass;
-    vk::Dispatch d{&k_->reduce, {&summary_, &candidates_}, bytes_of(p), g.x};
+    vk::Dispatch d{&k_->reduce, {&summary_, &candidates_}, push_bytes(p), g.x};
     d.groups_y = g.y;
     ds.push_back(std::move(d));
   }
@@ -186,7 +172,7 @@ std::vector<BinOffset> GpuBelief::best_bins(std::size_t k) const {
   p.select_bucket = bucket;
   p.select_capacity = static_cast<std::uint32_t>(n);
   const vk::Grid g = k_->ctx->grid(slot_invocations(capacity_));
-  vk::Dispatch d{&k_->reduce, {&summary_, &candidates_}, bytes_of(p), g.x};
+  vk::Dispatch d{&k_->reduce, {&summary_, &candidates_}, push_bytes(p), g.x};
   d.groups_y = g.y;
   std::vector<double> ms;
   k_->ctx->run({d}, &ms);
@@ -209,7 +195,7 @@ std::vector<std::uint64_t> GpuBelief::offsets(std::span<const std::uint64_t> key
   gpu::SvaLookupParams p{lo(table_.device_address()), hi(table_.device_address()), capacity_,
                          static_cast<std::uint32_t>(keys.size())};
   const vk::Grid g = k_->ctx->grid(keys.size());
-  vk::Dispatch d{&k_->lookup, {&queries_}, bytes_of(p), g.x};
+  vk::Dispatch d{&k_->lookup, {&queries_}, push_bytes(p), g.x};
   d.groups_y = g.y;
   std::vector<double> ms;
   k_->ctx->run({d}, &ms);

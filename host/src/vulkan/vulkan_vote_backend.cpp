@@ -20,32 +20,15 @@
 #include "util/interrupt.hpp"
 #include "vulkan/context.hpp"
 #include "vulkan/gpu_belief.hpp"
+#include "vulkan/gpu_layout.hpp"
 #include "vulkan/linear_bins.hpp"
 
 namespace sva {
 
-namespace gpu {
-using uint = std::uint32_t;
-using std::uint64_t;
-#include "sva_gpu_layout.h"
-}  // namespace gpu
-
 namespace {
-
 using Clock = std::chrono::steady_clock;
-
-template <class T>
-std::vector<std::uint8_t> bytes_of(const T& p) {
-  std::vector<std::uint8_t> b(sizeof p);
-  std::memcpy(b.data(), &p, sizeof p);
-  return b;
-}
-
-// Keeps a buffer at least `bytes` large, reallocating only to grow.
-void ensure(vk::Context& ctx, vk::Buffer& b, std::size_t bytes) {
-  if (b.size() < std::max<std::size_t>(bytes, 16)) b = ctx.create_buffer(std::max<std::size_t>(bytes, 16));
-}
-
+using gpu::ensure;
+using gpu::push_bytes;
 }  // namespace
 
 class VulkanVoteBackend final : public VoteBackend {
@@ -227,13 +210,13 @@ class VulkanVoteBackend final : public VoteBackend {
       *status_.as<std::uint32_t>() = 0;
       std::vector<vk::Dispatch> dispatches;
       gpu::SvaExpandParams ep{static_cast<std::uint32_t>(K), static_cast<std::uint32_t>(map_.keys.size())};
-      dispatches.push_back({&expand_, {&key_items_, &map_keys_, &map_offsets_, &ranges_}, bytes_of(ep),
+      dispatches.push_back({&expand_, {&key_items_, &map_keys_, &map_offsets_, &ranges_}, push_bytes(ep),
                             static_cast<std::uint32_t>((K + SVA_WORKGROUP_SIZE - 1) / SVA_WORKGROUP_SIZE)});
       for (Chunk& ch : chunks_) {
         if (ch.count == 0) continue;
         gpu::SvaScanParams sp{static_cast<std::uint32_t>(K), static_cast<std::uint32_t>(ch.begin),
                               static_cast<std::uint32_t>(ch.begin + ch.count), ctx_.info().max_workgroup_count_x};
-        dispatches.push_back({&scan_, {&ranges_, &ch.offsets, &ch.scan}, bytes_of(sp), 1});
+        dispatches.push_back({&scan_, {&ranges_, &ch.offsets, &ch.scan}, push_bytes(sp), 1});
         gpu::SvaMatchParams p{};
         p.key_items = static_cast<std::uint32_t>(K);
         p.chunk_begin = static_cast<std::uint32_t>(ch.begin);
@@ -254,7 +237,7 @@ class VulkanVoteBackend final : public VoteBackend {
         vk::Dispatch d{&pipeline_,
                        {&pairs_, &key_items_, &ranges_, &ch.offsets, &readings_, &ch.a, &ch.b, &ch.w, &active_, &table_keys_,
                         &table_sums_, &counters_, &status_, &ch.scan},
-                       bytes_of(p), 0};
+                       push_bytes(p), 0};
         d.indirect = &ch.scan;
         dispatches.push_back(std::move(d));
       }
@@ -356,18 +339,17 @@ class VulkanVoteBackend final : public VoteBackend {
     for (;;) {
       for (std::size_t s = 0; s < S; ++s) {
         const VkDeviceAddress a = beliefs[s]->address();
-        sess[s] = {static_cast<std::uint32_t>(a & 0xffffffffu), static_cast<std::uint32_t>(a >> 32), beliefs[s]->capacity(),
-                   pending[s] ? 1u : 0u};
+        sess[s] = {gpu::lo(a), gpu::hi(a), beliefs[s]->capacity(), pending[s] ? 1u : 0u};
         st[s] = {};
       }
       std::memset(pair_totals_.data(), 0, 2 * P * sizeof(std::uint64_t));
-      gpu::SvaFoldParams p{static_cast<std::uint32_t>(slots_), bins_.pair_shift(), static_cast<std::uint32_t>(eps & 0xffffffffu),
-                           static_cast<std::uint32_t>(eps >> 32), SVA_FOLD_RESERVE, static_cast<std::uint32_t>(P)};
+      gpu::SvaFoldParams p{static_cast<std::uint32_t>(slots_), bins_.pair_shift(), gpu::lo(eps), gpu::hi(eps), SVA_FOLD_RESERVE,
+                           static_cast<std::uint32_t>(P)};
       std::vector<vk::Dispatch> ds;
       for (std::uint32_t pass : {SVA_FOLD_RESERVE, SVA_FOLD_PAIR_LOG, SVA_FOLD_ADD}) {
         p.pass = pass;
         const vk::Grid g = ctx_.grid(pass == SVA_FOLD_PAIR_LOG ? P : slot_invocations(slots_));
-        vk::Dispatch d{&fold_, {&table_keys_, &table_sums_, &pairs_, &pair_totals_, &sessions_, &session_status_}, bytes_of(p), g.x};
+        vk::Dispatch d{&fold_, {&table_keys_, &table_sums_, &pairs_, &pair_totals_, &sessions_, &session_status_}, push_bytes(p), g.x};
         d.groups_y = g.y;
         ds.push_back(std::move(d));
       }

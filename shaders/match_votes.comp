@@ -40,27 +40,6 @@ SvaPatch patch_of_reading(uint r) {
   return p;
 }
 
-// The linear index of a packed bin key in (object, tx, ty, tz, rx, ry, rz)
-// order: the same order as the packed key, so sorting either sorts both.
-uint64_t linear_bin(uint64_t key) {
-  uint object = uint(key >> SVA_KEY_OBJECT_SHIFT);
-  uint tx = uint(key >> SVA_KEY_TX_SHIFT) & 1023u;
-  uint ty = uint(key >> SVA_KEY_TY_SHIFT) & 1023u;
-  uint tz = uint(key >> SVA_KEY_TZ_SHIFT) & 1023u;
-  uint rx = uint(key >> SVA_KEY_RX_SHIFT) & 255u;
-  uint ry = uint(key >> SVA_KEY_RY_SHIFT) & 255u;
-  uint rz = uint(key >> SVA_KEY_RZ_SHIFT) & 255u;
-  uint64_t t = uint64_t(pc.translation_bins);
-  uint64_t r = uint64_t(pc.rotation_bins);
-  uint64_t i = uint64_t(tx);
-  i = i * t + uint64_t(ty);
-  i = i * uint64_t(pc.dim_tz) + uint64_t(tz);
-  i = i * uint64_t(pc.dim_rxy) + uint64_t(rx);
-  i = i * uint64_t(pc.dim_rxy) + uint64_t(ry);
-  i = i * r + uint64_t(rz);
-  return (uint64_t(object) << pc.object_shift) | i;
-}
-
 #include "sva_hash_scatter.glsl"
 
 void main() {
@@ -117,7 +96,10 @@ void main() {
       continue;
     }
     ++inside;
-    if (v.mass > int64_t(0)) sva_hash_scatter(pair_base | linear_bin(v.key), v.mass, pc.capacity);
+    if (v.mass > int64_t(0))
+      sva_hash_scatter(pair_base | sva_linear_bin(v.key, uint(pc.translation_bins), uint(pc.rotation_bins), pc.dim_tz,
+                                                  pc.dim_rxy, pc.object_shift),
+                       v.mass, pc.capacity);
   }
   if (inside != 0u) atomicAdd(counters[3u * q + 1u], uint64_t(inside));
   if (outside != 0u) atomicAdd(counters[3u * q + 2u], uint64_t(outside));

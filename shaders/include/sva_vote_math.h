@@ -370,6 +370,23 @@ SVA_FN uint64_t sva_pack_bin_key(uint object, int tx, int ty, int tz, int rx, in
          (uint64_t(uint(rz)) << SVA_KEY_RZ_SHIFT);
 }
 
+// The GPU tables' index of a packed bin key (host/src/vulkan/linear_bins.hpp):
+// the object from bit object_shift up, below it one mixed-radix index over
+// (tx, ty, tz, rx, ry, rz), with dim_tz = dim_rxy = 1 for planar spaces. Its
+// order is the packed keys' order.
+SVA_FN uint64_t sva_linear_bin(uint64_t key, uint translation_bins, uint rotation_bins, uint dim_tz, uint dim_rxy,
+                               uint object_shift) {
+  uint64_t trans = (uint64_t(1) << SVA_KEY_TRANS_BITS) - uint64_t(1);
+  uint64_t rot = (uint64_t(1) << SVA_KEY_ROT_BITS) - uint64_t(1);
+  uint64_t i = (key >> SVA_KEY_TX_SHIFT) & trans;
+  i = i * uint64_t(translation_bins) + ((key >> SVA_KEY_TY_SHIFT) & trans);
+  i = i * uint64_t(dim_tz) + ((key >> SVA_KEY_TZ_SHIFT) & trans);
+  i = i * uint64_t(dim_rxy) + ((key >> SVA_KEY_RX_SHIFT) & rot);
+  i = i * uint64_t(dim_rxy) + ((key >> SVA_KEY_RY_SHIFT) & rot);
+  i = i * uint64_t(rotation_bins) + ((key >> SVA_KEY_RZ_SHIFT) & rot);
+  return ((key >> SVA_KEY_OBJECT_SHIFT) << object_shift) | i;
+}
+
 // The vote of beta sample i of n: pose bin and fixed-point mass
 // likelihood * g_i / sum_g (Eq 15 times the normalised Gaussian in beta).
 SVA_FN SvaVote sva_vote(SvaAlignment al, SvaPoseGrid grid, uint object, float likelihood, float weight_sum, int i, int n) {

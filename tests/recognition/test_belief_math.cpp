@@ -42,7 +42,7 @@ TEST_CASE("integer log2 is within 2^-28 of the exact value over 128 bits, and mo
     for (int i = 0; i < 40; ++i) {
       // Values with the top bit at e, increasing within each e.
       const std::uint64_t r = rng.next();
-      bm::SvaU128 v = e >= 64 ? bm::sva_u128((std::uint64_t{1} << (e - 64)) | (r >> (128 - e)), rng.next())
+      bm::SvaU128 v = e >= 64 ? bm::sva_u128((std::uint64_t{1} << (e - 64)) | (e > 64 ? r >> (128 - e) : 0), rng.next())
                               : bm::sva_u128(0, (std::uint64_t{1} << e) | (e ? r >> (64 - e) : 0));
       const std::uint64_t got = bm::sva_log2_u128(v);
       worst = std::max(worst, std::abs(bits_of(got) - static_cast<double>(std::log2(value_of(v)))));

@@ -1,7 +1,7 @@
 #pragma once
 // Pose bins as the GPU tables key them: the object in the high bits (from
 // object_shift), below it one mixed-radix index over (tx, ty, tz, rx, ry, rz),
-// planar spaces without tz, rx and ry (match_votes.comp's linear_bin). The
+// planar spaces without tz, rx and ry (sva_linear_bin in sva_vote_math.h). The
 // vote table puts the pair above that (from pair_shift). Shifts rather than
 // products, so the kernels split a key without 64-bit division. The order is
 // the packed keys' order, so the smallest linear index is the smallest key and
@@ -39,15 +39,11 @@ class LinearBins {
   std::uint32_t dim_rxy() const { return static_cast<std::uint32_t>(rxy_); }
 
   std::uint64_t linear(std::uint64_t key) const {
-    const BinIndex b = space_->unpack(key);
-    std::uint64_t i = static_cast<std::uint64_t>(b.t[0]);
-    i = i * t_ + static_cast<std::uint64_t>(b.t[1]);
-    i = i * tz_ + static_cast<std::uint64_t>(b.t[2]);
-    i = i * rxy_ + static_cast<std::uint64_t>(b.r[0]);
-    i = i * rxy_ + static_cast<std::uint64_t>(b.r[1]);
-    return (std::uint64_t{b.object} << object_shift_) | (i * r_ + static_cast<std::uint64_t>(b.r[2]));
+    return vote_math::sva_linear_bin(key, static_cast<std::uint32_t>(t_), static_cast<std::uint32_t>(r_),
+                                     static_cast<std::uint32_t>(tz_), static_cast<std::uint32_t>(rxy_), object_shift_);
   }
 
+  // The inverse of linear(), on the host only.
   std::uint64_t key(std::uint64_t linear) const {
     BinIndex b;
     b.object = static_cast<std::uint32_t>(linear >> object_shift_);

@@ -12,6 +12,7 @@ using namespace sva;
 namespace bm = sva::belief_math;
 
 namespace {
+__extension__ typedef unsigned __int128 u128;  // the exact reference (a GCC/Clang extension)
 long double value_of(bm::SvaU128 v) { return std::ldexp(static_cast<long double>(v.hi), 64) + static_cast<long double>(v.lo); }
 double bits_of(std::uint64_t units) { return static_cast<double>(units) / bm::kUnitsPerBit; }
 }  // namespace
@@ -20,12 +21,12 @@ TEST_CASE("128-bit product and sum are exact") {
   util::Rng rng(3);
   for (int i = 0; i < 2000; ++i) {
     const std::uint64_t a = rng.next() >> (rng.below(64)), b = rng.next() >> (rng.below(64));
-    const unsigned __int128 want = static_cast<unsigned __int128>(a) * b;
+    const u128 want = static_cast<u128>(a) * b;
     const bm::SvaU128 got = bm::sva_mul_u64(a, b);
     CHECK(got.hi == static_cast<std::uint64_t>(want >> 64));
     CHECK(got.lo == static_cast<std::uint64_t>(want));
     const bm::SvaU128 s = bm::sva_add_u128(got, bm::sva_u128(0, ~std::uint64_t{0}));
-    const unsigned __int128 ws = want + ~std::uint64_t{0};
+    const u128 ws = want + ~std::uint64_t{0};
     CHECK(s.hi == static_cast<std::uint64_t>(ws >> 64));
     CHECK(s.lo == static_cast<std::uint64_t>(ws));
   }

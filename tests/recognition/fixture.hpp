@@ -117,6 +117,15 @@ inline PoseSpaceSpec paper_space() {
   return s;
 }
 
+// A planar world (points on z = 0) whose pairs span 1 to 30 mm.
+inline WorldSpec planar_spec() {
+  WorldSpec s;
+  s.planar = true;
+  s.dist_min = 1.0;
+  s.dist_max = 30.0;
+  return s;
+}
+
 inline PoseSpaceSpec letters_space() {
   PoseSpaceSpec s;
   s.kind = PoseSpaceSpec::Kind::planar;

@@ -98,10 +98,7 @@ TEST_CASE("GPU beliefs: tiny tables grow through overflow and stay identical to 
 }
 
 TEST_CASE("GPU beliefs: planar space, pruning and a reset session match the CPU reference") {
-  test::WorldSpec spec;
-  spec.planar = true;
-  spec.dist_min = 1.0;
-  spec.dist_max = 30.0;
+  const test::WorldSpec spec = test::planar_spec();
   auto w = test::make_world(spec);
   PoseSpace space(test::letters_space(), static_cast<std::uint32_t>(spec.objects));
   FilterOptions fo;

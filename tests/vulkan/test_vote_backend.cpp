@@ -57,10 +57,7 @@ TEST_CASE("Vulkan votes equal the CPU reference bit for bit (spatial, several se
 }
 
 TEST_CASE("Vulkan votes equal the CPU reference on a planar space with pruned objects") {
-  test::WorldSpec spec;
-  spec.planar = true;
-  spec.dist_min = 1.0;
-  spec.dist_max = 30.0;
+  const test::WorldSpec spec = test::planar_spec();
   auto w = test::make_world(spec);
   PoseSpace space(test::letters_space(), static_cast<std::uint32_t>(spec.objects));
   VoteBatch batch = make_batch(w, space, spec, 3, 6, nullptr);

@@ -6,7 +6,7 @@ packages=(
   build-essential cmake ninja-build pkg-config git
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools
   libglm-dev libembree-dev libtinygltf-dev libstb-dev nlohmann-json3-dev
-  libusb-1.0-0-dev catch2
+  libusb-1.0-0-dev catch2 libtbb-dev
 )
 missing=()
 for p in "${packages[@]}"; do

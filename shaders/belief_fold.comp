@@ -80,7 +80,9 @@ void fold_slot(uint i) {
   uint64_t eps_units = uint64_t(pc.eps_lo) | (uint64_t(pc.eps_hi) << 32);
   SvaWords offsets = sva_table_offsets(sessions[s].table_lo, sessions[s].table_hi, capacity);
   uint64_t floor_log = pair_total[pc.pairs + q];
-  atomicAdd(offsets.w[slot], sva_fold_units_given(uint64_t(mass), pair_total[q], eps_units, floor_log));
+  // fold_count 2: both orders of Eq 5 cast the same votes, so the term counts twice.
+  atomicAdd(offsets.w[slot], sva_fold_units_given(uint64_t(mass), pair_total[q], eps_units, floor_log) *
+                                 uint64_t(pairs[q].fold_count));
 }
 
 void main() {

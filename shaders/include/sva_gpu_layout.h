@@ -11,7 +11,18 @@ struct SvaGpuPair {
   uint session;
   float bx, by, bz, bconf;
   float bnx, bny, bnz;
-  uint pad;
+  uint fold_count;            // times the pair's factor is folded (2: both orders of Eq 5)
+  uint item_begin, item_end;  // the pair's key items (they own its matches, sva_match_likelihood.h)
+  uint pad0, pad1;
+};
+
+// Device addresses of one map chunk's entry arrays, so that a match finds its
+// map pair under the pair's other keys wherever their entries lie.
+struct SvaGpuChunk {
+  uint a_lo, a_hi;
+  uint b_lo, b_hi;
+  uint w_lo, w_hi;
+  uint pad0, pad1;
 };
 
 // One map key an observed pair looks up (VoteBatch::keys) and its weight.
@@ -75,7 +86,10 @@ struct SvaMatchParams {
   uint dim_rxy;          // 1 for planar spaces
   uint object_shift;     // linear bin = object << object_shift | index within the object
   uint pair_shift;       // vote key = pair << pair_shift | linear bin
+  uint chunk_entries;    // entries per map chunk (the last may hold fewer)
 };
+// Counters per pair written by match_votes.comp.
+#define SVA_PAIR_COUNTERS 4u  // matches, votes inside, votes outside, votes inside of zero mass
 
 // One session of a fold: its belief table (device address of `capacity` keys
 // followed by `capacity` offsets, capacity a power of two) and whether this

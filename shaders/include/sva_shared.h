@@ -9,11 +9,14 @@
 // One unit of vote weight (a full-probability vote) is 2^SVA_FIXED_SHIFT.
 #define SVA_FIXED_SHIFT 24
 #define SVA_FIXED_ONE (1u << SVA_FIXED_SHIFT)
-// Quantise a vote weight: NaN and negatives give 0, weights above 1 clamp to 1.
-// The multiply by a power of two is exact in float and the cast truncates, so
-// host and shader produce the same integer for the same float. In C++ it needs
-// `min` in scope (sva::to_fixed provides it).
-#define SVA_TO_FIXED(w) int64_t(((w) > 0.0f ? min((w), 1.0f) : 0.0f) * float(SVA_FIXED_ONE))
+// Quantise a vote weight: NaN and negatives give 0, weights above 1 clamp to 1,
+// and the rest round to the nearest unit (half up): truncation would bias every
+// vote low. The multiply by a power of two is exact in float; below 2^23 adding
+// 0.5 is exact too, and above it every float is already a whole number, so host
+// and shader produce the same integer for the same float. In C++ it needs `min`
+// and `floor` in scope (sva::to_fixed provides them).
+#define SVA_ROUND_UNITS(v) ((v) < 8388608.0f ? floor((v) + 0.5f) : (v))
+#define SVA_TO_FIXED(w) int64_t(SVA_ROUND_UNITS(((w) > 0.0f ? min((w), 1.0f) : 0.0f) * float(SVA_FIXED_ONE)))
 // A single vote is clamped to this many units so that even 2^32 votes into one
 // bin cannot overflow a signed 64-bit sum: 2^24 * 2^32 = 2^56 < 2^63.
 #define SVA_FIXED_MAX_VOTE_UNITS SVA_FIXED_ONE

@@ -1,9 +1,11 @@
 #pragma once
 // Host side of the fixed-point vote rule shared with the shaders.
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 namespace sva {
+using std::floor;
 using std::min;
 #include "sva_shared.h"
 

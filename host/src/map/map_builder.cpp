@@ -12,6 +12,7 @@
 #include "appearance/descriptor.hpp"
 #include "appearance/pam.hpp"
 #include "appearance/soft_classes.hpp"
+#include "map/pair_keys.hpp"
 #include "io/binary_file.hpp"
 #include "util/interrupt.hpp"
 #include "util/parallel.hpp"
@@ -78,14 +79,8 @@ void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>&
       if (b == a) continue;
       const double dx = rd.px[b] - ax, dy = rd.py[b] - ay, dz = rd.pz[b] - az;
       const auto bins = map.distance.bins(std::sqrt(dx * dx + dy * dy + dz * dz));
-      if (bins.empty()) continue;
-      for (const auto& ca : classes[a])
-        for (const auto& cb : classes[b])
-          for (const auto& bin : bins) {
-            const float w = ca.weight * cb.weight * bin.weight;
-            if (!(w > 0.0f)) continue;
-            emit(map.key_space.pack(ca.cls, cb.cls, bin.bin), static_cast<std::uint32_t>(b), std::min(w, 1.0f));
-          }
+      for_each_pair_key(classes[a], classes[b], bins, map.key_space,
+                        [&](PairKeyWeight k) { emit(k.key, static_cast<std::uint32_t>(b), k.weight); });
     }
   };
 

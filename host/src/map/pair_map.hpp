@@ -17,19 +17,9 @@
 
 #include "appearance/appearance_baseline.hpp"
 #include "appearance/appearance_model.hpp"
+#include "map/pair_keys.hpp"
 
 namespace sva {
-
-// Largest key space (classes^2 x distance bins) a map may have: keeps keys in
-// 32 bits and the builder's count tables bounded.
-inline constexpr std::uint64_t kMaxPairKeySpace = 1ull << 26;
-
-// Key packing: key = (class_a * n_classes + class_b) * n_dist_bins + dist_bin.
-struct PairKeySpace {
-  std::uint32_t n_classes = 0;
-  std::uint32_t n_dist_bins = 0;
-  std::uint32_t pack(std::uint32_t ca, std::uint32_t cb, std::uint32_t d) const { return (ca * n_classes + cb) * n_dist_bins + d; }
-};
 
 struct MapObject {
   std::string name;

@@ -1,5 +1,6 @@
 #include "recognition/bayes_filter.hpp"
 
+#include "map/pair_keys.hpp"
 #include "recognition/belief_math.hpp"
 
 #include <sva/error.hpp>
@@ -60,42 +61,41 @@ void BayesFilter::queue_pairs(const ObservedReading& reading, std::uint32_t sess
   if (belief_->pairs_folded() + budget > max_pairs_)
     throw Error("recognition session has folded " + std::to_string(belief_->pairs_folded()) +
                 " pairs; more could overflow its fixed-point belief (reset the session or cap max_pairs_per_update)");
-  std::size_t queued = 0;
+  // Eq 5 multiplies the factors of pair(z_i, z_t) and pair(z_t, z_i). The map
+  // holds both orders of every training pair, and the vote math is symmetric by
+  // construction (sva_align, sva_beta_offset, sva_sincos): the reversed pair
+  // casts bit for bit the same votes. So one order is voted and folded twice
+  // (fold_count 2); an odd budget folds its last pair once, as before.
+  std::size_t queued = 0;  // ordered pairs
   for (std::size_t j = 0; j < t && queued < budget; ++j) {
-    const std::size_t i = t - 1 - j;
-    for (int order = 0; order < 2 && queued < budget; ++order) {
-      const ObservedReading& a = order == 0 ? readings_[i] : reading;
-      const ObservedReading& b = order == 0 ? reading : readings_[i];
-      PairQuery q;
-      q.a = patch_of(a);
-      q.b = patch_of(b);
-      q.session = session;
-      q.key_begin = static_cast<std::uint32_t>(batch->keys.size());
-      const double d = glm::length(b.position - a.position);
-      if (d >= SVA_MIN_PAIR_SEPARATION_MM) {  // coincident points define no axis: no keys, no vote
-        const std::vector<BinWeight> bins = map_->distance.bins(d);
-        for (const ClassWeight& ca : a.classes)
-          for (const ClassWeight& cb : b.classes)
-            for (const BinWeight& db : bins) {
-              const float w = ca.weight * cb.weight * db.weight;
-              if (w > 0.0f) batch->keys.push_back({map_->key_space.pack(ca.cls, cb.cls, db.bin), w});
-            }
-      }
-      q.key_end = static_cast<std::uint32_t>(batch->keys.size());
-      batch->pairs.push_back(q);
-      ++queued;
-    }
+    const ObservedReading& a = readings_[t - 1 - j];
+    PairQuery q;
+    q.a = patch_of(a);
+    q.b = patch_of(reading);
+    q.session = session;
+    q.fold_count = static_cast<std::uint32_t>(std::min<std::size_t>(2, budget - queued));
+    q.key_begin = static_cast<std::uint32_t>(batch->keys.size());
+    const double d = glm::length(reading.position - a.position);
+    if (d >= SVA_MIN_PAIR_SEPARATION_MM)  // coincident points define no axis: no keys, no vote
+      for_each_pair_key(a.classes, reading.classes, map_->distance.bins(d), map_->key_space,
+                        [&](PairKeyWeight k) { batch->keys.push_back(k); });
+    q.key_end = static_cast<std::uint32_t>(batch->keys.size());
+    batch->pairs.push_back(q);
+    queued += q.fold_count;
   }
 }
 
-UpdateStats BayesFilter::record(const ObservedReading& reading, const PairStats* pairs, std::size_t count) {
+UpdateStats BayesFilter::record(const ObservedReading& reading, const PairQuery* queries, const PairStats* pairs,
+                                std::size_t count) {
   UpdateStats st;
-  st.pairs = count;
+  st.pairs_voted = count;
   for (std::size_t i = 0; i < count; ++i) {
+    st.pairs += queries[i].fold_count;
     st.matches += pairs[i].matches;
     st.votes += pairs[i].votes;
     st.votes_outside += pairs[i].votes_outside;
-    if (pairs[i].folded) ++st.pairs_folded;
+    st.votes_zero += pairs[i].votes_zero;
+    if (pairs[i].folded) st.pairs_folded += queries[i].fold_count;
   }
   readings_.push_back(reading);
   last_ = st;
@@ -133,7 +133,8 @@ std::vector<UpdateStats> update_sessions(const std::vector<BayesFilter*>& sessio
       batch.pairs.empty() ? std::vector<PairStats>{} : backend.vote_and_fold(batch, beliefs);
   std::vector<UpdateStats> out;
   for (std::size_t s = 0; s < sessions.size(); ++s)
-    out.push_back(sessions[s]->record(valid[s], stats.data() + first[s], first[s + 1] - first[s]));
+    out.push_back(
+        sessions[s]->record(valid[s], batch.pairs.data() + first[s], stats.data() + first[s], first[s + 1] - first[s]));
   return out;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // The SVA Bayes filter of one recognition session (Eq 3-5): each new reading
-// is paired with every earlier one in both orders, and the backend votes each
-// pair and folds its factor into the session's log-domain belief, which lives
+// is paired with every earlier one in both orders (one order voted, folded
+// twice: the orders cast the same votes), and the backend votes each pair and
+// folds its factor into the session's log-domain belief, which lives
 // with the backend (on the device for Vulkan). Several sessions can update in
 // one backend call (update_sessions), which is how batch evaluation keeps a
 // GPU busy.
@@ -23,11 +24,13 @@ struct FilterOptions {
 };
 
 struct UpdateStats {
-  std::size_t pairs = 0;          // pairs sent to the backend
-  std::size_t pairs_folded = 0;   // pairs that had votes
-  std::uint64_t matches = 0;
+  std::size_t pairs = 0;          // ordered pairs (Eq 5) of this update
+  std::size_t pairs_folded = 0;   // ordered pairs that had votes
+  std::size_t pairs_voted = 0;    // pairs sent to the backend (one per earlier reading: both orders cast the same votes)
+  std::uint64_t matches = 0;      // map pairs aligned (once per map pair, whatever keys it shares with the observed one)
   std::uint64_t votes = 0;
   std::uint64_t votes_outside = 0;
+  std::uint64_t votes_zero = 0;   // votes inside the space whose mass rounds to 0 fixed-point units
 };
 
 class BayesFilter {
@@ -50,7 +53,7 @@ class BayesFilter {
   // Batch building blocks: queue the pairs of `reading` (validated) as
   // `session`, then record the reading and the backend's statistics.
   void queue_pairs(const ObservedReading& reading, std::uint32_t session, VoteBatch* batch) const;
-  UpdateStats record(const ObservedReading& reading, const PairStats* pairs, std::size_t count);
+  UpdateStats record(const ObservedReading& reading, const PairQuery* queries, const PairStats* pairs, std::size_t count);
   BeliefState& mutable_belief() { return *belief_; }
 
  private:

@@ -137,17 +137,31 @@ void Belief::reset() {
   pairs_ = 0;
 }
 
-bool Belief::fold(const PairVotes& votes) {
+bool Belief::fold(const PairVotes& votes, std::uint32_t count) {
   assert(votes.keys.size() == votes.mass.size());
+  BinAccumulator acc(votes.keys.size());
+  for (std::size_t i = 0; i < votes.keys.size(); ++i) acc.add(votes.keys[i], votes.mass[i]);
+  return add(terms(acc), count);
+}
+
+std::vector<BinOffset> Belief::terms(const BinAccumulator& votes) const {
   std::uint64_t total = 0;
-  for (std::int64_t m : votes.mass) total += static_cast<std::uint64_t>(std::max<std::int64_t>(m, 0));  // < 2^63
-  if (total == 0) return false;
+  votes.for_each([&](std::uint64_t, std::int64_t m) { total += static_cast<std::uint64_t>(std::max<std::int64_t>(m, 0)); });
+  std::vector<BinOffset> out;
+  if (total == 0) return out;  // < 2^63: votes are clamped (SVA_FIXED_MAX_VOTE_UNITS)
   const std::uint64_t floor_log = belief_math::sva_floor_log(total, eps_units_);
-  for (std::size_t i = 0; i < votes.keys.size(); ++i)
-    if (votes.mass[i] > 0)
-      offset_.add(votes.keys[i], belief_math::sva_fold_units_given(static_cast<std::uint64_t>(votes.mass[i]), total,
-                                                                   eps_units_, floor_log));
-  ++pairs_;
+  out.reserve(votes.size());
+  votes.for_each([&](std::uint64_t key, std::int64_t m) {
+    if (m > 0)
+      out.push_back({key, belief_math::sva_fold_units_given(static_cast<std::uint64_t>(m), total, eps_units_, floor_log)});
+  });
+  return out;
+}
+
+bool Belief::add(const std::vector<BinOffset>& terms, std::uint32_t count) {
+  if (terms.empty() || count == 0) return false;
+  for (const BinOffset& t : terms) offset_.add(t.key, t.offset * count);
+  pairs_ += count;
   return true;
 }
 

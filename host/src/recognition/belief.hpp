@@ -84,9 +84,15 @@ class Belief final : public BeliefState {
  public:
   Belief(const PoseSpace& space, double eps);
 
-  // Multiplies in one pair factor. A pair with no vote mass leaves the belief
+  // Multiplies in one pair factor `count` times (count 2: both orders of Eq 5,
+  // which cast the same votes). A pair with no vote mass leaves the belief
   // unchanged (it carries no information about the pose). Returns whether it folded.
-  bool fold(const PairVotes& votes);
+  bool fold(const PairVotes& votes, std::uint32_t count = 1);
+  // The same in two steps: the pair's per-bin offset increments, which only
+  // read the belief's eps (pairs compute theirs in parallel), then their
+  // addition (integers: the order of pairs does not matter).
+  std::vector<BinOffset> terms(const BinAccumulator& votes) const;
+  bool add(const std::vector<BinOffset>& terms, std::uint32_t count);
 
   void reset() override;
   std::size_t pairs_folded() const override { return pairs_; }

@@ -1,12 +1,12 @@
-// The CPU reference vote backend: for every observed pair, every map key it
-// looks up and every entry under that key, align (Sec 4.1, 4.3) and scatter the
-// Gaussian in beta into pose bins, with the shared math of sva_vote_math.h.
-// Pairs run in parallel; each pair's sums are integers, so the result does not
-// depend on the thread count.
+// The CPU reference vote backend: for every observed pair, every map pair it
+// matches (under any of its keys, sva_match_likelihood.h) is aligned once
+// (Sec 4.1, 4.3) and scatters the Gaussian in beta into pose bins, with the
+// shared math of sva_vote_math.h. Pairs run in parallel on the worker pool;
+// each pair's sums are integers, so the result does not depend on the thread
+// count, and the fold's integer offsets do not depend on the order of pairs.
 #include <sva/error.hpp>
 
 #include <algorithm>
-#include <cassert>
 #include <string>
 
 #include "recognition/bin_accumulator.hpp"
@@ -30,6 +30,23 @@ SvaPatch patch_of(const ObservedPatch& o) {
   return p;
 }
 
+// The map entries stored under one of an observed pair's keys.
+struct KeyRange {
+  std::uint32_t begin, end;
+  float weight;  // w_obs of the key
+};
+
+// The entry of map pair (ra, rb) in [begin, end) (sorted by (a, b)), or `end`.
+std::uint32_t find_entry(const PairMap& m, std::uint32_t begin, std::uint32_t end, std::uint32_t ra, std::uint32_t rb) {
+  const std::uint32_t last = end;
+  while (begin < end) {
+    const std::uint32_t mid = begin + (end - begin) / 2;
+    if (m.entry_a[mid] < ra || (m.entry_a[mid] == ra && m.entry_b[mid] < rb)) begin = mid + 1;
+    else end = mid;
+  }
+  return begin < last && m.entry_a[begin] == ra && m.entry_b[begin] == rb ? begin : last;
+}
+
 class CpuVoteBackend final : public VoteBackend {
  public:
   CpuVoteBackend(const PairMap& map, const PoseSpace& space, const VoteSettings& settings)
@@ -48,7 +65,13 @@ class CpuVoteBackend final : public VoteBackend {
   std::vector<PairVotes> vote(const VoteBatch& batch) override {
     std::vector<PairVotes> out(batch.pairs.size());
     util::parallel_for(
-        batch.pairs.size(), [&](std::size_t i) { vote_pair(batch, batch.pairs[i], &out[i]); }, settings_.threads);
+        batch.pairs.size(),
+        [&](std::size_t i) {
+          BinAccumulator acc(4096);
+          vote_pair(batch, batch.pairs[i], acc, &out[i]);
+          acc.sorted(&out[i].keys, &out[i].mass);
+        },
+        settings_.threads);
     return out;
   }
 
@@ -56,57 +79,100 @@ class CpuVoteBackend final : public VoteBackend {
     return std::make_unique<Belief>(space, eps);
   }
 
-  // Folds in pair order; the fixed-point offsets make any order give the same belief.
+  // Pairs vote and compute their fold terms in parallel, a block at a time (so
+  // that only a block's votes are held); the terms are then added to the
+  // beliefs. Integer offsets: any order of pairs gives the same belief.
   std::vector<PairStats> vote_and_fold(const VoteBatch& batch, std::span<BeliefState* const> beliefs) override {
-    std::vector<PairVotes> votes = vote(batch);
-    std::vector<PairStats> out(votes.size());
-    for (std::size_t i = 0; i < votes.size(); ++i) {
+    std::vector<Belief*> target(batch.pairs.size());
+    for (std::size_t i = 0; i < batch.pairs.size(); ++i) {
       const std::uint32_t s = batch.pairs[i].session;
       if (s >= beliefs.size()) throw Error("cpu backend: pair of session " + std::to_string(s) + " has no belief");
-      auto* belief = dynamic_cast<Belief*>(beliefs[s]);
-      if (!belief) throw Error("cpu backend: session " + std::to_string(s) + " has a belief made by another backend");
-      out[i] = votes[i];
-      out[i].folded = belief->fold(votes[i]);
+      target[i] = dynamic_cast<Belief*>(beliefs[s]);
+      if (!target[i]) throw Error("cpu backend: session " + std::to_string(s) + " has a belief made by another backend");
+    }
+    std::vector<PairStats> out(batch.pairs.size());
+    const unsigned threads = settings_.threads ? settings_.threads : util::default_threads();
+    const std::size_t block = 4 * static_cast<std::size_t>(threads);
+    std::vector<std::vector<BinOffset>> terms(block);
+    for (std::size_t first = 0; first < batch.pairs.size(); first += block) {
+      const std::size_t n = std::min(block, batch.pairs.size() - first);
+      util::parallel_for(
+          n,
+          [&](std::size_t j) {
+            BinAccumulator acc(4096);
+            vote_pair(batch, batch.pairs[first + j], acc, &out[first + j]);
+            terms[j] = target[first + j]->terms(acc);
+          },
+          threads);
+      for (std::size_t j = 0; j < n; ++j)
+        out[first + j].folded = target[first + j]->add(terms[j], batch.pairs[first + j].fold_count);
     }
     return out;
   }
 
  private:
-  void vote_pair(const VoteBatch& batch, const PairQuery& q, PairVotes* out) const {
+  // The ranges of the pair's keys that the map holds, in the pair's key order.
+  std::vector<KeyRange> key_ranges(const VoteBatch& batch, const PairQuery& q) const {
+    std::vector<KeyRange> ranges;
+    for (std::uint32_t k = q.key_begin; k < q.key_end; ++k) {
+      const PairKeyWeight kw = batch.keys[k];
+      const auto it = std::lower_bound(map_.keys.begin(), map_.keys.end(), kw.key);
+      if (it == map_.keys.end() || *it != kw.key) continue;
+      const std::size_t slot = static_cast<std::size_t>(it - map_.keys.begin());
+      ranges.push_back({map_.offsets[slot], map_.offsets[slot + 1], kw.weight});
+    }
+    return ranges;
+  }
+
+  // The likelihood units of map pair (ra, rb) found first under ranges[j] at
+  // entry e, or 0 when an earlier key owns it (sva_match_likelihood.h).
+  std::uint64_t owned_likelihood(const std::vector<KeyRange>& ranges, std::size_t j, std::uint32_t e) const {
+    const std::uint32_t ra = map_.entry_a[e], rb = map_.entry_b[e];
+    for (std::size_t i = 0; i < j; ++i)
+      if (find_entry(map_, ranges[i].begin, ranges[i].end, ra, rb) != ranges[i].end) return 0;
+    std::uint64_t units = vote_math::sva_likelihood_units(ranges[j].weight * map_.entry_weight[e]);
+    for (std::size_t i = j + 1; i < ranges.size(); ++i) {
+      const std::uint32_t f = find_entry(map_, ranges[i].begin, ranges[i].end, ra, rb);
+      if (f != ranges[i].end) units += vote_math::sva_likelihood_units(ranges[i].weight * map_.entry_weight[f]);
+    }
+    return units;
+  }
+
+  void vote_pair(const VoteBatch& batch, const PairQuery& q, BinAccumulator& acc, PairStats* out) const {
     const SvaPatch a1 = patch_of(q.a), b1 = patch_of(q.b);
     const std::uint8_t* active =
         batch.object_active.empty() ? nullptr : batch.object_active.data() + std::size_t{q.session} * objects_;
-    BinAccumulator acc(4096);
-    for (std::uint32_t k = q.key_begin; k < q.key_end; ++k) {
-      const PairKeyWeight kw = batch.keys[k];
-      auto it = std::lower_bound(map_.keys.begin(), map_.keys.end(), kw.key);
-      if (it == map_.keys.end() || *it != kw.key) continue;
-      const std::size_t slot = static_cast<std::size_t>(it - map_.keys.begin());
-      const std::uint32_t begin = map_.offsets[slot], end = map_.offsets[slot + 1];
-      for (std::uint32_t e = begin; e < end; ++e) {
+    const std::vector<KeyRange> ranges = key_ranges(batch, q);
+    for (std::size_t j = 0; j < ranges.size(); ++j)
+      for (std::uint32_t e = ranges[j].begin; e < ranges[j].end; ++e) {
         if ((e & 1023u) == 0) util::throw_if_interrupted();
-        const std::uint32_t ra = map_.entry_a[e], rb = map_.entry_b[e];
-        const std::uint32_t object = map_.readings.object[ra];
+        const std::uint32_t object = map_.readings.object[map_.entry_a[e]];
         if (active && !active[object]) continue;
-        const float likelihood = kw.weight * map_.entry_weight[e];
+        const float likelihood = vote_math::sva_likelihood_of_units(owned_likelihood(ranges, j, e));
         if (!(likelihood > 0.0f) || likelihood < settings_.likelihood_cutoff) continue;
-        const vote_math::SvaAlignment al = vote_math::sva_align(a1, b1, patches_[ra], patches_[rb]);
-        const int n = vote_math::sva_beta_sample_count(al, grid_);
-        if (n == 0) continue;
-        ++out->matches;
-        const float wsum = vote_math::sva_beta_weight_sum(al, n);
-        for (int s = 0; s < n; ++s) {
-          const vote_math::SvaVote v = vote_math::sva_vote(al, grid_, object, likelihood, wsum, s, n);
-          if (!v.inside) {
-            ++out->votes_outside;
-            continue;
-          }
-          ++out->votes;
-          if (v.mass > 0) acc.add(v.key, v.mass);
-        }
+        vote_match(a1, b1, e, object, likelihood, acc, out);
       }
+  }
+
+  // Aligns the observed pair to map entry e and scatters its beta samples.
+  void vote_match(const SvaPatch& a1, const SvaPatch& b1, std::uint32_t e, std::uint32_t object, float likelihood,
+                  BinAccumulator& acc, PairStats* out) const {
+    const vote_math::SvaAlignment al =
+        vote_math::sva_align(a1, b1, patches_[map_.entry_a[e]], patches_[map_.entry_b[e]]);
+    const int n = vote_math::sva_beta_sample_count(al, grid_);
+    if (n == 0) return;
+    ++out->matches;
+    const float wsum = vote_math::sva_beta_weight_sum(al, n);
+    for (int s = 0; s < n; ++s) {
+      const vote_math::SvaVote v = vote_math::sva_vote(al, grid_, object, likelihood, wsum, s, n);
+      if (!v.inside) {
+        ++out->votes_outside;
+        continue;
+      }
+      ++out->votes;
+      if (v.mass > 0) acc.add(v.key, v.mass);
+      else ++out->votes_zero;
     }
-    acc.sorted(&out->keys, &out->mass);
   }
 
   const PairMap& map_;

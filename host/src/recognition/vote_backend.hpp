@@ -26,16 +26,11 @@ struct ObservedPatch {
   float norm_conf;  // Algorithm 1
 };
 
-// A map key the observed pair looks up, with w_obs = Pa(ca) Pb(cb) Pd(d).
-struct PairKeyWeight {
-  std::uint32_t key;
-  float weight;
-};
-
 struct PairQuery {
   ObservedPatch a, b;
   std::uint32_t key_begin = 0, key_end = 0;  // range in VoteBatch::keys
   std::uint32_t session = 0;                 // index in VoteBatch::object_active rows
+  std::uint32_t fold_count = 1;              // times the pair's factor is folded (2: both orders of Eq 5)
 };
 
 struct VoteBatch {
@@ -48,9 +43,10 @@ struct VoteBatch {
 };
 
 struct PairStats {
-  std::uint64_t matches = 0;         // map entries aligned
+  std::uint64_t matches = 0;         // map pairs aligned (once per map pair, summed over the keys it shares)
   std::uint64_t votes = 0;           // beta samples inside the pose space
   std::uint64_t votes_outside = 0;   // beta samples outside it (or not planar)
+  std::uint64_t votes_zero = 0;      // samples inside whose mass rounds to 0 units (counted, never silently lost)
   bool folded = false;               // vote_and_fold: the pair had vote mass and was folded
 };
 

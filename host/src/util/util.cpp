@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <atomic>
 #include <csignal>
 #include <cstdio>
@@ -5,6 +6,10 @@
 #include <exception>
 #include <string>
 #include <thread>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 #include <unistd.h>
 #include <vector>
 
@@ -40,37 +45,29 @@ unsigned default_threads() {
   return hw ? hw : 1;
 }
 
+// oneTBB's workers persist across calls (one pool per process), so the
+// per-update loops of recognition pay no thread start-up; an arena caps the
+// threads at the caller's count.
 void parallel_for(std::size_t n, const std::function<void(std::size_t)>& fn, unsigned threads) {
   if (threads == 0) threads = default_threads();
-  if (threads > n) threads = static_cast<unsigned>(n ? n : 1);
-  std::atomic<std::size_t> next{0};
-  std::atomic<bool> failed{false};
-  std::exception_ptr first;
-  std::atomic_flag have_error = ATOMIC_FLAG_INIT;
-  auto worker = [&] {
-    for (;;) {
-      if (failed.load(std::memory_order_relaxed)) return;
-      std::size_t i = next.fetch_add(1);
-      if (i >= n) return;
-      try {
+  if (n == 0) return;
+  if (threads <= 1 || n == 1) {
+    for (std::size_t i = 0; i < n; ++i) {
+      throw_if_interrupted();
+      fn(i);
+    }
+    return;
+  }
+  tbb::task_arena arena(static_cast<int>(std::min<std::size_t>(threads, n)));
+  arena.execute([&] {
+    // Grain 1: items (observed pairs, readings, chunks) are few and uneven.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i) {
         throw_if_interrupted();
         fn(i);
-      } catch (...) {
-        if (!have_error.test_and_set()) first = std::current_exception();
-        failed = true;
-        return;
       }
-    }
-  };
-  if (threads <= 1) {
-    worker();
-  } else {
-    std::vector<std::thread> pool;
-    pool.reserve(threads);
-    for (unsigned t = 0; t < threads; ++t) pool.emplace_back(worker);
-    for (auto& t : pool) t.join();
-  }
-  if (first) std::rethrow_exception(first);
+    });
+  });
 }
 
 Progress::Progress(std::string label, std::size_t total)

@@ -37,7 +37,7 @@ class VulkanVoteBackend final : public VoteBackend {
       : map_(map), space_(space), settings_(settings), ctx_(context_options(options)), bins_(space),
         expand_(ctx_.create_pipeline(sva_spv_expand_pair_keys, 4, sizeof(gpu::SvaExpandParams))),
         scan_(ctx_.create_pipeline(sva_spv_scan_matches, 3, sizeof(gpu::SvaScanParams))),
-        pipeline_(ctx_.create_pipeline(sva_spv_match_votes, 14, sizeof(gpu::SvaMatchParams))),
+        pipeline_(ctx_.create_pipeline(sva_spv_match_votes, 15, sizeof(gpu::SvaMatchParams))),
         fold_(ctx_.create_pipeline(sva_spv_belief_fold, 6, sizeof(gpu::SvaFoldParams))),
         beliefs_{&ctx_,
                  &space,
@@ -82,6 +82,13 @@ class VulkanVoteBackend final : public VoteBackend {
       if (entries == 0) break;
     }
     stats_.chunks = chunks_.size();
+    chunk_table_ = ctx_.create_buffer(chunks_.size() * sizeof(gpu::SvaGpuChunk));
+    auto* ct = chunk_table_.as<gpu::SvaGpuChunk>();
+    for (std::size_t i = 0; i < chunks_.size(); ++i) {
+      const VkDeviceAddress a = chunks_[i].a.device_address(), b = chunks_[i].b.device_address(),
+                            w = chunks_[i].w.device_address();
+      ct[i] = {gpu::lo(a), gpu::hi(a), gpu::lo(b), gpu::hi(b), gpu::lo(w), gpu::hi(w), 0u, 0u};
+    }
   }
 
   const char* name() const override { return "vulkan"; }
@@ -151,9 +158,13 @@ class VulkanVoteBackend final : public VoteBackend {
     const std::size_t P = last - first;
     const std::uint32_t objects = space_.objects();
     std::vector<gpu::SvaGpuKeyItem> items;
-    for (std::size_t q = first; q < last; ++q)
+    std::vector<std::uint32_t> item_begin(P + 1, 0);
+    for (std::size_t q = first; q < last; ++q) {
+      item_begin[q - first] = static_cast<std::uint32_t>(items.size());
       for (std::uint32_t k = batch.pairs[q].key_begin; k < batch.pairs[q].key_end; ++k)
         items.push_back({static_cast<std::uint32_t>(q - first), batch.keys[k].key, batch.keys[k].weight, 0u});
+    }
+    item_begin[P] = static_cast<std::uint32_t>(items.size());  // <= SVA_MAX_KEY_ITEMS (checked below)
     if (items.empty()) {  // no pair looks anything up: no votes
       consume_empty(first, last, consume);
       return;
@@ -174,7 +185,7 @@ class VulkanVoteBackend final : public VoteBackend {
       const PairQuery& pq = batch.pairs[first + q];
       gp[q] = {pq.a.position[0], pq.a.position[1], pq.a.position[2], pq.a.norm_conf, pq.a.normal[0], pq.a.normal[1],
                pq.a.normal[2], pq.session, pq.b.position[0], pq.b.position[1], pq.b.position[2], pq.b.norm_conf,
-               pq.b.normal[0], pq.b.normal[1], pq.b.normal[2], 0u};
+               pq.b.normal[0], pq.b.normal[1], pq.b.normal[2], pq.fold_count, item_begin[q], item_begin[q + 1], 0u, 0u};
     }
     ensure(ctx_, key_items_, K * sizeof(gpu::SvaGpuKeyItem));
     std::memcpy(key_items_.data(), items.data(), K * sizeof(gpu::SvaGpuKeyItem));
@@ -188,7 +199,7 @@ class VulkanVoteBackend final : public VoteBackend {
       ensure(ctx_, ch.offsets, (K + 1) * sizeof(std::uint32_t));
       ensure(ctx_, ch.scan, sizeof(gpu::SvaScanResult));
     }
-    ensure(ctx_, counters_, P * 3 * sizeof(std::uint64_t));
+    ensure(ctx_, counters_, P * SVA_PAIR_COUNTERS * sizeof(std::uint64_t));
     ensure(ctx_, status_, sizeof(std::uint32_t));
 
     const auto grid = space_.grid();
@@ -206,7 +217,7 @@ class VulkanVoteBackend final : public VoteBackend {
       ensure(ctx_, table_sums_, slots_ * sizeof(std::int64_t));
       const std::vector<vk::Fill> clear{{&table_keys_, 0xffffffffu, 0, slots_ * sizeof(std::uint64_t)},
                                         {&table_sums_, 0u, 0, slots_ * sizeof(std::int64_t)}};
-      std::memset(counters_.data(), 0, P * 3 * sizeof(std::uint64_t));
+      std::memset(counters_.data(), 0, P * SVA_PAIR_COUNTERS * sizeof(std::uint64_t));
       *status_.as<std::uint32_t>() = 0;
       std::vector<vk::Dispatch> dispatches;
       gpu::SvaExpandParams ep{static_cast<std::uint32_t>(K), static_cast<std::uint32_t>(map_.keys.size())};
@@ -234,9 +245,10 @@ class VulkanVoteBackend final : public VoteBackend {
         p.dim_rxy = bins_.dim_rxy();
         p.object_shift = bins_.object_shift();
         p.pair_shift = bins_.pair_shift();
+        p.chunk_entries = static_cast<std::uint32_t>(chunk_);
         vk::Dispatch d{&pipeline_,
                        {&pairs_, &key_items_, &ranges_, &ch.offsets, &readings_, &ch.a, &ch.b, &ch.w, &active_, &table_keys_,
-                        &table_sums_, &counters_, &status_, &ch.scan},
+                        &table_sums_, &counters_, &status_, &ch.scan, &chunk_table_},
                        push_bytes(p), 0};
         d.indirect = &ch.scan;
         dispatches.push_back(std::move(d));
@@ -264,8 +276,8 @@ class VulkanVoteBackend final : public VoteBackend {
   // still sees them (with an empty table) so that their statistics are set.
   void consume_empty(std::size_t first, std::size_t last, const Consumer& consume) {
     const std::size_t P = last - first;
-    ensure(ctx_, counters_, P * 3 * sizeof(std::uint64_t));
-    std::memset(counters_.data(), 0, P * 3 * sizeof(std::uint64_t));
+    ensure(ctx_, counters_, P * SVA_PAIR_COUNTERS * sizeof(std::uint64_t));
+    std::memset(counters_.data(), 0, P * SVA_PAIR_COUNTERS * sizeof(std::uint64_t));
     ensure(ctx_, table_keys_, slots_ * sizeof(std::uint64_t));
     ensure(ctx_, table_sums_, slots_ * sizeof(std::int64_t));
     ctx_.run({}, nullptr, {{&table_keys_, 0xffffffffu, 0, slots_ * sizeof(std::uint64_t)}});
@@ -277,9 +289,11 @@ class VulkanVoteBackend final : public VoteBackend {
   void set_counters(std::size_t first, std::size_t last, std::vector<Stats>& out) const {
     const auto* cnt = counters_.as<std::uint64_t>();
     for (std::size_t q = 0; q < last - first; ++q) {
-      out[first + q].matches = cnt[3 * q];
-      out[first + q].votes = cnt[3 * q + 1];
-      out[first + q].votes_outside = cnt[3 * q + 2];
+      const std::uint64_t* c = cnt + SVA_PAIR_COUNTERS * q;
+      out[first + q].matches = c[0];
+      out[first + q].votes = c[1];
+      out[first + q].votes_outside = c[2];
+      out[first + q].votes_zero = c[3];
     }
   }
 
@@ -380,7 +394,7 @@ class VulkanVoteBackend final : public VoteBackend {
     std::vector<std::size_t> folded(S, 0);
     for (std::size_t q = 0; q < P; ++q) {
       out[first + q].folded = totals[q] > 0;
-      if (totals[q] > 0) ++folded[batch.pairs[first + q].session];
+      if (totals[q] > 0) folded[batch.pairs[first + q].session] += batch.pairs[first + q].fold_count;
     }
     for (std::size_t s = 0; s < S; ++s)
       if (folded[s]) beliefs[s]->record(0, folded[s]);
@@ -407,7 +421,7 @@ class VulkanVoteBackend final : public VoteBackend {
   vk::Pipeline expand_, scan_, pipeline_, fold_;
   GpuBeliefKernels beliefs_;
   vk::Buffer readings_, map_keys_, map_offsets_, pairs_, key_items_, ranges_, active_, table_keys_, table_sums_, counters_, status_;
-  vk::Buffer sessions_, session_status_, pair_totals_;
+  vk::Buffer sessions_, session_status_, pair_totals_, chunk_table_;
   double kernel_ms_ = 0.0, fold_ms_ = 0.0;
   std::vector<Chunk> chunks_;
   std::size_t chunk_ = 0, slots_ = 0;

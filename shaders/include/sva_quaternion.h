@@ -1,0 +1,86 @@
+// Rotations of the shared vote math as unit quaternions vec4(x, y, z, w) =
+// (sin(a/2) axis, cos(a/2)), with the canonical forms that make a pose bin
+// unique: q and -q, and at an angle of pi r and -r, are one rotation.
+#ifndef SVA_QUATERNION_H
+#define SVA_QUATERNION_H
+
+#include "sva_fast_math.h"
+
+// Cosine below which two axes count as anti-parallel (180-degree branch of R1).
+#define SVA_ANTIPARALLEL_COS -0.999999f
+// |w| of the quaternion below which the rotation angle is pi up to float
+// precision: r and -r are then the same rotation, so the sign is canonicalised.
+#define SVA_NEAR_PI_W 1.0e-5f
+// v or -v, whichever has its largest-magnitude component (ties to the earlier
+// axis) positive: one representative of an axis whose sign carries no meaning.
+SVA_FN vec3 sva_lead_positive(vec3 v) {
+  SVA_PRECISE vec3 a = abs(v);
+  float lead = v.x;
+  if (a.y > a.x && a.y >= a.z) lead = v.y;
+  if (a.z > a.x && a.z > a.y) lead = v.z;
+  if (lead < 0.0f) return -v;
+  return v;
+}
+
+SVA_FN vec4 sva_quat_mul(vec4 a, vec4 b) {
+  SVA_PRECISE vec3 av = vec3(a.x, a.y, a.z);
+  SVA_PRECISE vec3 bv = vec3(b.x, b.y, b.z);
+  SVA_PRECISE vec3 c = sva_cross(av, bv);
+  SVA_PRECISE vec3 v = a.w * bv + b.w * av + c;
+  SVA_PRECISE float w = a.w * b.w - sva_dot(av, bv);
+  return vec4(v.x, v.y, v.z, w);
+}
+
+// q * v * q^-1 for a unit quaternion: v + 2w (u x v) + 2 u x (u x v).
+SVA_FN vec3 sva_quat_rotate(vec4 q, vec3 v) {
+  SVA_PRECISE vec3 u = vec3(q.x, q.y, q.z);
+  SVA_PRECISE vec3 t = 2.0f * sva_cross(u, v);
+  SVA_PRECISE vec3 r = v + q.w * t + sva_cross(u, t);
+  return r;
+}
+
+SVA_FN vec4 sva_quat_axis_angle(vec3 unit_axis, float angle) {
+  SVA_PRECISE vec2 sc = sva_sincos(0.5f * angle);
+  return vec4(sc.x * unit_axis.x, sc.x * unit_axis.y, sc.x * unit_axis.z, sc.y);
+}
+
+// The rotation taking unit vector `from` onto unit vector `to` by the shortest
+// arc. Anti-parallel vectors have no unique shortest arc: take the half turn
+// about the axis perpendicular to `from` built from its smallest component, a
+// fixed rule so that CPU and GPU choose the same one (beta then fixes the rest).
+// The axis's largest component is made positive, so (from, to) and
+// (-from, -to) give the same quaternion, as they do off the branch.
+SVA_FN vec4 sva_quat_between(vec3 from, vec3 to) {
+  SVA_PRECISE float c = sva_dot(from, to);
+  if (c > SVA_ANTIPARALLEL_COS) {
+    SVA_PRECISE vec3 v = sva_cross(from, to);
+    SVA_PRECISE vec4 q = vec4(v.x, v.y, v.z, 1.0f + c);
+    SVA_PRECISE float l = sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
+    return q / l;
+  }
+  SVA_PRECISE vec3 a = abs(from);
+  vec3 e = vec3(1.0f, 0.0f, 0.0f);
+  if (a.y < a.x && a.y <= a.z) e = vec3(0.0f, 1.0f, 0.0f);
+  if (a.z < a.x && a.z < a.y) e = vec3(0.0f, 0.0f, 1.0f);
+  SVA_PRECISE vec3 perp = sva_normalize(sva_cross(from, e));
+  return vec4(sva_lead_positive(perp), 0.0f);
+}
+
+// Rodrigues vector (axis * angle, |r| <= pi) of a unit quaternion. q and -q are
+// the same rotation: take w >= 0. At an angle of pi (w ~ 0), r and -r are the
+// same rotation too: make the largest-magnitude component positive.
+SVA_FN vec3 sva_quat_to_rodrigues(vec4 q) {
+  SVA_PRECISE vec3 v = vec3(q.x, q.y, q.z);
+  SVA_PRECISE float w = q.w;
+  if (w < 0.0f) {
+    v = -v;
+    w = -w;
+  }
+  if (w < SVA_NEAR_PI_W) v = sva_lead_positive(v);
+  SVA_PRECISE float s = sva_length(v);
+  if (!(s > 0.0f)) return vec3(0.0f, 0.0f, 0.0f);
+  SVA_PRECISE float angle = 2.0f * sva_atan2(s, w);
+  return v * (angle / s);
+}
+
+#endif

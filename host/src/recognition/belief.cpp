@@ -130,11 +130,23 @@ BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::
   return e;
 }
 
-Belief::Belief(const PoseSpace& space, double eps) : space_(&space), eps_units_(belief_math::eps_units(eps)) {}
+Belief::Belief(const PoseSpace& space, double eps)
+    : space_(&space), eps_units_(belief_math::eps_units(eps)),
+      mass_bits_(belief_math::mass_bits(space.bins_per_object())),
+      // sva_exp2_neg_units(d, mass_bits) is 0 from d = (mass_bits + 1) 2^32 on.
+      band_width_((std::uint64_t{mass_bits_} + 1) << 32) {
+  reset();
+}
 
 void Belief::reset() {
   offset_.clear();
+  band_.clear();
+  band_pruned_size_ = 0;
   pairs_ = 0;
+  max_ = 0;
+  touched_.assign(space_->objects(), 0);
+  best_offset_.assign(space_->objects(), 0);
+  best_key_.assign(space_->objects(), 0);
 }
 
 bool Belief::fold(const PairVotes& votes, std::uint32_t count) {
@@ -160,39 +172,70 @@ std::vector<BinOffset> Belief::terms(const BinAccumulator& votes) const {
 
 bool Belief::add(const std::vector<BinOffset>& terms, std::uint32_t count) {
   if (terms.empty() || count == 0) return false;
-  for (const BinOffset& t : terms) offset_.add(t.key, t.offset * count);
+  for (const BinOffset& t : terms) {
+    bool inserted = false;
+    const std::uint64_t off = offset_.add_get(t.key, t.offset * count, &inserted);
+    note(t.key, off, inserted);
+  }
   pairs_ += count;
+  if (band_.size() > 2 * std::max<std::size_t>(band_pruned_size_, 1024)) prune_band();
   return true;
 }
 
+// Keeps the reductions current after bin `key` rose to `offset`.
+void Belief::note(std::uint64_t key, std::uint64_t offset, bool inserted) {
+  const std::uint32_t o = PoseSpace::object_of(key);
+  if (inserted) ++touched_[o];
+  if ((inserted && touched_[o] == 1) || offset > best_offset_[o] || (offset == best_offset_[o] && key < best_key_[o])) {
+    best_offset_[o] = offset;
+    best_key_[o] = key;
+  }
+  max_ = std::max(max_, offset);
+  if (in_band(offset)) band_.add(key, 0);
+}
+
+void Belief::prune_band() {
+  BinTable<std::uint8_t> kept(band_.size() / 2);
+  band_.for_each([&](std::uint64_t key, std::uint8_t) {
+    if (in_band(offset_.get(key))) kept.add(key, 0);
+  });
+  band_ = std::move(kept);
+  band_pruned_size_ = band_.size();
+}
+
 BeliefSummary Belief::summarise() const {
-  const std::uint32_t n = space_->objects();
   BeliefSummary s;
-  s.touched.assign(n, 0);
-  s.touched_mass.assign(n, 0);
-  s.best_offset.assign(n, 0);
-  s.best_key.assign(n, 0);
-  offset_.for_each([&](std::uint64_t, std::uint64_t off) { s.max_offset = std::max(s.max_offset, off); });
-  const std::uint32_t bits = belief_math::mass_bits(space_->bins_per_object());
-  offset_.for_each([&](std::uint64_t key, std::uint64_t off) {
-    const std::uint32_t o = PoseSpace::object_of(key);
-    s.touched_mass[o] += belief_math::sva_exp2_neg_units(s.max_offset - off, bits);
-    if (s.touched[o] == 0 || off > s.best_offset[o] || (off == s.best_offset[o] && key < s.best_key[o])) {
-      s.best_offset[o] = off;
-      s.best_key[o] = key;
-    }
-    ++s.touched[o];
+  s.max_offset = max_;
+  s.touched = touched_;
+  s.best_offset = best_offset_;
+  s.best_key = best_key_;
+  s.touched_mass.assign(space_->objects(), 0);
+  band_.for_each([&](std::uint64_t key, std::uint8_t) {
+    const std::uint64_t off = offset_.get(key);
+    if (in_band(off))
+      s.touched_mass[PoseSpace::object_of(key)] += belief_math::sva_exp2_neg_units(max_ - off, mass_bits_);
   });
   return s;
 }
 
 std::vector<BinOffset> Belief::best_bins(std::size_t k) const {
+  const auto better = [](const BinOffset& a, const BinOffset& b) {
+    return a.offset != b.offset ? a.offset > b.offset : a.key < b.key;
+  };
   std::vector<BinOffset> all;  // slot order: partial_sort needs no sorted read-out
-  all.reserve(offset_.size());
-  offset_.for_each([&](std::uint64_t key, std::uint64_t off) { all.push_back({key, off}); });
+  band_.for_each([&](std::uint64_t key, std::uint8_t) {
+    const std::uint64_t off = offset_.get(key);
+    if (in_band(off)) all.push_back({key, off});
+  });
+  // Every bin outside the band lies below every bin in it: the band holds
+  // the top k unless it has fewer than k bins.
+  if (all.size() < k && all.size() < offset_.size()) {
+    all.clear();
+    all.reserve(offset_.size());
+    offset_.for_each([&](std::uint64_t key, std::uint64_t off) { all.push_back({key, off}); });
+  }
   k = std::min(k, all.size());
-  std::partial_sort(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(k), all.end(),
-                    [](const BinOffset& a, const BinOffset& b) { return a.offset != b.offset ? a.offset > b.offset : a.key < b.key; });
+  std::partial_sort(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(k), all.end(), better);
   all.resize(k);
   return all;
 }

@@ -105,10 +105,27 @@ class Belief final : public BeliefState {
   std::uint64_t offset(std::uint64_t key) const { return offset_.get(key); }
 
  private:
+  // Offsets only grow, so the fold keeps the estimate's reductions up to date
+  // (DESIGN's "no pass over every bin per estimate"): the maximum, each
+  // object's touched count and best bin directly, and the object masses and
+  // top-k through the *band*: the bins within band_width_ of the maximum, the
+  // only ones whose weight 2^(offset - M) at mass_bits is not 0. A bin leaves
+  // the band only as the maximum grows, so the band set holds every bin in
+  // the band (and some stale ones, skipped when read, pruned as it grows).
+  bool in_band(std::uint64_t offset) const { return max_ - offset < band_width_; }
+  void note(std::uint64_t key, std::uint64_t offset, bool inserted);
+  void prune_band();
+
   const PoseSpace* space_;
   std::uint64_t eps_units_;
+  std::uint32_t mass_bits_;
+  std::uint64_t band_width_;
   BinTable<std::uint64_t> offset_;
   std::size_t pairs_ = 0;
+  std::uint64_t max_ = 0;
+  std::vector<std::uint64_t> touched_, best_offset_, best_key_;
+  BinTable<std::uint8_t> band_;
+  std::size_t band_pruned_size_ = 0;
 };
 
 }  // namespace sva

@@ -18,6 +18,14 @@ class BinTable {
   explicit BinTable(std::size_t expected = 1024) { init(expected); }
 
   void add(std::uint64_t key, Value v) { slot(key) += v; }
+  // Adds v and returns the key's new value; *inserted tells whether the key was new.
+  Value add_get(std::uint64_t key, Value v, bool* inserted) {
+    const std::size_t before = size_;
+    Value& x = slot(key);
+    x += v;
+    *inserted = size_ != before;
+    return x;
+  }
   // The value of a key, or Value{} when absent.
   Value get(std::uint64_t key) const {
     std::size_t i = mix(key) & mask_;

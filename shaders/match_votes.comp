@@ -91,14 +91,8 @@ uint64_t owned_likelihood(uint q, uint k, uint ra, uint rb, float w) {
 }
 
 SvaPoseGrid pose_grid() {
-  SvaPoseGrid grid;
-  grid.kind = int(pc.grid_kind);
-  grid.translation_bins = pc.translation_bins;
-  grid.translation_min = pc.translation_min;
-  grid.translation_width = pc.translation_width;
-  grid.rotation_bins = pc.rotation_bins;
-  grid.rotation_width = pc.rotation_width;
-  return grid;
+  return sva_pose_grid(int(pc.grid_kind), pc.translation_bins, pc.translation_min, pc.translation_width,
+                       pc.rotation_bins, pc.rotation_width);
 }
 
 void observed_patches(uint q, out SvaPatch a1, out SvaPatch b1) {
@@ -116,16 +110,16 @@ void vote_match(uint q, uint ra, uint rb, uint object, float likelihood) {
   observed_patches(q, a1, b1);
   SvaPoseGrid grid = pose_grid();
   SvaAlignment al = sva_align(a1, b1, patch_of_reading(ra), patch_of_reading(rb));
-  int n = sva_beta_sample_count(al, grid);
-  if (n == 0) return;
+  SvaBetaPlan plan = sva_beta_plan(al, grid);
+  if (plan.n == 0) return;
   uint c = SVA_PAIR_COUNTERS * q;
   atomicAdd(counters[c], uint64_t(1));
-  float wsum = sva_beta_weight_sum(al, n);
+  float scale = sva_vote_scale(likelihood, sva_beta_weight_sum(plan));
   uint64_t pair_base = uint64_t(q) << pc.pair_shift;
   uint inside = 0u, outside = 0u, zero = 0u;
   for (int s = 0; s < SVA_MAX_BETA_SAMPLES; ++s) {
-    if (s >= n) break;
-    SvaVote v = sva_vote(al, grid, object, likelihood, wsum, s, n);
+    if (s >= plan.n) break;
+    SvaVote v = sva_vote(al, plan, grid, object, scale, s);
     if (v.inside == 0) {
       ++outside;
       continue;

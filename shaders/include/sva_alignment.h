@@ -50,15 +50,15 @@ SVA_FN SvaAlignment sva_align(SvaPatch a1, SvaPatch b1, SvaPatch a2, SvaPatch b2
   al.c_map_r = vec3(0.0f, 0.0f, 0.0f);
   al.beta_hat = 0.0f;
   al.align_conf = 0.0f;
-  al.sigma = SVA_SIGMA_INIT / SVA_MIN_ALIGN_CONF;
+  al.sigma = sva_div(SVA_SIGMA_INIT, SVA_MIN_ALIGN_CONF);
   al.valid = 0;
   SVA_PRECISE vec3 d1 = b1.p - a1.p;
   SVA_PRECISE vec3 d2 = b2.p - a2.p;
   SVA_PRECISE float l1 = sva_length(d1);
   SVA_PRECISE float l2 = sva_length(d2);
   if (!(l1 >= SVA_MIN_PAIR_SEPARATION_MM) || !(l2 >= SVA_MIN_PAIR_SEPARATION_MM)) return al;
-  SVA_PRECISE vec3 u1 = d1 / l1;
-  SVA_PRECISE vec3 u2 = d2 / l2;
+  SVA_PRECISE vec3 u1 = vec3(sva_div(d1.x, l1), sva_div(d1.y, l1), sva_div(d1.z, l1));
+  SVA_PRECISE vec3 u2 = vec3(sva_div(d2.x, l2), sva_div(d2.y, l2), sva_div(d2.z, l2));
   SVA_PRECISE vec4 q1 = sva_quat_between(u2, u1);
   SVA_PRECISE vec3 pn_a = a1.n - sva_dot(a1.n, u1) * u1;
   SVA_PRECISE vec3 pn_b = b1.n - sva_dot(b1.n, u1) * u1;
@@ -80,7 +80,7 @@ SVA_FN SvaAlignment sva_align(SvaPatch a1, SvaPatch b1, SvaPatch a2, SvaPatch b2
   al.c_map_r = sva_quat_rotate(q1, c2);
   al.beta_hat = sva_atan2(s_cross, s_dot);
   al.align_conf = conf;
-  al.sigma = SVA_SIGMA_INIT / max(conf, SVA_MIN_ALIGN_CONF);
+  al.sigma = sva_div(SVA_SIGMA_INIT, max(conf, SVA_MIN_ALIGN_CONF));
   al.valid = 1;
   return al;
 }

@@ -14,48 +14,65 @@
 SVA_FN float sva_beta_step(SvaAlignment al, SvaPoseGrid grid) {
   SVA_PRECISE vec3 lever = al.c_map_r - sva_dot(al.c_map_r, al.axis) * al.axis;
   SVA_PRECISE float arm = max(sva_length(lever), 1.0e-3f);
-  return 0.5f * min(grid.rotation_width, grid.translation_width / arm);
+  return 0.5f * min(grid.rotation_width, sva_div(grid.translation_width, arm));
 }
 
-// Number of beta samples. A Gaussian truncated at 3 sigma is sampled at
-// 2m+1 points; once 3 sigma reaches pi, the whole circle is sampled evenly
-// (a wrapped, then uniform, distribution), capped.
-SVA_FN int sva_beta_sample_count(SvaAlignment al, SvaPoseGrid grid) {
-  if (al.valid == 0) return 0;
+// How one match samples beta, worked out once per match so that each sample
+// costs only multiplications. A Gaussian truncated at 3 sigma is sampled at
+// 2m+1 points; once 3 sigma reaches pi, the whole circle is sampled evenly (a
+// wrapped, then uniform, distribution), capped.
+struct SvaBetaPlan {
+  int n;            // samples (0: the match casts no vote)
+  int circle;       // 1: even over the whole circle
+  float unit;       // offset of sample i: unit * (2i + 1 - n) (circle) or unit * (i - (n-1)/2)
+  float inv_sigma;  // 1 / sigma
+};
+
+SVA_FN SvaBetaPlan sva_beta_plan(SvaAlignment al, SvaPoseGrid grid) {
+  SvaBetaPlan p;
+  p.n = 0;
+  p.circle = 0;
+  p.unit = 0.0f;
+  p.inv_sigma = 0.0f;
+  if (al.valid == 0) return p;
   SVA_PRECISE float step = sva_beta_step(al, grid);
+  p.inv_sigma = sva_div(1.0f, al.sigma);
   if (3.0f * al.sigma >= SVA_PI) {
-    return int(min(ceil(SVA_TWO_PI / step), float(SVA_MAX_BETA_SAMPLES - 1)));
+    p.circle = 1;
+    p.n = int(min(ceil(sva_div(SVA_TWO_PI, step)), float(SVA_MAX_BETA_SAMPLES - 1)));
+    p.unit = sva_div(SVA_PI, float(p.n));
+    return p;
   }
-  SVA_PRECISE float m = min(ceil(3.0f * al.sigma / step), float((SVA_MAX_BETA_SAMPLES - 1) / 2));
-  return 2 * int(m) + 1;
+  SVA_PRECISE float h = 3.0f * al.sigma;
+  SVA_PRECISE float m = min(ceil(sva_div(h, step)), float((SVA_MAX_BETA_SAMPLES - 1) / 2));
+  p.n = 2 * int(m) + 1;
+  if (m > 0.0f) p.unit = sva_div(h, m);
+  return p;
 }
 
-// Offset from beta-hat of sample i of n, written as (signed integer) x (step)
-// so that sample n-1-i sits at exactly minus the offset of sample i. With the
-// odd sva_sincos this makes the reversed observed pair, matched with the
-// reversed map pair (axis -u, beta-hat -beta-hat, same R1 and midpoints), cast
-// bit for bit the votes of the forward pair: Eq 5's two orders are folded from
-// one vote (BayesFilter::queue_pairs).
-SVA_FN float sva_beta_offset(SvaAlignment al, int i, int n) {
-  if (3.0f * al.sigma >= SVA_PI) return SVA_PI * float(2 * i + 1 - n) / float(n);
-  if (n <= 1) return 0.0f;
-  int m = (n - 1) / 2;
-  SVA_PRECISE float h = 3.0f * al.sigma;
-  return h * float(i - m) / float(m);
+// Offset from beta-hat of sample i, written as (signed integer) x (unit) so
+// that sample n-1-i sits at exactly minus the offset of sample i. With the odd
+// sva_sincos this makes the reversed observed pair, matched with the reversed
+// map pair (axis -u, beta-hat -beta-hat, same R1 and midpoints), cast bit for
+// bit the votes of the forward pair: Eq 5's two orders are folded from one
+// vote (BayesFilter::queue_pairs).
+SVA_FN float sva_beta_offset(SvaBetaPlan p, int i) {
+  if (p.circle != 0) return p.unit * float(2 * i + 1 - p.n);
+  return p.unit * float(i - (p.n - 1) / 2);
 }
 
 // Unnormalised Gaussian weight of sample i.
-SVA_FN float sva_beta_weight(SvaAlignment al, int i, int n) {
-  SVA_PRECISE float z = sva_beta_offset(al, i, n) / al.sigma;
+SVA_FN float sva_beta_weight(SvaBetaPlan p, int i) {
+  SVA_PRECISE float z = sva_beta_offset(p, i) * p.inv_sigma;
   return sva_exp_neg(-0.5f * z * z);
 }
 
 // Sum of the weights of all n samples: votes are normalised per match.
-SVA_FN float sva_beta_weight_sum(SvaAlignment al, int n) {
+SVA_FN float sva_beta_weight_sum(SvaBetaPlan p) {
   SVA_PRECISE float s = 0.0f;
   for (int i = 0; i < SVA_MAX_BETA_SAMPLES; ++i) {
-    if (i >= n) break;
-    s = s + sva_beta_weight(al, i, n);
+    if (i >= p.n) break;
+    s = s + sva_beta_weight(p, i);
   }
   return s;
 }

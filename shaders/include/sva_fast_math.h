@@ -1,8 +1,17 @@
 // Fast math of the shared vote math (sva_vote_math.h says why C++ and GLSL
 // share one text): dot, cross, length and normalise written out so that no
 // compiler reorders or fuses them, and this file's own exp, atan2 and sincos
-// polynomials, since libm and GPU builtins differ in their last bits. Only
-// + - * / sqrt floor ceil and comparisons on 32-bit floats.
+// polynomials, since libm and GPU builtins differ in their last bits.
+//
+// Every operation here is exact by construction on any conformant device:
+// Vulkan rounds + - * correctly (and `precise` forbids fusing them), floor,
+// ceil, min, max, abs and comparisons are exact, and the two operations it
+// does not round correctly - division (2.5 ULP) and square root (derived from
+// inversesqrt) - go through sva_div and sva_sqrt, which compute the correctly
+// rounded IEEE result with integer arithmetic in GLSL and are the CPU's own
+// (IEEE) division and square root in C++. The contract holds for operands and
+// results in the normal range; subnormals are flushed to zero by the GLSL
+// versions (the vote math's values never come near 1e-38).
 #ifndef SVA_FAST_MATH_H
 #define SVA_FAST_MATH_H
 
@@ -16,9 +25,97 @@
 
 #define SVA_PI 3.14159265358979f
 #define SVA_TWO_PI 6.28318530717959f
+#define SVA_INV_TWO_PI 0.159154943091895f
 #define SVA_HALF_PI 1.57079632679490f
 #define SVA_QUARTER_PI 0.785398163397448f
 #define SVA_LN2 0.693147180559945f
+#define SVA_INV_LN2 1.44269504088896f
+
+#ifdef __cplusplus
+// x86-64 (SSE) divides and takes square roots correctly rounded, as IEEE 754 asks.
+SVA_FN float sva_div(float a, float b) { return a / b; }
+SVA_FN float sva_sqrt(float x) { return sqrt(x); }
+#else
+#define SVA_F32_INF 0x7f800000u
+#define SVA_F32_NAN 0x7fc00000u
+
+// a / b correctly rounded (to nearest, ties to even): the 24-bit significands
+// are divided bit by bit (restoring division, 25 quotient bits: 24 and a round
+// bit), the remainder is the sticky bit.
+float sva_div(float a, float b) {
+  uint ua = floatBitsToUint(a), ub = floatBitsToUint(b);
+  uint sign = (ua ^ ub) & 0x80000000u;
+  uint ea = (ua >> 23) & 0xffu, eb = (ub >> 23) & 0xffu;
+  uint fa = ua & 0x7fffffu, fb = ub & 0x7fffffu;
+  if ((ea == 255u && fa != 0u) || (eb == 255u && fb != 0u)) return uintBitsToFloat(SVA_F32_NAN);
+  if (ea == 255u) return uintBitsToFloat(eb == 255u ? SVA_F32_NAN : sign | SVA_F32_INF);
+  if (eb == 255u) return uintBitsToFloat(sign);
+  if (eb == 0u) return uintBitsToFloat(ea == 0u ? SVA_F32_NAN : sign | SVA_F32_INF);  // b = 0 (subnormals flushed)
+  if (ea == 0u) return uintBitsToFloat(sign);
+  uint ma = fa | 0x800000u, mb = fb | 0x800000u;
+  int e = int(ea) - int(eb) + 127;
+  if (ma < mb) {  // quotient in [1, 2)
+    ma <<= 1;
+    e -= 1;
+  }
+  uint q = 0u, r = ma;  // r < 2 mb < 2^25
+  for (int i = 0; i < 25; ++i) {
+    q <<= 1;
+    if (r >= mb) {
+      r -= mb;
+      q |= 1u;
+    }
+    r <<= 1;
+  }
+  uint mant = q >> 1;
+  if ((q & 1u) != 0u && (r != 0u || (mant & 1u) != 0u)) mant += 1u;
+  if (mant == 0x1000000u) {
+    mant >>= 1;
+    e += 1;
+  }
+  if (e >= 255) return uintBitsToFloat(sign | SVA_F32_INF);
+  if (e <= 0) return uintBitsToFloat(sign);
+  return uintBitsToFloat(sign | (uint(e) << 23) | (mant & 0x7fffffu));
+}
+
+// sqrt(x) correctly rounded: the digit-by-digit integer square root of the
+// significand scaled to 50 bits gives 25 result bits (24 and a round bit); the
+// remainder is the sticky bit. sqrt(-0) = -0; negatives give NaN.
+float sva_sqrt(float x) {
+  uint ux = floatBitsToUint(x);
+  uint ex = (ux >> 23) & 0xffu, fx = ux & 0x7fffffu;
+  if (ex == 255u && fx != 0u) return uintBitsToFloat(SVA_F32_NAN);
+  if (ex == 0u) return uintBitsToFloat(ux & 0x80000000u);  // zero (subnormals flushed)
+  if ((ux & 0x80000000u) != 0u) return uintBitsToFloat(SVA_F32_NAN);
+  if (ex == 255u) return x;
+  int e = int(ex) - 127;
+  uint64_t m = uint64_t(fx | 0x800000u);
+  if ((e & 1) != 0) {  // make the exponent even
+    m <<= 1;
+    e -= 1;
+  }
+  uint64_t rem = m << 25;  // in [2^48, 2^50): its root has 25 bits
+  uint64_t res = 0ul, bit = 1ul << 48;
+  for (int i = 0; i < 25; ++i) {
+    if (rem >= res + bit) {
+      rem -= res + bit;
+      res = (res >> 1) + bit;
+    } else {
+      res >>= 1;
+    }
+    bit >>= 2;
+  }
+  uint q = uint(res);
+  uint mant = q >> 1;
+  if ((q & 1u) != 0u && (rem != 0ul || (mant & 1u) != 0u)) mant += 1u;
+  int be = (e >> 1) + 127;  // e is even
+  if (mant == 0x1000000u) {
+    mant >>= 1;
+    be += 1;
+  }
+  return uintBitsToFloat((uint(be) << 23) | (mant & 0x7fffffu));
+}
+#endif
 
 SVA_FN float sva_dot(vec3 a, vec3 b) {
   SVA_PRECISE float d = a.x * b.x + a.y * b.y + a.z * b.z;
@@ -30,7 +127,7 @@ SVA_FN vec3 sva_cross(vec3 a, vec3 b) {
   return c;
 }
 
-SVA_FN float sva_length(vec3 a) { return sqrt(sva_dot(a, a)); }
+SVA_FN float sva_length(vec3 a) { return sva_sqrt(sva_dot(a, a)); }
 
 // exp(x) for x <= 0 (Gaussian weights); x below -80 gives 0. Range reduction
 // x = k ln2 + r, |r| <= ln2/2, Taylor to degree 8 (error < 1e-8 relative),
@@ -38,7 +135,7 @@ SVA_FN float sva_length(vec3 a) { return sqrt(sva_dot(a, a)); }
 SVA_FN float sva_exp_neg(float x) {
   if (!(x > -80.0f)) return 0.0f;
   if (x > 0.0f) x = 0.0f;
-  SVA_PRECISE float kf = floor(x / SVA_LN2 + 0.5f);
+  SVA_PRECISE float kf = floor(x * SVA_INV_LN2 + 0.5f);
   SVA_PRECISE float r = x - kf * SVA_LN2;
   SVA_PRECISE float e =
       1.0f + r * (1.0f + r * (0.5f + r * (1.0f / 6.0f + r * (1.0f / 24.0f + r * (1.0f / 120.0f + r * (1.0f / 720.0f + r * (1.0f / 5040.0f + r * (1.0f / 40320.0f))))))));
@@ -58,7 +155,7 @@ SVA_FN float sva_atan01(float t) {
   SVA_PRECISE float u = t;
   if (t > 0.41421356f) {
     base = SVA_QUARTER_PI;
-    u = (t - 1.0f) / (t + 1.0f);
+    u = sva_div(t - 1.0f, t + 1.0f);
   }
   SVA_PRECISE float u2 = u * u;
   SVA_PRECISE float s = u * (1.0f + u2 * (-1.0f / 3.0f + u2 * (1.0f / 5.0f + u2 * (-1.0f / 7.0f + u2 * (1.0f / 9.0f + u2 * (-1.0f / 11.0f + u2 * (1.0f / 13.0f + u2 * (-1.0f / 15.0f))))))));
@@ -72,7 +169,7 @@ SVA_FN float sva_atan2(float y, float x) {
   SVA_PRECISE float hi = max(ax, ay);
   if (!(hi > 0.0f)) return 0.0f;
   SVA_PRECISE float lo = min(ax, ay);
-  SVA_PRECISE float a = sva_atan01(lo / hi);
+  SVA_PRECISE float a = sva_atan01(sva_div(lo, hi));
   if (ay > ax) a = SVA_HALF_PI - a;
   if (x < 0.0f) a = SVA_PI - a;
   if (y < 0.0f) a = -a;
@@ -86,7 +183,7 @@ SVA_FN float sva_atan2(float y, float x) {
 // (sva_beta_offset).
 SVA_FN vec2 sva_sincos(float x) {
   SVA_PRECISE float ax = abs(x);
-  SVA_PRECISE float xr = ax - SVA_TWO_PI * floor((ax + SVA_PI) / SVA_TWO_PI);
+  SVA_PRECISE float xr = ax - SVA_TWO_PI * floor((ax + SVA_PI) * SVA_INV_TWO_PI);
   SVA_PRECISE float h = 0.5f * xr;
   SVA_PRECISE float h2 = h * h;
   SVA_PRECISE float sh = h * (1.0f + h2 * (-1.0f / 6.0f + h2 * (1.0f / 120.0f + h2 * (-1.0f / 5040.0f + h2 * (1.0f / 362880.0f + h2 * (-1.0f / 39916800.0f + h2 * (1.0f / 6227020800.0f)))))));
@@ -100,7 +197,7 @@ SVA_FN vec2 sva_sincos(float x) {
 SVA_FN vec3 sva_normalize(vec3 v) {
   SVA_PRECISE float l = sva_length(v);
   if (!(l > 0.0f)) return vec3(0.0f, 0.0f, 0.0f);
-  return v / l;
+  return vec3(sva_div(v.x, l), sva_div(v.y, l), sva_div(v.z, l));
 }
 
 #endif

@@ -17,6 +17,7 @@
 #include "sva_fast_math.h"
 
 #define SVA_LIKELIHOOD_UNITS_PER_ONE 1099511627776.0f
+#define SVA_LIKELIHOOD_UNIT 9.094947017729282e-13f  // 2^-40, exactly
 
 // One key's term w_obs * w_map (in [0, 1]) in likelihood units; NaN and
 // negatives give 0.
@@ -25,10 +26,14 @@ SVA_FN uint64_t sva_likelihood_units(float w) {
   return uint64_t(SVA_ROUND_UNITS(v));
 }
 
-// The summed likelihood as the float the votes are scaled by (an integer to
-// float conversion is correctly rounded on the CPU and in Vulkan).
+// The summed likelihood as the float the votes are scaled by. The sum stays
+// below 2^47 units (fewer than 128 keys of weight <= 1), so both halves convert
+// to float exactly and the one rounding is the correctly rounded addition:
+// the same float on every device, whatever its integer conversions do.
 SVA_FN float sva_likelihood_of_units(uint64_t units) {
-  SVA_PRECISE float l = float(units) * (1.0f / SVA_LIKELIHOOD_UNITS_PER_ONE);
+  SVA_PRECISE float hi = float(uint(units >> 23)) * 8388608.0f;
+  SVA_PRECISE float lo = float(uint(units & uint64_t(0x7fffffu)));
+  SVA_PRECISE float l = (hi + lo) * SVA_LIKELIHOOD_UNIT;
   return l;
 }
 

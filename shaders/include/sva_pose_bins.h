@@ -35,18 +35,35 @@ struct SvaPoseGrid {
   float translation_width; // mm per bin
   int rotation_bins;       // per Rodrigues axis over [-pi, pi] (planar: the angle about z)
   float rotation_width;    // rad per bin
+  float translation_scale; // bins per mm (1 / translation_width): binning multiplies, every sample
+  float rotation_scale;    // bins per rad
 };
+
+// A grid with its scales: the one way both backends make it.
+SVA_FN SvaPoseGrid sva_pose_grid(int kind, int translation_bins, float translation_min, float translation_width,
+                                 int rotation_bins, float rotation_width) {
+  SvaPoseGrid g;
+  g.kind = kind;
+  g.translation_bins = translation_bins;
+  g.translation_min = translation_min;
+  g.translation_width = translation_width;
+  g.rotation_bins = rotation_bins;
+  g.rotation_width = rotation_width;
+  g.translation_scale = sva_div(1.0f, translation_width);
+  g.rotation_scale = sva_div(1.0f, rotation_width);
+  return g;
+}
 
 // Translation bin of one coordinate, or -1 outside the grid (NaN too).
 SVA_FN int sva_translation_bin(float t, SvaPoseGrid grid) {
-  SVA_PRECISE float f = (t - grid.translation_min) / grid.translation_width;
+  SVA_PRECISE float f = (t - grid.translation_min) * grid.translation_scale;
   if (!(f >= 0.0f) || !(f < float(grid.translation_bins))) return -1;
   return min(int(floor(f)), grid.translation_bins - 1);
 }
 
 // Rotation bin of one Rodrigues coordinate (or the planar angle) in [-pi, pi].
 SVA_FN int sva_rotation_bin(float r, SvaPoseGrid grid) {
-  SVA_PRECISE float f = (r + SVA_PI) / grid.rotation_width;
+  SVA_PRECISE float f = (r + SVA_PI) * grid.rotation_scale;
   if (!(f >= 0.0f)) return 0;  // also NaN; callers never pass NaN
   return min(int(floor(f)), grid.rotation_bins - 1);
 }

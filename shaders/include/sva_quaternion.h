@@ -55,8 +55,8 @@ SVA_FN vec4 sva_quat_between(vec3 from, vec3 to) {
   if (c > SVA_ANTIPARALLEL_COS) {
     SVA_PRECISE vec3 v = sva_cross(from, to);
     SVA_PRECISE vec4 q = vec4(v.x, v.y, v.z, 1.0f + c);
-    SVA_PRECISE float l = sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
-    return q / l;
+    SVA_PRECISE float l = sva_sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
+    return vec4(sva_div(q.x, l), sva_div(q.y, l), sva_div(q.z, l), sva_div(q.w, l));
   }
   SVA_PRECISE vec3 a = abs(from);
   vec3 e = vec3(1.0f, 0.0f, 0.0f);
@@ -80,7 +80,7 @@ SVA_FN vec3 sva_quat_to_rodrigues(vec4 q) {
   SVA_PRECISE float s = sva_length(v);
   if (!(s > 0.0f)) return vec3(0.0f, 0.0f, 0.0f);
   SVA_PRECISE float angle = 2.0f * sva_atan2(s, w);
-  return v * (angle / s);
+  return v * sva_div(angle, s);
 }
 
 #endif

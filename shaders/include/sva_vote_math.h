@@ -33,14 +33,18 @@ struct SvaVote {
   int inside;       // 0: the pose lies outside the pose space (or is not planar)
 };
 
-// The vote of beta sample i of n: pose bin and fixed-point mass
-// likelihood * g_i / sum_g (Eq 15 times the normalised Gaussian in beta).
-SVA_FN SvaVote sva_vote(SvaAlignment al, SvaPoseGrid grid, uint object, float likelihood, float weight_sum, int i, int n) {
+// The mass scale of a match's samples: likelihood / sum_g (Eq 15 over the
+// Gaussian's normaliser), once per match.
+SVA_FN float sva_vote_scale(float likelihood, float weight_sum) { return sva_div(likelihood, weight_sum); }
+
+// The vote of beta sample i of a match: pose bin and fixed-point mass
+// g_i * scale (Eq 15 times the normalised Gaussian in beta).
+SVA_FN SvaVote sva_vote(SvaAlignment al, SvaBetaPlan plan, SvaPoseGrid grid, uint object, float scale, int i) {
   SvaVote vote;
   vote.key = uint64_t(0);
   vote.mass = int64_t(0);
   vote.inside = 0;
-  SVA_PRECISE float beta = al.beta_hat + sva_beta_offset(al, i, n);
+  SVA_PRECISE float beta = al.beta_hat + sva_beta_offset(plan, i);
   SVA_PRECISE vec4 qb = sva_quat_axis_angle(al.axis, beta);
   SVA_PRECISE vec4 q = sva_quat_mul(qb, al.q1);
   SVA_PRECISE vec3 t = al.c_obs - sva_quat_rotate(qb, al.c_map_r);
@@ -63,7 +67,7 @@ SVA_FN SvaVote sva_vote(SvaAlignment al, SvaPoseGrid grid, uint object, float li
     rz = sva_rotation_bin(r.z, grid);
   }
   if (tx < 0 || ty < 0 || tz < 0) return vote;
-  SVA_PRECISE float w8 = likelihood * (sva_beta_weight(al, i, n) / weight_sum);
+  SVA_PRECISE float w8 = sva_beta_weight(plan, i) * scale;
   vote.key = sva_pack_bin_key(object, tx, ty, tz, rx, ry, rz);
   vote.mass = SVA_TO_FIXED(w8);
   vote.inside = 1;

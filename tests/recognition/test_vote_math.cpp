@@ -221,7 +221,7 @@ TEST_CASE("degenerate alignments: coincident points, normals along the axis, edg
   vm::SvaAlignment al = vm::sva_align(patch({1, 2, 3}, {0, 0, 1}), patch({1, 2, 3}, {0, 0, 1}), patch({0, 0, 0}, {0, 0, 1}),
                                       patch({10, 0, 0}, {0, 0, 1}));
   CHECK(al.valid == 0);
-  CHECK(vm::sva_beta_sample_count(al, g) == 0);
+  CHECK(vm::sva_beta_plan(al, g).n == 0);
   // Normals parallel to the axis, and edge contacts (normConf = 0): alignConf 0,
   // sigma huge: the whole circle, capped, evenly weighted, mass preserved.
   for (int c = 0; c < 2; ++c) {
@@ -232,15 +232,16 @@ TEST_CASE("degenerate alignments: coincident points, normals along the axis, edg
     REQUIRE(al.valid == 1);
     CHECK(al.align_conf == 0.0f);
     CHECK(std::isfinite(al.sigma));
-    const int n_samples = vm::sva_beta_sample_count(al, g);
+    const vm::SvaBetaPlan plan = vm::sva_beta_plan(al, g);
+    const int n_samples = plan.n;
     CHECK(n_samples >= 8);
     CHECK(n_samples < SVA_MAX_BETA_SAMPLES);
-    const float ws = vm::sva_beta_weight_sum(al, n_samples);
+    const float ws = vm::sva_beta_weight_sum(plan);
     CHECK(std::isfinite(ws));
     CHECK(ws == Approx(n_samples).epsilon(1e-3));
     std::int64_t total = 0;
     for (int s = 0; s < n_samples; ++s) {
-      const vm::SvaVote v = vm::sva_vote(al, g, 0, 0.5f, ws, s, n_samples);
+      const vm::SvaVote v = vm::sva_vote(al, plan, g, 0, vm::sva_vote_scale(0.5f, ws), s);
       CHECK(v.inside == 1);
       total += v.mass;
     }
@@ -256,11 +257,11 @@ TEST_CASE("a Gaussian narrower than a bin puts its mass in at least one bin") {
   const vm::SvaAlignment al = vm::sva_align(patch({0, 0, 0}, {0, 1, 0}), patch({20, 0, 0}, {0, 1, 0}),
                                             patch({0, 0, 0}, {0, 1, 0}), patch({20, 0, 0}, {0, 1, 0}));
   REQUIRE(al.sigma == Approx(SVA_SIGMA_INIT));
-  const int n = vm::sva_beta_sample_count(al, g);
-  CHECK(n % 2 == 1);  // the mean itself is sampled
-  const float ws = vm::sva_beta_weight_sum(al, n);
+  const vm::SvaBetaPlan plan = vm::sva_beta_plan(al, g);
+  CHECK(plan.n % 2 == 1);  // the mean itself is sampled
+  const float scale = vm::sva_vote_scale(1.0f, vm::sva_beta_weight_sum(plan));
   std::int64_t total = 0;
-  for (int s = 0; s < n; ++s) total += vm::sva_vote(al, g, 0, 1.0f, ws, s, n).mass;
+  for (int s = 0; s < plan.n; ++s) total += vm::sva_vote(al, plan, g, 0, scale, s).mass;
   CHECK(std::fabs(static_cast<double>(total) / SVA_FIXED_ONE - 1.0) < 1e-3);
 }
 
@@ -280,10 +281,10 @@ void main() {
   SvaPatch a; a.p = vec3(v[0], v[1], v[2]); a.n = vec3(v[3], v[4], v[5]); a.conf = v[6];
   SvaPatch b = a; b.p.x += 10.0f;
   SvaAlignment al = sva_align(a, b, b, a);
-  SvaPoseGrid g; g.kind = int(v[7]); g.translation_bins = 50; g.translation_min = -200.0f;
-  g.translation_width = 8.0f; g.rotation_bins = 9; g.rotation_width = 0.698f;
-  int n = sva_beta_sample_count(al, g);
-  SvaVote vt = sva_vote(al, g, 1u, 0.5f, sva_beta_weight_sum(al, n), int(gl_GlobalInvocationID.x), n);
+  SvaPoseGrid g = sva_pose_grid(int(v[7]), 50, -200.0f, 8.0f, 9, 0.698f);
+  SvaBetaPlan plan = sva_beta_plan(al, g);
+  float scale = sva_vote_scale(0.5f, sva_beta_weight_sum(plan));
+  SvaVote vt = sva_vote(al, plan, g, 1u, scale, int(gl_GlobalInvocationID.x));
   keys[gl_GlobalInvocationID.x] = vt.key + uint64_t(vt.mass);
 }
 )";

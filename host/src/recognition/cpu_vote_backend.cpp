@@ -159,12 +159,12 @@ class CpuVoteBackend final : public VoteBackend {
                   BinAccumulator& acc, PairStats* out) const {
     const vote_math::SvaAlignment al =
         vote_math::sva_align(a1, b1, patches_[map_.entry_a[e]], patches_[map_.entry_b[e]]);
-    const int n = vote_math::sva_beta_sample_count(al, grid_);
-    if (n == 0) return;
+    const vote_math::SvaBetaPlan plan = vote_math::sva_beta_plan(al, grid_);
+    if (plan.n == 0) return;
     ++out->matches;
-    const float wsum = vote_math::sva_beta_weight_sum(al, n);
-    for (int s = 0; s < n; ++s) {
-      const vote_math::SvaVote v = vote_math::sva_vote(al, grid_, object, likelihood, wsum, s, n);
+    const float scale = vote_math::sva_vote_scale(likelihood, vote_math::sva_beta_weight_sum(plan));
+    for (int s = 0; s < plan.n; ++s) {
+      const vote_math::SvaVote v = vote_math::sva_vote(al, plan, grid_, object, scale, s);
       if (!v.inside) {
         ++out->votes_outside;
         continue;

@@ -30,13 +30,11 @@ PoseSpace::PoseSpace(const PoseSpaceSpec& spec, std::uint32_t objects) : spec_(s
       !(spec.translation_max_mm > spec.translation_min_mm))
     throw Error(where + "translation range [" + std::to_string(spec.translation_min_mm) + ", " +
                 std::to_string(spec.translation_max_mm) + "] mm is empty or not finite");
-  grid_.kind = planar() ? SVA_POSE_PLANAR : SVA_POSE_SPATIAL;
-  grid_.translation_bins = spec.translation_bins;
-  grid_.translation_min = static_cast<float>(spec.translation_min_mm);
-  grid_.translation_width = static_cast<float>((spec.translation_max_mm - spec.translation_min_mm) / spec.translation_bins);
-  grid_.rotation_bins = spec.rotation_bins;
-  grid_.rotation_width = static_cast<float>(2.0 * std::numbers::pi / spec.rotation_bins);
-  if (!(grid_.translation_width > 0.0f))
+  grid_ = vote_math::sva_pose_grid(
+      planar() ? SVA_POSE_PLANAR : SVA_POSE_SPATIAL, spec.translation_bins, static_cast<float>(spec.translation_min_mm),
+      static_cast<float>((spec.translation_max_mm - spec.translation_min_mm) / spec.translation_bins),
+      spec.rotation_bins, static_cast<float>(2.0 * std::numbers::pi / spec.rotation_bins));
+  if (!(grid_.translation_width > 0.0f) || !std::isfinite(grid_.translation_scale))
     throw Error(where + "translation bins narrower than float precision");
   const std::uint64_t tb = static_cast<std::uint64_t>(spec.translation_bins), rb = static_cast<std::uint64_t>(spec.rotation_bins);
   bins_per_object_ = planar() ? tb * tb * rb : tb * tb * tb * rb * rb * rb;

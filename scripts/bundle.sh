@@ -98,6 +98,8 @@ env -u LD_LIBRARY_PATH SVA_ASSETS="$out/assets" "$out/sva" --version >/dev/null
 
 {
   "$out/sva" --version 2>/dev/null | head -n 1
+  # The oldest C library it runs on: the newest glibc symbol version anything here asks for.
+  echo "needs glibc >= $(cat "$out/sva" "$out"/tests/* "$out"/lib/* | grep -aoE 'GLIBC_2\.[0-9]+' | sort -uV | tail -n 1 | cut -c7-)"
   echo "built from $(git -C "$root" describe --always --dirty 2>/dev/null || echo unknown) on $(uname -n), $(date -u +%Y-%m-%dT%H:%M:%SZ)"
   echo "tests: $(cd "$out/tests" && ls | tr '\n' ' ')"
   echo "libraries: $(cd "$out/lib" && ls | tr '\n' ' ')"

@@ -7,6 +7,7 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools
   libglm-dev libembree-dev libtinygltf-dev libstb-dev nlohmann-json3-dev
   libusb-1.0-0-dev catch2 libtbb-dev
+  patchelf  # scripts/bundle.sh: $ORIGIN run paths in the relocatable bundle for a GPU machine
 )
 missing=()
 for p in "${packages[@]}"; do

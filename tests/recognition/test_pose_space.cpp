@@ -29,7 +29,7 @@ TEST_CASE("pose space refuses specs that do not fit the bin key") {
   CHECK_THROWS_AS(PoseSpace(s, 3), Error);
 }
 
-TEST_CASE("bin keys pack and unpack; bin centres fall in their own bins") {
+TEST_CASE("bin keys pack and unpack, and bin centres fall in their own bins") {
   for (const PoseSpaceSpec& spec : {paper_space(), letters_space()}) {
     PoseSpace space(spec, 7);
     util::Rng rng(4);

@@ -288,9 +288,9 @@ void main() {
   keys[gl_GlobalInvocationID.x] = vt.key + uint64_t(vt.mass);
 }
 )";
-  // This file is tests/recognition/..., the header is in shaders/include.
-  const std::string shader_include =
-      (std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() / "shaders" / "include").string();
+  // The source tree's shaders/include, from CMake: __FILE__ is relative to the build folder when ccache's
+  // base_dir rewrites paths, and ctest runs the tests from another folder.
+  const std::string shader_include = SVA_TEST_SHADER_INCLUDE;
   const std::string cmd = "glslangValidator -V --target-env vulkan1.2 -I" + shader_include + " -o " +
                           (dir / "check.spv").string() + " " + (dir / "check.comp").string() + " > " +
                           (dir / "log.txt").string() + " 2>&1";

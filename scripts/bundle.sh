@@ -1,0 +1,107 @@
+#!/usr/bin/env bash
+# Makes a relocatable folder that runs the sva test suite and the speed
+# benchmark on a GPU machine with no build tools (docs/vulkan-backend.md,
+# "Running on a GPU machine"):
+#
+#   scripts/bundle.sh OUT_DIR          BUILD_DIR=build (default): reused when built,
+#                                      else configured and built with PRESET (default)
+#
+# OUT_DIR/  sva, tests/sva_tests_<area>, assets/ (scenes and objects), lib/ (every
+#           shared library they load but the C library and the Vulkan drivers),
+#           run-tests.sh, run-bench.sh, env.sh, README.txt
+# The binaries get the run path $ORIGIN/lib (patchelf), so they run from any folder;
+# the shaders are embedded in them (shaders/CMakeLists.txt). The scripts set
+# SVA_BIN and SVA_ASSETS, so the build and source paths compiled into the tests
+# (tests/main.cpp) are never used.
+set -euo pipefail
+usage() { echo "usage: [BUILD_DIR=build] [PRESET=default] scripts/bundle.sh OUT_DIR" >&2; exit 2; }
+[[ $# -eq 1 && -n $1 ]] || usage
+root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+out=$1
+preset=${PRESET:-default}
+# The presets' binary folders: build/ for default, build-<preset>/ for the others.
+default_build=$root/build
+[[ $preset == default ]] || default_build=$root/build-$preset
+build=${BUILD_DIR:-$default_build}
+command -v patchelf >/dev/null || { echo "bundle: patchelf not found (scripts/setup.sh installs it)" >&2; exit 1; }
+
+if [[ ! -x $build/sva ]]; then
+  [[ -z ${BUILD_DIR:-} ]] || { echo "bundle: no sva in BUILD_DIR=$build" >&2; exit 1; }
+  echo "== no build in $build: cmake --preset $preset"
+  (cd "$root" && cmake --preset "$preset" && cmake --build --preset "$preset")
+fi
+build=$(cd "$build" && pwd)
+mapfile -t tests < <(find "$build/tests" -maxdepth 1 -type f -name 'sva_tests_*' -perm -u+x | sort)
+[[ ${#tests[@]} -gt 0 ]] || { echo "bundle: no test executables in $build/tests (build them first)" >&2; exit 1; }
+
+# Never delete a folder that is not a bundle.
+if [[ -e $out ]]; then
+  if [[ -d $out && ( -z $(ls -A "$out") || -f $out/.sva-bundle ) ]]; then rm -rf "$out"
+  else echo "bundle: $out exists and is not a bundle; not overwriting it" >&2; exit 1; fi
+fi
+mkdir -p "$out/lib" "$out/tests" "$out/assets"
+out=$(cd "$out" && pwd)
+case $out/ in "$build"/* | "$root"/*)
+  echo "note: $out is inside the source or build tree; move it elsewhere to use it" ;;
+esac
+touch "$out/.sva-bundle"
+echo "== bundle $build -> $out"
+
+cp "$build/sva" "$out/sva"
+cp "${tests[@]}" "$out/tests/"
+# The built-in scenes and objects, loaded at run time through SVA_ASSETS (the
+# generator's source stays behind).
+cp -r "$root/assets/scenes" "$root/assets/objects" "$out/assets/"
+for f in env.sh run-tests.sh run-bench.sh README.txt; do cp "$root/scripts/bundle/$f" "$out/$f"; done
+chmod +x "$out/run-tests.sh" "$out/run-bench.sh"
+
+# The shared-library closure (ldd is recursive), but the C library: glibc's parts
+# must match the target's ld.so, which a newer machine provides. libstdc++ and
+# libgcc_s are bundled (env.sh prefers the machine's own when newer). The Vulkan
+# loader is bundled; the drivers (ICDs) it opens at run time are the machine's.
+glibc_re='^(linux-vdso|ld-linux|libc|libm|libmvec|libpthread|libdl|librt|libresolv|libutil|libanl|libnsl|libBrokenLocale|libthread_db)\.so'
+declare -A libs=()
+for bin in "$out/sva" "$out"/tests/*; do
+  while read -r name _ path _; do
+    [[ $name =~ $glibc_re ]] && continue
+    [[ $path == /* ]] || { echo "bundle: $bin needs $name, which is not found" >&2; exit 1; }
+    libs[$name]=$path
+  done < <(ldd "$bin" | awk '$2 == "=>" { print $1, $2, $3 }')
+done
+# Loaded with dlopen, so ldd does not see it: TBB's scalable allocator (Embree's
+# task scheduler uses it when present).
+if [[ -n ${libs[libtbb.so.12]:-} && -f $(dirname "${libs[libtbb.so.12]}")/libtbbmalloc.so.2 ]]; then
+  libs[libtbbmalloc.so.2]=$(dirname "${libs[libtbb.so.12]}")/libtbbmalloc.so.2
+fi
+for name in "${!libs[@]}"; do cp -L "${libs[$name]}" "$out/lib/$name"; done
+chmod u+w "$out"/lib/*
+
+# Debug information stays in the build tree; the bundle is for running.
+if command -v strip >/dev/null && [[ ${STRIP:-1} != 0 ]]; then
+  strip --strip-debug "$out/sva" "$out"/tests/* "$out"/lib/*
+fi
+patchelf --set-rpath '$ORIGIN/lib' "$out/sva"
+for t in "$out"/tests/*; do patchelf --set-rpath '$ORIGIN/../lib' "$t"; done
+for l in "$out"/lib/*; do patchelf --set-rpath '$ORIGIN' "$l"; done
+
+# Check: every library resolves inside the bundle or to the C library, with no
+# help from LD_LIBRARY_PATH.
+bad=0
+for bin in "$out/sva" "$out"/tests/* "$out"/lib/*; do
+  while read -r name _ path _; do
+    [[ $name =~ $glibc_re || $(realpath -m "$path") == "$out/lib/"* ]] && continue
+    echo "bundle: $bin loads $name from $path, outside the bundle" >&2; bad=1
+  done < <(env -u LD_LIBRARY_PATH ldd "$bin" | awk '$2 == "=>" { print $1, $2, $3 }')
+done
+[[ $bad -eq 0 ]] || exit 1
+env -u LD_LIBRARY_PATH SVA_ASSETS="$out/assets" "$out/sva" --version >/dev/null
+
+{
+  "$out/sva" --version 2>/dev/null | head -n 1
+  # The oldest C library it runs on: the newest glibc symbol version anything here asks for.
+  echo "needs glibc >= $(cat "$out/sva" "$out"/tests/* "$out"/lib/* | grep -aoE 'GLIBC_2\.[0-9]+' | sort -uV | tail -n 1 | cut -c7-)"
+  echo "built from $(git -C "$root" describe --always --dirty 2>/dev/null || echo unknown) on $(uname -n), $(date -u +%Y-%m-%dT%H:%M:%SZ)"
+  echo "tests: $(cd "$out/tests" && ls | tr '\n' ' ')"
+  echo "libraries: $(cd "$out/lib" && ls | tr '\n' ' ')"
+} >"$out/BUILD-INFO.txt"
+echo "== bundle ready: $out ($(du -sh "$out" | cut -f1)); see $out/README.txt"

@@ -287,9 +287,7 @@ void main() {
   keys[gl_GlobalInvocationID.x] = vt.key + uint64_t(vt.mass);
 }
 )";
-  // This file is tests/recognition/..., the header is in shaders/include.
-  const std::string shader_include =
-      (std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() / "shaders" / "include").string();
+  const std::string shader_include = SVA_TEST_SHADER_INCLUDE;  // tests/CMakeLists.txt
   const std::string cmd = "glslangValidator -V --target-env vulkan1.2 -I" + shader_include + " -o " +
                           (dir / "check.spv").string() + " " + (dir / "check.comp").string() + " > " +
                           (dir / "log.txt").string() + " 2>&1";

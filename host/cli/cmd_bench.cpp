@@ -22,6 +22,7 @@
 #include "eval/metrics.hpp"
 #include "eval/trials.hpp"
 #include "io/text_file.hpp"
+#include "recognition/lockstep.hpp"
 #include "spv/fixed_point_scatter.h"
 #include "util/interrupt.hpp"
 #include "util/parallel.hpp"
@@ -62,6 +63,25 @@ std::vector<std::size_t> parse_checkpoints(const std::string& text) {
   return out;
 }
 
+void record_checkpoint(Checkpoint& c, const BatchRecognizer& rec, const std::vector<eval::Trial>& tr,
+                       const std::vector<Estimate>& est, std::uint64_t votes, double secs, double estimate_secs) {
+  const auto n = static_cast<double>(est.size());
+  c.update_ms.push_back(1e3 * secs / n);
+  c.estimate_ms.push_back(1e3 * estimate_secs / n);
+  c.votes += votes;
+  c.seconds += secs;
+  const auto t = rec.last_backend_timing();
+  c.kernel_ms.push_back(t.kernel_ms);
+  c.backend_host_ms.push_back(t.host_ms);
+  c.fold_ms.push_back(t.fold_ms);
+  for (std::size_t i = 0; i < est.size(); ++i) {
+    ++c.trials;
+    if (est[i].object != tr[i].object) continue;
+    ++c.correct;
+    if (est[i].pose_valid) c.translation_mm.push_back(glm::length(est[i].pose.T - tr[i].pose.T));
+  }
+}
+
 // Runs `sessions` trials in lock step (one update carries one reading of each)
 // and records the checkpoints. sessions = 1 measures the single-session latency.
 json run_backend(const Map& map, const Dataset& test, BackendKind backend, std::size_t trials, std::size_t sessions,
@@ -75,52 +95,36 @@ json run_backend(const Map& map, const Dataset& test, BackendKind backend, std::
   std::map<std::size_t, Checkpoint> cp;
   std::uint64_t all_votes = 0;
   double all_seconds = 0.0;
-  std::string device;
   util::Progress progress(label, trials * max_readings);
-  for (std::size_t first = 0; first < trials; first += sessions) {
-    const std::size_t n = std::min(sessions, trials - first);
-    BatchRecognizer rec(map, map.pose_space(), n, ro);
-    device = rec.backend_description();
-    std::vector<eval::Trial> tr;
-    for (std::size_t i = 0; i < n; ++i) tr.push_back(gen.make(first + i));
-    std::vector<std::size_t> ids(n);
-    for (std::size_t i = 0; i < n; ++i) ids[i] = i;
-    for (std::size_t step = 1; step <= max_readings; ++step) {
-      util::throw_if_interrupted();
-      std::vector<Reading> rd;
-      for (std::size_t i = 0; i < n; ++i) rd.push_back(tr[i].readings[step - 1]);
-      const auto t0 = Clock::now();
-      rec.add_readings(ids, rd);
-      const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
-      std::uint64_t votes = 0;
-      std::vector<Estimate> est;
-      const auto t1 = Clock::now();
-      for (std::size_t i = 0; i < n; ++i) {
-        est.push_back(rec.estimate(i, 1));
-        votes += est.back().votes;
-      }
-      const double estimate_secs = std::chrono::duration<double>(Clock::now() - t1).count();
-      all_votes += votes;
-      all_seconds += secs;
-      progress.advance(n);
-      if (!std::binary_search(checkpoints.begin(), checkpoints.end(), step)) continue;
-      Checkpoint& c = cp[step];
-      c.update_ms.push_back(1e3 * secs / static_cast<double>(n));
-      c.estimate_ms.push_back(1e3 * estimate_secs / static_cast<double>(n));
-      c.votes += votes;
-      c.seconds += secs;
-      const auto t = rec.last_backend_timing();
-      c.kernel_ms.push_back(t.kernel_ms);
-      c.backend_host_ms.push_back(t.host_ms);
-      c.fold_ms.push_back(t.fold_ms);
-      for (std::size_t i = 0; i < n; ++i) {
-        ++c.trials;
-        if (est[i].object != tr[i].object) continue;
-        ++c.correct;
-        if (est[i].pose_valid) c.translation_mm.push_back(glm::length(est[i].pose.T - tr[i].pose.T));
-      }
+  BatchRecognizer rec(map, map.pose_space(), std::min(sessions, trials), ro);
+  const std::string device = rec.backend_description();
+  std::vector<eval::Trial> tr;
+  LockstepHooks hooks;
+  hooks.progress = &progress;
+  hooks.group = [&](std::size_t first, std::size_t count) {
+    tr.clear();
+    std::vector<std::span<const Reading>> readings;
+    for (std::size_t i = 0; i < count; ++i) tr.push_back(gen.make(first + i));
+    for (const auto& t : tr) readings.emplace_back(t.readings);
+    return readings;
+  };
+  hooks.on_step = [&](const LockstepStep& s) {
+    const std::size_t step = s.step + 1;
+    const double secs = s.update_ms / 1e3;
+    std::uint64_t votes = 0;
+    std::vector<Estimate> est;
+    const auto t1 = Clock::now();
+    for (std::size_t i : s.sessions) {
+      est.push_back(rec.estimate(i, 1));
+      votes += est.back().votes;
     }
-  }
+    const double estimate_secs = std::chrono::duration<double>(Clock::now() - t1).count();
+    all_votes += votes;
+    all_seconds += secs;
+    if (std::binary_search(checkpoints.begin(), checkpoints.end(), step))
+      record_checkpoint(cp[step], rec, tr, est, votes, secs, estimate_secs);
+  };
+  run_lockstep(rec, trials, hooks);
   progress.finish();
   json j = {{"backend", eval::backend_name(backend)}, {"device", device}, {"sessions_per_submission", sessions},
             {"trials", trials}, {"votes_per_second", all_seconds > 0 ? static_cast<double>(all_votes) / all_seconds : 0.0}};

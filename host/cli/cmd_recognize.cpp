@@ -14,6 +14,7 @@
 #include "eval/trials.hpp"
 #include "io/batch_sessions.hpp"
 #include "map/pair_map.hpp"
+#include "recognition/lockstep.hpp"
 #include "util/interrupt.hpp"
 #include "util/progress.hpp"
 
@@ -82,44 +83,34 @@ int cmd_recognize(const std::vector<std::string>& argv) {
   for (const auto& s : sessions) total_readings += s.readings.size();
   util::Progress progress("recognize", total_readings);
   std::vector<Estimate> estimates(sessions.size());
-  std::string device;
-  for (std::size_t first = 0; first < sessions.size(); first += per) {
-    const std::size_t n = std::min(per, sessions.size() - first);
-    std::unique_ptr<BatchRecognizer> rec;
-    try {
-      rec = std::make_unique<BatchRecognizer>(map, map.pose_space(), n, ro);
-    } catch (const Error& e) {
-      if (backend != "auto") throw;
-      std::fprintf(stderr, "sva recognize: no usable Vulkan device (%s); using the CPU backend\n", e.what());
-      ro.backend = BackendKind::cpu;
-      rec = std::make_unique<BatchRecognizer>(map, map.pose_space(), n, ro);
-    }
-    device = rec->backend_description();
-    std::size_t longest = 0;
-    for (std::size_t i = 0; i < n; ++i) longest = std::max(longest, sessions[first + i].readings.size());
-    for (std::size_t step = 0; step < longest; ++step) {
-      util::throw_if_interrupted();
-      std::vector<std::size_t> ids;
-      std::vector<Reading> rd;
-      for (std::size_t i = 0; i < n; ++i) {
-        const auto& s = sessions[first + i];
-        if (step >= s.readings.size()) continue;
-        ids.push_back(i);
-        rd.push_back(s.readings[step]);
-      }
-      try {
-        rec->add_readings(ids, rd);
-      } catch (const Error& e) {
-        throw Error(batch_file + ": " + e.what() + " (session numbers count from " + std::to_string(first) + ")");
-      }
-      progress.advance(ids.size());
-    }
-    for (std::size_t i = 0; i < n; ++i) estimates[first + i] = rec->estimate(i, top_k);
+  std::unique_ptr<BatchRecognizer> rec;
+  const std::size_t batch = std::min(per, sessions.size());
+  try {
+    rec = std::make_unique<BatchRecognizer>(map, map.pose_space(), batch, ro);
+  } catch (const Error& e) {
+    if (backend != "auto") throw;
+    std::fprintf(stderr, "sva recognize: no usable Vulkan device (%s); using the CPU backend\n", e.what());
+    ro.backend = BackendKind::cpu;
+    rec = std::make_unique<BatchRecognizer>(map, map.pose_space(), batch, ro);
   }
+  LockstepHooks hooks;
+  hooks.progress = &progress;
+  hooks.group = [&](std::size_t first, std::size_t count) {
+    std::vector<std::span<const Reading>> readings;
+    for (std::size_t i = 0; i < count; ++i) readings.emplace_back(sessions[first + i].readings);
+    return readings;
+  };
+  hooks.on_group_end = [&](std::size_t first, std::size_t count) {
+    for (std::size_t i = 0; i < count; ++i) estimates[first + i] = rec->estimate(i, top_k);
+  };
+  hooks.on_error = [&](const Error& e, const LockstepStep& s) {
+    return Error(batch_file + ": " + e.what() + " (session numbers count from " + std::to_string(s.first) + ")");
+  };
+  run_lockstep(*rec, sessions.size(), hooks);
   progress.finish();
   io::write_batch_results(out_file, sessions, estimates, map.object_names());
   std::fprintf(stderr, "recognised %zu sessions (%zu readings) with %s; wrote %s\n", sessions.size(), total_readings,
-               device.c_str(), out_file.c_str());
+               rec->backend_description().c_str(), out_file.c_str());
   return 0;
 }
 

@@ -11,25 +11,20 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "args.hpp"
-#include "core/fixed_point.hpp"
 #include "eval/evaluation.hpp"
 #include "eval/metrics.hpp"
 #include "eval/trials.hpp"
 #include "io/text_file.hpp"
 #include "recognition/lockstep.hpp"
-#include "spv/fixed_point_scatter.h"
+#include "roofline/roofline.hpp"
 #include "util/interrupt.hpp"
 #include "util/parallel.hpp"
 #include "util/progress.hpp"
-#include "util/rng.hpp"
-#include "vulkan/context.hpp"
-#include "vulkan/hash_scatter.hpp"
 
 namespace sva::cli {
 
@@ -149,58 +144,14 @@ json run_backend(const Map& map, const Dataset& test, BackendKind backend, std::
   return j;
 }
 
-// The bare scatter: quantise and atomically add N weights into M bins, the
-// least work a vote can take on this device.
+// The bare-scatter roofline of the device, as the JSON report gives it.
 json roofline(std::size_t votes, std::size_t bins, const std::string& device) {
-  vk::ContextOptions co = vk::Context::from_environment();
-  if (!device.empty()) co.device = device;
-  vk::Context ctx(co);
-  util::Rng rng(5);
-  auto w = ctx.create_buffer(votes * sizeof(float));
-  auto b = ctx.create_buffer(votes * sizeof(std::uint32_t));
-  auto s = ctx.create_buffer(bins * sizeof(std::int64_t));
-  for (std::size_t i = 0; i < votes; ++i) {
-    w.as<float>()[i] = static_cast<float>(rng.uniform());
-    b.as<std::uint32_t>()[i] = static_cast<std::uint32_t>(rng.below(bins));
-  }
-  auto pipeline = ctx.create_pipeline(sva_spv_fixed_point_scatter, 3, 12);
-  // One dispatch covers at most maxComputeWorkGroupCount[0] workgroups.
-  std::vector<vk::Dispatch> dispatches;
-  const std::size_t per = std::size_t{ctx.info().max_workgroup_count_x} * SVA_WORKGROUP_SIZE;
-  for (std::size_t base = 0; base < votes; base += per) {
-    std::uint32_t push[3] = {static_cast<std::uint32_t>(votes), static_cast<std::uint32_t>(bins), static_cast<std::uint32_t>(base)};
-    std::vector<std::uint8_t> pb(sizeof push);
-    std::memcpy(pb.data(), push, sizeof push);
-    const std::size_t n = std::min(per, votes - base);
-    dispatches.push_back({&pipeline, {&w, &b, &s}, pb, static_cast<std::uint32_t>((n + SVA_WORKGROUP_SIZE - 1) / SVA_WORKGROUP_SIZE)});
-  }
-  std::vector<double> kernel;
-  double best_kernel = 1e30, best_wall = 1e30;
-  for (int rep = 0; rep < 3; ++rep) {
-    const auto t0 = Clock::now();
-    ctx.run(dispatches, &kernel);
-    best_wall = std::min(best_wall, std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-    double k = 0.0;
-    for (double m : kernel) k += m;
-    if (!kernel.empty()) best_kernel = std::min(best_kernel, k);
-  }
-  const double ms = best_kernel < 1e30 ? best_kernel : best_wall;
-  // The same votes scattered through the 64-bit-key hash table the vote kernel
-  // uses (no vote math): the roofline of hashed voting.
-  std::vector<std::uint64_t> keys(votes);
-  for (std::size_t i = 0; i < votes; ++i) keys[i] = b.as<std::uint32_t>()[i] * 0x9e3779b97f4a7c15ull >> 2;
-  vk::HashScatter hs(ctx, 4 * bins);
-  hs.run(keys, std::span<const float>(w.as<float>(), votes));  // sizes the table
-  double hash_ms = 1e30;
-  for (int rep = 0; rep < 3; ++rep) {
-    hs.run(keys, std::span<const float>(w.as<float>(), votes));
-    hash_ms = std::min(hash_ms, hs.last_kernel_ms());
-  }
-  json j = {{"device", ctx.info().name + " (" + ctx.info().type + ")"}, {"votes", votes}, {"bins", bins},
-            {"kernel_ms", ms}, {"votes_per_second", 1e3 * static_cast<double>(votes) / ms}};
-  if (hash_ms > 0 && hash_ms < 1e30) {
-    j["hash_kernel_ms"] = hash_ms;
-    j["hash_votes_per_second"] = 1e3 * static_cast<double>(votes) / hash_ms;
+  const bench::Roofline r = bench::measure_roofline(votes, bins, device);
+  json j = {{"device", r.device}, {"votes", r.votes}, {"bins", r.bins}, {"kernel_ms", r.kernel_ms},
+            {"votes_per_second", r.votes_per_second}};
+  if (r.hash_kernel_ms > 0) {
+    j["hash_kernel_ms"] = r.hash_kernel_ms;
+    j["hash_votes_per_second"] = r.hash_votes_per_second;
   }
   return j;
 }

@@ -69,7 +69,8 @@ BatchSession session_of(const std::string& line, const std::string& where, std::
   }
   if (!j.is_object()) throw Error(where + ": expected one JSON object per line");
   BatchSession s;
-  s.id = j.contains("id") ? (j["id"].is_string() ? j["id"].get<std::string>() : j["id"].dump()) : std::to_string(number);
+  s.id = std::to_string(number);
+  if (j.contains("id")) s.id = j["id"].is_string() ? j["id"].get<std::string>() : j["id"].dump();
   if (j.contains("truth")) s.truth = j["truth"];
   if (!j.contains("readings") || !j["readings"].is_array() || j["readings"].empty())
     throw Error(where + ": \"readings\" must be a non-empty array");
@@ -138,7 +139,8 @@ void write_batch_results(const std::string& file, std::span<const BatchSession> 
   if (sessions.size() != estimates.size())
     throw std::logic_error("write_batch_results: one estimate per session is needed");
   std::string text;
-  for (std::size_t i = 0; i < sessions.size(); ++i) text += result_json(sessions[i], estimates[i], objects).dump() + "\n";
+  for (std::size_t i = 0; i < sessions.size(); ++i)
+    text += result_json(sessions[i], estimates[i], objects).dump() + "\n";
   write_text_file(file, text);
 }
 

@@ -176,8 +176,10 @@ int cmd_bench(const std::vector<std::string>& argv) {
       .option("--roofline-votes", "N", "votes in the bare-scatter measurement (default 4194304)");
   if (!a.parse()) return 0;
   const std::string map_file = a.required("--map"), data_file = a.required("--data");
+  // A choice of runs, not of a backend: each run names its backend (no auto, which would hide which one ran).
   const std::string which = a.get_or("--backend", "both");
-  if (which != "cpu" && which != "vulkan" && which != "both") throw Error("sva bench: --backend must be cpu, vulkan or both, got \"" + which + "\"");
+  if (which != "cpu" && which != "vulkan" && which != "both")
+    throw Error("sva bench: --backend must be cpu, vulkan or both, got \"" + which + "\"");
   const auto checkpoints = parse_checkpoints(a.get_or("--readings", "10,30,100"));
   const auto trials = static_cast<std::size_t>(a.integer("--trials", 3, 1, 100000));
   const auto batch = static_cast<std::size_t>(a.integer("--batch", 16, 0, 4096));

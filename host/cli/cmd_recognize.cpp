@@ -15,6 +15,7 @@
 #include "io/batch_sessions.hpp"
 #include "map/pair_map.hpp"
 #include "recognition/lockstep.hpp"
+#include "recognition/vote_backend_factory.hpp"
 #include "util/interrupt.hpp"
 #include "util/progress.hpp"
 
@@ -73,26 +74,17 @@ int cmd_recognize(const std::vector<std::string>& argv) {
   const auto per = static_cast<std::size_t>(a.integer("--sessions-per-submission", 64, 1, 1 << 20));
   const auto top_k = static_cast<std::size_t>(a.integer("--top", 3, 0, 1000));
   RecognizerOptions ro;
-  const std::string backend = a.get_or("--backend", "auto");
-  if (backend == "cpu") ro.backend = BackendKind::cpu;
-  else if (backend == "vulkan" || backend == "auto") ro.backend = BackendKind::vulkan;
-  else throw Error("sva recognize: --backend expects auto, cpu or vulkan, got \"" + backend + "\"");
+  ro.backend = parse_backend_kind(a.get_or("--backend", "auto"), "sva recognize: --backend");
   ro.vulkan_device = a.get_or("--device", "");
 
   std::size_t total_readings = 0;
   for (const auto& s : sessions) total_readings += s.readings.size();
   util::Progress progress("recognize", total_readings);
   std::vector<Estimate> estimates(sessions.size());
-  std::unique_ptr<BatchRecognizer> rec;
-  const std::size_t batch = std::min(per, sessions.size());
-  try {
-    rec = std::make_unique<BatchRecognizer>(map, map.pose_space(), batch, ro);
-  } catch (const Error& e) {
-    if (backend != "auto") throw;
-    std::fprintf(stderr, "sva recognize: no usable Vulkan device (%s); using the CPU backend\n", e.what());
-    ro.backend = BackendKind::cpu;
-    rec = std::make_unique<BatchRecognizer>(map, map.pose_space(), batch, ro);
-  }
+  BatchRecognizer rec(map, map.pose_space(), std::min(per, sessions.size()), ro);
+  if (!rec.backend_fallback_reason().empty())
+    std::fprintf(stderr, "sva recognize: no usable Vulkan device (%s); using the CPU backend\n",
+                 rec.backend_fallback_reason().c_str());
   LockstepHooks hooks;
   hooks.progress = &progress;
   hooks.group = [&](std::size_t first, std::size_t count) {
@@ -101,16 +93,16 @@ int cmd_recognize(const std::vector<std::string>& argv) {
     return readings;
   };
   hooks.on_group_end = [&](std::size_t first, std::size_t count) {
-    for (std::size_t i = 0; i < count; ++i) estimates[first + i] = rec->estimate(i, top_k);
+    for (std::size_t i = 0; i < count; ++i) estimates[first + i] = rec.estimate(i, top_k);
   };
   hooks.on_error = [&](const Error& e, const LockstepStep& s) {
     return Error(batch_file + ": " + e.what() + " (session numbers count from " + std::to_string(s.first) + ")");
   };
-  run_lockstep(*rec, sessions.size(), hooks);
+  run_lockstep(rec, sessions.size(), hooks);
   progress.finish();
   io::write_batch_results(out_file, sessions, estimates, map.object_names());
   std::fprintf(stderr, "recognised %zu sessions (%zu readings) with %s; wrote %s\n", sessions.size(), total_readings,
-               rec->backend_description().c_str(), out_file.c_str());
+               rec.backend_description().c_str(), out_file.c_str());
   return 0;
 }
 

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cassert>
+#include <chrono>
 #include <string>
 
 #include "recognition/bin_accumulator.hpp"
@@ -19,6 +20,7 @@ namespace sva {
 
 namespace {
 
+using Clock = std::chrono::steady_clock;
 using vote_math::SvaPatch;
 using vote_math::vec3;
 
@@ -46,9 +48,11 @@ class CpuVoteBackend final : public VoteBackend {
   const char* name() const override { return "cpu"; }
 
   std::vector<PairVotes> vote(const VoteBatch& batch) override {
+    const auto start = Clock::now();
     std::vector<PairVotes> out(batch.pairs.size());
     util::parallel_for(
         batch.pairs.size(), [&](std::size_t i) { vote_pair(batch, batch.pairs[i], &out[i]); }, settings_.threads);
+    last_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
     return out;
   }
 
@@ -58,6 +62,7 @@ class CpuVoteBackend final : public VoteBackend {
 
   // Folds in pair order; the fixed-point offsets make any order give the same belief.
   std::vector<PairStats> vote_and_fold(const VoteBatch& batch, std::span<BeliefState* const> beliefs) override {
+    const auto start = Clock::now();
     std::vector<PairVotes> votes = vote(batch);
     std::vector<PairStats> out(votes.size());
     for (std::size_t i = 0; i < votes.size(); ++i) {
@@ -68,6 +73,7 @@ class CpuVoteBackend final : public VoteBackend {
       out[i] = votes[i];
       out[i].folded = belief->fold(votes[i]);
     }
+    last_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
     return out;
   }
 
@@ -114,6 +120,17 @@ class CpuVoteBackend final : public VoteBackend {
   std::uint32_t objects_;
   VoteSettings settings_;
   std::vector<SvaPatch> patches_;
+  double last_ms_ = 0.0;  // host time of the last vote or vote_and_fold
+
+ public:
+  BackendStats statistics() const override {
+    BackendStats s;
+    s.backend = name();
+    const unsigned threads = settings_.threads ? settings_.threads : util::default_threads();
+    s.device = "CPU reference (" + std::to_string(threads) + " threads)";
+    s.last_host_ms = last_ms_;
+    return s;
+  }
 };
 
 }  // namespace

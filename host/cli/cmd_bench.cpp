@@ -11,24 +11,20 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <cstring>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
 #include "args.hpp"
-#include "core/fixed_point.hpp"
 #include "eval/evaluation.hpp"
 #include "eval/metrics.hpp"
 #include "eval/trials.hpp"
 #include "io/text_file.hpp"
-#include "spv/fixed_point_scatter.h"
+#include "recognition/lockstep.hpp"
+#include "roofline/roofline.hpp"
 #include "util/interrupt.hpp"
 #include "util/parallel.hpp"
 #include "util/progress.hpp"
-#include "util/rng.hpp"
-#include "vulkan/context.hpp"
-#include "vulkan/hash_scatter.hpp"
 
 namespace sva::cli {
 
@@ -62,6 +58,25 @@ std::vector<std::size_t> parse_checkpoints(const std::string& text) {
   return out;
 }
 
+void record_checkpoint(Checkpoint& c, const BatchRecognizer& rec, const std::vector<eval::Trial>& tr,
+                       const std::vector<Estimate>& est, std::uint64_t votes, double secs, double estimate_secs) {
+  const auto n = static_cast<double>(est.size());
+  c.update_ms.push_back(1e3 * secs / n);
+  c.estimate_ms.push_back(1e3 * estimate_secs / n);
+  c.votes += votes;
+  c.seconds += secs;
+  const auto t = rec.last_backend_timing();
+  c.kernel_ms.push_back(t.kernel_ms);
+  c.backend_host_ms.push_back(t.host_ms);
+  c.fold_ms.push_back(t.fold_ms);
+  for (std::size_t i = 0; i < est.size(); ++i) {
+    ++c.trials;
+    if (est[i].object != tr[i].object) continue;
+    ++c.correct;
+    if (est[i].pose_valid) c.translation_mm.push_back(glm::length(est[i].pose.T - tr[i].pose.T));
+  }
+}
+
 // Runs `sessions` trials in lock step (one update carries one reading of each)
 // and records the checkpoints. sessions = 1 measures the single-session latency.
 json run_backend(const Map& map, const Dataset& test, BackendKind backend, std::size_t trials, std::size_t sessions,
@@ -75,52 +90,36 @@ json run_backend(const Map& map, const Dataset& test, BackendKind backend, std::
   std::map<std::size_t, Checkpoint> cp;
   std::uint64_t all_votes = 0;
   double all_seconds = 0.0;
-  std::string device;
   util::Progress progress(label, trials * max_readings);
-  for (std::size_t first = 0; first < trials; first += sessions) {
-    const std::size_t n = std::min(sessions, trials - first);
-    BatchRecognizer rec(map, map.pose_space(), n, ro);
-    device = rec.backend_description();
-    std::vector<eval::Trial> tr;
-    for (std::size_t i = 0; i < n; ++i) tr.push_back(gen.make(first + i));
-    std::vector<std::size_t> ids(n);
-    for (std::size_t i = 0; i < n; ++i) ids[i] = i;
-    for (std::size_t step = 1; step <= max_readings; ++step) {
-      util::throw_if_interrupted();
-      std::vector<Reading> rd;
-      for (std::size_t i = 0; i < n; ++i) rd.push_back(tr[i].readings[step - 1]);
-      const auto t0 = Clock::now();
-      rec.add_readings(ids, rd);
-      const double secs = std::chrono::duration<double>(Clock::now() - t0).count();
-      std::uint64_t votes = 0;
-      std::vector<Estimate> est;
-      const auto t1 = Clock::now();
-      for (std::size_t i = 0; i < n; ++i) {
-        est.push_back(rec.estimate(i, 1));
-        votes += est.back().votes;
-      }
-      const double estimate_secs = std::chrono::duration<double>(Clock::now() - t1).count();
-      all_votes += votes;
-      all_seconds += secs;
-      progress.advance(n);
-      if (!std::binary_search(checkpoints.begin(), checkpoints.end(), step)) continue;
-      Checkpoint& c = cp[step];
-      c.update_ms.push_back(1e3 * secs / static_cast<double>(n));
-      c.estimate_ms.push_back(1e3 * estimate_secs / static_cast<double>(n));
-      c.votes += votes;
-      c.seconds += secs;
-      const auto t = rec.last_backend_timing();
-      c.kernel_ms.push_back(t.kernel_ms);
-      c.backend_host_ms.push_back(t.host_ms);
-      c.fold_ms.push_back(t.fold_ms);
-      for (std::size_t i = 0; i < n; ++i) {
-        ++c.trials;
-        if (est[i].object != tr[i].object) continue;
-        ++c.correct;
-        if (est[i].pose_valid) c.translation_mm.push_back(glm::length(est[i].pose.T - tr[i].pose.T));
-      }
+  BatchRecognizer rec(map, map.pose_space(), std::min(sessions, trials), ro);
+  const std::string device = rec.backend_description();
+  std::vector<eval::Trial> tr;
+  LockstepHooks hooks;
+  hooks.progress = &progress;
+  hooks.group = [&](std::size_t first, std::size_t count) {
+    tr.clear();
+    std::vector<std::span<const Reading>> readings;
+    for (std::size_t i = 0; i < count; ++i) tr.push_back(gen.make(first + i));
+    for (const auto& t : tr) readings.emplace_back(t.readings);
+    return readings;
+  };
+  hooks.on_step = [&](const LockstepStep& s) {
+    const std::size_t step = s.step + 1;
+    const double secs = s.update_ms / 1e3;
+    std::uint64_t votes = 0;
+    std::vector<Estimate> est;
+    const auto t1 = Clock::now();
+    for (std::size_t i : s.sessions) {
+      est.push_back(rec.estimate(i, 1));
+      votes += est.back().votes;
     }
-  }
+    const double estimate_secs = std::chrono::duration<double>(Clock::now() - t1).count();
+    all_votes += votes;
+    all_seconds += secs;
+    if (std::binary_search(checkpoints.begin(), checkpoints.end(), step))
+      record_checkpoint(cp[step], rec, tr, est, votes, secs, estimate_secs);
+  };
+  run_lockstep(rec, trials, hooks);
   progress.finish();
   json j = {{"backend", eval::backend_name(backend)}, {"device", device}, {"sessions_per_submission", sessions},
             {"trials", trials}, {"votes_per_second", all_seconds > 0 ? static_cast<double>(all_votes) / all_seconds : 0.0}};
@@ -145,58 +144,14 @@ json run_backend(const Map& map, const Dataset& test, BackendKind backend, std::
   return j;
 }
 
-// The bare scatter: quantise and atomically add N weights into M bins, the
-// least work a vote can take on this device.
+// The bare-scatter roofline of the device, as the JSON report gives it.
 json roofline(std::size_t votes, std::size_t bins, const std::string& device) {
-  vk::ContextOptions co = vk::Context::from_environment();
-  if (!device.empty()) co.device = device;
-  vk::Context ctx(co);
-  util::Rng rng(5);
-  auto w = ctx.create_buffer(votes * sizeof(float));
-  auto b = ctx.create_buffer(votes * sizeof(std::uint32_t));
-  auto s = ctx.create_buffer(bins * sizeof(std::int64_t));
-  for (std::size_t i = 0; i < votes; ++i) {
-    w.as<float>()[i] = static_cast<float>(rng.uniform());
-    b.as<std::uint32_t>()[i] = static_cast<std::uint32_t>(rng.below(bins));
-  }
-  auto pipeline = ctx.create_pipeline(sva_spv_fixed_point_scatter, 3, 12);
-  // One dispatch covers at most maxComputeWorkGroupCount[0] workgroups.
-  std::vector<vk::Dispatch> dispatches;
-  const std::size_t per = std::size_t{ctx.info().max_workgroup_count_x} * SVA_WORKGROUP_SIZE;
-  for (std::size_t base = 0; base < votes; base += per) {
-    std::uint32_t push[3] = {static_cast<std::uint32_t>(votes), static_cast<std::uint32_t>(bins), static_cast<std::uint32_t>(base)};
-    std::vector<std::uint8_t> pb(sizeof push);
-    std::memcpy(pb.data(), push, sizeof push);
-    const std::size_t n = std::min(per, votes - base);
-    dispatches.push_back({&pipeline, {&w, &b, &s}, pb, static_cast<std::uint32_t>((n + SVA_WORKGROUP_SIZE - 1) / SVA_WORKGROUP_SIZE)});
-  }
-  std::vector<double> kernel;
-  double best_kernel = 1e30, best_wall = 1e30;
-  for (int rep = 0; rep < 3; ++rep) {
-    const auto t0 = Clock::now();
-    ctx.run(dispatches, &kernel);
-    best_wall = std::min(best_wall, std::chrono::duration<double, std::milli>(Clock::now() - t0).count());
-    double k = 0.0;
-    for (double m : kernel) k += m;
-    if (!kernel.empty()) best_kernel = std::min(best_kernel, k);
-  }
-  const double ms = best_kernel < 1e30 ? best_kernel : best_wall;
-  // The same votes scattered through the 64-bit-key hash table the vote kernel
-  // uses (no vote math): the roofline of hashed voting.
-  std::vector<std::uint64_t> keys(votes);
-  for (std::size_t i = 0; i < votes; ++i) keys[i] = b.as<std::uint32_t>()[i] * 0x9e3779b97f4a7c15ull >> 2;
-  vk::HashScatter hs(ctx, 4 * bins);
-  hs.run(keys, std::span<const float>(w.as<float>(), votes));  // sizes the table
-  double hash_ms = 1e30;
-  for (int rep = 0; rep < 3; ++rep) {
-    hs.run(keys, std::span<const float>(w.as<float>(), votes));
-    hash_ms = std::min(hash_ms, hs.last_kernel_ms());
-  }
-  json j = {{"device", ctx.info().name + " (" + ctx.info().type + ")"}, {"votes", votes}, {"bins", bins},
-            {"kernel_ms", ms}, {"votes_per_second", 1e3 * static_cast<double>(votes) / ms}};
-  if (hash_ms > 0 && hash_ms < 1e30) {
-    j["hash_kernel_ms"] = hash_ms;
-    j["hash_votes_per_second"] = 1e3 * static_cast<double>(votes) / hash_ms;
+  const bench::Roofline r = bench::measure_roofline(votes, bins, device);
+  json j = {{"device", r.device}, {"votes", r.votes}, {"bins", r.bins}, {"kernel_ms", r.kernel_ms},
+            {"votes_per_second", r.votes_per_second}};
+  if (r.hash_kernel_ms > 0) {
+    j["hash_kernel_ms"] = r.hash_kernel_ms;
+    j["hash_votes_per_second"] = r.hash_votes_per_second;
   }
   return j;
 }
@@ -221,8 +176,10 @@ int cmd_bench(const std::vector<std::string>& argv) {
       .option("--roofline-votes", "N", "votes in the bare-scatter measurement (default 4194304)");
   if (!a.parse()) return 0;
   const std::string map_file = a.required("--map"), data_file = a.required("--data");
+  // A choice of runs, not of a backend: each run names its backend (no auto, which would hide which one ran).
   const std::string which = a.get_or("--backend", "both");
-  if (which != "cpu" && which != "vulkan" && which != "both") throw Error("sva bench: --backend must be cpu, vulkan or both, got \"" + which + "\"");
+  if (which != "cpu" && which != "vulkan" && which != "both")
+    throw Error("sva bench: --backend must be cpu, vulkan or both, got \"" + which + "\"");
   const auto checkpoints = parse_checkpoints(a.get_or("--readings", "10,30,100"));
   const auto trials = static_cast<std::size_t>(a.integer("--trials", 3, 1, 100000));
   const auto batch = static_cast<std::size_t>(a.integer("--batch", 16, 0, 4096));

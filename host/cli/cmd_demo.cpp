@@ -17,6 +17,7 @@
 #include "eval/report.hpp"
 #include "io/binary_file.hpp"
 #include "io/text_file.hpp"
+#include "recognition/vote_backend_factory.hpp"
 
 #if __has_include(<sva/sim/simulate.hpp>)
 #include <sva/sim/simulate.hpp>
@@ -211,7 +212,7 @@ int cmd_demo(const std::vector<std::string>& argv) {
       .option("--threads", "N", "worker threads (default: SVA_THREADS or all cores)")
       .option("--trials", "N", "evaluation trials (default: 2 repetitions over the objects)")
       .option("--max-readings", "M", "readings per trial (default 20)")
-      .option("--backend", "cpu|vulkan", "vote backend for the evaluation (default cpu)");
+      .option("--backend", "cpu|vulkan|auto", "vote backend for the evaluation (default cpu)");
   if (!a.parse()) return 0;
   DemoConfig cfg;
   cfg.work = a.get_or("--work", "sva-demo");
@@ -222,9 +223,7 @@ int cmd_demo(const std::vector<std::string>& argv) {
   cfg.threads = static_cast<unsigned>(a.integer("--threads", 0, 1, 1024));
   cfg.trials = static_cast<std::size_t>(a.integer("--trials", 0, 1, 1000000));
   cfg.max_readings = static_cast<std::size_t>(a.integer("--max-readings", 20, 1, 100000));
-  const std::string backend = a.get_or("--backend", "cpu");
-  if (backend == "vulkan") cfg.backend = BackendKind::vulkan;
-  else if (backend != "cpu") throw Error("sva demo: --backend expects cpu or vulkan, got \"" + backend + "\"");
+  cfg.backend = parse_backend_kind(a.get_or("--backend", "cpu"), "sva demo: --backend");
   Scene scene = load_scene(cfg.scene_name);
   std::error_code ec;
   std::filesystem::create_directories(cfg.work, ec);

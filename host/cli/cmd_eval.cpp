@@ -15,6 +15,7 @@
 #include "eval/report.hpp"
 #include "eval/results.hpp"
 #include "io/text_file.hpp"
+#include "recognition/vote_backend_factory.hpp"
 
 namespace sva::cli {
 
@@ -43,7 +44,7 @@ int cmd_eval(const std::vector<std::string>& argv) {
   a.option("--trials", "N", "trials (default: 3 repetitions x objects, as in the paper)");
   a.option("--max-readings", "M", "readings per trial (default 30)");
   a.option("--seed", "S", "seed of the poses and reading orders (default 1)");
-  a.option("--backend", "cpu|vulkan", "vote backend (default cpu)");
+  a.option("--backend", "cpu|vulkan|auto", "vote backend (default cpu; auto: Vulkan when a device is usable)");
   a.option("--method", "sva|appearance", "sva, or the appearance-only baseline of [15] (default sva)");
   a.option("--json", "OUT.json", "write the summary curve as JSON");
   a.option("--csv", "OUT.csv", "write one row per (trial, readings)");
@@ -59,10 +60,7 @@ int cmd_eval(const std::vector<std::string>& argv) {
   o.max_readings = static_cast<std::size_t>(a.integer("--max-readings", 30, 1, 100000));
   o.seed = static_cast<std::uint64_t>(a.integer("--seed", 1, 0, std::numeric_limits<long long>::max()));
   o.threads = static_cast<unsigned>(a.integer("--threads", 0, 1, 1024));
-  const std::string backend = a.get_or("--backend", "cpu");
-  if (backend == "cpu") o.recognizer.backend = BackendKind::cpu;
-  else if (backend == "vulkan") o.recognizer.backend = BackendKind::vulkan;
-  else throw Error("sva eval: --backend expects cpu or vulkan, got \"" + backend + "\"");
+  o.recognizer.backend = parse_backend_kind(a.get_or("--backend", "cpu"), "sva eval: --backend");
   const std::string method = a.get_or("--method", "sva");
   if (method == "sva") o.recognizer.method = Method::sva;
   else if (method == "appearance") o.recognizer.method = Method::appearance;
@@ -95,6 +93,9 @@ int cmd_eval(const std::vector<std::string>& argv) {
   }
 
   const eval::EvalResult result = eval::run_evaluation(map, test, o);
+  if (!result.backend_fallback_reason.empty())
+    std::fprintf(stderr, "sva eval: no usable Vulkan device (%s); used the CPU backend\n",
+                 result.backend_fallback_reason.c_str());
   const eval::Curve curve = eval::summarize(result);
   std::fputs(eval::format_table(curve).c_str(), stdout);
   if (json_file) io::write_text_file(*json_file, eval::to_json(result, curve));

@@ -6,6 +6,13 @@ execute_process(COMMAND "${CMAKE_COMMAND}" --install "${BUILD}" --prefix "${pref
 if(rc)
   message(FATAL_ERROR "cmake --install failed: ${rc}")
 endif()
+# Benchmark-only kernels (bench/roofline) are never part of the package.
+file(GLOB_RECURSE installed RELATIVE "${prefix}" "${prefix}/*")
+foreach(f ${installed})
+  if(f MATCHES "roofline|hash_scatter|fixed_point_scatter|sva_bench")
+    message(FATAL_ERROR "the package ships a benchmark-only file: ${f}")
+  endif()
+endforeach()
 # A sanitizer build's static library needs the sanitizer runtimes in the consumer too.
 execute_process(COMMAND "${CMAKE_COMMAND}" -S "${SOURCE}" -B "${WORK}/build" -G Ninja "-DCMAKE_PREFIX_PATH=${prefix}"
                         "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_LINK_FLAGS}"

@@ -91,10 +91,9 @@ TEST_CASE("GPU beliefs: tiny tables grow through overflow and stay identical to 
     t.require_same(s);
     CHECK(t.fg[s]->belief().touched() > 1000);  // far past the 64 slots it started with
   }
-  const VulkanBackendStats* st = vulkan_backend_stats(*t.gpu);
-  REQUIRE(st != nullptr);
-  CHECK(st->table_grows >= 3);
-  CHECK(st->validation_messages == 0);
+  const BackendStats st = t.gpu->statistics();
+  CHECK(st.table_grows >= 3);
+  CHECK(st.validation_messages == 0);
 }
 
 TEST_CASE("GPU beliefs: planar space, pruning and a reset session match the CPU reference") {
@@ -119,7 +118,7 @@ TEST_CASE("GPU beliefs: planar space, pruning and a reset session match the CPU 
   t.require_same(0);
   t.require_same(1);
   CHECK(t.fg[0]->estimate(1).object == 1);
-  CHECK(vulkan_backend_stats(*t.gpu)->validation_messages == 0);
+  CHECK(t.gpu->statistics().validation_messages == 0);
 }
 
 TEST_CASE("GPU beliefs: an empty belief and a misuse are reported, not crashed") {

@@ -53,7 +53,7 @@ TEST_CASE("Vulkan votes equal the CPU reference bit for bit (spatial, several se
   auto cpu = make_cpu_vote_backend(*w.map, space, {});
   auto gpu = test::vulkan_backend_or_skip(*w.map, space, {});
   require_identical(cpu->vote(batch), gpu->vote(batch));
-  CHECK(vulkan_backend_stats(*gpu)->validation_messages == 0);
+  CHECK(gpu->statistics().validation_messages == 0);
 }
 
 TEST_CASE("Vulkan votes equal the CPU reference on a planar space with pruned objects") {
@@ -81,11 +81,10 @@ TEST_CASE("Vulkan backend: tiny map chunks and a tiny table still give the exact
   auto gpu = test::vulkan_backend_or_skip(*w.map, space, {}, o);
   auto cpu = make_cpu_vote_backend(*w.map, space, {});
   require_identical(cpu->vote(batch), gpu->vote(batch));
-  const VulkanBackendStats* st = vulkan_backend_stats(*gpu);
-  REQUIRE(st != nullptr);
-  CHECK(st->chunks > 10);
-  CHECK(st->table_grows >= 1);
-  CHECK(st->validation_messages == 0);
+  const BackendStats st = gpu->statistics();
+  CHECK(st.map_chunks > 10);
+  CHECK(st.table_grows >= 1);
+  CHECK(st.validation_messages == 0);
 }
 
 TEST_CASE("Vulkan backend folds into identical beliefs through update_sessions") {

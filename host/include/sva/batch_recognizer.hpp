@@ -31,6 +31,10 @@ class BatchRecognizer {
   std::size_t readings(std::size_t session) const;
   // The backend in use ("cpu" or "vulkan") and, for Vulkan, the device.
   std::string backend_description() const;
+  // The backend in use: cpu or vulkan (BackendKind::automatic has been resolved).
+  BackendKind backend() const;
+  // With BackendKind::automatic on the CPU: why no Vulkan device was usable ("" otherwise).
+  std::string backend_fallback_reason() const;
   // Where the last update's vote time went (Vulkan: GPU kernel time and the
   // backend's host-side preparation and read-back; CPU: all host).
   struct Timing {

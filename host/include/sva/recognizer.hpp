@@ -14,7 +14,9 @@
 
 namespace sva {
 
-enum class BackendKind { cpu, vulkan };
+// automatic ("auto"): Vulkan when a usable device exists, else the CPU
+// reference; both give the same answers.
+enum class BackendKind { cpu, vulkan, automatic };
 enum class Method { sva, appearance };  // appearance: the appearance-only baseline of [15]
 
 struct RecognizerOptions {

@@ -9,6 +9,8 @@
 
 #include "eval/trial_runner.hpp"
 #include "map/pair_map.hpp"
+#include "recognition/vote_backend_factory.hpp"
+#include "util/parallel.hpp"
 
 namespace sva::eval {
 
@@ -37,6 +39,7 @@ class RecognizerBatch final : public SessionBatch {
   void reset() override {
     for (std::size_t s = 0; s < batch_.sessions(); ++s) batch_.reset(s);
   }
+  const BatchRecognizer& recognizer() const { return batch_; }
 
  private:
   BatchRecognizer batch_;
@@ -56,7 +59,7 @@ std::string fmt(double v) {
 
 }  // namespace
 
-const char* backend_name(BackendKind backend) { return backend == BackendKind::vulkan ? "vulkan" : "cpu"; }
+const char* backend_name(BackendKind backend) { return backend_kind_name(backend); }
 const char* method_name(Method method) { return method == Method::appearance ? "appearance" : "sva"; }
 
 void check_compatible(const Map& map, const Dataset& test, const std::string& map_name, const std::string& data_name) {
@@ -97,14 +100,29 @@ EvalResult run_evaluation(const Map& map, const Dataset& test, const EvalOptions
   RecognizerOptions ro = options.recognizer;
   // The Vulkan backend runs the trials in lock step, a batch per submission
   // (one device, one upload of the map), as batch recognition does.
-  if (ro.backend == BackendKind::vulkan && ro.method == Method::sva) {
+  // With auto, the backend factory decides (BatchRecognizer::backend()).
+  std::string fallback;
+  if (ro.backend != BackendKind::cpu && ro.method == Method::sva) {
     RecognizerBatch batch(map, std::min<std::size_t>(options.trials, options.vulkan_batch), ro);
-    return run_trials_batched(test, setup, batch);
+    if (batch.recognizer().backend() == BackendKind::vulkan) {
+      setup.backend = backend_name(BackendKind::vulkan);
+      EvalResult r = run_trials_batched(test, setup, batch);
+      r.device = batch.recognizer().backend_description();
+      return r;
+    }
+    fallback = batch.recognizer().backend_fallback_reason();
   }
+  // Whatever the backend asked for, the appearance-only baseline votes nowhere.
+  if (ro.backend == BackendKind::automatic) ro.backend = BackendKind::cpu;
+  setup.backend = backend_name(ro.backend);
   // Trials already occupy the cores; a recognizer on one thread each avoids
   // oversubscription (its results do not depend on its thread count).
   if (options.trials > 1) ro.threads = 1;
-  return run_trials(test, setup, [&] { return std::make_unique<RecognizerSession>(map, ro); });
+  EvalResult r = run_trials(test, setup, [&] { return std::make_unique<RecognizerSession>(map, ro); });
+  const unsigned threads = options.threads ? options.threads : util::default_threads();
+  r.device = "CPU reference (" + std::to_string(std::min<std::size_t>(threads, options.trials)) + " threads)";
+  r.backend_fallback_reason = fallback;
+  return r;
 }
 
 }  // namespace sva::eval

@@ -58,6 +58,10 @@ struct EvalResult {
   std::size_t max_readings = 0;
   std::vector<std::string> objects;
   std::vector<TrialResult> trials;
+  // Not in the reports' files: what ran the votes ("vulkan: GPU name (type)",
+  // "CPU reference (N threads)") and, when auto found no usable Vulkan device, why.
+  std::string device;
+  std::string backend_fallback_reason;
 };
 
 // The curve of a result: one point per reading count 1..max_readings.

@@ -141,38 +141,32 @@ EvalResult run_trials_batched(const Dataset& test, const TrialSetup& setup, Sess
   if (setup.progress)
     progress.emplace("eval " + setup.method + " readings (batches of " + std::to_string(batch.size()) + " trials)",
                      setup.trials * setup.max_readings);
-  for (std::size_t first = 0; first < setup.trials; first += batch.size()) {
-    const std::size_t n = std::min(batch.size(), setup.trials - first);
-    std::vector<Trial> trials;
-    for (std::size_t i = 0; i < n; ++i) {
+  std::vector<Trial> trials;
+  LockstepHooks hooks;
+  hooks.progress = progress ? &*progress : nullptr;
+  hooks.group = [&](std::size_t first, std::size_t count) {
+    trials.clear();
+    std::vector<std::span<const Reading>> readings;
+    for (std::size_t i = 0; i < count; ++i) {
       trials.push_back(generator.make(first + i));
       start_trial(result.trials[first + i], trials.back());
     }
-    batch.reset();
-    std::vector<std::size_t> ids(n);
-    for (std::size_t i = 0; i < n; ++i) ids[i] = i;
-    for (std::size_t k = 0; k < setup.max_readings; ++k) {
-      util::throw_if_interrupted();
-      std::vector<Reading> readings;
-      for (const Trial& t : trials) readings.push_back(t.readings[k]);
-      const auto start = std::chrono::steady_clock::now();
-      try {
-        batch.add_readings(ids, readings);
-      } catch (const Interrupted&) {
-        throw;
-      } catch (const Error& e) {
-        throw Error(setup.source + ": trials " + std::to_string(first) + "-" + std::to_string(first + n - 1) + ", reading " +
-                    std::to_string(k + 1) + ": " + e.what());
-      }
-      const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-      for (std::size_t i = 0; i < n; ++i) {
-        const Trial& trial = trials[i];
-        record_step(result.trials[first + i].steps[k], batch.estimate(i), trial, test.scene.objects[trial.object],
-                    ms / static_cast<double>(n));
-      }
-      if (progress) progress->advance(n);
+    for (const Trial& t : trials) readings.emplace_back(t.readings);
+    return readings;
+  };
+  // A step's time is the batch update's time shared by the trials in it.
+  hooks.on_step = [&](const LockstepStep& s) {
+    for (std::size_t i : s.sessions) {
+      const Trial& trial = trials[i];
+      record_step(result.trials[s.first + i].steps[s.step], batch.estimate(i), trial, test.scene.objects[trial.object],
+                  s.update_ms / static_cast<double>(s.sessions.size()));
     }
-  }
+  };
+  hooks.on_error = [&](const Error& e, const LockstepStep& s) {
+    return Error(setup.source + ": trials " + std::to_string(s.first) + "-" + std::to_string(s.first + s.count - 1) +
+                 ", reading " + std::to_string(s.step + 1) + ": " + e.what());
+  };
+  run_lockstep(batch, setup.trials, hooks);
   if (progress) progress->finish();
   return result;
 }

@@ -13,6 +13,7 @@
 #include <string>
 
 #include "eval/results.hpp"
+#include "recognition/lockstep.hpp"
 
 namespace sva::eval {
 
@@ -27,16 +28,12 @@ class Session {
 };
 using SessionFactory = std::function<std::unique_ptr<Session>()>;
 
-// Many sessions stepped together: one call adds the next reading of each
-// listed session (one backend update, one GPU submission). reset() makes every
-// session fresh.
-class SessionBatch {
+// Many sessions stepped together (recognition/lockstep.hpp): one call adds the
+// next reading of each listed session (one backend update, one GPU
+// submission); the runner reads each trial's estimate after every update.
+class SessionBatch : public LockstepSessions {
  public:
-  virtual ~SessionBatch() = default;
-  virtual std::size_t size() const = 0;
-  virtual void add_readings(std::span<const std::size_t> sessions, std::span<const Reading> readings) = 0;
   virtual Estimate estimate(std::size_t session) const = 0;
-  virtual void reset() = 0;
 };
 
 struct TrialSetup {
@@ -55,8 +52,8 @@ struct TrialSetup {
 // everything but the timings is independent of the thread count.
 EvalResult run_trials(const Dataset& test, const TrialSetup& setup, const SessionFactory& make_session);
 
-// The same trials run in lock step, batch.size() at a time: step k adds the
-// k-th reading of every trial of the group in one call. Results equal
+// The same trials run in lock step (run_lockstep), batch.size() at a time: step
+// k adds the k-th reading of every trial of the group in one call. Results equal
 // run_trials' (but for timings: a step's time is the batch update's time
 // divided by the number of trials in it).
 EvalResult run_trials_batched(const Dataset& test, const TrialSetup& setup, SessionBatch& batch);

@@ -15,7 +15,7 @@
 #include "recognition/describe_reading.hpp"
 #include "recognition/pose_space.hpp"
 #include "recognition/vote_backend.hpp"
-#include "vulkan/vulkan_vote_backend.hpp"
+#include "recognition/vote_backend_factory.hpp"
 
 namespace sva {
 
@@ -32,6 +32,8 @@ struct BatchRecognizer::Impl {
   RecognizerOptions options;
   PoseSpace space;
   std::unique_ptr<VoteBackend> backend;
+  BackendKind kind = BackendKind::cpu;
+  std::string fallback_reason;
   std::vector<Session> sessions;
 
   Impl(const Map& m, const PoseSpaceSpec& spec, const RecognizerOptions& o)
@@ -62,13 +64,12 @@ BatchRecognizer::BatchRecognizer(const Map& map, const PoseSpaceSpec& pose_space
     VoteSettings vs;
     vs.likelihood_cutoff = options.likelihood_cutoff;
     vs.threads = options.threads;
-    if (options.backend == BackendKind::vulkan) {
-      VulkanBackendOptions vo;
-      vo.device = options.vulkan_device;
-      impl_->backend = make_vulkan_vote_backend(*impl_->pair_map, impl_->space, vs, vo);
-    } else {
-      impl_->backend = make_cpu_vote_backend(*impl_->pair_map, impl_->space, vs);
-    }
+    VulkanBackendOptions vo;
+    vo.device = options.vulkan_device;
+    VoteBackendChoice choice = make_vote_backend(options.backend, *impl_->pair_map, impl_->space, vs, vo);
+    impl_->backend = std::move(choice.backend);
+    impl_->kind = choice.kind;
+    impl_->fallback_reason = std::move(choice.fallback_reason);
     FilterOptions fo;
     fo.eps = options.eps;
     fo.object_prune_probability = options.object_prune_probability;
@@ -159,18 +160,21 @@ std::size_t BatchRecognizer::readings(std::size_t session) const { return impl_-
 
 std::string BatchRecognizer::backend_description() const {
   if (!impl_->backend) return "appearance";
-  if (const VulkanBackendStats* st = vulkan_backend_stats(*impl_->backend)) return "vulkan: " + st->device;
+  if (impl_->kind == BackendKind::vulkan) return "vulkan: " + impl_->backend->statistics().device;
   return impl_->backend->name();
 }
 
+BackendKind BatchRecognizer::backend() const { return impl_->kind; }
+std::string BatchRecognizer::backend_fallback_reason() const { return impl_->fallback_reason; }
+
 BatchRecognizer::Timing BatchRecognizer::last_backend_timing() const {
   Timing t;
-  if (impl_->backend)
-    if (const VulkanBackendStats* st = vulkan_backend_stats(*impl_->backend)) {
-      t.kernel_ms = st->last_kernel_ms;
-      t.host_ms = st->last_host_ms;
-      t.fold_ms = st->last_fold_ms;
-    }
+  if (impl_->backend) {
+    const BackendStats st = impl_->backend->statistics();
+    t.kernel_ms = st.last_kernel_ms;
+    t.host_ms = st.last_host_ms;
+    t.fold_ms = st.last_fold_ms;
+  }
   return t;
 }
 

@@ -7,6 +7,7 @@
 #include <sva/error.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <string>
 
 #include "recognition/bin_accumulator.hpp"
@@ -21,6 +22,7 @@ namespace {
 
 using vote_math::SvaPatch;
 using vote_math::vec3;
+using Clock = std::chrono::steady_clock;
 
 SvaPatch patch_of(const ObservedPatch& o) {
   SvaPatch p;
@@ -63,6 +65,7 @@ class CpuVoteBackend final : public VoteBackend {
   const char* name() const override { return "cpu"; }
 
   std::vector<PairVotes> vote(const VoteBatch& batch) override {
+    const auto start = Clock::now();
     std::vector<PairVotes> out(batch.pairs.size());
     util::parallel_for(
         batch.pairs.size(),
@@ -72,6 +75,7 @@ class CpuVoteBackend final : public VoteBackend {
           acc.sorted(&out[i].keys, &out[i].mass);
         },
         settings_.threads);
+    last_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
     return out;
   }
 
@@ -83,6 +87,7 @@ class CpuVoteBackend final : public VoteBackend {
   // that only a block's votes are held); the terms are then added to the
   // beliefs. Integer offsets: any order of pairs gives the same belief.
   std::vector<PairStats> vote_and_fold(const VoteBatch& batch, std::span<BeliefState* const> beliefs) override {
+    const auto start = Clock::now();
     std::vector<Belief*> target(batch.pairs.size());
     for (std::size_t i = 0; i < batch.pairs.size(); ++i) {
       const std::uint32_t s = batch.pairs[i].session;
@@ -107,7 +112,17 @@ class CpuVoteBackend final : public VoteBackend {
       for (std::size_t j = 0; j < n; ++j)
         out[first + j].folded = target[first + j]->add(terms[j], batch.pairs[first + j].fold_count);
     }
+    last_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
     return out;
+  }
+
+  BackendStats statistics() const override {
+    BackendStats s;
+    s.backend = name();
+    const unsigned threads = settings_.threads ? settings_.threads : util::default_threads();
+    s.device = "CPU reference (" + std::to_string(threads) + " threads)";
+    s.last_host_ms = last_ms_;
+    return s;
   }
 
  private:
@@ -180,6 +195,7 @@ class CpuVoteBackend final : public VoteBackend {
   std::uint32_t objects_;
   VoteSettings settings_;
   std::vector<SvaPatch> patches_;
+  double last_ms_ = 0.0;  // host time of the last vote or vote_and_fold
 };
 
 }  // namespace

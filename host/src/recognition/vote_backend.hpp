@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "map/pair_map.hpp"
+#include "recognition/backend_stats.hpp"
 #include "recognition/belief.hpp"
 #include "recognition/pose_space.hpp"
 
@@ -70,6 +71,8 @@ class VoteBackend {
   // (each made by this backend's make_belief). Returns per-pair statistics.
   virtual std::vector<PairStats> vote_and_fold(const VoteBatch& batch, std::span<BeliefState* const> beliefs) = 0;
   virtual const char* name() const = 0;
+  // What runs the votes, the last update's timings and the counters so far.
+  virtual BackendStats statistics() const = 0;
 };
 
 // The CPU reference backend: the executable specification of the vote step.

@@ -426,16 +426,17 @@ class VulkanVoteBackend final : public VoteBackend {
   std::vector<Chunk> chunks_;
   std::size_t chunk_ = 0, slots_ = 0;
   VulkanBackendStats stats_;
+
+ public:
+  BackendStats statistics() const override {
+    return {name(), stats_.device, stats_.last_kernel_ms, stats_.last_fold_ms, stats_.last_host_ms,
+            stats_.chunks, stats_.table_slots, stats_.table_grows, stats_.validation_messages};
+  }
 };
 
 std::unique_ptr<VoteBackend> make_vulkan_vote_backend(const PairMap& map, const PoseSpace& space, const VoteSettings& settings,
                                                       const VulkanBackendOptions& options) {
   return std::make_unique<VulkanVoteBackend>(map, space, settings, options);
-}
-
-const VulkanBackendStats* vulkan_backend_stats(const VoteBackend& backend) {
-  auto* v = dynamic_cast<const VulkanVoteBackend*>(&backend);
-  return v ? &v->stats() : nullptr;
 }
 
 }  // namespace sva

@@ -21,6 +21,8 @@ struct VulkanBackendOptions {
   std::size_t initial_belief_slots = 1 << 12;  // each session's belief table (grows at half load and on overflow)
 };
 
+// What the backend keeps about itself; reports read it as BackendStats, through
+// VoteBackend::statistics().
 struct VulkanBackendStats {
   std::string device;
   std::size_t chunks = 0;          // map chunks
@@ -35,7 +37,5 @@ struct VulkanBackendStats {
 class VulkanVoteBackend;
 std::unique_ptr<VoteBackend> make_vulkan_vote_backend(const PairMap& map, const PoseSpace& space, const VoteSettings& settings,
                                                       const VulkanBackendOptions& options = {});
-// Statistics of a backend made by make_vulkan_vote_backend (nullptr for other backends).
-const VulkanBackendStats* vulkan_backend_stats(const VoteBackend& backend);
 
 }  // namespace sva

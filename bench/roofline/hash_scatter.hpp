@@ -1,5 +1,7 @@
 #pragma once
-// GPU fixed-point vote scatter into a hashed histogram (shaders/hash_scatter.comp).
+// The bare hash scatter of `sva bench`: fixed-point votes into a hashed
+// histogram (bench/roofline/hash_scatter.comp), the vote kernel's table without
+// the vote math.
 // Large inputs are split into chunks that respect maxStorageBufferRange and the
 // workgroup-count limit; a table overflow grows the table and reruns the whole
 // scatter. The result is the exact integer sum per key, sorted by key: the same
@@ -11,13 +13,14 @@
 
 #include "vulkan/context.hpp"
 
-namespace sva::vk {
+namespace sva::bench {
 
 class HashScatter {
  public:
-  explicit HashScatter(Context& context, std::size_t initial_capacity = 1 << 12);
+  explicit HashScatter(vk::Context& context, std::size_t initial_capacity = 1 << 12);
   // Votes with key == hash::kEmptyKey (all ones) are a caller bug (asserted).
-  std::vector<std::pair<std::uint64_t, std::int64_t>> run(std::span<const std::uint64_t> keys, std::span<const float> weights);
+  std::vector<std::pair<std::uint64_t, std::int64_t>> run(std::span<const std::uint64_t> keys,
+                                                          std::span<const float> weights);
   // Largest number of votes per dispatch chunk (tests force tiny chunks).
   void set_max_chunk(std::size_t votes) { max_chunk_ = votes; }
   std::size_t capacity() const { return capacity_; }
@@ -26,8 +29,8 @@ class HashScatter {
   double last_kernel_ms() const { return kernel_ms_; }
 
  private:
-  Context& ctx_;
-  Pipeline pipeline_;
+  vk::Context& ctx_;
+  vk::Pipeline pipeline_;
   std::size_t capacity_;
   std::size_t max_chunk_;
   unsigned grows_ = 0;
@@ -38,4 +41,4 @@ class HashScatter {
 std::vector<std::pair<std::uint64_t, std::int64_t>> scatter_reference(std::span<const std::uint64_t> keys,
                                                                       std::span<const float> weights);
 
-}  // namespace sva::vk
+}  // namespace sva::bench

@@ -2,13 +2,14 @@
 
 #include <sva/error.hpp>
 
-#include "vk_test_support.hpp"
+#include "vulkan/vk_test_support.hpp"
 #include "util/rng.hpp"
-#include "vulkan/hash_scatter.hpp"
+#include "roofline/hash_scatter.hpp"
 
 namespace {
 
-void random_votes(std::size_t n, std::uint64_t distinct, std::vector<std::uint64_t>& keys, std::vector<float>& weights) {
+void random_votes(std::size_t n, std::uint64_t distinct, std::vector<std::uint64_t>& keys,
+                  std::vector<float>& weights) {
   sva::util::Rng rng(11, n, distinct);
   keys.resize(n);
   weights.resize(n);
@@ -24,9 +25,9 @@ TEST_CASE("GPU hash scatter equals the CPU reference exactly, growing the table 
   std::vector<std::uint64_t> keys;
   std::vector<float> weights;
   random_votes(50000, 5000, keys, weights);
-  sva::vk::HashScatter scatter(*ctx, 64);  // far too small: must grow, never drop a vote
+  sva::bench::HashScatter scatter(*ctx, 64);  // far too small: must grow, never drop a vote
   auto gpu = scatter.run(keys, weights);
-  auto cpu = sva::vk::scatter_reference(keys, weights);
+  auto cpu = sva::bench::scatter_reference(keys, weights);
   CHECK(scatter.grow_count() >= 6);
   CHECK(gpu.size() == cpu.size());
   CHECK(gpu == cpu);
@@ -38,12 +39,12 @@ TEST_CASE("GPU hash scatter gives the same sums when the input is split into tin
   std::vector<std::uint64_t> keys;
   std::vector<float> weights;
   random_votes(3000, 400, keys, weights);
-  sva::vk::HashScatter whole(*ctx, 1024);
-  sva::vk::HashScatter chunked(*ctx, 1024);
+  sva::bench::HashScatter whole(*ctx, 1024);
+  sva::bench::HashScatter chunked(*ctx, 1024);
   chunked.set_max_chunk(97);
   auto a = whole.run(keys, weights);
   auto b = chunked.run(keys, weights);
   CHECK(a == b);
-  CHECK(a == sva::vk::scatter_reference(keys, weights));
+  CHECK(a == sva::bench::scatter_reference(keys, weights));
   CHECK(ctx->validation_messages() == 0);
 }

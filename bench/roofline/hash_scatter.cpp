@@ -1,4 +1,4 @@
-#include "vulkan/hash_scatter.hpp"
+#include "roofline/hash_scatter.hpp"
 
 #include <algorithm>
 #include <bit>
@@ -12,7 +12,7 @@
 #include "core/hash.hpp"
 #include "spv/hash_scatter.h"
 
-namespace sva::vk {
+namespace sva::bench {
 
 namespace {
 
@@ -21,7 +21,7 @@ struct Push {
 };
 }  // namespace
 
-HashScatter::HashScatter(Context& context, std::size_t initial_capacity)
+HashScatter::HashScatter(vk::Context& context, std::size_t initial_capacity)
     : ctx_(context),
       pipeline_(context.create_pipeline(sva_spv_hash_scatter, 5, sizeof(Push))),
       capacity_(std::bit_ceil(std::max<std::size_t>(initial_capacity, 64))) {
@@ -36,16 +36,17 @@ std::vector<std::pair<std::uint64_t, std::int64_t>> HashScatter::run(std::span<c
   assert(keys.size() == weights.size());
   assert(std::none_of(keys.begin(), keys.end(), [](std::uint64_t k) { return k == hash::kEmptyKey; }));
   const std::size_t chunk = std::max<std::size_t>(1, std::min(max_chunk_, keys.size()));
-  Buffer key_buf = ctx_.create_buffer(chunk * sizeof(std::uint64_t));
-  Buffer weight_buf = ctx_.create_buffer(chunk * sizeof(float));
-  Buffer status = ctx_.create_buffer(sizeof(std::uint32_t));
+  vk::Buffer key_buf = ctx_.create_buffer(chunk * sizeof(std::uint64_t));
+  vk::Buffer weight_buf = ctx_.create_buffer(chunk * sizeof(float));
+  vk::Buffer status = ctx_.create_buffer(sizeof(std::uint32_t));
   for (;;) {
     kernel_ms_ = 0.0;
     // The table must fit one binding too; a histogram that large is a caller error.
     if (capacity_ * sizeof(std::int64_t) > ctx_.info().max_storage_buffer_range)
-      throw Error("GPU vote table would exceed the device's storage-buffer range (" + std::to_string(capacity_) + " slots)");
-    Buffer table_keys = ctx_.create_buffer(capacity_ * sizeof(std::uint64_t));
-    Buffer table_sums = ctx_.create_buffer(capacity_ * sizeof(std::int64_t));
+      throw Error("GPU vote table would exceed the device's storage-buffer range (" + std::to_string(capacity_) +
+                  " slots)");
+    vk::Buffer table_keys = ctx_.create_buffer(capacity_ * sizeof(std::uint64_t));
+    vk::Buffer table_sums = ctx_.create_buffer(capacity_ * sizeof(std::int64_t));
     std::memset(table_keys.data(), 0xff, table_keys.size());
     *status.as<std::uint32_t>() = 0;
     for (std::size_t begin = 0; begin < keys.size(); begin += chunk) {
@@ -85,4 +86,4 @@ std::vector<std::pair<std::uint64_t, std::int64_t>> scatter_reference(std::span<
   return {sums.begin(), sums.end()};
 }
 
-}  // namespace sva::vk
+}  // namespace sva::bench

@@ -1,0 +1,24 @@
+#pragma once
+// What a vote backend reports about itself through VoteBackend::statistics():
+// what runs the votes, where the last update's time went and its counters.
+// Every backend fills what it has; the rest stays zero. Reports read it
+// through the interface, never by casting to a concrete backend.
+#include <cstddef>
+#include <cstdint>
+#include <string>
+
+namespace sva {
+
+struct BackendStats {
+  std::string backend;            // "cpu" or "vulkan"
+  std::string device;             // what runs the votes: "CPU reference (N threads)" or "GPU name (type)"
+  double last_kernel_ms = 0.0;    // GPU time of the last update: vote and fold kernels (0 on the CPU)
+  double last_fold_ms = 0.0;      // of which the fold into the beliefs
+  double last_host_ms = 0.0;      // host time of the last update (on the CPU, all of it)
+  std::size_t map_chunks = 0;     // map chunks in device memory (binding-range limit)
+  std::size_t table_slots = 0;    // vote-table slots
+  unsigned table_grows = 0;       // vote- or belief-table overflows so far, each grown and rerun
+  std::uint32_t validation_messages = 0;  // Vulkan validation warnings and errors (SVA_VK_VALIDATION=1)
+};
+
+}  // namespace sva

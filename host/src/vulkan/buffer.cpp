@@ -1,0 +1,113 @@
+#include "vulkan/buffer.hpp"
+
+#include <sva/error.hpp>
+
+#include <algorithm>
+#include <cstring>
+#include <utility>
+#include <vector>
+
+#include "vulkan/device.hpp"
+#include "vulkan/vk_check.hpp"
+
+namespace sva::vk {
+
+namespace {
+
+// Host-mapped, coherent memory, the device's own where it has such (lavapipe,
+// integrated GPUs, discrete GPUs with a large BAR): the host fills inputs and
+// reads results without staging copies, and the kernels' atomics stay on the
+// device. Otherwise (or when that heap is full) host memory. Best first.
+std::vector<std::uint32_t> memory_types(const VkPhysicalDeviceMemoryProperties& memory, std::uint32_t allowed) {
+  const VkMemoryPropertyFlags mapped = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  std::vector<std::uint32_t> types;
+  for (VkMemoryPropertyFlags want : {mapped | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, mapped})
+    for (std::uint32_t i = 0; i < memory.memoryTypeCount; ++i)
+      if ((allowed & (1u << i)) && (memory.memoryTypes[i].propertyFlags & want) == want &&
+          std::find(types.begin(), types.end(), i) == types.end())
+        types.push_back(i);
+  if (types.empty()) throw Error("Vulkan: no host-visible coherent memory type");
+  return types;
+}
+
+}  // namespace
+
+Buffer::Buffer(const Device& device, std::size_t bytes) : device_(device.handle()), size_(bytes ? bytes : 16) {
+  if (size_ > device.info().max_allocation)
+    throw Error("Vulkan: a buffer of " + std::to_string(size_) + " bytes exceeds the device's largest allocation (" +
+                std::to_string(device.info().max_allocation) + " bytes)");
+  VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  bci.size = size_;
+  bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+              VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+  bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  check(vkCreateBuffer(device_, &bci, nullptr, &buffer_), "vkCreateBuffer");
+  try {
+    allocate(device);
+  } catch (...) {
+    release();  // the destructor does not run for a failed constructor
+    throw;
+  }
+}
+
+void Buffer::allocate(const Device& device) {
+  VkMemoryRequirements req;
+  vkGetBufferMemoryRequirements(device_, buffer_, &req);
+  VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+  flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+  VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  mai.pNext = &flags;
+  mai.allocationSize = req.size;
+  VkResult r = VK_ERROR_OUT_OF_DEVICE_MEMORY;
+  for (std::uint32_t type : memory_types(device.memory(), req.memoryTypeBits)) {
+    mai.memoryTypeIndex = type;
+    r = vkAllocateMemory(device_, &mai, nullptr, &memory_);
+    if (r == VK_SUCCESS) {
+      device_local_ = (device.memory().memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT) != 0;
+      break;
+    }
+    if (r != VK_ERROR_OUT_OF_DEVICE_MEMORY && r != VK_ERROR_OUT_OF_HOST_MEMORY) break;
+  }
+  if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY)
+    throw Error("Vulkan: out of memory allocating " + std::to_string(size_) + " bytes");
+  check(r, "vkAllocateMemory");
+  check(vkBindBufferMemory(device_, buffer_, memory_, 0), "vkBindBufferMemory");
+  check(vkMapMemory(device_, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
+  VkBufferDeviceAddressInfo ai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+  ai.buffer = buffer_;
+  address_ = vkGetBufferDeviceAddress(device_, &ai);
+  std::memset(mapped_, 0, size_);
+}
+
+void Buffer::release() {
+  if (device_) {
+    if (mapped_) vkUnmapMemory(device_, memory_);
+    if (buffer_) vkDestroyBuffer(device_, buffer_, nullptr);
+    if (memory_) vkFreeMemory(device_, memory_, nullptr);
+  }
+  device_ = VK_NULL_HANDLE;
+  buffer_ = VK_NULL_HANDLE;
+  memory_ = VK_NULL_HANDLE;
+  mapped_ = nullptr;
+  size_ = 0;
+  address_ = 0;
+  device_local_ = false;
+}
+
+Buffer::~Buffer() { release(); }
+Buffer::Buffer(Buffer&& o) noexcept { *this = std::move(o); }
+Buffer& Buffer::operator=(Buffer&& o) noexcept {
+  if (this != &o) {
+    release();
+    std::swap(device_, o.device_);
+    std::swap(buffer_, o.buffer_);
+    std::swap(memory_, o.memory_);
+    std::swap(mapped_, o.mapped_);
+    std::swap(size_, o.size_);
+    std::swap(address_, o.address_);
+    std::swap(device_local_, o.device_local_);
+  }
+  return *this;
+}
+
+}  // namespace sva::vk

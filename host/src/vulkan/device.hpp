@@ -1,0 +1,57 @@
+#pragma once
+// The compute device: the physical device picked among those the engine can
+// use (a compute queue, Vulkan 1.2, 64-bit integers and buffer atomics, buffer
+// device addresses), its limits, and the logical device with its one queue.
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <string>
+
+namespace sva::vk {
+
+class Instance;
+
+struct DeviceInfo {
+  std::string name;
+  std::string type;  // "discrete", "integrated", "cpu", ...
+  std::uint64_t max_storage_buffer_range = 0;
+  std::uint32_t max_workgroup_count_x = 0;
+  std::uint32_t max_workgroup_count_y = 0;
+  std::uint64_t max_allocation = 0;  // maxMemoryAllocationSize
+  bool timestamps = false;        // per-dispatch GPU timing available
+  double timestamp_period_ns = 0;
+};
+
+struct Grid {
+  std::uint32_t x = 1, y = 1;
+};
+
+class Device {
+ public:
+  // choice: "" = prefer a discrete GPU; else an index among the usable devices
+  // or a substring of the device name. sva::Error says why none is usable.
+  Device(const Instance& instance, const std::string& choice);
+  ~Device();
+  Device(const Device&) = delete;
+  Device& operator=(const Device&) = delete;
+
+  VkDevice handle() const { return device_; }
+  VkPhysicalDevice physical() const { return physical_; }
+  VkQueue queue() const { return queue_; }
+  std::uint32_t queue_family() const { return queue_family_; }
+  const DeviceInfo& info() const { return info_; }
+  const VkPhysicalDeviceMemoryProperties& memory() const { return memory_; }
+  // A 2-D grid of SVA_WORKGROUP_SIZE-wide workgroups covering `invocations`
+  // (x is capped at maxComputeWorkGroupCount[0]); shaders flatten it back.
+  Grid grid(std::uint64_t invocations) const;
+
+ private:
+  VkPhysicalDevice physical_ = VK_NULL_HANDLE;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  std::uint32_t queue_family_ = 0;
+  DeviceInfo info_;
+  VkPhysicalDeviceMemoryProperties memory_{};
+};
+
+}  // namespace sva::vk

@@ -7,8 +7,12 @@
 //           the session's table (a full table raises the session's overflow
 //           flag: the host grows that table and folds the session again);
 //  PAIR_LOG: per pair, the log2(total eps) that all its bins subtract;
-//  ADD:     add the slot's term to the reserved bin. Integer atomics, so the
-//           order of the additions does not change the sums.
+//  ADD:     add the slot's term to the reserved bin, and clear the slot, so
+//           that the next update finds the vote table empty without a fill
+//           of the whole table. Integer atomics, so the order of the
+//           additions does not change the sums.
+// The passes run in the votes' submission: when the votes overflowed their
+// table (vote_overflow), every pass does nothing and the host runs all again.
 // Sessions whose `fold` is 0 are skipped (a rerun after a growth folds only
 // the sessions that overflowed).
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -23,12 +27,13 @@
 
 layout(local_size_x = SVA_WORKGROUP_SIZE) in;
 
-layout(std430, set = 0, binding = 0) readonly buffer VoteKeys { uint64_t vote_key[]; };
-layout(std430, set = 0, binding = 1) readonly buffer VoteSums { int64_t vote_sum[]; };
+layout(std430, set = 0, binding = 0) buffer VoteKeys { uint64_t vote_key[]; };
+layout(std430, set = 0, binding = 1) buffer VoteSums { int64_t vote_sum[]; };
 layout(std430, set = 0, binding = 2) readonly buffer Pairs { SvaGpuPair pairs[]; };
 layout(std430, set = 0, binding = 3) buffer PairTotals { uint64_t pair_total[]; };  // totals, then log2(total eps)
 layout(std430, set = 0, binding = 4) readonly buffer Sessions { SvaGpuSession sessions[]; };
 layout(std430, set = 0, binding = 5) buffer Status { SvaGpuSessionStatus status[]; };
+layout(std430, set = 0, binding = 6) readonly buffer VoteStatus { uint vote_overflow; };
 
 layout(push_constant) uniform Push { SvaFoldParams pc; };
 
@@ -46,12 +51,22 @@ void flush_run() {
   run_inserted = 0u;
 }
 
+// Only this invocation reads slot i in the ADD pass; the next update's votes
+// find it empty.
+void clear_slot(uint i) {
+  vote_key[i] = SVA_HASH_EMPTY_KEY;
+  vote_sum[i] = 0l;
+}
+
 void fold_slot(uint i) {
   if (i >= pc.slots) return;
   uint64_t key = vote_key[i];
   if (key == SVA_HASH_EMPTY_KEY) return;
   int64_t mass = vote_sum[i];
-  if (mass <= 0l) return;  // the scatter adds positive masses only; kept for safety
+  if (mass <= 0l) {  // the scatter adds positive masses only; kept for safety
+    if (pc.pass == SVA_FOLD_ADD) clear_slot(i);
+    return;
+  }
   uint q = uint(key >> pc.pair_shift);
   uint64_t bin = key & ((1ul << pc.pair_shift) - 1ul);
   uint s = pairs[q].session;
@@ -83,9 +98,11 @@ void fold_slot(uint i) {
   // fold_count 2: both orders of Eq 5 cast the same votes, so the term counts twice.
   atomicAdd(offsets.w[slot], sva_fold_units_given(uint64_t(mass), pair_total[q], eps_units, floor_log) *
                                  uint64_t(pairs[q].fold_count));
+  clear_slot(i);
 }
 
 void main() {
+  if (vote_overflow != 0u) return;
   if (pc.pass == SVA_FOLD_PAIR_LOG) {
     uint q = sva_flat_index();
     if (q < pc.pairs && pair_total[q] != 0ul) {

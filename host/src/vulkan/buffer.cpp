@@ -14,25 +14,31 @@ namespace sva::vk {
 
 namespace {
 
-// Host-mapped, coherent memory, the device's own where it has such (lavapipe,
-// integrated GPUs, discrete GPUs with a large BAR): the host fills inputs and
-// reads results without staging copies, and the kernels' atomics stay on the
-// device. Otherwise (or when that heap is full) host memory. Best first.
-std::vector<std::uint32_t> memory_types(const VkPhysicalDeviceMemoryProperties& memory, std::uint32_t allowed) {
+// The memory types to try, best first. Mapped buffers: host-visible coherent
+// memory, the device's own where it has such (lavapipe, integrated GPUs,
+// discrete GPUs with a large BAR), else host memory. Device buffers: the
+// device's own memory, host-visible first (no staging), then any; host memory
+// last, when the device's heaps are full.
+std::vector<std::uint32_t> memory_types(const VkPhysicalDeviceMemoryProperties& memory, std::uint32_t allowed,
+                                        Memory kind) {
   const VkMemoryPropertyFlags mapped = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  const VkMemoryPropertyFlags local = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+  std::vector<VkMemoryPropertyFlags> wants{mapped | local, mapped};
+  if (kind == Memory::device) wants = {mapped | local, local, mapped};
   std::vector<std::uint32_t> types;
-  for (VkMemoryPropertyFlags want : {mapped | VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, mapped})
+  for (VkMemoryPropertyFlags want : wants)
     for (std::uint32_t i = 0; i < memory.memoryTypeCount; ++i)
       if ((allowed & (1u << i)) && (memory.memoryTypes[i].propertyFlags & want) == want &&
           std::find(types.begin(), types.end(), i) == types.end())
         types.push_back(i);
-  if (types.empty()) throw Error("Vulkan: no host-visible coherent memory type");
+  if (types.empty()) throw Error("Vulkan: no usable memory type for a storage buffer");
   return types;
 }
 
 }  // namespace
 
-Buffer::Buffer(const Device& device, std::size_t bytes) : device_(device.handle()), size_(bytes ? bytes : 16) {
+Buffer::Buffer(const Device& device, std::size_t bytes, Memory kind, bool never_map)
+    : device_(device.handle()), size_(bytes ? bytes : 16) {
   if (size_ > device.info().max_allocation)
     throw Error("Vulkan: a buffer of " + std::to_string(size_) + " bytes exceeds the device's largest allocation (" +
                 std::to_string(device.info().max_allocation) + " bytes)");
@@ -43,14 +49,14 @@ Buffer::Buffer(const Device& device, std::size_t bytes) : device_(device.handle(
   bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   check(vkCreateBuffer(device_, &bci, nullptr, &buffer_), "vkCreateBuffer");
   try {
-    allocate(device);
+    allocate(device, kind, never_map);
   } catch (...) {
     release();  // the destructor does not run for a failed constructor
     throw;
   }
 }
 
-void Buffer::allocate(const Device& device) {
+void Buffer::allocate(const Device& device, Memory kind, bool never_map) {
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(device_, buffer_, &req);
   VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
@@ -59,11 +65,14 @@ void Buffer::allocate(const Device& device) {
   mai.pNext = &flags;
   mai.allocationSize = req.size;
   VkResult r = VK_ERROR_OUT_OF_DEVICE_MEMORY;
-  for (std::uint32_t type : memory_types(device.memory(), req.memoryTypeBits)) {
+  bool host_visible = false;
+  for (std::uint32_t type : memory_types(device.memory(), req.memoryTypeBits, kind)) {
     mai.memoryTypeIndex = type;
     r = vkAllocateMemory(device_, &mai, nullptr, &memory_);
     if (r == VK_SUCCESS) {
-      device_local_ = (device.memory().memoryTypes[type].propertyFlags & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT) != 0;
+      const VkMemoryPropertyFlags f = device.memory().memoryTypes[type].propertyFlags;
+      device_local_ = (f & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT) != 0;
+      host_visible = (f & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) != 0;
       break;
     }
     if (r != VK_ERROR_OUT_OF_DEVICE_MEMORY && r != VK_ERROR_OUT_OF_HOST_MEMORY) break;
@@ -72,11 +81,13 @@ void Buffer::allocate(const Device& device) {
     throw Error("Vulkan: out of memory allocating " + std::to_string(size_) + " bytes");
   check(r, "vkAllocateMemory");
   check(vkBindBufferMemory(device_, buffer_, memory_, 0), "vkBindBufferMemory");
-  check(vkMapMemory(device_, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
+  if (host_visible && !(kind == Memory::device && never_map)) {
+    check(vkMapMemory(device_, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
+    std::memset(mapped_, 0, size_);
+  }
   VkBufferDeviceAddressInfo ai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
   ai.buffer = buffer_;
   address_ = vkGetBufferDeviceAddress(device_, &ai);
-  std::memset(mapped_, 0, size_);
 }
 
 void Buffer::release() {

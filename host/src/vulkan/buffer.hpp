@@ -1,7 +1,13 @@
 #pragma once
-// A storage buffer with its memory, mapped for the host for its whole life and
-// reachable by device address: inputs are written and results read in place,
-// without staging copies.
+// A storage buffer with its memory, reachable by device address. Two kinds:
+//  - mapped: host-visible coherent memory, mapped for its whole life; inputs
+//    are written and results read in place (the device's own memory where it
+//    has such, else host memory);
+//  - device: the device's own memory for what only kernels touch (the map, the
+//    vote and belief tables), so that a GPU without a large BAR does not read
+//    them over the bus. It is mapped only when that memory happens to be
+//    host-visible (lavapipe, integrated GPUs, large BAR) and staging is not
+//    forced; else the Context uploads and downloads through staging copies.
 #include <vulkan/vulkan.h>
 
 #include <cstddef>
@@ -11,17 +17,23 @@ namespace sva::vk {
 
 class Device;
 
+enum class Memory { mapped, device };
+
 class Buffer {
  public:
   Buffer() = default;
-  // Zero-filled; `bytes` 0 gives a small placeholder (a binding cannot be empty).
-  Buffer(const Device& device, std::size_t bytes);
+  // Zero-filled when mapped (a device buffer is zeroed by Context::create_device_buffer);
+  // `bytes` 0 gives a small placeholder (a binding cannot be empty). `never_map`
+  // keeps a device buffer unmapped even in host-visible memory (tests of the staging path).
+  Buffer(const Device& device, std::size_t bytes, Memory kind = Memory::mapped, bool never_map = false);
   Buffer(Buffer&&) noexcept;
   Buffer& operator=(Buffer&&) noexcept;
   Buffer(const Buffer&) = delete;
   Buffer& operator=(const Buffer&) = delete;
   ~Buffer();
   std::size_t size() const { return size_; }
+  bool mapped() const { return mapped_ != nullptr; }
+  // The mapped memory; nullptr for an unmapped device buffer (use Context::upload / download).
   void* data() { return mapped_; }
   const void* data() const { return mapped_; }
   template <class T>
@@ -37,7 +49,7 @@ class Buffer {
   bool device_local() const { return device_local_; }
 
  private:
-  void allocate(const Device& device);
+  void allocate(const Device& device, Memory kind, bool never_map);
   void release();
 
   VkDevice device_ = VK_NULL_HANDLE;

@@ -64,6 +64,56 @@ void CommandRunner::run(const std::vector<Dispatch>& dispatches, std::vector<dou
   if (timing) read_kernel_ms(dispatches.size(), *kernel_ms);
 }
 
+VkCommandBuffer CommandRunner::begin() {
+  VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
+  cai.commandPool = command_pool_;
+  cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  cai.commandBufferCount = 1;
+  VkCommandBuffer cmd;
+  check(vkAllocateCommandBuffers(device_.handle(), &cai, &cmd), "vkAllocateCommandBuffers");
+  VkCommandBufferBeginInfo cbi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
+  cbi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
+  const VkResult r = vkBeginCommandBuffer(cmd, &cbi);
+  if (r != VK_SUCCESS) vkFreeCommandBuffers(device_.handle(), command_pool_, 1, &cmd);
+  check(r, "vkBeginCommandBuffer");
+  return cmd;
+}
+
+void CommandRunner::end_submit_free(VkCommandBuffer cmd) {
+  try {
+    check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+    submit_and_wait(cmd);
+  } catch (...) {
+    vkFreeCommandBuffers(device_.handle(), command_pool_, 1, &cmd);
+    throw;
+  }
+  vkFreeCommandBuffers(device_.handle(), command_pool_, 1, &cmd);
+}
+
+void CommandRunner::copy(const std::vector<Copy>& copies) {
+  if (copies.empty()) return;
+  for (const Copy& c : copies)
+    if (c.src_offset + c.bytes > c.src->size() || c.dst_offset + c.bytes > c.dst->size())
+      throw std::logic_error("Copy: range not in the buffers");
+  VkCommandBuffer cmd = begin();
+  // Earlier kernels' writes (a download) are complete before the copy reads them.
+  VkMemoryBarrier before{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_HOST_WRITE_BIT,
+                         VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT};
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
+                       VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &before, 0, nullptr, 0, nullptr);
+  for (const Copy& c : copies) {
+    if (c.bytes == 0) continue;
+    const VkBufferCopy region{c.src_offset, c.dst_offset, c.bytes};
+    vkCmdCopyBuffer(cmd, c.src->handle(), c.dst->handle(), 1, &region);
+  }
+  VkMemoryBarrier after{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_TRANSFER_WRITE_BIT,
+                        VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_HOST_READ_BIT};
+  vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
+                       VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &after, 0, nullptr, 0,
+                       nullptr);
+  end_submit_free(cmd);
+}
+
 void CommandRunner::ensure_queries(std::uint32_t count) {
   if (query_capacity_ >= count) return;
   if (queries_) vkDestroyQueryPool(device_.handle(), queries_, nullptr);

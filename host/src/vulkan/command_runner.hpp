@@ -25,6 +25,15 @@ struct Fill {
   std::size_t bytes = 0;  // 0 = to the end of the buffer
 };
 
+// A copy between buffers (staged uploads and downloads of device buffers).
+struct Copy {
+  const Buffer* src;
+  Buffer* dst;
+  std::size_t src_offset = 0;
+  std::size_t dst_offset = 0;
+  std::size_t bytes = 0;
+};
+
 // One dispatch of a recorded sequence; consecutive dispatches are separated by
 // a full compute->compute memory barrier.
 struct Dispatch {
@@ -50,8 +59,13 @@ class CommandRunner {
   // GPU time of each dispatch (for "where does the time go").
   void run(const std::vector<Dispatch>& dispatches, std::vector<double>* kernel_ms = nullptr,
            const std::vector<Fill>& fills = {});
+  // Records the copies, submits and waits; their writes are visible to later
+  // runs and to the host's mapped reads.
+  void copy(const std::vector<Copy>& copies);
 
  private:
+  VkCommandBuffer begin();
+  void end_submit_free(VkCommandBuffer cmd);
   void ensure_queries(std::uint32_t count);
   void reset_descriptor_pool(const std::vector<Dispatch>& dispatches);
   VkDescriptorSet bind_buffers(const Dispatch& d);

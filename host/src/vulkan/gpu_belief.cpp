@@ -34,7 +34,8 @@ GpuBelief::GpuBelief(GpuBeliefKernels& kernels, double eps) : k_(&kernels), eps_
 }
 
 void GpuBelief::allocate(vk::Buffer& b, std::uint32_t capacity) const {
-  b = k_->ctx->create_buffer(std::size_t{capacity} * 2 * sizeof(std::uint64_t));  // keys, then offsets (zeroed)
+  // The device's own memory: only kernels touch a belief (zeroed: keys, then offsets).
+  b = k_->ctx->create_device_buffer(std::size_t{capacity} * 2 * sizeof(std::uint64_t));
   k_->ctx->run({}, nullptr, {{&b, 0xffffffffu, 0, std::size_t{capacity} * sizeof(std::uint64_t)}});
 }
 
@@ -64,7 +65,7 @@ void GpuBelief::grow(std::uint64_t slots) {
     gpu::SvaRehashParams p{lo(table_.device_address()), hi(table_.device_address()), capacity_,
                            lo(next.device_address()),   hi(next.device_address()),   static_cast<std::uint32_t>(cap)};
     const vk::Grid g = k_->ctx->grid(slot_invocations(capacity_));
-    vk::Dispatch d{&k_->rehash, {&status}, push_bytes(p), g.x};
+    vk::Dispatch d{k_->rehash, {&status}, push_bytes(p), g.x};
     d.groups_y = g.y;
     std::vector<double> ms;
     k_->ctx->run({d}, &ms);
@@ -98,7 +99,7 @@ void GpuBelief::reduce() const {
   std::vector<vk::Dispatch> ds;
   for (std::uint32_t pass : {SVA_REDUCE_MAX, SVA_REDUCE_MASS}) {
     p.pass = pass;
-    vk::Dispatch d{&k_->reduce, {&summary_, &candidates_}, push_bytes(p), g.x};
+    vk::Dispatch d{k_->reduce, {&summary_, &candidates_}, push_bytes(p), g.x};
     d.groups_y = g.y;
     ds.push_back(std::move(d));
   }
@@ -172,7 +173,7 @@ std::vector<BinOffset> GpuBelief::best_bins(std::size_t k) const {
   p.select_bucket = bucket;
   p.select_capacity = static_cast<std::uint32_t>(n);
   const vk::Grid g = k_->ctx->grid(slot_invocations(capacity_));
-  vk::Dispatch d{&k_->reduce, {&summary_, &candidates_}, push_bytes(p), g.x};
+  vk::Dispatch d{k_->reduce, {&summary_, &candidates_}, push_bytes(p), g.x};
   d.groups_y = g.y;
   std::vector<double> ms;
   k_->ctx->run({d}, &ms);
@@ -195,7 +196,7 @@ std::vector<std::uint64_t> GpuBelief::offsets(std::span<const std::uint64_t> key
   gpu::SvaLookupParams p{lo(table_.device_address()), hi(table_.device_address()), capacity_,
                          static_cast<std::uint32_t>(keys.size())};
   const vk::Grid g = k_->ctx->grid(keys.size());
-  vk::Dispatch d{&k_->lookup, {&queries_}, push_bytes(p), g.x};
+  vk::Dispatch d{k_->lookup, {&queries_}, push_bytes(p), g.x};
   d.groups_y = g.y;
   std::vector<double> ms;
   k_->ctx->run({d}, &ms);
@@ -204,8 +205,10 @@ std::vector<std::uint64_t> GpuBelief::offsets(std::span<const std::uint64_t> key
 }
 
 std::vector<BinOffset> GpuBelief::table() const {
-  const auto* keys = table_.as<std::uint64_t>();
-  const auto* offsets = keys + capacity_;
+  std::vector<std::uint64_t> words(std::size_t{capacity_} * 2);
+  k_->ctx->download(table_, words.data(), words.size() * sizeof(std::uint64_t));
+  const std::uint64_t* keys = words.data();
+  const std::uint64_t* offsets = keys + capacity_;
   std::vector<BinOffset> out;
   out.reserve(count_);
   for (std::uint32_t i = 0; i < capacity_; ++i)

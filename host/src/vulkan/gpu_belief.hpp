@@ -24,7 +24,9 @@ struct GpuBeliefKernels {
   vk::Context* ctx = nullptr;
   const PoseSpace* space = nullptr;
   LinearBins bins;
-  vk::Pipeline rehash, reduce, lookup;
+  const vk::Pipeline* rehash = nullptr;  // the engine's (vulkan/vulkan_engine.hpp)
+  const vk::Pipeline* reduce = nullptr;
+  const vk::Pipeline* lookup = nullptr;
   std::size_t initial_slots = 1 << 12;
   double kernel_ms = 0.0;  // GPU time of belief work since the backend last reset it
 };

@@ -3,10 +3,12 @@
 // the per-match work (likelihood, alignment, beta sampling, fixed-point
 // scatter) in shaders/match_votes.comp, the fold into each session's belief in
 // belief_fold.comp and the estimate's reductions in belief_reduce.comp; the
-// beliefs stay in device memory (vulkan/gpu_belief.hpp). The map is uploaded
-// once, split into chunks that respect maxStorageBufferRange; a batch of pairs
-// from any number of sessions votes in one submission and folds in another; a
-// hash-table overflow grows the table and reruns, so no vote is ever dropped.
+// beliefs stay in device memory (vulkan/gpu_belief.hpp). The device and the
+// map (device memory, split into chunks that respect maxStorageBufferRange)
+// belong to a VulkanEngine shared by every backend of the process on the same
+// map and device. A batch of pairs from any number of sessions votes and folds
+// in one submission; a hash-table overflow grows the table and reruns, so no
+// vote is ever dropped.
 #include <memory>
 #include <string>
 
@@ -19,6 +21,7 @@ struct VulkanBackendOptions {
   std::size_t max_chunk_entries = 0;  // 0 = as large as one binding allows (tests force tiny chunks)
   std::size_t initial_table_slots = 1 << 14;   // vote table (grows on overflow)
   std::size_t initial_belief_slots = 1 << 12;  // each session's belief table (grows at half load and on overflow)
+  bool force_staging = false;       // device buffers unmapped, uploads staged (env SVA_VK_STAGING=1; tests)
 };
 
 // What the backend keeps about itself; reports read it as BackendStats, through

@@ -36,7 +36,7 @@ struct DemoConfig {
   unsigned threads = 0;
   std::size_t trials = 0;        // 0: two repetitions over the objects
   std::size_t max_readings = 20;
-  BackendKind backend = BackendKind::cpu;
+  BackendKind backend = BackendKind::automatic;
 };
 
 struct DemoData {
@@ -142,6 +142,20 @@ Map stage_train(const DemoConfig& cfg, const DemoData& data) {
   return m;
 }
 
+// Which device ran SVA, and its time per update next to the CPU reference's on
+// the same few trials (a few: the CPU reference is the slow one on a GPU).
+void print_speed(const Map& map, const DemoData& data, const eval::EvalOptions& o, const eval::EvalResult& sva) {
+  if (!sva.backend_fallback_reason.empty())
+    std::printf("[speed]    no usable Vulkan device (%s)\n", sva.backend_fallback_reason.c_str());
+  const eval::SpeedComparison s = eval::compare_with_cpu_reference(map, data.test, o, sva, 4);
+  if (!s.update_ms || !s.cpu_update_ms) return;
+  std::printf("[speed]    SVA ran on %s: %.2f ms per update (median over the first %zu trials)\n", s.device.c_str(),
+              *s.update_ms, s.trials);
+  if (sva.backend == eval::backend_name(BackendKind::cpu)) return;
+  std::printf("[speed]    %s on the same trials: %.2f ms per update; %s runs %.2fx as fast\n", s.cpu_device.c_str(),
+              *s.cpu_update_ms, sva.backend.c_str(), *s.update_ms > 0 ? *s.cpu_update_ms / *s.update_ms : 0.0);
+}
+
 // SVA and the appearance-only baseline on the same trials, like the paper's figures.
 void stage_evaluate(const DemoConfig& cfg, const Map& map, const DemoData& data) {
   std::vector<eval::Curve> curves;
@@ -162,8 +176,9 @@ void stage_evaluate(const DemoConfig& cfg, const Map& map, const DemoData& data)
     const auto json = cfg.work / ("eval_" + std::string(eval::method_name(method)) + ".json");
     io::write_text_file(json, eval::to_json(r, c));
     std::printf("[evaluate] %s: %zu trials x %zu readings in %.1f s (%s backend) -> %s\n", eval::method_name(method), o.trials,
-                o.max_readings, secs, eval::backend_name(cfg.backend), json.c_str());
+                o.max_readings, secs, r.backend.c_str(), json.c_str());
     std::fputs(eval::format_table(c).c_str(), stdout);
+    if (method == Method::sva) print_speed(map, data, o, r);
     curves.push_back(c);
   }
   const auto png = cfg.work / "eval.png";
@@ -202,7 +217,8 @@ int cmd_demo(const std::vector<std::string>& argv) {
   Args a("sva demo",
          "The main job: simulate the default scene (cached in --work), draw previews, train the SVA map, evaluate\n"
          "SVA and the appearance-only baseline on random poses of the test readings, print accuracy, pose errors and\n"
-         "time per update against readings, and write the figure (DIR/eval.png).",
+         "time per update against readings, which device ran SVA and its time per update next to the CPU\n"
+         "reference's on the same trials, and write the figure (DIR/eval.png).",
          argv);
   a.option("--work", "DIR", "work and cache directory (default ./sva-demo)")
       .option("--scene", "NAME|FILE", "scene (default paper3d)")
@@ -212,7 +228,7 @@ int cmd_demo(const std::vector<std::string>& argv) {
       .option("--threads", "N", "worker threads (default: SVA_THREADS or all cores)")
       .option("--trials", "N", "evaluation trials (default: 2 repetitions over the objects)")
       .option("--max-readings", "M", "readings per trial (default 20)")
-      .option("--backend", "cpu|vulkan|auto", "vote backend for the evaluation (default cpu)");
+      .option("--backend", "auto|cpu|vulkan", "vote backend of SVA (default auto: the GPU when one is usable)");
   if (!a.parse()) return 0;
   DemoConfig cfg;
   cfg.work = a.get_or("--work", "sva-demo");
@@ -223,7 +239,7 @@ int cmd_demo(const std::vector<std::string>& argv) {
   cfg.threads = static_cast<unsigned>(a.integer("--threads", 0, 1, 1024));
   cfg.trials = static_cast<std::size_t>(a.integer("--trials", 0, 1, 1000000));
   cfg.max_readings = static_cast<std::size_t>(a.integer("--max-readings", 20, 1, 100000));
-  cfg.backend = parse_backend_kind(a.get_or("--backend", "cpu"), "sva demo: --backend");
+  cfg.backend = parse_backend_kind(a.get_or("--backend", "auto"), "sva demo: --backend");
   Scene scene = load_scene(cfg.scene_name);
   std::error_code ec;
   std::filesystem::create_directories(cfg.work, ec);

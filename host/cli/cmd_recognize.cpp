@@ -11,12 +11,11 @@
 
 #include "args.hpp"
 #include "eval/evaluation.hpp"
-#include "eval/trials.hpp"
+#include "eval/trial_sessions.hpp"
 #include "io/batch_sessions.hpp"
 #include "map/pair_map.hpp"
 #include "recognition/lockstep.hpp"
 #include "recognition/vote_backend_factory.hpp"
-#include "util/interrupt.hpp"
 #include "util/progress.hpp"
 
 namespace sva::cli {
@@ -30,16 +29,8 @@ int write_sessions(const Args& a, const std::string& out_file) {
   eval::check_compatible(map, test, map_file, data_file);
   const auto n = static_cast<std::size_t>(a.integer("--trials", static_cast<long long>(map.objects()), 1, 10000000));
   const auto m = static_cast<std::size_t>(a.integer("--max-readings", 30, 1, 100000));
-  eval::TrialGenerator gen(test, map.pose_space(), static_cast<std::uint64_t>(a.integer("--seed", 1, 0, INT64_MAX)), m, data_file);
-  std::vector<io::BatchSession> sessions;
-  for (std::size_t t = 0; t < n; ++t) {
-    util::throw_if_interrupted();
-    eval::Trial tr = gen.make(t);
-    io::BatchSession s{"trial-" + std::to_string(t), std::move(tr.readings), io::pose_json(tr.pose)};
-    s.truth["object"] = test.scene.objects[tr.object].name;
-    sessions.push_back(std::move(s));
-  }
-  io::write_batch_sessions(out_file, sessions);
+  const auto seed = static_cast<std::uint64_t>(a.integer("--seed", 1, 0, INT64_MAX));
+  io::write_batch_sessions(out_file, eval::trial_sessions(test, map.pose_space(), seed, n, m, data_file));
   std::printf("wrote %zu sessions of %zu readings to %s\n", n, m, out_file.c_str());
   return 0;
 }

@@ -7,6 +7,7 @@
 
 #include <sva/batch_recognizer.hpp>
 
+#include "eval/metrics.hpp"
 #include "eval/trial_runner.hpp"
 #include "map/pair_map.hpp"
 #include "recognition/vote_backend_factory.hpp"
@@ -123,6 +124,32 @@ EvalResult run_evaluation(const Map& map, const Dataset& test, const EvalOptions
   r.device = "CPU reference (" + std::to_string(std::min<std::size_t>(threads, options.trials)) + " threads)";
   r.backend_fallback_reason = fallback;
   return r;
+}
+
+SpeedComparison compare_with_cpu_reference(const Map& map, const Dataset& test, const EvalOptions& options,
+                                           const EvalResult& run, std::size_t trials) {
+  auto median_update_ms = [](const EvalResult& r, std::size_t n) {
+    std::vector<double> ms;
+    for (std::size_t t = 0; t < std::min(n, r.trials.size()); ++t)
+      for (const StepResult& s : r.trials[t].steps) ms.push_back(s.update_ms);
+    return median(ms);
+  };
+  SpeedComparison c;
+  c.device = run.device;
+  c.trials = std::min(trials, run.trials.size());
+  c.update_ms = median_update_ms(run, c.trials);
+  if (run.backend == backend_name(BackendKind::cpu)) {
+    c.cpu_device = run.device;
+    c.cpu_update_ms = c.update_ms;
+    return c;
+  }
+  EvalOptions o = options;
+  o.trials = c.trials;
+  o.recognizer.backend = BackendKind::cpu;
+  const EvalResult cpu = run_evaluation(map, test, o);
+  c.cpu_device = cpu.device;
+  c.cpu_update_ms = median_update_ms(cpu, c.trials);
+  return c;
 }
 
 }  // namespace sva::eval

@@ -11,6 +11,7 @@
 #include <sva/map.hpp>
 #include <sva/recognizer.hpp>
 
+#include <optional>
 #include <string>
 
 #include "eval/results.hpp"
@@ -36,6 +37,19 @@ void check_compatible(const Map& map, const Dataset& test, const std::string& ma
 
 // Runs the trials; poses are drawn from the map's pose space.
 EvalResult run_evaluation(const Map& map, const Dataset& test, const EvalOptions& options);
+
+// A run's time per update next to the CPU reference's on the same trials (the
+// first `trials` of the run: same seed, same poses and readings). Times are
+// medians over every update of those trials, as `sva eval` reports them (a
+// batched update's time is shared by the trials in it).
+struct SpeedComparison {
+  std::string device, cpu_device;  // what ran the run, and the CPU reference
+  std::size_t trials = 0;
+  std::optional<double> update_ms, cpu_update_ms;
+};
+// Runs the CPU reference on those trials unless the run already was the CPU's.
+SpeedComparison compare_with_cpu_reference(const Map& map, const Dataset& test, const EvalOptions& options,
+                                           const EvalResult& run, std::size_t trials);
 
 const char* backend_name(BackendKind backend);
 const char* method_name(Method method);

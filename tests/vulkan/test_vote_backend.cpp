@@ -184,3 +184,18 @@ TEST_CASE("Vulkan backends on one map share one engine: one device, one uploaded
   c.reset();
   CHECK(VulkanEngine::alive() == before);
 }
+
+TEST_CASE("Vulkan backend: the vote kernel without subgroup pre-aggregation gives the same exact answer") {
+  test::WorldSpec spec;
+  auto w = test::make_world(spec);
+  PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
+  VoteBatch batch = make_batch(w, space, spec, 3, 5, nullptr);
+  VulkanBackendOptions o;
+  o.portable_vote_kernel = true;
+  o.initial_table_slots = 64;
+  auto portable = test::vulkan_backend_or_skip(*w.map, space, {}, o);
+  auto cpu = make_cpu_vote_backend(*w.map, space, {});
+  require_identical(cpu->vote(batch), portable->vote(batch));
+  CHECK(portable->statistics().device.find("subgroup") == std::string::npos);
+  CHECK(portable->statistics().validation_messages == 0);
+}

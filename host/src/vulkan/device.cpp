@@ -114,11 +114,18 @@ DeviceInfo describe(const Candidate& c) {
   info.max_storage_buffer_range = c.props.limits.maxStorageBufferRange;
   info.max_workgroup_count_x = c.props.limits.maxComputeWorkGroupCount[0];
   info.max_workgroup_count_y = c.props.limits.maxComputeWorkGroupCount[1];
+  VkPhysicalDeviceSubgroupProperties sg{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
   VkPhysicalDeviceMaintenance3Properties m3{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+  m3.pNext = &sg;
   VkPhysicalDeviceProperties2 p2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
   p2.pNext = &m3;
   vkGetPhysicalDeviceProperties2(c.dev, &p2);
   info.max_allocation = m3.maxMemoryAllocationSize;
+  info.subgroup_size = sg.subgroupSize;
+  const VkSubgroupFeatureFlags ops =
+      VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_VOTE_BIT | VK_SUBGROUP_FEATURE_BALLOT_BIT |
+      VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
+  info.subgroup_aggregation = (sg.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) && (sg.supportedOperations & ops) == ops;
   info.timestamps = c.timestamp_bits > 0 && c.props.limits.timestampPeriod > 0;
   info.timestamp_period_ns = c.props.limits.timestampPeriod;
   return info;

@@ -19,6 +19,10 @@ struct DeviceInfo {
   std::uint32_t max_workgroup_count_y = 0;
   std::uint64_t max_allocation = 0;  // maxMemoryAllocationSize
   bool timestamps = false;        // per-dispatch GPU timing available
+  std::uint32_t subgroup_size = 0;
+  // Basic, vote, ballot and arithmetic subgroup operations in compute shaders: the
+  // vote kernel pre-aggregates equal keys across a subgroup before its atomics.
+  bool subgroup_aggregation = false;
   double timestamp_period_ns = 0;
 };
 

@@ -14,6 +14,7 @@
 #include "spv/belief_rehash.h"
 #include "spv/expand_pair_keys.h"
 #include "spv/match_votes.h"
+#include "spv/match_votes_portable.h"
 #include "spv/scan_matches.h"
 #include "vulkan/gpu_layout.hpp"
 
@@ -21,7 +22,7 @@ namespace sva {
 
 namespace {
 
-using Key = std::tuple<const PairMap*, std::string, bool, bool, std::size_t>;
+using Key = std::tuple<const PairMap*, std::string, bool, bool, std::size_t, bool>;
 
 std::mutex g_registry_mutex;
 std::map<Key, std::weak_ptr<VulkanEngine>> g_registry;
@@ -36,30 +37,40 @@ void upload_array(vk::Context& ctx, vk::Buffer& b, const T* data, std::size_t n)
 }  // namespace
 
 std::shared_ptr<VulkanEngine> VulkanEngine::shared(const PairMap& map, const vk::ContextOptions& context,
-                                                   std::size_t max_chunk_entries) {
-  const Key key{&map, context.device, context.validation, context.force_staging, max_chunk_entries};
+                                                   std::size_t max_chunk_entries, bool portable_kernel) {
+  const Key key{&map, context.device, context.validation, context.force_staging, max_chunk_entries, portable_kernel};
   std::lock_guard lock(g_registry_mutex);
   for (auto it = g_registry.begin(); it != g_registry.end();) it = it->second.expired() ? g_registry.erase(it) : ++it;
   // A map freed while its engine lived would be a caller's bug (a backend must
   // not outlive its map), so a live entry always refers to this very map.
   if (auto it = g_registry.find(key); it != g_registry.end())
     if (auto e = it->second.lock()) return e;
-  auto e = std::make_shared<VulkanEngine>(map, context, max_chunk_entries);
+  auto e = std::make_shared<VulkanEngine>(map, context, max_chunk_entries, portable_kernel);
   g_registry[key] = e;
   return e;
 }
 
 std::size_t VulkanEngine::alive() { return g_alive.load(); }
 
-VulkanEngine::VulkanEngine(const PairMap& map, const vk::ContextOptions& context, std::size_t max_chunk_entries)
+namespace {
+bool use_subgroups(const vk::Context& ctx, bool portable_kernel) {
+  return ctx.info().subgroup_aggregation && !portable_kernel;
+}
+}  // namespace
+
+VulkanEngine::VulkanEngine(const PairMap& map, const vk::ContextOptions& context, std::size_t max_chunk_entries,
+                           bool portable_kernel)
     : ctx(context),
       expand(ctx.create_pipeline(sva_spv_expand_pair_keys, 4, sizeof(gpu::SvaExpandParams))),
       scan(ctx.create_pipeline(sva_spv_scan_matches, 3, sizeof(gpu::SvaScanParams))),
-      match(ctx.create_pipeline(sva_spv_match_votes, 15, sizeof(gpu::SvaMatchParams))),
+      match(ctx.create_pipeline(use_subgroups(ctx, portable_kernel) ? std::span<const std::uint32_t>(sva_spv_match_votes)
+                                                                     : std::span<const std::uint32_t>(sva_spv_match_votes_portable),
+                                15, sizeof(gpu::SvaMatchParams))),
       fold(ctx.create_pipeline(sva_spv_belief_fold, 7, sizeof(gpu::SvaFoldParams))),
       rehash(ctx.create_pipeline(sva_spv_belief_rehash, 1, sizeof(gpu::SvaRehashParams))),
       reduce(ctx.create_pipeline(sva_spv_belief_reduce, 2, sizeof(gpu::SvaReduceParams))),
       lookup(ctx.create_pipeline(sva_spv_belief_lookup, 1, sizeof(gpu::SvaLookupParams))) {
+  subgroup_aggregation = use_subgroups(ctx, portable_kernel);
   upload_map(map, max_chunk_entries);
   ++g_alive;
 }

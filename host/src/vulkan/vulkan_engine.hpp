@@ -26,12 +26,15 @@ class VulkanEngine {
  public:
   // The engine of (map, device, chunking), made on first use and shared while
   // any backend holds it.
+  // portable_kernel: the vote kernel without subgroup pre-aggregation even
+  // where the device has subgroup arithmetic (tests of both kernels).
   static std::shared_ptr<VulkanEngine> shared(const PairMap& map, const vk::ContextOptions& context,
-                                              std::size_t max_chunk_entries);
+                                              std::size_t max_chunk_entries, bool portable_kernel = false);
   // Engines alive in the process (tests of the sharing).
   static std::size_t alive();
 
-  VulkanEngine(const PairMap& map, const vk::ContextOptions& context, std::size_t max_chunk_entries);
+  VulkanEngine(const PairMap& map, const vk::ContextOptions& context, std::size_t max_chunk_entries,
+               bool portable_kernel);
   ~VulkanEngine();
   VulkanEngine(const VulkanEngine&) = delete;
   VulkanEngine& operator=(const VulkanEngine&) = delete;
@@ -42,6 +45,7 @@ class VulkanEngine {
   std::vector<MapChunk> chunks;
   std::size_t chunk_entries = 0;  // entries per chunk (the last may hold fewer)
   std::size_t map_bytes = 0;      // device memory the map holds
+  bool subgroup_aggregation = false;  // the vote kernel pre-aggregates equal keys per subgroup
 
  private:
   void upload_map(const PairMap& map, std::size_t max_chunk_entries);

@@ -38,11 +38,14 @@ class VulkanVoteBackend final : public VoteBackend {
   VulkanVoteBackend(const PairMap& map, const PoseSpace& space, const VoteSettings& settings,
                     const VulkanBackendOptions& options)
       : map_(map), space_(space), settings_(settings),
-        engine_(VulkanEngine::shared(map, context_options(options), options.max_chunk_entries)), ctx_(engine_->ctx),
+        engine_(VulkanEngine::shared(map, context_options(options), options.max_chunk_entries,
+                                     options.portable_vote_kernel)),
+        ctx_(engine_->ctx),
         bins_(space),
         beliefs_{&ctx_,           &space,          LinearBins(space), &engine_->rehash, &engine_->reduce,
                  &engine_->lookup, std::max<std::size_t>(options.initial_belief_slots, 64), 0.0} {
-    stats_.device = ctx_.info().name + " (" + ctx_.info().type + ")";
+    stats_.device = ctx_.info().name + " (" + ctx_.info().type +
+                    (engine_->subgroup_aggregation ? ", subgroup pre-aggregation" : "") + ")";
     stats_.chunks = engine_->chunks.size();
     slots_ = std::bit_ceil(std::max<std::size_t>(options.initial_table_slots, 1024));
     work_.resize(engine_->chunks.size());

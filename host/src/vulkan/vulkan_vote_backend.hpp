@@ -22,6 +22,7 @@ struct VulkanBackendOptions {
   std::size_t initial_table_slots = 1 << 14;   // vote table (grows on overflow)
   std::size_t initial_belief_slots = 1 << 12;  // each session's belief table (grows at half load and on overflow)
   bool force_staging = false;       // device buffers unmapped, uploads staged (env SVA_VK_STAGING=1; tests)
+  bool portable_vote_kernel = false;  // no subgroup pre-aggregation even where the device has it (tests)
 };
 
 // What the backend keeps about itself; reports read it as BackendStats, through

@@ -178,6 +178,10 @@ class CpuVoteBackend final : public VoteBackend {
     if (plan.n == 0) return;
     ++out->matches;
     const float scale = vote_math::sva_vote_scale(likelihood, vote_math::sva_beta_weight_sum(plan));
+    // Neighbouring samples often share a bin (they are half a bin apart): a
+    // run of one key goes into the table as one sum (integers: same result).
+    std::uint64_t run_key = 0;
+    std::int64_t run_mass = 0;
     for (int s = 0; s < plan.n; ++s) {
       const vote_math::SvaVote v = vote_math::sva_vote(al, plan, grid_, object, scale, s);
       if (!v.inside) {
@@ -185,9 +189,18 @@ class CpuVoteBackend final : public VoteBackend {
         continue;
       }
       ++out->votes;
-      if (v.mass > 0) acc.add(v.key, v.mass);
-      else ++out->votes_zero;
+      if (v.mass <= 0) {
+        ++out->votes_zero;
+        continue;
+      }
+      if (run_mass > 0 && v.key != run_key) {
+        acc.add(run_key, run_mass);
+        run_mass = 0;
+      }
+      run_key = v.key;
+      run_mass += v.mass;
     }
+    if (run_mass > 0) acc.add(run_key, run_mass);
   }
 
   const PairMap& map_;

@@ -84,9 +84,15 @@ float entry_weight_at(uint i) {
   return SvaF32s(uint64_t(c.w_lo) | (uint64_t(c.w_hi) << 32)).v[i % pc.chunk_entries];
 }
 
-// The entry of map pair (ra, rb) among the entries of key item k (sorted by
-// (a, b)), or 0xffffffff when that key does not hold it.
+// The entry of key item k holding the map pair whose ends match the observed
+// pair's as (ra, rb) (entries sorted by (a, b); a reversed item stores the
+// pair as (rb, ra)), or 0xffffffff when that key does not hold it.
 uint find_entry(uint k, uint ra, uint rb) {
+  if (key_items[k].reversed != 0u) {
+    uint t = ra;
+    ra = rb;
+    rb = t;
+  }
   uint lo = ranges[k].begin, hi = ranges[k].end;
   for (uint step = 0u; step < SVA_MAX_SEARCH_STEPS; ++step) {
     if (lo >= hi) break;
@@ -148,8 +154,9 @@ void plan_item(uint w, uint lid) {
   // Entry index within the bound chunk.
   uint e = max(ranges[lo].begin, pc.chunk_begin) - pc.chunk_begin + (w - work_offset[lo]);
   uint q = key_items[lo].pair;
-  uint ra = entry_a[e];
-  uint rb = entry_b[e];
+  bool reversed = key_items[lo].reversed != 0u;  // the entry's ends swapped to match the observed pair
+  uint ra = reversed ? entry_b[e] : entry_a[e];
+  uint rb = reversed ? entry_a[e] : entry_b[e];
   uint object = readings[ra].object;
   if (object_active[pairs[q].session * pc.objects + object] == 0u) return;
   precise float likelihood = sva_likelihood_of_units(owned_likelihood(q, lo, ra, rb, entry_weight[e]));

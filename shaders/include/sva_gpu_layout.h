@@ -30,7 +30,7 @@ struct SvaGpuKeyItem {
   uint pair;
   uint key;
   float weight;
-  uint pad;
+  uint reversed;  // 1: the entries under this key match the observed pair with their ends swapped
 };
 
 // The map entries [begin, end) stored under a key item's key (empty if absent).

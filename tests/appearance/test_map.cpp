@@ -99,8 +99,8 @@ TEST_CASE("map: the CSR index equals a naive enumeration of the pairs") {
   build_pair_index(m, classes, 2, false);
   std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, float>> naive;
   for (std::uint32_t a = 0; a < 40; ++a)
-    for (std::uint32_t b = 0; b < 40; ++b) {
-      if (a == b || m.readings.object[a] != m.readings.object[b]) continue;
+    for (std::uint32_t b = a + 1; b < 40; ++b) {  // each unordered pair once (map version 2)
+      if (m.readings.object[a] != m.readings.object[b]) continue;
       const double d = std::hypot(double(m.readings.px[a]) - m.readings.px[b], double(m.readings.py[a]) - m.readings.py[b], 0.0);
       for (const auto& ca : classes[a])
         for (const auto& cb : classes[b])
@@ -161,6 +161,46 @@ TEST_CASE("map: corrupt, truncated and wrong-version files are refused with the 
   std::filesystem::remove_all(dir);
 }
 
+TEST_CASE("map: a version-1 map (both orders of every pair) loads as version 2 (each pair once)") {
+  const auto dir = test::temp_dir("map-v1");
+  const PairMap v2 = trained().internal();
+  // The version-1 layout: every entry (a, b) under (ca, cb, d) also as (b, a) under (cb, ca, d).
+  std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, float>> all;
+  const std::uint32_t nd = v2.key_space.n_dist_bins, nc = v2.key_space.n_classes;
+  for (std::size_t k = 0; k < v2.keys.size(); ++k)
+    for (std::uint32_t e = v2.offsets[k]; e < v2.offsets[k + 1]; ++e) {
+      const std::uint32_t key = v2.keys[k], d = key % nd, ca = key / nd / nc, cb = key / nd % nc;
+      all.emplace_back(key, v2.entry_a[e], v2.entry_b[e], v2.entry_weight[e]);
+      all.emplace_back(v2.key_space.pack(cb, ca, d), v2.entry_b[e], v2.entry_a[e], v2.entry_weight[e]);
+    }
+  std::sort(all.begin(), all.end());
+  PairMap v1 = v2;
+  v1.keys.clear();
+  v1.offsets.assign(1, 0);
+  v1.entry_a.clear();
+  v1.entry_b.clear();
+  v1.entry_weight.clear();
+  for (const auto& [key, a, b, w] : all) {
+    if (v1.keys.empty() || v1.keys.back() != key) {
+      v1.keys.push_back(key);
+      v1.offsets.push_back(v1.offsets.back());
+    }
+    v1.entry_a.push_back(a);
+    v1.entry_b.push_back(b);
+    v1.entry_weight.push_back(w);
+    ++v1.offsets.back();
+  }
+  REQUIRE(v1.entry_count() == 2 * v2.entry_count());
+  write_pair_map(v1, dir / "v1.svamap", 1);
+  const auto loaded = load_pair_map(dir / "v1.svamap");
+  CHECK(loaded->keys == v2.keys);
+  CHECK(loaded->offsets == v2.offsets);
+  CHECK(loaded->entry_a == v2.entry_a);
+  CHECK(loaded->entry_b == v2.entry_b);
+  CHECK(loaded->entry_weight == v2.entry_weight);
+  std::filesystem::remove_all(dir);
+}
+
 TEST_CASE("map: the loader validates contents that pass the checksum") {
   const auto dir = test::temp_dir("map-validate");
   auto broken = [&](auto&& mutate, const std::string& expect) {
@@ -173,6 +213,11 @@ TEST_CASE("map: the loader validates contents that pass the checksum") {
   broken([](PairMap& m) { m.offsets[1] = m.offsets.back() + 1; }, "increasing");
   broken([](PairMap& m) { m.entry_a[3] = 1u << 30; }, "out of range");
   broken([](PairMap& m) { m.entry_weight[0] = 0.0f; }, "weight");
+  broken([](PairMap& m) { std::swap(m.entry_a[0], m.entry_b[0]); }, "second order");
+  broken([](PairMap& m) {
+    std::swap(m.entry_a[0], m.entry_a[1]);
+    std::swap(m.entry_b[0], m.entry_b[1]);
+  }, "not strictly increasing");
   broken([](PairMap& m) { m.entry_weight[0] = std::nanf(""); }, "weight");
   broken([](PairMap& m) { m.readings.nx[0] = 3.0f; }, "unit");
   broken([](PairMap& m) { m.readings.px[2] = INFINITY; }, "non-finite");

@@ -63,8 +63,8 @@ sva::PairQuery query(const sva::PairMap& map, const sva::ObservedReading& a, con
   q.a.norm_conf = a.norm_conf;
   q.b.norm_conf = b.norm_conf;
   q.key_begin = static_cast<std::uint32_t>(batch->keys.size());
-  sva::for_each_pair_key(a.classes, b.classes, map.distance.bins(glm::length(b.position - a.position)), map.key_space,
-                         [&](sva::PairKeyWeight k) { batch->keys.push_back(k); });
+  sva::for_each_query_key(a.classes, b.classes, map.distance.bins(glm::length(b.position - a.position)), map.key_space,
+                          [&](sva::PairKeyWeight k) { batch->keys.push_back(k); });
   q.key_end = static_cast<std::uint32_t>(batch->keys.size());
   return q;
 }
@@ -123,7 +123,9 @@ TEST_CASE("a map pair stored under several of an observed pair's keys is aligned
       const auto [b, e] = m.find(batch.keys[k].key);
       for (std::uint32_t x = b; x < e; ++x) {
         ++entries;
-        distinct.insert({m.entry_a[x], m.entry_b[x]});
+        // A reversed key matches the stored pair with its ends swapped.
+        if (batch.keys[k].reversed) distinct.insert({m.entry_b[x], m.entry_a[x]});
+        else distinct.insert({m.entry_a[x], m.entry_b[x]});
       }
     }
     const sva::PairVotes v = cpu->vote(batch)[0];

@@ -36,6 +36,10 @@ void BinaryWriter::write_file(const std::filesystem::path& file, std::string_vie
 
 BinaryReader::BinaryReader(const std::filesystem::path& file, std::string_view magic8, std::uint32_t version,
                            std::string_view what)
+    : BinaryReader(file, magic8, version, version, what) {}
+
+BinaryReader::BinaryReader(const std::filesystem::path& file, std::string_view magic8, std::uint32_t oldest,
+                           std::uint32_t version, std::string_view what)
     : name_(file.string()) {
   std::error_code ec;
   if (!std::filesystem::exists(file, ec)) fail("no such file");
@@ -51,9 +55,10 @@ BinaryReader::BinaryReader(const std::filesystem::path& file, std::string_view m
   std::memcpy(&file_version, all.data() + 8, 4);
   std::memcpy(&size, all.data() + 16, 8);
   std::memcpy(&sum, all.data() + 24, 8);
-  if (file_version != version)
+  if (file_version < oldest || file_version > version)
     fail(std::string(what) + " format version " + std::to_string(file_version) + ", this build reads version " +
-         std::to_string(version));
+         (oldest == version ? std::to_string(version) : std::to_string(oldest) + " to " + std::to_string(version)));
+  version_ = file_version;
   if (size != all.size() - kHeaderBytes)
     fail("truncated or padded: header says " + std::to_string(size) + " payload bytes, file has " +
          std::to_string(all.size() - kHeaderBytes));

@@ -55,6 +55,10 @@ class BinaryReader {
   // Read and validate the whole file: magic, version, size and checksum.
   // `what` names the kind of file in messages ("dataset", "map").
   BinaryReader(const std::filesystem::path& file, std::string_view magic8, std::uint32_t version, std::string_view what);
+  // The same, accepting versions oldest..version (a reader that converts older files).
+  BinaryReader(const std::filesystem::path& file, std::string_view magic8, std::uint32_t oldest, std::uint32_t version,
+               std::string_view what);
+  std::uint32_t version() const { return version_; }
   // For in-memory payloads (tests).
   BinaryReader(std::vector<std::uint8_t> payload, std::string name);
 
@@ -89,6 +93,7 @@ class BinaryReader {
   std::vector<std::uint8_t> payload_;
   std::size_t pos_ = 0;
   std::string name_;
+  std::uint32_t version_ = 0;
 };
 
 // The magic of a file, or "" if it cannot be read (used to dispatch `sva inspect`).

@@ -71,12 +71,14 @@ void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>&
   for (std::size_t o = 1; o < first.size(); ++o) first[o] = std::max(first[o], first[o - 1]);
 
   // Every entry of reading a (as the first of the pair), in a fixed order:
-  // b, then class of a, class of b, distance bin.
+  // b, then class of a, class of b, distance bin. Each unordered pair is
+  // stored once, as (a, b) with a < b: the other order is the same pair
+  // reversed, which the recognizer looks up under the reversed keys
+  // (for_each_query_key).
   auto for_each_entry = [&](std::size_t a, auto&& emit) {
     const std::uint32_t obj = rd.object[a];
     const double ax = rd.px[a], ay = rd.py[a], az = rd.pz[a];
-    for (std::size_t b = first[obj]; b < first[obj + 1]; ++b) {
-      if (b == a) continue;
+    for (std::size_t b = a + 1; b < first[obj + 1]; ++b) {
       const double dx = rd.px[b] - ax, dy = rd.py[b] - ay, dz = rd.pz[b] - az;
       const auto bins = map.distance.bins(std::sqrt(dx * dx + dy * dy + dz * dz));
       for_each_pair_key(classes[a], classes[b], bins, map.key_space,

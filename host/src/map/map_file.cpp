@@ -49,6 +49,10 @@ bool all_finite(const std::vector<T>& v) {
 
 void save_pair_map(const PairMap& m, const std::filesystem::path& file) {
   validate_pair_map(m, "map to save");
+  write_pair_map(m, file, kMapVersion);
+}
+
+void write_pair_map(const PairMap& m, const std::filesystem::path& file, std::uint32_t version) {
   io::BinaryWriter w;
   w.put_string(m.scene_name);
   w.put<std::uint64_t>(m.scene_hash);
@@ -100,11 +104,11 @@ void save_pair_map(const PairMap& m, const std::filesystem::path& file) {
   w.put_vector(m.entry_a);
   w.put_vector(m.entry_b);
   w.put_vector(m.entry_weight);
-  w.write_file(file, std::string_view(kMapMagic, 8), kMapVersion);
+  w.write_file(file, std::string_view(kMapMagic, 8), version);
 }
 
 std::shared_ptr<PairMap> load_pair_map(const std::filesystem::path& file) {
-  io::BinaryReader r(file, std::string_view(kMapMagic, 8), kMapVersion, "map");
+  io::BinaryReader r(file, std::string_view(kMapMagic, 8), kMapOldestVersion, kMapVersion, "map");
   auto mp = std::make_shared<PairMap>();
   PairMap& m = *mp;
   m.scene_name = r.get_string(4096);
@@ -166,8 +170,37 @@ std::shared_ptr<PairMap> load_pair_map(const std::filesystem::path& file) {
   m.entry_b = r.get_vector<std::uint32_t>();
   m.entry_weight = r.get_vector<float>();
   r.expect_end();
+  if (r.version() == 1) {
+    if (m.entry_b.size() != m.entry_a.size() || m.entry_weight.size() != m.entry_a.size() ||
+        m.offsets.size() != m.keys.size() + 1 || m.offsets.back() != m.entry_a.size())
+      r.fail("invalid map: entry columns and offsets do not match");
+    keep_one_order(m);
+  }
   validate_pair_map(m, file.string());
   return mp;
+}
+
+void keep_one_order(PairMap& m) {
+  std::vector<std::uint32_t> keys, offsets{0};
+  std::size_t out = 0;
+  for (std::size_t k = 0; k < m.keys.size(); ++k) {
+    for (std::uint32_t e = m.offsets[k]; e < m.offsets[k + 1]; ++e) {
+      if (!(m.entry_a[e] < m.entry_b[e])) continue;
+      m.entry_a[out] = m.entry_a[e];
+      m.entry_b[out] = m.entry_b[e];
+      m.entry_weight[out] = m.entry_weight[e];
+      ++out;
+    }
+    if (out != offsets.back()) {
+      keys.push_back(m.keys[k]);
+      offsets.push_back(static_cast<std::uint32_t>(out));
+    }
+  }
+  m.entry_a.resize(out);
+  m.entry_b.resize(out);
+  m.entry_weight.resize(out);
+  m.keys = std::move(keys);
+  m.offsets = std::move(offsets);
 }
 
 void validate_pair_map(const PairMap& m, const std::string& origin) {
@@ -256,10 +289,17 @@ void validate_pair_map(const PairMap& m, const std::string& origin) {
   for (std::size_t e = 0; e < entries; ++e) {
     if (m.entry_a[e] >= n || m.entry_b[e] >= n) fail("entry " + std::to_string(e) + " references a reading out of range");
     if (m.entry_a[e] == m.entry_b[e]) fail("entry " + std::to_string(e) + " pairs a reading with itself");
+    if (m.entry_a[e] > m.entry_b[e])
+      fail("entry " + std::to_string(e) + " stores its pair in the second order (version 2 keeps entry_a < entry_b)");
     if (rd.object[m.entry_a[e]] != rd.object[m.entry_b[e]]) fail("entry " + std::to_string(e) + " pairs readings of different objects");
     const float w = m.entry_weight[e];
     if (!(w > 0.0f && w <= 1.0f)) fail("entry " + std::to_string(e) + " has weight outside (0, 1]");
   }
+  // The recognizer finds a training pair under a key by binary search.
+  for (std::size_t k = 0; k < m.keys.size(); ++k)
+    for (std::uint32_t e = m.offsets[k] + 1; e < m.offsets[k + 1]; ++e)
+      if (m.entry_a[e] < m.entry_a[e - 1] || (m.entry_a[e] == m.entry_a[e - 1] && m.entry_b[e] <= m.entry_b[e - 1]))
+        fail("entries of key " + std::to_string(m.keys[k]) + " are not strictly increasing by (reading a, reading b)");
 }
 
 }  // namespace sva

@@ -10,11 +10,20 @@
 namespace sva {
 
 inline constexpr char kMapMagic[] = "SVAMAP01";
-inline constexpr std::uint32_t kMapVersion = 1;
+// Version 2 stores each unordered training pair once (entry_a < entry_b);
+// version 1 stored both orders, and loads by dropping the second order.
+inline constexpr std::uint32_t kMapVersion = 2;
+inline constexpr std::uint32_t kMapOldestVersion = 1;
 
 void save_pair_map(const PairMap& map, const std::filesystem::path& file);
+// The same layout under any version number and without validation: the
+// loader's tests write older and broken files with it.
+void write_pair_map(const PairMap& map, const std::filesystem::path& file, std::uint32_t version);
 std::shared_ptr<PairMap> load_pair_map(const std::filesystem::path& file);
 // Throws sva::Error naming `origin` and the first fault found.
 void validate_pair_map(const PairMap& map, const std::string& origin);
+// Version 1's ordered pairs as version 2's unordered ones: keeps the entries
+// with entry_a < entry_b (the other order is the same pair, reversed).
+void keep_one_order(PairMap& map);
 
 }  // namespace sva

@@ -27,9 +27,13 @@ struct PairKeySpace {
 };
 
 // A key a pair is stored or looked up under, with its weight in (0, 1].
+// `reversed` (lookups only): the map stores each unordered training pair once,
+// as (a, b) with a < b, so an observed pair also looks up its keys with the
+// classes swapped, and matches the entries found there with their ends swapped.
 struct PairKeyWeight {
   std::uint32_t key;
   float weight;
+  std::uint32_t reversed = 0;
 };
 
 // Calls emit(PairKeyWeight) for every key of a pair whose first reading has
@@ -45,8 +49,24 @@ void for_each_pair_key(std::span<const ClassWeight> a, std::span<const ClassWeig
       for (const BinWeight& d : bins) {
         const float w = ca.weight * cb.weight * d.weight;
         if (!(w > 0.0f)) continue;
-        emit(PairKeyWeight{space.pack(ca.cls, cb.cls, d.bin), w < 1.0f ? w : 1.0f});
+        emit(PairKeyWeight{space.pack(ca.cls, cb.cls, d.bin), w < 1.0f ? w : 1.0f, 0});
       }
+}
+
+// The lookups of an observed pair: every key of for_each_pair_key in both
+// orientations, the key (ca, cb, d) itself (map pairs (x, y) whose x matches
+// the first reading) and the reversed key (cb, ca, d) (map pairs stored as
+// (y, x)). Together they find every training pair in either order exactly
+// once per key, as the two orders of a map of ordered pairs would.
+template <class Emit>
+void for_each_query_key(std::span<const ClassWeight> a, std::span<const ClassWeight> b,
+                        std::span<const BinWeight> bins, const PairKeySpace& space, Emit&& emit) {
+  for_each_pair_key(a, b, bins, space, [&](PairKeyWeight k) {
+    emit(k);
+    const std::uint32_t d = k.key % space.n_dist_bins, ab = k.key / space.n_dist_bins;
+    const std::uint32_t ca = ab / space.n_classes, cb = ab % space.n_classes;
+    emit(PairKeyWeight{space.pack(cb, ca, d), k.weight, 1});
+  });
 }
 
 }  // namespace sva

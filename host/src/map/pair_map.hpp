@@ -1,7 +1,8 @@
 #pragma once
-// The SVA pair map (paper Sec 3): for every object, all ordered pairs of its
-// training readings whose distance is in range, stored under every key
-// (class a, class b, distance bin) with non-zero weight. Laid out for the GPU:
+// The SVA pair map (paper Sec 3): for every object, every pair of its training
+// readings whose distance is in range, stored once as (a, b) with a < b under
+// every key (class a, class b, distance bin) with non-zero weight; the other
+// order is found through the reversed keys (map/pair_keys.hpp). Laid out for the GPU:
 // sorted keys with CSR offsets, structure of arrays, compact types.
 //
 // This header is the contract between the map builder (appearance issue) and
@@ -54,7 +55,9 @@ struct PairMap {
   // CSR over sorted keys: entries of keys[i] are [offsets[i], offsets[i+1]).
   std::vector<std::uint32_t> keys;      // strictly increasing
   std::vector<std::uint32_t> offsets;   // keys.size() + 1
-  // Entries, structure of arrays: the ordered pair (reading_a, reading_b) and
+  // Entries, structure of arrays, sorted by (reading_a, reading_b) within a
+  // key (the recognizer finds a pair under other keys by binary search): the
+  // pair (reading_a < reading_b) and
   // its weight under this key: product of the soft class weights of a and b
   // and the distance-bin weight (Eq 15 with uniform class priors).
   std::vector<std::uint32_t> entry_a;

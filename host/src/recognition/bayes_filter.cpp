@@ -77,8 +77,8 @@ void BayesFilter::queue_pairs(const ObservedReading& reading, std::uint32_t sess
     q.key_begin = static_cast<std::uint32_t>(batch->keys.size());
     const double d = glm::length(reading.position - a.position);
     if (d >= SVA_MIN_PAIR_SEPARATION_MM)  // coincident points define no axis: no keys, no vote
-      for_each_pair_key(a.classes, reading.classes, map_->distance.bins(d), map_->key_space,
-                        [&](PairKeyWeight k) { batch->keys.push_back(k); });
+      for_each_query_key(a.classes, reading.classes, map_->distance.bins(d), map_->key_space,
+                         [&](PairKeyWeight k) { batch->keys.push_back(k); });
     q.key_end = static_cast<std::uint32_t>(batch->keys.size());
     batch->pairs.push_back(q);
     queued += q.fold_count;

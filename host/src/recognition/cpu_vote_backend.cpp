@@ -35,7 +35,8 @@ SvaPatch patch_of(const ObservedPatch& o) {
 // The map entries stored under one of an observed pair's keys.
 struct KeyRange {
   std::uint32_t begin, end;
-  float weight;  // w_obs of the key
+  float weight;   // w_obs of the key
+  bool reversed;  // the entries' ends are swapped to match the observed pair (PairKeyWeight::reversed)
 };
 
 // The entry of map pair (ra, rb) in [begin, end) (sorted by (a, b)), or `end`.
@@ -134,20 +135,27 @@ class CpuVoteBackend final : public VoteBackend {
       const auto it = std::lower_bound(map_.keys.begin(), map_.keys.end(), kw.key);
       if (it == map_.keys.end() || *it != kw.key) continue;
       const std::size_t slot = static_cast<std::size_t>(it - map_.keys.begin());
-      ranges.push_back({map_.offsets[slot], map_.offsets[slot + 1], kw.weight});
+      ranges.push_back({map_.offsets[slot], map_.offsets[slot + 1], kw.weight, kw.reversed != 0});
     }
     return ranges;
   }
 
-  // The likelihood units of map pair (ra, rb) found first under ranges[j] at
-  // entry e, or 0 when an earlier key owns it (sva_match_likelihood.h).
-  std::uint64_t owned_likelihood(const std::vector<KeyRange>& ranges, std::size_t j, std::uint32_t e) const {
-    const std::uint32_t ra = map_.entry_a[e], rb = map_.entry_b[e];
+  // The entry holding the map pair whose ends match the observed pair's as
+  // (ra, rb) under range r, or r.end.
+  std::uint32_t find_oriented(const KeyRange& r, std::uint32_t ra, std::uint32_t rb) const {
+    return r.reversed ? find_entry(map_, r.begin, r.end, rb, ra) : find_entry(map_, r.begin, r.end, ra, rb);
+  }
+
+  // The likelihood units of the map pair (ra, rb) (ra matched to the observed
+  // pair's first reading) found first under ranges[j] with weight w, or 0 when
+  // an earlier key holds it too (it votes there; sva_match_likelihood.h).
+  std::uint64_t owned_likelihood(const std::vector<KeyRange>& ranges, std::size_t j, std::uint32_t ra,
+                                 std::uint32_t rb, float w) const {
     for (std::size_t i = 0; i < j; ++i)
-      if (find_entry(map_, ranges[i].begin, ranges[i].end, ra, rb) != ranges[i].end) return 0;
-    std::uint64_t units = vote_math::sva_likelihood_units(ranges[j].weight * map_.entry_weight[e]);
+      if (find_oriented(ranges[i], ra, rb) != ranges[i].end) return 0;
+    std::uint64_t units = vote_math::sva_likelihood_units(ranges[j].weight * w);
     for (std::size_t i = j + 1; i < ranges.size(); ++i) {
-      const std::uint32_t f = find_entry(map_, ranges[i].begin, ranges[i].end, ra, rb);
+      const std::uint32_t f = find_oriented(ranges[i], ra, rb);
       if (f != ranges[i].end) units += vote_math::sva_likelihood_units(ranges[i].weight * map_.entry_weight[f]);
     }
     return units;
@@ -163,17 +171,19 @@ class CpuVoteBackend final : public VoteBackend {
         if ((e & 1023u) == 0) util::throw_if_interrupted();
         const std::uint32_t object = map_.readings.object[map_.entry_a[e]];
         if (active && !active[object]) continue;
-        const float likelihood = vote_math::sva_likelihood_of_units(owned_likelihood(ranges, j, e));
+        const std::uint32_t ra = ranges[j].reversed ? map_.entry_b[e] : map_.entry_a[e];
+        const std::uint32_t rb = ranges[j].reversed ? map_.entry_a[e] : map_.entry_b[e];
+        const float likelihood =
+            vote_math::sva_likelihood_of_units(owned_likelihood(ranges, j, ra, rb, map_.entry_weight[e]));
         if (!(likelihood > 0.0f) || likelihood < settings_.likelihood_cutoff) continue;
-        vote_match(a1, b1, e, object, likelihood, acc, out);
+        vote_match(a1, b1, ra, rb, object, likelihood, acc, out);
       }
   }
 
-  // Aligns the observed pair to map entry e and scatters its beta samples.
-  void vote_match(const SvaPatch& a1, const SvaPatch& b1, std::uint32_t e, std::uint32_t object, float likelihood,
-                  BinAccumulator& acc, PairStats* out) const {
-    const vote_math::SvaAlignment al =
-        vote_math::sva_align(a1, b1, patches_[map_.entry_a[e]], patches_[map_.entry_b[e]]);
+  // Aligns the observed pair to map pair (ra, rb) and scatters its beta samples.
+  void vote_match(const SvaPatch& a1, const SvaPatch& b1, std::uint32_t ra, std::uint32_t rb, std::uint32_t object,
+                  float likelihood, BinAccumulator& acc, PairStats* out) const {
+    const vote_math::SvaAlignment al = vote_math::sva_align(a1, b1, patches_[ra], patches_[rb]);
     const vote_math::SvaBetaPlan plan = vote_math::sva_beta_plan(al, grid_);
     if (plan.n == 0) return;
     ++out->matches;

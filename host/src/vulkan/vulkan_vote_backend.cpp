@@ -140,7 +140,8 @@ class VulkanVoteBackend final : public VoteBackend {
     for (std::size_t q = first; q < last; ++q) {
       item_begin[q - first] = static_cast<std::uint32_t>(std::min<std::size_t>(items.size(), SVA_MAX_KEY_ITEMS + 1));
       for (std::uint32_t k = batch.pairs[q].key_begin; k < batch.pairs[q].key_end; ++k)
-        items.push_back({static_cast<std::uint32_t>(q - first), batch.keys[k].key, batch.keys[k].weight, 0u});
+        items.push_back({static_cast<std::uint32_t>(q - first), batch.keys[k].key, batch.keys[k].weight,
+                         batch.keys[k].reversed});
     }
     *key_items = items.size();
     if ((items.size() > SVA_MAX_KEY_ITEMS || P > bins_.max_pairs()) && P > 1) return false;

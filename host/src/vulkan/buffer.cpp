@@ -73,6 +73,11 @@ void Buffer::allocate(const Device& device, Memory kind, bool never_map) {
       const VkMemoryPropertyFlags f = device.memory().memoryTypes[type].propertyFlags;
       device_local_ = (f & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT) != 0;
       host_visible = (f & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) != 0;
+      if (device_local_) {
+        owner_ = &device;
+        counted_ = req.size;
+        device.count_device_bytes(static_cast<std::int64_t>(counted_));
+      }
       break;
     }
     if (r != VK_ERROR_OUT_OF_DEVICE_MEMORY && r != VK_ERROR_OUT_OF_HOST_MEMORY) break;
@@ -91,6 +96,9 @@ void Buffer::allocate(const Device& device, Memory kind, bool never_map) {
 }
 
 void Buffer::release() {
+  if (owner_ && counted_) owner_->count_device_bytes(-static_cast<std::int64_t>(counted_));
+  owner_ = nullptr;
+  counted_ = 0;
   if (device_) {
     if (mapped_) vkUnmapMemory(device_, memory_);
     if (buffer_) vkDestroyBuffer(device_, buffer_, nullptr);
@@ -110,6 +118,8 @@ Buffer::Buffer(Buffer&& o) noexcept { *this = std::move(o); }
 Buffer& Buffer::operator=(Buffer&& o) noexcept {
   if (this != &o) {
     release();
+    std::swap(owner_, o.owner_);
+    std::swap(counted_, o.counted_);
     std::swap(device_, o.device_);
     std::swap(buffer_, o.buffer_);
     std::swap(memory_, o.memory_);

@@ -52,6 +52,8 @@ class Buffer {
   void allocate(const Device& device, Memory kind, bool never_map);
   void release();
 
+  const Device* owner_ = nullptr;  // counts the device memory this buffer holds
+  std::size_t counted_ = 0;
   VkDevice device_ = VK_NULL_HANDLE;
   VkBuffer buffer_ = VK_NULL_HANDLE;
   VkDeviceMemory memory_ = VK_NULL_HANDLE;

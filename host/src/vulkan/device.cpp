@@ -172,6 +172,13 @@ Device::~Device() {
   }
 }
 
+void Device::count_device_bytes(std::int64_t delta) const {
+  const std::uint64_t now = device_bytes_.fetch_add(static_cast<std::uint64_t>(delta)) + static_cast<std::uint64_t>(delta);
+  std::uint64_t peak = peak_device_bytes_.load();
+  while (now > peak && !peak_device_bytes_.compare_exchange_weak(peak, now)) {
+  }
+}
+
 Grid Device::grid(std::uint64_t invocations) const {
   const std::uint64_t groups = std::max<std::uint64_t>((invocations + SVA_WORKGROUP_SIZE - 1) / SVA_WORKGROUP_SIZE, 1);
   const std::uint64_t x = std::min<std::uint64_t>(groups, info_.max_workgroup_count_x);

@@ -4,6 +4,7 @@
 // device addresses), its limits, and the logical device with its one queue.
 #include <vulkan/vulkan.h>
 
+#include <atomic>
 #include <cstdint>
 #include <string>
 
@@ -45,6 +46,11 @@ class Device {
   std::uint32_t queue_family() const { return queue_family_; }
   const DeviceInfo& info() const { return info_; }
   const VkPhysicalDeviceMemoryProperties& memory() const { return memory_; }
+  // Bytes of device memory (the device's own heaps) held by live buffers, and
+  // the most held at once: what a run costs the GPU.
+  std::uint64_t device_bytes() const { return device_bytes_.load(); }
+  std::uint64_t peak_device_bytes() const { return peak_device_bytes_.load(); }
+  void count_device_bytes(std::int64_t delta) const;
   // A 2-D grid of SVA_WORKGROUP_SIZE-wide workgroups covering `invocations`
   // (x is capped at maxComputeWorkGroupCount[0]); shaders flatten it back.
   Grid grid(std::uint64_t invocations) const;
@@ -56,6 +62,7 @@ class Device {
   std::uint32_t queue_family_ = 0;
   DeviceInfo info_;
   VkPhysicalDeviceMemoryProperties memory_{};
+  mutable std::atomic<std::uint64_t> device_bytes_{0}, peak_device_bytes_{0};
 };
 
 }  // namespace sva::vk

@@ -37,16 +37,8 @@ void CommandRunner::run(const std::vector<Dispatch>& dispatches, std::vector<dou
   if (timing) ensure_queries(n_queries);
   reset_descriptor_pool(dispatches);
 
-  VkCommandBufferAllocateInfo cai{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
-  cai.commandPool = command_pool_;
-  cai.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
-  cai.commandBufferCount = 1;
-  VkCommandBuffer cmd;
-  check(vkAllocateCommandBuffers(device_.handle(), &cai, &cmd), "vkAllocateCommandBuffers");
+  VkCommandBuffer cmd = begin();
   try {
-    VkCommandBufferBeginInfo cbi{VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO};
-    cbi.flags = VK_COMMAND_BUFFER_USAGE_ONE_TIME_SUBMIT_BIT;
-    check(vkBeginCommandBuffer(cmd, &cbi), "vkBeginCommandBuffer");
     if (timing) vkCmdResetQueryPool(cmd, queries_, 0, n_queries);
     record_fills(cmd, fills);
     for (std::uint32_t i = 0; i < dispatches.size(); ++i) record_dispatch(cmd, dispatches[i], i, timing);
@@ -54,13 +46,11 @@ void CommandRunner::run(const std::vector<Dispatch>& dispatches, std::vector<dou
     VkMemoryBarrier hb{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT};
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &hb, 0, nullptr,
                          0, nullptr);
-    check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
-    submit_and_wait(cmd);
   } catch (...) {
     vkFreeCommandBuffers(device_.handle(), command_pool_, 1, &cmd);
     throw;
   }
-  vkFreeCommandBuffers(device_.handle(), command_pool_, 1, &cmd);
+  end_submit_free(cmd);
   if (timing) read_kernel_ms(dispatches.size(), *kernel_ms);
 }
 

@@ -145,6 +145,7 @@ Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const
     e.top.push_back(out);
   }
   e.votes_outside = s.filter->last_update().votes_outside;
+  e.votes_zero = s.filter->last_update().votes_zero;
   return e;
 }
 

@@ -179,6 +179,16 @@ BatchRecognizer::Timing BatchRecognizer::last_backend_timing() const {
   return t;
 }
 
+BatchRecognizer::DeviceMemory BatchRecognizer::device_memory() const {
+  DeviceMemory m;
+  if (impl_->backend) {
+    const BackendStats st = impl_->backend->statistics();
+    m.bytes = st.device_bytes;
+    m.map_bytes = st.map_device_bytes;
+  }
+  return m;
+}
+
 // The single-session Recognizer is a batch of one.
 struct Recognizer::Impl {
   BatchRecognizer batch;

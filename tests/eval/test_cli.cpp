@@ -133,13 +133,17 @@ TEST_CASE("sva eval writes the JSON curve, CSV and figure with non-timing fields
     CHECK(p["accuracy"].get<double>() <= 1.0);
     for (const char* key : {"translation_error_mm", "angular_error_deg", "inertial_error_mm"})
       CHECK((p[key].is_null() || p[key].get<double>() >= 0.0));
+    CHECK(p["votes_zero"].get<std::uint64_t>() <= p["votes"].get<std::uint64_t>());
   }
+  CHECK(a["curve"][0]["votes"] == 0);  // one reading makes no pair
+  CHECK(a["curve"][4]["votes"].get<std::uint64_t>() > 0);
   auto full = nlohmann::json::parse(read_file(f.path("a.json")));
   CHECK(full["curve"][4]["update_ms"].is_number());
   CHECK(full["curve"][4]["update_ms_p95"].get<double>() >= full["curve"][4]["update_ms"].get<double>());
 
   const std::string csv = read_file(f.path("a.csv"));
   CHECK(std::count(csv.begin(), csv.end(), '\n') == 1 + 4 * 5);
+  CHECK(csv.substr(0, csv.find('\n')).ends_with(",votes,votes_zero"));
   const std::string png = read_file(f.path("a.png"));
   REQUIRE(png.size() > 8);
   CHECK(png.substr(1, 3) == "PNG");

@@ -64,7 +64,7 @@ json run_all(const Map& map, const Dataset& test, const BenchPlan& plan, bench::
     spec.label = eval::backend_name(backend);
     runs.push_back(bench::run_speed(map, test, spec, meter));
     if (plan.batch <= 1) continue;
-    // A batch is filled: at least `batch` trials, so every update carries `batch` sessions.
+    // At least `batch` trials, so the first group fills the batch.
     spec.trials = std::max(plan.trials, plan.batch);
     spec.sessions = plan.batch;
     spec.label += " batch";

@@ -1,6 +1,7 @@
 // Time per Bayes-filter update as readings accumulate, on a trained map and
-// its test readings (CPU reference backend), with votes per second and the
-// recognition error those updates buy.
+// its test readings (CPU reference backend), with votes per second, the votes
+// whose fixed-point mass rounds to zero, the recognition error those updates
+// buy and the peak resident memory (RSS) of the process.
 //   filter_speed MAP.svam TEST.svad [trials=3] [readings=100] [threads=0]
 //                [object_prune_probability=0] [max_pairs_per_update=0] [likelihood_cutoff=0]
 // Trial t recognises object t % objects from its test readings, drawn at
@@ -22,6 +23,7 @@
 #include <vector>
 
 #include "recognition/rotation.hpp"
+#include "speed/process_memory.hpp"
 #include "util/rng.hpp"
 
 namespace {
@@ -71,6 +73,7 @@ int main(int argc, char** argv) try {
   const int marks[] = {10, 30, 100};
   std::vector<double> at_mark[3], cpu_at_mark[3];
   double total_votes = 0.0, total_seconds = 0.0;
+  std::uint64_t total_zero = 0;  // votes inside the space whose mass rounds to 0: counted, they add nothing
   int correct = 0;
   std::vector<double> terr;
   for (int t = 0; t < trials; ++t) {
@@ -97,6 +100,7 @@ int main(int argc, char** argv) try {
       const double cpu = process_cpu_seconds() - c0;
       const sva::Estimate e = rec.estimate(1);
       total_votes += static_cast<double>(e.votes);
+      total_zero += e.votes_zero;
       total_seconds += sec;
       for (int m = 0; m < 3; ++m)
         if (i + 1 == marks[m]) {
@@ -122,7 +126,12 @@ int main(int argc, char** argv) try {
                   median(at_mark[m]), p95(at_mark[m]), median(cpu_at_mark[m]), at_mark[m].size());
   std::printf("votes per second: %.3g (%.3g votes in %.1f s of updates)\n", total_votes / std::max(total_seconds, 1e-9), total_votes,
               total_seconds);
+  std::printf("votes of mass 0 (below half a 2^-24 unit): %llu of %.3g (%.3g%%)\n",
+              static_cast<unsigned long long>(total_zero), total_votes,
+              100.0 * static_cast<double>(total_zero) / std::max(total_votes, 1.0));
   std::printf("after %d readings: %d/%d objects right, median translation error %.1f mm\n", readings, correct, trials, median(terr));
+  std::printf("peak RSS of the process: %.1f MiB\n",
+              static_cast<double>(sva::bench::MemoryMeter().process_peak_bytes()) / (1024.0 * 1024.0));
   return 0;
 } catch (const sva::Error& e) {
   std::fprintf(stderr, "filter_speed: %s\n", e.what());

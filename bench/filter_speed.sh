@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Benchmark of the Bayes filter (CPU reference backend): time per update at 10,
-# 30 and 100 readings, votes per second, and the error after the run.
+# 30 and 100 readings, votes per second, votes of mass 0, the error after the
+# run and the peak RSS of the process.
 #   bench/filter_speed.sh [BUILD_DIR=build] [trials=3] [readings=100] [threads=2] [prune max_pairs cutoff]
 # Simulates paper3d and trains its map first (cached in $SVA_BENCH_DIR, default /tmp/sva-bench-p3d).
 set -euo pipefail
@@ -10,7 +11,8 @@ build=${1:-$root/build}
 trials=${2:-3}
 readings=${3:-100}
 threads=${4:-2}
-sva=$build/host/cli/sva
+sva=$build/sva
+[[ -x $sva ]] || sva=$build/host/cli/sva
 [[ -x $sva ]] || { echo "no sva binary at $sva (build first)" >&2; exit 1; }
 data=${SVA_BENCH_DIR:-/tmp/sva-bench-p3d}
 mkdir -p "$data"
@@ -18,6 +20,8 @@ mkdir -p "$data"
 [[ -f $data/map.svam ]] || "$sva" --quiet train --data "$data/train.svad" --out "$data/map.svam" --threads "$threads"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-libs=$(find "$build" -name 'libsva_core.a' | tr '\n' ' ')
-c++ -std=c++20 -O2 -I"$root/host/include" -I"$root/host/src" -I"$root/shaders/include" "$here/filter_speed.cpp" $libs $libs -lvulkan -lpthread -o "$tmp/filter_speed"
+# The build's own core library (the package test installs another copy under the build directory).
+libs=$(find "$build" -name 'libsva_core.a' -not -path '*/package-test/*' | head -n 1)
+c++ -std=c++20 -O2 -I"$root/host/include" -I"$root/host/src" -I"$root/shaders/include" -I"$here" \
+  "$here/filter_speed.cpp" "$here/speed/process_memory.cpp" $libs -ltbb -lvulkan -lpthread -o "$tmp/filter_speed"
 SVA_THREADS=$threads "$tmp/filter_speed" "$data/map.svam" "$data/test.svad" "$trials" "$readings" "$threads" "${@:5}"

@@ -133,13 +133,17 @@ TEST_CASE("sva eval writes the JSON curve, CSV and figure with non-timing fields
     CHECK(p["accuracy"].get<double>() <= 1.0);
     for (const char* key : {"translation_error_mm", "angular_error_deg", "inertial_error_mm"})
       CHECK((p[key].is_null() || p[key].get<double>() >= 0.0));
+    CHECK(p["votes_zero"].get<std::uint64_t>() <= p["votes"].get<std::uint64_t>());
   }
+  CHECK(a["curve"][0]["votes"] == 0);  // one reading makes no pair
+  CHECK(a["curve"][4]["votes"].get<std::uint64_t>() > 0);
   auto full = nlohmann::json::parse(read_file(f.path("a.json")));
   CHECK(full["curve"][4]["update_ms"].is_number());
   CHECK(full["curve"][4]["update_ms_p95"].get<double>() >= full["curve"][4]["update_ms"].get<double>());
 
   const std::string csv = read_file(f.path("a.csv"));
   CHECK(std::count(csv.begin(), csv.end(), '\n') == 1 + 4 * 5);
+  CHECK(csv.substr(0, csv.find('\n')).ends_with(",votes,votes_zero"));
   const std::string png = read_file(f.path("a.png"));
   REQUIRE(png.size() > 8);
   CHECK(png.substr(1, 3) == "PNG");
@@ -256,4 +260,100 @@ TEST_CASE("sva eval gives the same curve on the Vulkan backend as on the CPU") {
   cpu.erase("backend");
   vk.erase("backend");
   CHECK(cpu == vk);
+}
+
+namespace {
+
+// The run of a bench report with this backend and batch size.
+const nlohmann::json& bench_run(const nlohmann::json& report, const std::string& backend, std::size_t sessions) {
+  for (const auto& r : report["runs"])
+    if (r["backend"] == backend && r["sessions_per_submission"] == sessions) return r;
+  FAIL("no " << backend << " run of " << sessions << " sessions per submission");
+  throw;
+}
+
+// Figures every bench run has, whatever its backend: host memory, throughput, zero-mass votes.
+void check_bench_run(const nlohmann::json& r, const std::string& backend, std::size_t sessions, std::size_t trials) {
+  INFO(backend << ", " << sessions << " per submission");
+  CHECK(r["trials"] == trials);
+  const auto& m = r["memory"];
+  CHECK(m["peak_rss_bytes"].get<std::uint64_t>() > 0);
+  CHECK(m["rss_before_bytes"].get<std::uint64_t>() > 0);
+  CHECK(m["rss_after_bytes"].get<std::uint64_t>() > 0);
+  CHECK(m["rss_increase_bytes"].get<std::int64_t>() ==
+        m["rss_after_bytes"].get<std::int64_t>() - m["rss_before_bytes"].get<std::int64_t>());
+  if (!m["peak_rss_during_bytes"].is_null()) {  // null only where VmHWM cannot be reset
+    CHECK(m["peak_rss_during_bytes"].get<std::uint64_t>() >= m["rss_after_bytes"].get<std::uint64_t>());
+    CHECK(m["peak_rss_during_bytes"].get<std::uint64_t>() <= m["peak_rss_bytes"].get<std::uint64_t>());
+  }
+  CHECK(r["session_updates_per_second"].get<double>() > 0);
+  CHECK(r["votes_per_second"].get<double>() > 0);
+  CHECK(r["votes"].get<std::uint64_t>() > 0);
+  CHECK(r["votes_zero"].get<std::uint64_t>() <= r["votes"].get<std::uint64_t>());
+  CHECK(r["votes_zero_fraction"].get<double>() >= 0.0);
+  CHECK(r["votes_zero_fraction"].get<double>() <= 1.0);
+  REQUIRE(r["curve"].size() == 2);
+  for (const auto& p : r["curve"]) {
+    CHECK(p["update_ms"].get<double>() > 0);
+    CHECK(p["session_updates_per_second"].get<double>() > 0);
+    CHECK(p["votes_zero_per_update"].get<double>() >= 0);
+    CHECK(p["votes_zero_per_update"].get<double>() <= p["votes_per_update"].get<double>());
+    CHECK(p["accuracy"].get<double>() >= 0.0);
+  }
+}
+
+}  // namespace
+
+TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of a batched CPU run") {
+  Fixture f;
+  std::string out;
+  const std::string base = "bench --map " + f.map + " --data " + f.test + " --trials 2 ";
+  const std::string bench = base + "--readings 2,4 ";
+  REQUIRE(sva::test::run_sva(bench + "--backend cpu --batch 4 --json " + f.path("b.json"), &out) == 0);
+  INFO(out);
+  CHECK(out.find("upd/s") != std::string::npos);
+  CHECK(out.find("peak RSS") != std::string::npos);
+  CHECK(out.find("votes of mass 0") != std::string::npos);
+  const auto j = nlohmann::json::parse(read_file(f.path("b.json")));
+  REQUIRE(j["runs"].size() == 2);
+  CHECK(j["peak_rss_bytes"].get<std::uint64_t>() > 0);
+  check_bench_run(bench_run(j, "cpu", 1), "cpu", 1, 2);
+  const auto& batch = bench_run(j, "cpu", 4);
+  check_bench_run(batch, "cpu", 4, 4);  // a batch is filled: max(batch, trials) trials
+  CHECK(batch["memory"]["device_bytes"] == 0);
+  CHECK(batch["memory"]["map_device_bytes"] == 0);
+  CHECK(j["peak_rss_bytes"].get<std::uint64_t>() >= batch["memory"]["peak_rss_bytes"].get<std::uint64_t>());
+  CHECK_FALSE(j.contains("roofline"));  // no device measured
+
+  REQUIRE(sva::test::run_sva(bench + "--backend cpu --batch 0 --json " + f.path("single.json"), &out) == 0);
+  CHECK(nlohmann::json::parse(read_file(f.path("single.json")))["runs"].size() == 1);
+  for (const std::string bad : {"--batch -1", "--batch x", "--backend gpu", "--readings 0"}) {
+    INFO(bad);
+    CHECK(sva::test::run_sva(base + bad, &out) != 0);
+    CHECK(out.find(bad.substr(bad.find(' ') + 1)) != std::string::npos);
+    CHECK(out.find("internal error") == std::string::npos);
+  }
+}
+
+TEST_CASE("sva bench on the Vulkan backend reports device memory (n/a until the backend fills it)") {
+  Fixture f;
+  std::string out;
+  const std::string bench = "bench --map " + f.map + " --data " + f.test + " --readings 2,4 --trials 2 --batch 3 ";
+  if (sva::test::run_sva(bench + "--backend vulkan --roofline-votes 4096 --json " + f.path("vk.json"), &out) != 0) {
+    if (out.find("ulkan") != std::string::npos && out.find("internal error") == std::string::npos)
+      sva::test::skip("no Vulkan device: " + out);
+    FAIL(out);
+  }
+  INFO(out);
+  const auto j = nlohmann::json::parse(read_file(f.path("vk.json")));
+  REQUIRE(j["runs"].size() == 2);
+  check_bench_run(bench_run(j, "vulkan", 1), "vulkan", 1, 2);
+  const auto& batch = bench_run(j, "vulkan", 3);
+  check_bench_run(batch, "vulkan", 3, 3);
+  for (const char* key : {"device_bytes", "map_device_bytes"}) {
+    const auto& bytes = batch["memory"][key];
+    CHECK((bytes.is_null() || bytes.get<std::uint64_t>() > 0));  // null: not reported, never "0 bytes"
+  }
+  if (batch["memory"]["device_bytes"].is_null()) CHECK(out.find("device: n/a") != std::string::npos);
+  CHECK(j["roofline"]["votes_per_second"].get<double>() > 0);
 }

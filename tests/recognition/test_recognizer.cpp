@@ -166,3 +166,33 @@ TEST_CASE("Recognizer: refused readings, options and maps") {
   CHECK_THROWS_WITH(Recognizer(t.map, paper_space(), eps), Catch::Contains("eps"));
   CHECK_THROWS_AS(Recognizer(Map{}, paper_space()), Error);
 }
+
+// Votes are rounded to nearest 2^-24 units: a vote below half a unit adds no
+// mass, and the estimate counts it in votes_zero instead of losing it silently.
+TEST_CASE("Recognizer: votes whose mass rounds to zero are counted in the estimate") {
+  const Trained& t = trained();
+  // The same map with every entry weight scaled by 1e-9: likelihoods (Eq 15) mostly stay above their 2^-40
+  // resolution, but no beta sample of a match reaches half a vote unit.
+  auto faint = std::make_shared<PairMap>(t.map.internal());
+  for (float& w : faint->entry_weight) w *= 1e-9f;
+  const Map faint_map(faint);
+  const RigidPose truth = random_pose(700, 100.0);
+  Recognizer normal(t.map, paper_space()), quiet(faint_map, paper_space());
+  util::Rng rng(43);
+  for (int i = 0; i < 6; ++i) {
+    const Reading r = reading_of(t.data.scene.sensor, world_point(t.spec, 0, static_cast<int>(rng.below(70))), 0, truth, rng);
+    normal.add_reading(r);
+    quiet.add_reading(r);
+  }
+  const Estimate n = normal.estimate(1), q = quiet.estimate(1);
+  REQUIRE(n.votes > 0);
+  CHECK(n.votes_zero < n.votes);
+  // Matches whose likelihood falls below 2^-40 cast no vote at all; every other sample lands where it did
+  // and rounds to 0.
+  CHECK(q.votes > 0);
+  CHECK(q.votes <= n.votes);
+  CHECK(q.votes_zero == q.votes);
+  CHECK_FALSE(q.pose_valid);  // nothing was folded
+  quiet.reset();
+  CHECK(quiet.estimate(1).votes_zero == 0);
+}

@@ -7,6 +7,7 @@
 // call one BatchRecognizer from one thread at a time.
 #include <sva/recognizer.hpp>
 
+#include <cstdint>
 #include <memory>
 #include <span>
 #include <vector>
@@ -43,6 +44,13 @@ class BatchRecognizer {
     double fold_ms = 0.0;  // of kernel_ms: the fold into the beliefs
   };
   Timing last_backend_timing() const;
+  // Device memory the backend holds (Vulkan: map, vote table, beliefs). 0 on the CPU, and 0 where the
+  // backend does not report it.
+  struct DeviceMemory {
+    std::uint64_t bytes = 0;
+    std::uint64_t map_bytes = 0;  // of `bytes`, the uploaded map's
+  };
+  DeviceMemory device_memory() const;
 
   struct Impl;
 

@@ -51,6 +51,9 @@ struct Estimate {
   std::uint64_t votes = 0;                  // votes cast by the last update
   std::uint64_t votes_outside = 0;          // votes of the last update whose pose fell outside the pose space
                                             // (many: the space may not contain the object's pose)
+  std::uint64_t votes_zero = 0;             // of `votes`, those whose fixed-point mass (2^-24 units, rounded to
+                                            // nearest) is 0: counted, they add nothing to the belief (many: the
+                                            // likelihoods are tiny, e.g. a likelihood_cutoff of 0 on a large map)
 };
 
 class Recognizer {

@@ -46,6 +46,23 @@ std::string csv_quote(const std::string& s) {
   return q + "\"";
 }
 
+// Votes that round to zero mass are counted, never silently dropped: one line
+// with their share of all votes, so a run whose evidence vanishes shows it.
+std::string zero_votes_line(const Curve& curve) {
+  std::uint64_t votes = 0, zero = 0;
+  for (const auto& p : curve.points) {
+    votes += p.votes;
+    zero += p.votes_zero;
+  }
+  if (votes == 0) return "";
+  char line[200];
+  std::snprintf(line, sizeof line,
+                "votes: %llu inside the pose space, %llu (%.3g%%) of mass 0 (below half a 2^-24 unit)\n",
+                static_cast<unsigned long long>(votes), static_cast<unsigned long long>(zero),
+                100.0 * static_cast<double>(zero) / static_cast<double>(votes));
+  return line;
+}
+
 }  // namespace
 
 std::string to_json(const EvalResult& result, const Curve& curve) {
@@ -66,7 +83,9 @@ std::string to_json(const EvalResult& result, const Curve& curve) {
                       {"angular_error_deg", opt(p.angular_error_deg)},
                       {"inertial_error_mm", opt(p.inertial_error_mm)},
                       {"update_ms", opt(p.update_ms)},
-                      {"update_ms_p95", opt(p.update_ms_p95)}});
+                      {"update_ms_p95", opt(p.update_ms_p95)},
+                      {"votes", p.votes},
+                      {"votes_zero", p.votes_zero}});
   }
   j["curve"] = std::move(points);
   return j.dump(2) + "\n";
@@ -76,7 +95,7 @@ std::string to_csv(const EvalResult& result) {
   std::ostringstream s;
   s << "trial,object,object_name,readings,sample,estimated_object,correct,true_object_probability,pose_valid,"
        "translation_error_mm,angular_error_deg,inertial_error_mm,update_ms,"
-       "true_tx,true_ty,true_tz,true_rx,true_ry,true_rz,est_tx,est_ty,est_tz,est_rx,est_ry,est_rz\n";
+       "true_tx,true_ty,true_tz,true_rx,true_ry,true_rz,est_tx,est_ty,est_tz,est_rx,est_ry,est_rz,votes,votes_zero\n";
   for (const auto& t : result.trials) {
     const std::string name = t.object < result.objects.size() ? result.objects[t.object] : "";
     for (std::size_t k = 0; k < t.steps.size(); ++k) {
@@ -92,7 +111,7 @@ std::string to_csv(const EvalResult& result) {
       s << ',' << num(st.update_ms) << ',' << pose_cells(t.pose) << ',';
       if (st.pose_valid) s << pose_cells(st.estimate);
       else s << ",,,,,";
-      s << '\n';
+      s << ',' << st.votes << ',' << st.votes_zero << '\n';
     }
   }
   return s.str();
@@ -113,6 +132,7 @@ std::string format_table(const Curve& curve) {
                   cell(p.update_ms_p95, "%.3f").c_str());
     s << line;
   }
+  s << zero_votes_line(curve);
   return s.str();
 }
 

@@ -24,6 +24,8 @@ Curve summarize(const EvalResult& result) {
       const StepResult& s = trial.steps[n - 1];
       correct += s.correct;
       ms.push_back(s.update_ms);
+      p.votes += s.votes;
+      p.votes_zero += s.votes_zero;
       if (!s.has_pose_error()) continue;
       t_err.push_back(s.translation_error_mm);
       a_err.push_back(s.angular_error_rad * 180.0 / std::numbers::pi);

@@ -21,6 +21,8 @@ struct StepResult {
   double angular_error_rad = 0.0;
   double inertial_error_mm = 0.0;
   double update_ms = 0.0;        // add_reading + estimate (timing: varies run to run)
+  std::uint64_t votes = 0;       // votes cast inside the pose space by this reading's update
+  std::uint64_t votes_zero = 0;  // of them, those whose fixed-point mass rounds to 0 (they add nothing)
   RigidPose estimate;            // the estimated pose (when pose_valid)
   bool has_pose_error() const { return correct && pose_valid; }
 };
@@ -41,6 +43,7 @@ struct CurvePoint {
   std::size_t pose_trials = 0;     // trials the error medians are over
   std::optional<double> translation_error_mm, angular_error_deg, inertial_error_mm;
   std::optional<double> update_ms, update_ms_p95;  // over all trials
+  std::uint64_t votes = 0, votes_zero = 0;          // summed over all trials at this step
 };
 
 struct Curve {

@@ -51,6 +51,8 @@ class SessionPool {
 // What one step of a trial shows: the estimate against the truth.
 void record_step(StepResult& s, const Estimate& est, const Trial& trial, const SceneObject& object, double update_ms) {
   s.update_ms = update_ms;
+  s.votes = est.votes;
+  s.votes_zero = est.votes_zero;
   s.estimated_object = est.object;
   s.correct = est.object == trial.object;
   s.true_object_probability = trial.object < est.object_probability.size() ? est.object_probability[trial.object] : 0.0;

@@ -145,6 +145,7 @@ Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const
     e.top.push_back(out);
   }
   e.votes_outside = s.filter->last_update().votes_outside;
+  e.votes_zero = s.filter->last_update().votes_zero;
   return e;
 }
 
@@ -176,6 +177,16 @@ BatchRecognizer::Timing BatchRecognizer::last_backend_timing() const {
     t.fold_ms = st.last_fold_ms;
   }
   return t;
+}
+
+BatchRecognizer::DeviceMemory BatchRecognizer::device_memory() const {
+  DeviceMemory m;
+  if (impl_->backend) {
+    const BackendStats st = impl_->backend->statistics();
+    m.bytes = st.device_bytes;
+    m.map_bytes = st.map_device_bytes;
+  }
+  return m;
 }
 
 // The single-session Recognizer is a batch of one.

@@ -19,8 +19,9 @@ struct BackendStats {
   std::size_t table_slots = 0;    // vote-table slots
   unsigned table_grows = 0;       // vote- or belief-table overflows so far, each grown and rerun
   std::uint32_t validation_messages = 0;  // Vulkan validation warnings and errors (SVA_VK_VALIDATION=1)
-  // Device memory the backend holds now (map, vote table, beliefs, staging), and of it the uploaded map's; 0 on
-  // the CPU, and 0 where a device backend does not report it yet (reports print "n/a" then, not "0 bytes").
+  // Device memory held on the backend's device now (the map once, vote tables, beliefs; with a shared engine, of
+  // every backend on it), and of it the uploaded map's; 0 on the CPU, and 0 where a device backend does not report
+  // it (reports print "n/a" then, not "0 bytes").
   std::uint64_t device_bytes = 0;
   std::uint64_t map_device_bytes = 0;
 };

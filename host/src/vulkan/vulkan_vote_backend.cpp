@@ -90,10 +90,15 @@ class VulkanVoteBackend final : public VoteBackend {
     return out;
   }
 
+  // Device memory: what the engine's device holds (the map once, and the work buffers and beliefs of every
+  // backend sharing the engine; tables only grow, so this is the peak of the run so far).
   BackendStats statistics() const override {
-    return {name(),          stats_.device,      stats_.last_kernel_ms, stats_.last_fold_ms,
-            stats_.last_host_ms, stats_.chunks, stats_.table_slots,    stats_.table_grows,
-            stats_.validation_messages};
+    BackendStats s{name(),          stats_.device, stats_.last_kernel_ms, stats_.last_fold_ms,
+                   stats_.last_host_ms, stats_.chunks, stats_.table_slots,    stats_.table_grows,
+                   stats_.validation_messages};
+    s.device_bytes = ctx_.device().device_bytes();
+    s.map_device_bytes = engine_->map_bytes;
+    return s;
   }
 
  private:

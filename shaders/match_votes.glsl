@@ -213,7 +213,9 @@ void vote_sample(uint t, SvaPoseGrid grid) {
       uint mid = (lo + hi) >> 1;
       if (s_first[mid] <= t) lo = mid; else hi = mid;
     }
-    SvaVote v = sva_vote(s_al[lo], s_plan[lo], grid, s_object[lo], s_scale[lo], int(t - s_first[lo]));
+    int i = int(t - s_first[lo]);
+    precise float weight = sva_beta_weight(s_plan[lo], i) * s_scale[lo];
+    SvaVote v = sva_vote(s_al[lo], s_plan[lo], grid, s_object[lo], weight, i);
     if (v.inside == 0) {
       atomicAdd(s_outside[lo], 1u);
     } else if (v.mass > 0l) {

@@ -131,7 +131,7 @@ SVA_FN float sva_length(vec3 a) { return sva_sqrt(sva_dot(a, a)); }
 
 // exp(x) for x <= 0 (Gaussian weights); x below -80 gives 0. Range reduction
 // x = k ln2 + r, |r| <= ln2/2, Taylor to degree 8 (error < 1e-8 relative),
-// then k exact halvings.
+// then an exact scaling by 2^-k.
 SVA_FN float sva_exp_neg(float x) {
   if (!(x > -80.0f)) return 0.0f;
   if (x > 0.0f) x = 0.0f;
@@ -139,12 +139,11 @@ SVA_FN float sva_exp_neg(float x) {
   SVA_PRECISE float r = x - kf * SVA_LN2;
   SVA_PRECISE float e =
       1.0f + r * (1.0f + r * (0.5f + r * (1.0f / 6.0f + r * (1.0f / 24.0f + r * (1.0f / 120.0f + r * (1.0f / 720.0f + r * (1.0f / 5040.0f + r * (1.0f / 40320.0f))))))));
+  // e 2^-k: e lies in [0.7, 1.5] and k <= 116, so the product is a normal float
+  // and exact, the same as k exact halvings, without their loop.
   int k = int(-kf);
-  for (int i = 0; i < 128; ++i) {
-    if (i >= k) break;
-    e = e * 0.5f;
-  }
-  return e;
+  SVA_PRECISE float scale = uintBitsToFloat(uint(127 - k) << 23);
+  return e * scale;
 }
 
 // atan(t) for 0 <= t <= 1: above tan(pi/8) use atan(t) = pi/4 + atan((t-1)/(t+1)),

@@ -38,19 +38,22 @@ struct SvaVote {
 SVA_FN float sva_vote_scale(float likelihood, float weight_sum) { return sva_div(likelihood, weight_sum); }
 
 // The vote of beta sample i of a match: pose bin and fixed-point mass
-// g_i * scale (Eq 15 times the normalised Gaussian in beta).
-SVA_FN SvaVote sva_vote(SvaAlignment al, SvaBetaPlan plan, SvaPoseGrid grid, uint object, float scale, int i) {
+// `weight` = g_i * scale (Eq 15 times the normalised Gaussian in beta; the
+// caller has g_i from the weight sum, sva_beta_weight). The translation is
+// binned first: a sample outside the space needs no rotation.
+SVA_FN SvaVote sva_vote(SvaAlignment al, SvaBetaPlan plan, SvaPoseGrid grid, uint object, float weight, int i) {
   SvaVote vote;
   vote.key = uint64_t(0);
   vote.mass = int64_t(0);
   vote.inside = 0;
   SVA_PRECISE float beta = al.beta_hat + sva_beta_offset(plan, i);
   SVA_PRECISE vec4 qb = sva_quat_axis_angle(al.axis, beta);
-  SVA_PRECISE vec4 q = sva_quat_mul(qb, al.q1);
   SVA_PRECISE vec3 t = al.c_obs - sva_quat_rotate(qb, al.c_map_r);
   int tx = sva_translation_bin(t.x, grid);
   int ty = sva_translation_bin(t.y, grid);
-  int tz = 0;
+  int tz = grid.kind == SVA_POSE_PLANAR ? 0 : sva_translation_bin(t.z, grid);
+  if (tx < 0 || ty < 0 || tz < 0) return vote;
+  SVA_PRECISE vec4 q = sva_quat_mul(qb, al.q1);
   int rx = 0;
   int ry = 0;
   int rz = 0;
@@ -60,16 +63,13 @@ SVA_FN SvaVote sva_vote(SvaAlignment al, SvaBetaPlan plan, SvaPoseGrid grid, uin
     if (q.x * q.x + q.y * q.y > SVA_PLANAR_MAX_TILT_SIN2) return vote;
     rz = sva_rotation_bin(2.0f * sva_atan2(sz, w), grid);
   } else {
-    tz = sva_translation_bin(t.z, grid);
     SVA_PRECISE vec3 r = sva_quat_to_rodrigues(q);
     rx = sva_rotation_bin(r.x, grid);
     ry = sva_rotation_bin(r.y, grid);
     rz = sva_rotation_bin(r.z, grid);
   }
-  if (tx < 0 || ty < 0 || tz < 0) return vote;
-  SVA_PRECISE float w8 = sva_beta_weight(plan, i) * scale;
   vote.key = sva_pack_bin_key(object, tx, ty, tz, rx, ry, rz);
-  vote.mass = SVA_TO_FIXED(w8);
+  vote.mass = SVA_TO_FIXED(weight);
   vote.inside = 1;
   return vote;
 }

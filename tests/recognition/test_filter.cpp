@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "fixture.hpp"
+#include "util/interrupt.hpp"
 
 using namespace sva;
 using namespace sva::test;
@@ -264,4 +265,19 @@ TEST_CASE("speed knobs: pair cap, likelihood cut-off and object pruning keep the
   const BeliefEstimate e = s.filter.estimate(3);
   CHECK(e.object == 2);
   CHECK(glm::length(e.pose.T - truth.T) < 1.5 * bin_width(paper_space()));
+}
+
+TEST_CASE("a session interrupted during an update refuses further use until reset") {
+  Session s(WorldSpec{}, paper_space());
+  const RigidPose pose = random_pose(31, 100.0);
+  for (int i = 0; i < 4; ++i) s.add(observe(s.world.objects[0][static_cast<std::size_t>(i * 9)], pose));
+  util::request_interrupt();  // as Ctrl-C would, while the backend votes and folds
+  CHECK_THROWS_AS(s.add(observe(s.world.objects[0][50], pose)), Interrupted);
+  util::clear_interrupt();
+  // Its belief may hold part of that update: no estimate, no update, a clear reason.
+  CHECK_THROWS_WITH(s.filter.estimate(1), Catch::Contains("interrupted") && Catch::Contains("reset"));
+  CHECK_THROWS_WITH(s.add(observe(s.world.objects[0][51], pose)), Catch::Contains("interrupted"));
+  s.filter.reset();
+  for (int i = 0; i < 6; ++i) s.add(observe(s.world.objects[0][static_cast<std::size_t>(i * 7)], pose));
+  CHECK(s.filter.estimate(1).object == 0);
 }

@@ -241,7 +241,8 @@ TEST_CASE("degenerate alignments: coincident points, normals along the axis, edg
     CHECK(ws == Approx(n_samples).epsilon(1e-3));
     std::int64_t total = 0;
     for (int s = 0; s < n_samples; ++s) {
-      const vm::SvaVote v = vm::sva_vote(al, plan, g, 0, vm::sva_vote_scale(0.5f, ws), s);
+      const vm::SvaVote v =
+          vm::sva_vote(al, plan, g, 0, vm::sva_beta_weight(plan, s) * vm::sva_vote_scale(0.5f, ws), s);
       CHECK(v.inside == 1);
       total += v.mass;
     }
@@ -261,7 +262,7 @@ TEST_CASE("a Gaussian narrower than a bin puts its mass in at least one bin") {
   CHECK(plan.n % 2 == 1);  // the mean itself is sampled
   const float scale = vm::sva_vote_scale(1.0f, vm::sva_beta_weight_sum(plan));
   std::int64_t total = 0;
-  for (int s = 0; s < plan.n; ++s) total += vm::sva_vote(al, plan, g, 0, scale, s).mass;
+  for (int s = 0; s < plan.n; ++s) total += vm::sva_vote(al, plan, g, 0, vm::sva_beta_weight(plan, s) * scale, s).mass;
   CHECK(std::fabs(static_cast<double>(total) / SVA_FIXED_ONE - 1.0) < 1e-3);
 }
 
@@ -284,7 +285,8 @@ void main() {
   SvaPoseGrid g = sva_pose_grid(int(v[7]), 50, -200.0f, 8.0f, 9, 0.698f);
   SvaBetaPlan plan = sva_beta_plan(al, g);
   float scale = sva_vote_scale(0.5f, sva_beta_weight_sum(plan));
-  SvaVote vt = sva_vote(al, plan, g, 1u, scale, int(gl_GlobalInvocationID.x));
+  int i = int(gl_GlobalInvocationID.x);
+  SvaVote vt = sva_vote(al, plan, g, 1u, sva_beta_weight(plan, i) * scale, i);
   keys[gl_GlobalInvocationID.x] = vt.key + uint64_t(vt.mass);
 }
 )";

@@ -25,7 +25,7 @@ struct RecognizerOptions {
   // Floor of every pair factor (DESIGN 4): factor = eps + S_p(x). See docs/recognition.md.
   double eps = 1e-6;
   // Speed knobs (defaults keep the paper's accuracy; docs/recognition.md):
-  float likelihood_cutoff = 0.0f;       // skip matches whose Eq 15 likelihood is below this
+  float likelihood_cutoff = 0.0f;       // skip matches whose Eq 15 likelihood (summed over shared keys) is below this
   double object_prune_probability = 0.0;  // skip map entries of objects whose posterior is below this
   int max_pairs_per_update = 0;         // 0 = all earlier readings (both orders); else the most recent ones
   unsigned threads = 0;                 // CPU backend: 0 = all cores; results do not depend on it

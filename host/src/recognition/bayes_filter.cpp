@@ -29,6 +29,13 @@ void BayesFilter::reset() {
   belief_->reset();
   readings_.clear();
   last_ = {};
+  incomplete_ = false;
+}
+
+void BayesFilter::require_complete() const {
+  if (incomplete_)
+    throw Error("recognition session was interrupted during an update (its belief holds part of that update's pairs): "
+                "reset the session");
 }
 
 namespace {
@@ -112,6 +119,7 @@ std::vector<UpdateStats> update_sessions(const std::vector<BayesFilter*>& sessio
   for (const BayesFilter* f : sessions)
     if (&f->map() != &sessions.front()->map() || &f->space() != &sessions.front()->space() || &f->backend() != &backend)
       throw Error("update_sessions: all sessions of a batch must share one map, pose space and backend");
+  for (const BayesFilter* f : sessions) f->require_complete();
   std::vector<ObservedReading> valid;
   valid.reserve(readings.size());
   for (std::size_t s = 0; s < sessions.size(); ++s) {
@@ -129,8 +137,13 @@ std::vector<UpdateStats> update_sessions(const std::vector<BayesFilter*>& sessio
     batch.object_active.resize(std::size_t{batch.sessions} * sessions.front()->space().objects(), 1);
   std::vector<BeliefState*> beliefs;
   for (BayesFilter* f : sessions) beliefs.push_back(&f->mutable_belief());
-  const std::vector<PairStats> stats =
-      batch.pairs.empty() ? std::vector<PairStats>{} : backend.vote_and_fold(batch, beliefs);
+  std::vector<PairStats> stats;
+  try {
+    if (!batch.pairs.empty()) stats = backend.vote_and_fold(batch, beliefs);
+  } catch (...) {
+    for (BayesFilter* f : sessions) f->mark_incomplete();
+    throw;
+  }
   std::vector<UpdateStats> out;
   for (std::size_t s = 0; s < sessions.size(); ++s)
     out.push_back(

@@ -40,7 +40,10 @@ class BayesFilter {
 
   // Adds one reading and updates the belief.
   UpdateStats add(const ObservedReading& reading);
-  BeliefEstimate estimate(std::size_t top_k) const { return sva::estimate(*belief_, *space_, top_k); }
+  BeliefEstimate estimate(std::size_t top_k) const {
+    require_complete();
+    return sva::estimate(*belief_, *space_, top_k);
+  }
   void reset();
 
   std::size_t readings() const { return readings_.size(); }
@@ -55,6 +58,11 @@ class BayesFilter {
   void queue_pairs(const ObservedReading& reading, std::uint32_t session, VoteBatch* batch) const;
   UpdateStats record(const ObservedReading& reading, const PairQuery* queries, const PairStats* pairs, std::size_t count);
   BeliefState& mutable_belief() { return *belief_; }
+  // An update that threw after its backend began folding (Ctrl-C, a device
+  // error) leaves the belief partly folded: the session refuses further use
+  // with a clear error until reset().
+  void mark_incomplete() { incomplete_ = true; }
+  void require_complete() const;
 
  private:
   const PairMap* map_;
@@ -65,6 +73,7 @@ class BayesFilter {
   std::uint64_t max_pairs_;  // fixed-point headroom (belief_math::max_pairs)
   std::vector<ObservedReading> readings_;
   UpdateStats last_;
+  bool incomplete_ = false;
 };
 
 // Updates several independent sessions, each with its next reading, in one

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <mutex>
 #include <string>
 
 #include "recognition/bin_accumulator.hpp"
@@ -84,9 +85,10 @@ class CpuVoteBackend final : public VoteBackend {
     return std::make_unique<Belief>(space, eps);
   }
 
-  // Pairs vote and compute their fold terms in parallel, a block at a time (so
-  // that only a block's votes are held); the terms are then added to the
-  // beliefs. Integer offsets: any order of pairs gives the same belief.
+  // Pairs vote and compute their fold terms in parallel on the worker pool;
+  // each adds its terms to its session's belief under that session's lock
+  // (the additions are a few percent of the work, and integers: the order of
+  // pairs does not change the belief). Only the pairs in flight hold votes.
   std::vector<PairStats> vote_and_fold(const VoteBatch& batch, std::span<BeliefState* const> beliefs) override {
     const auto start = Clock::now();
     std::vector<Belief*> target(batch.pairs.size());
@@ -97,22 +99,17 @@ class CpuVoteBackend final : public VoteBackend {
       if (!target[i]) throw Error("cpu backend: session " + std::to_string(s) + " has a belief made by another backend");
     }
     std::vector<PairStats> out(batch.pairs.size());
-    const unsigned threads = settings_.threads ? settings_.threads : util::default_threads();
-    const std::size_t block = 4 * static_cast<std::size_t>(threads);
-    std::vector<std::vector<BinOffset>> terms(block);
-    for (std::size_t first = 0; first < batch.pairs.size(); first += block) {
-      const std::size_t n = std::min(block, batch.pairs.size() - first);
-      util::parallel_for(
-          n,
-          [&](std::size_t j) {
-            BinAccumulator acc(4096);
-            vote_pair(batch, batch.pairs[first + j], acc, &out[first + j]);
-            terms[j] = target[first + j]->terms(acc);
-          },
-          threads);
-      for (std::size_t j = 0; j < n; ++j)
-        out[first + j].folded = target[first + j]->add(terms[j], batch.pairs[first + j].fold_count);
-    }
+    std::vector<std::mutex> locks(beliefs.size());
+    util::parallel_for(
+        batch.pairs.size(),
+        [&](std::size_t i) {
+          BinAccumulator acc(4096);
+          vote_pair(batch, batch.pairs[i], acc, &out[i]);
+          const std::vector<BinOffset> terms = target[i]->terms(acc);
+          std::lock_guard lock(locks[batch.pairs[i].session]);
+          out[i].folded = target[i]->add(terms, batch.pairs[i].fold_count);
+        },
+        settings_.threads);
     last_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
     return out;
   }
@@ -187,13 +184,24 @@ class CpuVoteBackend final : public VoteBackend {
     const vote_math::SvaBetaPlan plan = vote_math::sva_beta_plan(al, grid_);
     if (plan.n == 0) return;
     ++out->matches;
-    const float scale = vote_math::sva_vote_scale(likelihood, vote_math::sva_beta_weight_sum(plan));
+    // The weights once (the sum in sva_beta_weight_sum's order), then the
+    // samples' votes in a loop of independent iterations, which the CPU
+    // overlaps (the polynomials are latency-bound), then their insertion.
+    float weight[SVA_MAX_BETA_SAMPLES];
+    float sum = 0.0f;
+    for (int s = 0; s < plan.n; ++s) {
+      weight[s] = vote_math::sva_beta_weight(plan, s);
+      sum = sum + weight[s];
+    }
+    const float scale = vote_math::sva_vote_scale(likelihood, sum);
+    vote_math::SvaVote votes[SVA_MAX_BETA_SAMPLES];
+    for (int s = 0; s < plan.n; ++s) votes[s] = vote_math::sva_vote(al, plan, grid_, object, weight[s] * scale, s);
     // Neighbouring samples often share a bin (they are half a bin apart): a
     // run of one key goes into the table as one sum (integers: same result).
     std::uint64_t run_key = 0;
     std::int64_t run_mass = 0;
     for (int s = 0; s < plan.n; ++s) {
-      const vote_math::SvaVote v = vote_math::sva_vote(al, plan, grid_, object, scale, s);
+      const vote_math::SvaVote& v = votes[s];
       if (!v.inside) {
         ++out->votes_outside;
         continue;

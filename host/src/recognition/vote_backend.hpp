@@ -57,7 +57,7 @@ struct PairVotes : PairStats {
 };
 
 struct VoteSettings {
-  float likelihood_cutoff = 0.0f;  // matches with w_obs * entry_weight below this cast no vote
+  float likelihood_cutoff = 0.0f;  // matches whose likelihood (summed over their shared keys) is below this cast no vote
   unsigned threads = 0;            // CPU: 0 = util::default_threads()
 };
 

@@ -9,6 +9,7 @@ namespace sva::util {
 void install_interrupt_handler();
 bool interrupted();
 void request_interrupt();  // tests
+void clear_interrupt();    // tests
 inline void throw_if_interrupted() {
   if (interrupted()) throw Interrupted();
 }

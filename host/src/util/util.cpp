@@ -34,6 +34,7 @@ void install_interrupt_handler() {
 }
 bool interrupted() { return g_interrupted != 0; }
 void request_interrupt() { g_interrupted = 1; }
+void clear_interrupt() { g_interrupted = 0; }
 
 unsigned default_threads() {
   if (const char* env = std::getenv("SVA_THREADS")) {

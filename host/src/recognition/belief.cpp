@@ -10,6 +10,7 @@
 #include "recognition/belief_math.hpp"
 #include "recognition/rotation.hpp"
 #include "recognition/vote_backend.hpp"
+#include "util/hot_path.hpp"
 
 namespace sva {
 
@@ -156,7 +157,7 @@ bool Belief::fold(const PairVotes& votes, std::uint32_t count) {
   return add(terms(acc), count);
 }
 
-std::vector<BinOffset> Belief::terms(const BinAccumulator& votes) const {
+SVA_HOT_PATH std::vector<BinOffset> Belief::terms(const BinAccumulator& votes) const {
   std::uint64_t total = 0;
   votes.for_each([&](std::uint64_t, std::int64_t m) { total += static_cast<std::uint64_t>(std::max<std::int64_t>(m, 0)); });
   std::vector<BinOffset> out;

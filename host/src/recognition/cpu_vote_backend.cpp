@@ -14,6 +14,7 @@
 #include "recognition/bin_accumulator.hpp"
 #include "recognition/vote_backend.hpp"
 #include "recognition/vote_math.hpp"
+#include "util/hot_path.hpp"
 #include "util/interrupt.hpp"
 #include "util/parallel.hpp"
 
@@ -178,7 +179,8 @@ class CpuVoteBackend final : public VoteBackend {
   }
 
   // Aligns the observed pair to map pair (ra, rb) and scatters its beta samples.
-  void vote_match(const SvaPatch& a1, const SvaPatch& b1, std::uint32_t ra, std::uint32_t rb, std::uint32_t object,
+  SVA_HOT_PATH void vote_match(const SvaPatch& a1, const SvaPatch& b1, std::uint32_t ra, std::uint32_t rb,
+                               std::uint32_t object,
                   float likelihood, BinAccumulator& acc, PairStats* out) const {
     const vote_math::SvaAlignment al = vote_math::sva_align(a1, b1, patches_[ra], patches_[rb]);
     const vote_math::SvaBetaPlan plan = vote_math::sva_beta_plan(al, grid_);

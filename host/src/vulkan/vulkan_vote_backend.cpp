@@ -37,13 +37,21 @@ class VulkanVoteBackend final : public VoteBackend {
  public:
   VulkanVoteBackend(const PairMap& map, const PoseSpace& space, const VoteSettings& settings,
                     const VulkanBackendOptions& options)
-      : map_(map), space_(space), settings_(settings),
+      : map_(map),
+        space_(space),
+        settings_(settings),
         engine_(VulkanEngine::shared(map, context_options(options), options.max_chunk_entries,
                                      options.portable_vote_kernel)),
         ctx_(engine_->ctx),
         bins_(space),
-        beliefs_{&ctx_,           &space,          LinearBins(space), &engine_->rehash, &engine_->reduce,
-                 &engine_->lookup, std::max<std::size_t>(options.initial_belief_slots, 64), 0.0} {
+        beliefs_{&ctx_,
+                 &space,
+                 LinearBins(space),
+                 &engine_->rehash,
+                 &engine_->reduce,
+                 &engine_->lookup,
+                 std::max<std::size_t>(options.initial_belief_slots, 64),
+                 0.0} {
     stats_.device = ctx_.info().name + " (" + ctx_.info().type +
                     (engine_->subgroup_aggregation ? ", subgroup pre-aggregation" : "") + ")";
     stats_.chunks = engine_->chunks.size();
@@ -93,9 +101,9 @@ class VulkanVoteBackend final : public VoteBackend {
   // Device memory: what the engine's device holds (the map once, and the work buffers and beliefs of every
   // backend sharing the engine; tables only grow, so this is the peak of the run so far).
   BackendStats statistics() const override {
-    BackendStats s{name(),          stats_.device, stats_.last_kernel_ms, stats_.last_fold_ms,
-                   stats_.last_host_ms, stats_.chunks, stats_.table_slots,    stats_.table_grows,
-                   stats_.validation_messages};
+    BackendStats s{
+        name(),        stats_.device,      stats_.last_kernel_ms, stats_.last_fold_ms,       stats_.last_host_ms,
+        stats_.chunks, stats_.table_slots, stats_.table_grows,    stats_.validation_messages};
     s.device_bytes = ctx_.device().device_bytes();
     s.map_device_bytes = engine_->map_bytes;
     return s;
@@ -145,20 +153,38 @@ class VulkanVoteBackend final : public VoteBackend {
     for (std::size_t q = first; q < last; ++q) {
       item_begin[q - first] = static_cast<std::uint32_t>(std::min<std::size_t>(items.size(), SVA_MAX_KEY_ITEMS + 1));
       for (std::uint32_t k = batch.pairs[q].key_begin; k < batch.pairs[q].key_end; ++k)
-        items.push_back({static_cast<std::uint32_t>(q - first), batch.keys[k].key, batch.keys[k].weight,
-                         batch.keys[k].reversed});
+        items.push_back(
+            {static_cast<std::uint32_t>(q - first), batch.keys[k].key, batch.keys[k].weight, batch.keys[k].reversed});
     }
     *key_items = items.size();
     if ((items.size() > SVA_MAX_KEY_ITEMS || P > bins_.max_pairs()) && P > 1) return false;
-    if (items.size() > SVA_MAX_KEY_ITEMS) throw Error("one observed pair has more map keys than the GPU backend handles");
+    if (items.size() > SVA_MAX_KEY_ITEMS)
+      throw Error("one observed pair has more map keys than the GPU backend handles");
     item_begin[P] = static_cast<std::uint32_t>(items.size());
     ensure(ctx_, pairs_, P * sizeof(gpu::SvaGpuPair));
     auto* gp = pairs_.as<gpu::SvaGpuPair>();
     for (std::size_t q = 0; q < P; ++q) {
       const PairQuery& pq = batch.pairs[first + q];
-      gp[q] = {pq.a.position[0], pq.a.position[1], pq.a.position[2], pq.a.norm_conf, pq.a.normal[0], pq.a.normal[1],
-               pq.a.normal[2], pq.session, pq.b.position[0], pq.b.position[1], pq.b.position[2], pq.b.norm_conf,
-               pq.b.normal[0], pq.b.normal[1], pq.b.normal[2], pq.fold_count, item_begin[q], item_begin[q + 1], 0u, 0u};
+      gp[q] = {pq.a.position[0],
+               pq.a.position[1],
+               pq.a.position[2],
+               pq.a.norm_conf,
+               pq.a.normal[0],
+               pq.a.normal[1],
+               pq.a.normal[2],
+               pq.session,
+               pq.b.position[0],
+               pq.b.position[1],
+               pq.b.position[2],
+               pq.b.norm_conf,
+               pq.b.normal[0],
+               pq.b.normal[1],
+               pq.b.normal[2],
+               pq.fold_count,
+               item_begin[q],
+               item_begin[q + 1],
+               0u,
+               0u};
     }
     ensure(ctx_, key_items_, items.size() * sizeof(gpu::SvaGpuKeyItem));
     if (!items.empty()) std::memcpy(key_items_.data(), items.data(), items.size() * sizeof(gpu::SvaGpuKeyItem));
@@ -206,7 +232,9 @@ class VulkanVoteBackend final : public VoteBackend {
     VulkanEngine& e = *engine_;
     std::vector<vk::Dispatch> ds;
     gpu::SvaExpandParams ep{static_cast<std::uint32_t>(key_items), static_cast<std::uint32_t>(map_.keys.size())};
-    ds.push_back({&e.expand, {&key_items_, &e.keys, &e.offsets, &ranges_}, push_bytes(ep),
+    ds.push_back({&e.expand,
+                  {&key_items_, &e.keys, &e.offsets, &ranges_},
+                  push_bytes(ep),
                   static_cast<std::uint32_t>((key_items + SVA_WORKGROUP_SIZE - 1) / SVA_WORKGROUP_SIZE)});
     for (std::size_t c = 0; c < e.chunks.size(); ++c) {
       MapChunk& ch = e.chunks[c];
@@ -218,7 +246,8 @@ class VulkanVoteBackend final : public VoteBackend {
       vk::Dispatch d{&e.match,
                      {&pairs_, &key_items_, &ranges_, &w.offsets, &e.readings, &ch.a, &ch.b, &ch.w, &active_,
                       &table_keys_, &table_sums_, &counters_, &status_, &w.scan, &e.chunk_table},
-                     push_bytes(match_params(key_items, ch)), 0};
+                     push_bytes(match_params(key_items, ch)),
+                     0};
       d.indirect = &w.scan;
       ds.push_back(std::move(d));
     }
@@ -231,8 +260,8 @@ class VulkanVoteBackend final : public VoteBackend {
     if (ensure_device(ctx_, table_keys_, slots_ * sizeof(std::uint64_t))) table_dirty_ = true;
     if (ensure_device(ctx_, table_sums_, slots_ * sizeof(std::int64_t))) table_dirty_ = true;
     if (!table_dirty_) return {};
-    return {{&table_keys_, 0xffffffffu, 0, slots_ * sizeof(std::uint64_t)},
-            {&table_sums_, 0u, 0, slots_ * sizeof(std::int64_t)}};
+    // The whole buffers, not only the slots in use: the table may grow into them later.
+    return {{&table_keys_, 0xffffffffu, 0, 0}, {&table_sums_, 0u, 0, 0}};
   }
 
   // Votes of pairs [first, last) of the batch into the vote table and the
@@ -311,9 +340,14 @@ class VulkanVoteBackend final : public VoteBackend {
     keep_vote_table_half_empty(all.size());
   }
 
-  // Keep about half load next time: fewer probes, rarely a rerun.
+  // Keep about half load next time: fewer probes, rarely a rerun. The fold
+  // passes visit every slot in use, so a table far larger than the last
+  // update needed (a session reset, a new trial) shrinks back to 4x that (its
+  // buffer stays, clean, for when votes grow again).
   void keep_vote_table_half_empty(std::size_t entries) {
-    slots_ = std::min(max_slots(), std::max(slots_, std::bit_ceil(std::max<std::size_t>(2 * entries, 1024))));
+    const std::size_t want = std::bit_ceil(std::max<std::size_t>(2 * entries, 1024));
+    if (8 * want <= slots_) slots_ = 4 * want;
+    slots_ = std::min(max_slots(), std::max(slots_, want));
   }
 
   // The largest power-of-two vote table that one binding can hold.
@@ -333,8 +367,9 @@ class VulkanVoteBackend final : public VoteBackend {
       st[s] = {};
     }
     std::memset(pair_totals_.data(), 0, 2 * P * sizeof(std::uint64_t));
-    gpu::SvaFoldParams p{static_cast<std::uint32_t>(slots_), bins_.pair_shift(), gpu::lo(fold.eps), gpu::hi(fold.eps),
-                         SVA_FOLD_RESERVE,                   static_cast<std::uint32_t>(P)};
+    gpu::SvaFoldParams p{
+        static_cast<std::uint32_t>(slots_), bins_.pair_shift(), gpu::lo(fold.eps), gpu::hi(fold.eps), SVA_FOLD_RESERVE,
+        static_cast<std::uint32_t>(P)};
     std::vector<vk::Dispatch> ds;
     for (std::uint32_t pass : {SVA_FOLD_RESERVE, SVA_FOLD_PAIR_LOG, SVA_FOLD_ADD}) {
       p.pass = pass;

@@ -17,8 +17,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <numbers>
 #include <ctime>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -52,7 +52,9 @@ double p95(std::vector<double> v) {
 
 int main(int argc, char** argv) try {
   if (argc < 3) {
-    std::fprintf(stderr, "usage: filter_speed MAP.svam TEST.svad [trials=3] [readings=100] [threads=0] [prune=0] [max_pairs=0] [cutoff=0]\n");
+    std::fprintf(stderr,
+                 "usage: filter_speed MAP.svam TEST.svad [trials=3] [readings=100] [threads=0] [prune=0] [max_pairs=0] "
+                 "[cutoff=0]\n");
     return 2;
   }
   const sva::Map map = sva::Map::load(argv[1]);
@@ -68,7 +70,8 @@ int main(int argc, char** argv) try {
   const std::size_t objects = map.objects();
   std::vector<std::vector<const sva::Reading*>> by_object(objects);
   for (const sva::Sample& s : test.samples)
-    if (s.reading.status == sva::ControllerStatus::converged && s.reading.object < objects) by_object[s.reading.object].push_back(&s.reading);
+    if (s.reading.status == sva::ControllerStatus::converged && s.reading.object < objects)
+      by_object[s.reading.object].push_back(&s.reading);
 
   const int marks[] = {10, 30, 100};
   std::vector<double> at_mark[3], cpu_at_mark[3];
@@ -85,7 +88,8 @@ int main(int argc, char** argv) try {
     const glm::dvec3 axis = glm::normalize(glm::dvec3(rng.normal(), rng.normal(), rng.normal()));
     truth.R = sva::rotation::exp(axis * rng.uniform(0.0, std::numbers::pi));
     const double lo = space.translation_min_mm, hi = space.translation_max_mm;
-    truth.T = {rng.uniform(lo, hi), rng.uniform(lo, hi), space.kind == sva::PoseSpaceSpec::Kind::planar ? 0.0 : rng.uniform(lo, hi)};
+    truth.T = {rng.uniform(lo, hi), rng.uniform(lo, hi),
+               space.kind == sva::PoseSpaceSpec::Kind::planar ? 0.0 : rng.uniform(lo, hi)};
     if (space.kind == sva::PoseSpaceSpec::Kind::planar) truth.R = sva::rotation::about_z(rng.uniform(-3.1, 3.1));
     sva::Recognizer rec(map, space, options);
     for (int i = 0; i < readings; ++i) {
@@ -113,23 +117,26 @@ int main(int argc, char** argv) try {
       ++correct;
       terr.push_back(glm::length(e.pose.T - truth.T));
     }
-    std::printf("trial %d: object %u -> %s (p = %.3f)%s\n", t, object, e.object_name.c_str(), e.object_probability[e.object],
-                e.object == object ? "" : "  WRONG");
+    std::printf("trial %d: object %u -> %s (p = %.3f)%s\n", t, object, e.object_name.c_str(),
+                e.object_probability[e.object], e.object == object ? "" : "  WRONG");
     std::fflush(stdout);
   }
-  std::printf("\nCPU reference backend, %s threads, map: %zu entries, %zu objects; object prune %g, max pairs %d, likelihood cut-off %g\n",
-              options.threads ? std::to_string(options.threads).c_str() : "all", map.entries(), objects,
-              options.object_prune_probability, options.max_pairs_per_update, static_cast<double>(options.likelihood_cutoff));
+  std::printf(
+      "\nCPU reference backend, %s threads, map: %zu entries, %zu objects; object prune %g, max pairs %d, likelihood "
+      "cut-off %g\n",
+      options.threads ? std::to_string(options.threads).c_str() : "all", map.entries(), objects,
+      options.object_prune_probability, options.max_pairs_per_update, static_cast<double>(options.likelihood_cutoff));
   for (int m = 0; m < 3; ++m)
     if (!at_mark[m].empty())
       std::printf("update at reading %3d: wall median %.3f s, p95 %.3f s; CPU median %.3f s (%zu trials)\n", marks[m],
                   median(at_mark[m]), p95(at_mark[m]), median(cpu_at_mark[m]), at_mark[m].size());
-  std::printf("votes per second: %.3g (%.3g votes in %.1f s of updates)\n", total_votes / std::max(total_seconds, 1e-9), total_votes,
-              total_seconds);
+  std::printf("votes per second: %.3g (%.3g votes in %.1f s of updates)\n", total_votes / std::max(total_seconds, 1e-9),
+              total_votes, total_seconds);
   std::printf("votes of mass 0 (below half a 2^-24 unit): %llu of %.3g (%.3g%%)\n",
               static_cast<unsigned long long>(total_zero), total_votes,
               100.0 * static_cast<double>(total_zero) / std::max(total_votes, 1.0));
-  std::printf("after %d readings: %d/%d objects right, median translation error %.1f mm\n", readings, correct, trials, median(terr));
+  std::printf("after %d readings: %d/%d objects right, median translation error %.1f mm\n", readings, correct, trials,
+              median(terr));
   std::printf("peak RSS of the process: %.1f MiB\n",
               static_cast<double>(sva::bench::MemoryMeter().process_peak_bytes()) / (1024.0 * 1024.0));
   return 0;

@@ -49,9 +49,11 @@ int main(int argc, char** argv) try {
       s.reading.object = static_cast<std::uint32_t>(o);
       s.reading.position = p;
       s.reading.normal = n;
-      s.reading.x_axis = glm::normalize(glm::cross(n, std::fabs(n.z) < 0.9 ? glm::dvec3{0, 0, 1} : glm::dvec3{1, 0, 0}));
+      s.reading.x_axis =
+          glm::normalize(glm::cross(n, std::fabs(n.z) < 0.9 ? glm::dvec3{0, 0, 1} : glm::dvec3{1, 0, 0}));
       const int texture = (o + static_cast<int>(std::floor((p.x / 40.0 + 1.0) * 1.5)) + (p.z > 0 ? 3 : 0)) % 6;
-      const double angle = rng.uniform(0.0, 2 * std::numbers::pi), ox = rng.uniform(-0.5, 0.5), oy = rng.uniform(-0.5, 0.5);
+      const double angle = rng.uniform(0.0, 2 * std::numbers::pi), ox = rng.uniform(-0.5, 0.5),
+                   oy = rng.uniform(-0.5, 0.5);
       const double c = std::cos(angle), sn = std::sin(angle);
       s.reading.pressure.resize(static_cast<std::size_t>(sensor.elements()));
       for (int r = 0; r < sensor.rows; ++r)
@@ -59,7 +61,8 @@ int main(int argc, char** argv) try {
           const double x = col - 0.5 * (sensor.cols - 1) - ox, y = r - 0.5 * (sensor.rows - 1) - oy;
           const double a = c * x + sn * y, b = -sn * x + c * y;
           const double v = 30.0 * std::exp(-0.5 * (a * a / (shapes[texture][0] * shapes[texture][0]) +
-                                                   b * b / (shapes[texture][1] * shapes[texture][1]))) + rng.normal() * 0.3;
+                                                   b * b / (shapes[texture][1] * shapes[texture][1]))) +
+                           rng.normal() * 0.3;
           s.reading.pressure[static_cast<std::size_t>(r * sensor.cols + col)] = static_cast<float>(std::max(0.0, v));
         }
       d.samples.push_back(std::move(s));

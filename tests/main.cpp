@@ -10,7 +10,7 @@ int main(int argc, char** argv) {
   // Software Vulkan (Mesa lavapipe) unless the caller chose a driver.
   const char* lvp = "/usr/share/vulkan/icd.d/lvp_icd.x86_64.json";
   if (std::filesystem::exists(lvp)) setenv("VK_DRIVER_FILES", lvp, 0);
-  // Validation layer on: any validation message fails the GPU tests.
+    // Validation layer on: any validation message fails the GPU tests.
 #ifdef SVA_TEST_VALIDATION
   setenv("SVA_VK_VALIDATION", "1", 0);
 #endif

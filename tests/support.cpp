@@ -1,8 +1,8 @@
+#include <sys/wait.h>
+#include <unistd.h>
 #include <array>
 #include <cstdio>
 #include <cstdlib>
-#include <unistd.h>
-#include <sys/wait.h>
 
 #include "test_support.hpp"
 

@@ -16,9 +16,9 @@
 #include <string>
 #include <vector>
 
-using sva::sim::Mesh;
 using glm::dvec2;
 using glm::dvec3;
+using sva::sim::Mesh;
 
 namespace {
 
@@ -64,7 +64,8 @@ void add_revolution(Mesh& m, const std::vector<ProfilePoint>& profile, int n_the
   for (std::size_t k = 1; k < profile.size(); ++k)
     for (int s = 1; s <= profile[k].segments; ++s) {
       double t = static_cast<double>(s) / profile[k].segments;
-      pts.push_back({profile[k - 1].r + t * (profile[k].r - profile[k - 1].r), profile[k - 1].z + t * (profile[k].z - profile[k - 1].z)});
+      pts.push_back({profile[k - 1].r + t * (profile[k].r - profile[k - 1].r),
+                     profile[k - 1].z + t * (profile[k].z - profile[k - 1].z)});
     }
   if (closed_loop) pts.pop_back();  // the last point repeats the first
   const int nv = closed_loop ? static_cast<int>(pts.size()) : static_cast<int>(pts.size()) - 1;
@@ -79,7 +80,8 @@ void add_revolution(Mesh& m, const std::vector<ProfilePoint>& profile, int n_the
 // A box centred at `c` with half sizes `h`, each face a grid of about `cell`
 // mm displaced along its normal by disp(face, s, t) (s, t: mm from the face
 // centre along the face axes a, b with a x b = outward normal).
-void add_box(Mesh& m, dvec3 c, dvec3 h, double cell, const std::function<double(int face, double s, double t)>& disp = nullptr,
+void add_box(Mesh& m, dvec3 c, dvec3 h, double cell,
+             const std::function<double(int face, double s, double t)>& disp = nullptr,
              const glm::dmat3& rot = glm::dmat3(1.0)) {
   const dvec3 X(1, 0, 0), Y(0, 1, 0), Z(0, 0, 1);
   struct Face {
@@ -90,7 +92,8 @@ void add_box(Mesh& m, dvec3 c, dvec3 h, double cell, const std::function<double(
                          {-Y, X, Z, h.y, h.x, h.z}, {Z, X, Y, h.z, h.x, h.y},  {-Z, Y, X, h.z, h.y, h.x}};
   for (int f = 0; f < 6; ++f) {
     const Face& F = faces[f];
-    int nu = std::max(1, static_cast<int>(std::ceil(2 * F.ha / cell))), nv = std::max(1, static_cast<int>(std::ceil(2 * F.hb / cell)));
+    int nu = std::max(1, static_cast<int>(std::ceil(2 * F.ha / cell))),
+        nv = std::max(1, static_cast<int>(std::ceil(2 * F.hb / cell)));
     add_grid(m, nu, nv, false, false, [&](double u, double v) {
       double s = (u - 0.5) * 2 * F.ha, t = (v - 0.5) * 2 * F.hb;
       double d = disp ? disp(f, s, t) : 0.0;
@@ -118,17 +121,27 @@ glm::dmat3 rot_y(double deg) {
 
 Mesh glass() {  // a tumbler with flutes round its lower half, open at the top
   Mesh m;
-  add_revolution(m, {{0, 0, 0}, {30, 0, 8}, {34, 95, 90}, {32, 95, 2}, {28.5, 6, 40}, {0, 6, 8}}, 160, false, {}, [](double th, double r, double z) {
-    if (r < 29.9 || z < 4 || z > 55) return 0.0;  // outer wall only
-    double f = std::pow(std::max(0.0, std::cos(20 * th)), 2);
-    return -1.2 * f * smoothstep(4, 8, z) * (1 - smoothstep(50, 55, z));
-  });
+  add_revolution(m, {{0, 0, 0}, {30, 0, 8}, {34, 95, 90}, {32, 95, 2}, {28.5, 6, 40}, {0, 6, 8}}, 160, false, {},
+                 [](double th, double r, double z) {
+                   if (r < 29.9 || z < 4 || z > 55) return 0.0;  // outer wall only
+                   double f = std::pow(std::max(0.0, std::cos(20 * th)), 2);
+                   return -1.2 * f * smoothstep(4, 8, z) * (1 - smoothstep(50, 55, z));
+                 });
   return m;
 }
 
 Mesh tyre() {  // a tyre with block tread and a centre groove
   Mesh m;
-  add_revolution(m, {{24, -13, 0}, {38, -13, 10}, {40, -11, 2}, {40, 11, 30}, {38, 13, 2}, {24, 13, 10}, {22, 11, 2}, {22, -11, 14}, {24, -13, 2}},
+  add_revolution(m,
+                 {{24, -13, 0},
+                  {38, -13, 10},
+                  {40, -11, 2},
+                  {40, 11, 30},
+                  {38, 13, 2},
+                  {24, 13, 10},
+                  {22, 11, 2},
+                  {22, -11, 14},
+                  {24, -13, 2}},
                  256, true, {}, [](double th, double r, double z) {
                    if (r < 39.9) return 0.0;
                    double lateral = fract(th * 48 / (2 * kPi) + 0.04 * z);
@@ -140,7 +153,18 @@ Mesh tyre() {  // a tyre with block tread and a centre groove
 
 Mesh screwdriver() {  // fluted handle with grip rings, round shaft, flat blade
   Mesh m;
-  add_revolution(m, {{0, 0, 0}, {11, 0, 6}, {12, 2, 2}, {12, 50, 70}, {10, 54, 3}, {4, 56, 4}, {3, 58, 2}, {3, 100, 20}, {2.6, 110, 8}, {1.2, 114, 3}, {0, 114, 2}},
+  add_revolution(m,
+                 {{0, 0, 0},
+                  {11, 0, 6},
+                  {12, 2, 2},
+                  {12, 50, 70},
+                  {10, 54, 3},
+                  {4, 56, 4},
+                  {3, 58, 2},
+                  {3, 100, 20},
+                  {2.6, 110, 8},
+                  {1.2, 114, 3},
+                  {0, 114, 2}},
                  128, false, {}, [](double th, double r, double z) {
                    if (z > 5 && z < 47 && r > 11.5) {
                      double flute = smoothstep(0.55, 0.85, std::cos(8 * th));
@@ -162,7 +186,8 @@ Mesh phone() {  // a slab phone: recessed screen, 3 x 4 domed keys, camera bump
   add_box(m, {}, {18, 36, 4.5}, 0.55, [](int face, double s, double t) {
     if (face == 4) {  // +z: s along x, t along y
       double d = 0;
-      if (std::abs(s) < 15 && t > 3 && t < 33) d -= 0.5 * smoothstep(-15, -14.4, -std::abs(s)) * smoothstep(3, 3.6, t) * smoothstep(-33, -32.4, -t);
+      if (std::abs(s) < 15 && t > 3 && t < 33)
+        d -= 0.5 * smoothstep(-15, -14.4, -std::abs(s)) * smoothstep(3, 3.6, t) * smoothstep(-33, -32.4, -t);
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 4; ++j) {
           double dx = s - (i - 1) * 10.0, dy = t - (-8.0 - 7.0 * j);
@@ -182,19 +207,37 @@ Mesh phone() {  // a slab phone: recessed screen, 3 x 4 domed keys, camera bump
 
 Mesh knight() {  // chess knight: turned base, tilted neck with a ridged mane, head, ears
   Mesh m;
-  add_revolution(m, {{0, 0, 0}, {17, 0, 10}, {17, 4, 4}, {15, 5.5, 2}, {15, 7.5, 2}, {13, 9, 2}, {11.5, 12, 3}, {12.5, 14, 2}, {10, 17, 3}, {9, 21, 3}, {0, 21, 6}},
+  add_revolution(m,
+                 {{0, 0, 0},
+                  {17, 0, 10},
+                  {17, 4, 4},
+                  {15, 5.5, 2},
+                  {15, 7.5, 2},
+                  {13, 9, 2},
+                  {11.5, 12, 3},
+                  {12.5, 14, 2},
+                  {10, 17, 3},
+                  {9, 21, 3},
+                  {0, 21, 6}},
                  120, false, {});
-  add_box(m, {1, 0, 31}, {6.5, 6, 13}, 0.6, [](int face, double s, double t) {
-    if (face != 1) return 0.0;  // -x face: the mane; s along z, t along y
-    return 0.9 * std::pow(std::abs(std::sin(1.3 * s)), 2) * smoothstep(-5.5, -3.5, -std::abs(t)) * smoothstep(-12.5, -10.5, -std::abs(s));
-  }, rot_y(-14));
+  add_box(
+      m, {1, 0, 31}, {6.5, 6, 13}, 0.6,
+      [](int face, double s, double t) {
+        if (face != 1) return 0.0;  // -x face: the mane; s along z, t along y
+        return 0.9 * std::pow(std::abs(std::sin(1.3 * s)), 2) * smoothstep(-5.5, -3.5, -std::abs(t)) *
+               smoothstep(-12.5, -10.5, -std::abs(s));
+      },
+      rot_y(-14));
   // The head points along +x and tilts down towards the snout; eyes are dimples on its sides.
-  add_box(m, {9, 0, 43}, {12, 5.5, 5}, 0.6, [](int face, double s, double t) {
-    if (face != 2 && face != 3) return 0.0;
-    double x = face == 2 ? t : s, z = face == 2 ? s : t;  // +y: s=z, t=x; -y: s=x, t=z
-    double q = 1 - ((x + 4) * (x + 4) + (z - 1.5) * (z - 1.5)) / 2.25;
-    return q > 0 ? -0.8 * std::sqrt(q) : 0.0;
-  }, rot_y(22));
+  add_box(
+      m, {9, 0, 43}, {12, 5.5, 5}, 0.6,
+      [](int face, double s, double t) {
+        if (face != 2 && face != 3) return 0.0;
+        double x = face == 2 ? t : s, z = face == 2 ? s : t;  // +y: s=z, t=x; -y: s=x, t=z
+        double q = 1 - ((x + 4) * (x + 4) + (z - 1.5) * (z - 1.5)) / 2.25;
+        return q > 0 ? -0.8 * std::sqrt(q) : 0.0;
+      },
+      rot_y(22));
   for (double y : {-3.0, 3.0}) add_revolution(m, {{0, 0, 0}, {2.2, 0, 3}, {0, 6, 6}}, 24, false, {-2, y, 48});
   return m;
 }
@@ -212,12 +255,18 @@ Mesh die() {  // an 18 mm die with dimpled pips 1..6
   auto layout = [&](int face) -> std::vector<dvec2> {
     const dvec2 c(0, 0), tl(-pip, pip), tr(pip, pip), bl(-pip, -pip), br(pip, -pip), ml(-pip, 0), mr(pip, 0);
     switch (face) {
-      case 4: return {c};
-      case 0: return {tl, br};
-      case 2: return {tl, c, br};
-      case 3: return {tl, tr, bl, br};
-      case 1: return {tl, tr, c, bl, br};
-      default: return {tl, tr, ml, mr, bl, br};
+      case 4:
+        return {c};
+      case 0:
+        return {tl, br};
+      case 2:
+        return {tl, c, br};
+      case 3:
+        return {tl, tr, bl, br};
+      case 1:
+        return {tl, tr, c, bl, br};
+      default:
+        return {tl, tr, ml, mr, bl, br};
     }
   };
   add_box(m, {}, {9, 9, 9}, 0.3, [&](int face, double s, double t) {
@@ -233,10 +282,22 @@ Mesh die() {  // an 18 mm die with dimpled pips 1..6
 
 Mesh bottle() {  // a bottle with grip rings and a ribbed cap
   Mesh m;
-  add_revolution(m, {{0, 0, 0}, {18, 0, 10}, {18, 2, 2}, {18, 60, 60}, {15, 70, 8}, {8, 80, 8}, {8, 84, 3}, {9.5, 84, 2}, {9.5, 96, 16}, {8.5, 98, 2}, {0, 98, 6}},
+  add_revolution(m,
+                 {{0, 0, 0},
+                  {18, 0, 10},
+                  {18, 2, 2},
+                  {18, 60, 60},
+                  {15, 70, 8},
+                  {8, 80, 8},
+                  {8, 84, 3},
+                  {9.5, 84, 2},
+                  {9.5, 96, 16},
+                  {8.5, 98, 2},
+                  {0, 98, 6}},
                  160, false, {}, [](double th, double r, double z) {
                    if (z > 84.2 && z < 95.8 && r > 9.4) return -0.5 * (0.5 + 0.5 * std::cos(40 * th));
-                   if (z > 8 && z < 26 && r > 17.9) return -0.8 * smoothstep(0.3, 0.5, fract(z / 3.0)) * smoothstep(-0.9, -0.7, -fract(z / 3.0));
+                   if (z > 8 && z < 26 && r > 17.9)
+                     return -0.8 * smoothstep(0.3, 0.5, fract(z / 3.0)) * smoothstep(-0.9, -0.7, -fract(z / 3.0));
                    return 0.0;
                  });
   return m;
@@ -247,14 +308,16 @@ Mesh brick() {  // a 2 x 4 building brick with studs
   add_box(m, {0, 0, 4.8}, {16, 8, 4.8}, 1.0);
   for (int i = 0; i < 4; ++i)
     for (int j = 0; j < 2; ++j)
-      add_revolution(m, {{0, 0, 0}, {2.4, 0, 3}, {2.4, 2.2, 3}, {2.1, 2.5, 1}, {0, 2.5, 3}}, 40, false, {-12.0 + 8 * i, -4.0 + 8 * j, 9.1});
+      add_revolution(m, {{0, 0, 0}, {2.4, 0, 3}, {2.4, 2.2, 3}, {2.1, 2.5, 1}, {0, 2.5, 3}}, 40, false,
+                     {-12.0 + 8 * i, -4.0 + 8 * j, 9.1});
   return m;
 }
 
 Mesh knob() {  // a knurled knob with a plain stem
   Mesh m;
-  add_revolution(m, {{0, 0, 0}, {20, 0, 10}, {20, 18, 45}, {17, 20, 4}, {6, 20, 10}, {6, 32, 12}, {5, 33, 2}, {0, 33, 5}}, 288, false, {},
-                 [](double th, double r, double z) {
+  add_revolution(m,
+                 {{0, 0, 0}, {20, 0, 10}, {20, 18, 45}, {17, 20, 4}, {6, 20, 10}, {6, 32, 12}, {5, 33, 2}, {0, 33, 5}},
+                 288, false, {}, [](double th, double r, double z) {
                    if (z < 1 || z > 17 || r < 19.9) return 0.0;
                    double a = fract(36 * th / (2 * kPi) + z / 4), b = fract(36 * th / (2 * kPi) - z / 4);
                    return -0.7 * (1 - std::min(std::abs(2 * a - 1), std::abs(2 * b - 1)));
@@ -275,9 +338,11 @@ double sd_segment(dvec2 p, const Stroke& s) {
   if (s.ring) {
     dvec2 d = p - s.a;
     double ang = std::atan2(d.y, d.x);
-    bool inside = s.to - s.from >= 2 * kPi - 1e-9 || (ang >= s.from && ang <= s.to) || (ang + 2 * kPi >= s.from && ang + 2 * kPi <= s.to);
+    bool inside = s.to - s.from >= 2 * kPi - 1e-9 || (ang >= s.from && ang <= s.to) ||
+                  (ang + 2 * kPi >= s.from && ang + 2 * kPi <= s.to);
     if (inside) return std::abs(glm::length(d) - s.radius) - s.w;
-    dvec2 e1 = s.a + s.radius * dvec2(std::cos(s.from), std::sin(s.from)), e2 = s.a + s.radius * dvec2(std::cos(s.to), std::sin(s.to));
+    dvec2 e1 = s.a + s.radius * dvec2(std::cos(s.from), std::sin(s.from)),
+          e2 = s.a + s.radius * dvec2(std::cos(s.to), std::sin(s.to));
     return std::min(glm::length(p - e1), glm::length(p - e2)) - s.w;
   }
   // Oriented box around the segment (square ends).
@@ -312,16 +377,24 @@ Mesh letter(const std::vector<Stroke>& strokes) {
   wall({half, -half}, {half, half});
   wall({half, half}, {-half, half});
   wall({-half, half}, {-half, -half});
-  add_grid(m, 1, 1, false, false, [&](double u, double v) { return dvec3((u - 0.5) * 2 * half, (0.5 - v) * 2 * half, bottom); });
+  add_grid(m, 1, 1, false, false,
+           [&](double u, double v) { return dvec3((u - 0.5) * 2 * half, (0.5 - v) * 2 * half, bottom); });
   return m;
 }
 
 const double W = 2.25;  // half stroke width
-Mesh letter_A() { return letter({{{-9.5, -12.5}, {0, 12.5}, W}, {{9.5, -12.5}, {0, 12.5}, W}, {{-5, -3.5}, {5, -3.5}, W}}); }
-Mesh letter_E() {
-  return letter({{{-7, -12.5}, {-7, 12.5}, W}, {{-9.25, 10.25}, {8.5, 10.25}, W}, {{-9.25, 0}, {6, 0}, W}, {{-9.25, -10.25}, {8.5, -10.25}, W}});
+Mesh letter_A() {
+  return letter({{{-9.5, -12.5}, {0, 12.5}, W}, {{9.5, -12.5}, {0, 12.5}, W}, {{-5, -3.5}, {5, -3.5}, W}});
 }
-Mesh letter_I() { return letter({{{0, -12.5}, {0, 12.5}, W}, {{-7, 10.25}, {7, 10.25}, W}, {{-7, -10.25}, {7, -10.25}, W}}); }
+Mesh letter_E() {
+  return letter({{{-7, -12.5}, {-7, 12.5}, W},
+                 {{-9.25, 10.25}, {8.5, 10.25}, W},
+                 {{-9.25, 0}, {6, 0}, W},
+                 {{-9.25, -10.25}, {8.5, -10.25}, W}});
+}
+Mesh letter_I() {
+  return letter({{{0, -12.5}, {0, 12.5}, W}, {{-7, 10.25}, {7, 10.25}, W}, {{-7, -10.25}, {7, -10.25}, W}});
+}
 Mesh letter_O() {
   Stroke ring{{0, 0}, {0, 0}, W, true, 10.25, -kPi, kPi};
   return letter({ring});
@@ -342,17 +415,20 @@ int main(int argc, char** argv) {
   try {
     std::filesystem::create_directories(dir);
     const std::pair<const char*, Mesh (*)()> objects[] = {
-        {"glass", glass}, {"tyre", tyre},   {"screwdriver", screwdriver}, {"phone", phone},   {"knight", knight},
-        {"mug", mug},     {"die", die},     {"bottle", bottle},           {"brick", brick},   {"knob", knob},
-        {"letter_A", letter_A}, {"letter_E", letter_E}, {"letter_I", letter_I}, {"letter_O", letter_O}, {"letter_U", letter_U}};
+        {"glass", glass},       {"tyre", tyre},         {"screwdriver", screwdriver},
+        {"phone", phone},       {"knight", knight},     {"mug", mug},
+        {"die", die},           {"bottle", bottle},     {"brick", brick},
+        {"knob", knob},         {"letter_A", letter_A}, {"letter_E", letter_E},
+        {"letter_I", letter_I}, {"letter_O", letter_O}, {"letter_U", letter_U}};
     for (const auto& [name, make] : objects) {
       Mesh m = make();
       m.update_bounds();
       auto file = dir / (std::string(name) + ".glb");
       sva::sim::save_glb(m, file);
       dvec3 e = m.extent();
-      std::printf("%-12s %7zu vertices %7zu triangles  %6.1f x %6.1f x %6.1f mm  %8ju bytes\n", name, m.positions.size(),
-                  m.triangles.size(), e.x, e.y, e.z, static_cast<std::uintmax_t>(std::filesystem::file_size(file)));
+      std::printf("%-12s %7zu vertices %7zu triangles  %6.1f x %6.1f x %6.1f mm  %8ju bytes\n", name,
+                  m.positions.size(), m.triangles.size(), e.x, e.y, e.z,
+                  static_cast<std::uintmax_t>(std::filesystem::file_size(file)));
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "sva_make_assets: %s\n", e.what());

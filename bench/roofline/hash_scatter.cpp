@@ -57,7 +57,9 @@ std::vector<std::pair<std::uint64_t, std::int64_t>> HashScatter::run(std::span<c
       std::vector<std::uint8_t> pb(sizeof push);
       std::memcpy(pb.data(), &push, sizeof push);
       std::vector<double> ms;
-      ctx_.run({{&pipeline_, {&key_buf, &weight_buf, &table_keys, &table_sums, &status}, pb,
+      ctx_.run({{&pipeline_,
+                 {&key_buf, &weight_buf, &table_keys, &table_sums, &status},
+                 pb,
                  static_cast<std::uint32_t>((n + SVA_WORKGROUP_SIZE - 1) / SVA_WORKGROUP_SIZE)}},
                &ms);
       for (double m : ms) kernel_ms_ += m;

@@ -35,7 +35,9 @@ double fixed_point_scatter_ms(vk::Context& ctx, vk::Buffer& w, vk::Buffer& b, vk
     const ScatterPush push{static_cast<std::uint32_t>(votes), static_cast<std::uint32_t>(bins),
                            static_cast<std::uint32_t>(base)};
     const std::size_t n = std::min(per, votes - base);
-    dispatches.push_back({&pipeline, {&w, &b, &s}, gpu::push_bytes(push),
+    dispatches.push_back({&pipeline,
+                          {&w, &b, &s},
+                          gpu::push_bytes(push),
                           static_cast<std::uint32_t>((n + SVA_WORKGROUP_SIZE - 1) / SVA_WORKGROUP_SIZE)});
   }
   std::vector<double> kernel;

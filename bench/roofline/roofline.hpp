@@ -11,9 +11,9 @@
 namespace sva::bench {
 
 struct Roofline {
-  std::string device;                  // name (type)
+  std::string device;  // name (type)
   std::size_t votes = 0, bins = 0;
-  double kernel_ms = 0.0;              // bare fixed-point scatter: best of three
+  double kernel_ms = 0.0;  // bare fixed-point scatter: best of three
   double votes_per_second = 0.0;
   double hash_kernel_ms = 0.0;         // bare hash scatter: best of three; 0 without timestamps
   double hash_votes_per_second = 0.0;  // 0 without timestamps

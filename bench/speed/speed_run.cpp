@@ -29,7 +29,7 @@ struct StepFigures {
 
 // The figures at one reading count, over all groups.
 struct Checkpoint {
-  std::vector<double> update_ms;   // per group update, divided by its sessions (per session-update)
+  std::vector<double> update_ms;  // per group update, divided by its sessions (per session-update)
   std::uint64_t votes = 0, votes_zero = 0;
   std::size_t session_updates = 0;
   double seconds = 0.0;
@@ -173,8 +173,10 @@ json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, Me
   run_lockstep(rec, spec.trials, hooks);
   progress.finish();
   const RunMemory memory = meter.stop();
-  json j = {{"backend", eval::backend_name(spec.backend)}, {"device", rec.backend_description()},
-            {"sessions_per_submission", spec.sessions}, {"trials", spec.trials}};
+  json j = {{"backend", eval::backend_name(spec.backend)},
+            {"device", rec.backend_description()},
+            {"sessions_per_submission", spec.sessions},
+            {"trials", spec.trials}};
   j.update(recorder.figures());
   j["memory"] = memory_json(memory, rec);
   return j;
@@ -182,7 +184,10 @@ json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, Me
 
 json roofline_json(std::size_t votes, std::size_t bins, const std::string& device) {
   const Roofline r = measure_roofline(votes, bins, device);
-  json j = {{"device", r.device}, {"votes", r.votes}, {"bins", r.bins}, {"kernel_ms", r.kernel_ms},
+  json j = {{"device", r.device},
+            {"votes", r.votes},
+            {"bins", r.bins},
+            {"kernel_ms", r.kernel_ms},
             {"votes_per_second", r.votes_per_second}};
   if (r.hash_kernel_ms > 0) {
     j["hash_kernel_ms"] = r.hash_kernel_ms;

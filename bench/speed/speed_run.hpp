@@ -21,11 +21,11 @@ namespace sva::bench {
 struct SpeedRunSpec {
   BackendKind backend = BackendKind::cpu;  // cpu or vulkan (never automatic: a report names what ran)
   std::size_t trials = 1;
-  std::size_t sessions = 1;                // per update; 1 measures the single-session latency
-  std::vector<std::size_t> checkpoints;    // reading counts to report, increasing
+  std::size_t sessions = 1;              // per update; 1 measures the single-session latency
+  std::vector<std::size_t> checkpoints;  // reading counts to report, increasing
   std::uint64_t seed = 1;
-  std::string label;                       // progress text
-  std::string vulkan_device;               // "" = the default choice
+  std::string label;          // progress text
+  std::string vulkan_device;  // "" = the default choice
 };
 
 // One run, as the JSON report gives it (docs/evaluation.md, "sva bench").

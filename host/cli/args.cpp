@@ -62,7 +62,9 @@ std::optional<std::string> Args::get(const std::string& name) const {
   if (it == values_.end()) return std::nullopt;
   return it->second.back();
 }
-std::string Args::get_or(const std::string& name, const std::string& fallback) const { return get(name).value_or(fallback); }
+std::string Args::get_or(const std::string& name, const std::string& fallback) const {
+  return get(name).value_or(fallback);
+}
 std::string Args::required(const std::string& name) const {
   auto v = get(name);
   if (!v || v->empty()) throw Error(command_ + ": missing required option " + name + " (see " + command_ + " --help)");
@@ -82,7 +84,8 @@ long long Args::integer(const std::string& name, long long fallback, long long l
   if (v->empty() || *end != '\0' || errno == ERANGE)
     throw Error(command_ + ": " + name + " expects an integer, got \"" + *v + "\"");
   if (x < lo || x > hi)
-    throw Error(command_ + ": " + name + " " + *v + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    throw Error(command_ + ": " + name + " " + *v + " is out of range [" + std::to_string(lo) + ", " +
+                std::to_string(hi) + "]");
   return x;
 }
 
@@ -101,8 +104,10 @@ void Args::print_help() const {
   std::printf("usage: %s [options]\n\n%s\n\noptions:\n", command_.c_str(), summary_.c_str());
   for (const auto& s : specs_) {
     std::string left = "  " + s.name + (s.takes_value ? " " + s.metavar : "");
-    if (left.size() < 30) left.resize(30, ' ');
-    else left += "\n" + std::string(30, ' ');
+    if (left.size() < 30)
+      left.resize(30, ' ');
+    else
+      left += "\n" + std::string(30, ' ');
     std::printf("%s%s%s\n", left.c_str(), s.help.c_str(), s.repeatable ? " (repeatable)" : "");
   }
   std::printf("  %-28s%s\n", "--help", "show this help");

@@ -108,8 +108,8 @@ std::string run_name(const json& r) {
 }
 
 void print_table(const json& runs) {
-  std::printf("%-14s %-9s %9s %10s %12s %9s %14s %10s %12s %10s %9s %9s %9s\n", "run", "readings", "ms/update",
-              "upd/s", "votes/update", "zero %", "votes/s", "accuracy", "trans. mm", "kernel ms", "fold ms", "host ms",
+  std::printf("%-14s %-9s %9s %10s %12s %9s %14s %10s %12s %10s %9s %9s %9s\n", "run", "readings", "ms/update", "upd/s",
+              "votes/update", "zero %", "votes/s", "accuracy", "trans. mm", "kernel ms", "fold ms", "host ms",
               "est. ms");
   for (const auto& r : runs)
     for (const auto& p : r["curve"]) {
@@ -135,20 +135,20 @@ std::string mib(const json& bytes, const char* format = "%.1f MiB") {
 std::string peak_during(const json& m) {
   if (m["peak_rss_during_bytes"].is_null()) return "peak during the run n/a (VmHWM could not be reset)";
   const double peak = m["peak_rss_during_bytes"].get<double>();
-  return "peak during the run " + mib(peak) + " (" + mib(peak - m["rss_before_bytes"].get<double>(), "%+.1f MiB") +
-         ")";
+  return "peak during the run " + mib(peak) + " (" + mib(peak - m["rss_before_bytes"].get<double>(), "%+.1f MiB") + ")";
 }
 
 // Per run: throughput and zero-mass votes over all its updates, then memory.
 void print_run_summaries(const json& runs) {
   for (const auto& r : runs) {
     const json& m = r["memory"];
-    std::printf("%s (%zu per submission): %.3g session-updates/s, %.3g votes/s; "
-                "votes of mass 0: %llu of %llu (%.3g%%)\n",
-                run_name(r).c_str(), r["sessions_per_submission"].get<std::size_t>(),
-                r["session_updates_per_second"].get<double>(), r["votes_per_second"].get<double>(),
-                r["votes_zero"].get<unsigned long long>(), r["votes"].get<unsigned long long>(),
-                100.0 * r["votes_zero_fraction"].get<double>());
+    std::printf(
+        "%s (%zu per submission): %.3g session-updates/s, %.3g votes/s; "
+        "votes of mass 0: %llu of %llu (%.3g%%)\n",
+        run_name(r).c_str(), r["sessions_per_submission"].get<std::size_t>(),
+        r["session_updates_per_second"].get<double>(), r["votes_per_second"].get<double>(),
+        r["votes_zero"].get<unsigned long long>(), r["votes"].get<unsigned long long>(),
+        100.0 * r["votes_zero_fraction"].get<double>());
     const bool cpu = r["backend"] == "cpu";
     std::printf("  host: peak RSS %s (process so far), RSS %s -> %s (%s), %s; device: %s (map %s)\n",
                 mib(m["peak_rss_bytes"]).c_str(), mib(m["rss_before_bytes"]).c_str(), mib(m["rss_after_bytes"]).c_str(),
@@ -168,9 +168,8 @@ void print_roofline(const json& out) {
   for (const auto& r : out["runs"]) {
     if (r.contains("fraction_of_roofline"))
       std::printf("%s (%zu per submission): %.3g votes/s = %.1f%% of the roofline\n",
-                  r["device"].get<std::string>().c_str(),
-                  r["sessions_per_submission"].get<std::size_t>(), r["votes_per_second"].get<double>(),
-                  100.0 * r["fraction_of_roofline"].get<double>());
+                  r["device"].get<std::string>().c_str(), r["sessions_per_submission"].get<std::size_t>(),
+                  r["votes_per_second"].get<double>(), 100.0 * r["fraction_of_roofline"].get<double>());
   }
 }
 
@@ -217,7 +216,10 @@ int cmd_bench(const std::vector<std::string>& argv) {
   const Dataset test = load_dataset(data_file);
   eval::check_compatible(map, test, map_file, data_file);
 
-  json out = {{"map", map_file}, {"data", data_file}, {"scene", map.scene_name()}, {"map_entries", map.entries()},
+  json out = {{"map", map_file},
+              {"data", data_file},
+              {"scene", map.scene_name()},
+              {"map_entries", map.entries()},
               {"threads", util::default_threads()}};
   bench::MemoryMeter meter;  // one for the process: it keeps the peak across the runs' resets
   out["runs"] = run_all(map, test, plan, meter);

@@ -34,7 +34,7 @@ struct DemoConfig {
   std::uint64_t seed = 1;
   int train = -1, test = -1;
   unsigned threads = 0;
-  std::size_t trials = 0;        // 0: two repetitions over the objects
+  std::size_t trials = 0;  // 0: two repetitions over the objects
   std::size_t max_readings = 20;
   BackendKind backend = BackendKind::automatic;
 };
@@ -88,8 +88,8 @@ DemoData stage_simulate(const DemoConfig& cfg, const Scene& scene) {
   save_dataset(data.train, out.train_file);
   save_dataset(data.test, out.test_file);
   const std::size_t n = data.train.samples.size() + data.test.samples.size();
-  std::printf("[simulate] %zu readings in %.1f s (%.0f readings/s) -> %s\n", n, secs, secs > 0 ? static_cast<double>(n) / secs : 0.0,
-              dir.c_str());
+  std::printf("[simulate] %zu readings in %.1f s (%.0f readings/s) -> %s\n", n, secs,
+              secs > 0 ? static_cast<double>(n) / secs : 0.0, dir.c_str());
   out.train = std::move(data.train);
   out.test = std::move(data.test);
   return out;
@@ -175,8 +175,8 @@ void stage_evaluate(const DemoConfig& cfg, const Map& map, const DemoData& data)
     const eval::Curve c = eval::summarize(r);
     const auto json = cfg.work / ("eval_" + std::string(eval::method_name(method)) + ".json");
     io::write_text_file(json, eval::to_json(r, c));
-    std::printf("[evaluate] %s: %zu trials x %zu readings in %.1f s (%s backend) -> %s\n", eval::method_name(method), o.trials,
-                o.max_readings, secs, r.backend.c_str(), json.c_str());
+    std::printf("[evaluate] %s: %zu trials x %zu readings in %.1f s (%s backend) -> %s\n", eval::method_name(method),
+                o.trials, o.max_readings, secs, r.backend.c_str(), json.c_str());
     std::fputs(eval::format_table(c).c_str(), stdout);
     if (method == Method::sva) print_speed(map, data, o, r);
     curves.push_back(c);
@@ -187,8 +187,8 @@ void stage_evaluate(const DemoConfig& cfg, const Map& map, const DemoData& data)
 }
 
 void stage_summary(const DemoData& data) {
-  std::printf("[summary]  scene %s, %zu objects, seed %llu\n", data.train.scene.name.c_str(), data.train.scene.objects.size(),
-              static_cast<unsigned long long>(data.train.seed));
+  std::printf("[summary]  scene %s, %zu objects, seed %llu\n", data.train.scene.name.c_str(),
+              data.train.scene.objects.size(), static_cast<unsigned long long>(data.train.seed));
   std::printf("  %-14s %14s %14s %12s\n", "object", "train conv.", "test conv.", "mean iters");
   std::map<std::uint32_t, std::array<std::size_t, 4>> per;  // train total, train conv, test total, test conv
   std::map<std::uint32_t, double> iters;
@@ -206,7 +206,8 @@ void stage_summary(const DemoData& data) {
     std::snprintf(a, sizeof a, "%zu/%zu", p[1], p[0]);
     std::snprintf(b, sizeof b, "%zu/%zu", p[3], p[2]);
     double n = static_cast<double>(p[0] + p[2]);
-    std::printf("  %-14s %14s %14s %12.1f\n", data.train.scene.objects[o].name.c_str(), a, b, n > 0 ? iters[o] / n : 0.0);
+    std::printf("  %-14s %14s %14s %12.1f\n", data.train.scene.objects[o].name.c_str(), a, b,
+                n > 0 ? iters[o] / n : 0.0);
   }
   std::printf("  datasets: %s, %s\n", data.train_file.c_str(), data.test_file.c_str());
 }

@@ -62,9 +62,12 @@ int cmd_eval(const std::vector<std::string>& argv) {
   o.threads = static_cast<unsigned>(a.integer("--threads", 0, 1, 1024));
   o.recognizer.backend = parse_backend_kind(a.get_or("--backend", "cpu"), "sva eval: --backend");
   const std::string method = a.get_or("--method", "sva");
-  if (method == "sva") o.recognizer.method = Method::sva;
-  else if (method == "appearance") o.recognizer.method = Method::appearance;
-  else throw Error("sva eval: --method expects sva or appearance, got \"" + method + "\"");
+  if (method == "sva")
+    o.recognizer.method = Method::sva;
+  else if (method == "appearance")
+    o.recognizer.method = Method::appearance;
+  else
+    throw Error("sva eval: --method expects sva or appearance, got \"" + method + "\"");
   o.recognizer.eps = a.number("--eps", o.recognizer.eps, 1e-300, 1.0);
   if (a.has("--eps") && !(o.recognizer.eps > 0)) throw Error("sva eval: --eps must be positive");
   const auto json_file = a.get("--json"), csv_file = a.get("--csv"), plot_file = a.get("--plot");
@@ -72,7 +75,8 @@ int cmd_eval(const std::vector<std::string>& argv) {
   if (csv_file) check_writable("--csv", *csv_file);
   if (plot_file) check_writable("--plot", *plot_file);
   const auto compare_files = a.all("--compare");
-  if (!compare_files.empty() && !plot_file) throw Error("sva eval: --compare adds curves to the figure; give --plot too");
+  if (!compare_files.empty() && !plot_file)
+    throw Error("sva eval: --compare adds curves to the figure; give --plot too");
   long long trials_arg = -1;
   if (a.has("--trials")) trials_arg = a.integer("--trials", 0, 1, 100000000);
 
@@ -87,7 +91,8 @@ int cmd_eval(const std::vector<std::string>& argv) {
   for (const auto& f : compare_files) {
     eval::Curve c = eval::read_curve_json(f);
     if (c.scene != map.scene_name())
-      throw Error("sva eval: --compare " + f + " is from scene \"" + c.scene + "\", this run is on \"" + map.scene_name() + "\"");
+      throw Error("sva eval: --compare " + f + " is from scene \"" + c.scene + "\", this run is on \"" +
+                  map.scene_name() + "\"");
     if (c.method == method) c.label = std::filesystem::path(f).stem().string();
     others.push_back(std::move(c));
   }

@@ -14,7 +14,6 @@ namespace sva::cli {
 
 namespace {
 
-
 std::string csv_field(const std::string& s) {
   if (s.find_first_of(",\"\n") == std::string::npos) return s;
   std::string q = "\"";
@@ -29,7 +28,8 @@ int cmd_export(const std::vector<std::string>& argv) {
          "Write a dataset as CSV (one row per reading: object, status, iterations, position, normal, x axis,\n"
          "pressures) and PLY (contact points with normals, coloured by object) into DIR.",
          argv);
-  a.option("--data", "FILE", "a dataset file (.svad) from sva simulate").option("--out", "DIR", "output directory (created if needed)");
+  a.option("--data", "FILE", "a dataset file (.svad) from sva simulate")
+      .option("--out", "DIR", "output directory (created if needed)");
   if (!a.parse()) return 0;
   const std::filesystem::path file = a.required("--data"), dir = a.required("--out");
   Dataset d = load_dataset(file);
@@ -52,8 +52,10 @@ int cmd_export(const std::vector<std::string>& argv) {
     };
     for (const auto& s : d.samples) {
       const Reading& r = s.reading;
-      out << r.object << "," << csv_field(d.scene.objects[r.object].name) << "," << to_string(r.status) << "," << r.iterations;
-      for (const auto* v : {&r.position, &r.normal, &r.x_axis}) out << "," << num(v->x) << "," << num(v->y) << "," << num(v->z);
+      out << r.object << "," << csv_field(d.scene.objects[r.object].name) << "," << to_string(r.status) << ","
+          << r.iterations;
+      for (const auto* v : {&r.position, &r.normal, &r.x_axis})
+        out << "," << num(v->x) << "," << num(v->y) << "," << num(v->z);
       for (int k = 0; k < elements; ++k) out << "," << num(r.pressure[static_cast<std::size_t>(k)]);
       out << "\n";
     }
@@ -63,20 +65,23 @@ int cmd_export(const std::vector<std::string>& argv) {
   for (const auto& s : d.samples) points += s.reading.status != ControllerStatus::no_contact;
   io::write_file_atomically(ply, [&](std::ostream& out) {
     out << "ply\nformat ascii 1.0\ncomment sva dataset " << file.filename().string() << " (" << d.split << "), scene "
-        << d.scene.name << "\ncomment contact points with outward normals, coloured by object\nelement vertex " << points
-        << "\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\n"
+        << d.scene.name << "\ncomment contact points with outward normals, coloured by object\nelement vertex "
+        << points
+        << "\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty "
+           "float nz\n"
            "property uchar red\nproperty uchar green\nproperty uchar blue\nproperty uint object\nend_header\n";
     char buf[256];
     for (const auto& s : d.samples) {
       const Reading& r = s.reading;
       if (r.status == ControllerStatus::no_contact) continue;
       plot::Rgb c = plot::palette(r.object);
-      std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f %.6f %.6f %.6f %d %d %d %u\n", r.position.x, r.position.y, r.position.z,
-                    r.normal.x, r.normal.y, r.normal.z, c.r, c.g, c.b, r.object);
+      std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f %.6f %.6f %.6f %d %d %d %u\n", r.position.x, r.position.y,
+                    r.position.z, r.normal.x, r.normal.y, r.normal.z, c.r, c.g, c.b, r.object);
       out << buf;
     }
   });
-  std::printf("wrote %s (%zu readings) and %s (%zu contact points)\n", csv.c_str(), d.samples.size(), ply.c_str(), points);
+  std::printf("wrote %s (%zu readings) and %s (%zu contact points)\n", csv.c_str(), d.samples.size(), ply.c_str(),
+              points);
   return 0;
 }
 

@@ -18,9 +18,11 @@ void inspect_dataset(const std::string& file) {
   Dataset d = load_dataset(file);
   std::printf("%s: sva dataset (format 1)\n", file.c_str());
   std::printf("  scene      %s (%s pose space, protocol %s)\n", d.scene.name.c_str(),
-              d.scene.pose_space.kind == PoseSpaceSpec::Kind::planar ? "planar" : "spatial", d.scene.protocol.kind.c_str());
+              d.scene.pose_space.kind == PoseSpaceSpec::Kind::planar ? "planar" : "spatial",
+              d.scene.protocol.kind.c_str());
   std::printf("  split      %s, seed %llu\n", d.split.c_str(), static_cast<unsigned long long>(d.seed));
-  std::printf("  sensor     %d x %d elements, %.2f mm pitch\n", d.scene.sensor.rows, d.scene.sensor.cols, d.scene.sensor.pitch_mm);
+  std::printf("  sensor     %d x %d elements, %.2f mm pitch\n", d.scene.sensor.rows, d.scene.sensor.cols,
+              d.scene.sensor.pitch_mm);
   std::printf("  readings   %zu (%zu converged)\n", d.samples.size(), d.count_converged());
   std::map<std::uint32_t, std::map<ControllerStatus, std::size_t>> per;
   std::map<std::uint32_t, double> mean_p, iters;
@@ -31,13 +33,15 @@ void inspect_dataset(const std::string& file) {
     mean_p[s.reading.object] += sum / static_cast<double>(s.reading.pressure.size());
     iters[s.reading.object] += s.reading.iterations;
   }
-  std::printf("  %-16s %8s %10s %8s %14s %12s\n", "object", "readings", "converged", "failed", "mean kPa/elem", "mean iters");
+  std::printf("  %-16s %8s %10s %8s %14s %12s\n", "object", "readings", "converged", "failed", "mean kPa/elem",
+              "mean iters");
   for (std::uint32_t o = 0; o < d.scene.objects.size(); ++o) {
     std::size_t total = 0;
     for (auto& [st, n] : per[o]) total += n;
     std::size_t conv = per[o][ControllerStatus::converged];
     std::printf("  %-16s %8zu %10zu %8zu %14.2f %12.1f\n", d.scene.objects[o].name.c_str(), total, conv, total - conv,
-                total ? mean_p[o] / static_cast<double>(total) : 0.0, total ? iters[o] / static_cast<double>(total) : 0.0);
+                total ? mean_p[o] / static_cast<double>(total) : 0.0,
+                total ? iters[o] / static_cast<double>(total) : 0.0);
   }
 }
 void inspect_map(const std::string& file) {
@@ -47,8 +51,9 @@ void inspect_map(const std::string& file) {
   std::printf("  scene          %s (%s pose space), scene hash %016llx, seed %llu\n", m.scene_name.c_str(),
               m.pose_space.kind == PoseSpaceSpec::Kind::planar ? "planar" : "spatial",
               static_cast<unsigned long long>(m.scene_hash), static_cast<unsigned long long>(m.train_seed));
-  std::printf("  descriptor     %s (%u values), T_a %.2f\n", m.appearance.descriptor == DescriptorKind::mn ? "MN" : "MNTI",
-              m.appearance.descriptor_size, m.appearance.prune_ratio);
+  std::printf("  descriptor     %s (%u values), T_a %.2f\n",
+              m.appearance.descriptor == DescriptorKind::mn ? "MN" : "MNTI", m.appearance.descriptor_size,
+              m.appearance.prune_ratio);
   std::printf("  objects        %zu\n", map.objects());
   std::printf("  classes        %u\n", map.classes());
   std::printf("  ambiguity A    %.3f classes per reading\n", m.ambiguity);

@@ -32,10 +32,11 @@ std::pair<double, double> parse_range(const std::string& text) {
 }  // namespace
 
 int cmd_train(const std::vector<std::string>& argv) {
-  Args a("sva train",
-         "Build the SVA pair map: appearance classes (PAM on MN/MNTI descriptors) and every same-object pair of training "
-         "readings under its (class, class, distance bin) keys. Defaults come from the dataset's scene.",
-         argv);
+  Args a(
+      "sva train",
+      "Build the SVA pair map: appearance classes (PAM on MN/MNTI descriptors) and every same-object pair of training "
+      "readings under its (class, class, distance bin) keys. Defaults come from the dataset's scene.",
+      argv);
   a.option("--data", "TRAIN", "training dataset (from sva simulate)");
   a.option("--out", "MAP", "map file to write");
   a.option("--descriptor", "mn|mnti", "appearance descriptor (default: the scene's)");

@@ -19,18 +19,22 @@ struct Command {
 };
 
 const Command kCommands[] = {
-    {"demo", "the main job: simulate the default scene, train, evaluate, print the table and draw the figure", sva::cli::cmd_demo},
+    {"demo", "the main job: simulate the default scene, train, evaluate, print the table and draw the figure",
+     sva::cli::cmd_demo},
     {"simulate", "simulate tactile readings of a scene's objects with the Embree simulator", sva::cli::cmd_simulate},
     {"inspect", "summarise a dataset or map file", sva::cli::cmd_inspect},
     {"export", "write a dataset as CSV and PLY (contact points with normals)", sva::cli::cmd_export},
-    {"train", "build the SVA pair map (appearance classes + surface-patch pairs) from training readings", sva::cli::cmd_train},
+    {"train", "build the SVA pair map (appearance classes + surface-patch pairs) from training readings",
+     sva::cli::cmd_train},
     {"eval", "run recognition trials on test readings and report accuracy and pose errors", sva::cli::cmd_eval},
     {"recognize", "recognise a batch of sessions of readings", sva::cli::cmd_recognize},
     {"bench", "measure votes per second and time per update", sva::cli::cmd_bench},
 };
 
 void usage() {
-  std::printf("usage: sva <command> [options]\n\nTactile object recognition and localization by spatially-varying appearance.\n\ncommands:\n");
+  std::printf(
+      "usage: sva <command> [options]\n\nTactile object recognition and localization by spatially-varying "
+      "appearance.\n\ncommands:\n");
   for (const auto& c : kCommands) std::printf("  %-10s %s\n", c.name, c.summary);
   std::printf("\nRun 'sva <command> --help' for a command's options. Global: --quiet (no progress), --version.\n");
 }

@@ -48,7 +48,7 @@ Reading press(const TactileSensor& sensor, SensorPose pose, const ControllerSett
     img = sensor.touch(pose, util::splitmix64(noise_seed + static_cast<std::uint64_t>(it)));
     if (img.contacts == 0) {
       if (!img.surface_below) {
-        if (!touched) break;  // nothing under the array: no contact
+        if (!touched) break;                            // nothing under the array: no contact
         pose.position += cs.max_step_mm * pose.normal;  // lost the surface after touching: back off and look again
         prev_error = std::numeric_limits<double>::quiet_NaN();
         continue;

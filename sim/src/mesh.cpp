@@ -13,9 +13,9 @@
 #include <sstream>
 #include <string>
 
+#include <tiny_gltf.h>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
-#include <tiny_gltf.h>
 
 namespace sva::sim {
 
@@ -39,14 +39,19 @@ struct AccessorView {
 std::size_t component_size(int type) {
   switch (type) {
     case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return 1;
     case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return 2;
     case TINYGLTF_COMPONENT_TYPE_INT:
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
-    case TINYGLTF_COMPONENT_TYPE_DOUBLE: return 8;
-    default: return 0;
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return 4;
+    case TINYGLTF_COMPONENT_TYPE_DOUBLE:
+      return 8;
+    default:
+      return 0;
   }
 }
 
@@ -81,7 +86,8 @@ class Loader {
     if (v.count == 0) return v;
     if (a.byteOffset > bv.byteLength || (v.count - 1) > bv.byteLength / v.stride ||
         a.byteOffset + (v.count - 1) * v.stride + elem > bv.byteLength)
-      fail(file_, name + ": " + std::to_string(v.count) + " elements overrun the bufferView (" + std::to_string(bv.byteLength) + " bytes)");
+      fail(file_, name + ": " + std::to_string(v.count) + " elements overrun the bufferView (" +
+                      std::to_string(bv.byteLength) + " bytes)");
     v.data = buf.data.data() + bv.byteOffset + a.byteOffset;
     return v;
   }
@@ -107,15 +113,20 @@ class Loader {
       const unsigned char* p = v.data + i * v.stride;
       std::uint32_t x = 0;
       switch (v.component_type) {
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: x = *p; break;
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+          x = *p;
+          break;
         case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
           std::uint16_t s;
           std::memcpy(&s, p, 2);
           x = s;
           break;
         }
-        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: std::memcpy(&x, p, 4); break;
-        default: fail(file_, "indices: component type must be an unsigned integer");
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+          std::memcpy(&x, p, 4);
+          break;
+        default:
+          fail(file_, "indices: component type must be an unsigned integer");
       }
       if (x >= vertex_count)
         fail(file_, "index " + std::to_string(x) + " at position " + std::to_string(i) + " is out of range (" +
@@ -127,7 +138,8 @@ class Loader {
 
   void add_primitive(const tinygltf::Primitive& p, const glm::dmat4& xf, const std::string& where, Mesh& mesh,
                      std::vector<char>& has_normal) const {
-    if (p.mode != TINYGLTF_MODE_TRIANGLES && p.mode != TINYGLTF_MODE_TRIANGLE_STRIP && p.mode != TINYGLTF_MODE_TRIANGLE_FAN)
+    if (p.mode != TINYGLTF_MODE_TRIANGLES && p.mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+        p.mode != TINYGLTF_MODE_TRIANGLE_FAN)
       return;  // points and lines carry no surface
     auto pos_it = p.attributes.find("POSITION");
     if (pos_it == p.attributes.end()) fail(file_, where + ": primitive has no POSITION attribute");
@@ -171,12 +183,15 @@ class Loader {
       mesh.triangles.emplace_back(base + a, base + b, base + c);
     };
     if (p.mode == TINYGLTF_MODE_TRIANGLES) {
-      if (idx.size() % 3 != 0) fail(file_, where + ": triangle list length " + std::to_string(idx.size()) + " is not a multiple of 3");
+      if (idx.size() % 3 != 0)
+        fail(file_, where + ": triangle list length " + std::to_string(idx.size()) + " is not a multiple of 3");
       for (std::size_t i = 0; i + 2 < idx.size(); i += 3) tri(idx[i], idx[i + 1], idx[i + 2]);
     } else if (p.mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
       for (std::size_t i = 0; i + 2 < idx.size(); ++i) {
-        if (i % 2 == 0) tri(idx[i], idx[i + 1], idx[i + 2]);
-        else tri(idx[i + 1], idx[i], idx[i + 2]);
+        if (i % 2 == 0)
+          tri(idx[i], idx[i + 1], idx[i + 2]);
+        else
+          tri(idx[i + 1], idx[i], idx[i + 2]);
       }
     } else {
       for (std::size_t i = 1; i + 1 < idx.size(); ++i) tri(idx[0], idx[i], idx[i + 1]);
@@ -192,8 +207,10 @@ class Loader {
     }
     if (!n.matrix.empty()) fail(file_, where + ": matrix must have 16 numbers");
     glm::dmat4 t(1.0), r(1.0), s(1.0);
-    if (n.translation.size() == 3) t[3] = glm::dvec4(n.translation[0], n.translation[1], n.translation[2], 1.0);
-    else if (!n.translation.empty()) fail(file_, where + ": translation must have 3 numbers");
+    if (n.translation.size() == 3)
+      t[3] = glm::dvec4(n.translation[0], n.translation[1], n.translation[2], 1.0);
+    else if (!n.translation.empty())
+      fail(file_, where + ": translation must have 3 numbers");
     if (n.rotation.size() == 4) {
       glm::dquat q(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);
       double len = glm::length(q);
@@ -202,13 +219,17 @@ class Loader {
     } else if (!n.rotation.empty()) {
       fail(file_, where + ": rotation must have 4 numbers");
     }
-    if (n.scale.size() == 3) s = glm::dmat4(glm::dmat3(glm::dvec3(n.scale[0], 0, 0), glm::dvec3(0, n.scale[1], 0), glm::dvec3(0, 0, n.scale[2])));
-    else if (!n.scale.empty()) fail(file_, where + ": scale must have 3 numbers");
+    if (n.scale.size() == 3)
+      s = glm::dmat4(
+          glm::dmat3(glm::dvec3(n.scale[0], 0, 0), glm::dvec3(0, n.scale[1], 0), glm::dvec3(0, 0, n.scale[2])));
+    else if (!n.scale.empty())
+      fail(file_, where + ": scale must have 3 numbers");
     return t * r * s;
   }
 
   void visit(int node, const glm::dmat4& parent, int depth, Mesh& mesh, std::vector<char>& has_normal) const {
-    if (node < 0 || static_cast<std::size_t>(node) >= m_.nodes.size()) fail(file_, "node " + std::to_string(node) + " does not exist");
+    if (node < 0 || static_cast<std::size_t>(node) >= m_.nodes.size())
+      fail(file_, "node " + std::to_string(node) + " does not exist");
     if (depth > 64) fail(file_, "node hierarchy is deeper than 64 levels (a cycle?)");
     const auto& n = m_.nodes[static_cast<std::size_t>(node)];
     std::string where = "node " + std::to_string(node);
@@ -216,10 +237,12 @@ class Loader {
     for (int c = 0; c < 4; ++c)
       if (!finite3(glm::dvec3(xf[c])) || !std::isfinite(xf[c][3])) fail(file_, where + ": non-finite transform");
     if (n.mesh >= 0) {
-      if (static_cast<std::size_t>(n.mesh) >= m_.meshes.size()) fail(file_, where + ": mesh " + std::to_string(n.mesh) + " does not exist");
+      if (static_cast<std::size_t>(n.mesh) >= m_.meshes.size())
+        fail(file_, where + ": mesh " + std::to_string(n.mesh) + " does not exist");
       const auto& me = m_.meshes[static_cast<std::size_t>(n.mesh)];
       for (std::size_t p = 0; p < me.primitives.size(); ++p)
-        add_primitive(me.primitives[p], xf, "mesh " + std::to_string(n.mesh) + " primitive " + std::to_string(p), mesh, has_normal);
+        add_primitive(me.primitives[p], xf, "mesh " + std::to_string(n.mesh) + " primitive " + std::to_string(p), mesh,
+                      has_normal);
     }
     for (int child : n.children) visit(child, xf, depth + 1, mesh, has_normal);
   }
@@ -293,7 +316,8 @@ Mesh load_mesh(const std::filesystem::path& file) {
   tinygltf::Model model;
   std::string err, warn;
   // Images are irrelevant to touch; skip decoding them (and their failures).
-  gltf.SetImageLoader([](tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int, void*) { return true; },
+  gltf.SetImageLoader([](tinygltf::Image*, const int, std::string*, std::string*, int, int, const unsigned char*, int,
+                         void*) { return true; },
                       nullptr);
   std::string base_dir = file.has_parent_path() ? file.parent_path().string() : std::string(".");
   bool ok = false;
@@ -322,7 +346,8 @@ Mesh load_mesh(const std::filesystem::path& file) {
   std::vector<int> roots;
   if (!model.scenes.empty()) {
     int s = model.defaultScene >= 0 ? model.defaultScene : 0;
-    if (static_cast<std::size_t>(s) >= model.scenes.size()) fail(file, "default scene " + std::to_string(s) + " does not exist");
+    if (static_cast<std::size_t>(s) >= model.scenes.size())
+      fail(file, "default scene " + std::to_string(s) + " does not exist");
     roots = model.scenes[static_cast<std::size_t>(s)].nodes;
   } else {
     std::vector<char> is_child(model.nodes.size(), 0);

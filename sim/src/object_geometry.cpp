@@ -19,7 +19,8 @@ namespace {
 thread_local std::string t_embree_error;
 
 extern "C" void on_embree_error(void*, RTCError code, const char* message) {
-  t_embree_error = "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (message ? message : "(no message)");
+  t_embree_error =
+      "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (message ? message : "(no message)");
 }
 
 void check(const std::string& what) {
@@ -37,7 +38,9 @@ RTCDevice device() {
   std::lock_guard lock(mutex);
   if (!dev) {
     dev = rtcNewDevice("threads=1,set_affinity=0");  // builds are small; our own threads do the ray work
-    if (!dev) throw Error("cannot create an Embree device (error " + std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
+    if (!dev)
+      throw Error("cannot create an Embree device (error " +
+                  std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
     rtcSetDeviceErrorFunction(dev, on_embree_error, nullptr);
   }
   return dev;
@@ -63,8 +66,10 @@ ObjectGeometry::ObjectGeometry(Mesh mesh) : impl_(std::make_unique<Impl>()) {
   rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
   RTCGeometry geom = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
   check("creating the Embree geometry");
-  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), m.positions.size()));
-  auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), m.triangles.size()));
+  auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                        3 * sizeof(float), m.positions.size()));
+  auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                                           3 * sizeof(unsigned), m.triangles.size()));
   if (!v || !t) {
     rtcReleaseGeometry(geom);
     check("allocating Embree buffers");
@@ -145,7 +150,8 @@ ObjectGeometry::Hit hit_of(const RTCRayHit& rh) {
 
 }  // namespace
 
-ObjectGeometry::Hit ObjectGeometry::intersect(const glm::dvec3& o, const glm::dvec3& d, double tnear, double tfar) const {
+ObjectGeometry::Hit ObjectGeometry::intersect(const glm::dvec3& o, const glm::dvec3& d, double tnear,
+                                              double tfar) const {
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   RTCRayHit rh = make_ray(o, d, tnear, tfar, 0);
@@ -157,11 +163,13 @@ void ObjectGeometry::intersect_parallel(const std::vector<glm::dvec3>& origins, 
                                         std::vector<Hit>& hits) const {
   thread_local std::vector<RTCRayHit> rays;
   rays.resize(origins.size());
-  for (std::size_t i = 0; i < origins.size(); ++i) rays[i] = make_ray(origins[i], d, 0.0, tfar, static_cast<unsigned>(i));
+  for (std::size_t i = 0; i < origins.size(); ++i)
+    rays[i] = make_ray(origins[i], d, 0.0, tfar, static_cast<unsigned>(i));
   RTCIntersectContext ctx;
   rtcInitIntersectContext(&ctx);
   ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  if (!rays.empty()) rtcIntersect1M(impl_->scene, &ctx, rays.data(), static_cast<unsigned>(rays.size()), sizeof(RTCRayHit));
+  if (!rays.empty())
+    rtcIntersect1M(impl_->scene, &ctx, rays.data(), static_cast<unsigned>(rays.size()), sizeof(RTCRayHit));
   hits.resize(origins.size());
   for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = hit_of(rays[i]);
 }

@@ -17,9 +17,12 @@ namespace {
 
 const char* status_word(ControllerStatus s) {
   switch (s) {
-    case ControllerStatus::converged: return "ok";
-    case ControllerStatus::not_converged: return "NOT CONV";
-    case ControllerStatus::no_contact: return "NO CONTACT";
+    case ControllerStatus::converged:
+      return "ok";
+    case ControllerStatus::not_converged:
+      return "NOT CONV";
+    case ControllerStatus::no_contact:
+      return "NO CONTACT";
   }
   return "?";
 }
@@ -83,7 +86,9 @@ void write_preview(const Dataset& data, const std::filesystem::path& png, int ma
     int ew = std::max(1, S / std::max(rs, cs));
     for (int i = 0; i < rs; ++i)
       for (int j = 0; j < cs; ++j) {
-        float p = r.pressure.size() == static_cast<std::size_t>(rs * cs) ? r.pressure[static_cast<std::size_t>(i * cs + j)] : 0.0f;
+        float p = r.pressure.size() == static_cast<std::size_t>(rs * cs)
+                      ? r.pressure[static_cast<std::size_t>(i * cs + j)]
+                      : 0.0f;
         cv.fill_rect(ox + j * ew, oy + (rs - 1 - i) * ew, ew, ew, plot::colormap(p / pmax));
       }
     cv.rect(ox - 1, oy - 1, cs * ew + 2, rs * ew + 2, plot::kGrey);

@@ -111,9 +111,11 @@ SimulatedData simulate(const Scene& scene, const SimulateOptions& options) {
   if (scene.objects.empty()) throw Error("scene \"" + scene.name + "\" has no objects");
   const auto& pr = scene.protocol;
   const bool letters = pr.kind == "letters2d";
-  if (!letters && pr.kind != "paper3d") throw Error("scene \"" + scene.name + "\": unknown protocol \"" + pr.kind + "\"");
+  if (!letters && pr.kind != "paper3d")
+    throw Error("scene \"" + scene.name + "\": unknown protocol \"" + pr.kind + "\"");
   const int per_pose = pr.grid * pr.grid * pr.orientations;
-  const int train_n = options.train_per_object >= 0 ? options.train_per_object : (letters ? per_pose : pr.train_per_object);
+  const int train_n =
+      options.train_per_object >= 0 ? options.train_per_object : (letters ? per_pose : pr.train_per_object);
   const int test_n = options.test_per_object >= 0 ? options.test_per_object : (letters ? per_pose : pr.test_per_object);
 
   // Every mesh is loaded and validated before any work starts.
@@ -138,7 +140,8 @@ SimulatedData simulate(const Scene& scene, const SimulateOptions& options) {
       [&](std::size_t i) {
         const Job& job = jobs[i];
         const TactileSensor& s = *sensors[job.object];
-        readings[i] = letters ? letters2d_reading(s, scene, options.seed, job) : paper3d_reading(s, scene, options.seed, job);
+        readings[i] =
+            letters ? letters2d_reading(s, scene, options.seed, job) : paper3d_reading(s, scene, options.seed, job);
         progress.advance();
       },
       options.threads);

@@ -11,10 +11,11 @@
 
 namespace sva::sim {
 
-
-TactileSensor::TactileSensor(const ObjectGeometry& object, const SensorSpec& sensor, const SkinModel& skin, double reach_mm)
+TactileSensor::TactileSensor(const ObjectGeometry& object, const SensorSpec& sensor, const SkinModel& skin,
+                             double reach_mm)
     : object_(object), sensor_(sensor), skin_(skin), reach_mm_(reach_mm) {
-  if (sensor.rows < 1 || sensor.cols < 1 || !(sensor.pitch_mm > 0)) throw Error("sensor: rows, cols and pitch must be positive");
+  if (sensor.rows < 1 || sensor.cols < 1 || !(sensor.pitch_mm > 0))
+    throw Error("sensor: rows, cols and pitch must be positive");
   if (skin.rays_per_axis < 1) throw Error("skin: rays_per_axis must be at least 1");
   if (!(skin.stiffness_kpa_per_mm > 0)) throw Error("skin: stiffness must be positive");
   rays_per_axis_ = skin.rays_per_axis;
@@ -85,13 +86,15 @@ TactileImage TactileSensor::touch(const SensorPose& pose, std::uint64_t noise_se
     for (int a = 0; a < ny; ++a)
       for (int b = m; b < nx - m; ++b) {
         double s = 0;
-        for (int k = -m; k <= m; ++k) s += kernel_[static_cast<std::size_t>(k + m)] * depth[static_cast<std::size_t>(a * nx + b + k)];
+        for (int k = -m; k <= m; ++k)
+          s += kernel_[static_cast<std::size_t>(k + m)] * depth[static_cast<std::size_t>(a * nx + b + k)];
         tmp[static_cast<std::size_t>(a * nx + b)] = s;
       }
     for (int a = m; a < ny - m; ++a)
       for (int b = m; b < nx - m; ++b) {
         double s = 0;
-        for (int k = -m; k <= m; ++k) s += kernel_[static_cast<std::size_t>(k + m)] * tmp[static_cast<std::size_t>((a + k) * nx + b)];
+        for (int k = -m; k <= m; ++k)
+          s += kernel_[static_cast<std::size_t>(k + m)] * tmp[static_cast<std::size_t>((a + k) * nx + b)];
         depth[static_cast<std::size_t>(a * nx + b)] = s;
       }
   }
@@ -117,7 +120,7 @@ TactileImage TactileSensor::touch(const SensorPose& pose, std::uint64_t noise_se
         sum += pf;
         wsum += pf;
         centroid += static_cast<double>(pf) * glm::dvec2((j - 0.5 * (sensor_.cols - 1)) * sensor_.pitch_mm,
-                                                          (i - 0.5 * (sensor_.rows - 1)) * sensor_.pitch_mm);
+                                                         (i - 0.5 * (sensor_.rows - 1)) * sensor_.pitch_mm);
       }
     }
   if (img.contacts > 0) {

@@ -40,7 +40,8 @@ inline std::vector<float> blob_image(const SensorSpec& sensor, double sx, double
     for (int col = 0; col < sensor.cols; ++col) {
       const double x = col - 0.5 * (sensor.cols - 1) - ox, y = r - 0.5 * (sensor.rows - 1) - oy;
       const double u = c * x + s * y, v = -s * x + c * y;
-      img[static_cast<std::size_t>(r * sensor.cols + col)] = static_cast<float>(peak * std::exp(-0.5 * (u * u / (sx * sx) + v * v / (sy * sy))));
+      img[static_cast<std::size_t>(r * sensor.cols + col)] =
+          static_cast<float>(peak * std::exp(-0.5 * (u * u / (sx * sx) + v * v / (sy * sy))));
     }
   return img;
 }
@@ -61,12 +62,14 @@ inline Dataset synthetic_dataset(int objects, int per_object, std::uint64_t seed
       s.reading.object = static_cast<std::uint32_t>(o);
       s.reading.position = (30.0 + 5.0 * o) * n;
       s.reading.normal = n;
-      s.reading.x_axis = glm::normalize(glm::cross(n, std::fabs(n.z) < 0.9 ? glm::dvec3{0, 0, 1} : glm::dvec3{1, 0, 0}));
+      s.reading.x_axis =
+          glm::normalize(glm::cross(n, std::fabs(n.z) < 0.9 ? glm::dvec3{0, 0, 1} : glm::dvec3{1, 0, 0}));
       // Texture bands along z, skewed differently per object, so the objects
       // differ in where each texture is and (for the baseline) how much of it.
       const int texture = std::min(3, static_cast<int>(std::floor(std::pow((z + 1.0) / 2.0, o + 1) * 4.0)));
-      s.reading.pressure = blob_image(d.scene.sensor, shapes[texture][0], shapes[texture][1], rng.uniform(0.0, 2 * std::numbers::pi),
-                                      rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3));
+      s.reading.pressure =
+          blob_image(d.scene.sensor, shapes[texture][0], shapes[texture][1], rng.uniform(0.0, 2 * std::numbers::pi),
+                     rng.uniform(-0.3, 0.3), rng.uniform(-0.3, 0.3));
       d.samples.push_back(s);
     }
   return d;

@@ -44,7 +44,8 @@ TEST_CASE("cli: sva train and sva inspect on a map") {
   CHECK(bytes_of(dir / "a.svamap") == bytes_of(dir / "b.svamap"));
   REQUIRE(run("inspect " + (dir / "a.svamap").string(), &out) == 0);
   CHECK_THAT(out, Contains("sva map") && Contains("ambiguity A") && Contains("entries/key") && Contains("obj2"));
-  REQUIRE(run(base + (dir / "c.svamap").string() + " --descriptor mn --clusters 4 --dist-bins 7 --dist-range 10:60", &out) == 0);
+  REQUIRE(run(base + (dir / "c.svamap").string() + " --descriptor mn --clusters 4 --dist-bins 7 --dist-range 10:60",
+              &out) == 0);
   REQUIRE(run("inspect " + (dir / "c.svamap").string(), &out) == 0);
   CHECK_THAT(out, Contains("MN (64 values)") && Contains("7 over 10-60 mm"));
   std::filesystem::remove_all(dir);

@@ -35,7 +35,8 @@ std::vector<float> rotate90(const std::vector<float>& img, int n, int turns) {
   for (int t = 0; t < turns; ++t) {
     std::vector<float> next(out.size());
     for (int r = 0; r < n; ++r)
-      for (int c = 0; c < n; ++c) next[static_cast<std::size_t>(c * n + (n - 1 - r))] = out[static_cast<std::size_t>(r * n + c)];
+      for (int c = 0; c < n; ++c)
+        next[static_cast<std::size_t>(c * n + (n - 1 - r))] = out[static_cast<std::size_t>(r * n + c)];
     out = next;
   }
   return out;
@@ -48,7 +49,8 @@ float dot(const std::vector<float>& a, const std::vector<float>& b) {
 
 // An asymmetric image: an elongated blob plus a weaker one to one side.
 std::vector<float> asymmetric(const SensorSpec& s, util::Rng& rng) {
-  auto a = test::blob_image(s, rng.uniform(0.8, 1.5), rng.uniform(2.0, 3.0), rng.uniform(0, 3.14), rng.uniform(-0.5, 0.5), 0.0);
+  auto a = test::blob_image(s, rng.uniform(0.8, 1.5), rng.uniform(2.0, 3.0), rng.uniform(0, 3.14),
+                            rng.uniform(-0.5, 0.5), 0.0);
   auto b = test::blob_image(s, 0.7, 0.7, 0.0, rng.uniform(1.0, 2.0), rng.uniform(-2.0, -1.0), 15.0);
   for (std::size_t i = 0; i < a.size(); ++i) a[i] += b[i];
   return a;
@@ -88,7 +90,8 @@ TEST_CASE("descriptor: MNTI is robust to a one-element shift") {
       for (int c = 1; c < 4; ++c) img[static_cast<std::size_t>(r * 6 + c)] = static_cast<float>(rng.uniform(3.0, 30.0));
     const int dr = trial % 2, dc = 1 - trial % 2;
     for (int r = 0; r + dr < 6; ++r)
-      for (int c = 0; c + dc < 6; ++c) shifted[static_cast<std::size_t>((r + dr) * 6 + c + dc)] = img[static_cast<std::size_t>(r * 6 + c)];
+      for (int c = 0; c + dc < 6; ++c)
+        shifted[static_cast<std::size_t>((r + dr) * 6 + c + dc)] = img[static_cast<std::size_t>(r * 6 + c)];
     const auto a = m.describe(reading(img)), b = m.describe(reading(shifted));
     CHECK(a.size() == 25);
     CHECK(dot(a, a) == Approx(1.0f).margin(1e-5));

@@ -58,10 +58,12 @@ TEST_CASE("map: training on a synthetic dataset gives a valid, consistent map") 
   // Every ordered same-object pair in range appears, and under the right keys.
   for (std::size_t e = 0; e < m.entry_count(); e += 97) {
     const auto a = m.entry_a[e], b = m.entry_b[e];
-    const double d = std::hypot(m.readings.px[a] - m.readings.px[b], m.readings.py[a] - m.readings.py[b], m.readings.pz[a] - m.readings.pz[b]);
+    const double d = std::hypot(m.readings.px[a] - m.readings.px[b], m.readings.py[a] - m.readings.py[b],
+                                m.readings.pz[a] - m.readings.pz[b]);
     CHECK(d >= m.distance.min_mm);
     CHECK(d <= m.distance.max_mm);
-    const auto key_index = static_cast<std::size_t>(std::upper_bound(m.offsets.begin(), m.offsets.end(), e) - m.offsets.begin()) - 1;
+    const auto key_index =
+        static_cast<std::size_t>(std::upper_bound(m.offsets.begin(), m.offsets.end(), e) - m.offsets.begin()) - 1;
     const std::uint32_t bin = m.keys[key_index] % m.distance.count;
     bool bin_ok = false;
     for (const auto& bw : m.distance.bins(d)) bin_ok = bin_ok || bw.bin == bin;
@@ -93,23 +95,29 @@ TEST_CASE("map: the CSR index equals a naive enumeration of the pairs") {
     for (auto* v : {&m.readings.nx, &m.readings.ny}) v->push_back(0.0f);
     m.readings.nz.push_back(1.0f);
     m.readings.norm_conf.push_back(0.5f);
-    if (i % 3 == 0) classes.push_back({{static_cast<std::uint32_t>(i % 3), 1.0f}});
-    else classes.push_back({{0, 0.25f}, {2, 0.75f}});
+    if (i % 3 == 0)
+      classes.push_back({{static_cast<std::uint32_t>(i % 3), 1.0f}});
+    else
+      classes.push_back({{0, 0.25f}, {2, 0.75f}});
   }
   build_pair_index(m, classes, 2, false);
   std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, float>> naive;
   for (std::uint32_t a = 0; a < 40; ++a)
     for (std::uint32_t b = a + 1; b < 40; ++b) {  // each unordered pair once (map version 2)
       if (m.readings.object[a] != m.readings.object[b]) continue;
-      const double d = std::hypot(double(m.readings.px[a]) - m.readings.px[b], double(m.readings.py[a]) - m.readings.py[b], 0.0);
+      const double d =
+          std::hypot(double(m.readings.px[a]) - m.readings.px[b], double(m.readings.py[a]) - m.readings.py[b], 0.0);
       for (const auto& ca : classes[a])
         for (const auto& cb : classes[b])
-          for (const auto& bw : m.distance.bins(d)) naive.emplace_back(m.key_space.pack(ca.cls, cb.cls, bw.bin), a, b, ca.weight * cb.weight * bw.weight);
+          for (const auto& bw : m.distance.bins(d))
+            naive.emplace_back(m.key_space.pack(ca.cls, cb.cls, bw.bin), a, b, ca.weight * cb.weight * bw.weight);
     }
-  std::stable_sort(naive.begin(), naive.end(), [](const auto& x, const auto& y) { return std::get<0>(x) < std::get<0>(y); });
+  std::stable_sort(naive.begin(), naive.end(),
+                   [](const auto& x, const auto& y) { return std::get<0>(x) < std::get<0>(y); });
   REQUIRE(m.entry_count() == naive.size());
   for (std::size_t e = 0; e < naive.size(); ++e) {
-    const auto key_index = static_cast<std::size_t>(std::upper_bound(m.offsets.begin(), m.offsets.end(), e) - m.offsets.begin()) - 1;
+    const auto key_index =
+        static_cast<std::size_t>(std::upper_bound(m.offsets.begin(), m.offsets.end(), e) - m.offsets.begin()) - 1;
     CHECK(m.keys[key_index] == std::get<0>(naive[e]));
     CHECK(m.entry_a[e] == std::get<1>(naive[e]));
     CHECK(m.entry_b[e] == std::get<2>(naive[e]));
@@ -149,7 +157,8 @@ TEST_CASE("map: corrupt, truncated and wrong-version files are refused with the 
   flipped[flipped.size() / 2] ^= 0x40;
   write_bytes(dir / "flipped.svamap", flipped);
   CHECK_THROWS_WITH(Map::load(dir / "flipped.svamap"), Contains("flipped.svamap") && Contains("checksum"));
-  write_bytes(dir / "short.svamap", std::vector<char>(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(bytes.size() - 100)));
+  write_bytes(dir / "short.svamap",
+              std::vector<char>(bytes.begin(), bytes.begin() + static_cast<std::ptrdiff_t>(bytes.size() - 100)));
   CHECK_THROWS_WITH(Map::load(dir / "short.svamap"), Contains("short.svamap") && Contains("truncated"));
   auto version = bytes;
   version[8] = 9;
@@ -214,10 +223,12 @@ TEST_CASE("map: the loader validates contents that pass the checksum") {
   broken([](PairMap& m) { m.entry_a[3] = 1u << 30; }, "out of range");
   broken([](PairMap& m) { m.entry_weight[0] = 0.0f; }, "weight");
   broken([](PairMap& m) { std::swap(m.entry_a[0], m.entry_b[0]); }, "second order");
-  broken([](PairMap& m) {
-    std::swap(m.entry_a[0], m.entry_a[1]);
-    std::swap(m.entry_b[0], m.entry_b[1]);
-  }, "not strictly increasing");
+  broken(
+      [](PairMap& m) {
+        std::swap(m.entry_a[0], m.entry_a[1]);
+        std::swap(m.entry_b[0], m.entry_b[1]);
+      },
+      "not strictly increasing");
   broken([](PairMap& m) { m.entry_weight[0] = std::nanf(""); }, "weight");
   broken([](PairMap& m) { m.readings.nx[0] = 3.0f; }, "unit");
   broken([](PairMap& m) { m.readings.px[2] = INFINITY; }, "non-finite");

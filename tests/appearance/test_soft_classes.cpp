@@ -94,17 +94,19 @@ TEST_CASE("soft classes: weights are positive and sum to 1") {
 
 TEST_CASE("distance bins: Eq 13 with linear interpolation") {
   DistanceBins d;  // 40 bins over 30-160 mm: width 3.25, centre i at 31.625 + 3.25 i
-  auto one = [](const std::vector<BinWeight>& b, std::uint32_t bin) { return b.size() == 1 && b[0].bin == bin && b[0].weight == 1.0f; };
+  auto one = [](const std::vector<BinWeight>& b, std::uint32_t bin) {
+    return b.size() == 1 && b[0].bin == bin && b[0].weight == 1.0f;
+  };
   CHECK(one(d.bins(30.0), 0));
-  CHECK(one(d.bins(31.0), 0));       // between min and the first centre
-  CHECK(one(d.bins(31.625), 0));     // on a centre
-  CHECK(one(d.bins(159.0), 39));     // between the last centre and max
+  CHECK(one(d.bins(31.0), 0));    // between min and the first centre
+  CHECK(one(d.bins(31.625), 0));  // on a centre
+  CHECK(one(d.bins(159.0), 39));  // between the last centre and max
   CHECK(one(d.bins(160.0), 39));
   CHECK(d.bins(29.999).empty());
   CHECK(d.bins(160.001).empty());
   CHECK(d.bins(NAN).empty());
   CHECK(d.bins(-INFINITY).empty());
-  const auto b = d.bins(33.0);       // t = 3/3.25 - 0.5 = 0.423077
+  const auto b = d.bins(33.0);  // t = 3/3.25 - 0.5 = 0.423077
   REQUIRE(b.size() == 2);
   CHECK(b[0].bin == 0);
   CHECK(b[1].bin == 1);

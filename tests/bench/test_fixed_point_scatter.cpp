@@ -32,9 +32,9 @@ TEST_CASE("fixed-point scatter on the GPU equals the CPU sum bit for bit") {
   std::vector<std::int64_t> expect(bins, 0);
   for (std::uint32_t i = 0; i < n; ++i) {
     float w = static_cast<float>(rng.uniform());
-    if (i % 1000 == 0) w = NAN;    // never reaches a sum
-    if (i % 1001 == 0) w = 3.0f;   // clamps to one unit
-    if (i % 1002 == 0) w = -1.0f;  // clamps to zero
+    if (i % 1000 == 0) w = NAN;                                         // never reaches a sum
+    if (i % 1001 == 0) w = 3.0f;                                        // clamps to one unit
+    if (i % 1002 == 0) w = -1.0f;                                       // clamps to zero
     std::uint32_t b = static_cast<std::uint32_t>(rng.below(bins + 3));  // some out of range: ignored
     weights.as<float>()[i] = w;
     bin_ids.as<std::uint32_t>()[i] = b;
@@ -56,4 +56,3 @@ TEST_CASE("fixed-point scatter on the GPU equals the CPU sum bit for bit") {
   CHECK(ctx->validation_messages() == 0);
   for (const auto& m : ctx->validation_log()) WARN(m);
 }
-

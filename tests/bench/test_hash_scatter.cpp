@@ -2,9 +2,9 @@
 
 #include <sva/error.hpp>
 
-#include "vulkan/vk_test_support.hpp"
-#include "util/rng.hpp"
 #include "roofline/hash_scatter.hpp"
+#include "util/rng.hpp"
+#include "vulkan/vk_test_support.hpp"
 
 namespace {
 

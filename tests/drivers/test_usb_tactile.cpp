@@ -28,7 +28,8 @@ TEST_CASE("tactile frames round-trip and every corruption is refused") {
   magic[0] = 'X';
   CHECK_THROWS_WITH(parse_frame(magic), Contains("magic"));
   CHECK_THROWS_WITH(parse_frame(std::span(bytes).first(3)), Contains("shorter"));
-  CHECK(crc16_ccitt(std::vector<std::uint8_t>{'1', '2', '3', '4', '5', '6', '7', '8', '9'}) == 0x29B1);  // CRC-16/CCITT-FALSE check value
+  CHECK(crc16_ccitt(std::vector<std::uint8_t>{'1', '2', '3', '4', '5', '6', '7', '8', '9'}) ==
+        0x29B1);  // CRC-16/CCITT-FALSE check value
 }
 
 TEST_CASE("calibration maps counts to kPa and validates its file") {
@@ -42,9 +43,11 @@ TEST_CASE("calibration maps counts to kPa and validates its file") {
   TactileFrame small{0, 4, 4, std::vector<std::uint16_t>(16, 0)};
   CHECK_THROWS_WITH(c.to_pressure(small), Contains("4 x 4"));
   auto dir = sva::test::temp_dir("calib");
-  std::ofstream(dir / "bad.json") << R"({"rows": 2, "cols": 2, "pitch_mm": 2, "gain_kpa_per_count": [1, 1, 1], "zero_counts": [0, 0, 0, 0]})";
+  std::ofstream(dir / "bad.json")
+      << R"({"rows": 2, "cols": 2, "pitch_mm": 2, "gain_kpa_per_count": [1, 1, 1], "zero_counts": [0, 0, 0, 0]})";
   CHECK_THROWS_WITH(Calibration::load(dir / "bad.json"), Contains("bad.json") && Contains("rows*cols"));
-  std::ofstream(dir / "ok.json") << R"({"rows": 1, "cols": 2, "pitch_mm": 2, "gain_kpa_per_count": [1, 2], "zero_counts": [0, 1]})";
+  std::ofstream(dir / "ok.json")
+      << R"({"rows": 1, "cols": 2, "pitch_mm": 2, "gain_kpa_per_count": [1, 2], "zero_counts": [0, 1]})";
   auto ok = Calibration::load(dir / "ok.json");
   CHECK(ok.to_pressure(TactileFrame{0, 1, 2, {5, 5}}) == std::vector<float>{5.0f, 8.0f});
   CHECK_THROWS_WITH(Calibration::load(dir / "missing.json"), Contains("missing.json"));

@@ -6,9 +6,9 @@
 #include <sva/dataset.hpp>
 #include <sva/map.hpp>
 
+#include <sys/wait.h>
 #include <cmath>
 #include <cstdlib>
-#include <sys/wait.h>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -48,9 +48,11 @@ std::vector<float> blob(const glm::dvec3& p, std::uint32_t object, const SensorS
   std::vector<float> img(static_cast<std::size_t>(sensor.elements()));
   for (int r = 0; r < sensor.rows; ++r)
     for (int c = 0; c < sensor.cols; ++c) {
-      const double x = (c - (sensor.cols - 1) / 2.0) * sensor.pitch_mm, y = (r - (sensor.rows - 1) / 2.0) * sensor.pitch_mm;
+      const double x = (c - (sensor.cols - 1) / 2.0) * sensor.pitch_mm,
+                   y = (r - (sensor.rows - 1) / 2.0) * sensor.pitch_mm;
       const double u = std::cos(th) * x + std::sin(th) * y, v = -std::sin(th) * x + std::cos(th) * y;
-      img[static_cast<std::size_t>(r * sensor.cols + c)] = static_cast<float>(30.0 * std::exp(-u * u / (2 * a * a) - v * v / (2 * b * b)));
+      img[static_cast<std::size_t>(r * sensor.cols + c)] =
+          static_cast<float>(30.0 * std::exp(-u * u / (2 * a * a) - v * v / (2 * b * b)));
     }
   return img;
 }
@@ -112,12 +114,14 @@ nlohmann::json without_timing(const std::string& file) {
 
 }  // namespace
 
-TEST_CASE("sva eval writes the JSON curve, CSV and figure with non-timing fields the same run to run and on 1 or 2 threads") {
+TEST_CASE(
+    "sva eval writes the JSON curve, CSV and figure with non-timing fields the same run to run and on 1 or 2 threads") {
   Fixture f;
   std::string out;
   const std::string common = f.base() + "--trials 4 --max-readings 5 --seed 7 ";
   REQUIRE(sva::test::run_sva(common + "--threads 1 --json " + f.path("a.json") + " --csv " + f.path("a.csv") +
-                                 " --plot " + f.path("a.png"), &out) == 0);
+                                 " --plot " + f.path("a.png"),
+                             &out) == 0);
   CHECK(out.find("readings") != std::string::npos);
   REQUIRE(sva::test::run_sva(common + "--threads 2 --json " + f.path("b.json"), &out) == 0);
 
@@ -176,10 +180,10 @@ TEST_CASE("sva eval refuses bad options with the value named") {
   struct Case {
     std::string args, expect;
   };
-  for (const Case& c : {Case{"--trials 0", "--trials 0"}, Case{"--max-readings 0", "--max-readings 0"},
-                        Case{"--trials -3", "--trials -3"}, Case{"--max-readings x", "--max-readings"},
-                        Case{"--backend cuda", "cuda"}, Case{"--method geometry", "geometry"},
-                        Case{"--json /nonexistent-dir/a.json", "/nonexistent-dir"}}) {
+  for (const Case& c :
+       {Case{"--trials 0", "--trials 0"}, Case{"--max-readings 0", "--max-readings 0"},
+        Case{"--trials -3", "--trials -3"}, Case{"--max-readings x", "--max-readings"}, Case{"--backend cuda", "cuda"},
+        Case{"--method geometry", "geometry"}, Case{"--json /nonexistent-dir/a.json", "/nonexistent-dir"}}) {
     INFO(c.args);
     CHECK(sva::test::run_sva(f.base() + c.args, &out) != 0);
     CHECK(out.find(c.expect) != std::string::npos);
@@ -196,7 +200,8 @@ TEST_CASE("sva eval refuses test sets that cannot be evaluated against the map")
   std::string out;
   auto run_with = [&](const Dataset& d, const std::string& name) {
     save_dataset(d, f.dir / name);
-    const int rc = sva::test::run_sva("eval --map " + f.map + " --data " + f.path(name) + " --trials 2 --max-readings 3", &out);
+    const int rc =
+        sva::test::run_sva("eval --map " + f.map + " --data " + f.path(name) + " --trials 2 --max-readings 3", &out);
     CHECK(out.find("internal error") == std::string::npos);
     return rc;
   };
@@ -234,7 +239,8 @@ TEST_CASE("sva eval stops cleanly on Ctrl-C and leaves no output") {
   REQUIRE(bin != nullptr);
   // A run far longer than the 1 s after which timeout sends SIGINT.
   const std::string cmd = "timeout --preserve-status -s INT 1 " + std::string(bin) + " --quiet " + f.base() +
-                          "--trials 1000000 --max-readings 30 --json " + f.path("never.json") + " > " + f.path("log.txt") + " 2>&1";
+                          "--trials 1000000 --max-readings 30 --json " + f.path("never.json") + " > " +
+                          f.path("log.txt") + " 2>&1";
   const int status = std::system(cmd.c_str());
   REQUIRE(WIFEXITED(status));
   CHECK(WEXITSTATUS(status) == 130);

@@ -16,7 +16,9 @@ using namespace sva::eval;
 
 namespace {
 
-glm::dmat3 rot(double angle, glm::dvec3 axis) { return glm::dmat3(glm::rotate(glm::dmat4(1.0), angle, glm::normalize(axis))); }
+glm::dmat3 rot(double angle, glm::dvec3 axis) {
+  return glm::dmat3(glm::rotate(glm::dmat4(1.0), angle, glm::normalize(axis)));
+}
 
 Symmetry axis_symmetry(glm::dvec3 axis) {
   Symmetry s;
@@ -88,7 +90,8 @@ TEST_CASE("the letter I: its 180-degree rotation has zero error, 90 degrees does
   const Symmetry letter_i = cyclic(2, {0, 0, 1});
   glm::dmat3 R = rot(0.4, {0, 0, 1});
   CHECK(angular_error(R, R * rot(std::numbers::pi, {0, 0, 1}), letter_i) == Approx(0.0).margin(1e-9));
-  CHECK(angular_error(R, R * rot(std::numbers::pi / 2, {0, 0, 1}), letter_i) == Approx(std::numbers::pi / 2).margin(1e-9));
+  CHECK(angular_error(R, R * rot(std::numbers::pi / 2, {0, 0, 1}), letter_i) ==
+        Approx(std::numbers::pi / 2).margin(1e-9));
   // 170 degrees is 10 degrees from the symmetric pose.
   CHECK(angular_error(R, R * rot(170.0 * std::numbers::pi / 180, {0, 0, 1}), letter_i) ==
         Approx(10.0 * std::numbers::pi / 180).margin(1e-9));

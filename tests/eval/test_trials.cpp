@@ -152,7 +152,8 @@ TEST_CASE("same seed gives the same trials on any thread count and another seed 
   auto build = [&](std::uint64_t seed, unsigned threads) {
     TrialGenerator gen(d, d.scene.pose_space, seed, 10);
     std::vector<Trial> out(n);
-    util::parallel_for(n, [&](std::size_t t) { out[t] = gen.make(t); }, threads);
+    util::parallel_for(
+        n, [&](std::size_t t) { out[t] = gen.make(t); }, threads);
     return out;
   };
   auto one = build(17, 1), two = build(17, 2), again = build(17, 2), other = build(18, 1);

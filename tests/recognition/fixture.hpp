@@ -51,7 +51,8 @@ inline WorldPoint world_point(const WorldSpec& s, int o, int i) {
     const double x = rng.uniform(-12.0, 12.0), y = rng.uniform(-12.0, 12.0);
     w.p = {x, y, 0.0};
     w.n = {0.0, 0.0, 1.0};
-    const int cell = static_cast<int>(std::floor((x + 12.0) / 8.0)) * 3 + static_cast<int>(std::floor((y + 12.0) / 8.0));
+    const int cell =
+        static_cast<int>(std::floor((x + 12.0) / 8.0)) * 3 + static_cast<int>(std::floor((y + 12.0) / 8.0));
     w.cls = static_cast<std::uint32_t>((cell * 7 + o * 3) % static_cast<int>(s.classes));
     return w;
   }
@@ -154,6 +155,8 @@ inline RigidPose random_pose(std::uint64_t seed, double t_range, bool planar = f
 inline double angle_between(const glm::dmat3& a, const glm::dmat3& b) { return rotation::angle(glm::transpose(a) * b); }
 
 // Translation width of one bin of a space.
-inline double bin_width(const PoseSpaceSpec& s) { return (s.translation_max_mm - s.translation_min_mm) / s.translation_bins; }
+inline double bin_width(const PoseSpaceSpec& s) {
+  return (s.translation_max_mm - s.translation_min_mm) / s.translation_bins;
+}
 
 }  // namespace sva::test

@@ -37,9 +37,8 @@ sva::BeliefSummary full_pass(const sva::Belief& b, const sva::PoseSpace& space) 
 
 std::vector<sva::BinOffset> full_top(const sva::Belief& b, std::size_t k) {
   std::vector<sva::BinOffset> all = b.table();
-  std::sort(all.begin(), all.end(), [](const auto& x, const auto& y) {
-    return x.offset != y.offset ? x.offset > y.offset : x.key < y.key;
-  });
+  std::sort(all.begin(), all.end(),
+            [](const auto& x, const auto& y) { return x.offset != y.offset ? x.offset > y.offset : x.key < y.key; });
   all.resize(std::min(k, all.size()));
   return all;
 }

@@ -13,7 +13,9 @@ namespace bm = sva::belief_math;
 
 namespace {
 __extension__ typedef unsigned __int128 u128;  // the exact reference (a GCC/Clang extension)
-long double value_of(bm::SvaU128 v) { return std::ldexp(static_cast<long double>(v.hi), 64) + static_cast<long double>(v.lo); }
+long double value_of(bm::SvaU128 v) {
+  return std::ldexp(static_cast<long double>(v.hi), 64) + static_cast<long double>(v.lo);
+}
 double bits_of(std::uint64_t units) { return static_cast<double>(units) / bm::kUnitsPerBit; }
 }  // namespace
 
@@ -49,7 +51,8 @@ TEST_CASE("integer log2 is within 2^-28 of the exact value over 128 bits, and mo
       worst = std::max(worst, std::abs(bits_of(got) - static_cast<double>(std::log2(value_of(v)))));
     }
     // Powers of two are exact and increase.
-    const bm::SvaU128 p = e >= 64 ? bm::sva_u128(std::uint64_t{1} << (e - 64), 0) : bm::sva_u128(0, std::uint64_t{1} << e);
+    const bm::SvaU128 p =
+        e >= 64 ? bm::sva_u128(std::uint64_t{1} << (e - 64), 0) : bm::sva_u128(0, std::uint64_t{1} << e);
     const std::uint64_t lp = bm::sva_log2_u128(p);
     CHECK(lp == static_cast<std::uint64_t>(e) << 32);
     CHECK(lp >= previous);
@@ -116,6 +119,7 @@ TEST_CASE("eps and mass-bit parameters") {
   CHECK(bm::mass_bits(6751269) == 39);  // paper3d: 21^3 x 9^3 bins per object
   CHECK(bm::mass_bits(31752) == 40);    // letters: 21 x 21 x 72
   // Any bin count keeps bins x 2^mass_bits below 2^62.
-  for (std::uint64_t bins : {std::uint64_t{1}, std::uint64_t{1} << 30, std::uint64_t{1} << 54, (std::uint64_t{1} << 60) - 1})
+  for (std::uint64_t bins :
+       {std::uint64_t{1}, std::uint64_t{1} << 30, std::uint64_t{1} << 54, (std::uint64_t{1} << 60) - 1})
     CHECK(bins <= ((std::uint64_t{1} << 62) - 1) >> bm::mass_bits(bins));
 }

@@ -19,8 +19,10 @@ struct Session {
   std::unique_ptr<VoteBackend> backend;
   BayesFilter filter;
   Session(const WorldSpec& ws, const PoseSpaceSpec& spec, const FilterOptions& fo = {}, const VoteSettings& vs = {})
-      : world(make_world(ws)), space(spec, static_cast<std::uint32_t>(ws.objects)),
-        backend(make_cpu_vote_backend(*world.map, space, vs)), filter(*world.map, space, fo, *backend) {}
+      : world(make_world(ws)),
+        space(spec, static_cast<std::uint32_t>(ws.objects)),
+        backend(make_cpu_vote_backend(*world.map, space, vs)),
+        filter(*world.map, space, fo, *backend) {}
   UpdateStats add(const ObservedReading& r) { return filter.add(r); }
 };
 

@@ -124,8 +124,10 @@ TEST_CASE("a map pair stored under several of an observed pair's keys is aligned
       for (std::uint32_t x = b; x < e; ++x) {
         ++entries;
         // A reversed key matches the stored pair with its ends swapped.
-        if (batch.keys[k].reversed) distinct.insert({m.entry_b[x], m.entry_a[x]});
-        else distinct.insert({m.entry_a[x], m.entry_b[x]});
+        if (batch.keys[k].reversed)
+          distinct.insert({m.entry_b[x], m.entry_a[x]});
+        else
+          distinct.insert({m.entry_a[x], m.entry_b[x]});
       }
     }
     const sva::PairVotes v = cpu->vote(batch)[0];

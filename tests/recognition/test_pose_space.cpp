@@ -50,7 +50,8 @@ TEST_CASE("bin keys pack and unpack, and bin centres fall in their own bins") {
       }
       // The centre is within half a bin of the pose.
       const double w = bin_width(spec);
-      for (int k = 0; k < (space.planar() ? 2 : 3); ++k) CHECK(std::fabs(space.centre(key).T[k] - p.T[k]) <= 0.5 * w + 1e-9);
+      for (int k = 0; k < (space.planar() ? 2 : 3); ++k)
+        CHECK(std::fabs(space.centre(key).T[k] - p.T[k]) <= 0.5 * w + 1e-9);
     }
     RigidPose outside;
     outside.T = glm::dvec3(spec.translation_max_mm + 1.0);

@@ -33,12 +33,14 @@ std::vector<float> texture_image(const SensorSpec& sensor, std::uint32_t texture
   return img;
 }
 
-Reading reading_of(const SensorSpec& sensor, const WorldPoint& w, std::uint32_t object, const RigidPose& pose, util::Rng& rng) {
+Reading reading_of(const SensorSpec& sensor, const WorldPoint& w, std::uint32_t object, const RigidPose& pose,
+                   util::Rng& rng) {
   Reading r;
   r.object = object;
   r.position = pose.apply(w.p);
   r.normal = pose.rotate(w.n);
-  r.x_axis = glm::normalize(glm::cross(r.normal, std::fabs(r.normal.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
+  r.x_axis =
+      glm::normalize(glm::cross(r.normal, std::fabs(r.normal.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
   r.pressure = texture_image(sensor, w.cls, rng.uniform(0.0, 2.0 * std::numbers::pi));
   return r;
 }
@@ -71,7 +73,8 @@ const Trained& trained() {
       for (int i = 0; i < x.spec.points; ++i) {
         util::Rng rng(1, static_cast<std::uint64_t>(o), static_cast<std::uint64_t>(i));
         Sample s;
-        s.reading = reading_of(x.data.scene.sensor, world_point(x.spec, o, i), static_cast<std::uint32_t>(o), RigidPose{}, rng);
+        s.reading =
+            reading_of(x.data.scene.sensor, world_point(x.spec, o, i), static_cast<std::uint32_t>(o), RigidPose{}, rng);
         x.data.samples.push_back(s);
       }
     x.map = Map::train(x.data, {});
@@ -89,8 +92,9 @@ TEST_CASE("Recognizer: SVA on a trained map finds the object and its pose") {
     const RigidPose truth = random_pose(600 + object, 100.0);
     util::Rng rng(41, object);
     for (int i = 0; i < 14; ++i)
-      rec.add_reading(reading_of(t.data.scene.sensor, world_point(t.spec, static_cast<int>(object), static_cast<int>(rng.below(70))),
-                                 object, truth, rng));
+      rec.add_reading(reading_of(t.data.scene.sensor,
+                                 world_point(t.spec, static_cast<int>(object), static_cast<int>(rng.below(70))), object,
+                                 truth, rng));
     const Estimate e = rec.estimate(5);
     INFO("object " << object << " probability " << e.object_probability[object]);
     CHECK(e.readings == 14);
@@ -115,7 +119,9 @@ TEST_CASE("Recognizer: the appearance-only baseline gives object probabilities w
   o.method = Method::appearance;
   Recognizer rec(t.map, paper_space(), o);
   util::Rng rng(42);
-  for (int i = 0; i < 10; ++i) rec.add_reading(reading_of(t.data.scene.sensor, world_point(t.spec, 1, static_cast<int>(rng.below(70))), 1, RigidPose{}, rng));
+  for (int i = 0; i < 10; ++i)
+    rec.add_reading(
+        reading_of(t.data.scene.sensor, world_point(t.spec, 1, static_cast<int>(rng.below(70))), 1, RigidPose{}, rng));
   const Estimate e = rec.estimate();
   CHECK_FALSE(e.pose_valid);
   REQUIRE(e.object_probability.size() == 3);
@@ -180,7 +186,8 @@ TEST_CASE("Recognizer: votes whose mass rounds to zero are counted in the estima
   Recognizer normal(t.map, paper_space()), quiet(faint_map, paper_space());
   util::Rng rng(43);
   for (int i = 0; i < 6; ++i) {
-    const Reading r = reading_of(t.data.scene.sensor, world_point(t.spec, 0, static_cast<int>(rng.below(70))), 0, truth, rng);
+    const Reading r =
+        reading_of(t.data.scene.sensor, world_point(t.spec, 0, static_cast<int>(rng.below(70))), 0, truth, rng);
     normal.add_reading(r);
     quiet.add_reading(r);
   }

@@ -10,15 +10,17 @@
 #include <numbers>
 
 #include "fixture.hpp"
-#include "test_support.hpp"
 #include "recognition/vote_math.hpp"
+#include "test_support.hpp"
 
 using namespace sva;
 using namespace sva::test;
 namespace vm = sva::vote_math;
 
 namespace {
-vm::vec3 f3(const glm::dvec3& v) { return vm::vec3(static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)); }
+vm::vec3 f3(const glm::dvec3& v) {
+  return vm::vec3(static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z));
+}
 glm::dvec3 d3(const vm::vec3& v) { return glm::dvec3(v.x, v.y, v.z); }
 glm::dmat3 mat_of(const vm::vec4& q) {
   // Rotation of each basis vector through the header's quaternion rotate.
@@ -39,13 +41,16 @@ TEST_CASE("own exp, sincos and atan2 match libm to about 1e-6") {
   double worst_exp = 0, worst_sc = 0, worst_at = 0;
   for (int i = 0; i <= 2000; ++i) {
     const float x = -20.0f * static_cast<float>(i) / 2000.0f;
-    worst_exp = std::max(worst_exp, std::fabs(vm::sva_exp_neg(x) - std::exp(static_cast<double>(x))) / std::exp(static_cast<double>(x)));
+    worst_exp = std::max(
+        worst_exp, std::fabs(vm::sva_exp_neg(x) - std::exp(static_cast<double>(x))) / std::exp(static_cast<double>(x)));
     const float a = -7.0f + 14.0f * static_cast<float>(i) / 2000.0f;
     const vm::vec2 sc = vm::sva_sincos(a);
-    worst_sc = std::max({worst_sc, std::fabs(sc.x - std::sin(static_cast<double>(a))), std::fabs(sc.y - std::cos(static_cast<double>(a)))});
+    worst_sc = std::max({worst_sc, std::fabs(sc.x - std::sin(static_cast<double>(a))),
+                         std::fabs(sc.y - std::cos(static_cast<double>(a)))});
     const double t = 2.0 * std::numbers::pi * i / 2000.0;
     const float y = static_cast<float>(std::sin(t) * (1 + i % 7)), xx = static_cast<float>(std::cos(t) * (1 + i % 5));
-    worst_at = std::max(worst_at, std::fabs(vm::sva_atan2(y, xx) - std::atan2(static_cast<double>(y), static_cast<double>(xx))));
+    worst_at = std::max(worst_at,
+                        std::fabs(vm::sva_atan2(y, xx) - std::atan2(static_cast<double>(y), static_cast<double>(xx))));
   }
   CHECK(worst_exp < 2e-6);
   CHECK(worst_sc < 2e-6);
@@ -146,8 +151,8 @@ TEST_CASE("two-point alignment recovers a known pose") {
     if (glm::length(pb - pa) < 5.0) continue;
     const glm::dvec3 na = glm::normalize(glm::dvec3(rng.normal(), rng.normal(), rng.normal()));
     const glm::dvec3 nb = glm::normalize(glm::dvec3(rng.normal(), rng.normal(), rng.normal()));
-    const vm::SvaAlignment al = vm::sva_align(patch(pose.apply(pa), pose.rotate(na)), patch(pose.apply(pb), pose.rotate(nb)),
-                                              patch(pa, na), patch(pb, nb));
+    const vm::SvaAlignment al = vm::sva_align(patch(pose.apply(pa), pose.rotate(na)),
+                                              patch(pose.apply(pb), pose.rotate(nb)), patch(pa, na), patch(pb, nb));
     REQUIRE(al.valid == 1);
     const vm::vec4 q = vm::sva_quat_mul(vm::sva_quat_axis_angle(al.axis, al.beta_hat), al.q1);
     const glm::dmat3 R = mat_of(q);
@@ -176,8 +181,8 @@ TEST_CASE("two-point alignment of anti-parallel axes (180-degree rotations)") {
     const glm::dvec3 pb = pa + 30.0 * u;
     const glm::dvec3 na = glm::normalize(glm::dvec3(rng.normal(), rng.normal(), rng.normal()));
     const glm::dvec3 nb = glm::normalize(glm::dvec3(rng.normal(), rng.normal(), rng.normal()));
-    const vm::SvaAlignment al = vm::sva_align(patch(pose.apply(pa), pose.rotate(na)), patch(pose.apply(pb), pose.rotate(nb)),
-                                              patch(pa, na), patch(pb, nb));
+    const vm::SvaAlignment al = vm::sva_align(patch(pose.apply(pa), pose.rotate(na)),
+                                              patch(pose.apply(pb), pose.rotate(nb)), patch(pa, na), patch(pb, nb));
     REQUIRE(al.valid == 1);
     CHECK(glm::dot(d3(al.axis), u) < -0.99999);
     const glm::dmat3 R = mat_of(vm::sva_quat_mul(vm::sva_quat_axis_angle(al.axis, al.beta_hat), al.q1));
@@ -218,8 +223,8 @@ TEST_CASE("reflection case: normals that only a reflection would align still giv
 TEST_CASE("degenerate alignments: coincident points, normals along the axis, edge contacts") {
   const vm::SvaPoseGrid g = grid_of(paper_space());
   // Coincident observed points: no axis, no vote.
-  vm::SvaAlignment al = vm::sva_align(patch({1, 2, 3}, {0, 0, 1}), patch({1, 2, 3}, {0, 0, 1}), patch({0, 0, 0}, {0, 0, 1}),
-                                      patch({10, 0, 0}, {0, 0, 1}));
+  vm::SvaAlignment al = vm::sva_align(patch({1, 2, 3}, {0, 0, 1}), patch({1, 2, 3}, {0, 0, 1}),
+                                      patch({0, 0, 0}, {0, 0, 1}), patch({10, 0, 0}, {0, 0, 1}));
   CHECK(al.valid == 0);
   CHECK(vm::sva_beta_plan(al, g).n == 0);
   // Normals parallel to the axis, and edge contacts (normConf = 0): alignConf 0,

@@ -33,8 +33,10 @@ TEST_CASE("canvas: shapes, text, colormap, chart and PNG") {
   CHECK(colormap(std::nan("")) == Rgb{255, 0, 255});
 
   Canvas chart(400, 300);
-  line_chart(chart, 0, 0, 400, 300, {{"accuracy", {1, 2, 3, 4}, {0.2, 0.5, 0.8, 1.0}, palette(0)}, {"baseline", {1, 4}, {0.1, 0.3}, palette(1)}},
-             {"Accuracy", "readings", "fraction"});
+  line_chart(
+      chart, 0, 0, 400, 300,
+      {{"accuracy", {1, 2, 3, 4}, {0.2, 0.5, 0.8, 1.0}, palette(0)}, {"baseline", {1, 4}, {0.1, 0.3}, palette(1)}},
+      {"Accuracy", "readings", "fraction"});
   int coloured = 0;
   for (int y = 0; y < 300; ++y)
     for (int x = 0; x < 400; ++x) coloured += chart.get(x, y) == palette(0);

@@ -2,14 +2,14 @@
 // every kind of bad input giving a message that names the file and the fault.
 #include <catch2/catch.hpp>
 
+#include <sys/wait.h>
+#include <unistd.h>
 #include <csignal>
 #include <cstdlib>
 #include <fstream>
-#include <sys/wait.h>
-#include <thread>
-#include <unistd.h>
 #include <limits>
 #include <sstream>
+#include <thread>
 
 #include "gltf_writer.hpp"
 #include "test_support.hpp"
@@ -67,7 +67,8 @@ TEST_CASE("simulate --mesh, --preview, inspect and export") {
   auto dir = sva::test::temp_dir("sim-outputs");
   auto mesh = sva::test::write_gltf(sva::test::box_mesh({0, 0, 0}, {3, 2, 1}), dir / "block.gltf");
   std::string output;
-  int rc = sva::test::run_sva("simulate --mesh " + q(mesh) + " --mesh " + q(sva::test::write_gltf(sva::test::sphere_mesh(1, 3), dir / "ball.gltf")) +
+  int rc = sva::test::run_sva("simulate --mesh " + q(mesh) + " --mesh " +
+                                  q(sva::test::write_gltf(sva::test::sphere_mesh(1, 3), dir / "ball.gltf")) +
                                   " --out " + q(dir / "data") + " --train 6 --test 2 --preview " + q(dir / "sheet.png"),
                               &output);
   INFO(output);
@@ -75,10 +76,12 @@ TEST_CASE("simulate --mesh, --preview, inspect and export") {
   CHECK(slurp(dir / "sheet.png").substr(1, 3) == "PNG");
   REQUIRE(sva::test::run_sva("inspect " + q(dir / "data" / "train.svad"), &output) == 0);
   CHECK_THAT(output, Contains("block") && Contains("ball") && Contains("12"));
-  REQUIRE(sva::test::run_sva("export --data " + q(dir / "data" / "train.svad") + " --out " + q(dir / "export"), &output) == 0);
+  REQUIRE(sva::test::run_sva("export --data " + q(dir / "data" / "train.svad") + " --out " + q(dir / "export"),
+                             &output) == 0);
   std::string csv = slurp(dir / "export" / "train.csv");
   CHECK(std::count(csv.begin(), csv.end(), '\n') == 13);  // header + 12 readings
-  CHECK_THAT(csv, Contains("object,object_name,status,iterations,px,py,pz") && Contains("p_r5c5") && Contains(",ball,"));
+  CHECK_THAT(csv,
+             Contains("object,object_name,status,iterations,px,py,pz") && Contains("p_r5c5") && Contains(",ball,"));
   std::string ply = slurp(dir / "export" / "train.ply");
   CHECK_THAT(ply, Contains("element vertex 12") && Contains("property float nx") && Contains("property uchar red"));
   CHECK(rc == 0);
@@ -196,7 +199,8 @@ TEST_CASE("simulate: Ctrl-C stops cleanly and leaves no output") {
   pid_t pid = ::fork();
   REQUIRE(pid >= 0);
   if (pid == 0) {
-    ::execl(bin, bin, "--quiet", "simulate", "--scene", "paper3d", "--out", out.c_str(), "--threads", "2", static_cast<char*>(nullptr));
+    ::execl(bin, bin, "--quiet", "simulate", "--scene", "paper3d", "--out", out.c_str(), "--threads", "2",
+            static_cast<char*>(nullptr));
     std::_Exit(127);
   }
   std::this_thread::sleep_for(std::chrono::milliseconds(800));  // meshes loaded, simulation under way

@@ -59,8 +59,10 @@ TEST_CASE("pressing a plane gives a uniform, symmetric image at the target press
     CHECK(mean_contact(r, skin.contact_threshold_kpa) == Approx(skin.target_pressure_kpa).epsilon(0.04));
     for (int i = 0; i < 6; ++i)
       for (int j = 0; j < 6; ++j) {
-        CHECK(r.pressure[static_cast<std::size_t>(i * 6 + j)] == Approx(r.pressure[static_cast<std::size_t>((5 - i) * 6 + (5 - j))]).epsilon(0.02));
-        CHECK(r.pressure[static_cast<std::size_t>(i * 6 + j)] == Approx(r.pressure[static_cast<std::size_t>(j * 6 + i)]).epsilon(0.02));
+        CHECK(r.pressure[static_cast<std::size_t>(i * 6 + j)] ==
+              Approx(r.pressure[static_cast<std::size_t>((5 - i) * 6 + (5 - j))]).epsilon(0.02));
+        CHECK(r.pressure[static_cast<std::size_t>(i * 6 + j)] ==
+              Approx(r.pressure[static_cast<std::size_t>(j * 6 + i)]).epsilon(0.02));
       }
   }
 }
@@ -87,7 +89,8 @@ TEST_CASE("on a sphere the controller converges to the surface normal at the tar
     converged += r.status == ControllerStatus::converged;
     // The true outward normal under the sensor centre.
     normal_ok += r.status == ControllerStatus::converged && degrees(r.normal, glm::normalize(r.position)) <= 3.0;
-    pressure_ok += std::abs(mean_contact(r, scene.skin.contact_threshold_kpa) - scene.skin.target_pressure_kpa) <= 0.05 * scene.skin.target_pressure_kpa;
+    pressure_ok += std::abs(mean_contact(r, scene.skin.contact_threshold_kpa) - scene.skin.target_pressure_kpa) <=
+                   0.05 * scene.skin.target_pressure_kpa;
     CHECK(std::abs(glm::length(r.normal) - 1.0) < 1e-9);
     CHECK(std::abs(glm::dot(r.normal, r.x_axis)) < 1e-9);
   }

@@ -14,7 +14,8 @@ nlohmann::json without_timing(nlohmann::json j) {
   if (j.is_object()) {
     for (auto it = j.begin(); it != j.end();) {
       const std::string k = it.key();
-      if (k.find("_ms") != std::string::npos || k == "backend") it = j.erase(it);
+      if (k.find("_ms") != std::string::npos || k == "backend")
+        it = j.erase(it);
       else {
         *it = without_timing(*it);
         ++it;

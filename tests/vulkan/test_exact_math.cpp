@@ -16,8 +16,8 @@
 
 #include "spv/exact_math.h"
 #include "util/rng.hpp"
-#include "vulkan/gpu_layout.hpp"
 #include "vk_test_support.hpp"
+#include "vulkan/gpu_layout.hpp"
 
 namespace {
 
@@ -26,7 +26,9 @@ const std::filesystem::path kShaderInclude = SVA_TEST_SHADER_INCLUDE;
 bool normal_or_zero(float x) { return x == 0.0f || std::fpclassify(x) == FP_NORMAL || std::isinf(x) || std::isnan(x); }
 
 // Same bits, or both NaN (the payload carries no meaning).
-bool same(float x, float y) { return (std::isnan(x) && std::isnan(y)) || std::bit_cast<std::uint32_t>(x) == std::bit_cast<std::uint32_t>(y); }
+bool same(float x, float y) {
+  return (std::isnan(x) && std::isnan(y)) || std::bit_cast<std::uint32_t>(x) == std::bit_cast<std::uint32_t>(y);
+}
 
 }  // namespace
 
@@ -35,8 +37,24 @@ TEST_CASE("sva_div and sva_sqrt on the device equal IEEE division and square roo
   std::vector<float> a, b;
   // Hard cases: ties and near-ties of the rounding, exact quotients, powers of
   // two, the extremes of the normal range, zeros, infinities and NaN.
-  const float specials[] = {1.0f, -1.0f, 3.0f, 7.0f, 0.1f, 1.0f + 0x1p-23f, 2.0f - 0x1p-23f, 0x1p-126f, 0x1.fffffep127f,
-                            0x1p100f, 0x1p-100f, 0.0f, -0.0f, INFINITY, -INFINITY, NAN, 6.28318530717959f, 1e-30f};
+  const float specials[] = {1.0f,
+                            -1.0f,
+                            3.0f,
+                            7.0f,
+                            0.1f,
+                            1.0f + 0x1p-23f,
+                            2.0f - 0x1p-23f,
+                            0x1p-126f,
+                            0x1.fffffep127f,
+                            0x1p100f,
+                            0x1p-100f,
+                            0.0f,
+                            -0.0f,
+                            INFINITY,
+                            -INFINITY,
+                            NAN,
+                            6.28318530717959f,
+                            1e-30f};
   for (float x : specials)
     for (float y : specials) {
       a.push_back(x);
@@ -46,7 +64,8 @@ TEST_CASE("sva_div and sva_sqrt on the device equal IEEE division and square roo
   for (int i = 0; i < 200000; ++i) {
     // Random significands over a wide but overflow-free exponent range, both signs.
     const auto bits = [&](int lo, int hi) {
-      const std::uint32_t e = static_cast<std::uint32_t>(lo + static_cast<int>(rng.below(static_cast<std::uint64_t>(hi - lo))));
+      const std::uint32_t e =
+          static_cast<std::uint32_t>(lo + static_cast<int>(rng.below(static_cast<std::uint64_t>(hi - lo))));
       return std::bit_cast<float>((static_cast<std::uint32_t>(rng.below(2)) << 31) | (e << 23) |
                                   static_cast<std::uint32_t>(rng.below(1u << 23)));
     };
@@ -86,7 +105,8 @@ TEST_CASE("the shared vote math divides and takes roots only through sva_div and
   // (literal / literal, done once by glslang and by the C++ compiler) is fine.
   const std::regex runtime_div(R"([A-Za-z_\)\]][\w\.\]\)]*\s*/\s*[A-Za-z_\(])");
   const std::regex builtin_root(R"((^|[^_\w])(sqrt|inversesqrt)\s*\()");
-  if (!std::filesystem::is_directory(kShaderInclude)) sva::test::skip("no source tree here (" + kShaderInclude.string() + ")");
+  if (!std::filesystem::is_directory(kShaderInclude))
+    sva::test::skip("no source tree here (" + kShaderInclude.string() + ")");
   for (const char* name : {"sva_fast_math.h", "sva_quaternion.h", "sva_alignment.h", "sva_pose_bins.h",
                            "sva_beta_sampling.h", "sva_match_likelihood.h", "sva_vote_math.h"}) {
     std::ifstream in(kShaderInclude / name);

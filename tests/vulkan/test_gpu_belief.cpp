@@ -46,7 +46,8 @@ struct Twin {
     const std::vector<BinOffset> table = c.table();
     CHECK(table == g.table());
     CHECK(c.summarise() == g.summarise());
-    for (std::size_t k : {std::size_t{1}, std::size_t{5}, std::size_t{64}, table.size() + 3}) CHECK(c.best_bins(k) == g.best_bins(k));
+    for (std::size_t k : {std::size_t{1}, std::size_t{5}, std::size_t{64}, table.size() + 3})
+      CHECK(c.best_bins(k) == g.best_bins(k));
     // Lookups of touched and untouched bins.
     std::vector<std::uint64_t> keys;
     for (std::size_t i = 0; i < table.size(); i += 1 + table.size() / 50) keys.push_back(table[i].key);

@@ -6,8 +6,8 @@
 
 #include "test_support.hpp"
 
-using sva::test::run_sva;
 using Catch::Contains;
+using sva::test::run_sva;
 
 namespace {
 std::string slurp(const std::filesystem::path& p) {
@@ -37,11 +37,11 @@ TEST_CASE("sva recognize: batched Vulkan estimates equal the CPU reference's, by
   REQUIRE(run_sva("recognize --write-sessions " + (d / "s.jsonl").string() + " --map " + map + " --data " +
                       (d / "test.svad").string() + " --trials 6 --max-readings 6",
                   &out) == 0);
-  REQUIRE(run_sva("recognize --map " + map + " --batch " + (d / "s.jsonl").string() + " --out " + (d / "cpu.jsonl").string() +
-                      " --backend cpu",
+  REQUIRE(run_sva("recognize --map " + map + " --batch " + (d / "s.jsonl").string() + " --out " +
+                      (d / "cpu.jsonl").string() + " --backend cpu",
                   &out) == 0);
-  int rc = run_sva("recognize --map " + map + " --batch " + (d / "s.jsonl").string() + " --out " + (d / "gpu.jsonl").string() +
-                       " --backend vulkan --sessions-per-submission 4",
+  int rc = run_sva("recognize --map " + map + " --batch " + (d / "s.jsonl").string() + " --out " +
+                       (d / "gpu.jsonl").string() + " --backend vulkan --sessions-per-submission 4",
                    &out);
   if (rc != 0 && out.find("no Vulkan device") != std::string::npos) sva::test::skip(out);
   REQUIRE(rc == 0);
@@ -55,17 +55,26 @@ TEST_CASE("sva recognize: a malformed sessions file names the line and the fault
   const auto d = tiny_world();
   const std::string map = (d / "map.svam").string();
   std::ofstream(d / "bad1.jsonl") << "{\"id\": 1, \"readings\": []}\n";
-  std::ofstream(d / "bad2.jsonl") << "\n{\"readings\": [{\"position\": [0,0,0], \"normal\": [0,0,1], \"pressure\": [1, 2]}]}\n";
+  std::ofstream(d / "bad2.jsonl")
+      << "\n{\"readings\": [{\"position\": [0,0,0], \"normal\": [0,0,1], \"pressure\": [1, 2]}]}\n";
   std::ofstream(d / "bad3.jsonl") << "{not json\n";
   std::ofstream(d / "empty.jsonl") << "";
   std::string out;
-  CHECK(run_sva("recognize --map " + map + " --batch " + (d / "bad1.jsonl").string() + " --out " + (d / "x.jsonl").string(), &out) != 0);
+  CHECK(run_sva(
+            "recognize --map " + map + " --batch " + (d / "bad1.jsonl").string() + " --out " + (d / "x.jsonl").string(),
+            &out) != 0);
   CHECK_THAT(out, Contains("bad1.jsonl:1") && Contains("non-empty"));
-  CHECK(run_sva("recognize --map " + map + " --batch " + (d / "bad2.jsonl").string() + " --out " + (d / "x.jsonl").string(), &out) != 0);
+  CHECK(run_sva(
+            "recognize --map " + map + " --batch " + (d / "bad2.jsonl").string() + " --out " + (d / "x.jsonl").string(),
+            &out) != 0);
   CHECK_THAT(out, Contains("bad2.jsonl:2") && Contains("pressure"));
-  CHECK(run_sva("recognize --map " + map + " --batch " + (d / "bad3.jsonl").string() + " --out " + (d / "x.jsonl").string(), &out) != 0);
+  CHECK(run_sva(
+            "recognize --map " + map + " --batch " + (d / "bad3.jsonl").string() + " --out " + (d / "x.jsonl").string(),
+            &out) != 0);
   CHECK_THAT(out, Contains("bad3.jsonl:1") && Contains("invalid JSON"));
-  CHECK(run_sva("recognize --map " + map + " --batch " + (d / "empty.jsonl").string() + " --out " + (d / "x.jsonl").string(), &out) != 0);
+  CHECK(run_sva("recognize --map " + map + " --batch " + (d / "empty.jsonl").string() + " --out " +
+                    (d / "x.jsonl").string(),
+                &out) != 0);
   CHECK_THAT(out, Contains("no sessions"));
   CHECK_FALSE(std::filesystem::exists(d / "x.jsonl"));
 }

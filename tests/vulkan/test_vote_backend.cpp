@@ -12,16 +12,18 @@ namespace {
 
 // Several sessions, each a different pose of a different object, with a few
 // readings each; returns the batch of the last readings' pairs.
-VoteBatch make_batch(const test::World& w, const PoseSpace& space, const test::WorldSpec& spec, int sessions, int readings,
-                     std::vector<std::unique_ptr<BayesFilter>>* filters) {
+VoteBatch make_batch(const test::World& w, const PoseSpace& space, const test::WorldSpec& spec, int sessions,
+                     int readings, std::vector<std::unique_ptr<BayesFilter>>* filters) {
   VoteBatch batch;
   static std::vector<std::unique_ptr<VoteBackend>> backends;  // outlive the filters
   for (int s = 0; s < sessions; ++s) {
     const int object = s % spec.objects;
-    const RigidPose pose = test::random_pose(100 + static_cast<std::uint64_t>(s), spec.planar ? 8.0 : 150.0, spec.planar);
+    const RigidPose pose =
+        test::random_pose(100 + static_cast<std::uint64_t>(s), spec.planar ? 8.0 : 150.0, spec.planar);
     backends.push_back(make_cpu_vote_backend(*w.map, space, {}));
     auto f = std::make_unique<BayesFilter>(*w.map, space, FilterOptions{}, *backends.back());
-    for (int r = 0; r + 1 < readings; ++r) f->add(test::observe(w.objects[object][static_cast<std::size_t>(r * 7 % spec.points)], pose));
+    for (int r = 0; r + 1 < readings; ++r)
+      f->add(test::observe(w.objects[object][static_cast<std::size_t>(r * 7 % spec.points)], pose));
     f->queue_pairs(test::observe(w.objects[object][static_cast<std::size_t>(readings * 7 % spec.points)], pose),
                    static_cast<std::uint32_t>(s), &batch);
     if (filters) filters->push_back(std::move(f));
@@ -77,8 +79,8 @@ TEST_CASE("Vulkan backend: tiny map chunks and a tiny table still give the exact
   PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
   VoteBatch batch = make_batch(w, space, spec, 2, 4, nullptr);
   VulkanBackendOptions o;
-  o.max_chunk_entries = 97;     // the map split into many chunks (lavapipe's 128 MiB rule, exercised small)
-  o.initial_table_slots = 64;   // overflow: the table grows and the batch reruns
+  o.max_chunk_entries = 97;    // the map split into many chunks (lavapipe's 128 MiB rule, exercised small)
+  o.initial_table_slots = 64;  // overflow: the table grows and the batch reruns
   auto gpu = test::vulkan_backend_or_skip(*w.map, space, {}, o);
   auto cpu = make_cpu_vote_backend(*w.map, space, {});
   require_identical(cpu->vote(batch), gpu->vote(batch));
@@ -103,7 +105,10 @@ TEST_CASE("Vulkan backend folds into identical beliefs through update_sessions")
   }
   for (int r = 0; r < 5; ++r) {
     std::vector<ObservedReading> obs;
-    for (int s = 0; s < 3; ++s) obs.push_back(test::observe(w.objects[static_cast<std::size_t>(s)][static_cast<std::size_t>(r * 11 % spec.points)], poses[static_cast<std::size_t>(s)]));
+    for (int s = 0; s < 3; ++s)
+      obs.push_back(
+          test::observe(w.objects[static_cast<std::size_t>(s)][static_cast<std::size_t>(r * 11 % spec.points)],
+                        poses[static_cast<std::size_t>(s)]));
     std::vector<BayesFilter*> pc, pg;
     for (int s = 0; s < 3; ++s) {
       pc.push_back(fc[static_cast<std::size_t>(s)].get());
@@ -138,7 +143,8 @@ TEST_CASE("Vulkan backend: staged uploads into unmapped device memory give the e
   o.initial_belief_slots = 64;  // and belief growth
   auto gpu = test::vulkan_backend_or_skip(*w.map, space, {}, o);
   auto cpu = make_cpu_vote_backend(*w.map, space, {});
-  require_identical(cpu->vote(make_batch(w, space, spec, 2, 4, nullptr)), gpu->vote(make_batch(w, space, spec, 2, 4, nullptr)));
+  require_identical(cpu->vote(make_batch(w, space, spec, 2, 4, nullptr)),
+                    gpu->vote(make_batch(w, space, spec, 2, 4, nullptr)));
   BayesFilter fc(*w.map, space, FilterOptions{}, *cpu), fg(*w.map, space, FilterOptions{}, *gpu);
   const RigidPose pose = test::random_pose(77, 150.0);
   for (int r = 0; r < 6; ++r) {

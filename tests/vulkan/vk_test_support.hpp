@@ -19,8 +19,8 @@ inline std::unique_ptr<vk::Context> vulkan_context_or_skip() {
 }
 
 // A Vulkan vote backend, or the test ends as skipped with the reason.
-inline std::unique_ptr<VoteBackend> vulkan_backend_or_skip(const PairMap& map, const PoseSpace& space, const VoteSettings& vs,
-                                                           const VulkanBackendOptions& o = {}) {
+inline std::unique_ptr<VoteBackend> vulkan_backend_or_skip(const PairMap& map, const PoseSpace& space,
+                                                           const VoteSettings& vs, const VulkanBackendOptions& o = {}) {
   try {
     return make_vulkan_vote_backend(map, space, vs, o);
   } catch (const Error& e) {

@@ -17,8 +17,8 @@ struct Sample {
 };
 
 struct Dataset {
-  Scene scene;            // the scene that produced it (objects, sensor, skin, pose space, defaults)
-  std::string split;      // "train", "test" or free text
+  Scene scene;        // the scene that produced it (objects, sensor, skin, pose space, defaults)
+  std::string split;  // "train", "test" or free text
   std::uint64_t seed = 0;
   std::vector<Sample> samples;
 

@@ -20,26 +20,26 @@ struct PairMap;
 
 struct TrainOptions {
   // Unset values come from the dataset's scene (Scene::appearance).
-  std::optional<std::string> descriptor;   // "mn" or "mnti"
-  std::optional<int> clusters;             // n_C
-  std::optional<int> dist_bins;            // Eq 13 bin count
+  std::optional<std::string> descriptor;  // "mn" or "mnti"
+  std::optional<int> clusters;            // n_C
+  std::optional<int> dist_bins;           // Eq 13 bin count
   std::optional<double> dist_min_mm;
   std::optional<double> dist_max_mm;
-  std::uint64_t seed = 1;                  // PAM initialisation
-  unsigned threads = 0;                    // 0 = all cores (env SVA_THREADS); results do not depend on it
-  bool progress = false;                   // show progress on stderr
+  std::uint64_t seed = 1;  // PAM initialisation
+  unsigned threads = 0;    // 0 = all cores (env SVA_THREADS); results do not depend on it
+  bool progress = false;   // show progress on stderr
 };
 
 // What training did, for the CLI summary.
 struct TrainReport {
   std::size_t readings_used = 0;
   std::size_t skipped_not_converged = 0;
-  std::size_t skipped_undescribable = 0;   // all-zero image or nothing above the contact threshold
+  std::size_t skipped_undescribable = 0;  // all-zero image or nothing above the contact threshold
   double clustering_seconds = 0.0;        // wall clock
   double map_build_seconds = 0.0;
-  double clustering_cpu_seconds = 0.0;    // process CPU time, all threads (meaningful on a loaded machine)
+  double clustering_cpu_seconds = 0.0;  // process CPU time, all threads (meaningful on a loaded machine)
   double map_build_cpu_seconds = 0.0;
-  double clustering_loss = 0.0;            // PAM loss: sum of (1 - affinity) to the medoid
+  double clustering_loss = 0.0;  // PAM loss: sum of (1 - affinity) to the medoid
 };
 
 class Map {
@@ -56,12 +56,12 @@ class Map {
   std::size_t entries() const;
   std::size_t keys() const;
   std::size_t readings() const;
-  std::size_t bytes() const;   // in-memory size of the map's arrays
+  std::size_t bytes() const;  // in-memory size of the map's arrays
 
   // Compatibility information for the recognizer and the evaluation.
   const std::string& scene_name() const;
   const PoseSpaceSpec& pose_space() const;
-  std::uint64_t scene_hash() const;   // FNV-1a of the dataset's scene JSON
+  std::uint64_t scene_hash() const;  // FNV-1a of the dataset's scene JSON
   std::vector<std::string> object_names() const;
 
   // The engine's private view (host/src/map/pair_map.hpp).

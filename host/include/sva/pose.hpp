@@ -25,8 +25,8 @@ struct RigidPose {
 struct Symmetry {
   enum class Kind { none, axis, discrete };
   Kind kind = Kind::none;
-  glm::dvec3 axis{0.0, 0.0, 1.0};       // Kind::axis: the axis of revolution (object frame)
-  std::vector<glm::dmat3> rotations;    // Kind::discrete: the group, identity included
+  glm::dvec3 axis{0.0, 0.0, 1.0};     // Kind::axis: the axis of revolution (object frame)
+  std::vector<glm::dmat3> rotations;  // Kind::discrete: the group, identity included
 };
 
 }  // namespace sva

@@ -27,15 +27,18 @@ enum class ControllerStatus : std::uint8_t {
 // "converged", "not_converged", "no_contact": the names used in CSV and JSON files.
 inline const char* to_string(ControllerStatus s) {
   switch (s) {
-    case ControllerStatus::converged: return "converged";
-    case ControllerStatus::not_converged: return "not_converged";
-    case ControllerStatus::no_contact: return "no_contact";
+    case ControllerStatus::converged:
+      return "converged";
+    case ControllerStatus::not_converged:
+      return "not_converged";
+    case ControllerStatus::no_contact:
+      return "no_contact";
   }
   return "unknown";
 }
 
 struct Reading {
-  std::uint32_t object = 0;   // object id in the scene (ground truth; ignored by recognition)
+  std::uint32_t object = 0;  // object id in the scene (ground truth; ignored by recognition)
   // Sensor pose in the robot frame: the sensor centre, the outward surface
   // normal it was aligned to (the sensor presses along -normal), and its x axis
   // (perpendicular to normal; rotation about the normal is uncontrolled).

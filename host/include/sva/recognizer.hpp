@@ -25,35 +25,35 @@ struct RecognizerOptions {
   // Floor of every pair factor (DESIGN 4): factor = eps + S_p(x). See docs/recognition.md.
   double eps = 1e-6;
   // Speed knobs (defaults keep the paper's accuracy; docs/recognition.md):
-  float likelihood_cutoff = 0.0f;       // skip matches whose Eq 15 likelihood (summed over shared keys) is below this
+  float likelihood_cutoff = 0.0f;         // skip matches whose Eq 15 likelihood (summed over shared keys) is below this
   double object_prune_probability = 0.0;  // skip map entries of objects whose posterior is below this
-  int max_pairs_per_update = 0;         // 0 = all earlier readings (both orders); else the most recent ones
-  unsigned threads = 0;                 // CPU backend: 0 = all cores; results do not depend on it
-  std::string vulkan_device;            // "" = prefer a discrete GPU (env SVA_VK_DEVICE)
+  int max_pairs_per_update = 0;           // 0 = all earlier readings (both orders); else the most recent ones
+  unsigned threads = 0;                   // CPU backend: 0 = all cores; results do not depend on it
+  std::string vulkan_device;              // "" = prefer a discrete GPU (env SVA_VK_DEVICE)
 };
 
 struct Hypothesis {
   std::uint32_t object = 0;
   std::string object_name;
-  RigidPose pose;             // pose of the object (x_world = R x_object + T)
-  double probability = 0.0;   // posterior mass of this bin
+  RigidPose pose;            // pose of the object (x_world = R x_object + T)
+  double probability = 0.0;  // posterior mass of this bin
 };
 
 struct Estimate {
-  std::size_t readings = 0;                 // readings seen so far
-  std::uint32_t object = 0;                 // the object with the most mass summed over poses
+  std::size_t readings = 0;  // readings seen so far
+  std::uint32_t object = 0;  // the object with the most mass summed over poses
   std::string object_name;
-  std::vector<double> object_probability;   // per object, sums to 1
-  RigidPose pose;                           // refined continuous pose of `object`
-  RigidPose bin_pose;                       // centre of its best bin
-  bool pose_valid = false;                  // false until a pair has voted (and for Method::appearance)
-  std::vector<Hypothesis> top;              // best bins, most probable first
-  std::uint64_t votes = 0;                  // votes cast by the last update
-  std::uint64_t votes_outside = 0;          // votes of the last update whose pose fell outside the pose space
-                                            // (many: the space may not contain the object's pose)
-  std::uint64_t votes_zero = 0;             // of `votes`, those whose fixed-point mass (2^-24 units, rounded to
-                                            // nearest) is 0: counted, they add nothing to the belief (many: the
-                                            // likelihoods are tiny, e.g. a likelihood_cutoff of 0 on a large map)
+  std::vector<double> object_probability;  // per object, sums to 1
+  RigidPose pose;                          // refined continuous pose of `object`
+  RigidPose bin_pose;                      // centre of its best bin
+  bool pose_valid = false;                 // false until a pair has voted (and for Method::appearance)
+  std::vector<Hypothesis> top;             // best bins, most probable first
+  std::uint64_t votes = 0;                 // votes cast by the last update
+  std::uint64_t votes_outside = 0;         // votes of the last update whose pose fell outside the pose space
+                                           // (many: the space may not contain the object's pose)
+  std::uint64_t votes_zero = 0;            // of `votes`, those whose fixed-point mass (2^-24 units, rounded to
+                                           // nearest) is 0: counted, they add nothing to the belief (many: the
+                                           // likelihoods are tiny, e.g. a likelihood_cutoff of 0 on a large map)
 };
 
 class Recognizer {

@@ -13,21 +13,21 @@ namespace sva {
 
 struct SceneObject {
   std::string name;
-  std::filesystem::path mesh;   // absolute after loading (relative paths resolve against the scene file)
-  double size_mm = 80.0;        // largest bounding-box dimension after scaling; <= 0 keeps the mesh's units (mm)
-  bool center = true;           // move the bounding-box centre to the origin
+  std::filesystem::path mesh;  // absolute after loading (relative paths resolve against the scene file)
+  double size_mm = 80.0;       // largest bounding-box dimension after scaling; <= 0 keeps the mesh's units (mm)
+  bool center = true;          // move the bounding-box centre to the origin
   Symmetry symmetry;
   double inertial_radius_mm = 40.0;  // sphere radius of the inertial distance metric
 };
 
 // The compliant skin and its calibration (docs/sensor-model.md).
 struct SkinModel {
-  double stiffness_kpa_per_mm = 100.0;   // pressure per mm of penetration
-  double spread_mm = 0.6;                // std-dev of the elastic layer's spread
-  int rays_per_axis = 3;                 // rays per element = rays_per_axis^2
-  double noise_kpa = 0.0;                // std-dev of additive Gaussian noise
-  double contact_threshold_kpa = 2.0;    // an element is in contact above this
-  double target_pressure_kpa = 20.0;     // controller target for the mean pressure of contacting elements
+  double stiffness_kpa_per_mm = 100.0;  // pressure per mm of penetration
+  double spread_mm = 0.6;               // std-dev of the elastic layer's spread
+  int rays_per_axis = 3;                // rays per element = rays_per_axis^2
+  double noise_kpa = 0.0;               // std-dev of additive Gaussian noise
+  double contact_threshold_kpa = 2.0;   // an element is in contact above this
+  double target_pressure_kpa = 20.0;    // controller target for the mean pressure of contacting elements
 };
 
 struct PoseSpaceSpec {
@@ -36,7 +36,7 @@ struct PoseSpaceSpec {
   int translation_bins = 50;
   double translation_min_mm = -200.0;
   double translation_max_mm = 200.0;
-  int rotation_bins = 9;                 // per Rodrigues axis (planar: over [-pi, pi])
+  int rotation_bins = 9;  // per Rodrigues axis (planar: over [-pi, pi])
 };
 
 struct AppearanceSpec {
@@ -51,17 +51,17 @@ struct ProtocolSpec {
   std::string kind = "paper3d";  // "paper3d" or "letters2d"
   int train_per_object = 1000;   // paper3d; letters2d uses one reading per grid pose
   int test_per_object = 100;
-  double approach_mm = 3.0;      // paper3d: start this far along the normal
-  double tilt_deg = 10.0;        // paper3d: random tilt of the initial sensor normal
-  int grid = 4;                  // letters2d: grid x grid positions
+  double approach_mm = 3.0;  // paper3d: start this far along the normal
+  double tilt_deg = 10.0;    // paper3d: random tilt of the initial sensor normal
+  int grid = 4;              // letters2d: grid x grid positions
   double grid_spacing_mm = 6.8;
   int orientations = 12;
-  int max_iterations = 60;       // contact controller budget
+  int max_iterations = 60;  // contact controller budget
 };
 
 struct Scene {
   std::string name;
-  std::filesystem::path file;   // where it was loaded from (empty for in-memory scenes)
+  std::filesystem::path file;  // where it was loaded from (empty for in-memory scenes)
   std::vector<SceneObject> objects;
   SensorSpec sensor;
   SkinModel skin;

@@ -26,7 +26,8 @@ AppearanceBaseline AppearanceBaseline::fit(std::uint32_t n_objects, std::uint32_
     }
   }
   for (std::uint32_t o = 0; o < n_objects; ++o)
-    for (std::uint32_t c = 0; c < n_classes; ++c) b.class_given_object[static_cast<std::size_t>(o) * n_classes + c] /= total[o];
+    for (std::uint32_t c = 0; c < n_classes; ++c)
+      b.class_given_object[static_cast<std::size_t>(o) * n_classes + c] /= total[o];
   return b;
 }
 

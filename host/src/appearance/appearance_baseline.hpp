@@ -14,12 +14,13 @@ class AppearanceBaseline {
  public:
   std::uint32_t n_objects = 0;
   std::uint32_t n_classes = 0;
-  double smoothing = 1.0;              // Laplace pseudo-count per class
+  double smoothing = 1.0;                  // Laplace pseudo-count per class
   std::vector<double> class_given_object;  // n_objects x n_classes, rows sum to 1
 
   // Histogram of each object's readings' soft classes (`object[i]` and
   // `classes[i]` per training reading), plus `smoothing` in every class.
-  static AppearanceBaseline fit(std::uint32_t n_objects, std::uint32_t n_classes, const std::vector<std::uint32_t>& object,
+  static AppearanceBaseline fit(std::uint32_t n_objects, std::uint32_t n_classes,
+                                const std::vector<std::uint32_t>& object,
                                 const std::vector<std::vector<ClassWeight>>& classes, double smoothing = 1.0);
 
   // log Pr(z | object) = log sum_c Pr(z | c) Pr(c | object) for one reading's soft classes.

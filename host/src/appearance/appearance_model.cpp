@@ -33,7 +33,8 @@ std::vector<BinWeight> DistanceBins::bins(double d) const {
 std::string AppearanceModel::why_not_describable(const Reading& r) const {
   const auto& s = calibration.sensor;
   if (r.pressure.size() != static_cast<std::size_t>(s.elements()))
-    return "pressure image has " + std::to_string(r.pressure.size()) + " elements, the sensor has " + std::to_string(s.elements());
+    return "pressure image has " + std::to_string(r.pressure.size()) + " elements, the sensor has " +
+           std::to_string(s.elements());
   bool contact = false;
   double mass = 0;
   for (float p : r.pressure) {
@@ -62,7 +63,8 @@ std::vector<float> AppearanceModel::describe(const Reading& r) const {
 std::vector<ClassWeight> AppearanceModel::classify(const std::vector<float>& d) const {
   if (n_classes() == 0) throw Error("appearance model has no classes");
   if (d.size() != descriptor_size)
-    throw Error("descriptor has " + std::to_string(d.size()) + " values, the model expects " + std::to_string(descriptor_size));
+    throw Error("descriptor has " + std::to_string(d.size()) + " values, the model expects " +
+                std::to_string(descriptor_size));
   for (float v : d)
     if (!std::isfinite(v)) throw Error("descriptor has a non-finite value");
   return appearance::soft_classes(d.data(), medoids, psi, descriptor_size, prune_ratio);

@@ -34,7 +34,7 @@ struct DistanceBins {
 // The calibration the descriptors and normConf need from the sensor model.
 struct SensorCalibration {
   SensorSpec sensor;
-  double stiffness_kpa_per_mm = 100.0;   // inverse of the simulator's pressure calibration (depth from pressure)
+  double stiffness_kpa_per_mm = 100.0;  // inverse of the simulator's pressure calibration (depth from pressure)
   double contact_threshold_kpa = 2.0;
 };
 
@@ -50,9 +50,9 @@ class AppearanceModel {
   std::uint32_t mnti_pad = 16;
   std::uint32_t mnti_freqs = 4;
   std::uint32_t descriptor_size = 0;
-  std::vector<float> medoids;   // n_classes x descriptor_size, unit rows
-  std::vector<float> psi;       // Eq 7 per class (a variance)
-  float prune_ratio = 0.75f;    // T_a
+  std::vector<float> medoids;  // n_classes x descriptor_size, unit rows
+  std::vector<float> psi;      // Eq 7 per class (a variance)
+  float prune_ratio = 0.75f;   // T_a
 
   std::uint32_t n_classes() const { return static_cast<std::uint32_t>(psi.size()); }
   // Unit-length descriptor of a reading's pressure image. Throws sva::Error

@@ -18,7 +18,8 @@ double sample(const std::vector<float>& image, int rows, int cols, double u, dou
     if (r < 0 || c < 0 || r >= rows || c >= cols) return 0.0;
     return image[static_cast<std::size_t>(r) * static_cast<std::size_t>(cols) + static_cast<std::size_t>(c)];
   };
-  return (1 - tv) * ((1 - tu) * at(r0, c0) + tu * at(r0, c0 + 1)) + tv * ((1 - tu) * at(r0 + 1, c0) + tu * at(r0 + 1, c0 + 1));
+  return (1 - tv) * ((1 - tu) * at(r0, c0) + tu * at(r0, c0 + 1)) +
+         tv * ((1 - tu) * at(r0 + 1, c0) + tu * at(r0 + 1, c0 + 1));
 }
 
 }  // namespace
@@ -72,9 +73,12 @@ std::vector<float> moment_normalise(const std::vector<float>& image, int rows, i
   return out;
 }
 
-std::uint32_t fourier_magnitude_count(std::uint32_t freqs) { return freqs == 0 ? 0 : freqs + (freqs - 1) * (2 * freqs - 1); }
+std::uint32_t fourier_magnitude_count(std::uint32_t freqs) {
+  return freqs == 0 ? 0 : freqs + (freqs - 1) * (2 * freqs - 1);
+}
 
-std::vector<float> fourier_magnitudes(const std::vector<float>& mn, std::uint32_t size, std::uint32_t pad, std::uint32_t freqs) {
+std::vector<float> fourier_magnitudes(const std::vector<float>& mn, std::uint32_t size, std::uint32_t pad,
+                                      std::uint32_t freqs) {
   assert(mn.size() == static_cast<std::size_t>(size) * size && pad >= size && freqs <= pad / 2 + 1);
   std::vector<float> out;
   out.reserve(fourier_magnitude_count(freqs));

@@ -19,7 +19,8 @@ std::vector<float> moment_normalise(const std::vector<float>& image, int rows, i
 // pad x pad, for the half plane ky = 0, 0 <= kx < freqs and 0 < ky < freqs,
 // |kx| < freqs (a real image's spectrum is conjugate-symmetric, so this keeps
 // every distinct magnitude once).
-std::vector<float> fourier_magnitudes(const std::vector<float>& mn, std::uint32_t size, std::uint32_t pad, std::uint32_t freqs);
+std::vector<float> fourier_magnitudes(const std::vector<float>& mn, std::uint32_t size, std::uint32_t pad,
+                                      std::uint32_t freqs);
 std::uint32_t fourier_magnitude_count(std::uint32_t freqs);
 
 // Scales v to unit length; returns false (leaving v unchanged) when its norm is

@@ -33,9 +33,12 @@ class Dissimilarity {
     if (!cache) return;
     matrix_.reset(new float[n_ * n_]);
     constexpr std::size_t block = 32;
-    util::parallel_for((n_ + block - 1) / block, [&](std::size_t b) {
-      for (std::size_t i = b * block; i < std::min(n_, (b + 1) * block); ++i) compute(i, &matrix_[i * n_]);
-    }, threads);
+    util::parallel_for((n_ + block - 1) / block,
+                       [&](std::size_t b) {
+                         for (std::size_t i = b * block; i < std::min(n_, (b + 1) * block); ++i)
+                           compute(i, &matrix_[i * n_]);
+                       },
+                       threads);
   }
   std::size_t size() const { return n_; }
   // Row i (= column i); `scratch` (n floats) is used when there is no matrix.
@@ -82,8 +85,8 @@ double build_gain(const float* row, const float* nearest, std::size_t n) {
 }
 
 struct State {
-  std::vector<std::uint32_t> medoid;         // point index per slot
-  std::vector<std::uint32_t> near, second;   // slot per point
+  std::vector<std::uint32_t> medoid;        // point index per slot
+  std::vector<std::uint32_t> near, second;  // slot per point
   std::vector<float> dnear, dsecond;
 };
 
@@ -124,7 +127,8 @@ namespace {
 // FasterPAM from the given medoids: visit candidates in `order`, apply the
 // best swap for a candidate as soon as it improves the loss, stop after a
 // full cycle without one.
-PamResult swap_search(const Dissimilarity& dis, std::vector<std::uint32_t> medoids, const std::vector<std::uint32_t>& order) {
+PamResult swap_search(const Dissimilarity& dis, std::vector<std::uint32_t> medoids,
+                      const std::vector<std::uint32_t>& order) {
   const std::size_t n = dis.size(), k = medoids.size();
   std::vector<float> scratch(n);
   State s;
@@ -212,13 +216,16 @@ std::vector<std::uint32_t> build(const Dissimilarity& dis, std::size_t k, unsign
   constexpr std::size_t block = 64;
   const std::size_t blocks = (n + block - 1) / block;
   for (std::size_t m = 0; m < k; ++m) {
-    util::parallel_for(blocks, [&](std::size_t b) {
-      std::vector<float> local(dis.cached() ? 0 : n);
-      for (std::size_t c = b * block; c < std::min(n, (b + 1) * block); ++c) {
-        if (is_medoid[c]) continue;
-        gain[c] = build_gain(dis.row(c, local.data()), dnear.data(), n);
-      }
-    }, threads);
+    util::parallel_for(
+        blocks,
+        [&](std::size_t b) {
+          std::vector<float> local(dis.cached() ? 0 : n);
+          for (std::size_t c = b * block; c < std::min(n, (b + 1) * block); ++c) {
+            if (is_medoid[c]) continue;
+            gain[c] = build_gain(dis.row(c, local.data()), dnear.data(), n);
+          }
+        },
+        threads);
     std::size_t best = n;
     for (std::size_t c = 0; c < n; ++c)
       if (!is_medoid[c] && (best == n || gain[c] < gain[best])) best = c;
@@ -257,7 +264,8 @@ PamResult pam(const std::vector<float>& points, std::uint32_t dim, const PamOpti
   // passes of n^2 inner products when not. Then start from seeded random
   // medoids instead, as FasterPAM does; the swaps and restarts do the rest.
   std::unique_ptr<util::Progress> bar;
-  if (opt.progress && !dis.cached()) bar = std::make_unique<util::Progress>("clustering: FasterPAM (rows on the fly)", 1 + opt.restarts);
+  if (opt.progress && !dis.cached())
+    bar = std::make_unique<util::Progress>("clustering: FasterPAM (rows on the fly)", 1 + opt.restarts);
   PamResult best = swap_search(dis, dis.cached() ? build(dis, k, opt.threads, opt.progress) : random_medoids(0), order);
   // Swap search stops in a local optimum, as classic PAM does; restarts from
   // seeded random medoids keep the best, which finds the global optimum of
@@ -270,8 +278,10 @@ PamResult pam(const std::vector<float>& points, std::uint32_t dim, const PamOpti
     PamResult res = swap_search(dis, random_medoids(r), order);
     res.swaps += best.swaps;
     res.passes += best.passes;
-    if (res.loss < best.loss - kMinGain) best = std::move(res);
-    else best.swaps = res.swaps, best.passes = res.passes;
+    if (res.loss < best.loss - kMinGain)
+      best = std::move(res);
+    else
+      best.swaps = res.swaps, best.passes = res.passes;
     if (bar) bar->advance();
   }
   if (bar) bar->finish();

@@ -75,14 +75,15 @@ void check_compatible(const Map& map, const Dataset& test, const std::string& ma
   const auto& cal = map.internal().appearance.calibration;
   const SensorSpec& s = test.scene.sensor;
   if (cal.sensor.rows != s.rows || cal.sensor.cols != s.cols || std::abs(cal.sensor.pitch_mm - s.pitch_mm) > 1e-9)
-    throw Error(both + " use different sensors (" + std::to_string(cal.sensor.rows) + "x" + std::to_string(cal.sensor.cols) +
-                " at " + fmt(cal.sensor.pitch_mm) + " mm and " + std::to_string(s.rows) + "x" + std::to_string(s.cols) +
-                " at " + fmt(s.pitch_mm) + " mm): their descriptors do not compare");
+    throw Error(both + " use different sensors (" + std::to_string(cal.sensor.rows) + "x" +
+                std::to_string(cal.sensor.cols) + " at " + fmt(cal.sensor.pitch_mm) + " mm and " +
+                std::to_string(s.rows) + "x" + std::to_string(s.cols) + " at " + fmt(s.pitch_mm) +
+                " mm): their descriptors do not compare");
   if (std::abs(cal.contact_threshold_kpa - test.scene.skin.contact_threshold_kpa) > 1e-9 ||
       std::abs(cal.stiffness_kpa_per_mm - test.scene.skin.stiffness_kpa_per_mm) > 1e-9)
-    throw Error(both + " use different skin calibrations (contact threshold " + fmt(cal.contact_threshold_kpa) + " and " +
-                fmt(test.scene.skin.contact_threshold_kpa) + " kPa, stiffness " + fmt(cal.stiffness_kpa_per_mm) + " and " +
-                fmt(test.scene.skin.stiffness_kpa_per_mm) + " kPa/mm)");
+    throw Error(both + " use different skin calibrations (contact threshold " + fmt(cal.contact_threshold_kpa) +
+                " and " + fmt(test.scene.skin.contact_threshold_kpa) + " kPa, stiffness " +
+                fmt(cal.stiffness_kpa_per_mm) + " and " + fmt(test.scene.skin.stiffness_kpa_per_mm) + " kPa/mm)");
 }
 
 EvalResult run_evaluation(const Map& map, const Dataset& test, const EvalOptions& options) {

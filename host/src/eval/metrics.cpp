@@ -82,7 +82,8 @@ double inertial_distance(double translation_error_mm, double angle_rad, double r
   return std::sqrt(translation_error_mm * translation_error_mm + std::max(0.0, rot));
 }
 
-PoseError pose_error(const RigidPose& truth, const RigidPose& estimate, const Symmetry& symmetry, double inertial_radius_mm) {
+PoseError pose_error(const RigidPose& truth, const RigidPose& estimate, const Symmetry& symmetry,
+                     double inertial_radius_mm) {
   PoseError e;
   e.translation_mm = glm::length(estimate.T - truth.T);
   e.angular_rad = angular_error(truth.R, estimate.R, symmetry);

@@ -32,7 +32,8 @@ struct PoseError {
   double angular_rad = 0.0;
   double inertial_mm = 0.0;
 };
-PoseError pose_error(const RigidPose& truth, const RigidPose& estimate, const Symmetry& symmetry, double inertial_radius_mm);
+PoseError pose_error(const RigidPose& truth, const RigidPose& estimate, const Symmetry& symmetry,
+                     double inertial_radius_mm);
 
 // Median (mean of the two middle values for an even count) and the p-th
 // percentile (0..100, linear interpolation between closest ranks); nullopt for

@@ -109,8 +109,10 @@ std::string to_csv(const EvalResult& result) {
       else
         s << ",,";
       s << ',' << num(st.update_ms) << ',' << pose_cells(t.pose) << ',';
-      if (st.pose_valid) s << pose_cells(st.estimate);
-      else s << ",,,,,";
+      if (st.pose_valid)
+        s << pose_cells(st.estimate);
+      else
+        s << ",,,,,";
       s << ',' << st.votes << ',' << st.votes_zero << '\n';
     }
   }
@@ -119,17 +121,17 @@ std::string to_csv(const EvalResult& result) {
 
 std::string format_table(const Curve& curve) {
   std::ostringstream s;
-  s << "scene " << curve.scene << ", method " << curve.method << ", backend " << curve.backend << ", "
-    << curve.trials << " trials (errors: median over trials with the right object)\n";
+  s << "scene " << curve.scene << ", method " << curve.method << ", backend " << curve.backend << ", " << curve.trials
+    << " trials (errors: median over trials with the right object)\n";
   char line[256];
-  std::snprintf(line, sizeof line, "%8s %9s %6s %10s %10s %12s %10s %10s\n", "readings", "accuracy", "posed", "trans mm",
-                "angle deg", "inertial mm", "ms/update", "p95 ms");
+  std::snprintf(line, sizeof line, "%8s %9s %6s %10s %10s %12s %10s %10s\n", "readings", "accuracy", "posed",
+                "trans mm", "angle deg", "inertial mm", "ms/update", "p95 ms");
   s << line;
   for (const auto& p : curve.points) {
     std::snprintf(line, sizeof line, "%8zu %8.1f%% %6zu %10s %10s %12s %10s %10s\n", p.readings, 100.0 * p.accuracy,
-                  p.pose_trials, cell(p.translation_error_mm, "%.2f").c_str(), cell(p.angular_error_deg, "%.2f").c_str(),
-                  cell(p.inertial_error_mm, "%.2f").c_str(), cell(p.update_ms, "%.3f").c_str(),
-                  cell(p.update_ms_p95, "%.3f").c_str());
+                  p.pose_trials, cell(p.translation_error_mm, "%.2f").c_str(),
+                  cell(p.angular_error_deg, "%.2f").c_str(), cell(p.inertial_error_mm, "%.2f").c_str(),
+                  cell(p.update_ms, "%.3f").c_str(), cell(p.update_ms_p95, "%.3f").c_str());
     s << line;
   }
   s << zero_votes_line(curve);
@@ -182,7 +184,8 @@ Curve read_curve_json(const std::filesystem::path& file) {
     pt.inertial_error_mm = number(p, "inertial_error_mm", i);
     pt.update_ms = number(p, "update_ms", i);
     pt.update_ms_p95 = number(p, "update_ms_p95", i);
-    if (p.contains("pose_trials") && p["pose_trials"].is_number_unsigned()) pt.pose_trials = p["pose_trials"].get<std::size_t>();
+    if (p.contains("pose_trials") && p["pose_trials"].is_number_unsigned())
+      pt.pose_trials = p["pose_trials"].get<std::size_t>();
     c.points.push_back(pt);
   }
   return c;

@@ -16,7 +16,7 @@ struct StepResult {
   std::uint32_t estimated_object = 0;
   bool correct = false;
   double true_object_probability = 0.0;
-  bool pose_valid = false;       // the recognizer had a pose estimate (never for the appearance-only method)
+  bool pose_valid = false;            // the recognizer had a pose estimate (never for the appearance-only method)
   double translation_error_mm = 0.0;  // meaningful when correct && pose_valid
   double angular_error_rad = 0.0;
   double inertial_error_mm = 0.0;
@@ -30,24 +30,24 @@ struct StepResult {
 struct TrialResult {
   std::size_t index = 0;
   std::uint32_t object = 0;
-  RigidPose pose;                  // true pose
+  RigidPose pose;                    // true pose
   std::vector<std::size_t> samples;  // test sample presented at each step
-  std::vector<StepResult> steps;   // steps[n - 1]: after n readings
+  std::vector<StepResult> steps;     // steps[n - 1]: after n readings
 };
 
 // One point of the curve. Error medians are over the trials whose estimated
 // object is right (and which have a pose) at that step; empty when none.
 struct CurvePoint {
   std::size_t readings = 0;
-  double accuracy = 0.0;           // fraction of trials with the right object, 0..1
-  std::size_t pose_trials = 0;     // trials the error medians are over
+  double accuracy = 0.0;        // fraction of trials with the right object, 0..1
+  std::size_t pose_trials = 0;  // trials the error medians are over
   std::optional<double> translation_error_mm, angular_error_deg, inertial_error_mm;
   std::optional<double> update_ms, update_ms_p95;  // over all trials
-  std::uint64_t votes = 0, votes_zero = 0;          // summed over all trials at this step
+  std::uint64_t votes = 0, votes_zero = 0;         // summed over all trials at this step
 };
 
 struct Curve {
-  std::string label;               // legend text (the method, or a file name)
+  std::string label;  // legend text (the method, or a file name)
   std::string scene, backend, method;
   std::size_t trials = 0;
   std::vector<CurvePoint> points;
@@ -55,8 +55,8 @@ struct Curve {
 
 struct EvalResult {
   std::string scene;
-  std::string backend;             // "cpu" | "vulkan"
-  std::string method;              // "sva" | "appearance"
+  std::string backend;  // "cpu" | "vulkan"
+  std::string method;   // "sva" | "appearance"
   std::uint64_t seed = 0;
   std::size_t max_readings = 0;
   std::vector<std::string> objects;

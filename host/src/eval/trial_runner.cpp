@@ -4,9 +4,9 @@
 
 #include <chrono>
 #include <cmath>
-#include <stdexcept>
 #include <mutex>
 #include <optional>
+#include <stdexcept>
 #include <vector>
 
 #include "eval/metrics.hpp"
@@ -125,7 +125,8 @@ EvalResult run_trials(const Dataset& test, const TrialSetup& setup, const Sessio
                         " (sample " + std::to_string(trial.samples[k]) + "): " + e.what());
           }
           const auto stop = std::chrono::steady_clock::now();
-          record_step(out.steps[k], est, trial, object, std::chrono::duration<double, std::milli>(stop - start).count());
+          record_step(out.steps[k], est, trial, object,
+                      std::chrono::duration<double, std::milli>(stop - start).count());
         }
         pool.give_back(std::move(session));
         if (progress) progress->advance();

@@ -37,13 +37,13 @@ class SessionBatch : public LockstepSessions {
 };
 
 struct TrialSetup {
-  std::size_t trials = 0;          // >= 1; trial t uses object t mod objects
-  std::size_t max_readings = 0;    // >= 1
+  std::size_t trials = 0;        // >= 1; trial t uses object t mod objects
+  std::size_t max_readings = 0;  // >= 1
   std::uint64_t seed = 1;
-  PoseSpaceSpec pose_space;        // where the random object poses come from
-  unsigned threads = 0;            // trials run in parallel; 0 = util::default_threads()
+  PoseSpaceSpec pose_space;  // where the random object poses come from
+  unsigned threads = 0;      // trials run in parallel; 0 = util::default_threads()
   bool progress = true;
-  std::string source = "test set"; // names the test set in errors
+  std::string source = "test set";     // names the test set in errors
   std::string scene, backend, method;  // copied into the result
 };
 

@@ -77,7 +77,8 @@ TrialGenerator::TrialGenerator(const Dataset& test, const PoseSpaceSpec& space, 
       bad("sensor or object pose holds a NaN or infinite value");
     if (!is_rotation(s.object_pose.R)) bad("object pose rotation is not a rotation matrix");
     if (r.pressure.size() != elements)
-      bad("pressure image has " + std::to_string(r.pressure.size()) + " values, the sensor has " + std::to_string(elements));
+      bad("pressure image has " + std::to_string(r.pressure.size()) + " values, the sensor has " +
+          std::to_string(elements));
     for (float v : r.pressure)
       if (!std::isfinite(v)) bad("pressure image holds a NaN or infinite value");
     // Readings are stored in the robot frame of their session; bring them to

@@ -33,9 +33,9 @@ Reading transform_reading(const Reading& reading, const RigidPose& pose);
 struct Trial {
   std::size_t index = 0;
   std::uint32_t object = 0;
-  RigidPose pose;                       // true object pose
-  std::vector<std::size_t> samples;     // dataset sample index of each reading, in order
-  std::vector<Reading> readings;        // transformed by `pose`, in presentation order
+  RigidPose pose;                    // true object pose
+  std::vector<std::size_t> samples;  // dataset sample index of each reading, in order
+  std::vector<Reading> readings;     // transformed by `pose`, in presentation order
 };
 
 class TrialGenerator {
@@ -60,7 +60,7 @@ class TrialGenerator {
   std::uint64_t seed_;
   std::size_t max_readings_;
   std::vector<std::vector<std::size_t>> by_object_;  // converged sample indices per object
-  std::vector<Reading> object_frame_;                 // every sample's reading in the object frame
+  std::vector<Reading> object_frame_;                // every sample's reading in the object frame
 };
 
 }  // namespace sva::eval

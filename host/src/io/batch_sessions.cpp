@@ -89,7 +89,10 @@ json result_json(const BatchSession& s, const Estimate& e, std::span<const std::
     t["probability"] = h.probability;
     top.push_back(t);
   }
-  json line = {{"id", s.id}, {"readings", e.readings}, {"object", e.object_name}, {"object_probability", probs},
+  json line = {{"id", s.id},
+               {"readings", e.readings},
+               {"object", e.object_name},
+               {"object_probability", probs},
                {"pose_valid", e.pose_valid}};
   if (e.pose_valid) line["pose"] = pose_json(e.pose);
   line["top"] = top;
@@ -125,8 +128,10 @@ void write_batch_sessions(const std::string& file, std::span<const BatchSession>
   for (const BatchSession& s : sessions) {
     json readings = json::array();
     for (const Reading& r : s.readings)
-      readings.push_back({{"position", vec3_json(r.position)}, {"normal", vec3_json(r.normal)},
-                          {"x_axis", vec3_json(r.x_axis)}, {"pressure", r.pressure}});
+      readings.push_back({{"position", vec3_json(r.position)},
+                          {"normal", vec3_json(r.normal)},
+                          {"x_axis", vec3_json(r.x_axis)},
+                          {"pressure", r.pressure}});
     json line = {{"id", s.id}, {"readings", readings}};
     if (!s.truth.is_null()) line["truth"] = s.truth;
     text += line.dump() + "\n";

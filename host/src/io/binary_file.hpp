@@ -54,7 +54,8 @@ class BinaryReader {
  public:
   // Read and validate the whole file: magic, version, size and checksum.
   // `what` names the kind of file in messages ("dataset", "map").
-  BinaryReader(const std::filesystem::path& file, std::string_view magic8, std::uint32_t version, std::string_view what);
+  BinaryReader(const std::filesystem::path& file, std::string_view magic8, std::uint32_t version,
+               std::string_view what);
   // The same, accepting versions oldest..version (a reader that converts older files).
   BinaryReader(const std::filesystem::path& file, std::string_view magic8, std::uint32_t oldest, std::uint32_t version,
                std::string_view what);

@@ -2,8 +2,8 @@
 
 #include <sva/error.hpp>
 
-#include <fstream>
 #include <unistd.h>
+#include <fstream>
 
 namespace sva::io {
 
@@ -33,7 +33,8 @@ void write_file_atomically(const std::filesystem::path& file, const std::functio
 }
 
 void write_text_file(const std::filesystem::path& file, std::string_view text) {
-  write_file_atomically(file, [&](std::ostream& out) { out.write(text.data(), static_cast<std::streamsize>(text.size())); });
+  write_file_atomically(file,
+                        [&](std::ostream& out) { out.write(text.data(), static_cast<std::streamsize>(text.size())); });
 }
 
 }  // namespace sva::io

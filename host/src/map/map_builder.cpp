@@ -4,16 +4,16 @@
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cmath>
+#include <ctime>
 #include <limits>
 #include <memory>
 
 #include "appearance/descriptor.hpp"
 #include "appearance/pam.hpp"
 #include "appearance/soft_classes.hpp"
-#include "map/pair_keys.hpp"
 #include "io/binary_file.hpp"
+#include "map/pair_keys.hpp"
 #include "util/interrupt.hpp"
 #include "util/parallel.hpp"
 #include "util/progress.hpp"
@@ -35,9 +35,12 @@ double cpu_seconds_since(std::clock_t c0) { return static_cast<double>(std::cloc
 TrainParameters resolve_train_parameters(const Scene& scene, const TrainOptions& o) {
   TrainParameters p;
   const std::string desc = o.descriptor.value_or(scene.appearance.descriptor);
-  if (desc == "mn") p.descriptor = DescriptorKind::mn;
-  else if (desc == "mnti") p.descriptor = DescriptorKind::mnti;
-  else throw Error("descriptor \"" + desc + "\": expected \"mn\" or \"mnti\"");
+  if (desc == "mn")
+    p.descriptor = DescriptorKind::mn;
+  else if (desc == "mnti")
+    p.descriptor = DescriptorKind::mnti;
+  else
+    throw Error("descriptor \"" + desc + "\": expected \"mn\" or \"mnti\"");
   const int clusters = o.clusters.value_or(scene.appearance.clusters);
   if (clusters < 1 || clusters > 4096) throw Error("clusters " + std::to_string(clusters) + ": expected 1 to 4096");
   p.clusters = static_cast<std::uint32_t>(clusters);
@@ -60,11 +63,12 @@ TrainParameters resolve_train_parameters(const Scene& scene, const TrainOptions&
   return p;
 }
 
-void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>& classes, unsigned threads, bool progress) {
+void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>& classes, unsigned threads,
+                      bool progress) {
   const MapReadings& rd = map.readings;
   const std::size_t n = rd.size();
-  const std::uint64_t space = static_cast<std::uint64_t>(map.key_space.n_classes) * map.key_space.n_classes *
-                              map.key_space.n_dist_bins;
+  const std::uint64_t space =
+      static_cast<std::uint64_t>(map.key_space.n_classes) * map.key_space.n_classes * map.key_space.n_dist_bins;
   // Readings are grouped by object; each reading pairs with its own object's.
   std::vector<std::size_t> first(map.objects.size() + 1, 0);
   for (std::size_t i = 0; i < n; ++i) first[rd.object[i] + 1] = i + 1;
@@ -96,18 +100,21 @@ void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>&
   std::unique_ptr<util::Progress> bar;
   if (progress) bar = std::make_unique<util::Progress>("map: pairs", 2 * chunks);
   std::vector<std::uint64_t> chunk_total(chunks, 0);
-  util::parallel_for(chunks, [&](std::size_t c) {
-    auto& count = cursor[c];
-    count.assign(space, 0);
-    std::uint64_t total = 0;
-    for (std::size_t a = c * chunk; a < std::min(n, (c + 1) * chunk); ++a)
-      for_each_entry(a, [&](std::uint32_t key, std::uint32_t, float) {
-        ++count[key];
-        ++total;
-      });
-    chunk_total[c] = total;
-    if (bar) bar->advance();
-  }, threads);
+  util::parallel_for(
+      chunks,
+      [&](std::size_t c) {
+        auto& count = cursor[c];
+        count.assign(space, 0);
+        std::uint64_t total = 0;
+        for (std::size_t a = c * chunk; a < std::min(n, (c + 1) * chunk); ++a)
+          for_each_entry(a, [&](std::uint32_t key, std::uint32_t, float) {
+            ++count[key];
+            ++total;
+          });
+        chunk_total[c] = total;
+        if (bar) bar->advance();
+      },
+      threads);
   std::uint64_t total = 0;
   for (auto t : chunk_total) total += t;
   if (total >= std::numeric_limits<std::uint32_t>::max())
@@ -131,18 +138,21 @@ void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>&
   map.entry_a.assign(total, 0);
   map.entry_b.assign(total, 0);
   map.entry_weight.assign(total, 0.0f);
-  util::parallel_for(chunks, [&](std::size_t c) {
-    auto& pos = cursor[c];
-    for (std::size_t a = c * chunk; a < std::min(n, (c + 1) * chunk); ++a)
-      for_each_entry(a, [&](std::uint32_t key, std::uint32_t b, float w) {
-        const std::uint32_t at = pos[key]++;
-        map.entry_a[at] = static_cast<std::uint32_t>(a);
-        map.entry_b[at] = b;
-        map.entry_weight[at] = w;
-      });
-    std::vector<std::uint32_t>().swap(pos);
-    if (bar) bar->advance();
-  }, threads);
+  util::parallel_for(
+      chunks,
+      [&](std::size_t c) {
+        auto& pos = cursor[c];
+        for (std::size_t a = c * chunk; a < std::min(n, (c + 1) * chunk); ++a)
+          for_each_entry(a, [&](std::uint32_t key, std::uint32_t b, float w) {
+            const std::uint32_t at = pos[key]++;
+            map.entry_a[at] = static_cast<std::uint32_t>(a);
+            map.entry_b[at] = b;
+            map.entry_weight[at] = w;
+          });
+        std::vector<std::uint32_t>().swap(pos);
+        if (bar) bar->advance();
+      },
+      threads);
   if (bar) bar->finish();
 }
 
@@ -164,7 +174,8 @@ std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParamete
   model.calibration.sensor = scene.sensor;
   model.calibration.stiffness_kpa_per_mm = scene.skin.stiffness_kpa_per_mm;
   model.calibration.contact_threshold_kpa = scene.skin.contact_threshold_kpa;
-  if (!(model.calibration.stiffness_kpa_per_mm > 0)) throw Error("scene \"" + scene.name + "\": skin stiffness must be positive");
+  if (!(model.calibration.stiffness_kpa_per_mm > 0))
+    throw Error("scene \"" + scene.name + "\": skin stiffness must be positive");
   model.mn_size = static_cast<std::uint32_t>(std::max(scene.sensor.rows, scene.sensor.cols)) + 2;
   model.mnti_pad = 2 * model.mn_size;
   model.mnti_freqs = std::min<std::uint32_t>(4, model.mnti_pad / 2);
@@ -203,27 +214,33 @@ std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParamete
   {
     std::unique_ptr<util::Progress> bar;
     if (p.progress) bar = std::make_unique<util::Progress>("describe", n);
-    util::parallel_for(n, [&](std::size_t j) {
-      const Sample& s = data.samples[use[j]];
-      const Reading& r = s.reading;
-      // Positions and normals in the object frame (the pose the object had
-      // when the reading was taken; identity in simulation).
-      const RigidPose inv = s.object_pose.inverse();
-      const glm::dvec3 pos = inv.apply(r.position);
-      glm::dvec3 nrm = inv.rotate(r.normal);
-      const double len = glm::length(nrm);
-      if (!(len > 0) || !std::isfinite(len)) throw Error("training reading " + std::to_string(use[j]) + " has a zero normal");
-      nrm /= len;
-      rd.object[j] = r.object;
-      rd.px[j] = static_cast<float>(pos.x), rd.py[j] = static_cast<float>(pos.y), rd.pz[j] = static_cast<float>(pos.z);
-      rd.nx[j] = static_cast<float>(nrm.x), rd.ny[j] = static_cast<float>(nrm.y), rd.nz[j] = static_cast<float>(nrm.z);
-      if (!std::isfinite(rd.px[j]) || !std::isfinite(rd.py[j]) || !std::isfinite(rd.pz[j]))
-        throw Error("training reading " + std::to_string(use[j]) + " has a position out of float range");
-      rd.norm_conf[j] = model.norm_conf(r);
-      const auto d = model.describe(r);
-      std::copy(d.begin(), d.end(), descriptors.begin() + static_cast<std::ptrdiff_t>(j * dim));
-      if (bar) bar->advance();
-    }, p.threads);
+    util::parallel_for(
+        n,
+        [&](std::size_t j) {
+          const Sample& s = data.samples[use[j]];
+          const Reading& r = s.reading;
+          // Positions and normals in the object frame (the pose the object had
+          // when the reading was taken; identity in simulation).
+          const RigidPose inv = s.object_pose.inverse();
+          const glm::dvec3 pos = inv.apply(r.position);
+          glm::dvec3 nrm = inv.rotate(r.normal);
+          const double len = glm::length(nrm);
+          if (!(len > 0) || !std::isfinite(len))
+            throw Error("training reading " + std::to_string(use[j]) + " has a zero normal");
+          nrm /= len;
+          rd.object[j] = r.object;
+          rd.px[j] = static_cast<float>(pos.x), rd.py[j] = static_cast<float>(pos.y),
+          rd.pz[j] = static_cast<float>(pos.z);
+          rd.nx[j] = static_cast<float>(nrm.x), rd.ny[j] = static_cast<float>(nrm.y),
+          rd.nz[j] = static_cast<float>(nrm.z);
+          if (!std::isfinite(rd.px[j]) || !std::isfinite(rd.py[j]) || !std::isfinite(rd.pz[j]))
+            throw Error("training reading " + std::to_string(use[j]) + " has a position out of float range");
+          rd.norm_conf[j] = model.norm_conf(r);
+          const auto d = model.describe(r);
+          std::copy(d.begin(), d.end(), descriptors.begin() + static_cast<std::ptrdiff_t>(j * dim));
+          if (bar) bar->advance();
+        },
+        p.threads);
     if (bar) bar->finish();
   }
 
@@ -241,15 +258,19 @@ std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParamete
   const auto k = static_cast<std::uint32_t>(clusters.medoids.size());
   model.medoids.resize(static_cast<std::size_t>(k) * dim);
   for (std::uint32_t i = 0; i < k; ++i)
-    std::copy_n(&descriptors[static_cast<std::size_t>(clusters.medoids[i]) * dim], dim, &model.medoids[static_cast<std::size_t>(i) * dim]);
+    std::copy_n(&descriptors[static_cast<std::size_t>(clusters.medoids[i]) * dim], dim,
+                &model.medoids[static_cast<std::size_t>(i) * dim]);
   model.psi = appearance::cluster_psi(descriptors, model.medoids, clusters.membership, dim);
 
   t0 = std::chrono::steady_clock::now();
   c0 = std::clock();
   std::vector<std::vector<ClassWeight>> classes(n);
-  util::parallel_for(n, [&](std::size_t j) {
-    classes[j] = appearance::soft_classes(&descriptors[j * dim], model.medoids, model.psi, dim, model.prune_ratio);
-  }, p.threads);
+  util::parallel_for(
+      n,
+      [&](std::size_t j) {
+        classes[j] = appearance::soft_classes(&descriptors[j * dim], model.medoids, model.psi, dim, model.prune_ratio);
+      },
+      p.threads);
   std::size_t class_count = 0;
   for (const auto& c : classes) class_count += c.size();
   map->ambiguity = static_cast<double>(class_count) / static_cast<double>(n);

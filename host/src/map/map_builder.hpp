@@ -23,7 +23,8 @@ TrainParameters resolve_train_parameters(const Scene& scene, const TrainOptions&
 // The pair entries and CSR index for readings whose appearance classes are
 // known (`classes[i]` for reading i of map.readings); fills map.keys, offsets
 // and entries. Deterministic for any thread count.
-void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>& classes, unsigned threads, bool progress);
+void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>& classes, unsigned threads,
+                      bool progress);
 
 std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParameters& params, TrainReport* report);
 

@@ -32,7 +32,8 @@ Symmetry get_symmetry(io::BinaryReader& r) {
   s.kind = static_cast<Symmetry::Kind>(kind);
   r.get_array(&s.axis.x, 3);
   const auto n = r.get<std::uint64_t>();
-  if (n > 4096 || n > r.remaining() / (9 * sizeof(double))) r.fail("symmetry group size " + std::to_string(n) + " is invalid");
+  if (n > 4096 || n > r.remaining() / (9 * sizeof(double)))
+    r.fail("symmetry group size " + std::to_string(n) + " is invalid");
   s.rotations.resize(n);
   for (auto& m : s.rotations) r.get_array(&m[0][0], 9);
   return s;
@@ -216,17 +217,22 @@ void validate_pair_map(const PairMap& m, const std::string& origin) {
   if (cal.sensor.rows < 1 || cal.sensor.cols < 1 || cal.sensor.rows > 1024 || cal.sensor.cols > 1024 ||
       !(cal.sensor.pitch_mm > 0) || !std::isfinite(cal.sensor.pitch_mm))
     fail("sensor geometry is invalid");
-  if (!(cal.stiffness_kpa_per_mm > 0) || !std::isfinite(cal.stiffness_kpa_per_mm) || !std::isfinite(cal.contact_threshold_kpa))
+  if (!(cal.stiffness_kpa_per_mm > 0) || !std::isfinite(cal.stiffness_kpa_per_mm) ||
+      !std::isfinite(cal.contact_threshold_kpa))
     fail("sensor calibration is invalid");
   if (a.mn_size < 1 || a.mn_size > 4096) fail("MN size " + std::to_string(a.mn_size) + " is invalid");
-  const std::uint32_t expect_size = a.descriptor == DescriptorKind::mn ? a.mn_size * a.mn_size : appearance::fourier_magnitude_count(a.mnti_freqs);
-  if (a.descriptor == DescriptorKind::mnti && (a.mnti_pad < a.mn_size || a.mnti_pad > 8192 || a.mnti_freqs < 1 || a.mnti_freqs > a.mnti_pad / 2 + 1))
+  const std::uint32_t expect_size =
+      a.descriptor == DescriptorKind::mn ? a.mn_size * a.mn_size : appearance::fourier_magnitude_count(a.mnti_freqs);
+  if (a.descriptor == DescriptorKind::mnti &&
+      (a.mnti_pad < a.mn_size || a.mnti_pad > 8192 || a.mnti_freqs < 1 || a.mnti_freqs > a.mnti_pad / 2 + 1))
     fail("MNTI parameters are invalid");
-  if (a.descriptor_size != expect_size) fail("descriptor size " + std::to_string(a.descriptor_size) + " does not match its parameters");
+  if (a.descriptor_size != expect_size)
+    fail("descriptor size " + std::to_string(a.descriptor_size) + " does not match its parameters");
   if (!(a.prune_ratio > 0.0f && a.prune_ratio <= 1.0f)) fail("pruning ratio T_a must lie in (0, 1]");
   const std::uint32_t k = m.key_space.n_classes;
   if (k < 1 || k > kMaxClasses) fail("class count " + std::to_string(k) + " is invalid");
-  if (a.psi.size() != k) fail("psi has " + std::to_string(a.psi.size()) + " values for " + std::to_string(k) + " classes");
+  if (a.psi.size() != k)
+    fail("psi has " + std::to_string(a.psi.size()) + " values for " + std::to_string(k) + " classes");
   for (float v : a.psi)
     if (!(v > 0) || !std::isfinite(v)) fail("psi values must be positive and finite");
   if (a.medoids.size() != static_cast<std::size_t>(k) * a.descriptor_size) fail("medoid table has the wrong size");
@@ -239,13 +245,15 @@ void validate_pair_map(const PairMap& m, const std::string& origin) {
 
   const DistanceBins& d = m.distance;
   if (d.count < 1 || d.count > kMaxBins || d.count != m.key_space.n_dist_bins) fail("distance bin count is invalid");
-  if (!std::isfinite(d.min_mm) || !std::isfinite(d.max_mm) || d.min_mm < 0 || d.min_mm >= d.max_mm) fail("distance range is invalid");
+  if (!std::isfinite(d.min_mm) || !std::isfinite(d.max_mm) || d.min_mm < 0 || d.min_mm >= d.max_mm)
+    fail("distance range is invalid");
   const std::uint64_t space = static_cast<std::uint64_t>(k) * k * d.count;
   if (space > kMaxKeySpace) fail("key space is too large");
 
   if (m.objects.empty()) fail("no objects");
   for (const auto& o : m.objects) {
-    if (!std::isfinite(o.inertial_radius_mm) || o.inertial_radius_mm < 0) fail("object \"" + o.name + "\": invalid inertial radius");
+    if (!std::isfinite(o.inertial_radius_mm) || o.inertial_radius_mm < 0)
+      fail("object \"" + o.name + "\": invalid inertial radius");
     if (!std::isfinite(o.symmetry.axis.x) || !std::isfinite(o.symmetry.axis.y) || !std::isfinite(o.symmetry.axis.z))
       fail("object \"" + o.name + "\": invalid symmetry axis");
     for (const auto& R : o.symmetry.rotations)
@@ -261,12 +269,16 @@ void validate_pair_map(const PairMap& m, const std::string& origin) {
   for (const auto* v : {&rd.px, &rd.py, &rd.pz, &rd.nx, &rd.ny, &rd.nz, &rd.norm_conf})
     if (v->size() != n) fail("reading table columns have different lengths");
   for (std::size_t i = 0; i < n; ++i) {
-    if (rd.object[i] >= m.objects.size()) fail("reading " + std::to_string(i) + " names object " + std::to_string(rd.object[i]) + ", out of range");
+    if (rd.object[i] >= m.objects.size())
+      fail("reading " + std::to_string(i) + " names object " + std::to_string(rd.object[i]) + ", out of range");
     if (i && rd.object[i] < rd.object[i - 1]) fail("reading table is not grouped by object");
-    if (!std::isfinite(rd.px[i]) || !std::isfinite(rd.py[i]) || !std::isfinite(rd.pz[i])) fail("reading " + std::to_string(i) + ": non-finite position");
-    const double len = std::sqrt(double(rd.nx[i]) * rd.nx[i] + double(rd.ny[i]) * rd.ny[i] + double(rd.nz[i]) * rd.nz[i]);
+    if (!std::isfinite(rd.px[i]) || !std::isfinite(rd.py[i]) || !std::isfinite(rd.pz[i]))
+      fail("reading " + std::to_string(i) + ": non-finite position");
+    const double len =
+        std::sqrt(double(rd.nx[i]) * rd.nx[i] + double(rd.ny[i]) * rd.ny[i] + double(rd.nz[i]) * rd.nz[i]);
     if (!(std::fabs(len - 1.0) <= 1e-3)) fail("reading " + std::to_string(i) + ": normal is not unit length");
-    if (!(rd.norm_conf[i] >= 0.0f && rd.norm_conf[i] <= 1.0f)) fail("reading " + std::to_string(i) + ": normConf outside [0, 1]");
+    if (!(rd.norm_conf[i] >= 0.0f && rd.norm_conf[i] <= 1.0f))
+      fail("reading " + std::to_string(i) + ": normConf outside [0, 1]");
   }
 
   const AppearanceBaseline& b = m.baseline;
@@ -280,18 +292,22 @@ void validate_pair_map(const PairMap& m, const std::string& origin) {
   if (m.offsets.front() != 0) fail("offsets must start at 0");
   const std::size_t entries = m.entry_a.size();
   if (m.entry_b.size() != entries || m.entry_weight.size() != entries) fail("entry columns have different lengths");
-  if (m.offsets.back() != entries) fail("last offset " + std::to_string(m.offsets.back()) + " does not match the " + std::to_string(entries) + " entries");
+  if (m.offsets.back() != entries)
+    fail("last offset " + std::to_string(m.offsets.back()) + " does not match the " + std::to_string(entries) +
+         " entries");
   for (std::size_t i = 0; i < m.keys.size(); ++i) {
     if (m.keys[i] >= space) fail("key " + std::to_string(m.keys[i]) + " is outside the key space");
     if (i && m.keys[i] <= m.keys[i - 1]) fail("keys are not strictly increasing");
     if (m.offsets[i + 1] <= m.offsets[i]) fail("offsets are not strictly increasing (empty or negative key range)");
   }
   for (std::size_t e = 0; e < entries; ++e) {
-    if (m.entry_a[e] >= n || m.entry_b[e] >= n) fail("entry " + std::to_string(e) + " references a reading out of range");
+    if (m.entry_a[e] >= n || m.entry_b[e] >= n)
+      fail("entry " + std::to_string(e) + " references a reading out of range");
     if (m.entry_a[e] == m.entry_b[e]) fail("entry " + std::to_string(e) + " pairs a reading with itself");
     if (m.entry_a[e] > m.entry_b[e])
       fail("entry " + std::to_string(e) + " stores its pair in the second order (version 2 keeps entry_a < entry_b)");
-    if (rd.object[m.entry_a[e]] != rd.object[m.entry_b[e]]) fail("entry " + std::to_string(e) + " pairs readings of different objects");
+    if (rd.object[m.entry_a[e]] != rd.object[m.entry_b[e]])
+      fail("entry " + std::to_string(e) + " pairs readings of different objects");
     const float w = m.entry_weight[e];
     if (!(w > 0.0f && w <= 1.0f)) fail("entry " + std::to_string(e) + " has weight outside (0, 1]");
   }

@@ -59,8 +59,8 @@ void for_each_pair_key(std::span<const ClassWeight> a, std::span<const ClassWeig
 // (y, x)). Together they find every training pair in either order exactly
 // once per key, as the two orders of a map of ordered pairs would.
 template <class Emit>
-void for_each_query_key(std::span<const ClassWeight> a, std::span<const ClassWeight> b,
-                        std::span<const BinWeight> bins, const PairKeySpace& space, Emit&& emit) {
+void for_each_query_key(std::span<const ClassWeight> a, std::span<const ClassWeight> b, std::span<const BinWeight> bins,
+                        const PairKeySpace& space, Emit&& emit) {
   for_each_pair_key(a, b, bins, space, [&](PairKeyWeight k) {
     emit(k);
     const std::uint32_t d = k.key % space.n_dist_bins, ab = k.key / space.n_dist_bins;

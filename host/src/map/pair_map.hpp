@@ -31,9 +31,9 @@ struct MapObject {
 // One row per training reading that entered the map (object frame, mm).
 struct MapReadings {
   std::vector<std::uint32_t> object;
-  std::vector<float> px, py, pz;     // contact position
-  std::vector<float> nx, ny, nz;     // unit surface normal
-  std::vector<float> norm_conf;      // Algorithm 1
+  std::vector<float> px, py, pz;  // contact position
+  std::vector<float> nx, ny, nz;  // unit surface normal
+  std::vector<float> norm_conf;   // Algorithm 1
   std::size_t size() const { return object.size(); }
 };
 
@@ -43,18 +43,18 @@ struct PairMap {
   PoseSpaceSpec pose_space;
   std::uint64_t scene_hash = 0;  // FNV-1a 64 of the dataset's scene JSON
   std::uint64_t train_seed = 0;
-  double ambiguity = 0.0;        // A: mean number of soft classes per training reading (Sec 1)
+  double ambiguity = 0.0;  // A: mean number of soft classes per training reading (Sec 1)
 
-  AppearanceModel appearance;   // descriptor, medoids, psi, T_a: classifies new readings
-  DistanceBins distance;        // Eq 13 binning
+  AppearanceModel appearance;  // descriptor, medoids, psi, T_a: classifies new readings
+  DistanceBins distance;       // Eq 13 binning
   PairKeySpace key_space;
   std::vector<MapObject> objects;
   MapReadings readings;
   AppearanceBaseline baseline;  // appearance-only recognition of [15] (the paper's comparison)
 
   // CSR over sorted keys: entries of keys[i] are [offsets[i], offsets[i+1]).
-  std::vector<std::uint32_t> keys;      // strictly increasing
-  std::vector<std::uint32_t> offsets;   // keys.size() + 1
+  std::vector<std::uint32_t> keys;     // strictly increasing
+  std::vector<std::uint32_t> offsets;  // keys.size() + 1
   // Entries, structure of arrays, sorted by (reading_a, reading_b) within a
   // key (the recognizer finds a pair under other keys by binary search): the
   // pair (reading_a < reading_b) and

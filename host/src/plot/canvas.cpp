@@ -10,8 +10,8 @@
 
 #define STB_IMAGE_WRITE_STATIC
 #define STB_IMAGE_WRITE_IMPLEMENTATION
-#include <stb_image_write.h>
 #include <stb_easy_font.h>
+#include <stb_image_write.h>
 
 namespace sva::plot {
 
@@ -24,12 +24,14 @@ Rgb colormap(double t) {
   double f = t * n;
   int i = std::min(static_cast<int>(f), n - 1);
   double u = f - i;
-  auto mix = [&](int k) { return static_cast<std::uint8_t>(std::lround(stops[i][k] + u * (stops[i + 1][k] - stops[i][k]))); };
+  auto mix = [&](int k) {
+    return static_cast<std::uint8_t>(std::lround(stops[i][k] + u * (stops[i + 1][k] - stops[i][k])));
+  };
   return {mix(0), mix(1), mix(2)};
 }
 
 Rgb palette(std::size_t i) {
-  static const Rgb p[] = {{31, 119, 180}, {255, 127, 14}, {44, 160, 44}, {214, 39, 40}, {148, 103, 189},
+  static const Rgb p[] = {{31, 119, 180}, {255, 127, 14},  {44, 160, 44},   {214, 39, 40},  {148, 103, 189},
                           {140, 86, 75},  {227, 119, 194}, {127, 127, 127}, {188, 189, 34}, {23, 190, 207}};
   return p[i % 10];
 }
@@ -74,7 +76,8 @@ void Canvas::line(double x0, double y0, double x1, double y1, Rgb c, int thickne
   if (!std::isfinite(x0) || !std::isfinite(y0) || !std::isfinite(x1) || !std::isfinite(y1)) return;
   // Clip absurdly long lines so that the loop stays bounded.
   const double lim = 4.0 * (w_ + h_);
-  x0 = std::clamp(x0, -lim, lim), x1 = std::clamp(x1, -lim, lim), y0 = std::clamp(y0, -lim, lim), y1 = std::clamp(y1, -lim, lim);
+  x0 = std::clamp(x0, -lim, lim), x1 = std::clamp(x1, -lim, lim), y0 = std::clamp(y0, -lim, lim),
+  y1 = std::clamp(y1, -lim, lim);
   double len = std::max(std::abs(x1 - x0), std::abs(y1 - y0));
   int steps = std::max(1, static_cast<int>(std::ceil(len)));
   int r = std::max(thickness, 1) / 2;

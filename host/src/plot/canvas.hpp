@@ -63,6 +63,7 @@ struct ChartOptions {
 
 // Draws a line chart (axes, ticks, labels, series, legend) in the rectangle
 // (x, y, w, h) of the canvas.
-void line_chart(Canvas& canvas, int x, int y, int w, int h, const std::vector<Series>& series, const ChartOptions& options);
+void line_chart(Canvas& canvas, int x, int y, int w, int h, const std::vector<Series>& series,
+                const ChartOptions& options);
 
 }  // namespace sva::plot

@@ -10,14 +10,14 @@
 namespace sva {
 
 struct BackendStats {
-  std::string backend;            // "cpu" or "vulkan"
-  std::string device;             // what runs the votes: "CPU reference (N threads)" or "GPU name (type)"
-  double last_kernel_ms = 0.0;    // GPU time of the last update: vote and fold kernels (0 on the CPU)
-  double last_fold_ms = 0.0;      // of which the fold into the beliefs
-  double last_host_ms = 0.0;      // host time of the last update (on the CPU, all of it)
-  std::size_t map_chunks = 0;     // map chunks in device memory (binding-range limit)
-  std::size_t table_slots = 0;    // vote-table slots
-  unsigned table_grows = 0;       // vote- or belief-table overflows so far, each grown and rerun
+  std::string backend;                    // "cpu" or "vulkan"
+  std::string device;                     // what runs the votes: "CPU reference (N threads)" or "GPU name (type)"
+  double last_kernel_ms = 0.0;            // GPU time of the last update: vote and fold kernels (0 on the CPU)
+  double last_fold_ms = 0.0;              // of which the fold into the beliefs
+  double last_host_ms = 0.0;              // host time of the last update (on the CPU, all of it)
+  std::size_t map_chunks = 0;             // map chunks in device memory (binding-range limit)
+  std::size_t table_slots = 0;            // vote-table slots
+  unsigned table_grows = 0;               // vote- or belief-table overflows so far, each grown and rerun
   std::uint32_t validation_messages = 0;  // Vulkan validation warnings and errors (SVA_VK_VALIDATION=1)
   // Device memory held on the backend's device now (the map once, vote tables, beliefs; with a shared engine, of
   // every backend on it), and of it the uploaded map's; 0 on the CPU, and 0 where a device backend does not report

@@ -37,7 +37,10 @@ struct BatchRecognizer::Impl {
   std::vector<Session> sessions;
 
   Impl(const Map& m, const PoseSpaceSpec& spec, const RecognizerOptions& o)
-      : map(m), pair_map(&m.internal()), options(o), space(spec, static_cast<std::uint32_t>(m.internal().objects.size())) {}
+      : map(m),
+        pair_map(&m.internal()),
+        options(o),
+        space(spec, static_cast<std::uint32_t>(m.internal().objects.size())) {}
 
   Session& at(std::size_t s) {
     if (s >= sessions.size())
@@ -52,9 +55,9 @@ BatchRecognizer::BatchRecognizer(const Map& map, const PoseSpaceSpec& pose_space
   if (sessions == 0) throw Error("batch recognizer: need at least one session");
   if (pose_space.kind != map.pose_space().kind)
     throw Error(std::string("recognizer: the pose space is ") +
-                (pose_space.kind == PoseSpaceSpec::Kind::planar ? "planar" : "spatial") + " but map '" + map.scene_name() +
-                "' was trained for a " + (map.pose_space().kind == PoseSpaceSpec::Kind::planar ? "planar" : "spatial") +
-                " scene");
+                (pose_space.kind == PoseSpaceSpec::Kind::planar ? "planar" : "spatial") + " but map '" +
+                map.scene_name() + "' was trained for a " +
+                (map.pose_space().kind == PoseSpaceSpec::Kind::planar ? "planar" : "spatial") + " scene");
   if (!(options.likelihood_cutoff >= 0.0f) || !std::isfinite(options.likelihood_cutoff))
     throw Error("recognizer option likelihood_cutoff = " + std::to_string(options.likelihood_cutoff) +
                 " must be a finite number >= 0");
@@ -91,8 +94,8 @@ std::size_t BatchRecognizer::sessions() const { return impl_->sessions.size(); }
 
 void BatchRecognizer::add_readings(std::span<const std::size_t> sessions, std::span<const Reading> readings) {
   if (sessions.size() != readings.size())
-    throw Error("batch recognizer: " + std::to_string(sessions.size()) + " sessions but " + std::to_string(readings.size()) +
-                " readings");
+    throw Error("batch recognizer: " + std::to_string(sessions.size()) + " sessions but " +
+                std::to_string(readings.size()) + " readings");
   std::set<std::size_t> seen;
   std::vector<ObservedReading> observed;
   observed.reserve(readings.size());
@@ -100,9 +103,10 @@ void BatchRecognizer::add_readings(std::span<const std::size_t> sessions, std::s
     Impl::Session& s = impl_->at(sessions[i]);
     if (!seen.insert(sessions[i]).second)
       throw Error("batch recognizer: session " + std::to_string(sessions[i]) + " appears twice in one update");
-    observed.push_back(describe_reading(*impl_->pair_map, readings[i],
-                                        (impl_->sessions.size() > 1 ? "session " + std::to_string(sessions[i]) + ", " : std::string()) +
-                                            "reading " + std::to_string(s.readings + 1)));
+    observed.push_back(describe_reading(
+        *impl_->pair_map, readings[i],
+        (impl_->sessions.size() > 1 ? "session " + std::to_string(sessions[i]) + ", " : std::string()) + "reading " +
+            std::to_string(s.readings + 1)));
   }
   if (impl_->options.method == Method::sva) {
     std::vector<BayesFilter*> filters;

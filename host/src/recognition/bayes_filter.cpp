@@ -12,7 +12,11 @@
 namespace sva {
 
 BayesFilter::BayesFilter(const PairMap& map, const PoseSpace& space, const FilterOptions& options, VoteBackend& backend)
-    : map_(&map), space_(&space), options_(options), backend_(&backend), belief_(backend.make_belief(space, options.eps)),
+    : map_(&map),
+      space_(&space),
+      options_(options),
+      backend_(&backend),
+      belief_(backend.make_belief(space, options.eps)),
       max_pairs_(belief_math::max_pairs(belief_math::eps_units(options.eps))) {
   if (space.objects() != map.objects.size())
     throw Error("pose space has " + std::to_string(space.objects()) + " objects but the map has " +
@@ -34,8 +38,9 @@ void BayesFilter::reset() {
 
 void BayesFilter::require_complete() const {
   if (incomplete_)
-    throw Error("recognition session was interrupted during an update (its belief holds part of that update's pairs): "
-                "reset the session");
+    throw Error(
+        "recognition session was interrupted during an update (its belief holds part of that update's pairs): "
+        "reset the session");
 }
 
 namespace {
@@ -53,9 +58,8 @@ ObservedPatch patch_of(const ObservedReading& r) {
 void BayesFilter::queue_pairs(const ObservedReading& reading, std::uint32_t session, VoteBatch* batch) const {
   // Earlier readings, most recent first, so that a cap keeps the newest pairs.
   const std::size_t t = readings_.size();
-  const std::size_t budget = options_.max_pairs_per_update > 0
-                                 ? static_cast<std::size_t>(options_.max_pairs_per_update)
-                                 : 2 * t;
+  const std::size_t budget =
+      options_.max_pairs_per_update > 0 ? static_cast<std::size_t>(options_.max_pairs_per_update) : 2 * t;
   // Session row of the object mask.
   if (options_.object_prune_probability > 0.0 && belief_->pairs_folded() > 0) {
     const std::vector<double> p = object_probability(belief_->summarise(), *space_);

@@ -24,13 +24,13 @@ struct FilterOptions {
 };
 
 struct UpdateStats {
-  std::size_t pairs = 0;          // ordered pairs (Eq 5) of this update
-  std::size_t pairs_folded = 0;   // ordered pairs that had votes
-  std::size_t pairs_voted = 0;    // pairs sent to the backend (one per earlier reading: both orders cast the same votes)
-  std::uint64_t matches = 0;      // map pairs aligned (once per map pair, whatever keys it shares with the observed one)
+  std::size_t pairs = 0;         // ordered pairs (Eq 5) of this update
+  std::size_t pairs_folded = 0;  // ordered pairs that had votes
+  std::size_t pairs_voted = 0;   // pairs sent to the backend (one per earlier reading: both orders cast the same votes)
+  std::uint64_t matches = 0;     // map pairs aligned (once per map pair, whatever keys it shares with the observed one)
   std::uint64_t votes = 0;
   std::uint64_t votes_outside = 0;
-  std::uint64_t votes_zero = 0;   // votes inside the space whose mass rounds to 0 fixed-point units
+  std::uint64_t votes_zero = 0;  // votes inside the space whose mass rounds to 0 fixed-point units
 };
 
 class BayesFilter {
@@ -56,7 +56,8 @@ class BayesFilter {
   // Batch building blocks: queue the pairs of `reading` (validated) as
   // `session`, then record the reading and the backend's statistics.
   void queue_pairs(const ObservedReading& reading, std::uint32_t session, VoteBatch* batch) const;
-  UpdateStats record(const ObservedReading& reading, const PairQuery* queries, const PairStats* pairs, std::size_t count);
+  UpdateStats record(const ObservedReading& reading, const PairQuery* queries, const PairStats* pairs,
+                     std::size_t count);
   BeliefState& mutable_belief() { return *belief_; }
   // An update that threw after its backend began folding (Ctrl-C, a device
   // error) leaves the belief partly folded: the session refuses further use

@@ -43,7 +43,10 @@ RigidPose refine(const BeliefState& belief, const PoseSpace& space, std::uint64_
   const BinIndex c = space.unpack(best);
   const PoseSpaceSpec& spec = space.spec();
   const bool planar = space.planar();
-  struct Axis { bool rotation; int k; };
+  struct Axis {
+    bool rotation;
+    int k;
+  };
   std::vector<Axis> axes;
   for (int k = 0; k < (planar ? 2 : 3); ++k) axes.push_back({false, k});
   for (int k = planar ? 2 : 0; k < 3; ++k) axes.push_back({true, k});
@@ -81,8 +84,10 @@ RigidPose refine(const BeliefState& belief, const PoseSpace& space, std::uint64_
     const double curvature = om - 2.0 * oc + op;
     if (!(curvature < 0.0)) continue;  // flat: no better guess than the centre
     const double shift = std::clamp(0.5 * (om - op) / curvature, -0.5, 0.5);
-    if (axes[a].rotation) r[axes[a].k] += rw * shift;
-    else t[axes[a].k] += tw * shift;
+    if (axes[a].rotation)
+      r[axes[a].k] += rw * shift;
+    else
+      t[axes[a].k] += tw * shift;
   }
   RigidPose pose;
   pose.T = t;
@@ -132,7 +137,8 @@ BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::
 }
 
 Belief::Belief(const PoseSpace& space, double eps)
-    : space_(&space), eps_units_(belief_math::eps_units(eps)),
+    : space_(&space),
+      eps_units_(belief_math::eps_units(eps)),
       mass_bits_(belief_math::mass_bits(space.bins_per_object())),
       // sva_exp2_neg_units(d, mass_bits) is 0 from d = (mass_bits + 1) 2^32 on.
       band_width_((std::uint64_t{mass_bits_} + 1) << 32) {
@@ -159,14 +165,16 @@ bool Belief::fold(const PairVotes& votes, std::uint32_t count) {
 
 SVA_HOT_PATH std::vector<BinOffset> Belief::terms(const BinAccumulator& votes) const {
   std::uint64_t total = 0;
-  votes.for_each([&](std::uint64_t, std::int64_t m) { total += static_cast<std::uint64_t>(std::max<std::int64_t>(m, 0)); });
+  votes.for_each(
+      [&](std::uint64_t, std::int64_t m) { total += static_cast<std::uint64_t>(std::max<std::int64_t>(m, 0)); });
   std::vector<BinOffset> out;
   if (total == 0) return out;  // < 2^63: votes are clamped (SVA_FIXED_MAX_VOTE_UNITS)
   const std::uint64_t floor_log = belief_math::sva_floor_log(total, eps_units_);
   out.reserve(votes.size());
   votes.for_each([&](std::uint64_t key, std::int64_t m) {
     if (m > 0)
-      out.push_back({key, belief_math::sva_fold_units_given(static_cast<std::uint64_t>(m), total, eps_units_, floor_log)});
+      out.push_back(
+          {key, belief_math::sva_fold_units_given(static_cast<std::uint64_t>(m), total, eps_units_, floor_log)});
   });
   return out;
 }

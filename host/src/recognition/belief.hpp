@@ -36,8 +36,8 @@ struct BeliefEstimate {
   std::vector<double> object_probability;  // sums to 1
   bool pose_valid = false;                 // the best object has a touched bin
   std::uint64_t best_key = 0;
-  RigidPose pose;       // refined below the bin size: per-axis parabolic peak of the log-belief around the best bin
-  RigidPose bin_pose;   // centre of the best bin
+  RigidPose pose;      // refined below the bin size: per-axis parabolic peak of the log-belief around the best bin
+  RigidPose bin_pose;  // centre of the best bin
   std::vector<BinHypothesis> top;
 };
 

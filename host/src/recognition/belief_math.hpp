@@ -29,7 +29,8 @@ inline uint64_t eps_units(double eps) {
 // units: each pair adds at most log2(1 + 1/eps) bits (about 1e8 pairs, 14,000
 // readings, at eps = 1e-6).
 inline std::uint64_t max_pairs(uint64_t eps_units) {
-  const double bits_per_pair = std::log2(1.0 + std::ldexp(1.0, SVA_EPS_FRAC_BITS) / static_cast<double>(eps_units)) + 1.0;
+  const double bits_per_pair =
+      std::log2(1.0 + std::ldexp(1.0, SVA_EPS_FRAC_BITS) / static_cast<double>(eps_units)) + 1.0;
   return static_cast<std::uint64_t>(std::ldexp(1.0, 63 - SVA_BELIEF_FRAC_BITS) / bits_per_pair);
 }
 

@@ -46,8 +46,10 @@ std::uint32_t find_entry(const PairMap& m, std::uint32_t begin, std::uint32_t en
   const std::uint32_t last = end;
   while (begin < end) {
     const std::uint32_t mid = begin + (end - begin) / 2;
-    if (m.entry_a[mid] < ra || (m.entry_a[mid] == ra && m.entry_b[mid] < rb)) begin = mid + 1;
-    else end = mid;
+    if (m.entry_a[mid] < ra || (m.entry_a[mid] == ra && m.entry_b[mid] < rb))
+      begin = mid + 1;
+    else
+      end = mid;
   }
   return begin < last && m.entry_a[begin] == ra && m.entry_b[begin] == rb ? begin : last;
 }
@@ -97,7 +99,8 @@ class CpuVoteBackend final : public VoteBackend {
       const std::uint32_t s = batch.pairs[i].session;
       if (s >= beliefs.size()) throw Error("cpu backend: pair of session " + std::to_string(s) + " has no belief");
       target[i] = dynamic_cast<Belief*>(beliefs[s]);
-      if (!target[i]) throw Error("cpu backend: session " + std::to_string(s) + " has a belief made by another backend");
+      if (!target[i])
+        throw Error("cpu backend: session " + std::to_string(s) + " has a belief made by another backend");
     }
     std::vector<PairStats> out(batch.pairs.size());
     std::vector<std::mutex> locks(beliefs.size());
@@ -147,8 +150,8 @@ class CpuVoteBackend final : public VoteBackend {
   // The likelihood units of the map pair (ra, rb) (ra matched to the observed
   // pair's first reading) found first under ranges[j] with weight w, or 0 when
   // an earlier key holds it too (it votes there; sva_match_likelihood.h).
-  std::uint64_t owned_likelihood(const std::vector<KeyRange>& ranges, std::size_t j, std::uint32_t ra,
-                                 std::uint32_t rb, float w) const {
+  std::uint64_t owned_likelihood(const std::vector<KeyRange>& ranges, std::size_t j, std::uint32_t ra, std::uint32_t rb,
+                                 float w) const {
     for (std::size_t i = 0; i < j; ++i)
       if (find_oriented(ranges[i], ra, rb) != ranges[i].end) return 0;
     std::uint64_t units = vote_math::sva_likelihood_units(ranges[j].weight * w);
@@ -180,8 +183,7 @@ class CpuVoteBackend final : public VoteBackend {
 
   // Aligns the observed pair to map pair (ra, rb) and scatters its beta samples.
   SVA_HOT_PATH void vote_match(const SvaPatch& a1, const SvaPatch& b1, std::uint32_t ra, std::uint32_t rb,
-                               std::uint32_t object,
-                  float likelihood, BinAccumulator& acc, PairStats* out) const {
+                               std::uint32_t object, float likelihood, BinAccumulator& acc, PairStats* out) const {
     const vote_math::SvaAlignment al = vote_math::sva_align(a1, b1, patches_[ra], patches_[rb]);
     const vote_math::SvaBetaPlan plan = vote_math::sva_beta_plan(al, grid_);
     if (plan.n == 0) return;
@@ -233,7 +235,8 @@ class CpuVoteBackend final : public VoteBackend {
 
 }  // namespace
 
-std::unique_ptr<VoteBackend> make_cpu_vote_backend(const PairMap& map, const PoseSpace& space, const VoteSettings& settings) {
+std::unique_ptr<VoteBackend> make_cpu_vote_backend(const PairMap& map, const PoseSpace& space,
+                                                   const VoteSettings& settings) {
   return std::make_unique<CpuVoteBackend>(map, space, settings);
 }
 

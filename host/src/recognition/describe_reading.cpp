@@ -8,8 +8,8 @@ namespace sva {
 
 ObservedReading describe_reading(const PairMap& map, const Reading& r, const std::string& what) {
   if (r.status != ControllerStatus::converged)
-    throw Error(what + ": the contact controller did not converge (status " + std::to_string(static_cast<int>(r.status)) +
-                "); it is not used");
+    throw Error(what + ": the contact controller did not converge (status " +
+                std::to_string(static_cast<int>(r.status)) + "); it is not used");
   const auto& cal = map.appearance.calibration;
   if (r.pressure.size() != static_cast<std::size_t>(cal.sensor.elements()))
     throw Error(what + ": " + std::to_string(r.pressure.size()) + " pressure values, but the map's sensor has " +

@@ -36,7 +36,8 @@ PoseSpace::PoseSpace(const PoseSpaceSpec& spec, std::uint32_t objects) : spec_(s
       spec.rotation_bins, static_cast<float>(2.0 * std::numbers::pi / spec.rotation_bins));
   if (!(grid_.translation_width > 0.0f) || !std::isfinite(grid_.translation_scale))
     throw Error(where + "translation bins narrower than float precision");
-  const std::uint64_t tb = static_cast<std::uint64_t>(spec.translation_bins), rb = static_cast<std::uint64_t>(spec.rotation_bins);
+  const std::uint64_t tb = static_cast<std::uint64_t>(spec.translation_bins),
+                      rb = static_cast<std::uint64_t>(spec.rotation_bins);
   bins_per_object_ = planar() ? tb * tb * rb : tb * tb * tb * rb * rb * rb;
 }
 

@@ -44,21 +44,22 @@ struct VoteBatch {
 };
 
 struct PairStats {
-  std::uint64_t matches = 0;         // map pairs aligned (once per map pair, summed over the keys it shares)
-  std::uint64_t votes = 0;           // beta samples inside the pose space
-  std::uint64_t votes_outside = 0;   // beta samples outside it (or not planar)
-  std::uint64_t votes_zero = 0;      // samples inside whose mass rounds to 0 units (counted, never silently lost)
-  bool folded = false;               // vote_and_fold: the pair had vote mass and was folded
+  std::uint64_t matches = 0;        // map pairs aligned (once per map pair, summed over the keys it shares)
+  std::uint64_t votes = 0;          // beta samples inside the pose space
+  std::uint64_t votes_outside = 0;  // beta samples outside it (or not planar)
+  std::uint64_t votes_zero = 0;     // samples inside whose mass rounds to 0 units (counted, never silently lost)
+  bool folded = false;              // vote_and_fold: the pair had vote mass and was folded
 };
 
 struct PairVotes : PairStats {
-  std::vector<std::uint64_t> keys;   // strictly increasing pose-bin keys
-  std::vector<std::int64_t> mass;    // fixed point (SVA_FIXED_ONE = 1)
+  std::vector<std::uint64_t> keys;  // strictly increasing pose-bin keys
+  std::vector<std::int64_t> mass;   // fixed point (SVA_FIXED_ONE = 1)
 };
 
 struct VoteSettings {
-  float likelihood_cutoff = 0.0f;  // matches whose likelihood (summed over their shared keys) is below this cast no vote
-  unsigned threads = 0;            // CPU: 0 = util::default_threads()
+  float likelihood_cutoff =
+      0.0f;              // matches whose likelihood (summed over their shared keys) is below this cast no vote
+  unsigned threads = 0;  // CPU: 0 = util::default_threads()
 };
 
 class VoteBackend {
@@ -76,6 +77,7 @@ class VoteBackend {
 };
 
 // The CPU reference backend: the executable specification of the vote step.
-std::unique_ptr<VoteBackend> make_cpu_vote_backend(const PairMap& map, const PoseSpace& space, const VoteSettings& settings);
+std::unique_ptr<VoteBackend> make_cpu_vote_backend(const PairMap& map, const PoseSpace& space,
+                                                   const VoteSettings& settings);
 
 }  // namespace sva

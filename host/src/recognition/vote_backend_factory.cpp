@@ -36,9 +36,12 @@ BackendKind parse_backend_kind(const std::string& text, const std::string& optio
 
 const char* backend_kind_name(BackendKind kind) {
   switch (kind) {
-    case BackendKind::cpu: return "cpu";
-    case BackendKind::vulkan: return "vulkan";
-    case BackendKind::automatic: return "auto";
+    case BackendKind::cpu:
+      return "cpu";
+    case BackendKind::vulkan:
+      return "vulkan";
+    case BackendKind::automatic:
+      return "auto";
   }
   return "?";
 }

@@ -51,7 +51,8 @@ class Ctx {
   int integer(const json& j, const std::string& path, int lo, int hi) const {
     if (!j.is_number_integer()) fail(path, "expected an integer, got " + j.dump());
     auto v = j.get<long long>();
-    if (v < lo || v > hi) fail(path, "value " + j.dump() + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+    if (v < lo || v > hi)
+      fail(path, "value " + j.dump() + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
     return static_cast<int>(v);
   }
   std::string string(const json& j, const std::string& path) const {
@@ -87,7 +88,8 @@ void opt(const json& j, const char* key, F&& f) {
 Symmetry parse_symmetry(const Ctx& c, const json& j, const std::string& path) {
   Symmetry s;
   if (j.is_string()) {
-    if (j.get<std::string>() != "none") c.fail(path, "expected \"none\" or an object {\"type\": \"axis\"|\"cyclic\", ...}");
+    if (j.get<std::string>() != "none")
+      c.fail(path, "expected \"none\" or an object {\"type\": \"axis\"|\"cyclic\", ...}");
     return s;
   }
   c.object(j, path);
@@ -115,8 +117,10 @@ Symmetry parse_symmetry(const Ctx& c, const json& j, const std::string& path) {
 
 json symmetry_to_json(const Symmetry& s) {
   switch (s.kind) {
-    case Symmetry::Kind::none: return "none";
-    case Symmetry::Kind::axis: return {{"type", "axis"}, {"axis", {s.axis.x, s.axis.y, s.axis.z}}};
+    case Symmetry::Kind::none:
+      return "none";
+    case Symmetry::Kind::axis:
+      return {{"type", "axis"}, {"axis", {s.axis.x, s.axis.y, s.axis.z}}};
     case Symmetry::Kind::discrete:
       return {{"type", "cyclic"}, {"axis", {s.axis.x, s.axis.y, s.axis.z}}, {"order", s.rotations.size()}};
   }
@@ -169,7 +173,8 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
     opt(o, "center", [&](const json& v) { so.center = c.boolean(v, p + ".center"); });
     opt(o, "symmetry", [&](const json& v) { so.symmetry = parse_symmetry(c, v, p + ".symmetry"); });
     so.inertial_radius_mm = so.size_mm > 0 ? so.size_mm / 2 : 40.0;
-    opt(o, "inertial_radius_mm", [&](const json& v) { so.inertial_radius_mm = c.number(v, p + ".inertial_radius_mm", 1e-3, 1e5); });
+    opt(o, "inertial_radius_mm",
+        [&](const json& v) { so.inertial_radius_mm = c.number(v, p + ".inertial_radius_mm", 1e-3, 1e5); });
     s.objects.push_back(std::move(so));
   }
   opt(j, "sensor", [&](const json& v) {
@@ -181,15 +186,21 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
   });
   opt(j, "skin", [&](const json& v) {
     c.object(v, "skin");
-    c.known_keys(v, "skin", {"stiffness_kpa_per_mm", "spread_mm", "rays_per_axis", "noise_kpa", "contact_threshold_kpa", "target_pressure_kpa"});
+    c.known_keys(v, "skin",
+                 {"stiffness_kpa_per_mm", "spread_mm", "rays_per_axis", "noise_kpa", "contact_threshold_kpa",
+                  "target_pressure_kpa"});
     auto& k = s.skin;
-    opt(v, "stiffness_kpa_per_mm", [&](const json& x) { k.stiffness_kpa_per_mm = c.number(x, "skin.stiffness_kpa_per_mm", 1e-3, 1e6); });
+    opt(v, "stiffness_kpa_per_mm",
+        [&](const json& x) { k.stiffness_kpa_per_mm = c.number(x, "skin.stiffness_kpa_per_mm", 1e-3, 1e6); });
     opt(v, "spread_mm", [&](const json& x) { k.spread_mm = c.number(x, "skin.spread_mm", 0.0, 100.0); });
     opt(v, "rays_per_axis", [&](const json& x) { k.rays_per_axis = c.integer(x, "skin.rays_per_axis", 1, 16); });
     opt(v, "noise_kpa", [&](const json& x) { k.noise_kpa = c.number(x, "skin.noise_kpa", 0.0, 1e6); });
-    opt(v, "contact_threshold_kpa", [&](const json& x) { k.contact_threshold_kpa = c.number(x, "skin.contact_threshold_kpa", 0.0, 1e6); });
-    opt(v, "target_pressure_kpa", [&](const json& x) { k.target_pressure_kpa = c.number(x, "skin.target_pressure_kpa", 1e-3, 1e6); });
-    if (k.contact_threshold_kpa >= k.target_pressure_kpa) c.fail("skin", "contact_threshold_kpa must be below target_pressure_kpa");
+    opt(v, "contact_threshold_kpa",
+        [&](const json& x) { k.contact_threshold_kpa = c.number(x, "skin.contact_threshold_kpa", 0.0, 1e6); });
+    opt(v, "target_pressure_kpa",
+        [&](const json& x) { k.target_pressure_kpa = c.number(x, "skin.target_pressure_kpa", 1e-3, 1e6); });
+    if (k.contact_threshold_kpa >= k.target_pressure_kpa)
+      c.fail("skin", "contact_threshold_kpa must be below target_pressure_kpa");
   });
   opt(j, "pose_space", [&](const json& v) {
     c.object(v, "pose_space");
@@ -197,17 +208,23 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
     auto& ps = s.pose_space;
     opt(v, "kind", [&](const json& x) {
       std::string k = c.string(x, "pose_space.kind");
-      if (k == "spatial") ps.kind = PoseSpaceSpec::Kind::spatial;
-      else if (k == "planar") ps.kind = PoseSpaceSpec::Kind::planar;
-      else c.fail("pose_space.kind", "expected \"spatial\" (6-DOF) or \"planar\" (x, y, angle), got \"" + k + "\"");
+      if (k == "spatial")
+        ps.kind = PoseSpaceSpec::Kind::spatial;
+      else if (k == "planar")
+        ps.kind = PoseSpaceSpec::Kind::planar;
+      else
+        c.fail("pose_space.kind", "expected \"spatial\" (6-DOF) or \"planar\" (x, y, angle), got \"" + k + "\"");
     });
-    opt(v, "translation_bins", [&](const json& x) { ps.translation_bins = c.integer(x, "pose_space.translation_bins", 1, 4096); });
-    opt(v, "rotation_bins", [&](const json& x) { ps.rotation_bins = c.integer(x, "pose_space.rotation_bins", 1, 4096); });
+    opt(v, "translation_bins",
+        [&](const json& x) { ps.translation_bins = c.integer(x, "pose_space.translation_bins", 1, 4096); });
+    opt(v, "rotation_bins",
+        [&](const json& x) { ps.rotation_bins = c.integer(x, "pose_space.rotation_bins", 1, 4096); });
     opt(v, "translation_range_mm", [&](const json& x) {
       if (!x.is_array() || x.size() != 2) c.fail("pose_space.translation_range_mm", "expected [min, max]");
       ps.translation_min_mm = c.number(x[0], "pose_space.translation_range_mm[0]", -1e6, 1e6);
       ps.translation_max_mm = c.number(x[1], "pose_space.translation_range_mm[1]", -1e6, 1e6);
-      if (ps.translation_min_mm >= ps.translation_max_mm) c.fail("pose_space.translation_range_mm", "min must be below max");
+      if (ps.translation_min_mm >= ps.translation_max_mm)
+        c.fail("pose_space.translation_range_mm", "min must be below max");
     });
   });
   if (s.pose_space.kind == PoseSpaceSpec::Kind::planar) {  // the letters defaults (paper Sec 5.2); overridden below
@@ -219,7 +236,8 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
     auto& a = s.appearance;
     opt(v, "descriptor", [&](const json& x) {
       a.descriptor = c.string(x, "appearance.descriptor");
-      if (a.descriptor != "mn" && a.descriptor != "mnti") c.fail("appearance.descriptor", "expected \"mn\" or \"mnti\", got \"" + a.descriptor + "\"");
+      if (a.descriptor != "mn" && a.descriptor != "mnti")
+        c.fail("appearance.descriptor", "expected \"mn\" or \"mnti\", got \"" + a.descriptor + "\"");
     });
     opt(v, "clusters", [&](const json& x) { a.clusters = c.integer(x, "appearance.clusters", 1, 4096); });
     opt(v, "dist_bins", [&](const json& x) { a.dist_bins = c.integer(x, "appearance.dist_bins", 1, 65535); });
@@ -232,20 +250,27 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
   });
   opt(j, "protocol", [&](const json& v) {
     c.object(v, "protocol");
-    c.known_keys(v, "protocol", {"kind", "train_per_object", "test_per_object", "approach_mm", "tilt_deg", "grid", "grid_spacing_mm", "orientations", "max_iterations"});
+    c.known_keys(v, "protocol",
+                 {"kind", "train_per_object", "test_per_object", "approach_mm", "tilt_deg", "grid", "grid_spacing_mm",
+                  "orientations", "max_iterations"});
     auto& p = s.protocol;
     opt(v, "kind", [&](const json& x) {
       p.kind = c.string(x, "protocol.kind");
-      if (p.kind != "paper3d" && p.kind != "letters2d") c.fail("protocol.kind", "expected \"paper3d\" or \"letters2d\", got \"" + p.kind + "\"");
+      if (p.kind != "paper3d" && p.kind != "letters2d")
+        c.fail("protocol.kind", "expected \"paper3d\" or \"letters2d\", got \"" + p.kind + "\"");
     });
-    opt(v, "train_per_object", [&](const json& x) { p.train_per_object = c.integer(x, "protocol.train_per_object", 0, 1000000); });
-    opt(v, "test_per_object", [&](const json& x) { p.test_per_object = c.integer(x, "protocol.test_per_object", 0, 1000000); });
+    opt(v, "train_per_object",
+        [&](const json& x) { p.train_per_object = c.integer(x, "protocol.train_per_object", 0, 1000000); });
+    opt(v, "test_per_object",
+        [&](const json& x) { p.test_per_object = c.integer(x, "protocol.test_per_object", 0, 1000000); });
     opt(v, "approach_mm", [&](const json& x) { p.approach_mm = c.number(x, "protocol.approach_mm", 0.0, 100.0); });
     opt(v, "tilt_deg", [&](const json& x) { p.tilt_deg = c.number(x, "protocol.tilt_deg", 0.0, 60.0); });
     opt(v, "grid", [&](const json& x) { p.grid = c.integer(x, "protocol.grid", 1, 100); });
-    opt(v, "grid_spacing_mm", [&](const json& x) { p.grid_spacing_mm = c.number(x, "protocol.grid_spacing_mm", 0.0, 1000.0); });
+    opt(v, "grid_spacing_mm",
+        [&](const json& x) { p.grid_spacing_mm = c.number(x, "protocol.grid_spacing_mm", 0.0, 1000.0); });
     opt(v, "orientations", [&](const json& x) { p.orientations = c.integer(x, "protocol.orientations", 1, 360); });
-    opt(v, "max_iterations", [&](const json& x) { p.max_iterations = c.integer(x, "protocol.max_iterations", 1, 10000); });
+    opt(v, "max_iterations",
+        [&](const json& x) { p.max_iterations = c.integer(x, "protocol.max_iterations", 1, 10000); });
   });
   return s;
 }
@@ -259,7 +284,8 @@ Scene load_scene(const std::string& name_or_file) {
   if (bare) {
     auto builtin = assets_dir() / "scenes" / (name_or_file + ".json");
     if (!std::filesystem::exists(builtin, ec))
-      throw Error("scene \"" + name_or_file + "\": no built-in scene of that name (built-ins: paper3d, letters2d, tiny; or give a .json file)");
+      throw Error("scene \"" + name_or_file +
+                  "\": no built-in scene of that name (built-ins: paper3d, letters2d, tiny; or give a .json file)");
     file = builtin;
   }
   std::ifstream in(file);
@@ -273,27 +299,43 @@ Scene load_scene(const std::string& name_or_file) {
 std::string scene_to_json(const Scene& s) {
   json objs = json::array();
   for (const auto& o : s.objects)
-    objs.push_back({{"name", o.name}, {"mesh", o.mesh.string()}, {"size_mm", o.size_mm}, {"center", o.center},
-                    {"symmetry", symmetry_to_json(o.symmetry)}, {"inertial_radius_mm", o.inertial_radius_mm}});
+    objs.push_back({{"name", o.name},
+                    {"mesh", o.mesh.string()},
+                    {"size_mm", o.size_mm},
+                    {"center", o.center},
+                    {"symmetry", symmetry_to_json(o.symmetry)},
+                    {"inertial_radius_mm", o.inertial_radius_mm}});
   json j = {
       {"name", s.name},
       {"objects", objs},
       {"sensor", {{"rows", s.sensor.rows}, {"cols", s.sensor.cols}, {"pitch_mm", s.sensor.pitch_mm}}},
-      {"skin", {{"stiffness_kpa_per_mm", s.skin.stiffness_kpa_per_mm}, {"spread_mm", s.skin.spread_mm},
-                {"rays_per_axis", s.skin.rays_per_axis}, {"noise_kpa", s.skin.noise_kpa},
-                {"contact_threshold_kpa", s.skin.contact_threshold_kpa}, {"target_pressure_kpa", s.skin.target_pressure_kpa}}},
-      {"pose_space", {{"kind", s.pose_space.kind == PoseSpaceSpec::Kind::planar ? "planar" : "spatial"},
-                      {"translation_bins", s.pose_space.translation_bins},
-                      {"translation_range_mm", {s.pose_space.translation_min_mm, s.pose_space.translation_max_mm}},
-                      {"rotation_bins", s.pose_space.rotation_bins}}},
-      {"appearance", {{"descriptor", s.appearance.descriptor}, {"clusters", s.appearance.clusters},
-                      {"dist_bins", s.appearance.dist_bins},
-                      {"dist_range_mm", {s.appearance.dist_min_mm, s.appearance.dist_max_mm}}}},
-      {"protocol", {{"kind", s.protocol.kind}, {"train_per_object", s.protocol.train_per_object},
-                    {"test_per_object", s.protocol.test_per_object}, {"approach_mm", s.protocol.approach_mm},
-                    {"tilt_deg", s.protocol.tilt_deg}, {"grid", s.protocol.grid},
-                    {"grid_spacing_mm", s.protocol.grid_spacing_mm}, {"orientations", s.protocol.orientations},
-                    {"max_iterations", s.protocol.max_iterations}}},
+      {"skin",
+       {{"stiffness_kpa_per_mm", s.skin.stiffness_kpa_per_mm},
+        {"spread_mm", s.skin.spread_mm},
+        {"rays_per_axis", s.skin.rays_per_axis},
+        {"noise_kpa", s.skin.noise_kpa},
+        {"contact_threshold_kpa", s.skin.contact_threshold_kpa},
+        {"target_pressure_kpa", s.skin.target_pressure_kpa}}},
+      {"pose_space",
+       {{"kind", s.pose_space.kind == PoseSpaceSpec::Kind::planar ? "planar" : "spatial"},
+        {"translation_bins", s.pose_space.translation_bins},
+        {"translation_range_mm", {s.pose_space.translation_min_mm, s.pose_space.translation_max_mm}},
+        {"rotation_bins", s.pose_space.rotation_bins}}},
+      {"appearance",
+       {{"descriptor", s.appearance.descriptor},
+        {"clusters", s.appearance.clusters},
+        {"dist_bins", s.appearance.dist_bins},
+        {"dist_range_mm", {s.appearance.dist_min_mm, s.appearance.dist_max_mm}}}},
+      {"protocol",
+       {{"kind", s.protocol.kind},
+        {"train_per_object", s.protocol.train_per_object},
+        {"test_per_object", s.protocol.test_per_object},
+        {"approach_mm", s.protocol.approach_mm},
+        {"tilt_deg", s.protocol.tilt_deg},
+        {"grid", s.protocol.grid},
+        {"grid_spacing_mm", s.protocol.grid_spacing_mm},
+        {"orientations", s.protocol.orientations},
+        {"max_iterations", s.protocol.max_iterations}}},
   };
   return j.dump(2);
 }

@@ -72,7 +72,10 @@ void parallel_for(std::size_t n, const std::function<void(std::size_t)>& fn, uns
 }
 
 Progress::Progress(std::string label, std::size_t total)
-    : label_(std::move(label)), total_(total), start_(std::chrono::steady_clock::now()), last_draw_(start_),
+    : label_(std::move(label)),
+      total_(total),
+      start_(std::chrono::steady_clock::now()),
+      last_draw_(start_),
       tty_(::isatty(2) != 0) {}
 
 Progress::~Progress() {
@@ -111,9 +114,10 @@ void Progress::draw(std::size_t done, bool final) {
   double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
   double rate = secs > 0 ? static_cast<double>(done) / secs : 0.0;
   std::string eta;
-  if (!final && rate > 0 && done < total_) eta = ", ~" + std::to_string(static_cast<int>((total_ - done) / rate + 0.5)) + " s left";
-  std::fprintf(stderr, "%s%s: %zu/%zu (%.1f/s, %.1f s%s)%s", tty_ ? "\r\033[K" : "", label_.c_str(), done, total_,
-               rate, secs, eta.c_str(), (tty_ && !final) ? "" : "\n");
+  if (!final && rate > 0 && done < total_)
+    eta = ", ~" + std::to_string(static_cast<int>((total_ - done) / rate + 0.5)) + " s left";
+  std::fprintf(stderr, "%s%s: %zu/%zu (%.1f/s, %.1f s%s)%s", tty_ ? "\r\033[K" : "", label_.c_str(), done, total_, rate,
+               secs, eta.c_str(), (tty_ && !final) ? "" : "\n");
   std::fflush(stderr);
 }
 

@@ -37,9 +37,13 @@ class Buffer {
   void* data() { return mapped_; }
   const void* data() const { return mapped_; }
   template <class T>
-  T* as() { return static_cast<T*>(mapped_); }
+  T* as() {
+    return static_cast<T*>(mapped_);
+  }
   template <class T>
-  const T* as() const { return static_cast<const T*>(mapped_); }
+  const T* as() const {
+    return static_cast<const T*>(mapped_);
+  }
   VkBuffer handle() const { return buffer_; }
   // For shaders that reach the buffer through GL_EXT_buffer_reference.
   VkDeviceAddress device_address() const { return address_; }

@@ -87,7 +87,8 @@ void CommandRunner::copy(const std::vector<Copy>& copies) {
       throw std::logic_error("Copy: range not in the buffers");
   VkCommandBuffer cmd = begin();
   // Earlier kernels' writes (a download) are complete before the copy reads them.
-  VkMemoryBarrier before{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_HOST_WRITE_BIT,
+  VkMemoryBarrier before{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr,
+                         VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_HOST_WRITE_BIT,
                          VK_ACCESS_TRANSFER_READ_BIT | VK_ACCESS_TRANSFER_WRITE_BIT};
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_HOST_BIT,
                        VK_PIPELINE_STAGE_TRANSFER_BIT, 0, 1, &before, 0, nullptr, 0, nullptr);
@@ -163,8 +164,8 @@ VkDescriptorSet CommandRunner::bind_buffers(const Dispatch& d) {
     if (d.buffers[i]->size() > device_.info().max_storage_buffer_range)
       throw std::logic_error("Dispatch: a binding exceeds maxStorageBufferRange; the caller must chunk it");
     infos[i] = {d.buffers[i]->handle(), 0, VK_WHOLE_SIZE};
-    writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, set, i, 0, 1, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-                 nullptr, &infos[i], nullptr};
+    writes[i] = {VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET, nullptr, set,       i,      0, 1,
+                 VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,      nullptr, &infos[i], nullptr};
   }
   vkUpdateDescriptorSets(device_.handle(), p.bindings(), writes.data(), 0, nullptr);
   return set;
@@ -193,8 +194,10 @@ void CommandRunner::record_dispatch(VkCommandBuffer cmd, const Dispatch& d, std:
   if (p.push_bytes())
     vkCmdPushConstants(cmd, p.layout(), VK_SHADER_STAGE_COMPUTE_BIT, 0, p.push_bytes(), d.push.data());
   if (timing) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, 2 * index);
-  if (d.indirect) vkCmdDispatchIndirect(cmd, d.indirect->handle(), 0);
-  else if (d.groups_x && d.groups_y) vkCmdDispatch(cmd, d.groups_x, d.groups_y, 1);
+  if (d.indirect)
+    vkCmdDispatchIndirect(cmd, d.indirect->handle(), 0);
+  else if (d.groups_x && d.groups_y)
+    vkCmdDispatch(cmd, d.groups_x, d.groups_y, 1);
   if (timing) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, 2 * index + 1);
 }
 

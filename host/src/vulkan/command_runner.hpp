@@ -38,8 +38,8 @@ struct Copy {
 // a full compute->compute memory barrier.
 struct Dispatch {
   const Pipeline* pipeline;
-  std::vector<Buffer*> buffers;      // one per binding, in binding order
-  std::vector<std::uint8_t> push;    // push-constant bytes
+  std::vector<Buffer*> buffers;    // one per binding, in binding order
+  std::vector<std::uint8_t> push;  // push-constant bytes
   std::uint32_t groups_x = 1;
   std::uint32_t groups_y = 1;
   // When set, the workgroup counts come from this buffer (VkDispatchIndirectCommand

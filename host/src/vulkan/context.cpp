@@ -16,7 +16,9 @@ ContextOptions Context::from_environment() {
 }
 
 Context::Context(const ContextOptions& options)
-    : instance_(options.validation), device_(instance_, options.device), commands_(device_),
+    : instance_(options.validation),
+      device_(instance_, options.device),
+      commands_(device_),
       force_staging_(options.force_staging) {}
 
 Buffer Context::create_device_buffer(std::size_t bytes) {

@@ -16,22 +16,32 @@ namespace {
 
 const char* type_name(VkPhysicalDeviceType t) {
   switch (t) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return "discrete";
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return "integrated";
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return "virtual";
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return "cpu";
-    default: return "other";
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+      return "discrete";
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+      return "integrated";
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+      return "virtual";
+    case VK_PHYSICAL_DEVICE_TYPE_CPU:
+      return "cpu";
+    default:
+      return "other";
   }
 }
 
 // Without a choice, the fastest kind of device comes first.
 int rank(VkPhysicalDeviceType t) {
   switch (t) {
-    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU: return 0;
-    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU: return 1;
-    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU: return 2;
-    case VK_PHYSICAL_DEVICE_TYPE_CPU: return 3;
-    default: return 4;
+    case VK_PHYSICAL_DEVICE_TYPE_DISCRETE_GPU:
+      return 0;
+    case VK_PHYSICAL_DEVICE_TYPE_INTEGRATED_GPU:
+      return 1;
+    case VK_PHYSICAL_DEVICE_TYPE_VIRTUAL_GPU:
+      return 2;
+    case VK_PHYSICAL_DEVICE_TYPE_CPU:
+      return 3;
+    default:
+      return 4;
   }
 }
 
@@ -78,8 +88,8 @@ std::vector<Candidate> usable_devices(VkInstance instance) {
     vkGetPhysicalDeviceProperties(dev, &c.props);
     c.family = compute_family(dev, &c.timestamp_bits);
     if (c.family == UINT32_MAX || !has_features(dev, c.props)) {
-      rejected += std::string(" ") + c.props.deviceName +
-                  " (lacks compute/int64 atomics/buffer device address/Vulkan 1.2);";
+      rejected +=
+          std::string(" ") + c.props.deviceName + " (lacks compute/int64 atomics/buffer device address/Vulkan 1.2);";
       continue;
     }
     ok.push_back(c);
@@ -122,10 +132,10 @@ DeviceInfo describe(const Candidate& c) {
   vkGetPhysicalDeviceProperties2(c.dev, &p2);
   info.max_allocation = m3.maxMemoryAllocationSize;
   info.subgroup_size = sg.subgroupSize;
-  const VkSubgroupFeatureFlags ops =
-      VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_VOTE_BIT | VK_SUBGROUP_FEATURE_BALLOT_BIT |
-      VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
-  info.subgroup_aggregation = (sg.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) && (sg.supportedOperations & ops) == ops;
+  const VkSubgroupFeatureFlags ops = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_VOTE_BIT |
+                                     VK_SUBGROUP_FEATURE_BALLOT_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
+  info.subgroup_aggregation =
+      (sg.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) && (sg.supportedOperations & ops) == ops;
   info.timestamps = c.timestamp_bits > 0 && c.props.limits.timestampPeriod > 0;
   info.timestamp_period_ns = c.props.limits.timestampPeriod;
   return info;
@@ -173,7 +183,8 @@ Device::~Device() {
 }
 
 void Device::count_device_bytes(std::int64_t delta) const {
-  const std::uint64_t now = device_bytes_.fetch_add(static_cast<std::uint64_t>(delta)) + static_cast<std::uint64_t>(delta);
+  const std::uint64_t now =
+      device_bytes_.fetch_add(static_cast<std::uint64_t>(delta)) + static_cast<std::uint64_t>(delta);
   std::uint64_t peak = peak_device_bytes_.load();
   while (now > peak && !peak_device_bytes_.compare_exchange_weak(peak, now)) {
   }

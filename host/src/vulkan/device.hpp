@@ -19,7 +19,7 @@ struct DeviceInfo {
   std::uint32_t max_workgroup_count_x = 0;
   std::uint32_t max_workgroup_count_y = 0;
   std::uint64_t max_allocation = 0;  // maxMemoryAllocationSize
-  bool timestamps = false;        // per-dispatch GPU timing available
+  bool timestamps = false;           // per-dispatch GPU timing available
   std::uint32_t subgroup_size = 0;
   // Basic, vote, ballot and arithmetic subgroup operations in compute shaders: the
   // vote kernel pre-aggregates equal keys across a subgroup before its atomics.

@@ -31,8 +31,9 @@ void require_validation_layer() {
   vkEnumerateInstanceLayerProperties(&n, props.data());
   const auto is_validation = [](const VkLayerProperties& p) { return std::strcmp(p.layerName, kValidationLayer) == 0; };
   if (std::none_of(props.begin(), props.end(), is_validation))
-    throw Error("Vulkan validation requested (SVA_VK_VALIDATION=1) but VK_LAYER_KHRONOS_validation is not installed "
-                "(apt-get install vulkan-validationlayers)");
+    throw Error(
+        "Vulkan validation requested (SVA_VK_VALIDATION=1) but VK_LAYER_KHRONOS_validation is not installed "
+        "(apt-get install vulkan-validationlayers)");
 }
 
 VkDebugUtilsMessengerEXT create_messenger(VkInstance instance, Instance::Log* log) {
@@ -70,8 +71,9 @@ Instance::Instance(bool validation) {
   ici.ppEnabledExtensionNames = extensions.data();
   const VkResult r = vkCreateInstance(&ici, nullptr, &instance_);
   if (r == VK_ERROR_INCOMPATIBLE_DRIVER || r == VK_ERROR_INITIALIZATION_FAILED)
-    throw Error("no Vulkan device: no Vulkan driver is installed (apt-get install mesa-vulkan-drivers for the "
-                "lavapipe CPU driver)");
+    throw Error(
+        "no Vulkan device: no Vulkan driver is installed (apt-get install mesa-vulkan-drivers for the "
+        "lavapipe CPU driver)");
   check(r, "vkCreateInstance");
   if (!validation) return;
   try {

@@ -63,8 +63,9 @@ VulkanEngine::VulkanEngine(const PairMap& map, const vk::ContextOptions& context
     : ctx(context),
       expand(ctx.create_pipeline(sva_spv_expand_pair_keys, 4, sizeof(gpu::SvaExpandParams))),
       scan(ctx.create_pipeline(sva_spv_scan_matches, 3, sizeof(gpu::SvaScanParams))),
-      match(ctx.create_pipeline(use_subgroups(ctx, portable_kernel) ? std::span<const std::uint32_t>(sva_spv_match_votes)
-                                                                     : std::span<const std::uint32_t>(sva_spv_match_votes_portable),
+      match(ctx.create_pipeline(use_subgroups(ctx, portable_kernel)
+                                    ? std::span<const std::uint32_t>(sva_spv_match_votes)
+                                    : std::span<const std::uint32_t>(sva_spv_match_votes_portable),
                                 15, sizeof(gpu::SvaMatchParams))),
       fold(ctx.create_pipeline(sva_spv_belief_fold, 7, sizeof(gpu::SvaFoldParams))),
       rehash(ctx.create_pipeline(sva_spv_belief_rehash, 1, sizeof(gpu::SvaRehashParams))),

@@ -13,8 +13,8 @@ namespace sva::sim {
 
 struct Mesh {
   std::vector<glm::vec3> positions;
-  std::vector<glm::vec3> normals;      // per vertex; computed (area-weighted) where the file has none
-  std::vector<glm::uvec3> triangles;   // counter-clockwise seen from outside
+  std::vector<glm::vec3> normals;     // per vertex; computed (area-weighted) where the file has none
+  std::vector<glm::uvec3> triangles;  // counter-clockwise seen from outside
   glm::dvec3 bounds_min{0.0}, bounds_max{0.0};
 
   double area() const;

@@ -13,7 +13,7 @@ struct SimulateOptions {
   int train_per_object = -1;  // -1: the scene protocol's default
   int test_per_object = -1;
   std::uint64_t seed = 1;
-  unsigned threads = 0;       // 0: all cores; results do not depend on it
+  unsigned threads = 0;  // 0: all cores; results do not depend on it
 };
 
 struct SimulatedData {

@@ -38,7 +38,8 @@ class ObjectGeometry {
   };
   Hit intersect(const glm::dvec3& origin, const glm::dvec3& direction, double tnear, double tfar) const;
   // Many parallel rays at once (a coherent stream: much faster than one by one).
-  void intersect_parallel(const std::vector<glm::dvec3>& origins, const glm::dvec3& direction, double tfar, std::vector<Hit>& hits) const;
+  void intersect_parallel(const std::vector<glm::dvec3>& origins, const glm::dvec3& direction, double tfar,
+                          std::vector<Hit>& hits) const;
   const Mesh& mesh() const;
 
   // A point uniformly distributed by area with its outward facet normal.
@@ -52,15 +53,15 @@ class ObjectGeometry {
 
 // The pressure image of one sensor pose, with what the controller needs.
 struct TactileImage {
-  std::vector<float> pressure;          // kPa, row-major, rows along y
-  int contacts = 0;                     // elements above the contact threshold
-  double mean_contact_kpa = 0.0;        // mean pressure over those elements (0 without contact)
-  glm::dvec2 contact_centroid{0.0};     // pressure-weighted centroid of those elements, sensor (x, y) mm
+  std::vector<float> pressure;       // kPa, row-major, rows along y
+  int contacts = 0;                  // elements above the contact threshold
+  double mean_contact_kpa = 0.0;     // mean pressure over those elements (0 without contact)
+  glm::dvec2 contact_centroid{0.0};  // pressure-weighted centroid of those elements, sensor (x, y) mm
   // Penetration-weighted mean of the outward facet normals under the array
   // (0 if none): where a passive compliant wrist would settle the sensor.
   glm::dvec3 surface_normal{0.0};
-  bool surface_below = false;           // some ray of the array met the object within reach
-  double gap_mm = 0.0;                  // smallest distance from the skin to the object along -normal (<= 0: touching)
+  bool surface_below = false;  // some ray of the array met the object within reach
+  double gap_mm = 0.0;         // smallest distance from the skin to the object along -normal (<= 0: touching)
 };
 
 class TactileSensor {
@@ -88,19 +89,20 @@ class TactileSensor {
 
 struct ControllerSettings {
   int max_iterations = 60;
-  bool reorient = true;                  // align the normal to the contact (off for letters2d)
-  bool recenter = true;                  // bring the contact centroid under the array centre
-  double pressure_tolerance = 0.04;      // |mean - target| <= tolerance * target
-  double normal_tolerance_deg = 2.0;     // angle between sensor and estimated surface normal
-  double turn_gain = 1.0;                // fraction of the estimated misalignment turned per iteration
-  double max_turn_deg = 15.0;            // largest re-orientation per iteration
-  double kp = 0.9, kd = 0.2;             // PD gains on the pressure error, in units of 1/stiffness
-  double max_step_mm = 1.0;              // largest press or retract per iteration
+  bool reorient = true;               // align the normal to the contact (off for letters2d)
+  bool recenter = true;               // bring the contact centroid under the array centre
+  double pressure_tolerance = 0.04;   // |mean - target| <= tolerance * target
+  double normal_tolerance_deg = 2.0;  // angle between sensor and estimated surface normal
+  double turn_gain = 1.0;             // fraction of the estimated misalignment turned per iteration
+  double max_turn_deg = 15.0;         // largest re-orientation per iteration
+  double kp = 0.9, kd = 0.2;          // PD gains on the pressure error, in units of 1/stiffness
+  double max_step_mm = 1.0;           // largest press or retract per iteration
 };
 
 // Runs the contact controller from `start` until it converges or runs out of
 // iterations. The reading holds the pose and image of the last evaluation;
 // its status says whether it converged. `noise_seed` makes noise reproducible.
-Reading press(const TactileSensor& sensor, SensorPose start, const ControllerSettings& settings, std::uint64_t noise_seed);
+Reading press(const TactileSensor& sensor, SensorPose start, const ControllerSettings& settings,
+              std::uint64_t noise_seed);
 
 }  // namespace sva::sim

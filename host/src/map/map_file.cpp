@@ -312,10 +312,11 @@ void validate_pair_map(const PairMap& m, const std::string& origin) {
     if (!(w > 0.0f && w <= 1.0f)) fail("entry " + std::to_string(e) + " has weight outside (0, 1]");
   }
   // The recognizer finds a training pair under a key by binary search.
-  for (std::size_t k = 0; k < m.keys.size(); ++k)
-    for (std::uint32_t e = m.offsets[k] + 1; e < m.offsets[k + 1]; ++e)
+  for (std::size_t key = 0; key < m.keys.size(); ++key)
+    for (std::uint32_t e = m.offsets[key] + 1; e < m.offsets[key + 1]; ++e)
       if (m.entry_a[e] < m.entry_a[e - 1] || (m.entry_a[e] == m.entry_a[e - 1] && m.entry_b[e] <= m.entry_b[e - 1]))
-        fail("entries of key " + std::to_string(m.keys[k]) + " are not strictly increasing by (reading a, reading b)");
+        fail("entries of key " + std::to_string(m.keys[key]) +
+             " are not strictly increasing by (reading a, reading b)");
 }
 
 }  // namespace sva

@@ -7,6 +7,7 @@
 #include "recognition/fixture.hpp"
 #include "recognition/vote_backend_factory.hpp"
 #include "vk_test_support.hpp"
+#include "vulkan/vulkan_vote_backend.hpp"
 
 using namespace sva;
 
@@ -39,7 +40,18 @@ TEST_CASE("backend factory: auto takes a usable Vulkan device, else the CPU refe
   CHECK(fallback.fallback_reason.find("no-such-gpu-name") != std::string::npos);
 
   auto gpu = test::vulkan_backend_or_skip(*w.map, space, {});  // skips without a device
+  const VulkanDeviceChoice device = probe_vulkan_device();
   VoteBackendChoice c = make_vote_backend(BackendKind::automatic, *w.map, space, {});
+  if (device.type == "cpu" && !device.named) {
+    // A software device (lavapipe) is slower than the CPU reference: auto skips it, saying why.
+    CHECK(c.kind == BackendKind::cpu);
+    CHECK(c.fallback_reason.find("software") != std::string::npos);
+    CHECK(c.fallback_reason.find(device.name) != std::string::npos);
+    // Named, it is used.
+    VulkanBackendOptions named;
+    named.device = device.name;
+    c = make_vote_backend(BackendKind::automatic, *w.map, space, {}, named);
+  }
   CHECK(c.kind == BackendKind::vulkan);
   CHECK(c.fallback_reason.empty());
   const BackendStats st = c.backend->statistics();

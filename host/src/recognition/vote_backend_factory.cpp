@@ -2,6 +2,8 @@
 
 #include <sva/error.hpp>
 
+#include "vulkan/vulkan_vote_backend.hpp"
+
 namespace sva {
 
 VoteBackendChoice make_vote_backend(BackendKind kind, const PairMap& map, const PoseSpace& space,
@@ -12,6 +14,18 @@ VoteBackendChoice make_vote_backend(BackendKind kind, const PairMap& map, const 
     return choice;
   }
   try {
+    // auto: a GPU. A software Vulkan device (lavapipe) runs on the same cores
+    // as the CPU reference, several times slower; it serves only when named.
+    if (kind == BackendKind::automatic) {
+      const VulkanDeviceChoice d = probe_vulkan_device(vulkan);
+      if (d.type == "cpu" && !d.named) {
+        choice.backend = make_cpu_vote_backend(map, space, settings);
+        choice.kind = BackendKind::cpu;
+        choice.fallback_reason = "the only Vulkan device is a software one (" + d.name +
+                                 "), slower than the CPU reference; name it (--device, SVA_VK_DEVICE) to use it";
+        return choice;
+      }
+    }
     choice.backend = make_vulkan_vote_backend(map, space, settings, vulkan);
     choice.kind = BackendKind::vulkan;
   } catch (const Interrupted&) {

@@ -479,6 +479,14 @@ class VulkanVoteBackend final : public VoteBackend {
   VulkanBackendStats stats_;
 };
 
+VulkanDeviceChoice probe_vulkan_device(const VulkanBackendOptions& options) {
+  vk::ContextOptions o = vk::Context::from_environment();
+  if (!options.device.empty()) o.device = options.device;
+  const vk::Instance instance(false);
+  const vk::Device device(instance, o.device);
+  return {device.info().name, device.info().type, !o.device.empty()};
+}
+
 std::unique_ptr<VoteBackend> make_vulkan_vote_backend(const PairMap& map, const PoseSpace& space,
                                                       const VoteSettings& settings,
                                                       const VulkanBackendOptions& options) {

@@ -39,6 +39,15 @@ struct VulkanBackendStats {
 };
 
 class VulkanVoteBackend;
+// The Vulkan device the backend would run on with these options (its name and
+// type: "discrete", "integrated", "cpu", ...), and whether the caller named it
+// (options or SVA_VK_DEVICE). Throws sva::Error when there is none.
+struct VulkanDeviceChoice {
+  std::string name, type;
+  bool named = false;
+};
+VulkanDeviceChoice probe_vulkan_device(const VulkanBackendOptions& options = {});
+
 std::unique_ptr<VoteBackend> make_vulkan_vote_backend(const PairMap& map, const PoseSpace& space,
                                                       const VoteSettings& settings,
                                                       const VulkanBackendOptions& options = {});

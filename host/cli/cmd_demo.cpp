@@ -146,7 +146,7 @@ Map stage_train(const DemoConfig& cfg, const DemoData& data) {
 // the same few trials (a few: the CPU reference is the slow one on a GPU).
 void print_speed(const Map& map, const DemoData& data, const eval::EvalOptions& o, const eval::EvalResult& sva) {
   if (!sva.backend_fallback_reason.empty())
-    std::printf("[speed]    no usable Vulkan device (%s)\n", sva.backend_fallback_reason.c_str());
+    std::printf("[speed]    backend auto chose the CPU reference: %s\n", sva.backend_fallback_reason.c_str());
   const eval::SpeedComparison s = eval::compare_with_cpu_reference(map, data.test, o, sva, 4);
   if (!s.update_ms || !s.cpu_update_ms) return;
   std::printf("[speed]    SVA ran on %s: %.2f ms per update (median over the first %zu trials)\n", s.device.c_str(),

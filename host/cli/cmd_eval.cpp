@@ -99,7 +99,7 @@ int cmd_eval(const std::vector<std::string>& argv) {
 
   const eval::EvalResult result = eval::run_evaluation(map, test, o);
   if (!result.backend_fallback_reason.empty())
-    std::fprintf(stderr, "sva eval: no usable Vulkan device (%s); used the CPU backend\n",
+    std::fprintf(stderr, "sva eval: backend auto chose the CPU reference: %s\n",
                  result.backend_fallback_reason.c_str());
   const eval::Curve curve = eval::summarize(result);
   std::fputs(eval::format_table(curve).c_str(), stdout);

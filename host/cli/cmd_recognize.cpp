@@ -74,7 +74,7 @@ int cmd_recognize(const std::vector<std::string>& argv) {
   std::vector<Estimate> estimates(sessions.size());
   BatchRecognizer rec(map, map.pose_space(), std::min(per, sessions.size()), ro);
   if (!rec.backend_fallback_reason().empty())
-    std::fprintf(stderr, "sva recognize: no usable Vulkan device (%s); using the CPU backend\n",
+    std::fprintf(stderr, "sva recognize: backend auto chose the CPU reference: %s\n",
                  rec.backend_fallback_reason().c_str());
   LockstepHooks hooks;
   hooks.progress = &progress;

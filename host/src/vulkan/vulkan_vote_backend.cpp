@@ -31,6 +31,30 @@ bool ensure_device(vk::Context& ctx, vk::Buffer& b, std::size_t bytes) {
   b = ctx.create_device_buffer(std::max<std::size_t>(bytes, 16));
   return true;
 }
+
+// An observed pair as the kernels read it, with its range of key items.
+gpu::SvaGpuPair gpu_pair(const PairQuery& q, std::uint32_t item_begin, std::uint32_t item_end) {
+  gpu::SvaGpuPair g{};
+  g.ax = q.a.position[0];
+  g.ay = q.a.position[1];
+  g.az = q.a.position[2];
+  g.aconf = q.a.norm_conf;
+  g.anx = q.a.normal[0];
+  g.any = q.a.normal[1];
+  g.anz = q.a.normal[2];
+  g.bx = q.b.position[0];
+  g.by = q.b.position[1];
+  g.bz = q.b.position[2];
+  g.bconf = q.b.norm_conf;
+  g.bnx = q.b.normal[0];
+  g.bny = q.b.normal[1];
+  g.bnz = q.b.normal[2];
+  g.session = q.session;
+  g.fold_count = q.fold_count;
+  g.item_begin = item_begin;
+  g.item_end = item_end;
+  return g;
+}
 }  // namespace
 
 class VulkanVoteBackend final : public VoteBackend {
@@ -164,27 +188,7 @@ class VulkanVoteBackend final : public VoteBackend {
     ensure(ctx_, pairs_, P * sizeof(gpu::SvaGpuPair));
     auto* gp = pairs_.as<gpu::SvaGpuPair>();
     for (std::size_t q = 0; q < P; ++q) {
-      const PairQuery& pq = batch.pairs[first + q];
-      gp[q] = {pq.a.position[0],
-               pq.a.position[1],
-               pq.a.position[2],
-               pq.a.norm_conf,
-               pq.a.normal[0],
-               pq.a.normal[1],
-               pq.a.normal[2],
-               pq.session,
-               pq.b.position[0],
-               pq.b.position[1],
-               pq.b.position[2],
-               pq.b.norm_conf,
-               pq.b.normal[0],
-               pq.b.normal[1],
-               pq.b.normal[2],
-               pq.fold_count,
-               item_begin[q],
-               item_begin[q + 1],
-               0u,
-               0u};
+      gp[q] = gpu_pair(batch.pairs[first + q], item_begin[q], item_begin[q + 1]);
     }
     ensure(ctx_, key_items_, items.size() * sizeof(gpu::SvaGpuKeyItem));
     if (!items.empty()) std::memcpy(key_items_.data(), items.data(), items.size() * sizeof(gpu::SvaGpuKeyItem));

@@ -71,51 +71,25 @@ SvaPatch patch_of_reading(uint r) {
 #include "sva_hash_scatter.glsl"
 
 // Map entry i (global index) of any chunk, through the chunks' device addresses.
-uint entry_a_at(uint i) {
+uint sva_entry_a(uint i) {
   SvaGpuChunk c = chunks[i / pc.chunk_entries];
   return SvaU32s(uint64_t(c.a_lo) | (uint64_t(c.a_hi) << 32)).v[i % pc.chunk_entries];
 }
-uint entry_b_at(uint i) {
+uint sva_entry_b(uint i) {
   SvaGpuChunk c = chunks[i / pc.chunk_entries];
   return SvaU32s(uint64_t(c.b_lo) | (uint64_t(c.b_hi) << 32)).v[i % pc.chunk_entries];
 }
-float entry_weight_at(uint i) {
+float sva_entry_weight(uint i) {
   SvaGpuChunk c = chunks[i / pc.chunk_entries];
   return SvaF32s(uint64_t(c.w_lo) | (uint64_t(c.w_hi) << 32)).v[i % pc.chunk_entries];
 }
+// Key item k: its map range (expand_pair_keys.comp), orientation and weight.
+uint sva_item_begin(uint k) { return ranges[k].begin; }
+uint sva_item_end(uint k) { return ranges[k].end; }
+uint sva_item_reversed(uint k) { return key_items[k].reversed; }
+float sva_item_weight(uint k) { return key_items[k].weight; }
 
-// The entry of key item k holding the map pair whose ends match the observed
-// pair's as (ra, rb) (entries sorted by (a, b); a reversed item stores the
-// pair as (rb, ra)), or 0xffffffff when that key does not hold it.
-uint find_entry(uint k, uint ra, uint rb) {
-  if (key_items[k].reversed != 0u) {
-    uint t = ra;
-    ra = rb;
-    rb = t;
-  }
-  uint lo = ranges[k].begin, hi = ranges[k].end;
-  for (uint step = 0u; step < SVA_MAX_SEARCH_STEPS; ++step) {
-    if (lo >= hi) break;
-    uint mid = (lo + hi) >> 1;
-    uint ma = entry_a_at(mid);
-    if (ma < ra || (ma == ra && entry_b_at(mid) < rb)) lo = mid + 1u; else hi = mid;
-  }
-  if (lo < ranges[k].end && entry_a_at(lo) == ra && entry_b_at(lo) == rb) return lo;
-  return 0xffffffffu;
-}
-
-// The likelihood units of the match of key item k at entry weight w: 0 when
-// an earlier key item of the pair holds the same map pair (it votes it).
-uint64_t owned_likelihood(uint q, uint k, uint ra, uint rb, float w) {
-  for (uint i = pairs[q].item_begin; i < k; ++i)
-    if (find_entry(i, ra, rb) != 0xffffffffu) return 0ul;
-  uint64_t units = sva_likelihood_units(key_items[k].weight * w);
-  for (uint i = k + 1u; i < pairs[q].item_end; ++i) {
-    uint f = find_entry(i, ra, rb);
-    if (f != 0xffffffffu) units += sva_likelihood_units(key_items[i].weight * entry_weight_at(f));
-  }
-  return units;
-}
+#include "sva_match_owner.h"
 
 SvaPoseGrid pose_grid() {
   return sva_pose_grid(int(pc.grid_kind), pc.translation_bins, pc.translation_min, pc.translation_width,
@@ -159,7 +133,8 @@ void plan_item(uint w, uint lid) {
   uint rb = reversed ? entry_a[e] : entry_b[e];
   uint object = readings[ra].object;
   if (object_active[pairs[q].session * pc.objects + object] == 0u) return;
-  precise float likelihood = sva_likelihood_of_units(owned_likelihood(q, lo, ra, rb, entry_weight[e]));
+  precise float likelihood =
+      sva_likelihood_of_units(sva_owned_likelihood(pairs[q].item_begin, lo, pairs[q].item_end, ra, rb, entry_weight[e]));
   if (!(likelihood > 0.0f) || likelihood < pc.likelihood_cutoff) return;
   SvaPatch a1, b1;
   observed_patches(q, a1, b1);

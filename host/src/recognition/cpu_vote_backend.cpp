@@ -41,18 +41,30 @@ struct KeyRange {
   bool reversed;  // the entries' ends are swapped to match the observed pair (PairKeyWeight::reversed)
 };
 
-// The entry of map pair (ra, rb) in [begin, end) (sorted by (a, b)), or `end`.
-std::uint32_t find_entry(const PairMap& m, std::uint32_t begin, std::uint32_t end, std::uint32_t ra, std::uint32_t rb) {
-  const std::uint32_t last = end;
-  while (begin < end) {
-    const std::uint32_t mid = begin + (end - begin) / 2;
-    if (m.entry_a[mid] < ra || (m.entry_a[mid] == ra && m.entry_b[mid] < rb))
-      begin = mid + 1;
-    else
-      end = mid;
-  }
-  return begin < last && m.entry_a[begin] == ra && m.entry_b[begin] == rb ? begin : last;
-}
+// The owner rule of sva_match_likelihood.h over one observed pair's key
+// ranges: the text of sva_match_owner.h, which match_votes.glsl runs too,
+// compiled as members over the map and the ranges.
+class OwnerRule {
+ public:
+  OwnerRule(const PairMap& map, const std::vector<KeyRange>& ranges) : map_(map), ranges_(ranges) {}
+  using uint = std::uint32_t;
+  using uint64_t = std::uint64_t;
+
+#include "sva_match_owner.h"
+
+ private:
+  uint sva_item_begin(uint k) const { return ranges_[k].begin; }
+  uint sva_item_end(uint k) const { return ranges_[k].end; }
+  uint sva_item_reversed(uint k) const { return ranges_[k].reversed ? 1u : 0u; }
+  float sva_item_weight(uint k) const { return ranges_[k].weight; }
+  uint sva_entry_a(uint e) const { return map_.entry_a[e]; }
+  uint sva_entry_b(uint e) const { return map_.entry_b[e]; }
+  float sva_entry_weight(uint e) const { return map_.entry_weight[e]; }
+  static uint64_t sva_likelihood_units(float w) { return vote_math::sva_likelihood_units(w); }
+
+  const PairMap& map_;
+  const std::vector<KeyRange>& ranges_;
+};
 
 class CpuVoteBackend final : public VoteBackend {
  public:
@@ -141,32 +153,12 @@ class CpuVoteBackend final : public VoteBackend {
     return ranges;
   }
 
-  // The entry holding the map pair whose ends match the observed pair's as
-  // (ra, rb) under range r, or r.end.
-  std::uint32_t find_oriented(const KeyRange& r, std::uint32_t ra, std::uint32_t rb) const {
-    return r.reversed ? find_entry(map_, r.begin, r.end, rb, ra) : find_entry(map_, r.begin, r.end, ra, rb);
-  }
-
-  // The likelihood units of the map pair (ra, rb) (ra matched to the observed
-  // pair's first reading) found first under ranges[j] with weight w, or 0 when
-  // an earlier key holds it too (it votes there; sva_match_likelihood.h).
-  std::uint64_t owned_likelihood(const std::vector<KeyRange>& ranges, std::size_t j, std::uint32_t ra, std::uint32_t rb,
-                                 float w) const {
-    for (std::size_t i = 0; i < j; ++i)
-      if (find_oriented(ranges[i], ra, rb) != ranges[i].end) return 0;
-    std::uint64_t units = vote_math::sva_likelihood_units(ranges[j].weight * w);
-    for (std::size_t i = j + 1; i < ranges.size(); ++i) {
-      const std::uint32_t f = find_oriented(ranges[i], ra, rb);
-      if (f != ranges[i].end) units += vote_math::sva_likelihood_units(ranges[i].weight * map_.entry_weight[f]);
-    }
-    return units;
-  }
-
   void vote_pair(const VoteBatch& batch, const PairQuery& q, BinAccumulator& acc, PairStats* out) const {
     const SvaPatch a1 = patch_of(q.a), b1 = patch_of(q.b);
     const std::uint8_t* active =
         batch.object_active.empty() ? nullptr : batch.object_active.data() + std::size_t{q.session} * objects_;
     const std::vector<KeyRange> ranges = key_ranges(batch, q);
+    OwnerRule owner(map_, ranges);  // the shared text's functions are not const members
     for (std::size_t j = 0; j < ranges.size(); ++j)
       for (std::uint32_t e = ranges[j].begin; e < ranges[j].end; ++e) {
         if ((e & 1023u) == 0) util::throw_if_interrupted();
@@ -174,8 +166,8 @@ class CpuVoteBackend final : public VoteBackend {
         if (active && !active[object]) continue;
         const std::uint32_t ra = ranges[j].reversed ? map_.entry_b[e] : map_.entry_a[e];
         const std::uint32_t rb = ranges[j].reversed ? map_.entry_a[e] : map_.entry_b[e];
-        const float likelihood =
-            vote_math::sva_likelihood_of_units(owned_likelihood(ranges, j, ra, rb, map_.entry_weight[e]));
+        const float likelihood = vote_math::sva_likelihood_of_units(owner.sva_owned_likelihood(
+            0, static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(ranges.size()), ra, rb, map_.entry_weight[e]));
         if (!(likelihood > 0.0f) || likelihood < settings_.likelihood_cutoff) continue;
         vote_match(a1, b1, ra, rb, object, likelihood, acc, out);
       }

@@ -108,7 +108,7 @@ TEST_CASE("the shared vote math divides and takes roots only through sva_div and
   if (!std::filesystem::is_directory(kShaderInclude))
     sva::test::skip("no source tree here (" + kShaderInclude.string() + ")");
   for (const char* name : {"sva_fast_math.h", "sva_quaternion.h", "sva_alignment.h", "sva_pose_bins.h",
-                           "sva_beta_sampling.h", "sva_match_likelihood.h", "sva_vote_math.h"}) {
+                           "sva_beta_sampling.h", "sva_match_likelihood.h", "sva_match_owner.h", "sva_vote_math.h"}) {
     std::ifstream in(kShaderInclude / name);
     REQUIRE(in);
     std::string line;

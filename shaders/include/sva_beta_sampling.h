@@ -67,14 +67,28 @@ SVA_FN float sva_beta_weight(SvaBetaPlan p, int i) {
   return sva_exp_neg(-0.5f * z * z);
 }
 
-// Sum of the weights of all n samples: votes are normalised per match.
-SVA_FN float sva_beta_weight_sum(SvaBetaPlan p) {
+// The weights of all n samples into w, and their sum (votes are normalised
+// per match), added in sample order. The CPU keeps the weights for its votes;
+// the GPU only needs the sum (sva_beta_weight_sum; the compiler drops the
+// unread array) and recomputes each weight where the sample is voted.
+#ifdef __cplusplus
+#define SVA_OUT_WEIGHTS(name) float (&name)[SVA_MAX_BETA_SAMPLES]
+#else
+#define SVA_OUT_WEIGHTS(name) out float name[SVA_MAX_BETA_SAMPLES]
+#endif
+SVA_FN float sva_beta_weights(SvaBetaPlan p, SVA_OUT_WEIGHTS(w)) {
   SVA_PRECISE float s = 0.0f;
   for (int i = 0; i < SVA_MAX_BETA_SAMPLES; ++i) {
     if (i >= p.n) break;
-    s = s + sva_beta_weight(p, i);
+    w[i] = sva_beta_weight(p, i);
+    s = s + w[i];
   }
   return s;
+}
+
+SVA_FN float sva_beta_weight_sum(SvaBetaPlan p) {
+  float w[SVA_MAX_BETA_SAMPLES];
+  return sva_beta_weights(p, w);
 }
 
 #endif

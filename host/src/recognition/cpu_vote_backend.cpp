@@ -180,16 +180,11 @@ class CpuVoteBackend final : public VoteBackend {
     const vote_math::SvaBetaPlan plan = vote_math::sva_beta_plan(al, grid_);
     if (plan.n == 0) return;
     ++out->matches;
-    // The weights once (the sum in sva_beta_weight_sum's order), then the
+    // The weights once (sva_beta_weights, the GPU's text for the sum), then the
     // samples' votes in a loop of independent iterations, which the CPU
     // overlaps (the polynomials are latency-bound), then their insertion.
     float weight[SVA_MAX_BETA_SAMPLES];
-    float sum = 0.0f;
-    for (int s = 0; s < plan.n; ++s) {
-      weight[s] = vote_math::sva_beta_weight(plan, s);
-      sum = sum + weight[s];
-    }
-    const float scale = vote_math::sva_vote_scale(likelihood, sum);
+    const float scale = vote_math::sva_vote_scale(likelihood, vote_math::sva_beta_weights(plan, weight));
     vote_math::SvaVote votes[SVA_MAX_BETA_SAMPLES];
     for (int s = 0; s < plan.n; ++s) votes[s] = vote_math::sva_vote(al, plan, grid_, object, weight[s] * scale, s);
     // Neighbouring samples often share a bin (they are half a bin apart): a

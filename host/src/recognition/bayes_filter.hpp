@@ -11,6 +11,7 @@
 
 #include "map/pair_map.hpp"
 #include "recognition/belief.hpp"
+#include "recognition/estimate.hpp"
 #include "recognition/observed_reading.hpp"
 #include "recognition/pose_space.hpp"
 #include "recognition/vote_backend.hpp"

@@ -10,7 +10,7 @@
 // belief can live wherever its backend folds (host memory for the CPU
 // reference, device memory for Vulkan) and every backend answers alike:
 // BeliefState is the interface, `Belief` the CPU reference, and the estimate
-// is computed once, here, from a BeliefState's reductions.
+// is computed once, from a BeliefState's reductions (recognition/estimate.hpp).
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -23,23 +23,6 @@
 namespace sva {
 
 struct PairVotes;
-
-struct BinHypothesis {
-  std::uint64_t key = 0;
-  std::uint32_t object = 0;
-  RigidPose pose;          // bin centre
-  double probability = 0;  // posterior mass of the bin
-};
-
-struct BeliefEstimate {
-  std::uint32_t object = 0;
-  std::vector<double> object_probability;  // sums to 1
-  bool pose_valid = false;                 // the best object has a touched bin
-  std::uint64_t best_key = 0;
-  RigidPose pose;      // refined below the bin size: per-axis parabolic peak of the log-belief around the best bin
-  RigidPose bin_pose;  // centre of the best bin
-  std::vector<BinHypothesis> top;
-};
 
 // A touched bin and its offset in belief units (2^32 per bit of evidence).
 struct BinOffset {
@@ -72,12 +55,6 @@ class BeliefState {
   // Every touched bin, in key order (tests and inspection; costs a full read-out).
   virtual std::vector<BinOffset> table() const = 0;
 };
-
-// Posterior per object from the reductions (untouched bins at the baseline).
-std::vector<double> object_probability(const BeliefSummary& summary, const PoseSpace& space);
-// The estimate of any backend's belief: best object, its best bin refined
-// below the bin size, and the top-k bins over all objects.
-BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::size_t top_k);
 
 // The CPU reference belief.
 class Belief final : public BeliefState {

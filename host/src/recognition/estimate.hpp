@@ -1,0 +1,38 @@
+#pragma once
+// The estimate (DESIGN 4): from any backend's belief reductions, the posterior
+// per object, the best object's best bin refined below the bin size, and the
+// top-k bins over all objects. Computed once, here, for every backend.
+#include <cstdint>
+#include <vector>
+
+#include <sva/pose.hpp>
+
+#include "recognition/belief.hpp"
+#include "recognition/pose_space.hpp"
+
+namespace sva {
+
+struct BinHypothesis {
+  std::uint64_t key = 0;
+  std::uint32_t object = 0;
+  RigidPose pose;          // bin centre
+  double probability = 0;  // posterior mass of the bin
+};
+
+struct BeliefEstimate {
+  std::uint32_t object = 0;
+  std::vector<double> object_probability;  // sums to 1
+  bool pose_valid = false;                 // the best object has a touched bin
+  std::uint64_t best_key = 0;
+  RigidPose pose;      // refined below the bin size: per-axis parabolic peak of the log-belief around the best bin
+  RigidPose bin_pose;  // centre of the best bin
+  std::vector<BinHypothesis> top;
+};
+
+// Posterior per object from the reductions (untouched bins at the baseline).
+std::vector<double> object_probability(const BeliefSummary& summary, const PoseSpace& space);
+// The estimate of any backend's belief: best object, its best bin refined
+// below the bin size, and the top-k bins over all objects.
+BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::size_t top_k);
+
+}  // namespace sva

@@ -7,10 +7,15 @@
 //           the session's table (a full table raises the session's overflow
 //           flag: the host grows that table and folds the session again);
 //  PAIR_LOG: per pair, the log2(total eps) that all its bins subtract;
-//  ADD:     add the slot's term to the reserved bin, and clear the slot, so
-//           that the next update finds the vote table empty without a fill
-//           of the whole table. Integer atomics, so the order of the
-//           additions does not change the sums.
+//  ADD:     add the slot's term to the reserved bin (integer atomics, so
+//           the order of the additions does not change the sums), and keep
+//           the bin's table slot in the vote slot for the passes below;
+//  MAX, RESET, BEST: keep the session's estimate state current from the
+//           bins this fold raised (offsets only grow, so nothing else can
+//           change it): the maximum, each object's best offset and smallest
+//           key at it, the band list; BEST clears the vote slot, so that the
+//           next update finds the vote table empty without a fill of the
+//           whole table.
 // The passes run in the votes' submission: when the votes overflowed their
 // table (vote_overflow), every pass does nothing and the host runs all again.
 // Sessions whose `fold` is 0 are skipped (a rerun after a growth folds only
@@ -51,11 +56,37 @@ void flush_run() {
   run_inserted = 0u;
 }
 
-// Only this invocation reads slot i in the ADD pass; the next update's votes
+// Only this invocation reads slot i in the BEST pass; the next update's votes
 // find it empty.
 void clear_slot(uint i) {
   vote_key[i] = SVA_HASH_EMPTY_KEY;
   vote_sum[i] = 0l;
+}
+
+uint64_t band_width() { return uint64_t(pc.band_width_lo) | (uint64_t(pc.band_width_hi) << 32); }
+
+SvaWords session_state(uint s) { return SvaWords(sva_address(sessions[s].state_lo, sessions[s].state_hi)); }
+
+// MAX and BEST, for a slot whose ADD pass ran: the bin's table slot is in the vote slot.
+void track_slot(uint i, uint64_t bin, uint s) {
+  uint capacity = sessions[s].capacity;
+  uint slot = uint(vote_sum[i]);
+  uint64_t offset = sva_table_offsets(sessions[s].table_lo, sessions[s].table_hi, capacity).w[slot];
+  uint object = uint(bin >> pc.object_shift);
+  SvaWords state = session_state(s);
+  uint best = sva_state_object(SVA_STATE_BEST_OFFSET, pc.objects, object);
+  if (pc.pass == SVA_FOLD_MAX) {
+    // A plain read first: the words only grow, so a stale value only lets more through.
+    if (offset > state.w[SVA_STATE_MAX]) atomicMax(state.w[SVA_STATE_MAX], offset);
+    if (offset > state.w[best] && atomicMax(state.w[best], offset) < offset)
+      state.w[sva_state_object(SVA_STATE_RAISED, pc.objects, object)] = 1ul;
+    return;
+  }
+  if (offset == state.w[best]) atomicMin(state.w[sva_state_object(SVA_STATE_BEST_KEY, pc.objects, object)], bin);
+  if (state.w[SVA_STATE_MAX] - offset < band_width())
+    sva_band_join(state, sva_table_marks(sessions[s].table_lo, sessions[s].table_hi, capacity),
+                  SvaWords32(sva_address(sessions[s].band_lo, sessions[s].band_hi)), sessions[s].band_capacity, slot);
+  clear_slot(i);
 }
 
 void fold_slot(uint i) {
@@ -63,7 +94,7 @@ void fold_slot(uint i) {
   uint64_t key = vote_key[i];
   if (key == SVA_HASH_EMPTY_KEY) return;
   int64_t mass = vote_sum[i];
-  if (mass <= 0l) {  // the scatter adds positive masses only; kept for safety
+  if (mass <= 0l && pc.pass <= SVA_FOLD_ADD) {  // the scatter adds positive masses only; kept for safety
     if (pc.pass == SVA_FOLD_ADD) clear_slot(i);
     return;
   }
@@ -83,10 +114,17 @@ void fold_slot(uint i) {
     bool inserted;
     uint slot = sva_table_reserve(keys, capacity, bin, inserted);
     if (slot == capacity) atomicOr(status[s].overflow, 1u);
-    else if (inserted) ++run_inserted;
+    else if (inserted) {
+      ++run_inserted;
+      atomicAdd(session_state(s).w[sva_state_object(SVA_STATE_TOUCHED, pc.objects, uint(bin >> pc.object_shift))], 1ul);
+    }
     return;
   }
   if (status[s].overflow != 0u) return;  // the session folds again after its table grows
+  if (pc.pass != SVA_FOLD_ADD) {
+    track_slot(i, bin, s);
+    return;
+  }
   uint slot = sva_table_find(keys, capacity, bin);
   if (slot == capacity) {
     atomicOr(status[s].missing, 1u);
@@ -98,7 +136,19 @@ void fold_slot(uint i) {
   // fold_count 2: both orders of Eq 5 cast the same votes, so the term counts twice.
   atomicAdd(offsets.w[slot], sva_fold_units_given(uint64_t(mass), pair_total[q], eps_units, floor_log) *
                                  uint64_t(pairs[q].fold_count));
-  clear_slot(i);
+  vote_sum[i] = int64_t(slot);  // for MAX and BEST: the mass is spent
+}
+
+// Per (session, object): an object whose best offset rose forgets its best
+// key; BEST finds the smallest key at the new offset among the raised bins.
+void reset_object(uint i) {
+  uint s = i / max(pc.objects, 1u), object = i % max(pc.objects, 1u);
+  if (s >= pc.sessions || sessions[s].fold == 0u || status[s].overflow != 0u) return;
+  SvaWords state = session_state(s);
+  uint raised = sva_state_object(SVA_STATE_RAISED, pc.objects, object);
+  if (state.w[raised] == 0ul) return;
+  state.w[raised] = 0ul;
+  state.w[sva_state_object(SVA_STATE_BEST_KEY, pc.objects, object)] = SVA_HASH_EMPTY_KEY;
 }
 
 void main() {
@@ -109,6 +159,10 @@ void main() {
       uint64_t eps_units = uint64_t(pc.eps_lo) | (uint64_t(pc.eps_hi) << 32);
       pair_total[pc.pairs + q] = sva_floor_log(pair_total[q], eps_units);
     }
+    return;
+  }
+  if (pc.pass == SVA_FOLD_RESET) {
+    reset_object(sva_flat_index());
     return;
   }
   for (uint k = 0u; k < SVA_SLOTS_PER_INVOCATION; ++k) fold_slot(sva_table_slot(k));

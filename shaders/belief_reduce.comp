@@ -1,14 +1,19 @@
 #version 460
-// The estimate's reductions over one session's belief table, one invocation
-// per slot, in three passes with the same integer results as the CPU
-// reference's (host/src/recognition/belief.cpp):
-//  MAX:    the largest offset M, and per object the touched bins and the
-//          largest offset;
-//  MASS:   per object the sum of 2^(offset - M) (sva_exp2_neg_units), the
-//          smallest bin key holding the object's largest offset, and a
-//          histogram of M - offset for choosing the top-k candidates;
-//  SELECT: the bins whose distance bucket is at most select_bucket, appended
-//          to the candidate list (the host sorts the few it gets).
+// The estimate's passes over one session's band list: the bins within the
+// band width of the maximum M, the only ones whose mass is not 0. The fold
+// keeps M, the touched counts and the best bins current (belief_fold.comp),
+// so no pass visits every slot of the belief table, except REBUILD, which
+// the host runs only after the table grew or the list ran out of room.
+//  MASS:    per band entry of the current side: a bin still in the band adds
+//           sva_exp2_neg_units(M - offset) to its object's mass and counts in
+//           the histogram of distances below M (top-k), and moves to the other
+//           side; a bin that fell out of the band loses its mark;
+//  FLIP:    one invocation: the other side becomes the current one;
+//  SELECT:  the band's bins whose distance bucket is at most select_bucket,
+//           appended to the candidate list (the host sorts the few it gets);
+//  REBUILD: per table slot: every bin in the band joins an empty list.
+// Integer sums, so the results equal the CPU reference's
+// (host/src/recognition/belief.cpp) whatever the order.
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
 #extension GL_EXT_buffer_reference : require
@@ -21,43 +26,73 @@
 
 layout(local_size_x = SVA_WORKGROUP_SIZE) in;
 
-layout(std430, set = 0, binding = 0) buffer Summary { uint64_t summary[]; };
-layout(std430, set = 0, binding = 1) buffer Candidates { uint64_t candidate[]; };  // (key, offset) pairs
+layout(std430, set = 0, binding = 0) buffer Candidates { uint64_t candidate[]; };  // (key, offset) pairs
 
 layout(push_constant) uniform Push { SvaReduceParams pc; };
 
-void reduce_slot(uint i) {
-  if (i >= pc.capacity) return;
-  uint64_t key = sva_table_keys(pc.table_lo, pc.table_hi).w[i];
-  if (key == SVA_HASH_EMPTY_KEY) return;
-  uint64_t offset = sva_table_offsets(pc.table_lo, pc.table_hi, pc.capacity).w[i];
+SvaWords state() { return SvaWords(sva_address(pc.state_lo, pc.state_hi)); }
+SvaWords32 band() { return SvaWords32(sva_address(pc.band_lo, pc.band_hi)); }
+SvaWords32 marks() { return sva_table_marks(pc.table_lo, pc.table_hi, pc.capacity); }
+uint64_t band_width() { return uint64_t(pc.band_width_lo) | (uint64_t(pc.band_width_hi) << 32); }
+
+// Entry i of the current side of the band list, or capacity when past its end.
+uint band_entry(uint i) {
+  uint side = uint(state().w[SVA_STATE_BAND_SIDE]);
+  uint64_t count = min(state().w[SVA_STATE_BAND_COUNT], uint64_t(pc.band_capacity));
+  return uint64_t(i) < count ? band().w[side * pc.band_capacity + i] : pc.capacity;
+}
+
+void mass_entry(uint i) {
+  uint slot = band_entry(i);
+  if (slot == pc.capacity) return;
+  SvaWords st = state();
+  uint64_t key = sva_table_keys(pc.table_lo, pc.table_hi).w[slot];
+  uint64_t d = st.w[SVA_STATE_MAX] - sva_table_offsets(pc.table_lo, pc.table_hi, pc.capacity).w[slot];
+  if (d >= band_width()) {
+    atomicAnd(marks().w[slot >> 5], ~(1u << (slot & 31u)));
+    return;
+  }
   uint object = uint(key >> pc.object_shift);
-  uint touched = SVA_SUMMARY_OBJECTS + object;
-  uint mass = touched + pc.objects;
-  uint best_offset = mass + pc.objects;
-  uint best_key = best_offset + pc.objects;
-  if (pc.pass == SVA_REDUCE_MAX) {
-    atomicMax(summary[SVA_SUMMARY_MAX], offset);
-    atomicAdd(summary[touched], 1ul);
-    atomicMax(summary[best_offset], offset);
-    return;
-  }
-  uint64_t d = summary[SVA_SUMMARY_MAX] - offset;
-  uint bucket = sva_distance_bucket(d);
-  if (pc.pass == SVA_REDUCE_MASS) {
-    atomicAdd(summary[mass], sva_exp2_neg_units(d, pc.mass_bits));
-    if (offset == summary[best_offset]) atomicMin(summary[best_key], key);
-    atomicAdd(summary[SVA_SUMMARY_OBJECTS + 4u * pc.objects + bucket], 1ul);
-    return;
-  }
-  if (bucket > pc.select_bucket) return;
-  uint64_t n = atomicAdd(summary[SVA_SUMMARY_CANDIDATES], 1ul);
+  atomicAdd(st.w[sva_state_object(SVA_STATE_MASS, pc.objects, object)], sva_exp2_neg_units(d, pc.mass_bits));
+  atomicAdd(st.w[sva_state_bucket(pc.objects, sva_distance_bucket(d))], 1ul);
+  uint other = 1u - uint(st.w[SVA_STATE_BAND_SIDE]);
+  uint n = uint(atomicAdd(st.w[SVA_STATE_NEXT_COUNT], 1ul));  // <= the current side's entries: fits
+  band().w[other * pc.band_capacity + n] = slot;
+}
+
+void select_entry(uint i) {
+  uint slot = band_entry(i);
+  if (slot == pc.capacity) return;
+  SvaWords st = state();
+  uint64_t offset = sva_table_offsets(pc.table_lo, pc.table_hi, pc.capacity).w[slot];
+  if (sva_distance_bucket(st.w[SVA_STATE_MAX] - offset) > pc.select_bucket) return;
+  uint64_t n = atomicAdd(st.w[SVA_STATE_CANDIDATES], 1ul);
   if (n < uint64_t(pc.select_capacity)) {
-    candidate[2u * uint(n)] = key;
+    candidate[2u * uint(n)] = sva_table_keys(pc.table_lo, pc.table_hi).w[slot];
     candidate[2u * uint(n) + 1u] = offset;
   }
 }
 
+void rebuild_slot(uint slot) {
+  if (slot >= pc.capacity) return;
+  if (sva_table_keys(pc.table_lo, pc.table_hi).w[slot] == SVA_HASH_EMPTY_KEY) return;
+  uint64_t offset = sva_table_offsets(pc.table_lo, pc.table_hi, pc.capacity).w[slot];
+  if (state().w[SVA_STATE_MAX] - offset < band_width()) sva_band_join(state(), marks(), band(), pc.band_capacity, slot);
+}
+
 void main() {
-  for (uint k = 0u; k < SVA_SLOTS_PER_INVOCATION; ++k) reduce_slot(sva_table_slot(k));
+  if (pc.pass == SVA_REDUCE_FLIP) {
+    if (sva_flat_index() != 0u) return;
+    SvaWords st = state();
+    st.w[SVA_STATE_BAND_SIDE] = 1ul - st.w[SVA_STATE_BAND_SIDE];
+    st.w[SVA_STATE_BAND_COUNT] = st.w[SVA_STATE_NEXT_COUNT];
+    st.w[SVA_STATE_NEXT_COUNT] = 0ul;
+    return;
+  }
+  for (uint k = 0u; k < SVA_SLOTS_PER_INVOCATION; ++k) {
+    uint i = sva_table_slot(k);
+    if (pc.pass == SVA_REDUCE_MASS) mass_entry(i);
+    else if (pc.pass == SVA_REDUCE_SELECT) select_entry(i);
+    else rebuild_slot(i);
+  }
 }

@@ -1,17 +1,49 @@
 // GLSL only: a session's belief table on the device, reached through its
 // device address (GL_EXT_buffer_reference) because it grows past what one
 // binding may span. Layout: `capacity` keys (uint64, SVA_HASH_EMPTY_KEY when
-// free) followed by `capacity` offsets (uint64 belief units); capacity is a
-// power of two. Keys are linear pose-bin indices (object included), whose
+// free), `capacity` offsets (uint64 belief units), then capacity / 32 words
+// of band marks (bit set: the slot is on the band list); capacity is a power
+// of two. Keys are linear pose-bin indices (object included), whose
 // order is the packed keys' order. Open addressing with the vote table's hash
 // and probe bound. The includer enables GL_EXT_buffer_reference and
 // GL_EXT_shader_explicit_arithmetic_types_int64 and includes sva_shared.h and
 // sva_hash.h.
 layout(buffer_reference, std430, buffer_reference_align = 8) buffer SvaWords { uint64_t w[]; };
 
-SvaWords sva_table_keys(uint lo, uint hi) { return SvaWords(uint64_t(lo) | (uint64_t(hi) << 32)); }
+layout(buffer_reference, std430, buffer_reference_align = 4) buffer SvaWords32 { uint w[]; };
+
+uint64_t sva_address(uint lo, uint hi) { return uint64_t(lo) | (uint64_t(hi) << 32); }
+SvaWords sva_table_keys(uint lo, uint hi) { return SvaWords(sva_address(lo, hi)); }
 SvaWords sva_table_offsets(uint lo, uint hi, uint capacity) {
-  return SvaWords((uint64_t(lo) | (uint64_t(hi) << 32)) + uint64_t(capacity) * 8ul);
+  return SvaWords(sva_address(lo, hi) + uint64_t(capacity) * 8ul);
+}
+SvaWords32 sva_table_marks(uint lo, uint hi, uint capacity) {
+  return SvaWords32(sva_address(lo, hi) + uint64_t(capacity) * 16ul);
+}
+
+// Word of per-object array `a` (0 touched, 1 best offset, 2 best key, 3
+// raised, 4 mass) of a session's estimate state, and of histogram bucket b.
+uint sva_state_object(uint a, uint objects, uint object) { return SVA_STATE_OBJECTS + a * objects + object; }
+uint sva_state_bucket(uint objects, uint b) { return SVA_STATE_OBJECTS + SVA_STATE_ARRAYS * objects + b; }
+#define SVA_STATE_TOUCHED 0u
+#define SVA_STATE_BEST_OFFSET 1u
+#define SVA_STATE_BEST_KEY 2u
+#define SVA_STATE_RAISED 3u
+#define SVA_STATE_MASS 4u
+
+// Puts table slot `slot` on the band list unless its mark says it is there:
+// one append per bin however many invocations find it. A full side raises
+// BAND_LOST (the host rebuilds the list larger before the estimate reads it).
+void sva_band_join(SvaWords state, SvaWords32 marks, SvaWords32 band, uint band_capacity, uint slot) {
+  uint bit = 1u << (slot & 31u);
+  if ((marks.w[slot >> 5] & bit) != 0u) return;
+  if ((atomicOr(marks.w[slot >> 5], bit) & bit) != 0u) return;
+  uint64_t n = atomicAdd(state.w[SVA_STATE_BAND_COUNT], 1ul);
+  if (n >= uint64_t(band_capacity)) {
+    state.w[SVA_STATE_BAND_LOST] = 1ul;
+    return;
+  }
+  band.w[uint(state.w[SVA_STATE_BAND_SIDE]) * band_capacity + uint(n)] = slot;
 }
 
 // The slot holding `key`, inserting it when absent (`inserted` tells); capacity

@@ -92,12 +92,17 @@ struct SvaMatchParams {
 #define SVA_PAIR_COUNTERS 4u  // matches, votes inside, votes outside, votes inside of zero mass
 
 // One session of a fold: its belief table (device address of `capacity` keys
-// followed by `capacity` offsets, capacity a power of two) and whether this
-// pass folds into it (0: the session's pairs only add to their totals).
+// followed by `capacity` offsets and capacity / 32 band marks, capacity a
+// power of two), its estimate state (SVA_STATE_*) and band list, and whether
+// this pass folds into it (0: the session's pairs only add to their totals).
 struct SvaGpuSession {
   uint table_lo, table_hi;
   uint capacity;
   uint fold;
+  uint state_lo, state_hi;
+  uint band_lo, band_hi;
+  uint band_capacity;  // entries per side of the band list
+  uint pad0;
 };
 
 // What a fold pass reports per session.
@@ -110,15 +115,41 @@ struct SvaGpuSessionStatus {
 
 // Push constants of belief_fold.comp.
 struct SvaFoldParams {
-  uint slots;             // vote-table slots
-  uint pair_shift;        // vote key = pair << pair_shift | linear bin
-  uint eps_lo, eps_hi;    // sva::belief_math::eps_units
-  uint pass;              // SVA_FOLD_RESERVE or SVA_FOLD_ADD
-  uint pairs;             // pairs of the batch (SVA_FOLD_PAIR_LOG)
+  uint slots;                     // vote-table slots
+  uint pair_shift;                // vote key = pair << pair_shift | linear bin
+  uint eps_lo, eps_hi;            // sva::belief_math::eps_units
+  uint pass;                      // SVA_FOLD_*
+  uint pairs;                     // pairs of the batch (SVA_FOLD_PAIR_LOG)
+  uint sessions;                  // sessions of the batch (SVA_FOLD_RESET)
+  uint objects;
+  uint object_shift;              // object = linear bin >> object_shift
+  uint band_width_lo, band_width_hi;  // a bin is in the band when M - offset < band width (belief units)
 };
 #define SVA_FOLD_RESERVE 0u
 #define SVA_FOLD_PAIR_LOG 1u  // per pair: log2(total eps), the term every bin of the pair subtracts
 #define SVA_FOLD_ADD 2u
+#define SVA_FOLD_MAX 3u    // the maximum and each object's best offset, from the bins this fold raised
+#define SVA_FOLD_RESET 4u  // per object whose best offset rose: forget its best key
+#define SVA_FOLD_BEST 5u   // the smallest key at each best offset; bins new to the band join its list
+
+// A session's estimate state (uint64 words, device memory), kept current by
+// the fold because offsets only grow: the maximum M, each object's touched
+// bins, best offset and smallest key at it, and the *band* list of the bins
+// within the band width of M (the only ones whose mass 2^(offset - M) at
+// mass_bits is not 0, see recognition/belief.hpp). The band list has two
+// sides: the estimate compacts the current side into the other, dropping
+// bins that fell out of the band, then flips. Then per object, written by
+// the estimate: the mass; and the histogram of distances below M of the
+// band's bins (bucket = sva_distance_bucket(d)).
+#define SVA_STATE_MAX 0
+#define SVA_STATE_BAND_COUNT 1   // entries on the current side (may exceed its capacity: see BAND_LOST)
+#define SVA_STATE_BAND_SIDE 2    // 0 or 1
+#define SVA_STATE_NEXT_COUNT 3   // entries on the other side, during the estimate's compaction
+#define SVA_STATE_BAND_LOST 4    // 1: an append found the list full; the host rebuilds it larger
+#define SVA_STATE_CANDIDATES 5   // top-k candidates found by SVA_REDUCE_SELECT
+#define SVA_STATE_OBJECTS 6      // then touched[o], best_offset[o], best_key[o], raised[o], mass[o]
+#define SVA_STATE_ARRAYS 5
+#define SVA_BELIEF_BUCKETS 1025  // 0 for d = 0, then 16 per bit of the highest set bit of d
 
 // Push constants of belief_rehash.comp: move every key of the old table into the new one.
 struct SvaRehashParams {
@@ -126,27 +157,26 @@ struct SvaRehashParams {
   uint new_lo, new_hi, new_capacity;
 };
 
-// Push constants of belief_reduce.comp, one session's table per dispatch.
+// Push constants of belief_reduce.comp, one session per dispatch: the
+// estimate's passes over the session's band list (and, to rebuild that list,
+// over its table).
 struct SvaReduceParams {
   uint table_lo, table_hi, capacity;
-  uint pass;                   // SVA_REDUCE_MAX, SVA_REDUCE_MASS or SVA_REDUCE_SELECT
+  uint pass;                   // SVA_REDUCE_*
   uint objects;
   uint mass_bits;
   uint object_shift;           // object = linear bin >> object_shift
   uint select_bucket;          // SELECT: bins whose distance bucket is <= this
   uint select_capacity;        // SELECT: room in the candidate list
+  uint state_lo, state_hi;     // SVA_STATE_* words
+  uint band_lo, band_hi;       // the band list: two sides of band_capacity slot indices
+  uint band_capacity;
+  uint band_width_lo, band_width_hi;
 };
-#define SVA_REDUCE_MAX 0u
-#define SVA_REDUCE_MASS 1u
-#define SVA_REDUCE_SELECT 2u
-
-// The summary buffer of belief_reduce.comp (uint64 words): the maximum, the
-// candidate count, four per-object arrays, then the histogram of distances
-// below the maximum (bucket = SVA_BELIEF_BUCKET(d), see sva_belief_table.glsl).
-#define SVA_SUMMARY_MAX 0
-#define SVA_SUMMARY_CANDIDATES 1
-#define SVA_SUMMARY_OBJECTS 2  // then touched[o], touched_mass[o], best_offset[o], best_key[o], each `objects` long
-#define SVA_BELIEF_BUCKETS 1025  // 0 for d = 0, then 16 per bit of the highest set bit of d
+#define SVA_REDUCE_MASS 0u     // per band entry: object masses, distance histogram, compaction
+#define SVA_REDUCE_FLIP 1u     // one invocation: the compacted side becomes the current one
+#define SVA_REDUCE_SELECT 2u   // the band's bins up to select_bucket into the candidate list
+#define SVA_REDUCE_REBUILD 3u  // per table slot: the band list from scratch (after a growth or a lost append)
 
 // Push constants of belief_lookup.comp.
 struct SvaLookupParams {

@@ -6,6 +6,7 @@
 
 #include "recognition/fixture.hpp"
 #include "vk_test_support.hpp"
+#include "vulkan/gpu_belief.hpp"
 
 using namespace sva;
 
@@ -142,4 +143,54 @@ TEST_CASE("GPU beliefs: an empty belief and a misuse are reported, not crashed")
   FilterOptions bad;
   bad.eps = 2.0;
   CHECK_THROWS_WITH(BayesFilter(*w.map, space, bad, *gpu), Catch::Contains("eps"));
+}
+
+TEST_CASE("GPU beliefs: the band list kept by the fold gives the CPU reference's estimate after every update") {
+  // Estimates between updates compact the band list (bins fall out as the
+  // maximum grows); small tables make the fold fill the list (a lost append)
+  // and the tables grow (the list names old slots): both rebuild it.
+  test::WorldSpec spec;
+  auto w = test::make_world(spec);
+  PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
+  VulkanBackendOptions vo;
+  // 64: the tables grow often (each growth rebuilds the list); 2^16: they
+  // never grow, and the list lives on through compactions and lost appends.
+  vo.initial_belief_slots = GENERATE(std::size_t{64}, std::size_t{1} << 16);
+  INFO("initial belief slots " << vo.initial_belief_slots);
+  Twin t(w, space, 2, {}, {}, vo);
+  const RigidPose p0 = test::random_pose(41, 150.0), p1 = test::random_pose(42, 150.0);
+  std::uint64_t last_max = 0;
+  bool max_grew = false;
+  for (int r = 0; r < 14; ++r) {
+    // Session 1 touches object 1 twice in one pose, five times in another,
+    // then in the first again: the first mode falls out of the band, and its
+    // bins come back into it.
+    const auto& o1 = w.objects[1];
+    const bool first_pose = r < 2 || r >= 7;
+    t.add({test::observe(w.objects[0][static_cast<std::size_t>(r * 11 + 2) % w.objects[0].size()], p0),
+           test::observe(o1[static_cast<std::size_t>(r * 3 + 7) % o1.size()], first_pose ? p0 : p1)});
+    if (r % 3 == 2) continue;  // sometimes two folds between estimates
+    INFO("update " << r);
+    t.require_same(0);
+    t.require_same(1);
+    for (std::size_t s = 0; s < 2; ++s) {  // the list holds exactly the bins in the band
+      const auto& g = dynamic_cast<const GpuBelief&>(t.fg[s]->belief());
+      const BeliefState& c = t.fc[s]->belief();
+      const std::uint64_t m = c.summarise().max_offset;
+      std::vector<std::uint64_t> in_band;
+      for (const BinOffset& b : c.table())
+        if (m - b.offset < g.band_width()) in_band.push_back(b.key);
+      CHECK(g.band_keys() == in_band);
+    }
+    const std::uint64_t m = t.fg[0]->belief().summarise().max_offset;
+    max_grew = max_grew || (last_max > 0 && m > last_max);
+    last_max = m;
+  }
+  CHECK(max_grew);
+  const BackendStats st = t.gpu->statistics();
+  if (vo.initial_belief_slots == 64)
+    CHECK(st.band_rebuilds >= 2);
+  else
+    CHECK(st.band_rebuilds == 0);  // compaction alone kept the list
+  CHECK(st.validation_messages == 0);
 }

@@ -24,6 +24,7 @@ struct BackendStats {
   // it (reports print "n/a" then, not "0 bytes").
   std::uint64_t device_bytes = 0;
   std::uint64_t map_device_bytes = 0;
+  unsigned band_rebuilds = 0;  // GPU band lists rebuilt from whole belief tables (after a growth or a full list)
 };
 
 }  // namespace sva

@@ -23,25 +23,54 @@ using gpu::push_bytes;
 // The most slots a table may have (its index is a 32-bit uint in the shaders).
 constexpr std::uint64_t kMaxSlots = std::uint64_t{1} << 31;
 
+std::size_t state_words(std::uint32_t objects) {
+  return SVA_STATE_OBJECTS + SVA_STATE_ARRAYS * std::size_t{objects} + SVA_BELIEF_BUCKETS;
+}
+std::size_t object_word(std::uint32_t array, std::uint32_t objects) {
+  return SVA_STATE_OBJECTS + std::size_t{array} * objects;
+}
+// Per-object arrays of the state (sva_belief_table.glsl).
+constexpr std::uint32_t kTouched = 0, kBestOffset = 1, kBestKey = 2, kMass = 4;
+// Entries per side of a new band list.
+constexpr std::uint32_t kInitialBand = 1 << 12;
+
 }  // namespace
 
 std::uint64_t slot_invocations(std::uint64_t slots) {
   return (slots + SVA_SLOTS_PER_INVOCATION - 1) / SVA_SLOTS_PER_INVOCATION;
 }
 
-GpuBelief::GpuBelief(GpuBeliefKernels& kernels, double eps) : k_(&kernels), eps_units_(belief_math::eps_units(eps)) {
+GpuBelief::GpuBelief(GpuBeliefKernels& kernels, double eps)
+    : k_(&kernels),
+      eps_units_(belief_math::eps_units(eps)),
+      mass_bits_(belief_math::mass_bits(kernels.space->bins_per_object())),
+      // sva_exp2_neg_units(d, mass_bits) is 0 from d = (mass_bits + 1) 2^32 on (as recognition/belief.cpp).
+      band_width_((std::uint64_t{mass_bits_} + 1) << 32) {
   reset();
 }
 
 void GpuBelief::allocate(vk::Buffer& b, std::uint32_t capacity) const {
-  // The device's own memory: only kernels touch a belief (zeroed: keys, then offsets).
-  b = k_->ctx->create_device_buffer(std::size_t{capacity} * 2 * sizeof(std::uint64_t));
-  k_->ctx->run({}, nullptr, {{&b, 0xffffffffu, 0, std::size_t{capacity} * sizeof(std::uint64_t)}});
+  // The device's own memory: only kernels touch a belief. Keys empty, offsets and band marks 0.
+  const std::size_t keys = std::size_t{capacity} * sizeof(std::uint64_t);
+  b = k_->ctx->create_device_buffer(2 * keys + capacity / 32 * sizeof(std::uint32_t));
+  k_->ctx->run({}, nullptr, {{&b, 0xffffffffu, 0, keys}, {&b, 0u, keys, 0}});
 }
 
 void GpuBelief::reset() {
   capacity_ = static_cast<std::uint32_t>(std::bit_ceil(std::max<std::size_t>(k_->initial_slots, 64)));
   allocate(table_, capacity_);
+  const std::uint32_t objects = k_->space->objects();
+  if (state_.size() == 0) state_ = k_->ctx->create_device_buffer(state_words(objects) * sizeof(std::uint64_t));
+  band_capacity_ = std::min<std::uint32_t>(kInitialBand, capacity_);
+  band_ = k_->ctx->create_device_buffer(2 * std::size_t{band_capacity_} * sizeof(std::uint32_t));
+  // Every word 0 but the best keys (none yet: the largest key, so that atomicMin finds the first).
+  const std::size_t best_key = object_word(kBestKey, objects) * sizeof(std::uint64_t);
+  const std::size_t best_key_bytes = std::size_t{objects} * sizeof(std::uint64_t);
+  k_->ctx->run({}, nullptr,
+               {{&state_, 0u, 0, best_key},
+                {&state_, 0xffffffffu, best_key, best_key_bytes},
+                {&state_, 0u, best_key + best_key_bytes, 0}});
+  band_stale_ = false;
   count_ = 0;
   pairs_ = 0;
   summary_cache_.reset();
@@ -73,50 +102,97 @@ void GpuBelief::grow(std::uint64_t slots) {
     if (*status.as<std::uint32_t>() == 0) {
       table_ = std::move(next);
       capacity_ = static_cast<std::uint32_t>(cap);
+      // The band list names slots of the old table; later folds append to it
+      // harmlessly (the rebuild starts it afresh).
+      band_stale_ = true;
       return;
     }
     cap *= 2;  // a probe run too long even at this load: spread further
   }
 }
 
-void GpuBelief::reduce() const {
-  const std::uint32_t objects = k_->space->objects();
-  const std::size_t words = SVA_SUMMARY_OBJECTS + 4 * std::size_t{objects} + SVA_BELIEF_BUCKETS;
-  ensure(*k_->ctx, summary_, words * sizeof(std::uint64_t));
-  auto* w = summary_.as<std::uint64_t>();
-  std::fill(w, w + words, std::uint64_t{0});
-  std::uint64_t* best_key = w + SVA_SUMMARY_OBJECTS + 3 * objects;
-  std::fill(best_key, best_key + objects, ~std::uint64_t{0});
-  ensure(*k_->ctx, candidates_, 2 * sizeof(std::uint64_t));
+gpu::SvaReduceParams GpuBelief::reduce_params(std::uint32_t pass) const {
   gpu::SvaReduceParams p{};
   p.table_lo = lo(table_.device_address());
   p.table_hi = hi(table_.device_address());
   p.capacity = capacity_;
-  p.objects = objects;
-  p.mass_bits = belief_math::mass_bits(k_->space->bins_per_object());
+  p.pass = pass;
+  p.objects = k_->space->objects();
+  p.mass_bits = mass_bits_;
   p.object_shift = k_->bins.object_shift();
-  const vk::Grid g = k_->ctx->grid(slot_invocations(capacity_));
+  p.state_lo = lo(state_.device_address());
+  p.state_hi = hi(state_.device_address());
+  p.band_lo = lo(band_.device_address());
+  p.band_hi = hi(band_.device_address());
+  p.band_capacity = band_capacity_;
+  p.band_width_lo = lo(band_width_);
+  p.band_width_hi = hi(band_width_);
+  return p;
+}
+
+void GpuBelief::run_reduce(const std::vector<std::uint32_t>& passes, std::uint64_t entries,
+                           std::vector<vk::Fill> fills) const {
+  ensure(*k_->ctx, candidates_, 2 * sizeof(std::uint64_t));
   std::vector<vk::Dispatch> ds;
-  for (std::uint32_t pass : {SVA_REDUCE_MAX, SVA_REDUCE_MASS}) {
-    p.pass = pass;
-    vk::Dispatch d{k_->reduce, {&summary_, &candidates_}, push_bytes(p), g.x};
+  for (std::uint32_t pass : passes) {
+    const vk::Grid g = k_->ctx->grid(pass == SVA_REDUCE_FLIP ? 1 : slot_invocations(entries));
+    vk::Dispatch d{k_->reduce, {&candidates_}, push_bytes(reduce_params(pass)), g.x};
     d.groups_y = g.y;
     ds.push_back(std::move(d));
   }
   std::vector<double> ms;
-  k_->ctx->run(ds, &ms);
+  k_->ctx->run(ds, &ms, fills);
   for (double m : ms) k_->kernel_ms += m;
+}
 
+void GpuBelief::rebuild_band(std::uint64_t entries) const {
+  // A side never needs more entries than the table has slots.
+  const std::uint64_t want = std::min<std::uint64_t>(std::bit_ceil(std::max<std::uint64_t>(entries, 64)), capacity_);
+  if (want > band_capacity_ || band_.size() == 0) {
+    band_capacity_ = static_cast<std::uint32_t>(want);
+    band_ = k_->ctx->create_device_buffer(2 * std::size_t{band_capacity_} * sizeof(std::uint32_t));
+  }
+  // Empty list on side 0, no marks, then every bin in the band joins.
+  const std::size_t marks = 2 * std::size_t{capacity_} * sizeof(std::uint64_t);
+  run_reduce({SVA_REDUCE_REBUILD}, capacity_,
+             {{&table_, 0u, marks, 0},
+              {&state_, 0u, SVA_STATE_BAND_COUNT * sizeof(std::uint64_t), 4 * sizeof(std::uint64_t)}});
+  band_stale_ = false;
+  ++k_->band_rebuilds;
+}
+
+void GpuBelief::reduce() const {
+  const std::uint32_t objects = k_->space->objects();
+  const std::size_t words = state_words(objects);
+  std::vector<std::uint64_t> w(words);
+  const std::size_t mass = object_word(kMass, objects) * sizeof(std::uint64_t);
+  for (int attempt = 0;; ++attempt) {
+    if (band_stale_) rebuild_band(band_capacity_);
+    // Masses and histogram from 0, then the passes over the band.
+    run_reduce({SVA_REDUCE_MASS, SVA_REDUCE_FLIP}, band_capacity_,
+               {{&state_, 0u, mass, 0}, {&state_, 0u, SVA_STATE_NEXT_COUNT * sizeof(std::uint64_t), 8}});
+    k_->ctx->download(state_, w.data(), words * sizeof(std::uint64_t));
+    if (w[SVA_STATE_BAND_LOST] == 0) break;
+    // A fold found the list full: what the passes read was incomplete. Rebuild it larger and read again.
+    if (attempt > 0 && band_capacity_ >= capacity_)
+      throw std::logic_error("GPU belief: the band list lost bins at full size");
+    band_stale_ = true;
+    band_capacity_ = std::min<std::uint32_t>(2 * band_capacity_, capacity_);
+    band_ = {};
+  }
   BeliefSummary s;
-  s.max_offset = w[SVA_SUMMARY_MAX];
-  const std::uint64_t* o = w + SVA_SUMMARY_OBJECTS;
-  s.touched.assign(o, o + objects);
-  s.touched_mass.assign(o + objects, o + 2 * objects);
-  s.best_offset.assign(o + 2 * objects, o + 3 * objects);
-  s.best_key.assign(objects, 0);
-  for (std::uint32_t i = 0; i < objects; ++i)
-    if (s.touched[i] > 0) s.best_key[i] = k_->bins.key(best_key[i]);
-  histogram_.assign(o + 4 * objects, o + 4 * objects + SVA_BELIEF_BUCKETS);
+  s.max_offset = w[SVA_STATE_MAX];
+  const auto array = [&](std::uint32_t a) {
+    const std::uint64_t* o = w.data() + object_word(a, objects);
+    return std::vector<std::uint64_t>(o, o + objects);
+  };
+  s.touched = array(kTouched);
+  s.touched_mass = array(kMass);
+  s.best_offset = array(kBestOffset);
+  s.best_key = array(kBestKey);
+  for (std::uint32_t i = 0; i < objects; ++i) s.best_key[i] = s.touched[i] > 0 ? k_->bins.key(s.best_key[i]) : 0;
+  const std::uint64_t* h = w.data() + object_word(SVA_STATE_ARRAYS, objects);
+  histogram_.assign(h, h + SVA_BELIEF_BUCKETS);
   summary_cache_ = std::move(s);
 }
 
@@ -131,7 +207,7 @@ std::vector<BinOffset> GpuBelief::best_bins(std::size_t k) const {
   if (!summary_cache_) reduce();
   if (k == 1) {
     // The best bin overall is the best of the objects' best bins (largest
-    // offset, then smaller key): the reductions already hold it.
+    // offset, then smaller key): the state already holds it.
     const BeliefSummary& s = *summary_cache_;
     BinOffset best;
     bool found = false;
@@ -143,42 +219,37 @@ std::vector<BinOffset> GpuBelief::best_bins(std::size_t k) const {
     }
     return {best};
   }
-  // The smallest bucket bound that holds at least k bins: those bins contain the top k.
+  const auto best_first = [](const BinOffset& a, const BinOffset& b) {
+    return a.offset != b.offset ? a.offset > b.offset : a.key < b.key;
+  };
+  // The smallest bucket bound that holds at least k of the band's bins: those bins contain the top k.
   std::uint32_t bucket = 0;
   std::uint64_t n = 0;
   for (; bucket < SVA_BELIEF_BUCKETS; ++bucket)
     if ((n += histogram_[bucket]) >= k) break;
-  assert(bucket < SVA_BELIEF_BUCKETS);
-  const auto best_first = [](const BinOffset& a, const BinOffset& b) {
-    return a.offset != b.offset ? a.offset > b.offset : a.key < b.key;
-  };
-  if (n * 2 * sizeof(std::uint64_t) > k_->ctx->info().max_storage_buffer_range) {
-    // So many bins tie near the maximum that their list would not fit one
-    // binding: sort the whole table on the host instead (same answer).
+  if (bucket == SVA_BELIEF_BUCKETS || n * 2 * sizeof(std::uint64_t) > k_->ctx->info().max_storage_buffer_range) {
+    // Fewer than k bins in the band (every bin outside it lies below), or so
+    // many tie near the maximum that their list would not fit one binding:
+    // sort the whole table on the host instead (same answer).
     std::vector<BinOffset> all = table();
+    k = std::min(k, all.size());
     std::partial_sort(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(k), all.end(), best_first);
     all.resize(k);
     return all;
   }
   ensure(*k_->ctx, candidates_, n * 2 * sizeof(std::uint64_t));
-  summary_.as<std::uint64_t>()[SVA_SUMMARY_CANDIDATES] = 0;
-  gpu::SvaReduceParams p{};
-  p.table_lo = lo(table_.device_address());
-  p.table_hi = hi(table_.device_address());
-  p.capacity = capacity_;
-  p.pass = SVA_REDUCE_SELECT;
-  p.objects = k_->space->objects();
-  p.mass_bits = belief_math::mass_bits(k_->space->bins_per_object());
-  p.object_shift = k_->bins.object_shift();
+  gpu::SvaReduceParams p = reduce_params(SVA_REDUCE_SELECT);
   p.select_bucket = bucket;
   p.select_capacity = static_cast<std::uint32_t>(n);
-  const vk::Grid g = k_->ctx->grid(slot_invocations(capacity_));
-  vk::Dispatch d{k_->reduce, {&summary_, &candidates_}, push_bytes(p), g.x};
+  const vk::Grid g = k_->ctx->grid(slot_invocations(band_capacity_));
+  vk::Dispatch d{k_->reduce, {&candidates_}, push_bytes(p), g.x};
   d.groups_y = g.y;
   std::vector<double> ms;
-  k_->ctx->run({d}, &ms);
+  k_->ctx->run({d}, &ms, {{&state_, 0u, SVA_STATE_CANDIDATES * sizeof(std::uint64_t), 8}});
   for (double m : ms) k_->kernel_ms += m;
-  if (summary_.as<std::uint64_t>()[SVA_SUMMARY_CANDIDATES] != n)
+  std::uint64_t found = 0;
+  k_->ctx->download(state_, &found, sizeof found, SVA_STATE_CANDIDATES * sizeof(std::uint64_t));
+  if (found != n)
     throw std::logic_error("GPU belief: top-k selection found a different number of bins than its histogram");
   const auto* c = candidates_.as<std::uint64_t>();
   std::vector<BinOffset> out(n);
@@ -214,6 +285,23 @@ std::vector<BinOffset> GpuBelief::table() const {
   for (std::uint32_t i = 0; i < capacity_; ++i)
     if (keys[i] != ~std::uint64_t{0}) out.push_back({k_->bins.key(keys[i]), offsets[i]});
   std::sort(out.begin(), out.end(), [](const BinOffset& a, const BinOffset& b) { return a.key < b.key; });
+  return out;
+}
+
+std::vector<std::uint64_t> GpuBelief::band_keys() const {
+  summary_cache_.reset();
+  reduce();
+  std::uint64_t words[2];  // BAND_COUNT, BAND_SIDE
+  k_->ctx->download(state_, words, sizeof words, SVA_STATE_BAND_COUNT * sizeof(std::uint64_t));
+  std::vector<std::uint32_t> slots(words[0]);
+  if (!slots.empty())
+    k_->ctx->download(band_, slots.data(), slots.size() * sizeof(std::uint32_t),
+                      words[1] * band_capacity_ * sizeof(std::uint32_t));
+  std::vector<std::uint64_t> keys(capacity_);
+  k_->ctx->download(table_, keys.data(), keys.size() * sizeof(std::uint64_t));
+  std::vector<std::uint64_t> out;
+  for (std::uint32_t slot : slots) out.push_back(k_->bins.key(keys.at(slot)));
+  std::sort(out.begin(), out.end());
   return out;
 }
 

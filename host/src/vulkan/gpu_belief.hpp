@@ -2,16 +2,19 @@
 // A session's belief in device memory: the Vulkan backend's BeliefState. The
 // offsets live in an open-addressing table reached by device address (it may
 // outgrow one binding's range); the fold writes it (belief_fold.comp, run by
-// the backend), and the estimate's reductions, top-k selection and lookups
-// run on the device (belief_reduce.comp, belief_lookup.comp). Only the
-// reductions' few integers come back to the host, which finishes the estimate
-// with the same code as the CPU reference.
+// the backend) and keeps the estimate's state current: the maximum, each
+// object's touched bins and best bin, and the band list of the bins near the
+// maximum. The estimate's passes visit the band list only (belief_reduce.comp),
+// and lookups a few bins (belief_lookup.comp). Only the state's few integers
+// come back to the host, which finishes the estimate with the same code as
+// the CPU reference.
 #include <cstdint>
 #include <optional>
 #include <vector>
 
 #include "recognition/belief.hpp"
 #include "vulkan/context.hpp"
+#include "vulkan/gpu_layout.hpp"
 #include "vulkan/linear_bins.hpp"
 
 namespace sva {
@@ -28,7 +31,8 @@ struct GpuBeliefKernels {
   const vk::Pipeline* reduce = nullptr;
   const vk::Pipeline* lookup = nullptr;
   std::size_t initial_slots = 1 << 12;
-  double kernel_ms = 0.0;  // GPU time of belief work since the backend last reset it
+  double kernel_ms = 0.0;      // GPU time of belief work since the backend last reset it
+  unsigned band_rebuilds = 0;  // band lists rebuilt from a whole table (BackendStats::band_rebuilds)
 };
 
 class GpuBelief final : public BeliefState {
@@ -42,11 +46,19 @@ class GpuBelief final : public BeliefState {
   std::vector<BinOffset> best_bins(std::size_t k) const override;
   std::vector<std::uint64_t> offsets(std::span<const std::uint64_t> keys) const override;
   std::vector<BinOffset> table() const override;
+  // The keys on the band list after an estimate's compaction, sorted (tests:
+  // every bin within band_width() of the maximum must be there).
+  std::vector<std::uint64_t> band_keys() const;
 
   // For the backend's fold.
   std::uint64_t eps_units() const { return eps_units_; }
   std::uint32_t capacity() const { return capacity_; }
   VkDeviceAddress address() const { return table_.device_address(); }
+  VkDeviceAddress state_address() const { return state_.device_address(); }
+  VkDeviceAddress band_address() const { return band_.device_address(); }
+  std::uint32_t band_capacity() const { return band_capacity_; }
+  // A bin is in the band when M - offset < band_width() (belief units).
+  std::uint64_t band_width() const { return band_width_; }
   // Records a fold pass: `inserted` new keys; `folded` more pairs.
   void record(std::uint64_t inserted, std::size_t folded);
   // Moves the table into one of at least `slots` slots (a power of two).
@@ -58,15 +70,28 @@ class GpuBelief final : public BeliefState {
 
  private:
   void allocate(vk::Buffer& b, std::uint32_t capacity) const;
-  // MAX and MASS passes; the histogram of distances below the maximum comes with them.
+  gpu::SvaReduceParams reduce_params(std::uint32_t pass) const;
+  // Runs passes of belief_reduce.comp over `invocations` entries (or slots) each.
+  void run_reduce(const std::vector<std::uint32_t>& passes, std::uint64_t entries,
+                  std::vector<vk::Fill> fills = {}) const;
+  // The band list from scratch, on a side of at least `entries` entries.
+  void rebuild_band(std::uint64_t entries) const;
+  // The MASS and FLIP passes, then the state's words to the host.
   void reduce() const;
 
   GpuBeliefKernels* k_;
   std::uint64_t eps_units_;
-  vk::Buffer table_;
+  std::uint32_t mass_bits_;
+  std::uint64_t band_width_;
+  // Mutable for the band marks at its end, which the estimate's compaction clears.
+  mutable vk::Buffer table_;
   std::uint32_t capacity_ = 0;
   std::size_t count_ = 0, pairs_ = 0;
-  mutable vk::Buffer summary_, candidates_, queries_;
+  // The estimate's state (SVA_STATE_* words) and the band list's two sides.
+  mutable vk::Buffer state_, band_;
+  mutable std::uint32_t band_capacity_ = 0;
+  mutable bool band_stale_ = false;  // the table moved (its slots changed): rebuild before reading the list
+  mutable vk::Buffer candidates_, queries_;
   mutable std::optional<BeliefSummary> summary_cache_;
   mutable std::vector<std::uint64_t> histogram_;
 };

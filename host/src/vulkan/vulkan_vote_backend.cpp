@@ -130,6 +130,7 @@ class VulkanVoteBackend final : public VoteBackend {
         stats_.chunks, stats_.table_slots, stats_.table_grows,    stats_.validation_messages};
     s.device_bytes = ctx_.device().device_bytes();
     s.map_device_bytes = engine_->map_bytes;
+    s.band_rebuilds = beliefs_.band_rebuilds;
     return s;
   }
 
@@ -360,24 +361,47 @@ class VulkanVoteBackend final : public VoteBackend {
   }
 
   // The fold passes of belief_fold.comp for the pending sessions: RESERVE,
-  // PAIR_LOG, ADD (which clears every vote-table slot it folds).
+  // PAIR_LOG, ADD, and MAX, RESET, BEST, which keep each session's estimate
+  // state current (BEST clears every vote-table slot it folds).
   std::vector<vk::Dispatch> fold_dispatches(std::size_t P, const std::vector<GpuBelief*>& beliefs, const Fold& fold) {
     const std::size_t S = beliefs.size();
     auto* sess = sessions_.as<gpu::SvaGpuSession>();
     auto* st = session_status_.as<gpu::SvaGpuSessionStatus>();
     for (std::size_t s = 0; s < S; ++s) {
-      const VkDeviceAddress a = beliefs[s]->address();
-      sess[s] = {gpu::lo(a), gpu::hi(a), beliefs[s]->capacity(), fold.pending[s] ? 1u : 0u};
+      const GpuBelief& b = *beliefs[s];
+      sess[s] = {gpu::lo(b.address()),
+                 gpu::hi(b.address()),
+                 b.capacity(),
+                 fold.pending[s] ? 1u : 0u,
+                 gpu::lo(b.state_address()),
+                 gpu::hi(b.state_address()),
+                 gpu::lo(b.band_address()),
+                 gpu::hi(b.band_address()),
+                 b.band_capacity(),
+                 0u};
       st[s] = {};
     }
     std::memset(pair_totals_.data(), 0, 2 * P * sizeof(std::uint64_t));
-    gpu::SvaFoldParams p{
-        static_cast<std::uint32_t>(slots_), bins_.pair_shift(), gpu::lo(fold.eps), gpu::hi(fold.eps), SVA_FOLD_RESERVE,
-        static_cast<std::uint32_t>(P)};
+    gpu::SvaFoldParams p{};
+    p.slots = static_cast<std::uint32_t>(slots_);
+    p.pair_shift = bins_.pair_shift();
+    p.eps_lo = gpu::lo(fold.eps);
+    p.eps_hi = gpu::hi(fold.eps);
+    p.pairs = static_cast<std::uint32_t>(P);
+    p.sessions = static_cast<std::uint32_t>(S);
+    p.objects = space_.objects();
+    p.object_shift = bins_.object_shift();
+    const std::uint64_t band_width = S > 0 ? beliefs[0]->band_width() : 0;  // one pose space: one width
+    p.band_width_lo = gpu::lo(band_width);
+    p.band_width_hi = gpu::hi(band_width);
     std::vector<vk::Dispatch> ds;
-    for (std::uint32_t pass : {SVA_FOLD_RESERVE, SVA_FOLD_PAIR_LOG, SVA_FOLD_ADD}) {
+    for (std::uint32_t pass :
+         {SVA_FOLD_RESERVE, SVA_FOLD_PAIR_LOG, SVA_FOLD_ADD, SVA_FOLD_MAX, SVA_FOLD_RESET, SVA_FOLD_BEST}) {
       p.pass = pass;
-      const vk::Grid g = ctx_.grid(pass == SVA_FOLD_PAIR_LOG ? P : slot_invocations(slots_));
+      const std::uint64_t invocations = pass == SVA_FOLD_PAIR_LOG ? P
+                                        : pass == SVA_FOLD_RESET  ? S * std::uint64_t{space_.objects()}
+                                                                  : slot_invocations(slots_);
+      const vk::Grid g = ctx_.grid(invocations);
       vk::Dispatch d{&engine_->fold,
                      {&table_keys_, &table_sums_, &pairs_, &pair_totals_, &sessions_, &session_status_, &status_},
                      push_bytes(p),

@@ -30,12 +30,12 @@ struct RefineSettings {
   double min_normal_cos = 0.5;             // a training contact matches only with a normal within 60 degrees
   std::size_t neighbours = 4;              // nearest training contacts tried per reading
   int iterations = 6;                      // Gauss-Newton steps per scale at most
-  double min_information = 0.25;           // eigenvalue of the point-to-plane normal equations below which ...
-  double min_relative_information = 1e-2;  // ... (or below this share of the largest) a direction is unobservable
+  double min_information = 0.02;           // eigenvalue of the point-to-plane equations (observed normals) below which
+  double min_relative_information = 2e-3;  // ... (or this share of the largest) a direction is unobservable
 };
 
 // Settings for a pose space: scales in units of its translation bin (paper3d:
-// 8 mm bins give 16 -> 2 mm; the letters' 0.95 mm bins 1.9 -> 0.24 mm).
+// 8 mm bins give 16 -> 2 mm and 1 mm/rad; the letters' 0.95 mm bins 1.9 -> 0.24 mm).
 RefineSettings refine_settings(const PoseSpace& space);
 
 struct RefinedPose {
@@ -47,9 +47,11 @@ struct RefinedPose {
   int observable = 0;       // directions the readings constrain at the end (of 6; planar: of 3)
 };
 
-// Refines `starts` (best first; at least one) of `object` against the surface
-// and keeps the fit of least robust cost; a later start must beat an earlier
-// one by more than one reading's outlier cost.
+// Refines `starts` (best first) of `object` against the surface and keeps the
+// fit of least robust cost; a later start must beat the best so far by more
+// than half a reading's outlier cost and a quarter of its cost. No start, too
+// few readings or inliers, or no better fit than the first start's keep the
+// first start (or an identity pose when there is none), `refined` false.
 RefinedPose refine_pose(const SurfaceIndex& surface, std::uint32_t object, std::span<const ObservedReading> readings,
                         std::span<const RigidPose> starts, const RefineSettings& settings);
 

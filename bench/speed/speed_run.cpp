@@ -155,6 +155,7 @@ json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, Me
   RecognizerOptions ro;
   ro.backend = spec.backend;
   ro.vulkan_device = spec.vulkan_device;
+  ro.refine_pose = spec.refine_pose;
   meter.start();
   util::Progress progress(spec.label, spec.trials * max_readings);
   BatchRecognizer rec(map, map.pose_space(), std::min(spec.sessions, spec.trials), ro);

@@ -26,6 +26,7 @@ struct SpeedRunSpec {
   std::uint64_t seed = 1;
   std::string label;          // progress text
   std::string vulkan_device;  // "" = the default choice
+  bool refine_pose = true;    // RecognizerOptions::refine_pose (its cost shows in estimate_ms)
 };
 
 // One run, as the JSON report gives it (docs/evaluation.md, "sva bench").

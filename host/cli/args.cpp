@@ -100,6 +100,14 @@ double Args::number(const std::string& name, double fallback, double lo, double 
   return x;
 }
 
+bool Args::on_off(const std::string& name, bool fallback) const {
+  auto v = get(name);
+  if (!v) return fallback;
+  if (*v == "on") return true;
+  if (*v == "off") return false;
+  throw Error(command_ + ": " + name + " expects on or off, got \"" + *v + "\"");
+}
+
 void Args::print_help() const {
   std::printf("usage: %s [options]\n\n%s\n\noptions:\n", command_.c_str(), summary_.c_str());
   for (const auto& s : specs_) {

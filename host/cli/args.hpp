@@ -27,6 +27,8 @@ class Args {
   std::vector<std::string> all(const std::string& name) const;
   long long integer(const std::string& name, long long fallback, long long lo, long long hi) const;
   double number(const std::string& name, double fallback, double lo, double hi) const;
+  // An on|off option (absent: `fallback`).
+  bool on_off(const std::string& name, bool fallback) const;
   void print_help() const;
 
  private:

@@ -50,6 +50,7 @@ struct BenchPlan {
   std::vector<std::size_t> checkpoints;
   std::uint64_t seed = 1;
   std::string device;
+  bool refine_pose = true;
 };
 
 json run_all(const Map& map, const Dataset& test, const BenchPlan& plan, bench::MemoryMeter& meter) {
@@ -61,6 +62,7 @@ json run_all(const Map& map, const Dataset& test, const BenchPlan& plan, bench::
     spec.checkpoints = plan.checkpoints;
     spec.seed = plan.seed;
     spec.vulkan_device = plan.device;
+    spec.refine_pose = plan.refine_pose;
     spec.label = eval::backend_name(backend);
     runs.push_back(bench::run_speed(map, test, spec, meter));
     if (plan.batch <= 1) continue;
@@ -187,6 +189,7 @@ BenchPlan parse_plan(const Args& a) {
   plan.seed = static_cast<std::uint64_t>(a.integer("--seed", 1, 0, INT64_MAX));
   plan.roofline_votes = static_cast<std::size_t>(a.integer("--roofline-votes", 1 << 22, 1024, 1 << 26));
   plan.device = a.get_or("--device", "");
+  plan.refine_pose = a.on_off("--refine", true);
   return plan;
 }
 
@@ -207,6 +210,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
       .option("--trials", "N", "trials per run (default 3; a batched run has at least --batch)")
       .option("--batch", "N", "sessions per update in each backend's batched run (default 64; 0 = none)")
       .option("--seed", "S", "trial seed (default 1)")
+      .option("--refine", "on|off", "fine pose after every update, timed in estimate_ms (default on)")
       .option("--device", "NAME|INDEX", "Vulkan device (default: prefer a discrete GPU; env SVA_VK_DEVICE)")
       .option("--roofline-votes", "N", "votes in the bare-scatter measurement (default 4194304)");
   if (!a.parse()) return 0;

@@ -52,6 +52,8 @@ int cmd_eval(const std::vector<std::string>& argv) {
   a.option("--compare", "OTHER.json", "add another run's curve (e.g. the other method) to the figure", true);
   a.option("--threads", "N", "trials run in parallel (default: SVA_THREADS or all cores); results do not depend on it");
   a.option("--eps", "E", "floor of every pair factor (default 1e-6; docs/recognition.md)");
+  a.option("--refine", "on|off",
+           "fine pose: align the readings to the object's surface (default on; docs/recognition.md)");
   if (!a.parse()) return 0;
 
   const std::string map_file = a.required("--map");
@@ -70,6 +72,7 @@ int cmd_eval(const std::vector<std::string>& argv) {
     throw Error("sva eval: --method expects sva or appearance, got \"" + method + "\"");
   o.recognizer.eps = a.number("--eps", o.recognizer.eps, 1e-300, 1.0);
   if (a.has("--eps") && !(o.recognizer.eps > 0)) throw Error("sva eval: --eps must be positive");
+  o.recognizer.refine_pose = a.on_off("--refine", o.recognizer.refine_pose);
   const auto json_file = a.get("--json"), csv_file = a.get("--csv"), plot_file = a.get("--plot");
   if (json_file) check_writable("--json", *json_file);
   if (csv_file) check_writable("--csv", *csv_file);

@@ -51,6 +51,7 @@ int cmd_recognize(const std::vector<std::string>& argv) {
       .option("--sessions-per-submission", "N", "sessions stepped together (default 64)")
       .option("--device", "NAME|INDEX", "Vulkan device (default: prefer a discrete GPU; env SVA_VK_DEVICE)")
       .option("--top", "K", "hypotheses reported per session (default 3)")
+      .option("--refine", "on|off", "fine pose: align the readings to the object's surface (default on)")
       .option("--write-sessions", "FILE.jsonl", "write trials as a sessions file instead (needs --map, --data)")
       .option("--data", "TEST", "test dataset for --write-sessions")
       .option("--trials", "N", "sessions to write (default: one per object)")
@@ -67,6 +68,7 @@ int cmd_recognize(const std::vector<std::string>& argv) {
   RecognizerOptions ro;
   ro.backend = parse_backend_kind(a.get_or("--backend", "auto"), "sva recognize: --backend");
   ro.vulkan_device = a.get_or("--device", "");
+  ro.refine_pose = a.on_off("--refine", ro.refine_pose);
 
   std::size_t total_readings = 0;
   for (const auto& s : sessions) total_readings += s.readings.size();

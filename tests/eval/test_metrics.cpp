@@ -7,8 +7,16 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <sva/map.hpp>
+#include <sva/scene.hpp>
+#include <sva/sim/simulate.hpp>
+
 #include "eval/metrics.hpp"
+#include "eval/results.hpp"
 #include "eval/trials.hpp"
+#include "map/map_file.hpp"
+#include "map/pair_map.hpp"
+#include "test_support.hpp"
 #include "util/rng.hpp"
 
 using namespace sva;
@@ -149,4 +157,127 @@ TEST_CASE("rotation_vector inverts axis-angle, also near 0 and pi") {
     CHECK(glm::length(v) == Approx(a).margin(1e-9));
     if (a > 1.0) CHECK(std::abs(glm::dot(glm::normalize(v), axis)) == Approx(1.0).margin(1e-6));
   }
+}
+
+// --- Symmetry axes through any point (the translational error), and mean / p90 beside the median.
+
+namespace {
+
+Symmetry through(Symmetry s, glm::dvec3 point) {
+  s.point = point;
+  return s;
+}
+
+// The truth composed with a symmetry S about the axis through p: x -> S (x - p) + p in the object frame.
+RigidPose symmetric_copy(const RigidPose& truth, const glm::dmat3& S, glm::dvec3 p) {
+  RigidPose sym;
+  sym.R = S;
+  sym.T = p - S * p;
+  return truth * sym;
+}
+
+}  // namespace
+
+TEST_CASE("an axis through a point: the copy turned about it is right in translation and angle") {
+  RigidPose truth;
+  truth.R = rot(0.7, {1.0, 2.0, -0.5});
+  truth.T = {30.0, -12.0, 55.0};
+  const glm::dvec3 p(15.0, -4.0, 0.0);
+  const Symmetry s = through(axis_symmetry({0.0, 0.0, 1.0}), p);
+  for (double g : {0.3, 1.5, 3.0}) {
+    const RigidPose est = symmetric_copy(truth, rot(g, {0.0, 0.0, 1.0}), p);
+    INFO("turn " << g);
+    CHECK(translation_error(truth, est, s) < 1e-9);
+    CHECK(angular_error(truth.R, est.R, s) < 1e-6);
+    const PoseError e = pose_error(truth, est, s, 40.0);
+    CHECK(e.translation_mm < 1e-9);
+    // The same estimate against an axis through the origin: the lever arm |p - S p| shows as translation error.
+    const Symmetry at_origin = axis_symmetry({0.0, 0.0, 1.0});
+    CHECK(translation_error(truth, est, at_origin) == Approx(glm::length(p - rot(g, {0.0, 0.0, 1.0}) * p)));
+  }
+  // A real error on top of the turn is still measured in full: 2 mm along the world x.
+  RigidPose est = symmetric_copy(truth, rot(1.1, {0.0, 0.0, 1.0}), p);
+  est.T += glm::dvec3(2.0, 0.0, 0.0);
+  CHECK(translation_error(truth, est, s) == Approx(2.0).margin(1e-9));
+}
+
+TEST_CASE("a cyclic group through a point: its elements are right in translation, other turns are not") {
+  RigidPose truth;
+  truth.R = rot(-1.2, {0.3, -1.0, 0.4});
+  truth.T = {-40.0, 5.0, 12.0};
+  const glm::dvec3 p(0.0, 10.0, 3.0);
+  const Symmetry s = through(cyclic(2, {1.0, 0.0, 0.0}), p);
+  const RigidPose half = symmetric_copy(truth, rot(std::numbers::pi, {1.0, 0.0, 0.0}), p);
+  CHECK(translation_error(truth, half, s) < 1e-9);
+  CHECK(angular_error(truth.R, half.R, s) < 1e-6);
+  const RigidPose quarter = symmetric_copy(truth, rot(0.5 * std::numbers::pi, {1.0, 0.0, 0.0}), p);
+  CHECK(translation_error(truth, quarter, s) > 1.0);  // not a symmetry: measured against the truth itself
+  CHECK(translation_error(truth, quarter, s) == Approx(glm::length(quarter.T - truth.T)));
+  // No symmetry: the plain distance, whatever the point.
+  Symmetry none;
+  none.point = p;
+  CHECK(translation_error(truth, half, none) == Approx(glm::length(half.T - truth.T)));
+}
+
+TEST_CASE("closest_symmetry attains Eq 22's minimum") {
+  util::Rng rng(17);
+  const Symmetry s = axis_symmetry({0.2, -0.4, 1.0});
+  for (int i = 0; i < 20; ++i) {
+    const glm::dmat3 R = rot(rng.uniform(0.0, 3.0), {rng.normal(), rng.normal(), rng.normal()});
+    const glm::dmat3 Rh = rot(rng.uniform(0.0, 3.0), {rng.normal(), rng.normal(), rng.normal()});
+    const glm::dmat3 S = closest_symmetry(R, Rh, s);
+    CHECK(rotation_angle(glm::transpose(R * S) * Rh) == Approx(angular_error(R, Rh, s)).margin(1e-7));
+    CHECK(rotation_angle(glm::transpose(S) * S) < 1e-9);  // a rotation
+  }
+}
+
+TEST_CASE("mean and 90th percentile beside the median") {
+  CHECK_FALSE(mean({}).has_value());
+  CHECK(*mean({1.0, 2.0, 6.0}) == 3.0);
+  std::vector<double> v;
+  for (int i = 10; i >= 0; --i) v.push_back(i);  // 0..10, unsorted
+  const Spread s = spread_of(v);
+  CHECK(*s.median == 5.0);
+  CHECK(*s.mean == 5.0);
+  CHECK(*s.p90 == Approx(9.0));
+  const Spread empty = spread_of({});
+  CHECK_FALSE(empty.median.has_value());
+  CHECK_FALSE(empty.mean.has_value());
+  CHECK_FALSE(empty.p90.has_value());
+}
+
+TEST_CASE("the scene's symmetry point: parsed, written back only when set, refused when malformed") {
+  auto scene = [](const std::string& symmetry) {
+    return R"({"name": "pt", "objects": [{"name": "cup", "mesh": "cup.glb", "symmetry": )" + symmetry + "}]}";
+  };
+  const Scene with = parse_scene(scene(R"({"type": "axis", "axis": [0, 0, 1], "point": [5, -2.5, 0]})"), "pt.json");
+  REQUIRE(with.objects[0].symmetry.kind == Symmetry::Kind::axis);
+  CHECK(with.objects[0].symmetry.point == glm::dvec3(5.0, -2.5, 0.0));
+  const Scene again = parse_scene(scene_to_json(with), "again.json");
+  CHECK(again.objects[0].symmetry.point == glm::dvec3(5.0, -2.5, 0.0));
+  const Scene without = parse_scene(scene(R"({"type": "cyclic", "order": 2})"), "pt.json");
+  CHECK(without.objects[0].symmetry.point == glm::dvec3(0.0));
+  CHECK(scene_to_json(without).find("point") == std::string::npos);  // scene hashes of older scenes unchanged
+  CHECK_THROWS_WITH(parse_scene(scene(R"({"type": "axis", "point": [1, 2]})"), "bad.json"),
+                    Catch::Contains("bad.json") && Catch::Contains("point"));
+  CHECK_THROWS_WITH(parse_scene(scene(R"({"type": "axis", "point": [1, "x", 2]})"), "bad.json"),
+                    Catch::Contains("point[1]"));
+}
+
+TEST_CASE("the symmetry point travels into the map (version 3); older maps read it as the origin") {
+  sim::SimulateOptions so;
+  so.train_per_object = 12;
+  so.test_per_object = 1;
+  TrainOptions to;
+  to.clusters = 3;
+  PairMap m = Map::train(sim::simulate(load_scene("tiny"), so).train, to).internal();
+  m.objects[1].symmetry.point = {1.5, -2.0, 7.25};
+  const auto dir = test::temp_dir("map-symmetry-point");
+  save_pair_map(m, dir / "v3.svam");
+  CHECK(load_pair_map(dir / "v3.svam")->objects[1].symmetry.point == glm::dvec3(1.5, -2.0, 7.25));
+  write_pair_map(m, dir / "v2.svam", 2);  // the version-2 layout has no point
+  CHECK(load_pair_map(dir / "v2.svam")->objects[1].symmetry.point == glm::dvec3(0.0));
+  m.objects[1].symmetry.point.y = std::nan("");
+  CHECK_THROWS_WITH(save_pair_map(m, dir / "nan.svam"), Catch::Contains("symmetry point"));
+  std::filesystem::remove_all(dir);
 }

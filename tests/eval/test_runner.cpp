@@ -93,12 +93,11 @@ TrialSetup setup_for(std::size_t trials, std::size_t readings, unsigned threads)
 
 nlohmann::json without_timing(const std::string& text) {
   auto j = nlohmann::json::parse(text);
-  for (auto& p : j["curve"]) {
-    REQUIRE(p.contains("update_ms"));
-    REQUIRE(p.contains("update_ms_p95"));
-    p.erase("update_ms");
-    p.erase("update_ms_p95");
-  }
+  for (auto& p : j["curve"])
+    for (const char* k : {"update_ms", "update_ms_mean", "update_ms_p90", "update_ms_p95"}) {
+      REQUIRE(p.contains(k));
+      p.erase(k);
+    }
   return j;
 }
 
@@ -136,13 +135,13 @@ TEST_CASE("runner records correctness and pose errors of every reading") {
   REQUIRE(c.points.size() == 5);
   CHECK(c.points[0].accuracy == 0.0);
   CHECK(c.points[0].pose_trials == 0);
-  CHECK_FALSE(c.points[0].translation_error_mm.has_value());
-  CHECK(c.points[0].update_ms.has_value());
+  CHECK_FALSE(c.points[0].translation_mm.median.has_value());
+  CHECK(c.points[0].update_ms.median.has_value());
   CHECK(c.points[3].accuracy == 1.0);
   CHECK(c.points[3].pose_trials == 6);
   std::vector<double> t3;
   for (const auto& t : r.trials) t3.push_back(t.steps[3].translation_error_mm);
-  CHECK(*c.points[3].translation_error_mm == Approx(*median(t3)));
+  CHECK(*c.points[3].translation_mm.median == Approx(*median(t3)));
 }
 
 TEST_CASE("runner results and JSON do not depend on the thread count") {
@@ -204,14 +203,19 @@ TEST_CASE("CSV has one row per trial and reading and JSON summaries read back") 
   CHECK(back.trials == 4);
   REQUIRE(back.points.size() == 3);
   CHECK(back.points[1].accuracy == c.points[1].accuracy);
-  CHECK(*back.points[2].inertial_error_mm == Approx(*c.points[2].inertial_error_mm));
-  CHECK_FALSE(back.points[0].translation_error_mm.has_value());
+  CHECK(*back.points[2].inertial_mm.median == Approx(*c.points[2].inertial_mm.median));
+  CHECK(*back.points[2].inertial_mm.mean == Approx(*c.points[2].inertial_mm.mean));
+  CHECK(*back.points[2].angular_deg.p90 == Approx(*c.points[2].angular_deg.p90));
+  CHECK(*back.points[2].update_ms.p90 == Approx(*c.points[2].update_ms.p90));
+  CHECK_FALSE(back.points[0].translation_mm.median.has_value());
+  CHECK_FALSE(back.points[0].translation_mm.mean.has_value());
 
   std::ofstream(dir / "bad.json") << "{\"scene\": \"x\"}";
   CHECK_THROWS_WITH(read_curve_json(dir / "bad.json"), Catch::Contains("bad.json"));
   CHECK_THROWS_WITH(read_curve_json(dir / "missing.json"), Catch::Contains("missing.json"));
   const std::string table = format_table(c);
   CHECK(table.find("readings") != std::string::npos);
-  CHECK(std::count(table.begin(), table.end(), '\n') == 2 + 3);
+  CHECK(std::count(table.begin(), table.end(), '\n') == 3 + 3);  // title, two header lines, one row per point
+  CHECK(table.find("p90") != std::string::npos);
   std::filesystem::remove_all(dir);
 }

@@ -21,12 +21,15 @@ struct RigidPose {
   friend RigidPose operator*(const RigidPose& a, const RigidPose& b) { return {a.R * b.R, a.R * b.T + a.T}; }
 };
 
-// The symmetry of an object, used by the angular error of Eq 22.
+// The symmetry of an object, used by the angular error of Eq 22 and the
+// translational error: a rotation S about the axis through `point` maps the
+// object onto itself, x -> S (x - point) + point.
 struct Symmetry {
   enum class Kind { none, axis, discrete };
   Kind kind = Kind::none;
   glm::dvec3 axis{0.0, 0.0, 1.0};     // Kind::axis: the axis of revolution (object frame)
   std::vector<glm::dmat3> rotations;  // Kind::discrete: the group, identity included
+  glm::dvec3 point{0.0};              // a point of the axis (object frame, mm)
 };
 
 }  // namespace sva

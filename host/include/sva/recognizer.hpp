@@ -30,6 +30,9 @@ struct RecognizerOptions {
   int max_pairs_per_update = 0;           // 0 = all earlier readings (both orders); else the most recent ones
   unsigned threads = 0;                   // CPU backend: 0 = all cores; results do not depend on it
   std::string vulkan_device;              // "" = prefer a discrete GPU (env SVA_VK_DEVICE)
+  // The fine pose (docs/recognition.md): after the histogram, align the readings to the object's training
+  // contacts (robust point-to-plane, on the host, the same for every backend). Off: the parabolic sub-bin pose.
+  bool refine_pose = true;
 };
 
 struct Hypothesis {
@@ -44,8 +47,12 @@ struct Estimate {
   std::uint32_t object = 0;  // the object with the most mass summed over poses
   std::string object_name;
   std::vector<double> object_probability;  // per object, sums to 1
-  RigidPose pose;                          // refined continuous pose of `object`
+  RigidPose pose;                          // continuous pose of `object`: the fine pose when refined, else
+                                           // `parabolic_pose`
+  RigidPose parabolic_pose;                // the histogram's: parabolic peak of the log-belief at the best bin
   RigidPose bin_pose;                      // centre of its best bin
+  bool pose_refined = false;               // `pose` is aligned to the surface (RecognizerOptions::refine_pose
+                                           // on, enough readings, a better fit than the histogram's pose)
   bool pose_valid = false;                 // false until a pair has voted (and for Method::appearance)
   std::vector<Hypothesis> top;             // best bins, most probable first
   std::uint64_t votes = 0;                 // votes cast by the last update

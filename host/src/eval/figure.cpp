@@ -37,10 +37,10 @@ void write_figure(const std::vector<Curve>& curves, const std::filesystem::path&
   const Panel panels[] = {
       {"(a) classification accuracy", "accuracy (%)", [](const CurvePoint& p) { return 100.0 * p.accuracy; }, true},
       {"(b) inertial error", "median inertial distance (mm)",
-       [](const CurvePoint& p) { return value(p.inertial_error_mm); }, false},
+       [](const CurvePoint& p) { return value(p.inertial_mm.median); }, false},
       {"(c) translational error", "median |T_hat - T| (mm)",
-       [](const CurvePoint& p) { return value(p.translation_error_mm); }, false},
-      {"(d) angular error", "median angle (deg)", [](const CurvePoint& p) { return value(p.angular_error_deg); },
+       [](const CurvePoint& p) { return value(p.translation_mm.median); }, false},
+      {"(d) angular error", "median angle (deg)", [](const CurvePoint& p) { return value(p.angular_deg.median); },
        false},
   };
   double max_readings = 1.0;

@@ -77,6 +77,44 @@ double angular_error(const glm::dmat3& R_true, const glm::dmat3& R_est, const Sy
   return rotation_angle(Q);
 }
 
+glm::dmat3 closest_symmetry(const glm::dmat3& R_true, const glm::dmat3& R_est, const Symmetry& symmetry) {
+  const glm::dmat3 Q = glm::transpose(R_est) * R_true;
+  switch (symmetry.kind) {
+    case Symmetry::Kind::none:
+      return glm::dmat3(1.0);
+    case Symmetry::Kind::discrete: {
+      glm::dmat3 best(1.0);
+      double best_angle = rotation_angle(Q);
+      for (const auto& S : symmetry.rotations) {
+        const double a = rotation_angle(Q * S);
+        if (a < best_angle) {
+          best_angle = a;
+          best = S;
+        }
+      }
+      return best;
+    }
+    case Symmetry::Kind::axis: {
+      // trace(Q R_a(g)) = A cos g + B sin g + C (angular_error) is largest at g = atan2(B, A).
+      const glm::dvec3 a = glm::normalize(symmetry.axis);
+      const double A = trace(Q) - glm::dot(a, Q * a);
+      const double B = trace(Q * skew(a));
+      const double g = std::atan2(B, A);
+      return std::cos(g) * glm::dmat3(1.0) + std::sin(g) * skew(a) + (1.0 - std::cos(g)) * glm::outerProduct(a, a);
+    }
+  }
+  assert(false);
+  return glm::dmat3(1.0);
+}
+
+double translation_error(const RigidPose& truth, const RigidPose& estimate, const Symmetry& symmetry) {
+  if (symmetry.kind == Symmetry::Kind::none || symmetry.point == glm::dvec3(0.0))
+    return glm::length(estimate.T - truth.T);
+  const glm::dmat3 S = closest_symmetry(truth.R, estimate.R, symmetry);
+  const glm::dvec3 copy = truth.T + truth.R * (symmetry.point - S * symmetry.point);
+  return glm::length(estimate.T - copy);
+}
+
 double inertial_distance(double translation_error_mm, double angle_rad, double radius_mm) {
   const double rot = 0.8 * radius_mm * radius_mm * (1.0 - std::cos(angle_rad));
   return std::sqrt(translation_error_mm * translation_error_mm + std::max(0.0, rot));
@@ -85,13 +123,20 @@ double inertial_distance(double translation_error_mm, double angle_rad, double r
 PoseError pose_error(const RigidPose& truth, const RigidPose& estimate, const Symmetry& symmetry,
                      double inertial_radius_mm) {
   PoseError e;
-  e.translation_mm = glm::length(estimate.T - truth.T);
+  e.translation_mm = translation_error(truth, estimate, symmetry);
   e.angular_rad = angular_error(truth.R, estimate.R, symmetry);
   e.inertial_mm = inertial_distance(e.translation_mm, e.angular_rad, inertial_radius_mm);
   return e;
 }
 
 std::optional<double> median(std::vector<double> values) { return percentile(std::move(values), 50.0); }
+
+std::optional<double> mean(const std::vector<double>& values) {
+  if (values.empty()) return std::nullopt;
+  double sum = 0.0;
+  for (double v : values) sum += v;
+  return sum / static_cast<double>(values.size());
+}
 
 std::optional<double> percentile(std::vector<double> values, double p) {
   if (values.empty()) return std::nullopt;

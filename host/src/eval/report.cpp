@@ -63,6 +63,21 @@ std::string zero_votes_line(const Curve& curve) {
   return line;
 }
 
+// A statistic as JSON: "NAME" (the median), "NAME_mean", "NAME_p90".
+void put_spread(json& j, const std::string& name, const Spread& s) {
+  j[name] = opt(s.median);
+  j[name + "_mean"] = opt(s.mean);
+  j[name + "_p90"] = opt(s.p90);
+}
+
+// Three cells: median, mean, p90.
+std::string spread_cells(const Spread& s, const char* fmt) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, " %8s %8s %8s", cell(s.median, fmt).c_str(), cell(s.mean, fmt).c_str(),
+                cell(s.p90, fmt).c_str());
+  return buf;
+}
+
 }  // namespace
 
 std::string to_json(const EvalResult& result, const Curve& curve) {
@@ -76,16 +91,15 @@ std::string to_json(const EvalResult& result, const Curve& curve) {
   j["objects"] = result.objects;
   json points = json::array();
   for (const auto& p : curve.points) {
-    points.push_back({{"readings", p.readings},
-                      {"accuracy", p.accuracy},
-                      {"pose_trials", p.pose_trials},
-                      {"translation_error_mm", opt(p.translation_error_mm)},
-                      {"angular_error_deg", opt(p.angular_error_deg)},
-                      {"inertial_error_mm", opt(p.inertial_error_mm)},
-                      {"update_ms", opt(p.update_ms)},
-                      {"update_ms_p95", opt(p.update_ms_p95)},
-                      {"votes", p.votes},
-                      {"votes_zero", p.votes_zero}});
+    json q = {{"readings", p.readings}, {"accuracy", p.accuracy}, {"pose_trials", p.pose_trials}};
+    put_spread(q, "translation_error_mm", p.translation_mm);
+    put_spread(q, "angular_error_deg", p.angular_deg);
+    put_spread(q, "inertial_error_mm", p.inertial_mm);
+    put_spread(q, "update_ms", p.update_ms);
+    q["update_ms_p95"] = opt(p.update_ms_p95);
+    q["votes"] = p.votes;
+    q["votes_zero"] = p.votes_zero;
+    points.push_back(std::move(q));
   }
   j["curve"] = std::move(points);
   return j.dump(2) + "\n";
@@ -122,16 +136,24 @@ std::string to_csv(const EvalResult& result) {
 std::string format_table(const Curve& curve) {
   std::ostringstream s;
   s << "scene " << curve.scene << ", method " << curve.method << ", backend " << curve.backend << ", " << curve.trials
-    << " trials (errors: median over trials with the right object)\n";
-  char line[256];
-  std::snprintf(line, sizeof line, "%8s %9s %6s %10s %10s %12s %10s %10s\n", "readings", "accuracy", "posed",
-                "trans mm", "angle deg", "inertial mm", "ms/update", "p95 ms");
+    << " trials (errors: median, mean and 90th percentile over trials with the right object)\n";
+  char line[320];
+  std::snprintf(line, sizeof line, "%25s %-26s %-26s %-26s %s\n", "", " translation (mm)", " angle (deg)",
+                " inertial (mm)", " ms/update (all trials)");
   s << line;
+  const char* three = " %8s %8s %8s";
+  std::string head = "readings  accuracy  posed";
+  for (int k = 0; k < 4; ++k) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, three, "median", "mean", "p90");
+    head += buf;
+  }
+  s << head << "      p95\n";
   for (const auto& p : curve.points) {
-    std::snprintf(line, sizeof line, "%8zu %8.1f%% %6zu %10s %10s %12s %10s %10s\n", p.readings, 100.0 * p.accuracy,
-                  p.pose_trials, cell(p.translation_error_mm, "%.2f").c_str(),
-                  cell(p.angular_error_deg, "%.2f").c_str(), cell(p.inertial_error_mm, "%.2f").c_str(),
-                  cell(p.update_ms, "%.3f").c_str(), cell(p.update_ms_p95, "%.3f").c_str());
+    std::snprintf(line, sizeof line, "%8zu %8.1f%% %6zu", p.readings, 100.0 * p.accuracy, p.pose_trials);
+    s << line << spread_cells(p.translation_mm, "%.2f") << spread_cells(p.angular_deg, "%.2f")
+      << spread_cells(p.inertial_mm, "%.2f") << spread_cells(p.update_ms, "%.3f");
+    std::snprintf(line, sizeof line, " %8s\n", cell(p.update_ms_p95, "%.3f").c_str());
     s << line;
   }
   s << zero_votes_line(curve);
@@ -179,10 +201,18 @@ Curve read_curve_json(const std::filesystem::path& file) {
       fail("curve[" + std::to_string(i) + "]: readings must be >= 1 and accuracy in [0, 1]");
     pt.readings = static_cast<std::size_t>(*readings);
     pt.accuracy = *accuracy;
-    pt.translation_error_mm = number(p, "translation_error_mm", i);
-    pt.angular_error_deg = number(p, "angular_error_deg", i);
-    pt.inertial_error_mm = number(p, "inertial_error_mm", i);
-    pt.update_ms = number(p, "update_ms", i);
+    // The median is required; mean and p90 only in summaries written since they were added.
+    auto spread = [&](const std::string& key) {
+      Spread s;
+      s.median = number(p, key.c_str(), i);
+      if (p.contains(key + "_mean")) s.mean = number(p, (key + "_mean").c_str(), i);
+      if (p.contains(key + "_p90")) s.p90 = number(p, (key + "_p90").c_str(), i);
+      return s;
+    };
+    pt.translation_mm = spread("translation_error_mm");
+    pt.angular_deg = spread("angular_error_deg");
+    pt.inertial_mm = spread("inertial_error_mm");
+    pt.update_ms = spread("update_ms");
     pt.update_ms_p95 = number(p, "update_ms_p95", i);
     if (p.contains("pose_trials") && p["pose_trials"].is_number_unsigned())
       pt.pose_trials = p["pose_trials"].get<std::size_t>();

@@ -10,9 +10,10 @@
 namespace sva::eval {
 
 // {"scene", "backend", "method", "trials", "seed", "max_readings", "objects",
-//  "curve": [{"readings", "accuracy", "translation_error_mm", "angular_error_deg",
-//             "inertial_error_mm", "update_ms", "update_ms_p95", "pose_trials"}]}
-// Everything but update_ms and update_ms_p95 depends only on the inputs and seed.
+//  "curve": [{"readings", "accuracy", "pose_trials", "translation_error_mm", "angular_error_deg",
+//             "inertial_error_mm", "update_ms" (medians; each also with _mean and _p90),
+//             "update_ms_p95", "votes", "votes_zero"}]}
+// Everything but the update_ms* fields depends only on the inputs and seed.
 std::string to_json(const EvalResult& result, const Curve& curve);
 // One row per (trial, readings).
 std::string to_csv(const EvalResult& result);

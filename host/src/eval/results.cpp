@@ -7,6 +7,8 @@
 
 namespace sva::eval {
 
+Spread spread_of(const std::vector<double>& values) { return {median(values), mean(values), percentile(values, 90.0)}; }
+
 Curve summarize(const EvalResult& result) {
   Curve c;
   c.label = result.method;
@@ -33,10 +35,10 @@ Curve summarize(const EvalResult& result) {
     }
     p.accuracy = result.trials.empty() ? 0.0 : static_cast<double>(correct) / static_cast<double>(result.trials.size());
     p.pose_trials = t_err.size();
-    p.translation_error_mm = median(t_err);
-    p.angular_error_deg = median(a_err);
-    p.inertial_error_mm = median(i_err);
-    p.update_ms = median(ms);
+    p.translation_mm = spread_of(t_err);
+    p.angular_deg = spread_of(a_err);
+    p.inertial_mm = spread_of(i_err);
+    p.update_ms = spread_of(ms);
     p.update_ms_p95 = percentile(ms, 95.0);
     c.points.push_back(p);
   }

@@ -35,15 +35,22 @@ struct TrialResult {
   std::vector<StepResult> steps;     // steps[n - 1]: after n readings
 };
 
-// One point of the curve. Error medians are over the trials whose estimated
+// Median, mean and 90th percentile of a set (empty when the set is).
+struct Spread {
+  std::optional<double> median, mean, p90;
+};
+Spread spread_of(const std::vector<double>& values);
+
+// One point of the curve. Error statistics are over the trials whose estimated
 // object is right (and which have a pose) at that step; empty when none.
 struct CurvePoint {
   std::size_t readings = 0;
-  double accuracy = 0.0;        // fraction of trials with the right object, 0..1
-  std::size_t pose_trials = 0;  // trials the error medians are over
-  std::optional<double> translation_error_mm, angular_error_deg, inertial_error_mm;
-  std::optional<double> update_ms, update_ms_p95;  // over all trials
-  std::uint64_t votes = 0, votes_zero = 0;         // summed over all trials at this step
+  double accuracy = 0.0;                            // fraction of trials with the right object, 0..1
+  std::size_t pose_trials = 0;                      // trials the error statistics are over
+  Spread translation_mm, angular_deg, inertial_mm;  // errors
+  Spread update_ms;                                 // over all trials
+  std::optional<double> update_ms_p95;
+  std::uint64_t votes = 0, votes_zero = 0;  // summed over all trials at this step
 };
 
 struct Curve {

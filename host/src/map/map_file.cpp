@@ -18,9 +18,10 @@ constexpr std::uint32_t kMaxClasses = 4096;
 constexpr std::uint32_t kMaxBins = 100000;
 constexpr std::uint64_t kMaxKeySpace = kMaxPairKeySpace;
 
-void put_symmetry(io::BinaryWriter& w, const Symmetry& s) {
+void put_symmetry(io::BinaryWriter& w, const Symmetry& s, std::uint32_t version) {
   w.put<std::uint8_t>(static_cast<std::uint8_t>(s.kind));
   w.put_array(&s.axis.x, 3);
+  if (version >= 3) w.put_array(&s.point.x, 3);
   w.put<std::uint64_t>(s.rotations.size());
   for (const auto& m : s.rotations) w.put_array(&m[0][0], 9);
 }
@@ -31,6 +32,7 @@ Symmetry get_symmetry(io::BinaryReader& r) {
   if (kind > 2) r.fail("invalid symmetry kind " + std::to_string(kind));
   s.kind = static_cast<Symmetry::Kind>(kind);
   r.get_array(&s.axis.x, 3);
+  if (r.version() >= 3) r.get_array(&s.point.x, 3);  // older maps: axes through the origin
   const auto n = r.get<std::uint64_t>();
   if (n > 4096 || n > r.remaining() / (9 * sizeof(double)))
     r.fail("symmetry group size " + std::to_string(n) + " is invalid");
@@ -89,7 +91,7 @@ void write_pair_map(const PairMap& m, const std::filesystem::path& file, std::ui
   w.put<std::uint64_t>(m.objects.size());
   for (const auto& o : m.objects) {
     w.put_string(o.name);
-    put_symmetry(w, o.symmetry);
+    put_symmetry(w, o.symmetry, version);
     w.put<double>(o.inertial_radius_mm);
   }
 
@@ -256,6 +258,8 @@ void validate_pair_map(const PairMap& m, const std::string& origin) {
       fail("object \"" + o.name + "\": invalid inertial radius");
     if (!std::isfinite(o.symmetry.axis.x) || !std::isfinite(o.symmetry.axis.y) || !std::isfinite(o.symmetry.axis.z))
       fail("object \"" + o.name + "\": invalid symmetry axis");
+    if (!std::isfinite(o.symmetry.point.x) || !std::isfinite(o.symmetry.point.y) || !std::isfinite(o.symmetry.point.z))
+      fail("object \"" + o.name + "\": invalid symmetry point");
     for (const auto& R : o.symmetry.rotations)
       for (int c = 0; c < 3; ++c)
         for (int rr = 0; rr < 3; ++rr)

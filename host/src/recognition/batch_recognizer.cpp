@@ -11,13 +11,20 @@
 
 #include "appearance/appearance_baseline.hpp"
 #include "map/pair_map.hpp"
+#include "map/surface_index.hpp"
 #include "recognition/bayes_filter.hpp"
 #include "recognition/describe_reading.hpp"
+#include "recognition/pose_refinement.hpp"
 #include "recognition/pose_space.hpp"
 #include "recognition/vote_backend.hpp"
 #include "recognition/vote_backend_factory.hpp"
 
 namespace sva {
+
+namespace {
+// Modes of the belief the fine pose starts from (the best bin's parabolic peak first).
+constexpr std::size_t kRefineStarts = 4;
+}  // namespace
 
 struct BatchRecognizer::Impl {
   struct Session {
@@ -35,6 +42,9 @@ struct BatchRecognizer::Impl {
   BackendKind kind = BackendKind::cpu;
   std::string fallback_reason;
   std::vector<Session> sessions;
+  // The fine pose: the objects' training contacts, indexed once per recognizer.
+  std::unique_ptr<SurfaceIndex> surface;
+  RefineSettings refine;
 
   Impl(const Map& m, const PoseSpaceSpec& spec, const RecognizerOptions& o)
       : map(m),
@@ -79,6 +89,10 @@ BatchRecognizer::BatchRecognizer(const Map& map, const PoseSpaceSpec& pose_space
     fo.max_pairs_per_update = options.max_pairs_per_update;
     for (auto& s : impl_->sessions)
       s.filter = std::make_unique<BayesFilter>(*impl_->pair_map, impl_->space, fo, *impl_->backend);
+    if (options.refine_pose) {
+      impl_->surface = std::make_unique<SurfaceIndex>(impl_->pair_map->readings, impl_->pair_map->objects.size());
+      impl_->refine = refine_settings(impl_->space);
+    }
   } else {
     if (impl_->pair_map->baseline.n_objects != impl_->pair_map->objects.size())
       throw Error("recognizer: map '" + map.scene_name() + "' has no appearance baseline");
@@ -133,13 +147,19 @@ Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const
     e.object_name = objects[e.object].name;
     return e;
   }
-  const BeliefEstimate b = s.filter->estimate(top_k);
+  const BeliefEstimate b = s.filter->estimate(top_k, impl_->surface ? kRefineStarts : 1);
   e.object = b.object;
   e.object_name = objects[b.object].name;
   e.object_probability = b.object_probability;
   e.pose_valid = b.pose_valid;
   e.pose = b.pose;
+  e.parabolic_pose = b.parabolic_pose;
   e.bin_pose = b.bin_pose;
+  if (impl_->surface && b.pose_valid) {
+    const RefinedPose r = refine_pose(*impl_->surface, b.object, s.filter->observed(), b.modes, impl_->refine);
+    e.pose = r.pose;
+    e.pose_refined = r.refined;
+  }
   for (const BinHypothesis& h : b.top) {
     Hypothesis out;
     out.object = h.object;

@@ -41,13 +41,16 @@ class BayesFilter {
 
   // Adds one reading and updates the belief.
   UpdateStats add(const ObservedReading& reading);
-  BeliefEstimate estimate(std::size_t top_k) const {
+  // `modes`: distinct modes of the best object to report (the fine pose's starts).
+  BeliefEstimate estimate(std::size_t top_k, std::size_t modes = 1) const {
     require_complete();
-    return sva::estimate(*belief_, *space_, top_k);
+    return sva::estimate(*belief_, *space_, top_k, modes);
   }
   void reset();
 
   std::size_t readings() const { return readings_.size(); }
+  // The session's readings so far (robot frame, validated), oldest first.
+  const std::vector<ObservedReading>& observed() const { return readings_; }
   const BeliefState& belief() const { return *belief_; }
   VoteBackend& backend() const { return *backend_; }
   const UpdateStats& last_update() const { return last_; }

@@ -91,6 +91,41 @@ RigidPose refine(const BeliefState& belief, const PoseSpace& space, std::uint64_
   return pose;
 }
 
+// Two bins of one object are the same mode when every grid index differs by at
+// most one (the planar angle wraps around).
+bool same_mode(const BinIndex& a, const BinIndex& b, const PoseSpace& space) {
+  const int rb = space.spec().rotation_bins;
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(a.t[k] - b.t[k]) > 1) return false;
+    int dr = std::abs(a.r[k] - b.r[k]);
+    if (space.planar() && k == 2) dr = std::min(dr, rb - dr);
+    if (dr > 1) return false;
+  }
+  return true;
+}
+
+// The best object's distinct modes after the first: the best bins of that
+// object, skipping neighbours of a mode already taken. Candidates come from the
+// top bins over all objects (the same on every backend: ties to the smaller key).
+std::vector<RigidPose> next_modes(const BeliefState& belief, const PoseSpace& space, std::uint64_t best,
+                                  std::size_t count) {
+  std::vector<RigidPose> out;
+  if (count == 0) return out;
+  const std::uint32_t object = PoseSpace::object_of(best);
+  std::vector<BinIndex> taken{space.unpack(best)};
+  for (const BinOffset& b : belief.best_bins(16 * (count + 1))) {
+    if (out.size() >= count) break;
+    if (PoseSpace::object_of(b.key) != object) continue;
+    const BinIndex i = space.unpack(b.key);
+    bool near = false;
+    for (const BinIndex& t : taken) near = near || same_mode(i, t, space);
+    if (near) continue;
+    taken.push_back(i);
+    out.push_back(space.centre(b.key));
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<double> object_probability(const BeliefSummary& summary, const PoseSpace& space) {
@@ -102,7 +137,7 @@ std::vector<double> object_probability(const BeliefSummary& summary, const PoseS
   return p;
 }
 
-BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::size_t top_k) {
+BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::size_t top_k, std::size_t modes) {
   BeliefEstimate e;
   const BeliefSummary s = belief.summarise();
   const std::vector<double> mass = object_mass(s, space);
@@ -117,7 +152,12 @@ BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::
     e.pose_valid = true;
     e.best_key = s.best_key[e.object];
     e.bin_pose = space.centre(e.best_key);
-    e.pose = refine(belief, space, e.best_key);
+    e.parabolic_pose = refine(belief, space, e.best_key);
+    e.pose = e.parabolic_pose;
+    if (modes > 0) {
+      e.modes.push_back(e.parabolic_pose);
+      for (const RigidPose& m : next_modes(belief, space, e.best_key, modes - 1)) e.modes.push_back(m);
+    }
   }
   // A bin's probability: its weight 2^(offset - M) at mass_bits over the total.
   const double scale = std::ldexp(1.0, static_cast<int>(belief_math::mass_bits(space.bins_per_object()))) / z;

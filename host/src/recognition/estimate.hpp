@@ -24,15 +24,22 @@ struct BeliefEstimate {
   std::vector<double> object_probability;  // sums to 1
   bool pose_valid = false;                 // the best object has a touched bin
   std::uint64_t best_key = 0;
-  RigidPose pose;      // refined below the bin size: per-axis parabolic peak of the log-belief around the best bin
-  RigidPose bin_pose;  // centre of the best bin
+  RigidPose pose;            // the histogram's estimate, `parabolic_pose` (the recognizer then refines it against
+                             // the surface: recognition/pose_refinement.hpp, sva::Estimate::pose)
+  RigidPose parabolic_pose;  // below the bin size: per-axis parabolic peak of the log-belief around the best bin
+  RigidPose bin_pose;        // centre of the best bin
+  // Distinct modes of the best object, best first, for the fine pose to start
+  // from: the parabolic peak of the best bin, then the centres of the next best
+  // bins that are not neighbours of an earlier mode (at most `modes` in all).
+  std::vector<RigidPose> modes;
   std::vector<BinHypothesis> top;
 };
 
 // Posterior per object from the reductions (untouched bins at the baseline).
 std::vector<double> object_probability(const BeliefSummary& summary, const PoseSpace& space);
 // The estimate of any backend's belief: best object, its best bin refined
-// below the bin size, and the top-k bins over all objects.
-BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::size_t top_k);
+// below the bin size, up to `modes` distinct modes of that object, and the
+// top-k bins over all objects.
+BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::size_t top_k, std::size_t modes = 1);
 
 }  // namespace sva

@@ -93,12 +93,16 @@ Symmetry parse_symmetry(const Ctx& c, const json& j, const std::string& path) {
     return s;
   }
   c.object(j, path);
-  c.known_keys(j, path, {"type", "axis", "order"});
+  c.known_keys(j, path, {"type", "axis", "order", "point"});
   if (!j.contains("type")) c.fail(path, "missing \"type\"");
   std::string type = c.string(j["type"], path + ".type");
   if (type == "none") return s;
   glm::dvec3 axis{0, 0, 1};
   opt(j, "axis", [&](const json& a) { axis = c.unit_vec3(a, path + ".axis"); });
+  opt(j, "point", [&](const json& a) {  // a point of the axis (object frame, mm); default the origin
+    if (!a.is_array() || a.size() != 3) c.fail(path + ".point", "expected an array of 3 numbers");
+    for (int k = 0; k < 3; ++k) s.point[k] = c.number(a[k], path + ".point[" + std::to_string(k) + "]", -1e6, 1e6);
+  });
   if (type == "axis") {
     s.kind = Symmetry::Kind::axis;
     s.axis = axis;
@@ -116,15 +120,20 @@ Symmetry parse_symmetry(const Ctx& c, const json& j, const std::string& path) {
 }
 
 json symmetry_to_json(const Symmetry& s) {
+  json j;
   switch (s.kind) {
     case Symmetry::Kind::none:
       return "none";
     case Symmetry::Kind::axis:
-      return {{"type", "axis"}, {"axis", {s.axis.x, s.axis.y, s.axis.z}}};
+      j = {{"type", "axis"}, {"axis", {s.axis.x, s.axis.y, s.axis.z}}};
+      break;
     case Symmetry::Kind::discrete:
-      return {{"type", "cyclic"}, {"axis", {s.axis.x, s.axis.y, s.axis.z}}, {"order", s.rotations.size()}};
+      j = {{"type", "cyclic"}, {"axis", {s.axis.x, s.axis.y, s.axis.z}}, {"order", s.rotations.size()}};
+      break;
   }
-  return "none";
+  // Only when set, so that the scenes (and scene hashes) of axes through the origin stay as they were.
+  if (s.point != glm::dvec3(0.0)) j["point"] = {s.point.x, s.point.y, s.point.z};
+  return j;
 }
 
 }  // namespace

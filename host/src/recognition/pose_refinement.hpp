@@ -1,0 +1,58 @@
+#pragma once
+// The fine pose (docs/recognition.md, "Fine pose"): after the histogram has
+// found the mode, a robust point-to-plane alignment of the session's readings
+// (robot frame) to the object's training contacts (object frame, the map's
+// surface index) moves the pose continuously below the bin size. Gauss-Newton
+// on SE(3) (SE(2) with fixed z in a planar pose space) with nearest-neighbour
+// correspondences of compatible normal, Tukey's loss on a shrinking scale,
+// warm-started from several modes of the belief; directions the readings do
+// not constrain (a plane's slide, a body of revolution's spin) keep the
+// histogram's value. Host only, deterministic: the same belief and readings
+// give the same pose on every backend.
+#include <sva/pose.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include "map/surface_index.hpp"
+#include "recognition/observed_reading.hpp"
+#include "recognition/pose_space.hpp"
+
+namespace sva {
+
+struct RefineSettings {
+  bool planar = false;                     // SE(2) about z, z kept (PoseSpace::planar())
+  std::size_t min_readings = 6;            // fewer readings (or inliers at the end) keep the histogram pose
+  double scale_start_mm = 16.0;            // Tukey scale of the first round: a bin-sized offset still matches
+  double scale_final_mm = 2.0;             // ... halved round by round down to this one (the contacts' noise)
+  double normal_weight_mm = 4.0;           // residual (mm) per radian of normal misfit
+  double min_normal_cos = 0.5;             // a training contact matches only with a normal within 60 degrees
+  std::size_t neighbours = 4;              // nearest training contacts tried per reading
+  int iterations = 6;                      // Gauss-Newton steps per scale at most
+  double min_information = 0.02;           // eigenvalue of the point-to-plane equations (observed normals) below which
+  double min_relative_information = 2e-3;  // ... (or this share of the largest) a direction is unobservable
+};
+
+// Settings for a pose space: scales in units of its translation bin (paper3d:
+// 8 mm bins give 16 -> 2 mm and 1 mm/rad; the letters' 0.95 mm bins 1.9 -> 0.24 mm).
+RefineSettings refine_settings(const PoseSpace& space);
+
+struct RefinedPose {
+  RigidPose pose;
+  bool refined = false;     // false: the first start is kept (too few readings, nothing observable, no better fit)
+  std::size_t start = 0;    // the start it came from
+  double cost = 0.0;        // Tukey cost at the final scale (an unmatched reading costs scale^2 / 6)
+  std::size_t inliers = 0;  // readings inside the final scale
+  int observable = 0;       // directions the readings constrain at the end (of 6; planar: of 3)
+};
+
+// Refines `starts` (best first) of `object` against the surface and keeps the
+// fit of least robust cost; a later start must beat the best so far by more
+// than half a reading's outlier cost and a quarter of its cost. No start, too
+// few readings or inliers, or no better fit than the first start's keep the
+// first start (or an identity pose when there is none), `refined` false.
+RefinedPose refine_pose(const SurfaceIndex& surface, std::uint32_t object, std::span<const ObservedReading> readings,
+                        std::span<const RigidPose> starts, const RefineSettings& settings);
+
+}  // namespace sva

@@ -1,434 +1,90 @@
-// Generates the built-in objects (assets/objects/*.glb): ten everyday objects
-// whose surfaces differ in shape and in texture (ridges, knurling, tread,
-// bumps, keys, dimples, edges, flat faces), in the spirit of the Princeton set
-// of the paper's Sec 5.1, and the raised capital vowels of Sec 5.2.
-// Units are millimetres; the scenes rescale the 3D objects to 80 mm.
-// Objects are unions of closed parts; faces buried inside another part are
-// never sampled by the simulator (it only touches accessible points).
-//   usage: sva_make_assets OUTPUT_DIR
+// Generates the built-in objects (assets/objects/*.glb) and the household
+// scenes (assets/scenes/household{10,25,50}.json) from code, so that every
+// asset can be remade and reviewed:
+//   usage: sva_make_assets OBJECTS_DIR [SCENES_DIR]
+// Units are millimetres. The paper's objects are rescaled by their scenes; the
+// household objects are written at their real sizes and their scenes keep them
+// (size_mm is each mesh's largest dimension).
 #include <sva/error.hpp>
-#include <sva/sim/mesh.hpp>
+#include "io/text_file.hpp"
 
-#include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <functional>
+#include <sstream>
 #include <string>
-#include <vector>
 
-using glm::dvec2;
-using glm::dvec3;
-using sva::sim::Mesh;
+#include "objects.hpp"
 
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
+using sva::assets::ObjectSpec;
 
-double smoothstep(double a, double b, double x) {
-  double t = std::clamp((x - a) / (b - a), 0.0, 1.0);
-  return t * t * (3 - 2 * t);
-}
-double fract(double x) { return x - std::floor(x); }
-
-// A (nu x nv) grid surface p(u, v), u, v in [0, 1]; the outward normal is
-// dp/du x dp/dv. Wrapped directions reuse the first row of vertices.
-void add_grid(Mesh& m, int nu, int nv, bool wrap_u, bool wrap_v, const std::function<dvec3(double, double)>& p) {
-  const int cu = wrap_u ? nu : nu + 1, cv = wrap_v ? nv : nv + 1;
-  const auto base = static_cast<unsigned>(m.positions.size());
-  for (int j = 0; j < cv; ++j)
-    for (int i = 0; i < cu; ++i) m.positions.emplace_back(p(static_cast<double>(i) / nu, static_cast<double>(j) / nv));
-  auto id = [&](int i, int j) { return base + static_cast<unsigned>((j % cv) * cu + (i % cu)); };
-  auto tri = [&](unsigned a, unsigned b, unsigned c) {
-    dvec3 A(m.positions[a]), B(m.positions[b]), C(m.positions[c]);
-    if (glm::length(glm::cross(B - A, C - A)) > 1e-9) m.triangles.emplace_back(a, b, c);
-  };
-  for (int j = 0; j < nv; ++j)
-    for (int i = 0; i < nu; ++i) {
-      unsigned a = id(i, j), b = id(i + 1, j), c = id(i + 1, j + 1), d = id(i, j + 1);
-      tri(a, b, c);
-      tri(a, c, d);
-    }
-}
-
-// A solid of revolution about z. The profile runs from the bottom of the axis
-// outwards, up the outside and back to the axis (or round a closed loop);
-// each point carries how many segments lead to it from the previous one.
-struct ProfilePoint {
-  double r, z;
-  int segments;
-};
-void add_revolution(Mesh& m, const std::vector<ProfilePoint>& profile, int n_theta, bool closed_loop, dvec3 centre,
-                    const std::function<double(double theta, double r, double z)>& dr = nullptr) {
-  std::vector<dvec2> pts;  // resampled (r, z)
-  pts.push_back({profile[0].r, profile[0].z});
-  for (std::size_t k = 1; k < profile.size(); ++k)
-    for (int s = 1; s <= profile[k].segments; ++s) {
-      double t = static_cast<double>(s) / profile[k].segments;
-      pts.push_back({profile[k - 1].r + t * (profile[k].r - profile[k - 1].r),
-                     profile[k - 1].z + t * (profile[k].z - profile[k - 1].z)});
-    }
-  if (closed_loop) pts.pop_back();  // the last point repeats the first
-  const int nv = closed_loop ? static_cast<int>(pts.size()) : static_cast<int>(pts.size()) - 1;
-  add_grid(m, n_theta, nv, true, closed_loop, [&](double u, double v) {
-    int k = static_cast<int>(std::lround(v * nv)) % static_cast<int>(pts.size());
-    double th = 2 * kPi * u, r = pts[static_cast<std::size_t>(k)].x, z = pts[static_cast<std::size_t>(k)].y;
-    if (dr && r > 1e-9) r = std::max(0.0, r + dr(th, r, z));
-    return centre + dvec3(r * std::cos(th), r * std::sin(th), z);
-  });
-}
-
-// A box centred at `c` with half sizes `h`, each face a grid of about `cell`
-// mm displaced along its normal by disp(face, s, t) (s, t: mm from the face
-// centre along the face axes a, b with a x b = outward normal).
-void add_box(Mesh& m, dvec3 c, dvec3 h, double cell,
-             const std::function<double(int face, double s, double t)>& disp = nullptr,
-             const glm::dmat3& rot = glm::dmat3(1.0)) {
-  const dvec3 X(1, 0, 0), Y(0, 1, 0), Z(0, 0, 1);
-  struct Face {
-    dvec3 n, a, b;
-    double hn, ha, hb;
-  };
-  const Face faces[6] = {{X, Y, Z, h.x, h.y, h.z},  {-X, Z, Y, h.x, h.z, h.y}, {Y, Z, X, h.y, h.z, h.x},
-                         {-Y, X, Z, h.y, h.x, h.z}, {Z, X, Y, h.z, h.x, h.y},  {-Z, Y, X, h.z, h.y, h.x}};
-  for (int f = 0; f < 6; ++f) {
-    const Face& F = faces[f];
-    int nu = std::max(1, static_cast<int>(std::ceil(2 * F.ha / cell))),
-        nv = std::max(1, static_cast<int>(std::ceil(2 * F.hb / cell)));
-    add_grid(m, nu, nv, false, false, [&](double u, double v) {
-      double s = (u - 0.5) * 2 * F.ha, t = (v - 0.5) * 2 * F.hb;
-      double d = disp ? disp(f, s, t) : 0.0;
-      return c + rot * (F.n * (F.hn + d) + F.a * s + F.b * t);
-    });
-  }
-}
-
-// A torus: ring radius R in the plane of (e1, e2), tube radius r.
-void add_torus(Mesh& m, dvec3 c, dvec3 e1, dvec3 e2, double R, double r, int nu, int nv) {
-  dvec3 e3 = glm::cross(e1, e2);
-  add_grid(m, nu, nv, true, true, [&](double u, double v) {
-    double th = 2 * kPi * u, ph = 2 * kPi * v;
-    dvec3 rho = std::cos(th) * e1 + std::sin(th) * e2;
-    return c + (R + r * std::cos(ph)) * rho + r * std::sin(ph) * e3;
-  });
-}
-
-glm::dmat3 rot_y(double deg) {
-  double a = deg * kPi / 180;
-  return glm::dmat3(dvec3(std::cos(a), 0, -std::sin(a)), dvec3(0, 1, 0), dvec3(std::sin(a), 0, std::cos(a)));
-}
-
-// ---- the ten objects --------------------------------------------------------
-
-Mesh glass() {  // a tumbler with flutes round its lower half, open at the top
-  Mesh m;
-  add_revolution(m, {{0, 0, 0}, {30, 0, 8}, {34, 95, 90}, {32, 95, 2}, {28.5, 6, 40}, {0, 6, 8}}, 160, false, {},
-                 [](double th, double r, double z) {
-                   if (r < 29.9 || z < 4 || z > 55) return 0.0;  // outer wall only
-                   double f = std::pow(std::max(0.0, std::cos(20 * th)), 2);
-                   return -1.2 * f * smoothstep(4, 8, z) * (1 - smoothstep(50, 55, z));
-                 });
-  return m;
-}
-
-Mesh tyre() {  // a tyre with block tread and a centre groove
-  Mesh m;
-  add_revolution(m,
-                 {{24, -13, 0},
-                  {38, -13, 10},
-                  {40, -11, 2},
-                  {40, 11, 30},
-                  {38, 13, 2},
-                  {24, 13, 10},
-                  {22, 11, 2},
-                  {22, -11, 14},
-                  {24, -13, 2}},
-                 256, true, {}, [](double th, double r, double z) {
-                   if (r < 39.9) return 0.0;
-                   double lateral = fract(th * 48 / (2 * kPi) + 0.04 * z);
-                   bool groove = std::abs(z) < 1.2 || lateral < 0.22;
-                   return groove ? -1.8 : 0.0;
-                 });
-  return m;
-}
-
-Mesh screwdriver() {  // fluted handle with grip rings, round shaft, flat blade
-  Mesh m;
-  add_revolution(m,
-                 {{0, 0, 0},
-                  {11, 0, 6},
-                  {12, 2, 2},
-                  {12, 50, 70},
-                  {10, 54, 3},
-                  {4, 56, 4},
-                  {3, 58, 2},
-                  {3, 100, 20},
-                  {2.6, 110, 8},
-                  {1.2, 114, 3},
-                  {0, 114, 2}},
-                 128, false, {}, [](double th, double r, double z) {
-                   if (z > 5 && z < 47 && r > 11.5) {
-                     double flute = smoothstep(0.55, 0.85, std::cos(8 * th));
-                     double ring = (z < 12 || z > 42) ? 0.0 : 0.5 * smoothstep(0.6, 0.9, std::cos(2 * kPi * z / 5));
-                     return -1.5 * flute - ring;
-                   }
-                   if (z > 101) {  // flatten the blade to 1 mm thickness
-                     double c = std::abs(std::cos(th));
-                     double limit = c > 1e-6 ? 0.5 / c : 1e9;
-                     return std::min(r, limit) - r;
-                   }
-                   return 0.0;
-                 });
-  return m;
-}
-
-Mesh phone() {  // a slab phone: recessed screen, 3 x 4 domed keys, camera bump
-  Mesh m;
-  add_box(m, {}, {18, 36, 4.5}, 0.55, [](int face, double s, double t) {
-    if (face == 4) {  // +z: s along x, t along y
-      double d = 0;
-      if (std::abs(s) < 15 && t > 3 && t < 33)
-        d -= 0.5 * smoothstep(-15, -14.4, -std::abs(s)) * smoothstep(3, 3.6, t) * smoothstep(-33, -32.4, -t);
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 4; ++j) {
-          double dx = s - (i - 1) * 10.0, dy = t - (-8.0 - 7.0 * j);
-          double q = 1 - (dx * dx + dy * dy) / (2.8 * 2.8);
-          if (q > 0) d += 1.0 * std::sqrt(q);
-        }
-      return d;
-    }
-    if (face == 5) {  // -z: s along y, t along x
-      double dy = s - 28, dx = t - 9;
-      return 1.0 * smoothstep(-4.2, -3.6, -std::sqrt(dx * dx + dy * dy));
-    }
-    return 0.0;
-  });
-  return m;
-}
-
-Mesh knight() {  // chess knight: turned base, tilted neck with a ridged mane, head, ears
-  Mesh m;
-  add_revolution(m,
-                 {{0, 0, 0},
-                  {17, 0, 10},
-                  {17, 4, 4},
-                  {15, 5.5, 2},
-                  {15, 7.5, 2},
-                  {13, 9, 2},
-                  {11.5, 12, 3},
-                  {12.5, 14, 2},
-                  {10, 17, 3},
-                  {9, 21, 3},
-                  {0, 21, 6}},
-                 120, false, {});
-  add_box(
-      m, {1, 0, 31}, {6.5, 6, 13}, 0.6,
-      [](int face, double s, double t) {
-        if (face != 1) return 0.0;  // -x face: the mane; s along z, t along y
-        return 0.9 * std::pow(std::abs(std::sin(1.3 * s)), 2) * smoothstep(-5.5, -3.5, -std::abs(t)) *
-               smoothstep(-12.5, -10.5, -std::abs(s));
-      },
-      rot_y(-14));
-  // The head points along +x and tilts down towards the snout; eyes are dimples on its sides.
-  add_box(
-      m, {9, 0, 43}, {12, 5.5, 5}, 0.6,
-      [](int face, double s, double t) {
-        if (face != 2 && face != 3) return 0.0;
-        double x = face == 2 ? t : s, z = face == 2 ? s : t;  // +y: s=z, t=x; -y: s=x, t=z
-        double q = 1 - ((x + 4) * (x + 4) + (z - 1.5) * (z - 1.5)) / 2.25;
-        return q > 0 ? -0.8 * std::sqrt(q) : 0.0;
-      },
-      rot_y(22));
-  for (double y : {-3.0, 3.0}) add_revolution(m, {{0, 0, 0}, {2.2, 0, 3}, {0, 6, 6}}, 24, false, {-2, y, 48});
-  return m;
-}
-
-Mesh mug() {  // a mug with a cavity and a ring handle
-  Mesh m;
-  add_revolution(m, {{0, 0, 0}, {30, 0, 10}, {30, 70, 60}, {27, 70, 3}, {27, 5, 50}, {0, 5, 10}}, 144, false, {});
-  add_torus(m, {37, 0, 36}, {1, 0, 0}, {0, 0, 1}, 15, 4, 72, 16);
-  return m;
-}
-
-Mesh die() {  // an 18 mm die with dimpled pips 1..6
-  Mesh m;
-  const double pip = 4.8;
-  auto layout = [&](int face) -> std::vector<dvec2> {
-    const dvec2 c(0, 0), tl(-pip, pip), tr(pip, pip), bl(-pip, -pip), br(pip, -pip), ml(-pip, 0), mr(pip, 0);
-    switch (face) {
-      case 4:
-        return {c};
-      case 0:
-        return {tl, br};
-      case 2:
-        return {tl, c, br};
-      case 3:
-        return {tl, tr, bl, br};
-      case 1:
-        return {tl, tr, c, bl, br};
-      default:
-        return {tl, tr, ml, mr, bl, br};
-    }
-  };
-  add_box(m, {}, {9, 9, 9}, 0.3, [&](int face, double s, double t) {
-    double d = 0;
-    for (dvec2 p : layout(face)) {
-      double q = 1 - ((s - p.x) * (s - p.x) + (t - p.y) * (t - p.y)) / (1.9 * 1.9);
-      if (q > 0) d -= 0.9 * std::sqrt(q);
-    }
-    return d;
-  });
-  return m;
-}
-
-Mesh bottle() {  // a bottle with grip rings and a ribbed cap
-  Mesh m;
-  add_revolution(m,
-                 {{0, 0, 0},
-                  {18, 0, 10},
-                  {18, 2, 2},
-                  {18, 60, 60},
-                  {15, 70, 8},
-                  {8, 80, 8},
-                  {8, 84, 3},
-                  {9.5, 84, 2},
-                  {9.5, 96, 16},
-                  {8.5, 98, 2},
-                  {0, 98, 6}},
-                 160, false, {}, [](double th, double r, double z) {
-                   if (z > 84.2 && z < 95.8 && r > 9.4) return -0.5 * (0.5 + 0.5 * std::cos(40 * th));
-                   if (z > 8 && z < 26 && r > 17.9)
-                     return -0.8 * smoothstep(0.3, 0.5, fract(z / 3.0)) * smoothstep(-0.9, -0.7, -fract(z / 3.0));
-                   return 0.0;
-                 });
-  return m;
-}
-
-Mesh brick() {  // a 2 x 4 building brick with studs
-  Mesh m;
-  add_box(m, {0, 0, 4.8}, {16, 8, 4.8}, 1.0);
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 2; ++j)
-      add_revolution(m, {{0, 0, 0}, {2.4, 0, 3}, {2.4, 2.2, 3}, {2.1, 2.5, 1}, {0, 2.5, 3}}, 40, false,
-                     {-12.0 + 8 * i, -4.0 + 8 * j, 9.1});
-  return m;
-}
-
-Mesh knob() {  // a knurled knob with a plain stem
-  Mesh m;
-  add_revolution(m,
-                 {{0, 0, 0}, {20, 0, 10}, {20, 18, 45}, {17, 20, 4}, {6, 20, 10}, {6, 32, 12}, {5, 33, 2}, {0, 33, 5}},
-                 288, false, {}, [](double th, double r, double z) {
-                   if (z < 1 || z > 17 || r < 19.9) return 0.0;
-                   double a = fract(36 * th / (2 * kPi) + z / 4), b = fract(36 * th / (2 * kPi) - z / 4);
-                   return -0.7 * (1 - std::min(std::abs(2 * a - 1), std::abs(2 * b - 1)));
-                 });
-  return m;
-}
-
-// ---- raised letters: a 28 mm tile (top at z = 0) with the letter 3 mm high ----
-
-struct Stroke {  // a rectangle from a to b with half width w, or a ring arc
-  dvec2 a, b;
-  double w;
-  bool ring = false;
-  double radius = 0, from = 0, to = 0;  // ring: centre a, angles in radians
+struct Written {
+  const ObjectSpec* spec;
+  double size_mm;  // largest bounding-box dimension
 };
 
-double sd_segment(dvec2 p, const Stroke& s) {
-  if (s.ring) {
-    dvec2 d = p - s.a;
-    double ang = std::atan2(d.y, d.x);
-    bool inside = s.to - s.from >= 2 * kPi - 1e-9 || (ang >= s.from && ang <= s.to) ||
-                  (ang + 2 * kPi >= s.from && ang + 2 * kPi <= s.to);
-    if (inside) return std::abs(glm::length(d) - s.radius) - s.w;
-    dvec2 e1 = s.a + s.radius * dvec2(std::cos(s.from), std::sin(s.from)),
-          e2 = s.a + s.radius * dvec2(std::cos(s.to), std::sin(s.to));
-    return std::min(glm::length(p - e1), glm::length(p - e2)) - s.w;
+Written write_object(const ObjectSpec& o, const std::filesystem::path& dir) {
+  sva::sim::Mesh m = o.make();
+  m.update_bounds();
+  auto file = dir / (std::string(o.name) + ".glb");
+  sva::sim::save_glb(m, file);
+  glm::dvec3 e = m.extent();
+  std::printf("%-20s %7zu vertices %7zu triangles  %6.1f x %6.1f x %6.1f mm  %8ju bytes\n", o.name, m.positions.size(),
+              m.triangles.size(), e.x, e.y, e.z, static_cast<std::uintmax_t>(std::filesystem::file_size(file)));
+  return {&o, std::max({e.x, e.y, e.z})};
+}
+
+// The household scenes share everything but their objects. Pair distances
+// reach from the smallest objects' 10 mm to the largest's 250 mm; see
+// docs/evaluation.md ("Many objects") for the protocol's sizes.
+std::string household_scene(const std::vector<Written>& objects, std::size_t count) {
+  std::ostringstream s;
+  s << "{\n  \"name\": \"household" << count << "\",\n"
+    << "  \"comment\": \"" << (count == objects.size() ? "The" : "The first " + std::to_string(count) + " of the")
+    << " 50 everyday objects of the household set at their real sizes (sva_make_assets; docs/evaluation.md, Many "
+       "objects).\",\n  \"objects\": [\n";
+  for (std::size_t i = 0; i < count; ++i) {
+    const Written& w = objects[i];
+    char size[32], radius[32];
+    std::snprintf(size, sizeof size, "%.1f", w.size_mm);
+    std::snprintf(radius, sizeof radius, "%.1f", std::round(w.size_mm * 5) / 10);  // half the size
+    s << "    {\"name\": \"" << w.spec->name << "\", \"mesh\": \"../objects/" << w.spec->name
+      << ".glb\", \"size_mm\": " << size << ", \"symmetry\": " << w.spec->symmetry
+      << ", \"inertial_radius_mm\": " << radius << "}" << (i + 1 < count ? ",\n" : "\n");
   }
-  // Oriented box around the segment (square ends).
-  dvec2 ax = s.b - s.a;
-  double len = glm::length(ax);
-  dvec2 u = ax / len, n(-u.y, u.x), q = p - 0.5 * (s.a + s.b);
-  double x = std::abs(glm::dot(q, u)) - 0.5 * len, y = std::abs(glm::dot(q, n)) - s.w;
-  return std::max(x, y) > 0 ? glm::length(glm::max(dvec2(x, y), dvec2(0.0))) : std::max(x, y);
+  s << "  ],\n"
+    << R"(  "sensor": {"rows": 6, "cols": 6, "pitch_mm": 2.0},
+  "skin": {"stiffness_kpa_per_mm": 100, "spread_mm": 0.6, "rays_per_axis": 3, "noise_kpa": 0.0, "contact_threshold_kpa": 2.0, "target_pressure_kpa": 20.0},
+  "pose_space": {"kind": "spatial", "translation_bins": 50, "translation_range_mm": [-200, 200], "rotation_bins": 9},
+  "appearance": {"descriptor": "mnti", "clusters": 25, "dist_bins": 40, "dist_range_mm": [10, 170]},
+  "protocol": {"kind": "paper3d", "train_per_object": 300, "test_per_object": 50, "approach_mm": 3.0, "tilt_deg": 10.0, "max_iterations": 100}
 }
-
-Mesh letter(const std::vector<Stroke>& strokes) {
-  Mesh m;
-  const double half = 14, cell = 0.25, bottom = -1.0, height = 3.0;
-  auto h = [&](double x, double y) {
-    double d = 1e9;
-    for (const auto& s : strokes) d = std::min(d, sd_segment({x, y}, s));
-    return height * smoothstep(0.15, -0.15, d);
-  };
-  const int n = static_cast<int>(std::lround(2 * half / cell));
-  add_grid(m, n, n, false, false, [&](double u, double v) {
-    double x = (u - 0.5) * 2 * half, y = (v - 0.5) * 2 * half;
-    return dvec3(x, y, h(x, y));
-  });
-  // Side walls follow the top's border; the bottom is one quad.
-  auto wall = [&](dvec2 from, dvec2 to) {
-    add_grid(m, n, 1, false, false, [&](double u, double v) {
-      dvec2 p = from + u * (to - from);
-      return dvec3(p.x, p.y, v < 0.5 ? bottom : h(p.x, p.y));
-    });
-  };
-  wall({-half, -half}, {half, -half});
-  wall({half, -half}, {half, half});
-  wall({half, half}, {-half, half});
-  wall({-half, half}, {-half, -half});
-  add_grid(m, 1, 1, false, false,
-           [&](double u, double v) { return dvec3((u - 0.5) * 2 * half, (0.5 - v) * 2 * half, bottom); });
-  return m;
-}
-
-const double W = 2.25;  // half stroke width
-Mesh letter_A() {
-  return letter({{{-9.5, -12.5}, {0, 12.5}, W}, {{9.5, -12.5}, {0, 12.5}, W}, {{-5, -3.5}, {5, -3.5}, W}});
-}
-Mesh letter_E() {
-  return letter({{{-7, -12.5}, {-7, 12.5}, W},
-                 {{-9.25, 10.25}, {8.5, 10.25}, W},
-                 {{-9.25, 0}, {6, 0}, W},
-                 {{-9.25, -10.25}, {8.5, -10.25}, W}});
-}
-Mesh letter_I() {
-  return letter({{{0, -12.5}, {0, 12.5}, W}, {{-7, 10.25}, {7, 10.25}, W}, {{-7, -10.25}, {7, -10.25}, W}});
-}
-Mesh letter_O() {
-  Stroke ring{{0, 0}, {0, 0}, W, true, 10.25, -kPi, kPi};
-  return letter({ring});
-}
-Mesh letter_U() {
-  Stroke bowl{{0, -3}, {0, 0}, W, true, 7.25, -kPi, 0};
-  return letter({{{-7.25, -3}, {-7.25, 12.5}, W}, {{7.25, -3}, {7.25, 12.5}, W}, bowl});
+)";
+  return s.str();
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: %s OUTPUT_DIR\n", argv[0]);
+  if (argc != 2 && argc != 3) {
+    std::fprintf(stderr, "usage: %s OBJECTS_DIR [SCENES_DIR]\n", argv[0]);
     return 2;
   }
-  std::filesystem::path dir = argv[1];
   try {
-    std::filesystem::create_directories(dir);
-    const std::pair<const char*, Mesh (*)()> objects[] = {
-        {"glass", glass},       {"tyre", tyre},         {"screwdriver", screwdriver},
-        {"phone", phone},       {"knight", knight},     {"mug", mug},
-        {"die", die},           {"bottle", bottle},     {"brick", brick},
-        {"knob", knob},         {"letter_A", letter_A}, {"letter_E", letter_E},
-        {"letter_I", letter_I}, {"letter_O", letter_O}, {"letter_U", letter_U}};
-    for (const auto& [name, make] : objects) {
-      Mesh m = make();
-      m.update_bounds();
-      auto file = dir / (std::string(name) + ".glb");
-      sva::sim::save_glb(m, file);
-      dvec3 e = m.extent();
-      std::printf("%-12s %7zu vertices %7zu triangles  %6.1f x %6.1f x %6.1f mm  %8ju bytes\n", name,
-                  m.positions.size(), m.triangles.size(), e.x, e.y, e.z,
-                  static_cast<std::uintmax_t>(std::filesystem::file_size(file)));
+    const std::filesystem::path objects_dir = argv[1];
+    std::filesystem::create_directories(objects_dir);
+    for (const ObjectSpec& o : sva::assets::paper_objects()) write_object(o, objects_dir);
+    const std::vector<ObjectSpec> household = sva::assets::household_objects();
+    std::vector<Written> written;
+    for (const ObjectSpec& o : household) written.push_back(write_object(o, objects_dir));
+    if (argc == 3) {
+      const std::filesystem::path scenes_dir = argv[2];
+      for (std::size_t count : {10u, 25u, 50u}) {
+        auto file = scenes_dir / ("household" + std::to_string(count) + ".json");
+        sva::io::write_text_file(file, household_scene(written, count));
+        std::printf("%s\n", file.string().c_str());
+      }
     }
   } catch (const std::exception& e) {
     std::fprintf(stderr, "sva_make_assets: %s\n", e.what());

@@ -294,7 +294,8 @@ Scene load_scene(const std::string& name_or_file) {
     auto builtin = assets_dir() / "scenes" / (name_or_file + ".json");
     if (!std::filesystem::exists(builtin, ec))
       throw Error("scene \"" + name_or_file +
-                  "\": no built-in scene of that name (built-ins: paper3d, letters2d, tiny; or give a .json file)");
+                  "\": no built-in scene of that name (built-ins: paper3d, letters2d, tiny, household10, household25, "
+                  "household50; or give a .json file)");
     file = builtin;
   }
   std::ifstream in(file);

@@ -95,21 +95,27 @@ bool control_step(const TactileSensor& sensor, const TactileImage& img, const Co
       std::clamp((cs.kp * error + cs.kd * d_error) / skin.stiffness_kpa_per_mm, -cs.max_step_mm, cs.max_step_mm);
   prev_error = error;
   const glm::dvec3 contact = pose.position + img.contact_centroid.x * pose.x_axis + img.contact_centroid.y * y;
-  if (cs.reorient && turn > 0.25 * cs.normal_tolerance_deg * M_PI / 180.0) {
+  const bool turned = cs.reorient && turn > 0.25 * cs.normal_tolerance_deg * M_PI / 180.0;
+  if (turned) {
     // Turn about the contact point: the contact stays where it is while the
     // sensor rolls onto the fitted plane.
-    const double a = std::min(cs.turn_gain * turn, cs.max_turn_deg * M_PI / 180.0);
     glm::dvec3 axis = glm::cross(pose.normal, surface);
     const double len = glm::length(axis);
     if (len > 1e-12) {
       axis /= len;
+      const double a = std::min(cs.turn_gain * turn, cs.max_turn_deg * M_PI / 180.0);
       pose.position = contact + rotate(pose.position - contact, a, axis);
       pose.normal = rotate(pose.normal, a, axis);
       pose.x_axis = rotate(pose.x_axis, a, axis);
       orthonormalise(pose);
     }
   }
-  if (cs.recenter && offset > 0.25 * pitch) pose.position = contact;
+  // Re-centre on the contact only once the turn is done, or when the contact
+  // has drifted by more than a pitch: re-centring in every turning iteration
+  // lets a biased fit (a fluted or knurled surface bears more on one rim) roll
+  // the sensor around a body of revolution for ever. (Measured on paper3d's
+  // glass: 62% converge re-centring every iteration, 96% like this.)
+  if (cs.recenter && offset > 0.25 * pitch && (!turned || offset > pitch)) pose.position = contact;
   pose.position -= step * pose.normal;
   return false;
 }

@@ -199,7 +199,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
   json j;
   try {
     j = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // syntax, and numbers out of a double's range
     c.fail("", std::string("invalid JSON: ") + e.what());
   }
   c.object(j, "");

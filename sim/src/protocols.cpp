@@ -52,7 +52,27 @@ struct Job {
   std::uint32_t index;
 };
 
-Reading paper3d_reading(const TactileSensor& sensor, const Scene& scene, std::uint64_t seed, const Job& job) {
+// The controller of a protocol: the scene's budget; the guarded move gives up
+// where the rays stop looking.
+ControllerSettings controller_settings(const TactileSensor& sensor, const Scene& scene) {
+  ControllerSettings cs;
+  cs.max_iterations = scene.protocol.max_iterations;
+  cs.max_approach_mm = sensor.reach_mm();
+  return cs;
+}
+
+// The settled contact as the robot reports it (the arm's pose error on the
+// reading), with the truth beside it.
+Sample report(const Contact& c, const ErrorModel& errors, std::uint64_t arm_seed, std::uint32_t object) {
+  Sample s;
+  s.reading = c.reading;
+  s.reading.object = object;
+  s.truth = {c.reading.position, c.reading.normal, c.reading.x_axis, c.surface_normal};
+  report_pose(errors, arm_seed, s.reading.position, s.reading.normal, s.reading.x_axis);
+  return s;
+}
+
+Sample paper3d_reading(const TactileSensor& sensor, const Scene& scene, std::uint64_t seed, const Job& job) {
   const auto& pr = scene.protocol;
   util::Rng rng(seed, job.stream, job.object, job.index);
   glm::dvec3 p, n;
@@ -67,14 +87,11 @@ Reading paper3d_reading(const TactileSensor& sensor, const Scene& scene, std::ui
   const double psi = 2.0 * M_PI * rng.uniform();  // rotation about the normal is not controlled
   start.x_axis = std::cos(psi) * t1 + std::sin(psi) * t2;
   start.position = p + pr.approach_mm * n;
-  ControllerSettings cs;
-  cs.max_iterations = pr.max_iterations;
-  Reading r = press(sensor, start, cs, util::splitmix64(rng.next()));
-  r.object = job.object;
-  return r;
+  const Contact c = press(sensor, start, controller_settings(sensor, scene), util::splitmix64(rng.next()));
+  return report(c, scene.errors, util::splitmix64(rng.next()), job.object);
 }
 
-Reading letters2d_reading(const TactileSensor& sensor, const Scene& scene, std::uint64_t seed, const Job& job) {
+Sample letters2d_reading(const TactileSensor& sensor, const Scene& scene, std::uint64_t seed, const Job& job) {
   const auto& pr = scene.protocol;
   const int poses = pr.grid * pr.grid * pr.orientations;
   const int q = static_cast<int>(job.index % static_cast<std::uint32_t>(poses));
@@ -96,13 +113,11 @@ Reading letters2d_reading(const TactileSensor& sensor, const Scene& scene, std::
   start.normal = {0, 0, 1};
   start.x_axis = {std::cos(angle), std::sin(angle), 0.0};
   start.position = {x, y, mesh.bounds_max.z + pr.approach_mm};
-  ControllerSettings cs;
-  cs.max_iterations = pr.max_iterations;
+  ControllerSettings cs = controller_settings(sensor, scene);
   cs.reorient = false;  // the letters are pressed flat against the array
   cs.recenter = false;
-  Reading r = press(sensor, start, cs, util::splitmix64(rng.next()));
-  r.object = job.object;
-  return r;
+  const Contact c = press(sensor, start, cs, util::splitmix64(rng.next()));
+  return report(c, scene.errors, util::splitmix64(rng.next()), job.object);
 }
 
 }  // namespace
@@ -118,13 +133,18 @@ SimulatedData simulate(const Scene& scene, const SimulateOptions& options) {
       options.train_per_object >= 0 ? options.train_per_object : (letters ? per_pose : pr.train_per_object);
   const int test_n = options.test_per_object >= 0 ? options.test_per_object : (letters ? per_pose : pr.test_per_object);
 
-  // Every mesh is loaded and validated before any work starts.
+  // Every mesh is loaded and validated before any work starts. Training and
+  // test readings are taken with their own physical sensor (the scene's
+  // sensor instance seeds; the same seed is the same sensor).
   std::vector<std::unique_ptr<ObjectGeometry>> geometry;
-  std::vector<std::unique_ptr<TactileSensor>> sensors;
+  std::vector<std::unique_ptr<TactileSensor>> train_sensors, test_sensors;
   const double reach = pr.approach_mm + 10.0;
   for (const auto& o : scene.objects) {
     geometry.push_back(std::make_unique<ObjectGeometry>(load_object_mesh(o)));
-    sensors.push_back(std::make_unique<TactileSensor>(*geometry.back(), scene.sensor, scene.skin, reach));
+    train_sensors.push_back(std::make_unique<TactileSensor>(*geometry.back(), scene.sensor, scene.skin, reach,
+                                                            scene.errors, scene.errors.train_sensor));
+    test_sensors.push_back(std::make_unique<TactileSensor>(*geometry.back(), scene.sensor, scene.skin, reach,
+                                                           scene.errors, scene.errors.test_sensor));
   }
 
   std::vector<Job> jobs;
@@ -133,14 +153,14 @@ SimulatedData simulate(const Scene& scene, const SimulateOptions& options) {
     for (std::uint32_t o = 0; o < scene.objects.size(); ++o)
       for (int k = 0; k < n; ++k) jobs.push_back({stream, o, static_cast<std::uint32_t>(k)});
   }
-  std::vector<Reading> readings(jobs.size());
+  std::vector<Sample> samples(jobs.size());
   util::Progress progress("simulate " + scene.name, jobs.size());
   util::parallel_for(
       jobs.size(),
       [&](std::size_t i) {
         const Job& job = jobs[i];
-        const TactileSensor& s = *sensors[job.object];
-        readings[i] =
+        const TactileSensor& s = job.stream == kTrainStream ? *train_sensors[job.object] : *test_sensors[job.object];
+        samples[i] =
             letters ? letters2d_reading(s, scene, options.seed, job) : paper3d_reading(s, scene, options.seed, job);
         progress.advance();
       },
@@ -154,7 +174,7 @@ SimulatedData simulate(const Scene& scene, const SimulateOptions& options) {
   out.train.seed = out.test.seed = options.seed;
   for (std::size_t i = 0; i < jobs.size(); ++i) {
     Dataset& d = jobs[i].stream == kTrainStream ? out.train : out.test;
-    d.samples.push_back({std::move(readings[i]), RigidPose{}});
+    d.samples.push_back(std::move(samples[i]));
   }
   return out;
 }

@@ -3,6 +3,8 @@
 #include <sva/error.hpp>
 #include <sva/scene.hpp>
 
+#include <cmath>
+
 using Catch::Contains;
 
 namespace {
@@ -46,4 +48,90 @@ TEST_CASE("scene JSON: every fault names the field") {
                     Contains("zero length"));
   CHECK_THROWS_WITH(sva::load_scene("/nonexistent/scene.json"), Contains("/nonexistent/scene.json"));
   CHECK_THROWS_WITH(sva::load_scene("no-such-builtin"), Contains("no-such-builtin"));
+}
+
+TEST_CASE("scene JSON: the errors block, its defaults and its round trip") {
+  // No block is the ideal world: old scenes keep their meaning.
+  auto ideal = parse(R"({"objects": [{"mesh": "a.glb"}]})");
+  CHECK(ideal.errors.arm_ideal());
+  CHECK(ideal.errors.gain_spread == 0.0);
+  CHECK(ideal.errors.noise_kpa == 0.0);
+  CHECK(ideal.errors.full_scale_kpa == 0.0);
+  CHECK(ideal.errors.crosstalk == 0.0);
+  auto s = parse(R"({"objects": [{"mesh": "a.glb"}], "errors": {"position_sigma_mm": 0.5, "normal_sigma_deg": 0.3,
+      "gain_spread": 0.05, "offset_kpa": 0.2, "noise_kpa": 0.3, "full_scale_kpa": 200, "crosstalk": 0.02,
+      "crosstalk_diagonal": 0.01, "train_sensor": 1, "test_sensor": 2, "comment": "a real sensor"}})");
+  CHECK(s.errors.position_sigma_mm == 0.5);
+  CHECK(s.errors.normal_sigma_deg == 0.3);
+  CHECK(s.errors.gain_spread == 0.05);
+  CHECK(s.errors.offset_kpa == 0.2);
+  CHECK(s.errors.noise_kpa == 0.3);
+  CHECK(s.errors.full_scale_kpa == 200);
+  CHECK(s.errors.crosstalk == 0.02);
+  CHECK(s.errors.crosstalk_diagonal == 0.01);
+  CHECK(s.errors.train_sensor == 1u);
+  CHECK(s.errors.test_sensor == 2u);
+  auto again = sva::parse_scene(sva::scene_to_json(s), "/tmp/x/again.json");
+  CHECK(again.errors.position_sigma_mm == s.errors.position_sigma_mm);
+  CHECK(again.errors.crosstalk_diagonal == s.errors.crosstalk_diagonal);
+  CHECK(again.errors.test_sensor == s.errors.test_sensor);
+  // Only some fields: the others stay ideal.
+  auto some = parse(R"({"objects": [{"mesh": "a.glb"}], "errors": {"noise_kpa": 1}})");
+  CHECK(some.errors.noise_kpa == 1.0);
+  CHECK(some.errors.arm_ideal());
+}
+
+TEST_CASE("scene JSON: every fault in the errors block names the field") {
+  auto with = [](const std::string& errors) {
+    return parse(R"({"objects": [{"mesh": "a.glb"}], "errors": )" + errors + "}");
+  };
+  CHECK_THROWS_WITH(with(R"({"position_sigma": 1})"), Contains("errors") && Contains("unknown key \"position_sigma\""));
+  CHECK_THROWS_WITH(with(R"({"position_sigma_mm": -0.1})"),
+                    Contains("errors.position_sigma_mm") && Contains("out of range"));
+  CHECK_THROWS_WITH(with(R"({"normal_sigma_deg": "1"})"),
+                    Contains("errors.normal_sigma_deg") && Contains("expected a number"));
+  CHECK_THROWS_WITH(with(R"({"normal_sigma_deg": -2})"), Contains("errors.normal_sigma_deg"));
+  CHECK_THROWS_WITH(with(R"({"gain_spread": 0.5})"), Contains("errors.gain_spread"));
+  CHECK_THROWS_WITH(with(R"({"offset_kpa": -1})"), Contains("errors.offset_kpa"));
+  CHECK_THROWS_WITH(with(R"({"noise_kpa": -1})"), Contains("errors.noise_kpa"));
+  CHECK_THROWS_WITH(with(R"({"crosstalk": -0.01})"), Contains("errors.crosstalk"));
+  CHECK_THROWS_WITH(with(R"({"crosstalk": 0.15, "crosstalk_diagonal": 0.12})"),
+                    Contains("errors.crosstalk") && Contains(">= 1"));
+  CHECK_THROWS_WITH(with(R"({"full_scale_kpa": 15})"),
+                    Contains("errors.full_scale_kpa") && Contains("target_pressure_kpa"));
+  CHECK_THROWS_WITH(with(R"({"train_sensor": -1})"), Contains("errors.train_sensor"));
+  CHECK_THROWS_WITH(with(R"({"test_sensor": 1.5})"), Contains("errors.test_sensor") && Contains("integer"));
+  CHECK_THROWS_WITH(with(R"([0.5])"), Contains("errors") && Contains("expected a JSON object"));
+  // JSON has no NaN; a number too large for a double is refused too.
+  CHECK_THROWS_WITH(with(R"({"noise_kpa": NaN})"), Contains("invalid JSON"));
+  CHECK_THROWS_WITH(with(R"({"noise_kpa": 1e999})"), Contains("invalid JSON") && Contains("1e999"));
+  // The skin's target may come after the errors block: the check sees both.
+  CHECK_THROWS_WITH(parse(R"({"objects": [{"mesh": "a.glb"}], "errors": {"full_scale_kpa": 40},
+      "skin": {"target_pressure_kpa": 50}})"),
+                    Contains("errors.full_scale_kpa"));
+}
+
+TEST_CASE("scene JSON: the built-in scenes spell out their errors, the -ideal ones are the ideal world") {
+  for (const auto& name : sva::builtin_scene_names()) {
+    INFO(name);
+    const auto s = sva::load_scene(name);
+    const bool ideal = name.find("-ideal") != std::string::npos;
+    CHECK(s.errors.arm_ideal() == ideal);
+    CHECK((s.errors.gain_spread == 0.0) == ideal);
+    CHECK((s.errors.noise_kpa == 0.0) == ideal);
+    CHECK((s.errors.full_scale_kpa == 0.0) == ideal);
+    CHECK((s.errors.train_sensor == s.errors.test_sensor) == ideal);
+  }
+  // The ideal twins differ from their scenes only in the errors (and, for the
+  // letters, where the skin noise lives).
+  for (const char* base : {"paper3d", "letters2d"}) {
+    auto real = sva::load_scene(base), ideal = sva::load_scene(std::string(base) + "-ideal");
+    CHECK(ideal.name == std::string(base) + "-ideal");
+    REQUIRE(real.objects.size() == ideal.objects.size());
+    for (std::size_t i = 0; i < real.objects.size(); ++i) CHECK(real.objects[i].mesh == ideal.objects[i].mesh);
+    CHECK(std::hypot(real.skin.noise_kpa, real.errors.noise_kpa) >= ideal.skin.noise_kpa);
+    CHECK(real.protocol.train_per_object == ideal.protocol.train_per_object);
+    CHECK(real.pose_space.translation_bins == ideal.pose_space.translation_bins);
+  }
+  CHECK_THROWS_WITH(sva::load_scene("paper3d-real"), Contains("paper3d-ideal") && Contains("letters2d-ideal"));
 }

@@ -11,9 +11,21 @@
 
 namespace sva {
 
+// Where the sensor really was when a reading was taken. The reading holds
+// what the robot reported (arm pose errors, the array's errors: see the scene's
+// ErrorModel); the simulator knows the truth. Recordings of a real sensor, and
+// dataset files of version 1, carry the reading's own pose and no surface normal.
+struct SensorTruth {
+  glm::dvec3 position{0.0};
+  glm::dvec3 normal{0.0, 0.0, 1.0};
+  glm::dvec3 x_axis{1.0, 0.0, 0.0};
+  glm::dvec3 surface_normal{0.0};  // outward surface normal under the settled array; 0: unknown
+};
+
 struct Sample {
   Reading reading;
   RigidPose object_pose;  // true pose of the object when the reading was taken (identity in simulation)
+  SensorTruth truth;      // true sensor pose in the same frame as the reading (before object_pose is applied)
 };
 
 struct Dataset {

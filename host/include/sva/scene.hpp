@@ -5,6 +5,7 @@
 #include <sva/pose.hpp>
 #include <sva/reading.hpp>
 
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -28,6 +29,24 @@ struct SkinModel {
   double noise_kpa = 0.0;               // std-dev of additive Gaussian noise
   double contact_threshold_kpa = 2.0;   // an element is in contact above this
   double target_pressure_kpa = 20.0;    // controller target for the mean pressure of contacting elements
+};
+
+// What separates a reading from the truth: the arm's pose errors and one
+// physical sensor's imperfections (docs/sensor-model.md, "Error model"). All
+// zero (the default, and a scene without an "errors" block) is the ideal world.
+struct ErrorModel {
+  double position_sigma_mm = 0.0;   // arm: Gaussian per axis on the reported sensor position, per reading
+  double normal_sigma_deg = 0.0;    // arm: Gaussian per axis of the rotation vector turning the reported frame
+  double gain_spread = 0.0;         // per-element gain std-dev (fraction of 1), fixed for one sensor instance
+  double offset_kpa = 0.0;          // per-element offset std-dev, fixed for one sensor instance
+  double noise_kpa = 0.0;           // per element per frame (adds in quadrature to skin.noise_kpa)
+  double full_scale_kpa = 0.0;      // an element saturates here (0: never)
+  double crosstalk = 0.0;           // fraction of an element's pressure read by each of its 4 edge neighbours
+  double crosstalk_diagonal = 0.0;  // ... and by each of its 4 corner neighbours
+  std::uint32_t train_sensor = 1;   // sensor instance seed of the training readings
+  std::uint32_t test_sensor = 1;    // ... and of the test readings (differ: two physical sensors)
+
+  bool arm_ideal() const { return position_sigma_mm == 0.0 && normal_sigma_deg == 0.0; }
 };
 
 struct PoseSpaceSpec {
@@ -65,6 +84,7 @@ struct Scene {
   std::vector<SceneObject> objects;
   SensorSpec sensor;
   SkinModel skin;
+  ErrorModel errors;
   PoseSpaceSpec pose_space;
   AppearanceSpec appearance;
   ProtocolSpec protocol;
@@ -73,8 +93,10 @@ struct Scene {
 // Parse a scene from JSON text; `origin` names the source in error messages and
 // is the directory relative mesh paths resolve against.
 Scene parse_scene(const std::string& json_text, const std::filesystem::path& origin);
-// Load a scene file, or a built-in scene by name ("paper3d", "letters2d").
+// Load a scene file, or a built-in scene by name (builtin_scene_names()).
 Scene load_scene(const std::string& name_or_file);
+// The names of the built-in scenes (assets/scenes/NAME.json).
+const std::vector<std::string>& builtin_scene_names();
 // The scene serialised back to JSON (mesh paths absolute).
 std::string scene_to_json(const Scene& scene);
 // Directory of the built-in assets (env SVA_ASSETS overrides).

@@ -12,7 +12,10 @@ namespace sva {
 
 namespace {
 constexpr char kMagic[] = "SVADATA1";
-constexpr std::uint32_t kVersion = 1;
+// Version 2 added the sensor truth to every record; version 1 files still load
+// (their truth is the reported pose).
+constexpr std::uint32_t kVersion = 2;
+constexpr std::uint32_t kOldestVersion = 1;
 
 bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 void put3(io::BinaryWriter& w, const glm::dvec3& v) { w.put_array(&v.x, 3); }
@@ -21,6 +24,20 @@ glm::dvec3 get3(io::BinaryReader& r) {
   r.get_array(&v.x, 3);
   return v;
 }
+template <class Bad>
+void read_truth(io::BinaryReader& r, SensorTruth& t, const Bad& bad) {
+  t.position = get3(r);
+  t.normal = get3(r);
+  t.x_axis = get3(r);
+  t.surface_normal = get3(r);
+  if (!finite(t.position) || !finite(t.normal) || !finite(t.x_axis) || !finite(t.surface_normal))
+    bad("non-finite true sensor pose or surface normal");
+  if (std::abs(glm::length(t.normal) - 1.0) > 1e-6 || std::abs(glm::length(t.x_axis) - 1.0) > 1e-6)
+    bad("true sensor normal and x axis must be unit vectors");
+  const double sn = glm::length(t.surface_normal);
+  if (sn != 0.0 && std::abs(sn - 1.0) > 1e-6) bad("true surface normal must be a unit vector or zero (unknown)");
+}
+
 }  // namespace
 
 std::size_t Dataset::count_converged() const {
@@ -48,12 +65,17 @@ void save_dataset(const Dataset& d, const std::filesystem::path& file) {
     w.put_array(&s.object_pose.R[0][0], 9);
     put3(w, s.object_pose.T);
     w.put_array(r.pressure.data(), elements);
+    put3(w, s.truth.position);
+    put3(w, s.truth.normal);
+    put3(w, s.truth.x_axis);
+    put3(w, s.truth.surface_normal);
   }
   w.write_file(file, std::string_view(kMagic, 8), kVersion);
 }
 
 Dataset load_dataset(const std::filesystem::path& file) {
-  io::BinaryReader r(file, std::string_view(kMagic, 8), kVersion, "dataset");
+  io::BinaryReader r(file, std::string_view(kMagic, 8), kOldestVersion, kVersion, "dataset");
+  const bool has_truth = r.version() >= 2;
   Dataset d;
   std::string scene_json = r.get_string(64 << 20);
   try {
@@ -65,7 +87,7 @@ Dataset load_dataset(const std::filesystem::path& file) {
   d.seed = r.get<std::uint64_t>();
   auto n = r.get<std::uint64_t>();
   const auto elements = static_cast<std::size_t>(d.scene.sensor.elements());
-  const std::size_t record = 4 + 1 + 2 + 8 * (3 * 3 + 9 + 3) + 4 * elements;
+  const std::size_t record = 4 + 1 + 2 + 8 * (3 * 3 + 9 + 3) + 4 * elements + (has_truth ? 8 * 12 : 0);
   if (n > r.remaining() / record) r.fail("sample count " + std::to_string(n) + " exceeds the file size");
   d.samples.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
@@ -93,6 +115,10 @@ Dataset load_dataset(const std::filesystem::path& file) {
     r.get_array(rd.pressure.data(), elements);
     for (float p : rd.pressure)
       if (!std::isfinite(p) || p < 0.0f) bad("pressure image holds a NaN, infinite or negative value");
+    if (has_truth)
+      read_truth(r, s.truth, bad);
+    else
+      s.truth = {rd.position, rd.normal, rd.x_axis, glm::dvec3(0.0)};
   }
   r.expect_end();
   return d;

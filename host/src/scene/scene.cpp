@@ -136,7 +136,65 @@ json symmetry_to_json(const Symmetry& s) {
   return j;
 }
 
+// The "errors" block (docs/scene-format.md). Cross-checks against the skin run
+// after the whole scene is read, so the order of the blocks does not matter.
+ErrorModel parse_errors(const Ctx& c, const json& v) {
+  c.object(v, "errors");
+  c.known_keys(v, "errors",
+               {"comment", "position_sigma_mm", "normal_sigma_deg", "gain_spread", "offset_kpa", "noise_kpa",
+                "full_scale_kpa", "crosstalk", "crosstalk_diagonal", "train_sensor", "test_sensor"});
+  ErrorModel e;
+  auto num = [&](const char* key, double& out, double hi) {
+    opt(v, key, [&](const json& x) { out = c.number(x, std::string("errors.") + key, 0.0, hi); });
+  };
+  num("position_sigma_mm", e.position_sigma_mm, 100.0);
+  num("normal_sigma_deg", e.normal_sigma_deg, 45.0);
+  num("gain_spread", e.gain_spread, 0.3);  // gains stay positive: they are clipped at 3 sigma
+  num("offset_kpa", e.offset_kpa, 1e6);
+  num("noise_kpa", e.noise_kpa, 1e6);
+  num("full_scale_kpa", e.full_scale_kpa, 1e9);
+  num("crosstalk", e.crosstalk, 0.2);
+  num("crosstalk_diagonal", e.crosstalk_diagonal, 0.2);
+  if (4.0 * (e.crosstalk + e.crosstalk_diagonal) >= 1.0)
+    c.fail("errors.crosstalk", "the 8 neighbours together would read at least the element's own pressure (4 * (" +
+                                   Ctx::fmt(e.crosstalk) + " + " + Ctx::fmt(e.crosstalk_diagonal) + ") >= 1)");
+  opt(v, "comment", [&](const json& x) { c.string(x, "errors.comment"); });
+  opt(v, "train_sensor", [&](const json& x) {
+    e.train_sensor = static_cast<std::uint32_t>(c.integer(x, "errors.train_sensor", 0, 2147483647));
+  });
+  opt(v, "test_sensor", [&](const json& x) {
+    e.test_sensor = static_cast<std::uint32_t>(c.integer(x, "errors.test_sensor", 0, 2147483647));
+  });
+  return e;
+}
+
+void check_errors_against_skin(const Ctx& c, const ErrorModel& e, const SkinModel& skin) {
+  if (e.full_scale_kpa > 0 && e.full_scale_kpa <= skin.target_pressure_kpa)
+    c.fail("errors.full_scale_kpa", "value " + Ctx::fmt(e.full_scale_kpa) +
+                                        " must be above skin.target_pressure_kpa (" +
+                                        Ctx::fmt(skin.target_pressure_kpa) + "), or 0 for no saturation");
+}
+
+json errors_to_json(const ErrorModel& e) {
+  return {{"position_sigma_mm", e.position_sigma_mm},
+          {"normal_sigma_deg", e.normal_sigma_deg},
+          {"gain_spread", e.gain_spread},
+          {"offset_kpa", e.offset_kpa},
+          {"noise_kpa", e.noise_kpa},
+          {"full_scale_kpa", e.full_scale_kpa},
+          {"crosstalk", e.crosstalk},
+          {"crosstalk_diagonal", e.crosstalk_diagonal},
+          {"train_sensor", e.train_sensor},
+          {"test_sensor", e.test_sensor}};
+}
+
 }  // namespace
+
+const std::vector<std::string>& builtin_scene_names() {
+  static const std::vector<std::string> names = {"paper3d",         "letters2d",   "tiny",        "paper3d-ideal",
+                                                 "letters2d-ideal", "household10", "household25", "household50"};
+  return names;
+}
 
 std::filesystem::path assets_dir() {
   if (const char* env = std::getenv("SVA_ASSETS"); env && *env) return env;
@@ -151,11 +209,12 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
   json j;
   try {
     j = json::parse(text);
-  } catch (const json::parse_error& e) {
+  } catch (const json::exception& e) {  // syntax, and numbers out of a double's range
     c.fail("", std::string("invalid JSON: ") + e.what());
   }
   c.object(j, "");
-  c.known_keys(j, "", {"name", "objects", "sensor", "skin", "pose_space", "appearance", "protocol", "comment"});
+  c.known_keys(j, "",
+               {"name", "objects", "sensor", "skin", "errors", "pose_space", "appearance", "protocol", "comment"});
   Scene s;
   s.file = origin;
   s.name = origin.stem().string();
@@ -211,6 +270,9 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
     if (k.contact_threshold_kpa >= k.target_pressure_kpa)
       c.fail("skin", "contact_threshold_kpa must be below target_pressure_kpa");
   });
+  // No "errors" block is the ideal world, so scenes written before it keep their meaning.
+  opt(j, "errors", [&](const json& v) { s.errors = parse_errors(c, v); });
+  check_errors_against_skin(c, s.errors, s.skin);
   opt(j, "pose_space", [&](const json& v) {
     c.object(v, "pose_space");
     c.known_keys(v, "pose_space", {"kind", "translation_bins", "translation_range_mm", "rotation_bins"});
@@ -291,11 +353,14 @@ Scene load_scene(const std::string& name_or_file) {
   // the current directory holds.
   const bool bare = file.extension() != ".json" && !file.has_parent_path();
   if (bare) {
+    const auto& names = builtin_scene_names();
     auto builtin = assets_dir() / "scenes" / (name_or_file + ".json");
-    if (!std::filesystem::exists(builtin, ec))
-      throw Error("scene \"" + name_or_file +
-                  "\": no built-in scene of that name (built-ins: paper3d, letters2d, tiny, household10, household25, "
-                  "household50; or give a .json file)");
+    if (!std::filesystem::exists(builtin, ec)) {
+      std::string list;
+      for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
+      throw Error("scene \"" + name_or_file + "\": no built-in scene of that name (built-ins: " + list +
+                  "; or give a .json file)");
+    }
     file = builtin;
   }
   std::ifstream in(file);
@@ -326,6 +391,7 @@ std::string scene_to_json(const Scene& s) {
         {"noise_kpa", s.skin.noise_kpa},
         {"contact_threshold_kpa", s.skin.contact_threshold_kpa},
         {"target_pressure_kpa", s.skin.target_pressure_kpa}}},
+      {"errors", errors_to_json(s.errors)},
       {"pose_space",
        {{"kind", s.pose_space.kind == PoseSpaceSpec::Kind::planar ? "planar" : "spatial"},
         {"translation_bins", s.pose_space.translation_bins},

@@ -56,6 +56,7 @@ std::string household_scene(const std::vector<Written>& objects, std::size_t cou
   s << "  ],\n"
     << R"(  "sensor": {"rows": 6, "cols": 6, "pitch_mm": 2.0},
   "skin": {"stiffness_kpa_per_mm": 100, "spread_mm": 0.6, "rays_per_axis": 3, "noise_kpa": 0.0, "contact_threshold_kpa": 2.0, "target_pressure_kpa": 20.0},
+  "errors": {"comment": "A capacitive 6 x 6 array (PPS-class) on a 6-axis arm (UR5/Panda-class); where each value comes from: docs/sensor-model.md, Error model.", "position_sigma_mm": 0.5, "normal_sigma_deg": 0.3, "gain_spread": 0.05, "offset_kpa": 0.3, "noise_kpa": 0.3, "full_scale_kpa": 200, "crosstalk": 0.02, "crosstalk_diagonal": 0.0, "train_sensor": 1, "test_sensor": 2},
   "pose_space": {"kind": "spatial", "translation_bins": 50, "translation_range_mm": [-200, 200], "rotation_bins": 9},
   "appearance": {"descriptor": "mnti", "clusters": 25, "dist_bins": 40, "dist_range_mm": [10, 170]},
   "protocol": {"kind": "paper3d", "train_per_object": 300, "test_per_object": 50, "approach_mm": 3.0, "tilt_deg": 10.0, "max_iterations": 100}

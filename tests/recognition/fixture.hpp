@@ -86,15 +86,7 @@ inline World make_world(const WorldSpec& s) {
     for (int i = 0; i < s.points; ++i) {
       const WorldPoint pt = world_point(s, o, i);
       w.objects.back().push_back(pt);
-      auto& r = map->readings;
-      r.object.push_back(static_cast<std::uint32_t>(o));
-      r.px.push_back(static_cast<float>(pt.p.x));
-      r.py.push_back(static_cast<float>(pt.p.y));
-      r.pz.push_back(static_cast<float>(pt.p.z));
-      r.nx.push_back(static_cast<float>(pt.n.x));
-      r.ny.push_back(static_cast<float>(pt.n.y));
-      r.nz.push_back(static_cast<float>(pt.n.z));
-      r.norm_conf.push_back(1.0f);
+      map->readings.push_back(static_cast<std::uint32_t>(o), pt.p, pt.n, 1.0f);
       classes.push_back({{pt.cls, 1.0f}});
     }
   }

@@ -60,14 +60,7 @@ MapReadings training_surface(const Sampler& sample, int count, std::uint64_t see
   util::Rng rng(seed, 1);
   for (int i = 0; i < count; ++i) {
     const SurfacePoint p = sample(rng);
-    r.object.push_back(0);
-    r.px.push_back(static_cast<float>(p.position.x));
-    r.py.push_back(static_cast<float>(p.position.y));
-    r.pz.push_back(static_cast<float>(p.position.z));
-    r.nx.push_back(static_cast<float>(p.normal.x));
-    r.ny.push_back(static_cast<float>(p.normal.y));
-    r.nz.push_back(static_cast<float>(p.normal.z));
-    r.norm_conf.push_back(1.0f);
+    r.push_back(0, p.position, p.normal, 1.0f);
   }
   return r;
 }

@@ -35,6 +35,16 @@ struct MapReadings {
   std::vector<float> nx, ny, nz;  // unit surface normal
   std::vector<float> norm_conf;   // Algorithm 1
   std::size_t size() const { return object.size(); }
+  void push_back(std::uint32_t o, const glm::dvec3& position, const glm::dvec3& normal, float conf) {
+    object.push_back(o);
+    px.push_back(static_cast<float>(position.x));
+    py.push_back(static_cast<float>(position.y));
+    pz.push_back(static_cast<float>(position.z));
+    nx.push_back(static_cast<float>(normal.x));
+    ny.push_back(static_cast<float>(normal.y));
+    nz.push_back(static_cast<float>(normal.z));
+    norm_conf.push_back(conf);
+  }
 };
 
 struct PairMap {

@@ -54,6 +54,8 @@ int cmd_eval(const std::vector<std::string>& argv) {
   a.option("--eps", "E", "floor of every pair factor (default 1e-6; docs/recognition.md)");
   a.option("--refine", "on|off",
            "fine pose: align the readings to the object's surface (default on; docs/recognition.md)");
+  a.option("--belief-budget", "BINS",
+           "touched pose bins per session before hopeless ones are forgotten (default 4194304; 0 = no bound)");
   if (!a.parse()) return 0;
 
   const std::string map_file = a.required("--map");
@@ -73,6 +75,8 @@ int cmd_eval(const std::vector<std::string>& argv) {
   o.recognizer.eps = a.number("--eps", o.recognizer.eps, 1e-300, 1.0);
   if (a.has("--eps") && !(o.recognizer.eps > 0)) throw Error("sva eval: --eps must be positive");
   o.recognizer.refine_pose = a.on_off("--refine", o.recognizer.refine_pose);
+  o.recognizer.belief_budget_bins = static_cast<std::size_t>(
+      a.integer("--belief-budget", static_cast<long long>(o.recognizer.belief_budget_bins), 0, 1ll << 40));
   const auto json_file = a.get("--json"), csv_file = a.get("--csv"), plot_file = a.get("--plot");
   if (json_file) check_writable("--json", *json_file);
   if (csv_file) check_writable("--csv", *csv_file);

@@ -151,10 +151,17 @@ struct SvaFoldParams {
 #define SVA_STATE_ARRAYS 5
 #define SVA_BELIEF_BUCKETS 1025  // 0 for d = 0, then 16 per bit of the highest set bit of d
 
-// Push constants of belief_rehash.comp: move every key of the old table into the new one.
+// Push constants of belief_rehash.comp: move every key of the old table into
+// the new one; with `forget`, only the bins at or above keep_lo/hi and those
+// in the sorted keep list, counted per object into the state's touched array.
 struct SvaRehashParams {
   uint old_lo, old_hi, old_capacity;
   uint new_lo, new_hi, new_capacity;
+  uint forget;
+  uint keep_lo, keep_hi;
+  uint keep_count;
+  uint state_lo, state_hi;
+  uint objects, object_shift;
 };
 
 // Push constants of belief_reduce.comp, one session per dispatch: the

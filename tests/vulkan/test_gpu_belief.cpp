@@ -194,3 +194,45 @@ TEST_CASE("GPU beliefs: the band list kept by the fold gives the CPU reference's
     CHECK(st.band_rebuilds == 0);  // compaction alone kept the list
   CHECK(st.validation_messages == 0);
 }
+
+TEST_CASE("Bounded beliefs: both backends forget the same bins, and the estimate is the unbounded one's") {
+  test::WorldSpec spec;
+  auto w = test::make_world(spec);
+  PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
+  FilterOptions bounded;
+  bounded.belief_budget_bins = 1500;  // far below what 12 readings touch
+  VulkanBackendOptions vo;
+  vo.initial_belief_slots = GENERATE(std::size_t{64}, std::size_t{1} << 16);
+  Twin t(w, space, 1, bounded, {}, vo);
+  BayesFilter unbounded(*w.map, space, FilterOptions{.belief_budget_bins = 0}, *t.cpu);
+  const RigidPose pose = test::random_pose(51, 150.0);
+  std::size_t forgotten = 0;
+  for (int r = 0; r < 12; ++r) {
+    const ObservedReading obs =
+        test::observe(w.objects[0][static_cast<std::size_t>(r * 7 + 3) % w.objects[0].size()], pose);
+    const UpdateStats a = t.fc[0]->add(obs), b = t.fg[0]->add(obs);
+    unbounded.add(obs);
+    INFO("update " << r);
+    CHECK(a.bins_forgotten == b.bins_forgotten);
+    forgotten += a.bins_forgotten;
+    t.require_same(0);  // the same bins forgotten, the same estimate on both backends
+    const BeliefEstimate e = t.fc[0]->estimate(5), u = unbounded.estimate(5);
+    CHECK(e.object_probability == u.object_probability);
+    CHECK(e.best_key == u.best_key);
+    for (int k = 0; k < 3; ++k) CHECK(e.pose.T[k] == u.pose.T[k]);
+    REQUIRE(e.top.size() == u.top.size());
+    for (std::size_t i = 0; i < e.top.size(); ++i) CHECK(e.top[i].key == u.top[i].key);
+  }
+  CHECK(forgotten > 0);
+  CHECK(t.fc[0]->belief().touched() < unbounded.belief().touched());
+  CHECK(t.gpu->statistics().validation_messages == 0);
+}
+
+TEST_CASE("Bounded beliefs: a margin inside the band is refused") {
+  test::WorldSpec spec;
+  auto w = test::make_world(spec);
+  PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
+  auto cpu = make_cpu_vote_backend(*w.map, space, {});
+  CHECK_THROWS_WITH(BayesFilter(*w.map, space, FilterOptions{.forget_margin_bits = 8}, *cpu),
+                    Catch::Contains("forget_margin_bits = 8"));
+}

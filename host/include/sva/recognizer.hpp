@@ -33,6 +33,10 @@ struct RecognizerOptions {
   // The fine pose (docs/recognition.md): after the histogram, align the readings to the object's training
   // contacts (robust point-to-plane, on the host, the same for every backend). Off: the parabolic sub-bin pose.
   bool refine_pose = true;
+  // Bounded memory on long sessions (docs/recognition.md, "Bounded memory"): past this many touched pose bins a
+  // session forgets the bins more than 256 bits of evidence below its best (never those the estimate reads).
+  // 0 = no bound.
+  std::size_t belief_budget_bins = std::size_t{1} << 22;
 };
 
 struct Hypothesis {

@@ -87,6 +87,7 @@ BatchRecognizer::BatchRecognizer(const Map& map, const PoseSpaceSpec& pose_space
     fo.eps = options.eps;
     fo.object_prune_probability = options.object_prune_probability;
     fo.max_pairs_per_update = options.max_pairs_per_update;
+    fo.belief_budget_bins = options.belief_budget_bins;
     for (auto& s : impl_->sessions)
       s.filter = std::make_unique<BayesFilter>(*impl_->pair_map, impl_->space, fo, *impl_->backend);
     if (options.refine_pose) {

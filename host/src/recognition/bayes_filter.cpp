@@ -27,6 +27,11 @@ BayesFilter::BayesFilter(const PairMap& map, const PoseSpace& space, const Filte
   if (options.max_pairs_per_update < 0)
     throw Error("recognizer option max_pairs_per_update = " + std::to_string(options.max_pairs_per_update) +
                 " must be >= 0");
+  // Below the band width a forgotten bin could still weigh in the estimate; far above it the shift overflows.
+  const unsigned band_bits = belief_math::mass_bits(space.bins_per_object()) + 1;
+  if (options.forget_margin_bits < band_bits || options.forget_margin_bits > (1u << 20))
+    throw Error("recognizer option forget_margin_bits = " + std::to_string(options.forget_margin_bits) +
+                " must be in [" + std::to_string(band_bits) + ", 1048576] for this pose space (bits of evidence)");
 }
 
 void BayesFilter::reset() {
@@ -149,10 +154,30 @@ std::vector<UpdateStats> update_sessions(const std::vector<BayesFilter*>& sessio
     throw;
   }
   std::vector<UpdateStats> out;
-  for (std::size_t s = 0; s < sessions.size(); ++s)
+  for (std::size_t s = 0; s < sessions.size(); ++s) {
     out.push_back(
         sessions[s]->record(valid[s], batch.pairs.data() + first[s], stats.data() + first[s], first[s + 1] - first[s]));
+    out.back().bins_forgotten = sessions[s]->keep_within_budget();
+  }
   return out;
+}
+
+std::size_t BayesFilter::keep_within_budget() {
+  if (options_.belief_budget_bins == 0 || belief_->touched() <= options_.belief_budget_bins) return 0;
+  const std::uint64_t margin = std::uint64_t{options_.forget_margin_bits} << SVA_BELIEF_FRAC_BITS;
+  const BeliefSummary summary = belief_->summarise();
+  const std::uint64_t max = summary.max_offset;
+  if (max <= margin) return 0;  // every bin is within the margin: nothing is hopeless yet
+  // The estimate reads each object's best bin and its neighbours (the sub-bin pose, the modes): keep them.
+  std::vector<std::uint64_t> keep;
+  for (std::size_t o = 0; o < summary.touched.size(); ++o)
+    if (summary.touched[o] > 0)
+      space_->for_each_neighbour(summary.best_key[o], [&](std::uint64_t k) { keep.push_back(k); });
+  std::sort(keep.begin(), keep.end());
+  keep.erase(std::unique(keep.begin(), keep.end()), keep.end());
+  const std::size_t forgotten = belief_->forget_below(max - margin, keep);
+  last_.bins_forgotten = forgotten;
+  return forgotten;
 }
 
 }  // namespace sva

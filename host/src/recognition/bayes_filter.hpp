@@ -22,6 +22,14 @@ struct FilterOptions {
   double eps = 1e-6;
   double object_prune_probability = 0.0;  // objects below this posterior stop receiving votes
   int max_pairs_per_update = 0;           // 0 = all; else pairs with the most recent readings
+  // Bounded memory on long sessions: past this many touched bins, an update
+  // forgets the bins more than forget_margin_bits bits of evidence below the
+  // best one (each object's best bin is kept). 0 = no bound. At 256 bits a
+  // forgotten bin weighs 2^-256 of the best: its mass is already 0 in the
+  // estimate (40 fraction bits), and it could only matter again by gaining
+  // 256 bits more than the best bin does (docs/recognition.md, "Bounded memory").
+  std::size_t belief_budget_bins = std::size_t{1} << 22;
+  unsigned forget_margin_bits = 256;
 };
 
 struct UpdateStats {
@@ -31,7 +39,8 @@ struct UpdateStats {
   std::uint64_t matches = 0;     // map pairs aligned (once per map pair, whatever keys it shares with the observed one)
   std::uint64_t votes = 0;
   std::uint64_t votes_outside = 0;
-  std::uint64_t votes_zero = 0;  // votes inside the space whose mass rounds to 0 fixed-point units
+  std::uint64_t votes_zero = 0;    // votes inside the space whose mass rounds to 0 fixed-point units
+  std::size_t bins_forgotten = 0;  // belief bins forgotten to keep within the budget (FilterOptions)
 };
 
 class BayesFilter {
@@ -67,6 +76,8 @@ class BayesFilter {
   // error) leaves the belief partly folded: the session refuses further use
   // with a clear error until reset().
   void mark_incomplete() { incomplete_ = true; }
+  // After an update: keeps the belief within FilterOptions::belief_budget_bins; returns the bins forgotten.
+  std::size_t keep_within_budget();
   void require_complete() const;
 
  private:

@@ -88,6 +88,21 @@ void Belief::prune_band() {
   band_pruned_size_ = band_.size();
 }
 
+std::size_t Belief::forget_below(std::uint64_t below, std::span<const std::uint64_t> keep) {
+  BinTable<std::uint64_t> kept(offset_.size());
+  std::fill(touched_.begin(), touched_.end(), 0);
+  offset_.for_each([&](std::uint64_t key, std::uint64_t off) {
+    const std::uint32_t o = PoseSpace::object_of(key);
+    if (off < below && !std::binary_search(keep.begin(), keep.end(), key)) return;
+    kept.add(key, off);
+    ++touched_[o];
+  });
+  const std::size_t forgotten = offset_.size() - kept.size();
+  offset_ = std::move(kept);
+  prune_band();  // its members lie in the band, above `below` (the caller's margin exceeds the band width)
+  return forgotten;
+}
+
 BeliefSummary Belief::summarise() const {
   BeliefSummary s;
   s.max_offset = max_;

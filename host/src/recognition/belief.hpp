@@ -54,6 +54,12 @@ class BeliefState {
   virtual std::vector<std::uint64_t> offsets(std::span<const std::uint64_t> keys) const = 0;
   // Every touched bin, in key order (tests and inspection; costs a full read-out).
   virtual std::vector<BinOffset> table() const = 0;
+  // Bounded memory (FilterOptions::belief_budget_bins): forgets every touched
+  // bin whose offset is below `below`, except the bins in `keep` (sorted keys:
+  // the neighbourhoods of the objects' best bins, which the estimate reads),
+  // so that it counts as untouched (offset 0) again. The same bins on every
+  // backend. Returns how many were forgotten.
+  virtual std::size_t forget_below(std::uint64_t below, std::span<const std::uint64_t> keep) = 0;
 };
 
 // The CPU reference belief.
@@ -78,6 +84,7 @@ class Belief final : public BeliefState {
   std::vector<BinOffset> best_bins(std::size_t k) const override;
   std::vector<std::uint64_t> offsets(std::span<const std::uint64_t> keys) const override;
   std::vector<BinOffset> table() const override;
+  std::size_t forget_below(std::uint64_t below, std::span<const std::uint64_t> keep) override;
 
   std::uint64_t offset(std::uint64_t key) const { return offset_.get(key); }
 

@@ -71,6 +71,7 @@ void PoseSpace::for_each_neighbour(std::uint64_t key, Fn&& fn) const {
               n.r[0] += ex;
               n.r[1] += ey;
               n.r[2] += ez;
+              if (rlo == 2) n.r[2] = (n.r[2] + rb) % rb;  // the planar angle is periodic
               bool ok = true;
               for (int k = 0; k < 3; ++k) ok = ok && n.t[k] >= 0 && n.t[k] < tb && n.r[k] >= 0 && n.r[k] < rb;
               if (ok) fn(pack(n));

@@ -83,8 +83,14 @@ void GpuBelief::record(std::uint64_t inserted, std::size_t folded) {
 }
 
 void GpuBelief::grow(std::uint64_t slots) {
-  std::uint64_t cap = std::bit_ceil(std::max<std::uint64_t>(slots, 2 * std::uint64_t{capacity_}));
+  move_to(std::max<std::uint64_t>(slots, 2 * std::uint64_t{capacity_}), false, 0);
+}
+
+void GpuBelief::move_to(std::uint64_t slots, bool forget, std::uint64_t below) {
+  std::uint64_t cap = std::bit_ceil(std::max<std::uint64_t>(slots, 64));
   vk::Buffer status = k_->ctx->create_buffer(sizeof(std::uint32_t));
+  const std::uint32_t objects = k_->space->objects();
+  const std::size_t touched = object_word(kTouched, objects) * sizeof(std::uint64_t);
   for (;;) {
     if (cap > kMaxSlots)
       throw Error("GPU belief table would need more than 2^31 slots (" + std::to_string(count_) + " touched bins)");
@@ -93,11 +99,22 @@ void GpuBelief::grow(std::uint64_t slots) {
     *status.as<std::uint32_t>() = 0;
     gpu::SvaRehashParams p{lo(table_.device_address()), hi(table_.device_address()), capacity_,
                            lo(next.device_address()),   hi(next.device_address()),   static_cast<std::uint32_t>(cap)};
+    p.forget = forget ? 1u : 0u;
+    p.keep_lo = lo(below);
+    p.keep_hi = hi(below);
+    p.keep_count = forget ? keep_count_ : 0u;
+    p.state_lo = lo(state_.device_address());
+    p.state_hi = hi(state_.device_address());
+    p.objects = objects;
+    p.object_shift = k_->bins.object_shift();
     const vk::Grid g = k_->ctx->grid(slot_invocations(capacity_));
-    vk::Dispatch d{k_->rehash, {&status}, push_bytes(p), g.x};
+    ensure(*k_->ctx, keep_, sizeof(std::uint64_t));
+    vk::Dispatch d{k_->rehash, {&status, &keep_}, push_bytes(p), g.x};
     d.groups_y = g.y;
     std::vector<double> ms;
-    k_->ctx->run({d}, &ms);
+    std::vector<vk::Fill> fills;  // forgetting counts the kept bins afresh
+    if (forget) fills.push_back({&state_, 0u, touched, std::size_t{objects} * sizeof(std::uint64_t)});
+    k_->ctx->run({d}, &ms, fills);
     for (double m : ms) k_->kernel_ms += m;
     if (*status.as<std::uint32_t>() == 0) {
       table_ = std::move(next);
@@ -105,10 +122,33 @@ void GpuBelief::grow(std::uint64_t slots) {
       // The band list names slots of the old table; later folds append to it
       // harmlessly (the rebuild starts it afresh).
       band_stale_ = true;
+      summary_cache_.reset();
       return;
     }
     cap *= 2;  // a probe run too long even at this load: spread further
   }
+}
+
+std::size_t GpuBelief::forget_below(std::uint64_t below, std::span<const std::uint64_t> keep) {
+  if (count_ == 0) return 0;
+  const std::uint32_t objects = k_->space->objects();
+  std::vector<std::uint64_t> linear;
+  for (std::uint64_t key : keep) linear.push_back(k_->bins.linear(key));
+  std::sort(linear.begin(), linear.end());  // the kernel's binary search
+  ensure(*k_->ctx, keep_, linear.size() * sizeof(std::uint64_t));
+  if (!linear.empty()) std::memcpy(keep_.data(), linear.data(), linear.size() * sizeof(std::uint64_t));
+  keep_count_ = static_cast<std::uint32_t>(linear.size());
+  move_to(capacity_, true, below);
+  std::vector<std::uint64_t> touched(objects);
+  k_->ctx->download(state_, touched.data(), touched.size() * sizeof(std::uint64_t),
+                    object_word(kTouched, objects) * sizeof(std::uint64_t));
+  std::size_t kept = 0;
+  for (std::uint64_t t : touched) kept += t;
+  const std::size_t forgotten = count_ - kept;
+  count_ = kept;
+  // Give the memory back: a table at most a quarter full moves to one at about a quarter load.
+  if (4 * count_ < capacity_ / 2) move_to(std::max<std::size_t>(4 * count_, k_->initial_slots), false, 0);
+  return forgotten;
 }
 
 gpu::SvaReduceParams GpuBelief::reduce_params(std::uint32_t pass) const {

@@ -46,6 +46,7 @@ class GpuBelief final : public BeliefState {
   std::vector<BinOffset> best_bins(std::size_t k) const override;
   std::vector<std::uint64_t> offsets(std::span<const std::uint64_t> keys) const override;
   std::vector<BinOffset> table() const override;
+  std::size_t forget_below(std::uint64_t below, std::span<const std::uint64_t> keep) override;
   // The keys on the band list after an estimate's compaction, sorted (tests:
   // every bin within band_width() of the maximum must be there).
   std::vector<std::uint64_t> band_keys() const;
@@ -70,6 +71,9 @@ class GpuBelief final : public BeliefState {
 
  private:
   void allocate(vk::Buffer& b, std::uint32_t capacity) const;
+  // Moves the table into one of at least `slots` slots (a power of two); with
+  // `forget`, only the bins at or above `below` and those in `keep_` (sorted linear keys).
+  void move_to(std::uint64_t slots, bool forget, std::uint64_t below);
   gpu::SvaReduceParams reduce_params(std::uint32_t pass) const;
   // Runs passes of belief_reduce.comp over `invocations` entries (or slots) each.
   void run_reduce(const std::vector<std::uint32_t>& passes, std::uint64_t entries,
@@ -92,6 +96,8 @@ class GpuBelief final : public BeliefState {
   mutable std::uint32_t band_capacity_ = 0;
   mutable bool band_stale_ = false;  // the table moved (its slots changed): rebuild before reading the list
   mutable vk::Buffer candidates_, queries_;
+  vk::Buffer keep_;  // forget_below's kept keys
+  std::uint32_t keep_count_ = 0;
   mutable std::optional<BeliefSummary> summary_cache_;
   mutable std::vector<std::uint64_t> histogram_;
 };

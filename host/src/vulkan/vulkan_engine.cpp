@@ -68,7 +68,7 @@ VulkanEngine::VulkanEngine(const PairMap& map, const vk::ContextOptions& context
                                     : std::span<const std::uint32_t>(sva_spv_match_votes_portable),
                                 15, sizeof(gpu::SvaMatchParams))),
       fold(ctx.create_pipeline(sva_spv_belief_fold, 7, sizeof(gpu::SvaFoldParams))),
-      rehash(ctx.create_pipeline(sva_spv_belief_rehash, 1, sizeof(gpu::SvaRehashParams))),
+      rehash(ctx.create_pipeline(sva_spv_belief_rehash, 2, sizeof(gpu::SvaRehashParams))),
       reduce(ctx.create_pipeline(sva_spv_belief_reduce, 1, sizeof(gpu::SvaReduceParams))),
       lookup(ctx.create_pipeline(sva_spv_belief_lookup, 1, sizeof(gpu::SvaLookupParams))) {
   subgroup_aggregation = use_subgroups(ctx, portable_kernel);

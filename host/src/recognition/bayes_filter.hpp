@@ -24,10 +24,10 @@ struct FilterOptions {
   int max_pairs_per_update = 0;           // 0 = all; else pairs with the most recent readings
   // Bounded memory on long sessions: past this many touched bins, an update
   // forgets the bins more than forget_margin_bits bits of evidence below the
-  // best one (each object's best bin is kept). 0 = no bound. At 256 bits a
-  // forgotten bin weighs 2^-256 of the best: its mass is already 0 in the
-  // estimate (40 fraction bits), and it could only matter again by gaining
-  // 256 bits more than the best bin does (docs/recognition.md, "Bounded memory").
+  // best one (the objects' best bins and their neighbourhoods are kept). 0 = no
+  // bound. A forgotten bin's mass is already 0 in the estimate; it matters again
+  // only if its region later becomes the best (a competing mode of a symmetric
+  // object can): docs/recognition.md, "Bounded memory".
   std::size_t belief_budget_bins = std::size_t{1} << 22;
   unsigned forget_margin_bits = 256;
 };

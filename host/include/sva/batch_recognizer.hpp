@@ -28,6 +28,9 @@ class BatchRecognizer {
   // (sva::Error naming the session and reading) nothing is updated.
   void add_readings(std::span<const std::size_t> sessions, std::span<const Reading> readings);
   Estimate estimate(std::size_t session, std::size_t top_k = 5) const;
+  // Recognizer::set_prior, for one session.
+  void set_prior(std::size_t session, const Prior& prior);
+  // Forgets the session's readings and prior.
   void reset(std::size_t session);
   std::size_t readings(std::size_t session) const;
   // The backend in use ("cpu" or "vulkan") and, for Vulkan, the device.

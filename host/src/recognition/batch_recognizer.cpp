@@ -5,6 +5,7 @@
 #include <sva/error.hpp>
 #include <sva/recognizer.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <string>
@@ -14,6 +15,7 @@
 #include "map/surface_index.hpp"
 #include "recognition/bayes_filter.hpp"
 #include "recognition/describe_reading.hpp"
+#include "recognition/hypotheses.hpp"
 #include "recognition/pose_refinement.hpp"
 #include "recognition/pose_space.hpp"
 #include "recognition/vote_backend.hpp"
@@ -24,6 +26,66 @@ namespace sva {
 namespace {
 // Modes of the belief the fine pose starts from (the best bin's parabolic peak first).
 constexpr std::size_t kRefineStarts = 4;
+
+// A reading in the pose grid's frame (the workspace frame): the belief and the fine pose never see the robot frame.
+ObservedReading to_grid(const PoseSpace& space, ObservedReading r) {
+  const RigidPose to = space.workspace().inverse();
+  r.position = to.apply(r.position);
+  r.normal = to.rotate(r.normal);
+  return r;
+}
+
+PoseHypothesis public_hypothesis(const ModeHypothesis& m, const PoseSpace& space,
+                                 const std::vector<MapObject>& objects) {
+  PoseHypothesis h;
+  h.object = m.object;
+  h.object_name = objects[m.object].name;
+  h.pose = space.to_robot(m.pose);
+  h.probability = m.probability;
+  h.covariance = covariance_to_robot(m.covariance, space.workspace().R);
+  h.valid = true;
+  return h;
+}
+
+// The distinct hypotheses, in the robot frame. The best object's best mode carries the estimate's own pose (the
+// fine pose when refined), so hypotheses[0] and Estimate::pose agree.
+void add_hypotheses(const BayesFilter& filter, const PoseSpace& space, const std::vector<MapObject>& objects,
+                    int radius, std::size_t top_k, std::span<const double> prior, const BeliefEstimate& b,
+                    Estimate* e) {
+  const HypothesisSet set = hypotheses(filter.belief(), space, filter.belief().summarise(), top_k, radius, prior);
+  for (const ModeHypothesis& m : set.modes) {
+    e->hypotheses.push_back(public_hypothesis(m, space, objects));
+    if (b.pose_valid && m.key == b.best_key) e->hypotheses.back().pose = e->pose;
+  }
+  for (std::uint32_t o = 0; o < set.per_object.size(); ++o) {
+    PoseHypothesis h;
+    h.object = o;
+    h.object_name = objects[o].name;
+    if (set.per_object_valid[o]) h = public_hypothesis(set.per_object[o], space, objects);
+    if (b.pose_valid && o == b.object) h.pose = e->pose;
+    e->object_hypotheses.push_back(h);
+  }
+}
+
+// A prior over objects as weights whose largest is 1 (empty: flat), checked against the map.
+std::vector<double> prior_weights(const Prior& prior, std::size_t objects) {
+  const std::vector<double>& p = prior.object_probability;
+  if (p.empty()) return {};
+  if (p.size() != objects)
+    throw Error("prior: " + std::to_string(p.size()) + " object probabilities, but the map has " +
+                std::to_string(objects) + " objects");
+  double top = 0.0;
+  for (std::size_t o = 0; o < p.size(); ++o) {
+    if (!std::isfinite(p[o]) || p[o] < 0.0)
+      throw Error("prior: object " + std::to_string(o) + " has probability " + std::to_string(p[o]) +
+                  " (must be finite and >= 0)");
+    top = std::max(top, p[o]);
+  }
+  if (!(top > 0.0)) throw Error("prior: every object probability is 0");
+  std::vector<double> w(p.size());
+  for (std::size_t o = 0; o < p.size(); ++o) w[o] = p[o] / top;
+  return w;
+}
 }  // namespace
 
 struct BatchRecognizer::Impl {
@@ -32,6 +94,7 @@ struct BatchRecognizer::Impl {
     std::vector<double> appearance_log_posterior;
     std::size_t readings = 0;
     std::uint64_t last_votes = 0;
+    std::vector<double> prior_weight;  // per object, largest 1; empty: flat
   };
 
   Map map;  // keeps the shared PairMap alive
@@ -68,6 +131,9 @@ BatchRecognizer::BatchRecognizer(const Map& map, const PoseSpaceSpec& pose_space
                 (pose_space.kind == PoseSpaceSpec::Kind::planar ? "planar" : "spatial") + " but map '" +
                 map.scene_name() + "' was trained for a " +
                 (map.pose_space().kind == PoseSpaceSpec::Kind::planar ? "planar" : "spatial") + " scene");
+  if (options.hypothesis_radius_bins < 0 || options.hypothesis_radius_bins > 4)
+    throw Error("recognizer option hypothesis_radius_bins = " + std::to_string(options.hypothesis_radius_bins) +
+                " must be in [0, 4]");
   if (!(options.likelihood_cutoff >= 0.0f) || !std::isfinite(options.likelihood_cutoff))
     throw Error("recognizer option likelihood_cutoff = " + std::to_string(options.likelihood_cutoff) +
                 " must be a finite number >= 0");
@@ -117,10 +183,11 @@ void BatchRecognizer::add_readings(std::span<const std::size_t> sessions, std::s
     Impl::Session& s = impl_->at(sessions[i]);
     if (!seen.insert(sessions[i]).second)
       throw Error("batch recognizer: session " + std::to_string(sessions[i]) + " appears twice in one update");
-    observed.push_back(describe_reading(
-        *impl_->pair_map, readings[i],
-        (impl_->sessions.size() > 1 ? "session " + std::to_string(sessions[i]) + ", " : std::string()) + "reading " +
-            std::to_string(s.readings + 1)));
+    observed.push_back(to_grid(
+        impl_->space, describe_reading(*impl_->pair_map, readings[i],
+                                       (impl_->sessions.size() > 1 ? "session " + std::to_string(sessions[i]) + ", "
+                                                                   : std::string()) +
+                                           "reading " + std::to_string(s.readings + 1))));
   }
   if (impl_->options.method == Method::sva) {
     std::vector<BayesFilter*> filters;
@@ -142,12 +209,17 @@ Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const
   const auto& objects = impl_->pair_map->objects;
   if (!s.filter) {
     e.object_probability = AppearanceBaseline::posterior(s.appearance_log_posterior);
+    if (!s.prior_weight.empty()) {
+      double z = 0.0;
+      for (std::size_t o = 0; o < e.object_probability.size(); ++o) z += e.object_probability[o] *= s.prior_weight[o];
+      for (double& p : e.object_probability) p /= z;
+    }
     for (std::uint32_t o = 1; o < e.object_probability.size(); ++o)
       if (e.object_probability[o] > e.object_probability[e.object]) e.object = o;
     e.object_name = objects[e.object].name;
     return e;
   }
-  const BeliefEstimate b = s.filter->estimate(top_k, impl_->surface ? kRefineStarts : 1);
+  const BeliefEstimate b = s.filter->estimate(top_k, impl_->surface ? kRefineStarts : 1, s.prior_weight);
   e.object = b.object;
   e.object_name = objects[b.object].name;
   e.object_probability = b.object_probability;
@@ -160,21 +232,34 @@ Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const
     e.pose = r.pose;
     e.pose_refined = r.refined;
   }
+  const PoseSpace& space = impl_->space;
+  e.pose = space.to_robot(e.pose);
+  e.parabolic_pose = space.to_robot(e.parabolic_pose);
+  e.bin_pose = space.to_robot(e.bin_pose);
   for (const BinHypothesis& h : b.top) {
     Hypothesis out;
     out.object = h.object;
     out.object_name = objects[h.object].name;
-    out.pose = h.pose;
+    out.pose = space.to_robot(h.pose);
     out.probability = h.probability;
     e.top.push_back(out);
   }
+  if (top_k > 0)
+    add_hypotheses(*s.filter, impl_->space, objects, impl_->options.hypothesis_radius_bins, top_k, s.prior_weight, b,
+                   &e);
   e.votes_outside = s.filter->last_update().votes_outside;
   e.votes_zero = s.filter->last_update().votes_zero;
   return e;
 }
 
+void BatchRecognizer::set_prior(std::size_t session, const Prior& prior) {
+  Impl::Session& s = impl_->at(session);
+  s.prior_weight = prior_weights(prior, impl_->pair_map->objects.size());
+}
+
 void BatchRecognizer::reset(std::size_t session) {
   Impl::Session& s = impl_->at(session);
+  s.prior_weight.clear();
   s.readings = 0;
   s.last_votes = 0;
   if (s.filter) s.filter->reset();
@@ -229,6 +314,7 @@ void Recognizer::add_reading(const Reading& reading) {
   impl_->batch.add_readings(std::span(&session, 1), std::span(&reading, 1));
 }
 Estimate Recognizer::estimate(std::size_t top_k) const { return impl_->batch.estimate(0, top_k); }
+void Recognizer::set_prior(const Prior& prior) { impl_->batch.set_prior(0, prior); }
 void Recognizer::reset() { impl_->batch.reset(0); }
 std::size_t Recognizer::readings() const { return impl_->batch.readings(0); }
 

@@ -10,6 +10,7 @@
 
 #include <array>
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -87,9 +88,18 @@ struct Estimate {
                                                   // likelihoods are tiny, e.g. a likelihood_cutoff of 0 on a large map)
 };
 
+class Engine;  // sva/engine.hpp
+
+// One recognition session. Thread safety: every call (const ones included) takes the recognizer's lock, so one
+// recognizer may be used from several threads, one call at a time; recognizers of one Engine run at once.
 class Recognizer {
  public:
+  // A recognizer with its own engine on `options.backend` (the map uploaded for it alone, unless another
+  // recognizer of the process already holds the same map on the same device).
   Recognizer(const Map& map, const PoseSpaceSpec& pose_space, const RecognizerOptions& options = {});
+  // A recognizer sharing `engine` (its map, backend and device: options.backend and vulkan_device are the
+  // engine's). The engine's state is kept alive by the recognizer.
+  Recognizer(const Engine& engine, const PoseSpaceSpec& pose_space, const RecognizerOptions& options = {});
   ~Recognizer();
   Recognizer(Recognizer&&) noexcept;
   Recognizer& operator=(Recognizer&&) noexcept;
@@ -103,8 +113,13 @@ class Recognizer {
   // A prior over objects for this session (sva/prior.hpp), replacing any earlier one; sva::Error when it does not
   // fit the map. It may be set or changed at any time: it enters at estimate time.
   void set_prior(const Prior& prior);
-  // Forgets the readings and the prior: a fresh session.
+  // Forgets the readings and the prior: a fresh session (the belief's and the backend's memory is kept).
   void reset();
+  // Saves the session (its readings so far, as given, and its prior) to a small versioned file, so that a robot
+  // can resume; restore_session replaces this session by the saved one, whose belief it rebuilds bit for bit by
+  // replaying the readings. sva::Error naming the file when it cannot be read or was saved with another map.
+  void save_session(const std::filesystem::path& file) const;
+  void restore_session(const std::filesystem::path& file);
   std::size_t readings() const;
 
   struct Impl;

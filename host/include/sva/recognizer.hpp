@@ -23,7 +23,7 @@ enum class BackendKind { cpu, vulkan, automatic };
 enum class Method { sva, appearance };  // appearance: the appearance-only baseline of [15]
 
 struct RecognizerOptions {
-  BackendKind backend = BackendKind::cpu;
+  BackendKind backend = BackendKind::automatic;  // the policy of every command: a GPU where one is usable
   Method method = Method::sva;
   // Floor of every pair factor (DESIGN 4): factor = eps + S_p(x). See docs/recognition.md.
   double eps = 1e-6;

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <unordered_map>
+#include <unordered_set>
 
 #include "recognition/belief_math.hpp"
 #include "recognition/estimate.hpp"
@@ -110,24 +111,31 @@ RigidPose parabolic_peak(const PoseSpace& space, const BinIndex& c, const Offset
 
 // Mass and covariance of the bins around a mode: each bin weighs its posterior probability; a bin's coordinates
 // are its translation from the mode's bin and the small rotation log(R_bin R_mode^T).
-void moments(const PoseSpace& space, const std::vector<BinIndex>& bins, const Offsets& off, double max_bits,
-             double scale, ModeHypothesis* h) {
+// The mass is counted as the object posterior's is (estimate.cpp: integer weights at mass_bits, over the same
+// total `z`), so the modes' masses add up within their object's probability; the spread weighs bins by their
+// posterior relative to the mode's own bin (never 0, however far the mode is below the maximum).
+void moments(const PoseSpace& space, const std::vector<BinIndex>& bins, const Offsets& off, std::uint64_t max_offset,
+             std::uint32_t mass_bits, double z, ModeHypothesis* h) {
   const PoseSpaceSpec& spec = space.spec();
   const glm::dvec3 t0 = space.translation_centre(bins.front());
   const glm::dmat3 r0t = glm::transpose(rotation::exp(space.rotation_centre(bins.front())));
   std::vector<std::array<double, 6>> x(bins.size());
   std::vector<double> w(bins.size());
   double sum = 0.0;
+  std::uint64_t mass = 0;
+  const double centre_bits = units_to_bits(off.at(space.pack(bins.front())));
   std::array<double, 6> mean{};
   for (std::size_t i = 0; i < bins.size(); ++i) {
+    const std::uint64_t offset = off.at(space.pack(bins[i]));
+    mass += belief_math::sva_exp2_neg_units(max_offset - offset, mass_bits);
     const glm::dvec3 dt = space.translation_centre(bins[i]) - t0;
     const glm::dvec3 dr = rotation::log(rotation::exp(space.rotation_centre(bins[i])) * r0t);
     x[i] = {dt.x, dt.y, dt.z, dr.x, dr.y, dr.z};
-    w[i] = std::exp2(units_to_bits(off.at(space.pack(bins[i]))) - max_bits);
+    w[i] = std::exp2(units_to_bits(offset) - centre_bits);
     sum += w[i];
     for (int a = 0; a < 6; ++a) mean[a] += w[i] * x[i][a];
   }
-  h->probability = sum * scale;
+  h->probability = static_cast<double>(mass) / z;
   for (double& m : mean) m /= sum;
   h->covariance.fill(0.0);
   for (std::size_t i = 0; i < bins.size(); ++i)
@@ -178,9 +186,11 @@ HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, cons
   const std::vector<std::uint64_t> values = belief.offsets(keys);
   Offsets off;
   for (std::size_t i = 0; i < keys.size(); ++i) off.emplace(keys[i], values[i]);
-  const double scale = std::ldexp(1.0, static_cast<int>(belief_math::mass_bits(space.bins_per_object()))) /
-                       total_mass(summary, space, object_weight);
-  const double max_bits = units_to_bits(summary.max_offset);
+  const double z = total_mass(summary, space, object_weight);
+  const std::uint32_t mass_bits = belief_math::mass_bits(space.bins_per_object());
+  // Neighbourhoods of two modes may overlap (modes radius + 1 steps apart): a bin counts for the stronger mode
+  // only, so the modes' masses never sum past the object's.
+  std::unordered_set<std::uint64_t> claimed;
   for (std::size_t m = 0; m < centres.size(); ++m) {
     ModeHypothesis h;
     h.object = centres[m].object;
@@ -189,7 +199,11 @@ HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, cons
     std::vector<BinIndex>& hood = hoods[m];
     if (radius < 1)  // the parabola needed the 1-neighbourhood; the mass and spread take the bin alone
       hood.resize(1);
-    moments(space, hood, off, max_bits, scale, &h);
+    if (m < modes) {  // the centre itself lies beyond every stronger mode's radius: never claimed
+      std::erase_if(hood, [&](const BinIndex& b) { return claimed.contains(space.pack(b)); });
+      for (const BinIndex& b : hood) claimed.insert(space.pack(b));
+    }
+    moments(space, hood, off, summary.max_offset, mass_bits, z, &h);
     if (!object_weight.empty()) h.probability *= object_weight[h.object];
     if (m < modes)
       set.modes.push_back(h);

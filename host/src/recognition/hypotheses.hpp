@@ -20,7 +20,7 @@ struct ModeHypothesis {
   std::uint32_t object = 0;
   std::uint64_t key = 0;   // the mode's best bin
   RigidPose pose;          // the parabolic peak of the log-belief around that bin
-  double probability = 0;  // posterior mass of the bins within the radius
+  double probability = 0;  // posterior mass of the bins within the radius (not already a stronger mode's)
   // Row-major 6 x 6 in ROS PoseWithCovariance order (x, y, z, rotation about X, Y, Z): weighted second moments
   // of the bins within the radius plus the bins' quantisation variance (width^2 / 12). Planar: z and the
   // rotations about X and Y are fixed by the plane (0 rows and columns).

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <numbers>
-#include <unordered_map>
 #include <unordered_set>
 
 #include "recognition/belief_math.hpp"
@@ -70,17 +70,24 @@ bool within(const BinIndex& a, const BinIndex& b, const PoseSpace& space, int ra
   return true;
 }
 
-using Offsets = std::unordered_map<std::uint64_t, std::uint64_t>;
+// A mode's neighbourhood: its bins (the centre first), their keys and offsets.
+struct Hood {
+  std::vector<BinIndex> bins;
+  std::vector<std::uint64_t> keys, offsets;
+  std::uint64_t offset_of(std::uint64_t key) const {
+    return offsets[static_cast<std::size_t>(std::find(keys.begin(), keys.end(), key) - keys.begin())];
+  }
+};
 
 // The parabolic peak of the log-belief around a bin, per grid axis (as the estimate's parabolic_pose: an axis
 // whose neighbour lies outside the grid, or whose parabola is not concave, keeps the centre).
-RigidPose parabolic_peak(const PoseSpace& space, const BinIndex& c, const Offsets& off) {
+RigidPose parabolic_peak(const PoseSpace& space, const BinIndex& c, const Hood& off) {
   const PoseSpaceSpec& spec = space.spec();
   const bool planar = space.planar();
   glm::dvec3 t = space.translation_centre(c), r = space.rotation_centre(c);
   const double tw = (spec.translation_max_mm - spec.translation_min_mm) / spec.translation_bins;
   const double rw = 2.0 * std::numbers::pi / spec.rotation_bins;
-  const double oc = units_to_bits(off.at(space.pack(c)));
+  const double oc = units_to_bits(off.offsets.front());
   for (int a = 0; a < 6; ++a) {
     const bool rotation = a >= 3;
     const int k = a % 3;
@@ -97,7 +104,7 @@ RigidPose parabolic_peak(const PoseSpace& space, const BinIndex& c, const Offset
     BinIndex m = c, p = c;
     (rotation ? m.r[k] : m.t[k]) = lo;
     (rotation ? p.r[k] : p.t[k]) = hi;
-    const double om = units_to_bits(off.at(space.pack(m))), op = units_to_bits(off.at(space.pack(p)));
+    const double om = units_to_bits(off.offset_of(space.pack(m))), op = units_to_bits(off.offset_of(space.pack(p)));
     const double curvature = om - 2.0 * oc + op;
     if (!(curvature < 0.0)) continue;
     const double shift = std::clamp(0.5 * (om - op) / curvature, -0.5, 0.5);
@@ -114,22 +121,29 @@ RigidPose parabolic_peak(const PoseSpace& space, const BinIndex& c, const Offset
 // The mass is counted as the object posterior's is (estimate.cpp: integer weights at mass_bits, over the same
 // total `z`), so the modes' masses add up within their object's probability; the spread weighs bins by their
 // posterior relative to the mode's own bin (never 0, however far the mode is below the maximum).
-void moments(const PoseSpace& space, const std::vector<BinIndex>& bins, const Offsets& off, std::uint64_t max_offset,
-             std::uint32_t mass_bits, double z, ModeHypothesis* h) {
+void moments(const PoseSpace& space, const Hood& hood, std::uint64_t max_offset, std::uint32_t mass_bits, double z,
+             ModeHypothesis* h) {
   const PoseSpaceSpec& spec = space.spec();
+  const std::vector<BinIndex>& bins = hood.bins;
   const glm::dvec3 t0 = space.translation_centre(bins.front());
   const glm::dmat3 r0t = glm::transpose(rotation::exp(space.rotation_centre(bins.front())));
   std::vector<std::array<double, 6>> x(bins.size());
   std::vector<double> w(bins.size());
+  std::map<std::array<int, 3>, glm::dvec3> small_rotation;
   double sum = 0.0;
   std::uint64_t mass = 0;
-  const double centre_bits = units_to_bits(off.at(space.pack(bins.front())));
+  const double centre_bits = units_to_bits(hood.offsets.front());
   std::array<double, 6> mean{};
   for (std::size_t i = 0; i < bins.size(); ++i) {
-    const std::uint64_t offset = off.at(space.pack(bins[i]));
+    const std::uint64_t offset = hood.offsets[i];
     mass += belief_math::sva_exp2_neg_units(max_offset - offset, mass_bits);
     const glm::dvec3 dt = space.translation_centre(bins[i]) - t0;
-    const glm::dvec3 dr = rotation::log(rotation::exp(space.rotation_centre(bins[i])) * r0t);
+    // Few distinct rotation bins (3^3 at radius 1) recur across the translations: one exp and log each.
+    const std::array<int, 3> rkey{bins[i].r[0], bins[i].r[1], bins[i].r[2]};
+    auto it = small_rotation.find(rkey);
+    if (it == small_rotation.end())
+      it = small_rotation.emplace(rkey, rotation::log(rotation::exp(space.rotation_centre(bins[i])) * r0t)).first;
+    const glm::dvec3 dr = it->second;
     x[i] = {dt.x, dt.y, dt.z, dr.x, dr.y, dr.z};
     w[i] = std::exp2(units_to_bits(offset) - centre_bits);
     sum += w[i];
@@ -163,7 +177,9 @@ HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, cons
   if (summary.max_offset == 0 && belief.touched() == 0) return set;
   // The modes: greedy non-maximum suppression over the best bins (ties to the smaller key, as on every backend).
   std::vector<BinIndex> centres;
-  for (const BinOffset& b : belief.best_bins(64 * (count + 1))) {
+  // Candidates: the best bin alone for one mode; else as many as the fine pose's mode search reads (a request
+  // beyond the bins near the maximum costs a pass over the whole belief).
+  for (const BinOffset& b : belief.best_bins(count <= 1 ? count : 16 * (count + 1))) {
     if (centres.size() >= count) break;
     const BinIndex i = space.unpack(b.key);
     bool suppressed = false;
@@ -177,15 +193,22 @@ HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, cons
       centres.push_back(space.unpack(summary.best_key[o]));
     }
   // One read of every neighbourhood's offsets (one device round trip on a GPU backend).
-  std::vector<std::vector<BinIndex>> hoods;
+  std::vector<Hood> hoods;
   std::vector<std::uint64_t> keys;
   for (const BinIndex& c : centres) {
-    hoods.push_back(neighbourhood(space, c, std::max(radius, 1)));
-    for (const BinIndex& b : hoods.back()) keys.push_back(space.pack(b));
+    Hood h;
+    h.bins = neighbourhood(space, c, std::max(radius, 1));
+    for (const BinIndex& b : h.bins) h.keys.push_back(space.pack(b));
+    keys.insert(keys.end(), h.keys.begin(), h.keys.end());
+    hoods.push_back(std::move(h));
   }
   const std::vector<std::uint64_t> values = belief.offsets(keys);
-  Offsets off;
-  for (std::size_t i = 0; i < keys.size(); ++i) off.emplace(keys[i], values[i]);
+  std::size_t next = 0;
+  for (Hood& h : hoods) {
+    h.offsets.assign(values.begin() + static_cast<std::ptrdiff_t>(next),
+                     values.begin() + static_cast<std::ptrdiff_t>(next + h.keys.size()));
+    next += h.keys.size();
+  }
   const double z = total_mass(summary, space, object_weight);
   const std::uint32_t mass_bits = belief_math::mass_bits(space.bins_per_object());
   // Neighbourhoods of two modes may overlap (modes radius + 1 steps apart): a bin counts for the stronger mode
@@ -195,15 +218,16 @@ HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, cons
     ModeHypothesis h;
     h.object = centres[m].object;
     h.key = space.pack(centres[m]);
-    h.pose = parabolic_peak(space, centres[m], off);
-    std::vector<BinIndex>& hood = hoods[m];
-    if (radius < 1)  // the parabola needed the 1-neighbourhood; the mass and spread take the bin alone
-      hood.resize(1);
-    if (m < modes) {  // the centre itself lies beyond every stronger mode's radius: never claimed
-      std::erase_if(hood, [&](const BinIndex& b) { return claimed.contains(space.pack(b)); });
-      for (const BinIndex& b : hood) claimed.insert(space.pack(b));
+    h.pose = parabolic_peak(space, centres[m], hoods[m]);
+    // The parabola needed the 1-neighbourhood; at radius 0 the mass and spread take the bin alone. The centre
+    // lies beyond every stronger mode's radius: never claimed.
+    Hood hood;
+    for (std::size_t i = 0; i < hoods[m].bins.size() && (radius > 0 || i == 0); ++i) {
+      if (m < modes && !claimed.insert(hoods[m].keys[i]).second) continue;
+      hood.bins.push_back(hoods[m].bins[i]);
+      hood.offsets.push_back(hoods[m].offsets[i]);
     }
-    moments(space, hood, off, summary.max_offset, mass_bits, z, &h);
+    moments(space, hood, summary.max_offset, mass_bits, z, &h);
     if (!object_weight.empty()) h.probability *= object_weight[h.object];
     if (m < modes)
       set.modes.push_back(h);

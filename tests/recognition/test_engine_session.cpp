@@ -125,6 +125,7 @@ TEST_CASE("Session: saved and restored, a session resumes where it stopped, bit 
   resumed.restore_session(file);
   CHECK(resumed.readings() == 0);
   CHECK(resumed.estimate().object_probability[0] == Approx(1.0 / 3.0));
+  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("Session: a missing, damaged or foreign session file is refused with the file's name") {
@@ -149,4 +150,5 @@ TEST_CASE("Session: a missing, damaged or foreign session file is refused with t
   }
   CHECK_THROWS_AS(rec.restore_session(file), Error);
   CHECK(rec.readings() == 4);  // a refused file leaves the session as it was
+  std::filesystem::remove_all(dir);
 }

@@ -44,7 +44,7 @@ int cmd_eval(const std::vector<std::string>& argv) {
   a.option("--trials", "N", "trials (default: 3 repetitions x objects, as in the paper)");
   a.option("--max-readings", "M", "readings per trial (default 30)");
   a.option("--seed", "S", "seed of the poses and reading orders (default 1)");
-  a.option("--backend", "cpu|vulkan|auto", "vote backend (default cpu; auto: Vulkan when a device is usable)");
+  a.option("--backend", "auto|cpu|vulkan", "vote backend (default auto: Vulkan when a device is usable, else CPU)");
   a.option("--method", "sva|appearance", "sva, or the appearance-only baseline of [15] (default sva)");
   a.option("--json", "OUT.json", "write the summary curve as JSON");
   a.option("--csv", "OUT.csv", "write one row per (trial, readings)");
@@ -64,7 +64,7 @@ int cmd_eval(const std::vector<std::string>& argv) {
   o.max_readings = static_cast<std::size_t>(a.integer("--max-readings", 30, 1, 100000));
   o.seed = static_cast<std::uint64_t>(a.integer("--seed", 1, 0, std::numeric_limits<long long>::max()));
   o.threads = static_cast<unsigned>(a.integer("--threads", 0, 1, 1024));
-  o.recognizer.backend = parse_backend_kind(a.get_or("--backend", "cpu"), "sva eval: --backend");
+  o.recognizer.backend = parse_backend_kind(a.get_or("--backend", "auto"), "sva eval: --backend");
   const std::string method = a.get_or("--method", "sva");
   if (method == "sva")
     o.recognizer.method = Method::sva;

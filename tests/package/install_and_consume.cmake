@@ -26,8 +26,27 @@ if(rc)
 endif()
 # A relocated install finds its assets through SVA_ASSETS.
 set(ENV{SVA_ASSETS} "${prefix}/share/sva/assets")
-execute_process(COMMAND "${WORK}/build/consumer" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+execute_process(COMMAND "${WORK}/build/consumer" "${WORK}/data" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
 message("${out}${err}")
 if(rc)
   message(FATAL_ERROR "the consumer failed: ${rc}")
+endif()
+# The example a new user copies (examples/cpp_recognize), built against the same installed package and run on
+# the map and readings the consumer made.
+get_filename_component(example "${SOURCE}/../../../examples/cpp_recognize" ABSOLUTE)
+execute_process(COMMAND "${CMAKE_COMMAND}" -S "${example}" -B "${WORK}/example" -G Ninja "-DCMAKE_PREFIX_PATH=${prefix}"
+                        "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_LINK_FLAGS}"
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(rc)
+  message(FATAL_ERROR "configuring examples/cpp_recognize failed:\n${out}\n${err}")
+endif()
+execute_process(COMMAND "${CMAKE_COMMAND}" --build "${WORK}/example" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(rc)
+  message(FATAL_ERROR "building examples/cpp_recognize failed:\n${out}\n${err}")
+endif()
+execute_process(COMMAND "${WORK}/example/cpp_recognize" "${WORK}/data/tiny.svam" "${WORK}/data/tiny.svad" 1 6
+                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+message("${out}${err}")
+if(rc OR NOT out MATCHES "after 6 readings: pebble")
+  message(FATAL_ERROR "examples/cpp_recognize failed (${rc}) or did not recognise the pebble after 6 readings")
 endif()

@@ -29,6 +29,24 @@ TEST_CASE("pose space refuses specs that do not fit the bin key") {
   CHECK_THROWS_AS(PoseSpace(s, 3), Error);
 }
 
+TEST_CASE("pose space refuses a workspace frame that is not rigid, or that tilts a planar space") {
+  PoseSpaceSpec s = placed_pose_space(paper_space(), {500.0, 0.0, 0.0}, 100.0, rotation::exp({0.0, 0.4, 0.0}));
+  CHECK_NOTHROW(PoseSpace(s, 3));
+  CHECK(PoseSpace(s, 3).to_robot(RigidPose{}).T.x == 500.0);
+  s.workspace.R = 2.0 * s.workspace.R;  // a scale
+  CHECK_THROWS_WITH(PoseSpace(s, 3), Catch::Contains("workspace rotation"));
+  s.workspace.R = glm::dmat3(1.0);
+  s.workspace.R[0][0] = -1.0;  // a mirror
+  CHECK_THROWS_WITH(PoseSpace(s, 3), Catch::Contains("workspace rotation"));
+  s.workspace.R = glm::dmat3(1.0);
+  s.workspace.T.y = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_WITH(PoseSpace(s, 3), Catch::Contains("workspace centre"));
+  PoseSpaceSpec planar = placed_pose_space(letters_space(), {30.0, 40.0, 5.0}, 10.0, rotation::about_z(0.7));
+  CHECK_NOTHROW(PoseSpace(planar, 3));
+  planar.workspace.R = rotation::exp({0.2, 0.0, 0.0});
+  CHECK_THROWS_WITH(PoseSpace(planar, 3), Catch::Contains("planar"));
+}
+
 TEST_CASE("bin keys pack and unpack, and bin centres fall in their own bins") {
   for (const PoseSpaceSpec& spec : {paper_space(), letters_space()}) {
     PoseSpace space(spec, 7);

@@ -10,80 +10,10 @@
 #include <numbers>
 
 #include "fixture.hpp"
+#include "trained_map.hpp"
 
 using namespace sva;
 using namespace sva::test;
-
-namespace {
-
-// A blob image whose shape is the point's texture, rotated at random about the
-// normal (the controllers leave that rotation free).
-std::vector<float> texture_image(const SensorSpec& sensor, std::uint32_t texture, double angle) {
-  const double shapes[4][2] = {{3.0, 3.0}, {0.8, 3.5}, {1.5, 2.5}, {0.9, 1.0}};
-  const double sx = shapes[texture % 4][0], sy = shapes[texture % 4][1];
-  std::vector<float> img(static_cast<std::size_t>(sensor.elements()));
-  const double c = std::cos(angle), s = std::sin(angle);
-  for (int r = 0; r < sensor.rows; ++r)
-    for (int col = 0; col < sensor.cols; ++col) {
-      const double x = col - 0.5 * (sensor.cols - 1), y = r - 0.5 * (sensor.rows - 1);
-      const double u = c * x + s * y, v = -s * x + c * y;
-      img[static_cast<std::size_t>(r * sensor.cols + col)] =
-          static_cast<float>(30.0 * std::exp(-0.5 * (u * u / (sx * sx) + v * v / (sy * sy))));
-    }
-  return img;
-}
-
-Reading reading_of(const SensorSpec& sensor, const WorldPoint& w, std::uint32_t object, const RigidPose& pose,
-                   util::Rng& rng) {
-  Reading r;
-  r.object = object;
-  r.position = pose.apply(w.p);
-  r.normal = pose.rotate(w.n);
-  r.x_axis =
-      glm::normalize(glm::cross(r.normal, std::fabs(r.normal.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
-  r.pressure = texture_image(sensor, w.cls, rng.uniform(0.0, 2.0 * std::numbers::pi));
-  return r;
-}
-
-struct Trained {
-  WorldSpec spec;
-  Dataset data;
-  Map map;
-};
-
-const Trained& trained() {
-  static const Trained t = [] {
-    Trained x;
-    x.spec.classes = 4;
-    x.spec.points = 70;
-    x.data.scene.name = "synthetic-recognizer";
-    for (int o = 0; o < x.spec.objects; ++o) {
-      SceneObject so;
-      so.name = "obj" + std::to_string(o);
-      so.mesh = "/nonexistent.glb";
-      x.data.scene.objects.push_back(so);
-    }
-    x.data.scene.appearance.descriptor = "mnti";
-    x.data.scene.appearance.clusters = 4;
-    x.data.scene.appearance.dist_bins = 12;
-    x.data.scene.appearance.dist_min_mm = 5.0;
-    x.data.scene.appearance.dist_max_mm = 80.0;
-    x.data.split = "train";
-    for (int o = 0; o < x.spec.objects; ++o)
-      for (int i = 0; i < x.spec.points; ++i) {
-        util::Rng rng(1, static_cast<std::uint64_t>(o), static_cast<std::uint64_t>(i));
-        Sample s;
-        s.reading =
-            reading_of(x.data.scene.sensor, world_point(x.spec, o, i), static_cast<std::uint32_t>(o), RigidPose{}, rng);
-        x.data.samples.push_back(s);
-      }
-    x.map = Map::train(x.data, {});
-    return x;
-  }();
-  return t;
-}
-
-}  // namespace
 
 TEST_CASE("Recognizer: SVA on a trained map finds the object and its pose") {
   const Trained& t = trained();
@@ -202,4 +132,128 @@ TEST_CASE("Recognizer: votes whose mass rounds to zero are counted in the estima
   CHECK_FALSE(q.pose_valid);  // nothing was folded
   quiet.reset();
   CHECK(quiet.estimate(1).votes_zero == 0);
+}
+
+// The workspace frame (PoseSpaceSpec::workspace): the map was trained around the object's origin, and the same
+// map recognises the object far from the robot frame's origin once the box is placed there.
+TEST_CASE("Recognizer: a workspace frame recognises the object where the box is placed") {
+  const Trained& t = trained();
+  const RigidPose truth = random_pose(610, 60.0);
+  RigidPose workspace;
+  workspace.R = rotation::exp(glm::dvec3(0.3, -0.2, 0.5));
+  workspace.T = {700.0, -350.0, 420.0};
+  Recognizer at_origin(t.map, paper_space());
+  Recognizer placed(t.map, placed_pose_space(paper_space(), workspace.T, 200.0, workspace.R));
+  Recognizer unplaced(t.map, paper_space());
+  util::Rng pick(44);
+  for (int i = 0; i < 10; ++i) {
+    const WorldPoint w = world_point(t.spec, 2, static_cast<int>(pick.below(70)));
+    util::Rng image_a(45, static_cast<std::uint64_t>(i)), image_b(45, static_cast<std::uint64_t>(i)),
+        image_c(45, static_cast<std::uint64_t>(i));
+    at_origin.add_reading(reading_of(t.data.scene.sensor, w, 2, truth, image_a));
+    placed.add_reading(reading_of(t.data.scene.sensor, w, 2, workspace * truth, image_b));
+    unplaced.add_reading(reading_of(t.data.scene.sensor, w, 2, workspace * truth, image_c));
+  }
+  const Estimate a = at_origin.estimate(3), b = placed.estimate(3), c = unplaced.estimate(3);
+  REQUIRE(a.pose_valid);
+  REQUIRE(b.pose_valid);
+  CHECK(b.object == a.object);
+  for (std::size_t o = 0; o < a.object_probability.size(); ++o)
+    CHECK(b.object_probability[o] == Approx(a.object_probability[o]).margin(1e-9));
+  // Poses come back in the robot frame: the placed recognizer's pose is the workspace times the other's.
+  const RigidPose expected = workspace * a.pose;
+  CHECK(glm::length(b.pose.T - expected.T) < 0.5);
+  CHECK(angle_between(b.pose.R, expected.R) < 0.01);
+  CHECK(glm::length(b.bin_pose.T - (workspace * a.bin_pose).T) < 1e-6);
+  // The box at the robot frame's origin does not contain the object: every vote falls outside.
+  CHECK(c.votes == 0);
+  CHECK(c.votes_outside > 0);
+  CHECK_FALSE(c.pose_valid);
+}
+
+TEST_CASE("Recognizer: distinct hypotheses carry a mass and a covariance, the best one the estimate's pose") {
+  const Trained& t = trained();
+  Recognizer rec(t.map, paper_space());
+  const RigidPose truth = random_pose(620, 100.0);
+  util::Rng rng(46);
+  for (int i = 0; i < 10; ++i)
+    rec.add_reading(
+        reading_of(t.data.scene.sensor, world_point(t.spec, 1, static_cast<int>(rng.below(70))), 1, truth, rng));
+  const Estimate e = rec.estimate(4);
+  REQUIRE(e.pose_valid);
+  REQUIRE(!e.hypotheses.empty());
+  CHECK(e.hypotheses.size() <= 4);
+  double mass = 0.0;
+  for (const PoseHypothesis& h : e.hypotheses) {
+    CHECK(h.valid);
+    CHECK(h.probability >= 0.0);  // a mode far below the best rounds to 0, as the object posterior does
+    mass += h.probability;
+    for (int a = 0; a < 6; ++a) CHECK(h.covariance[a * 6 + a] > 0.0);
+  }
+  CHECK(e.hypotheses[0].probability > 0.0);
+  CHECK(mass <= 1.0 + 1e-12);
+  // No two hypotheses of one object share a bin neighbourhood: their centres are more than a bin apart.
+  for (std::size_t i = 0; i < e.hypotheses.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (e.hypotheses[i].object == e.hypotheses[j].object)
+        CHECK((glm::length(e.hypotheses[i].pose.T - e.hypotheses[j].pose.T) > 0.5 * bin_width(paper_space()) ||
+               angle_between(e.hypotheses[i].pose.R, e.hypotheses[j].pose.R) > 0.3));
+  REQUIRE(e.object_hypotheses.size() == 3);
+  CHECK(e.object_hypotheses[e.object].valid);
+  CHECK(glm::length(e.object_hypotheses[e.object].pose.T - e.pose.T) == 0.0);
+  CHECK(e.object_hypotheses[e.object].probability <= e.object_probability[e.object] + 1e-9);
+  CHECK(rec.estimate(0).hypotheses.empty());
+  RecognizerOptions wide;
+  wide.hypothesis_radius_bins = 5;
+  CHECK_THROWS_WITH(Recognizer(t.map, paper_space(), wide), Catch::Contains("hypothesis_radius_bins"));
+}
+
+TEST_CASE("Recognizer: a prior over objects decides what touch cannot, and a flat one changes nothing") {
+  const Trained& t = trained();
+  const RigidPose truth = random_pose(630, 100.0);
+  Recognizer plain(t.map, paper_space()), flat(t.map, paper_space()), camera(t.map, paper_space());
+  flat.set_prior({{0.2, 0.2, 0.2}});
+  // One reading makes no pair: touch alone cannot tell the objects apart, the prior decides.
+  camera.set_prior({{0.1, 0.2, 0.7}});
+  util::Rng rng(47);
+  const Reading first =
+      reading_of(t.data.scene.sensor, world_point(t.spec, 0, static_cast<int>(rng.below(70))), 0, truth, rng);
+  plain.add_reading(first);
+  flat.add_reading(first);
+  camera.add_reading(first);
+  CHECK(plain.estimate().object_probability[2] == Approx(1.0 / 3.0));
+  CHECK(camera.estimate().object == 2);
+  CHECK(camera.estimate().object_probability[2] == Approx(0.7));
+  for (int i = 0; i < 2; ++i) {
+    const Reading r =
+        reading_of(t.data.scene.sensor, world_point(t.spec, 0, static_cast<int>(rng.below(70))), 0, truth, rng);
+    plain.add_reading(r);
+    flat.add_reading(r);
+    camera.add_reading(r);
+  }
+  const Estimate p = plain.estimate(3), f = flat.estimate(3), c = camera.estimate(3);
+  CHECK(f.object_probability == p.object_probability);
+  CHECK(f.object == p.object);
+  REQUIRE(f.hypotheses.size() == p.hypotheses.size());
+  for (std::size_t i = 0; i < p.hypotheses.size(); ++i)
+    CHECK(f.hypotheses[i].probability == p.hypotheses[i].probability);
+  // With evidence, the posterior is the evidence times the prior, renormalised.
+  const double w[3] = {0.1 / 0.7, 0.2 / 0.7, 1.0};
+  double z = 0.0;
+  for (int o = 0; o < 3; ++o) z += p.object_probability[o] * w[o];
+  for (int o = 0; o < 3; ++o) CHECK(c.object_probability[o] == Approx(p.object_probability[o] * w[o] / z));
+  // A prior strong enough against the evidence's winner overturns it.
+  std::vector<double> strong(3, 1.0);
+  strong[p.object] = 1e-12;
+  camera.set_prior({strong});
+  CHECK(camera.estimate().object != p.object);
+  // Reset forgets the prior with the readings.
+  camera.reset();
+  camera.add_reading(first);
+  CHECK(camera.estimate().object_probability[2] == Approx(1.0 / 3.0));
+  // Priors that do not fit the map are refused.
+  CHECK_THROWS_WITH(camera.set_prior({{0.5, 0.5}}), Catch::Contains("2 object probabilities"));
+  CHECK_THROWS_WITH(camera.set_prior({{0.5, -0.1, 0.5}}), Catch::Contains("object 1"));
+  CHECK_THROWS_WITH(camera.set_prior({{0.5, std::nan(""), 0.5}}), Catch::Contains("finite"));
+  CHECK_THROWS_WITH(camera.set_prior({{0.0, 0.0, 0.0}}), Catch::Contains("every object probability is 0"));
 }

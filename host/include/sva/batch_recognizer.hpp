@@ -3,11 +3,13 @@
 // stepped together so that one backend call (one GPU submission with the
 // Vulkan backend) carries the pairs of every session that got a new reading.
 // Each session's results equal those of a Recognizer fed the same readings.
-// Not thread-safe: with the Vulkan backend even estimate() runs GPU work, so
-// call one BatchRecognizer from one thread at a time.
+// Thread safety: every call (const ones included: with the Vulkan backend even
+// estimate() runs GPU work) takes the recognizer's lock, so calls from several
+// threads run one at a time; batch recognizers of one Engine run at once.
 #include <sva/recognizer.hpp>
 
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <span>
 #include <vector>
@@ -17,6 +19,9 @@ namespace sva {
 class BatchRecognizer {
  public:
   BatchRecognizer(const Map& map, const PoseSpaceSpec& pose_space, std::size_t sessions,
+                  const RecognizerOptions& options = {});
+  // Sessions sharing `engine` (Recognizer's constructor from an Engine).
+  BatchRecognizer(const Engine& engine, const PoseSpaceSpec& pose_space, std::size_t sessions,
                   const RecognizerOptions& options = {});
   ~BatchRecognizer();
   BatchRecognizer(BatchRecognizer&&) noexcept;
@@ -28,7 +33,13 @@ class BatchRecognizer {
   // (sva::Error naming the session and reading) nothing is updated.
   void add_readings(std::span<const std::size_t> sessions, std::span<const Reading> readings);
   Estimate estimate(std::size_t session, std::size_t top_k = 5) const;
+  // Recognizer::set_prior, for one session.
+  void set_prior(std::size_t session, const Prior& prior);
+  // Forgets the session's readings and prior.
   void reset(std::size_t session);
+  // Recognizer::save_session and restore_session, for one session.
+  void save_session(std::size_t session, const std::filesystem::path& file) const;
+  void restore_session(std::size_t session, const std::filesystem::path& file);
   std::size_t readings(std::size_t session) const;
   // The backend in use ("cpu" or "vulkan") and, for Vulkan, the device.
   std::string backend_description() const;

@@ -2,9 +2,8 @@
 // The SVA pair map (paper Sec 3) as a public, opaque, cheap-to-copy handle:
 // train it from a dataset, save it, load it. The layout itself (PairMap) is
 // private to the engine; see docs/map-format.md for the file format.
-#include <sva/dataset.hpp>
 #include <sva/pose.hpp>
-#include <sva/scene.hpp>
+#include <sva/pose_space.hpp>
 
 #include <cstdint>
 #include <filesystem>
@@ -17,6 +16,7 @@
 namespace sva {
 
 struct PairMap;
+struct Dataset;  // sva/dataset.hpp
 
 struct TrainOptions {
   // Unset values come from the dataset's scene (Scene::appearance).

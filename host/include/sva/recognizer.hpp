@@ -4,10 +4,13 @@
 // perception stack includes.
 #include <sva/map.hpp>
 #include <sva/pose.hpp>
+#include <sva/pose_space.hpp>
+#include <sva/prior.hpp>
 #include <sva/reading.hpp>
-#include <sva/scene.hpp>
 
+#include <array>
 #include <cstdint>
+#include <filesystem>
 #include <memory>
 #include <string>
 #include <vector>
@@ -20,7 +23,7 @@ enum class BackendKind { cpu, vulkan, automatic };
 enum class Method { sva, appearance };  // appearance: the appearance-only baseline of [15]
 
 struct RecognizerOptions {
-  BackendKind backend = BackendKind::cpu;
+  BackendKind backend = BackendKind::automatic;  // the policy of every command: a GPU where one is usable
   Method method = Method::sva;
   // Floor of every pair factor (DESIGN 4): factor = eps + S_p(x). See docs/recognition.md.
   double eps = 1e-6;
@@ -37,6 +40,9 @@ struct RecognizerOptions {
   // session forgets the bins more than 256 bits of evidence below its best (never those the estimate reads).
   // 0 = no bound.
   std::size_t belief_budget_bins = std::size_t{1} << 22;
+  // Distinct hypotheses (Estimate::hypotheses): bins within this many grid steps of a stronger mode of the same
+  // object on every axis are the same hypothesis; a mode's mass and covariance sum the bins within it. 0 to 4.
+  int hypothesis_radius_bins = 1;
 };
 
 struct Hypothesis {
@@ -44,6 +50,21 @@ struct Hypothesis {
   std::string object_name;
   RigidPose pose;            // pose of the object (x_world = R x_object + T)
   double probability = 0.0;  // posterior mass of this bin
+};
+
+// One distinct hypothesis: a mode of the belief. Maps onto vision_msgs/ObjectHypothesisWithPose (docs/api.md).
+struct PoseHypothesis {
+  std::uint32_t object = 0;
+  std::string object_name;
+  RigidPose pose;            // robot frame: the parabolic peak of the mode's best bin (for the best object's best
+                             // mode, Estimate::pose: the fine pose when refined)
+  double probability = 0.0;  // posterior mass of the mode: its bins within RecognizerOptions::hypothesis_radius_bins
+  // Row-major 6 x 6, in the order of ROS geometry_msgs/PoseWithCovariance (x, y, z in mm; rotation about the
+  // robot frame's X, Y, Z in radians, as a small rotation applied on the left of `pose.R`): the weighted second
+  // moments of the mode's bins plus each bin's quantisation variance (width^2 / 12). Planar spaces: z and the
+  // rotations about X and Y are fixed by the plane, so their rows and columns are 0.
+  std::array<double, 36> covariance{};
+  bool valid = false;  // false only in Estimate::object_hypotheses, for an object no vote has reached
 };
 
 struct Estimate {
@@ -58,18 +79,31 @@ struct Estimate {
   bool pose_refined = false;               // `pose` is aligned to the surface (RecognizerOptions::refine_pose
                                            // on, enough readings, a better fit than the histogram's pose)
   bool pose_valid = false;                 // false until a pair has voted (and for Method::appearance)
-  std::vector<Hypothesis> top;             // best bins, most probable first
-  std::uint64_t votes = 0;                 // votes cast by the last update
-  std::uint64_t votes_outside = 0;         // votes of the last update whose pose fell outside the pose space
-                                           // (many: the space may not contain the object's pose)
-  std::uint64_t votes_zero = 0;            // of `votes`, those whose fixed-point mass (2^-24 units, rounded to
-                                           // nearest) is 0: counted, they add nothing to the belief (many: the
-                                           // likelihoods are tiny, e.g. a likelihood_cutoff of 0 on a large map)
+  std::vector<Hypothesis> top;             // best bins, most probable first (neighbouring bins of one mode: see
+                                           // `hypotheses` for distinct ones)
+  std::vector<PoseHypothesis> hypotheses;  // distinct modes over all objects (non-maximum suppression), strongest
+                                           // peak first, at most estimate()'s top_k
+  std::vector<PoseHypothesis> object_hypotheses;  // per object id: its best mode (empty for Method::appearance)
+  std::uint64_t votes = 0;                        // votes cast by the last update
+  std::uint64_t votes_outside = 0;                // votes of the last update whose pose fell outside the pose space
+                                                  // (many: the space may not contain the object's pose)
+  std::uint64_t votes_zero = 0;                   // of `votes`, those whose fixed-point mass (2^-24 units, rounded to
+                                                  // nearest) is 0: counted, they add nothing to the belief (many: the
+                                                  // likelihoods are tiny, e.g. a likelihood_cutoff of 0 on a large map)
 };
 
+class Engine;  // sva/engine.hpp
+
+// One recognition session. Thread safety: every call (const ones included) takes the recognizer's lock, so one
+// recognizer may be used from several threads, one call at a time; recognizers of one Engine run at once.
 class Recognizer {
  public:
+  // A recognizer with its own engine on `options.backend` (the map uploaded for it alone, unless another
+  // recognizer of the process already holds the same map on the same device).
   Recognizer(const Map& map, const PoseSpaceSpec& pose_space, const RecognizerOptions& options = {});
+  // A recognizer sharing `engine` (its map, backend and device: options.backend and vulkan_device are the
+  // engine's). The engine's state is kept alive by the recognizer.
+  Recognizer(const Engine& engine, const PoseSpaceSpec& pose_space, const RecognizerOptions& options = {});
   ~Recognizer();
   Recognizer(Recognizer&&) noexcept;
   Recognizer& operator=(Recognizer&&) noexcept;
@@ -78,8 +112,18 @@ class Recognizer {
   // every earlier reading, in both orders (Eq 3-5). Readings that are not
   // `converged` or that cannot be described are refused with sva::Error.
   void add_reading(const Reading& reading);
+  // top_k: the best bins (Estimate::top) and the distinct hypotheses (Estimate::hypotheses) to report.
   Estimate estimate(std::size_t top_k = 5) const;
+  // A prior over objects for this session (sva/prior.hpp), replacing any earlier one; sva::Error when it does not
+  // fit the map. It may be set or changed at any time: it enters at estimate time.
+  void set_prior(const Prior& prior);
+  // Forgets the readings and the prior: a fresh session (the belief's and the backend's memory is kept).
   void reset();
+  // Saves the session (its readings so far, as given, and its prior) to a small versioned file, so that a robot
+  // can resume; restore_session replaces this session by the saved one, whose belief it rebuilds bit for bit by
+  // replaying the readings. sva::Error naming the file when it cannot be read or was saved with another map.
+  void save_session(const std::filesystem::path& file) const;
+  void restore_session(const std::filesystem::path& file);
   std::size_t readings() const;
 
   struct Impl;

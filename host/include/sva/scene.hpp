@@ -3,6 +3,7 @@
 // defaults and the data-collection protocol. Scenes are JSON files; the
 // built-in ones live in assets/scenes/ (see docs/scene-format.md).
 #include <sva/pose.hpp>
+#include <sva/pose_space.hpp>
 #include <sva/reading.hpp>
 
 #include <cstdint>
@@ -47,15 +48,6 @@ struct ErrorModel {
   std::uint32_t test_sensor = 1;    // ... and of the test readings (differ: two physical sensors)
 
   bool arm_ideal() const { return position_sigma_mm == 0.0 && normal_sigma_deg == 0.0; }
-};
-
-struct PoseSpaceSpec {
-  enum class Kind { spatial, planar };  // spatial: 6-DOF (T xyz, Rodrigues xyz); planar: x, y, angle about z
-  Kind kind = Kind::spatial;
-  int translation_bins = 50;
-  double translation_min_mm = -200.0;
-  double translation_max_mm = 200.0;
-  int rotation_bins = 9;  // per Rodrigues axis (planar: over [-pi, pi])
 };
 
 struct AppearanceSpec {

@@ -5,15 +5,20 @@
 #include <sva/error.hpp>
 #include <sva/recognizer.hpp>
 
+#include <algorithm>
 #include <cmath>
+#include <mutex>
 #include <set>
 #include <string>
 
 #include "appearance/appearance_baseline.hpp"
+#include "io/session_file.hpp"
 #include "map/pair_map.hpp"
 #include "map/surface_index.hpp"
 #include "recognition/bayes_filter.hpp"
 #include "recognition/describe_reading.hpp"
+#include "recognition/engine.hpp"
+#include "recognition/hypotheses.hpp"
 #include "recognition/pose_refinement.hpp"
 #include "recognition/pose_space.hpp"
 #include "recognition/vote_backend.hpp"
@@ -24,6 +29,66 @@ namespace sva {
 namespace {
 // Modes of the belief the fine pose starts from (the best bin's parabolic peak first).
 constexpr std::size_t kRefineStarts = 4;
+
+// A reading in the pose grid's frame (the workspace frame): the belief and the fine pose never see the robot frame.
+ObservedReading to_grid(const PoseSpace& space, ObservedReading r) {
+  const RigidPose to = space.workspace().inverse();
+  r.position = to.apply(r.position);
+  r.normal = to.rotate(r.normal);
+  return r;
+}
+
+PoseHypothesis public_hypothesis(const ModeHypothesis& m, const PoseSpace& space,
+                                 const std::vector<MapObject>& objects) {
+  PoseHypothesis h;
+  h.object = m.object;
+  h.object_name = objects[m.object].name;
+  h.pose = space.to_robot(m.pose);
+  h.probability = m.probability;
+  h.covariance = covariance_to_robot(m.covariance, space.workspace().R);
+  h.valid = true;
+  return h;
+}
+
+// The distinct hypotheses, in the robot frame. The best object's best mode carries the estimate's own pose (the
+// fine pose when refined), so hypotheses[0] and Estimate::pose agree.
+void add_hypotheses(const BayesFilter& filter, const PoseSpace& space, const std::vector<MapObject>& objects,
+                    int radius, std::size_t top_k, std::span<const double> prior, const BeliefEstimate& b,
+                    Estimate* e) {
+  const HypothesisSet set = hypotheses(filter.belief(), space, filter.belief().summarise(), top_k, radius, prior);
+  for (const ModeHypothesis& m : set.modes) {
+    e->hypotheses.push_back(public_hypothesis(m, space, objects));
+    if (b.pose_valid && m.key == b.best_key) e->hypotheses.back().pose = e->pose;
+  }
+  for (std::uint32_t o = 0; o < set.per_object.size(); ++o) {
+    PoseHypothesis h;
+    h.object = o;
+    h.object_name = objects[o].name;
+    if (set.per_object_valid[o]) h = public_hypothesis(set.per_object[o], space, objects);
+    if (b.pose_valid && o == b.object) h.pose = e->pose;
+    e->object_hypotheses.push_back(h);
+  }
+}
+
+// A prior over objects as weights whose largest is 1 (empty: flat), checked against the map.
+std::vector<double> prior_weights(const Prior& prior, std::size_t objects) {
+  const std::vector<double>& p = prior.object_probability;
+  if (p.empty()) return {};
+  if (p.size() != objects)
+    throw Error("prior: " + std::to_string(p.size()) + " object probabilities, but the map has " +
+                std::to_string(objects) + " objects");
+  double top = 0.0;
+  for (std::size_t o = 0; o < p.size(); ++o) {
+    if (!std::isfinite(p[o]) || p[o] < 0.0)
+      throw Error("prior: object " + std::to_string(o) + " has probability " + std::to_string(p[o]) +
+                  " (must be finite and >= 0)");
+    top = std::max(top, p[o]);
+  }
+  if (!(top > 0.0)) throw Error("prior: every object probability is 0");
+  std::vector<double> w(p.size());
+  for (std::size_t o = 0; o < p.size(); ++o) w[o] = p[o] / top;
+  return w;
+}
 }  // namespace
 
 struct BatchRecognizer::Impl {
@@ -32,25 +97,28 @@ struct BatchRecognizer::Impl {
     std::vector<double> appearance_log_posterior;
     std::size_t readings = 0;
     std::uint64_t last_votes = 0;
+    std::vector<double> prior_weight;  // per object, largest 1; empty: flat
+    std::vector<double> prior;         // as given (saved with the session)
+    std::vector<Reading> taken;        // the readings added, as given (saved with the session)
   };
 
-  Map map;  // keeps the shared PairMap alive
+  Engine engine;  // keeps the map, the device and the shared surface index alive
   const PairMap* pair_map = nullptr;
   RecognizerOptions options;
   PoseSpace space;
   std::unique_ptr<VoteBackend> backend;
-  BackendKind kind = BackendKind::cpu;
-  std::string fallback_reason;
   std::vector<Session> sessions;
-  // The fine pose: the objects' training contacts, indexed once per recognizer.
-  std::unique_ptr<SurfaceIndex> surface;
+  const SurfaceIndex* surface = nullptr;  // the fine pose's (the engine's), or none
   RefineSettings refine;
+  // Every public call takes it: a recognizer may be shared between threads (and a const estimate() runs GPU
+  // work that writes caches of the belief).
+  mutable std::mutex mutex;
 
-  Impl(const Map& m, const PoseSpaceSpec& spec, const RecognizerOptions& o)
-      : map(m),
-        pair_map(&m.internal()),
+  Impl(const Engine& e, const PoseSpaceSpec& spec, const RecognizerOptions& o)
+      : engine(e),
+        pair_map(&e.map().internal()),
         options(o),
-        space(spec, static_cast<std::uint32_t>(m.internal().objects.size())) {}
+        space(spec, static_cast<std::uint32_t>(e.map().internal().objects.size())) {}
 
   Session& at(std::size_t s) {
     if (s >= sessions.size())
@@ -59,30 +127,49 @@ struct BatchRecognizer::Impl {
   }
 };
 
-BatchRecognizer::BatchRecognizer(const Map& map, const PoseSpaceSpec& pose_space, std::size_t sessions,
-                                 const RecognizerOptions& options) {
+namespace {
+// The engine of a recognizer made from a map alone: its own, on the options' backend.
+Engine own_engine(const Map& map, const RecognizerOptions& options) {
   if (map.empty()) throw Error("recognizer: the map is empty (not trained or not loaded)");
+  EngineOptions eo;
+  eo.backend = options.method == Method::sva ? options.backend : BackendKind::cpu;
+  eo.vulkan_device = options.vulkan_device;
+  return Engine(map, eo);
+}
+}  // namespace
+
+BatchRecognizer::BatchRecognizer(const Map& map, const PoseSpaceSpec& pose_space, std::size_t sessions,
+                                 const RecognizerOptions& options)
+    : BatchRecognizer(own_engine(map, options), pose_space, sessions, options) {
+  // Nothing else shares this engine: the recognizer's own backend keeps the device alive.
+  impl_->engine.internal()->keep_backend.reset();
+}
+
+BatchRecognizer::BatchRecognizer(const Engine& engine, const PoseSpaceSpec& pose_space, std::size_t sessions,
+                                 const RecognizerOptions& options) {
+  const Map& map = engine.map();
   if (sessions == 0) throw Error("batch recognizer: need at least one session");
   if (pose_space.kind != map.pose_space().kind)
     throw Error(std::string("recognizer: the pose space is ") +
                 (pose_space.kind == PoseSpaceSpec::Kind::planar ? "planar" : "spatial") + " but map '" +
                 map.scene_name() + "' was trained for a " +
                 (map.pose_space().kind == PoseSpaceSpec::Kind::planar ? "planar" : "spatial") + " scene");
+  if (options.hypothesis_radius_bins < 0 || options.hypothesis_radius_bins > 4)
+    throw Error("recognizer option hypothesis_radius_bins = " + std::to_string(options.hypothesis_radius_bins) +
+                " must be in [0, 4]");
   if (!(options.likelihood_cutoff >= 0.0f) || !std::isfinite(options.likelihood_cutoff))
     throw Error("recognizer option likelihood_cutoff = " + std::to_string(options.likelihood_cutoff) +
                 " must be a finite number >= 0");
-  impl_ = std::make_unique<Impl>(map, pose_space, options);
+  impl_ = std::make_unique<Impl>(engine, pose_space, options);
   impl_->sessions.resize(sessions);
   if (options.method == Method::sva) {
     VoteSettings vs;
     vs.likelihood_cutoff = options.likelihood_cutoff;
     vs.threads = options.threads;
-    VulkanBackendOptions vo;
-    vo.device = options.vulkan_device;
-    VoteBackendChoice choice = make_vote_backend(options.backend, *impl_->pair_map, impl_->space, vs, vo);
-    impl_->backend = std::move(choice.backend);
-    impl_->kind = choice.kind;
-    impl_->fallback_reason = std::move(choice.fallback_reason);
+    // The engine's backend, already resolved (auto chose once, for every recognizer of the engine).
+    impl_->backend =
+        make_vote_backend(engine.backend(), *impl_->pair_map, impl_->space, vs, vulkan_options(*engine.internal()))
+            .backend;
     FilterOptions fo;
     fo.eps = options.eps;
     fo.object_prune_probability = options.object_prune_probability;
@@ -91,7 +178,7 @@ BatchRecognizer::BatchRecognizer(const Map& map, const PoseSpaceSpec& pose_space
     for (auto& s : impl_->sessions)
       s.filter = std::make_unique<BayesFilter>(*impl_->pair_map, impl_->space, fo, *impl_->backend);
     if (options.refine_pose) {
-      impl_->surface = std::make_unique<SurfaceIndex>(impl_->pair_map->readings, impl_->pair_map->objects.size());
+      impl_->surface = &engine.internal()->surface();
       impl_->refine = refine_settings(impl_->space);
     }
   } else {
@@ -108,6 +195,7 @@ BatchRecognizer& BatchRecognizer::operator=(BatchRecognizer&&) noexcept = defaul
 std::size_t BatchRecognizer::sessions() const { return impl_->sessions.size(); }
 
 void BatchRecognizer::add_readings(std::span<const std::size_t> sessions, std::span<const Reading> readings) {
+  const std::lock_guard lock(impl_->mutex);
   if (sessions.size() != readings.size())
     throw Error("batch recognizer: " + std::to_string(sessions.size()) + " sessions but " +
                 std::to_string(readings.size()) + " readings");
@@ -118,10 +206,11 @@ void BatchRecognizer::add_readings(std::span<const std::size_t> sessions, std::s
     Impl::Session& s = impl_->at(sessions[i]);
     if (!seen.insert(sessions[i]).second)
       throw Error("batch recognizer: session " + std::to_string(sessions[i]) + " appears twice in one update");
-    observed.push_back(describe_reading(
-        *impl_->pair_map, readings[i],
-        (impl_->sessions.size() > 1 ? "session " + std::to_string(sessions[i]) + ", " : std::string()) + "reading " +
-            std::to_string(s.readings + 1)));
+    observed.push_back(to_grid(
+        impl_->space, describe_reading(*impl_->pair_map, readings[i],
+                                       (impl_->sessions.size() > 1 ? "session " + std::to_string(sessions[i]) + ", "
+                                                                   : std::string()) +
+                                           "reading " + std::to_string(s.readings + 1))));
   }
   if (impl_->options.method == Method::sva) {
     std::vector<BayesFilter*> filters;
@@ -132,10 +221,14 @@ void BatchRecognizer::add_readings(std::span<const std::size_t> sessions, std::s
     for (std::size_t i = 0; i < sessions.size(); ++i)
       impl_->pair_map->baseline.update(impl_->sessions[sessions[i]].appearance_log_posterior, observed[i].classes);
   }
-  for (std::size_t i : sessions) ++impl_->sessions[i].readings;
+  for (std::size_t i = 0; i < sessions.size(); ++i) {
+    ++impl_->sessions[sessions[i]].readings;
+    impl_->sessions[sessions[i]].taken.push_back(readings[i]);
+  }
 }
 
 Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const {
+  const std::lock_guard lock(impl_->mutex);
   const Impl::Session& s = impl_->at(session);
   Estimate e;
   e.readings = s.readings;
@@ -143,12 +236,17 @@ Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const
   const auto& objects = impl_->pair_map->objects;
   if (!s.filter) {
     e.object_probability = AppearanceBaseline::posterior(s.appearance_log_posterior);
+    if (!s.prior_weight.empty()) {
+      double z = 0.0;
+      for (std::size_t o = 0; o < e.object_probability.size(); ++o) z += e.object_probability[o] *= s.prior_weight[o];
+      for (double& p : e.object_probability) p /= z;
+    }
     for (std::uint32_t o = 1; o < e.object_probability.size(); ++o)
       if (e.object_probability[o] > e.object_probability[e.object]) e.object = o;
     e.object_name = objects[e.object].name;
     return e;
   }
-  const BeliefEstimate b = s.filter->estimate(top_k, impl_->surface ? kRefineStarts : 1);
+  const BeliefEstimate b = s.filter->estimate(top_k, impl_->surface ? kRefineStarts : 1, s.prior_weight);
   e.object = b.object;
   e.object_name = objects[b.object].name;
   e.object_probability = b.object_probability;
@@ -161,39 +259,91 @@ Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const
     e.pose = r.pose;
     e.pose_refined = r.refined;
   }
+  const PoseSpace& space = impl_->space;
+  e.pose = space.to_robot(e.pose);
+  e.parabolic_pose = space.to_robot(e.parabolic_pose);
+  e.bin_pose = space.to_robot(e.bin_pose);
   for (const BinHypothesis& h : b.top) {
     Hypothesis out;
     out.object = h.object;
     out.object_name = objects[h.object].name;
-    out.pose = h.pose;
+    out.pose = space.to_robot(h.pose);
     out.probability = h.probability;
     e.top.push_back(out);
   }
+  if (top_k > 0)
+    add_hypotheses(*s.filter, impl_->space, objects, impl_->options.hypothesis_radius_bins, top_k, s.prior_weight, b,
+                   &e);
   e.votes_outside = s.filter->last_update().votes_outside;
   e.votes_zero = s.filter->last_update().votes_zero;
   return e;
 }
 
-void BatchRecognizer::reset(std::size_t session) {
+void BatchRecognizer::set_prior(std::size_t session, const Prior& prior) {
+  const std::lock_guard lock(impl_->mutex);
   Impl::Session& s = impl_->at(session);
+  s.prior_weight = prior_weights(prior, impl_->pair_map->objects.size());
+  s.prior = prior.object_probability;
+}
+
+void BatchRecognizer::save_session(std::size_t session, const std::filesystem::path& file) const {
+  const std::lock_guard lock(impl_->mutex);
+  const Impl::Session& s = impl_->at(session);
+  io::SessionFile f;
+  f.scene_hash = impl_->pair_map->scene_hash;
+  f.objects = static_cast<std::uint32_t>(impl_->pair_map->objects.size());
+  f.scene_name = impl_->pair_map->scene_name;
+  f.prior = s.prior;
+  f.readings = s.taken;
+  io::save_session_file(f, file);
+}
+
+void BatchRecognizer::restore_session(std::size_t session, const std::filesystem::path& file) {
+  const io::SessionFile f = io::load_session_file(file);
+  const PairMap& m = *impl_->pair_map;
+  if (f.scene_hash != m.scene_hash || f.objects != m.objects.size())
+    throw Error("session file " + file.string() + " was recorded with map '" + f.scene_name + "' (" +
+                std::to_string(f.objects) + " objects), not with this recognizer's map '" + m.scene_name + "'");
+  reset(session);
+  if (!f.prior.empty()) set_prior(session, Prior{f.prior});
+  // Replaying rebuilds the belief bit for bit; a reading refused now (a damaged file) leaves the session reset.
+  try {
+    for (const Reading& r : f.readings) add_readings(std::span(&session, 1), std::span(&r, 1));
+  } catch (const Error& e) {
+    reset(session);
+    throw Error("session file " + file.string() + ": " + e.what());
+  }
+}
+
+void BatchRecognizer::reset(std::size_t session) {
+  const std::lock_guard lock(impl_->mutex);
+  Impl::Session& s = impl_->at(session);
+  s.prior_weight.clear();
+  s.prior.clear();
+  s.taken.clear();  // keeps its capacity
   s.readings = 0;
   s.last_votes = 0;
   if (s.filter) s.filter->reset();
   std::fill(s.appearance_log_posterior.begin(), s.appearance_log_posterior.end(), 0.0);
 }
 
-std::size_t BatchRecognizer::readings(std::size_t session) const { return impl_->at(session).readings; }
+std::size_t BatchRecognizer::readings(std::size_t session) const {
+  const std::lock_guard lock(impl_->mutex);
+  return impl_->at(session).readings;
+}
 
 std::string BatchRecognizer::backend_description() const {
+  const std::lock_guard lock(impl_->mutex);
   if (!impl_->backend) return "appearance";
-  if (impl_->kind == BackendKind::vulkan) return "vulkan: " + impl_->backend->statistics().device;
+  if (impl_->engine.backend() == BackendKind::vulkan) return "vulkan: " + impl_->backend->statistics().device;
   return impl_->backend->name();
 }
 
-BackendKind BatchRecognizer::backend() const { return impl_->kind; }
-std::string BatchRecognizer::backend_fallback_reason() const { return impl_->fallback_reason; }
+BackendKind BatchRecognizer::backend() const { return impl_->engine.backend(); }
+std::string BatchRecognizer::backend_fallback_reason() const { return impl_->engine.fallback_reason(); }
 
 BatchRecognizer::Timing BatchRecognizer::last_backend_timing() const {
+  const std::lock_guard lock(impl_->mutex);
   Timing t;
   if (impl_->backend) {
     const BackendStats st = impl_->backend->statistics();
@@ -205,6 +355,7 @@ BatchRecognizer::Timing BatchRecognizer::last_backend_timing() const {
 }
 
 BatchRecognizer::DeviceMemory BatchRecognizer::device_memory() const {
+  const std::lock_guard lock(impl_->mutex);
   DeviceMemory m;
   if (impl_->backend) {
     const BackendStats st = impl_->backend->statistics();
@@ -221,6 +372,8 @@ struct Recognizer::Impl {
 
 Recognizer::Recognizer(const Map& map, const PoseSpaceSpec& pose_space, const RecognizerOptions& options)
     : impl_(std::make_unique<Impl>(Impl{BatchRecognizer(map, pose_space, 1, options)})) {}
+Recognizer::Recognizer(const Engine& engine, const PoseSpaceSpec& pose_space, const RecognizerOptions& options)
+    : impl_(std::make_unique<Impl>(Impl{BatchRecognizer(engine, pose_space, 1, options)})) {}
 Recognizer::~Recognizer() = default;
 Recognizer::Recognizer(Recognizer&&) noexcept = default;
 Recognizer& Recognizer::operator=(Recognizer&&) noexcept = default;
@@ -230,6 +383,9 @@ void Recognizer::add_reading(const Reading& reading) {
   impl_->batch.add_readings(std::span(&session, 1), std::span(&reading, 1));
 }
 Estimate Recognizer::estimate(std::size_t top_k) const { return impl_->batch.estimate(0, top_k); }
+void Recognizer::set_prior(const Prior& prior) { impl_->batch.set_prior(0, prior); }
+void Recognizer::save_session(const std::filesystem::path& file) const { impl_->batch.save_session(0, file); }
+void Recognizer::restore_session(const std::filesystem::path& file) { impl_->batch.restore_session(0, file); }
 void Recognizer::reset() { impl_->batch.reset(0); }
 std::size_t Recognizer::readings() const { return impl_->batch.readings(0); }
 

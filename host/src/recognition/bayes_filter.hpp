@@ -51,9 +51,10 @@ class BayesFilter {
   // Adds one reading and updates the belief.
   UpdateStats add(const ObservedReading& reading);
   // `modes`: distinct modes of the best object to report (the fine pose's starts).
-  BeliefEstimate estimate(std::size_t top_k, std::size_t modes = 1) const {
+  // `object_weight`: a prior over objects (sva::estimate).
+  BeliefEstimate estimate(std::size_t top_k, std::size_t modes = 1, std::span<const double> object_weight = {}) const {
     require_complete();
-    return sva::estimate(*belief_, *space_, top_k, modes);
+    return sva::estimate(*belief_, *space_, top_k, modes, object_weight);
   }
   void reset();
 

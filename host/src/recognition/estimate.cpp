@@ -4,6 +4,7 @@
 #include <cassert>
 #include <cmath>
 #include <numbers>
+#include <span>
 
 #include "recognition/belief_math.hpp"
 #include "recognition/rotation.hpp"
@@ -15,7 +16,9 @@ namespace {
 // Mass of each object relative to a bin at the maximum (weight 2^mass_bits):
 // touched bins by their weights, untouched bins at the baseline offset 0. All
 // integer up to the final conversion (each object's sum stays below 2^62).
-std::vector<double> object_mass(const BeliefSummary& s, const PoseSpace& space) {
+// A prior (`weight`, per object, largest 1; empty: flat) scales each object's bins, as a per-object offset of
+// log2(weight) added to every bin of the object would.
+std::vector<double> object_mass(const BeliefSummary& s, const PoseSpace& space, std::span<const double> weight = {}) {
   const std::uint32_t bits = belief_math::mass_bits(space.bins_per_object());
   const std::uint64_t baseline = belief_math::sva_exp2_neg_units(s.max_offset, bits);
   std::vector<double> mass(space.objects());
@@ -23,6 +26,7 @@ std::vector<double> object_mass(const BeliefSummary& s, const PoseSpace& space) 
     assert(s.touched[o] <= space.bins_per_object());
     const std::uint64_t untouched = space.bins_per_object() - s.touched[o];
     mass[o] = static_cast<double>(s.touched_mass[o] + untouched * baseline);
+    if (!weight.empty()) mass[o] *= weight[o];
   }
   return mass;
 }
@@ -139,6 +143,12 @@ std::uint64_t band_floor(const BeliefSummary& s, const PoseSpace& space) {
 
 }  // namespace
 
+double total_mass(const BeliefSummary& summary, const PoseSpace& space, std::span<const double> object_weight) {
+  double z = 0.0;
+  for (double m : object_mass(summary, space, object_weight)) z += m;
+  return z;
+}
+
 std::vector<double> object_probability(const BeliefSummary& summary, const PoseSpace& space) {
   std::vector<double> p = object_mass(summary, space);
   double z = 0.0;
@@ -148,11 +158,12 @@ std::vector<double> object_probability(const BeliefSummary& summary, const PoseS
   return p;
 }
 
-BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::size_t top_k, std::size_t modes) {
+BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::size_t top_k, std::size_t modes,
+                        std::span<const double> object_weight) {
   BeliefEstimate e;
   const BeliefSummary s = belief.summarise();
   const std::uint64_t floor = band_floor(s, space);
-  const std::vector<double> mass = object_mass(s, space);
+  const std::vector<double> mass = object_mass(s, space, object_weight);
   double z = 0.0;
   for (double m : mass) z += m;
   e.object_probability.resize(mass.size());
@@ -179,6 +190,7 @@ BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::
     h.object = PoseSpace::object_of(b.key);
     h.pose = space.centre(b.key);
     h.probability = std::exp2(-units_to_bits(s.max_offset - b.offset)) * scale;
+    if (!object_weight.empty()) h.probability *= object_weight[h.object];
     e.top.push_back(h);
   }
   return e;

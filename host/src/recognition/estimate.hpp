@@ -3,6 +3,7 @@
 // per object, the best object's best bin refined below the bin size, and the
 // top-k bins over all objects. Computed once, here, for every backend.
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <sva/pose.hpp>
@@ -35,11 +36,17 @@ struct BeliefEstimate {
   std::vector<BinHypothesis> top;
 };
 
+// The belief's total mass in the units of object_probability's (a bin at the maximum weighs 2^mass_bits).
+// `object_weight`: the prior per object (largest 1; empty: flat), as in estimate().
+double total_mass(const BeliefSummary& summary, const PoseSpace& space, std::span<const double> object_weight = {});
 // Posterior per object from the reductions (untouched bins at the baseline).
 std::vector<double> object_probability(const BeliefSummary& summary, const PoseSpace& space);
 // The estimate of any backend's belief: best object, its best bin refined
 // below the bin size, up to `modes` distinct modes of that object, and the
-// top-k bins over all objects.
-BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::size_t top_k, std::size_t modes = 1);
+// top-k bins over all objects. `object_weight` (per object, largest 1; empty: flat) is a prior over objects: it
+// scales every bin of an object (a per-object offset of log2(weight) in the log-domain belief), so it moves the
+// object posterior and the bins' probabilities but not which bin of an object is best, nor the top bins' order.
+BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::size_t top_k, std::size_t modes = 1,
+                        std::span<const double> object_weight = {});
 
 }  // namespace sva

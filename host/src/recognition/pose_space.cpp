@@ -2,6 +2,7 @@
 
 #include <sva/error.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -12,6 +13,25 @@ namespace sva {
 
 namespace {
 constexpr std::uint64_t mask(int bits) { return (std::uint64_t{1} << bits) - 1; }
+
+// The workspace frame must be rigid (a rotation, finite): anything else would shear the readings' geometry. A
+// planar space keeps its plane: the frame may only turn about z.
+void check_workspace(const PoseSpaceSpec& spec, const std::string& where) {
+  const RigidPose& w = spec.workspace;
+  for (int k = 0; k < 3; ++k) {
+    if (!std::isfinite(w.T[k])) throw Error(where + "workspace centre is not finite");
+    for (int j = 0; j < 3; ++j)
+      if (!std::isfinite(w.R[k][j])) throw Error(where + "workspace rotation is not finite");
+  }
+  const glm::dmat3 g = glm::transpose(w.R) * w.R;
+  double off = 0.0;
+  for (int k = 0; k < 3; ++k)
+    for (int j = 0; j < 3; ++j) off = std::max(off, std::fabs(g[k][j] - (k == j ? 1.0 : 0.0)));
+  if (off > 1e-6 || glm::determinant(w.R) < 0.0)
+    throw Error(where + "workspace rotation is not a rotation matrix (orthonormal, determinant +1)");
+  if (spec.kind == PoseSpaceSpec::Kind::planar && std::fabs(w.R[2][2] - 1.0) > 1e-9)
+    throw Error(where + "a planar space's workspace may only rotate about z (the plane's normal)");
+}
 }  // namespace
 
 PoseSpace::PoseSpace(const PoseSpaceSpec& spec, std::uint32_t objects) : spec_(spec), objects_(objects) {
@@ -30,6 +50,7 @@ PoseSpace::PoseSpace(const PoseSpaceSpec& spec, std::uint32_t objects) : spec_(s
       !(spec.translation_max_mm > spec.translation_min_mm))
     throw Error(where + "translation range [" + std::to_string(spec.translation_min_mm) + ", " +
                 std::to_string(spec.translation_max_mm) + "] mm is empty or not finite");
+  check_workspace(spec, where);
   grid_ = vote_math::sva_pose_grid(
       planar() ? SVA_POSE_PLANAR : SVA_POSE_SPATIAL, spec.translation_bins, static_cast<float>(spec.translation_min_mm),
       static_cast<float>((spec.translation_max_mm - spec.translation_min_mm) / spec.translation_bins),

@@ -4,7 +4,7 @@
 // touched bins are stored; a bin is named by a 64-bit key whose layout is
 // defined once in sva_vote_math.h.
 #include <sva/pose.hpp>
-#include <sva/scene.hpp>
+#include <sva/pose_space.hpp>
 
 #include <cstdint>
 
@@ -20,12 +20,17 @@ struct BinIndex {
 
 class PoseSpace {
  public:
-  // Throws sva::Error when the spec is empty, inverted, or does not fit the key.
+  // Throws sva::Error when the spec is empty, inverted, does not fit the key, or its workspace frame is not a
+  // rigid transform (a planar one: not a rotation about z).
   PoseSpace(const PoseSpaceSpec& spec, std::uint32_t objects);
 
   const PoseSpaceSpec& spec() const { return spec_; }
   std::uint32_t objects() const { return objects_; }
   bool planar() const { return spec_.kind == PoseSpaceSpec::Kind::planar; }
+  // Where the grid lies in the robot frame (x_robot = workspace().apply(x_grid)). The belief and the fine pose
+  // work in the grid's frame: readings enter through to_grid(), poses leave through to_robot().
+  const RigidPose& workspace() const { return spec_.workspace; }
+  RigidPose to_robot(const RigidPose& grid_pose) const { return spec_.workspace * grid_pose; }
   // The grid as the vote math sees it.
   vote_math::SvaPoseGrid grid() const { return grid_; }
   // Bins per object (all of them, touched or not).

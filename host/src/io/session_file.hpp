@@ -1,0 +1,31 @@
+#pragma once
+// A recognition session on disk, so that a robot can resume: the readings it
+// has taken so far (robot frame, as given) and its prior, with the map they
+// belong to named by its scene hash. Restoring replays the readings, which
+// rebuilds the belief bit for bit (the fold is integer). Layout: the binary
+// container (io/binary_file.hpp), magic "SVASESS1", version 1; payload:
+//   u64 scene_hash | u32 objects | string scene_name | vector<f64> prior |
+//   u64 readings | per reading: f64 position[3], normal[3], x_axis[3],
+//   u8 status, u16 iterations, u32 object, vector<f32> pressure.
+#include <sva/reading.hpp>
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+namespace sva::io {
+
+struct SessionFile {
+  std::uint64_t scene_hash = 0;
+  std::uint32_t objects = 0;
+  std::string scene_name;
+  std::vector<double> prior;  // object probabilities; empty: flat
+  std::vector<Reading> readings;
+};
+
+void save_session_file(const SessionFile& session, const std::filesystem::path& file);
+// sva::Error naming the file when it is not a session file, is damaged, or holds a bad reading.
+SessionFile load_session_file(const std::filesystem::path& file);
+
+}  // namespace sva::io

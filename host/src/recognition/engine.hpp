@@ -1,0 +1,37 @@
+#pragma once
+// The engine's private side: what the recognizers made from one sva::Engine share.
+#include <sva/engine.hpp>
+
+#include <memory>
+#include <mutex>
+
+#include "map/surface_index.hpp"
+#include "recognition/pose_space.hpp"
+#include "recognition/vote_backend.hpp"
+#include "recognition/vote_backend_factory.hpp"
+
+namespace sva {
+
+struct Engine::Impl {
+  Map map;
+  EngineOptions options;
+  BackendKind kind = BackendKind::cpu;
+  std::string fallback_reason;
+  std::string description;
+  // Holds the device and the uploaded map (a VulkanEngine, shared by every Vulkan backend on this map and
+  // device) for as long as the Engine lives; CPU: nothing.
+  std::unique_ptr<PoseSpace> keep_space;
+  std::unique_ptr<VoteBackend> keep_backend;
+
+  // The fine pose's index of the objects' training contacts, built on first use and shared.
+  const SurfaceIndex& surface() const;
+
+ private:
+  mutable std::once_flag surface_once_;
+  mutable std::unique_ptr<SurfaceIndex> surface_;
+};
+
+// The backend options of a recognizer made from `engine`: its kind (resolved) and device.
+VulkanBackendOptions vulkan_options(const Engine::Impl& engine);
+
+}  // namespace sva

@@ -1,0 +1,256 @@
+#include "recognition/hypotheses.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <unordered_set>
+
+#include "recognition/belief_math.hpp"
+#include "recognition/estimate.hpp"
+#include "recognition/rotation.hpp"
+
+namespace sva {
+
+namespace {
+
+double units_to_bits(std::uint64_t units) { return static_cast<double>(units) / belief_math::kUnitsPerBit; }
+
+// The grid steps of a neighbourhood along one rotation axis. The planar angle wraps around, so its range is cut
+// to distinct bins when the radius would go round the circle.
+void rotation_steps(const PoseSpace& space, int radius, int* lo, int* hi) {
+  const int rb = space.spec().rotation_bins;
+  *lo = -std::min(radius, (rb - 1) / 2);
+  *hi = std::min(radius, rb - 1 - (rb - 1) / 2);
+}
+
+// Every bin within `radius` grid steps (Chebyshev) of `centre` that lies in the grid, `centre` first.
+std::vector<BinIndex> neighbourhood(const PoseSpace& space, const BinIndex& centre, int radius) {
+  const PoseSpaceSpec& spec = space.spec();
+  const bool planar = space.planar();
+  int rlo = -radius, rhi = radius;
+  if (planar) rotation_steps(space, radius, &rlo, &rhi);
+  const int tz = planar ? 0 : radius, rxy = planar ? 0 : radius;
+  std::vector<BinIndex> out{centre};
+  for (int dx = -radius; dx <= radius; ++dx)
+    for (int dy = -radius; dy <= radius; ++dy)
+      for (int dz = -tz; dz <= tz; ++dz)
+        for (int ex = -rxy; ex <= rxy; ++ex)
+          for (int ey = -rxy; ey <= rxy; ++ey)
+            for (int ez = rlo; ez <= rhi; ++ez) {
+              if (dx == 0 && dy == 0 && dz == 0 && ex == 0 && ey == 0 && ez == 0) continue;
+              BinIndex n = centre;
+              const int dt[3] = {dx, dy, dz}, dr[3] = {ex, ey, ez};
+              bool inside = true;
+              for (int k = 0; k < 3; ++k) {
+                n.t[k] += dt[k];
+                n.r[k] += dr[k];
+                inside = inside && n.t[k] >= 0 && n.t[k] < spec.translation_bins;
+              }
+              if (planar) {
+                n.r[2] = (n.r[2] + spec.rotation_bins) % spec.rotation_bins;
+              } else {
+                for (int k = 0; k < 3; ++k) inside = inside && n.r[k] >= 0 && n.r[k] < spec.rotation_bins;
+              }
+              if (inside) out.push_back(n);
+            }
+  return out;
+}
+
+// Two bins of one object within `radius` grid steps on every axis (the planar angle wraps around).
+bool within(const BinIndex& a, const BinIndex& b, const PoseSpace& space, int radius) {
+  if (a.object != b.object) return false;
+  const int rb = space.spec().rotation_bins;
+  for (int k = 0; k < 3; ++k) {
+    if (std::abs(a.t[k] - b.t[k]) > radius) return false;
+    int dr = std::abs(a.r[k] - b.r[k]);
+    if (space.planar() && k == 2) dr = std::min(dr, rb - dr);
+    if (dr > radius) return false;
+  }
+  return true;
+}
+
+// A mode's neighbourhood: its bins (the centre first), their keys and offsets.
+struct Hood {
+  std::vector<BinIndex> bins;
+  std::vector<std::uint64_t> keys, offsets;
+  std::uint64_t offset_of(std::uint64_t key) const {
+    return offsets[static_cast<std::size_t>(std::find(keys.begin(), keys.end(), key) - keys.begin())];
+  }
+};
+
+// The parabolic peak of the log-belief around a bin, per grid axis (as the estimate's parabolic_pose: an axis
+// whose neighbour lies outside the grid, or whose parabola is not concave, keeps the centre).
+RigidPose parabolic_peak(const PoseSpace& space, const BinIndex& c, const Hood& off) {
+  const PoseSpaceSpec& spec = space.spec();
+  const bool planar = space.planar();
+  glm::dvec3 t = space.translation_centre(c), r = space.rotation_centre(c);
+  const double tw = (spec.translation_max_mm - spec.translation_min_mm) / spec.translation_bins;
+  const double rw = 2.0 * std::numbers::pi / spec.rotation_bins;
+  const double oc = units_to_bits(off.offsets.front());
+  for (int a = 0; a < 6; ++a) {
+    const bool rotation = a >= 3;
+    const int k = a % 3;
+    if (planar && ((!rotation && k == 2) || (rotation && k != 2))) continue;
+    const int bins = rotation ? spec.rotation_bins : spec.translation_bins;
+    const int i = rotation ? c.r[k] : c.t[k];
+    int lo = i - 1, hi = i + 1;
+    if (rotation && planar) {
+      lo = (lo + bins) % bins;
+      hi %= bins;
+    } else if (lo < 0 || hi >= bins) {
+      continue;
+    }
+    BinIndex m = c, p = c;
+    (rotation ? m.r[k] : m.t[k]) = lo;
+    (rotation ? p.r[k] : p.t[k]) = hi;
+    const double om = units_to_bits(off.offset_of(space.pack(m))), op = units_to_bits(off.offset_of(space.pack(p)));
+    const double curvature = om - 2.0 * oc + op;
+    if (!(curvature < 0.0)) continue;
+    const double shift = std::clamp(0.5 * (om - op) / curvature, -0.5, 0.5);
+    (rotation ? r[k] : t[k]) += (rotation ? rw : tw) * shift;
+  }
+  RigidPose pose;
+  pose.T = t;
+  pose.R = rotation::exp(r);
+  return pose;
+}
+
+// Mass and covariance of the bins around a mode: each bin weighs its posterior probability; a bin's coordinates
+// are its translation from the mode's bin and the small rotation log(R_bin R_mode^T).
+// The mass is counted as the object posterior's is (estimate.cpp: integer weights at mass_bits, over the same
+// total `z`), so the modes' masses add up within their object's probability; the spread weighs bins by their
+// posterior relative to the mode's own bin (never 0, however far the mode is below the maximum).
+void moments(const PoseSpace& space, const Hood& hood, std::uint64_t max_offset, std::uint32_t mass_bits, double z,
+             ModeHypothesis* h) {
+  const PoseSpaceSpec& spec = space.spec();
+  const std::vector<BinIndex>& bins = hood.bins;
+  const glm::dvec3 t0 = space.translation_centre(bins.front());
+  const glm::dmat3 r0t = glm::transpose(rotation::exp(space.rotation_centre(bins.front())));
+  std::vector<std::array<double, 6>> x(bins.size());
+  std::vector<double> w(bins.size());
+  std::map<std::array<int, 3>, glm::dvec3> small_rotation;
+  double sum = 0.0;
+  std::uint64_t mass = 0;
+  const double centre_bits = units_to_bits(hood.offsets.front());
+  std::array<double, 6> mean{};
+  for (std::size_t i = 0; i < bins.size(); ++i) {
+    const std::uint64_t offset = hood.offsets[i];
+    mass += belief_math::sva_exp2_neg_units(max_offset - offset, mass_bits);
+    const glm::dvec3 dt = space.translation_centre(bins[i]) - t0;
+    // Few distinct rotation bins (3^3 at radius 1) recur across the translations: one exp and log each.
+    const std::array<int, 3> rkey{bins[i].r[0], bins[i].r[1], bins[i].r[2]};
+    auto it = small_rotation.find(rkey);
+    if (it == small_rotation.end())
+      it = small_rotation.emplace(rkey, rotation::log(rotation::exp(space.rotation_centre(bins[i])) * r0t)).first;
+    const glm::dvec3 dr = it->second;
+    x[i] = {dt.x, dt.y, dt.z, dr.x, dr.y, dr.z};
+    w[i] = std::exp2(units_to_bits(offset) - centre_bits);
+    sum += w[i];
+    for (int a = 0; a < 6; ++a) mean[a] += w[i] * x[i][a];
+  }
+  h->probability = static_cast<double>(mass) / z;
+  for (double& m : mean) m /= sum;
+  h->covariance.fill(0.0);
+  for (std::size_t i = 0; i < bins.size(); ++i)
+    for (int a = 0; a < 6; ++a)
+      for (int b = 0; b < 6; ++b) h->covariance[a * 6 + b] += w[i] * (x[i][a] - mean[a]) * (x[i][b] - mean[b]) / sum;
+  // A bin is a box, not a point: its uniform spread adds width^2 / 12 per free axis.
+  const double tw = (spec.translation_max_mm - spec.translation_min_mm) / spec.translation_bins;
+  const double rw = 2.0 * std::numbers::pi / spec.rotation_bins;
+  for (int a = 0; a < 6; ++a) {
+    const bool fixed = space.planar() && (a == 2 || a == 3 || a == 4);
+    if (fixed)
+      for (int b = 0; b < 6; ++b) h->covariance[a * 6 + b] = h->covariance[b * 6 + a] = 0.0;
+    else
+      h->covariance[a * 6 + a] += (a < 3 ? tw * tw : rw * rw) / 12.0;
+  }
+}
+
+}  // namespace
+
+HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, const BeliefSummary& summary,
+                         std::size_t count, int radius, std::span<const double> object_weight) {
+  HypothesisSet set;
+  set.per_object.resize(space.objects());
+  set.per_object_valid.assign(space.objects(), false);
+  if (summary.max_offset == 0 && belief.touched() == 0) return set;
+  // The modes: greedy non-maximum suppression over the best bins (ties to the smaller key, as on every backend).
+  std::vector<BinIndex> centres;
+  // Candidates: the best bin alone for one mode; else as many as the fine pose's mode search reads (a request
+  // beyond the bins near the maximum costs a pass over the whole belief).
+  for (const BinOffset& b : belief.best_bins(count <= 1 ? count : 16 * (count + 1))) {
+    if (centres.size() >= count) break;
+    const BinIndex i = space.unpack(b.key);
+    bool suppressed = false;
+    for (const BinIndex& c : centres) suppressed = suppressed || within(i, c, space, radius);
+    if (!suppressed) centres.push_back(i);
+  }
+  const std::size_t modes = centres.size();
+  for (std::uint32_t o = 0; o < space.objects(); ++o)
+    if (summary.touched[o] > 0) {
+      set.per_object_valid[o] = true;
+      centres.push_back(space.unpack(summary.best_key[o]));
+    }
+  // One read of every neighbourhood's offsets (one device round trip on a GPU backend).
+  std::vector<Hood> hoods;
+  std::vector<std::uint64_t> keys;
+  for (const BinIndex& c : centres) {
+    Hood h;
+    h.bins = neighbourhood(space, c, std::max(radius, 1));
+    for (const BinIndex& b : h.bins) h.keys.push_back(space.pack(b));
+    keys.insert(keys.end(), h.keys.begin(), h.keys.end());
+    hoods.push_back(std::move(h));
+  }
+  const std::vector<std::uint64_t> values = belief.offsets(keys);
+  std::size_t next = 0;
+  for (Hood& h : hoods) {
+    h.offsets.assign(values.begin() + static_cast<std::ptrdiff_t>(next),
+                     values.begin() + static_cast<std::ptrdiff_t>(next + h.keys.size()));
+    next += h.keys.size();
+  }
+  const double z = total_mass(summary, space, object_weight);
+  const std::uint32_t mass_bits = belief_math::mass_bits(space.bins_per_object());
+  // Neighbourhoods of two modes may overlap (modes radius + 1 steps apart): a bin counts for the stronger mode
+  // only, so the modes' masses never sum past the object's.
+  std::unordered_set<std::uint64_t> claimed;
+  for (std::size_t m = 0; m < centres.size(); ++m) {
+    ModeHypothesis h;
+    h.object = centres[m].object;
+    h.key = space.pack(centres[m]);
+    h.pose = parabolic_peak(space, centres[m], hoods[m]);
+    // The parabola needed the 1-neighbourhood; at radius 0 the mass and spread take the bin alone. The centre
+    // lies beyond every stronger mode's radius: never claimed.
+    Hood hood;
+    for (std::size_t i = 0; i < hoods[m].bins.size() && (radius > 0 || i == 0); ++i) {
+      if (m < modes && !claimed.insert(hoods[m].keys[i]).second) continue;
+      hood.bins.push_back(hoods[m].bins[i]);
+      hood.offsets.push_back(hoods[m].offsets[i]);
+    }
+    moments(space, hood, summary.max_offset, mass_bits, z, &h);
+    if (!object_weight.empty()) h.probability *= object_weight[h.object];
+    if (m < modes)
+      set.modes.push_back(h);
+    else
+      set.per_object[h.object] = h;
+  }
+  return set;
+}
+
+std::array<double, 36> covariance_to_robot(const std::array<double, 36>& grid, const glm::dmat3& workspace) {
+  // C_robot = B C B^T with B = diag(R, R); glm is column-major: R[col][row].
+  auto b = [&](int i, int j) {
+    if ((i < 3) != (j < 3)) return 0.0;
+    return workspace[j % 3][i % 3];
+  };
+  std::array<double, 36> tmp{}, out{};
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j)
+      for (int k = 0; k < 6; ++k) tmp[i * 6 + j] += b(i, k) * grid[k * 6 + j];
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j)
+      for (int k = 0; k < 6; ++k) out[i * 6 + j] += tmp[i * 6 + k] * b(j, k);
+  return out;
+}
+
+}  // namespace sva

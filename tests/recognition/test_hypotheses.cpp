@@ -1,0 +1,153 @@
+// Distinct hypotheses: non-maximum suppression in pose space, each mode's mass and covariance, on hand-made
+// beliefs whose answers are computed here independently, and on a recognizer.
+#include <catch2/catch.hpp>
+
+#include <sva/error.hpp>
+
+#include <cmath>
+#include <map>
+
+#include "fixture.hpp"
+#include "recognition/belief_math.hpp"
+#include "recognition/estimate.hpp"
+#include "recognition/hypotheses.hpp"
+
+using namespace sva;
+using namespace sva::test;
+
+namespace {
+
+constexpr double kUnits = belief_math::kUnitsPerBit;
+
+BinIndex bin(std::uint32_t object, int tx, int ty, int tz, int rx, int ry, int rz) {
+  BinIndex b;
+  b.object = object;
+  b.t[0] = tx;
+  b.t[1] = ty;
+  b.t[2] = tz;
+  b.r[0] = rx;
+  b.r[1] = ry;
+  b.r[2] = rz;
+  return b;
+}
+
+// A belief holding exactly `bits` of evidence per bin.
+Belief belief_of(const PoseSpace& space, const std::map<std::uint64_t, double>& bits) {
+  Belief b(space, 1e-6);
+  std::vector<BinOffset> terms;
+  for (const auto& [key, v] : bits) terms.push_back({key, static_cast<std::uint64_t>(v * kUnits)});
+  b.add(terms, 1);
+  return b;
+}
+
+}  // namespace
+
+TEST_CASE("hypotheses: a weaker distant mode survives suppression, a stronger neighbour does not") {
+  const PoseSpace space(paper_space(), 2);
+  const BinIndex a = bin(0, 20, 20, 20, 4, 4, 4), b = bin(0, 23, 20, 20, 4, 4, 4), c = bin(1, 20, 20, 20, 4, 4, 4);
+  std::map<std::uint64_t, double> bits;
+  bits[space.pack(a)] = 40.0;
+  BinIndex an = a;
+  an.t[0] += 1;  // stronger than b, but a's neighbour: the same hypothesis
+  bits[space.pack(an)] = 38.0;
+  an.t[0] -= 2;
+  bits[space.pack(an)] = 38.0;
+  bits[space.pack(b)] = 36.0;
+  bits[space.pack(c)] = 35.0;
+  const Belief belief = belief_of(space, bits);
+  const BeliefSummary s = belief.summarise();
+  const HypothesisSet h = hypotheses(belief, space, s, 3, 1);
+  REQUIRE(h.modes.size() == 3);
+  CHECK(h.modes[0].key == space.pack(a));
+  CHECK(h.modes[1].key == space.pack(b));
+  CHECK(h.modes[2].key == space.pack(c));
+  CHECK(h.modes[2].object == 1);
+  // Mass: every bin's posterior, summed independently over a's 3^6 neighbourhood (two touched neighbours, the
+  // rest at the baseline, whose weight the integer mass rounds to 0 as the object posterior does).
+  const double z = total_mass(s, space);
+  const double unit = std::ldexp(1.0, static_cast<int>(belief_math::mass_bits(space.bins_per_object()))) / z;
+  const double expected_a = (1.0 + 2.0 * std::exp2(-2.0) + (729.0 - 3.0) * std::exp2(-40.0)) * unit;
+  CHECK(h.modes[0].probability == Approx(expected_a).epsilon(1e-8));
+  // The masses of all bins sum to 1: a's mode holds most of it.
+  CHECK(h.modes[0].probability > 0.5);
+  CHECK(h.modes[0].probability < 1.0);
+  // Its spread is along x (the two neighbours), and symmetric about the bin: the parabola keeps the centre.
+  const auto& cov = h.modes[0].covariance;
+  const double tw = bin_width(paper_space());
+  CHECK(cov[0] > cov[7]);
+  CHECK(cov[7] == Approx(tw * tw / 12.0).epsilon(1e-6));
+  CHECK(cov[0] == Approx(tw * tw / 12.0 + tw * tw * 2.0 * 0.25 / 1.5).epsilon(1e-6));
+  for (int i = 0; i < 6; ++i)
+    for (int j = 0; j < 6; ++j) CHECK(cov[i * 6 + j] == Approx(cov[j * 6 + i]));
+  CHECK(glm::length(h.modes[0].pose.T - space.translation_centre(a)) < 1e-9);
+  // Per object: each object's best bin.
+  REQUIRE(h.per_object.size() == 2);
+  CHECK(h.per_object_valid[0]);
+  CHECK(h.per_object_valid[1]);
+  CHECK(h.per_object[0].key == space.pack(a));
+  CHECK(h.per_object[1].key == space.pack(c));
+  // A radius that reaches b (3 bins away) folds it into a's hypothesis; 0 keeps a's neighbour apart.
+  const HypothesisSet wide = hypotheses(belief, space, s, 3, 4);
+  REQUIRE(wide.modes.size() == 2);
+  CHECK(wide.modes[1].key == space.pack(c));
+  const HypothesisSet narrow = hypotheses(belief, space, s, 2, 0);
+  REQUIRE(narrow.modes.size() == 2);
+  CHECK(space.unpack(narrow.modes[1].key).t[0] == a.t[0] - 1);  // the tie goes to the smaller key
+}
+
+TEST_CASE("hypotheses: planar modes wrap the angle and fix z and the out-of-plane rotations") {
+  const PoseSpace space(letters_space(), 1);
+  const int rb = letters_space().rotation_bins;
+  const BinIndex a = bin(0, 10, 10, 0, 0, 0, 0);
+  std::map<std::uint64_t, double> bits;
+  bits[space.pack(a)] = 30.0;
+  BinIndex wrapped = a;
+  wrapped.r[2] = rb - 1;  // the angle's other side of -pi: a's neighbour
+  bits[space.pack(wrapped)] = 29.0;
+  const Belief belief = belief_of(space, bits);
+  const HypothesisSet h = hypotheses(belief, space, belief.summarise(), 2, 1);
+  REQUIRE(h.modes.size() == 1);  // the wrapped bin is suppressed, and no other bin is touched
+  const auto& cov = h.modes[0].covariance;
+  for (int k : {2, 3, 4})
+    for (int j = 0; j < 6; ++j) {
+      CHECK(cov[k * 6 + j] == 0.0);
+      CHECK(cov[j * 6 + k] == 0.0);
+    }
+  const double rw = 2.0 * std::numbers::pi / rb;
+  CHECK(cov[35] > rw * rw / 12.0);  // the wrapped neighbour spreads the angle
+  // The parabola pulls the peak towards the wrapped neighbour (below a's centre angle).
+  CHECK(rotation::log(h.modes[0].pose.R).z < space.rotation_centre(a).z);
+}
+
+TEST_CASE("hypotheses: an untouched belief has none, and the covariance turns with the workspace") {
+  const PoseSpace space(paper_space(), 2);
+  const Belief empty(space, 1e-6);
+  const HypothesisSet h = hypotheses(empty, space, empty.summarise(), 5, 1);
+  CHECK(h.modes.empty());
+  CHECK_FALSE(h.per_object_valid[0]);
+  std::array<double, 36> c{};
+  c[0] = 4.0;   // x
+  c[21] = 0.5;  // rotation about X
+  const std::array<double, 36> r = covariance_to_robot(c, rotation::about_z(std::numbers::pi / 2));
+  CHECK(r[7] == Approx(4.0));  // x of the grid is y of the robot
+  CHECK(r[0] == Approx(0.0).margin(1e-12));
+  CHECK(r[28] == Approx(0.5));  // so is the rotation about it
+}
+
+TEST_CASE("hypotheses: a bin two modes share counts for the stronger one only") {
+  const PoseSpace space(paper_space(), 2);
+  const BinIndex a = bin(0, 20, 20, 20, 4, 4, 4), d = bin(0, 20, 22, 20, 4, 4, 4);
+  BinIndex between = a;
+  between.t[1] = 21;  // within one step of both
+  const Belief belief = belief_of(space, {{space.pack(a), 40.0}, {space.pack(d), 39.0}, {space.pack(between), 38.0}});
+  const BeliefSummary s = belief.summarise();
+  const HypothesisSet h = hypotheses(belief, space, s, 2, 1);
+  REQUIRE(h.modes.size() == 2);
+  CHECK(h.modes[1].key == space.pack(d));
+  const double object = object_probability(s, space)[0];
+  CHECK(h.modes[0].probability + h.modes[1].probability <= object * (1.0 + 1e-12));
+  // a's mode holds the shared bin: d's mass is d's bin and the baseline (its 729 bins less the 243 a claimed).
+  const double z = total_mass(s, space);
+  const double unit = std::ldexp(1.0, static_cast<int>(belief_math::mass_bits(space.bins_per_object()))) / z;
+  CHECK(h.modes[1].probability == Approx((0.5 + (729.0 - 243.0 - 1.0) * std::exp2(-40.0)) * unit).epsilon(1e-8));
+}

@@ -1,0 +1,82 @@
+#pragma once
+// A public sva::Map trained by the map builder from a small synthetic dataset
+// with pressure images (the fixture's ellipsoids, each point's class drawn as
+// a blob shape), and readings of it: for tests of the public recognizer API.
+#include <sva/dataset.hpp>
+#include <sva/map.hpp>
+
+#include <cmath>
+#include <numbers>
+
+#include "fixture.hpp"
+
+namespace sva::test {
+
+// A blob image whose shape is the point's texture, rotated at random about the
+// normal (the controllers leave that rotation free).
+inline std::vector<float> texture_image(const SensorSpec& sensor, std::uint32_t texture, double angle) {
+  const double shapes[4][2] = {{3.0, 3.0}, {0.8, 3.5}, {1.5, 2.5}, {0.9, 1.0}};
+  const double sx = shapes[texture % 4][0], sy = shapes[texture % 4][1];
+  std::vector<float> img(static_cast<std::size_t>(sensor.elements()));
+  const double c = std::cos(angle), s = std::sin(angle);
+  for (int r = 0; r < sensor.rows; ++r)
+    for (int col = 0; col < sensor.cols; ++col) {
+      const double x = col - 0.5 * (sensor.cols - 1), y = r - 0.5 * (sensor.rows - 1);
+      const double u = c * x + s * y, v = -s * x + c * y;
+      img[static_cast<std::size_t>(r * sensor.cols + col)] =
+          static_cast<float>(30.0 * std::exp(-0.5 * (u * u / (sx * sx) + v * v / (sy * sy))));
+    }
+  return img;
+}
+
+inline Reading reading_of(const SensorSpec& sensor, const WorldPoint& w, std::uint32_t object, const RigidPose& pose,
+                          util::Rng& rng) {
+  Reading r;
+  r.object = object;
+  r.position = pose.apply(w.p);
+  r.normal = pose.rotate(w.n);
+  r.x_axis =
+      glm::normalize(glm::cross(r.normal, std::fabs(r.normal.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
+  r.pressure = texture_image(sensor, w.cls, rng.uniform(0.0, 2.0 * std::numbers::pi));
+  return r;
+}
+
+struct Trained {
+  WorldSpec spec;
+  Dataset data;
+  Map map;
+};
+
+inline const Trained& trained() {
+  static const Trained t = [] {
+    Trained x;
+    x.spec.classes = 4;
+    x.spec.points = 70;
+    x.data.scene.name = "synthetic-recognizer";
+    for (int o = 0; o < x.spec.objects; ++o) {
+      SceneObject so;
+      so.name = "obj" + std::to_string(o);
+      so.mesh = "/nonexistent.glb";
+      x.data.scene.objects.push_back(so);
+    }
+    x.data.scene.appearance.descriptor = "mnti";
+    x.data.scene.appearance.clusters = 4;
+    x.data.scene.appearance.dist_bins = 12;
+    x.data.scene.appearance.dist_min_mm = 5.0;
+    x.data.scene.appearance.dist_max_mm = 80.0;
+    x.data.split = "train";
+    for (int o = 0; o < x.spec.objects; ++o)
+      for (int i = 0; i < x.spec.points; ++i) {
+        util::Rng rng(1, static_cast<std::uint64_t>(o), static_cast<std::uint64_t>(i));
+        Sample s;
+        s.reading =
+            reading_of(x.data.scene.sensor, world_point(x.spec, o, i), static_cast<std::uint32_t>(o), RigidPose{}, rng);
+        x.data.samples.push_back(s);
+      }
+    x.map = Map::train(x.data, {});
+    return x;
+  }();
+  return t;
+}
+
+}  // namespace sva::test

@@ -122,7 +122,27 @@ Sample letters2d_reading(const TactileSensor& sensor, const Scene& scene, std::u
 
 }  // namespace
 
-SimulatedData simulate(const Scene& scene, const SimulateOptions& options) {
+ErrorModel scale_errors(const ErrorModel& errors, double factor) {
+  if (!std::isfinite(factor) || factor < 0)
+    throw Error("error scale " + std::to_string(factor) + ": must be a finite number >= 0 (0: the ideal world)");
+  ErrorModel e = errors;
+  for (double* v : {&e.position_sigma_mm, &e.normal_sigma_deg, &e.gain_spread, &e.offset_kpa, &e.noise_kpa,
+                    &e.crosstalk, &e.crosstalk_diagonal})
+    *v *= factor;
+  if (factor == 0) e.full_scale_kpa = 0;
+  // The same limits as the scene file's errors block (docs/scene-format.md).
+  if (e.gain_spread > 0.3)
+    throw Error("error scale " + std::to_string(factor) + ": the gain spread becomes " + std::to_string(e.gain_spread) +
+                ", above 0.3 (gains would reach 0 at 3 sigma)");
+  if (4.0 * (e.crosstalk + e.crosstalk_diagonal) >= 1.0)
+    throw Error("error scale " + std::to_string(factor) +
+                ": the crosstalk of the 8 neighbours would reach the element's own pressure");
+  return e;
+}
+
+SimulatedData simulate(const Scene& scene_as_written, const SimulateOptions& options) {
+  Scene scene = scene_as_written;
+  scene.errors = scale_errors(scene_as_written.errors, options.error_scale);
   if (scene.objects.empty()) throw Error("scene \"" + scene.name + "\" has no objects");
   const auto& pr = scene.protocol;
   const bool letters = pr.kind == "letters2d";

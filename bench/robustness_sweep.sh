@@ -8,8 +8,8 @@
 # Env: SVA (binary), SCENE (default paper3d), LEVELS (default "0 0.5 1 2 4"),
 # OUT (work root, reused: delete a level's folder to redo it; default
 # /tmp/sva-bench/robustness_<scene>), TRAIN / TEST (readings per object,
-# default 300 / 50: a tenth of the map of the full protocol, so that the five
-# levels fit ~10 minutes on 2 cores), TRIALS (default 30), MAX_READINGS
+# default 300 / 50: a tenth of paper3d's full map, so that the five levels fit
+# ~10 minutes on 2 cores; "scene": the scene's own protocol, e.g. letters2d's grid), TRIALS (default 30), MAX_READINGS
 # (default 30), READINGS (reported counts, default 5,10,20,30), SEED, THREADS
 # (default 2), REFINE (on|off, default on), REPORT_ONLY=1 (only the report).
 set -euo pipefail
@@ -37,7 +37,10 @@ for x in $LEVELS; do
   if [[ -z "${REPORT_ONLY:-}" ]]; then
     t0=$(date +%s)
     if [[ ! -f "$dir/train.svad" || ! -f "$dir/test.svad" ]]; then
-      "$SVA" --quiet simulate --scene "$SCENE" --out "$dir" --error-scale "$x" --train "$TRAIN" --test "$TEST" \
+      counts=()
+      [[ "$TRAIN" == scene ]] || counts+=(--train "$TRAIN")
+      [[ "$TEST" == scene ]] || counts+=(--test "$TEST")
+      "$SVA" --quiet simulate --scene "$SCENE" --out "$dir" --error-scale "$x" "${counts[@]}" \
         --seed "$SEED" --threads "$THREADS" > "$dir/simulate.txt"
     fi
     [[ -f "$dir/map.svam" ]] || "$SVA" --quiet train --data "$dir/train.svad" --out "$dir/map.svam" \

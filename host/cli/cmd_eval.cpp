@@ -91,7 +91,7 @@ int cmd_eval(const std::vector<std::string>& argv) {
   a.option("--refine", "on|off",
            "fine pose: align the readings to the object's surface (default on; docs/recognition.md)");
   a.option("--sweep", "LEVEL=RUN.json",
-           "report mode (no trials): a robustness sweep's runs, one per error level (repeatable); prints a table of "
+           "report mode (no trials): a robustness sweep's runs, one per error level; prints a table of "
            "accuracy and pose errors against the level, --plot draws them (bench/robustness_sweep.sh)",
            true);
   a.option("--sweep-readings", "LIST", "with --sweep: the reading counts to report (default 5,10,20,30)");

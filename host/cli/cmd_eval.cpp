@@ -5,7 +5,9 @@
 #include <sva/recognizer.hpp>
 
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -14,6 +16,7 @@
 #include "eval/figure.hpp"
 #include "eval/report.hpp"
 #include "eval/results.hpp"
+#include "eval/robustness.hpp"
 #include "io/text_file.hpp"
 #include "recognition/vote_backend_factory.hpp"
 
@@ -28,6 +31,39 @@ void check_writable(const std::string& option, const std::string& file) {
   std::error_code ec;
   if (!dir.empty() && !std::filesystem::is_directory(dir, ec))
     throw Error("sva eval: " + option + " " + file + ": directory " + dir.string() + " does not exist");
+}
+
+std::vector<std::size_t> parse_reading_counts(const std::string& text) {
+  std::vector<std::size_t> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ',')) {
+    char* end = nullptr;
+    const long v = std::strtol(item.c_str(), &end, 10);
+    if (item.empty() || *end != '\0' || v < 1 || v > 100000)
+      throw Error("sva eval: --sweep-readings expects a list like 5,10,20,30, got \"" + text + "\"");
+    out.push_back(static_cast<std::size_t>(v));
+  }
+  return out;
+}
+
+// The robustness sweep's report: no trials, only the summaries of runs at
+// several error levels, tabulated and drawn against the level.
+int sweep_report(const Args& a) {
+  const auto plot_file = a.get("--plot"), table_file = a.get("--table");
+  if (plot_file) check_writable("--plot", *plot_file);
+  if (table_file) check_writable("--table", *table_file);
+  for (const char* o : {"--map", "--data", "--json", "--csv", "--compare"})
+    if (a.has(o)) throw Error(std::string("sva eval: --sweep reports earlier runs; ") + o + " does not apply");
+  std::vector<eval::SweepLevel> levels;
+  for (const auto& arg : a.all("--sweep")) levels.push_back(eval::read_sweep_level(arg));
+  const auto readings = parse_reading_counts(a.get_or("--sweep-readings", "5,10,20,30"));
+  eval::check_sweep(levels, readings);
+  const std::string table = eval::format_sweep_table(levels, readings);
+  std::fputs(table.c_str(), stdout);
+  if (table_file) io::write_text_file(*table_file, table);
+  if (plot_file) eval::write_sweep_figure(levels, readings, *plot_file);
+  return 0;
 }
 
 }  // namespace
@@ -56,7 +92,16 @@ int cmd_eval(const std::vector<std::string>& argv) {
            "fine pose: align the readings to the object's surface (default on; docs/recognition.md)");
   a.option("--belief-budget", "BINS",
            "touched pose bins per session before hopeless ones are forgotten (default 4194304; 0 = no bound)");
+  a.option("--sweep", "LEVEL=RUN.json",
+           "report mode (no trials): a robustness sweep's runs, one per error level; prints a table of "
+           "accuracy and pose errors against the level, --plot draws them (bench/robustness_sweep.sh)",
+           true);
+  a.option("--sweep-readings", "LIST", "with --sweep: the reading counts to report (default 5,10,20,30)");
+  a.option("--table", "OUT.md", "with --sweep: also write the table to this file");
   if (!a.parse()) return 0;
+  if (a.has("--sweep")) return sweep_report(a);
+  for (const char* o : {"--sweep-readings", "--table"})
+    if (a.has(o)) throw Error(std::string("sva eval: ") + o + " needs --sweep");
 
   const std::string map_file = a.required("--map");
   const std::string data_file = a.required("--data");

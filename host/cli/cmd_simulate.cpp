@@ -64,6 +64,8 @@ int cmd_simulate(const std::vector<std::string>& argv) {
       .option("--train", "N", "training readings per object (default: the scene's protocol)")
       .option("--test", "N", "test readings per object (default: the scene's protocol)")
       .option("--seed", "S", "random seed (default 1)")
+      .option("--error-scale", "X",
+              "multiply every sigma and spread of the scene's errors block (default 1; 0: the ideal world)")
       .option("--preview", "FILE.png", "also write a contact sheet of training readings")
       .option("--threads", "N", "worker threads (default: SVA_THREADS or all cores)");
   if (!a.parse()) return 0;
@@ -75,6 +77,7 @@ int cmd_simulate(const std::vector<std::string>& argv) {
   opt.test_per_object = static_cast<int>(a.integer("--test", -1, 0, 10000000));
   opt.seed = static_cast<std::uint64_t>(a.integer("--seed", 1, 0, std::numeric_limits<long long>::max()));
   opt.threads = static_cast<unsigned>(a.integer("--threads", 0, 1, 1024));
+  opt.error_scale = a.number("--error-scale", 1.0, 0.0, 1000.0);
   std::string preview = a.get_or("--preview", "");
   if (a.has("--preview") && preview.empty()) throw Error("sva simulate: --preview needs a file name");
 

@@ -8,7 +8,9 @@
 #include <sva/sim/tactile_sensor.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
+#include <string>
 
 #include "util/parallel.hpp"
 #include "util/progress.hpp"
@@ -122,7 +124,34 @@ Sample letters2d_reading(const TactileSensor& sensor, const Scene& scene, std::u
 
 }  // namespace
 
-SimulatedData simulate(const Scene& scene, const SimulateOptions& options) {
+ErrorModel scale_errors(const ErrorModel& errors, double factor) {
+  auto fmt = [](double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%g", v);
+    return std::string(buf);
+  };
+  if (!std::isfinite(factor) || factor < 0)
+    throw Error("error scale " + fmt(factor) + ": must be a finite number >= 0 (0: the ideal world)");
+  ErrorModel e = errors;
+  for (double* v : {&e.position_sigma_mm, &e.normal_sigma_deg, &e.gain_spread, &e.offset_kpa, &e.noise_kpa,
+                    &e.crosstalk, &e.crosstalk_diagonal})
+    *v *= factor;
+  if (factor == 0) e.full_scale_kpa = 0;
+  // The same limits as the scene file's errors block (docs/scene-format.md); the tolerance keeps a product that
+  // rounds just above a limit (0.05 x 6) inside it.
+  constexpr double kRound = 1e-12;
+  if (e.gain_spread > 0.3 + kRound)
+    throw Error("error scale " + fmt(factor) + ": the gain spread becomes " + fmt(e.gain_spread) +
+                ", above 0.3 (gains would reach 0 at 3 sigma)");
+  if (4.0 * (e.crosstalk + e.crosstalk_diagonal) >= 1.0 - kRound)
+    throw Error("error scale " + fmt(factor) + ": the crosstalk becomes " + fmt(e.crosstalk) + " + " +
+                fmt(e.crosstalk_diagonal) + " (diagonal); the 8 neighbours would read the element's own pressure");
+  return e;
+}
+
+SimulatedData simulate(const Scene& scene_as_written, const SimulateOptions& options) {
+  Scene scene = scene_as_written;
+  scene.errors = scale_errors(scene_as_written.errors, options.error_scale);
   if (scene.objects.empty()) throw Error("scene \"" + scene.name + "\" has no objects");
   const auto& pr = scene.protocol;
   const bool letters = pr.kind == "letters2d";

@@ -30,6 +30,21 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 double cpu_seconds_since(std::clock_t c0) { return static_cast<double>(std::clock() - c0) / CLOCKS_PER_SEC; }
 
+// Eq 13's kernel against the arm's position error (docs/recognition.md, "Real
+// errors"). Each end of a pair is off by sigma_p per axis, so a pair's distance
+// is off by ~sqrt(2) sigma_p, and an observed pair's distance differs from the
+// same training pair's by ~2 sigma_p. The linear interpolation between the two
+// nearest centres, on both sides, matches them with a kernel of standard
+// deviation w / sqrt(3) in that difference (two triangles of half-width w, the
+// bin width, each of variance w^2 / 6). Bins narrower than 2 sqrt(3) sigma_p
+// would cut true matches, so the scene's bin count is lowered until a bin is
+// that wide; an ideal or accurate arm keeps the scene's bins.
+int bins_for_position_error(int bins, double min_mm, double max_mm, double position_sigma_mm) {
+  if (!(position_sigma_mm > 0)) return bins;
+  const double widest = (max_mm - min_mm) / (2.0 * std::sqrt(3.0) * position_sigma_mm);
+  return std::clamp(static_cast<int>(std::floor(widest)), 1, bins);
+}
+
 }  // namespace
 
 TrainParameters resolve_train_parameters(const Scene& scene, const TrainOptions& o) {
@@ -44,15 +59,18 @@ TrainParameters resolve_train_parameters(const Scene& scene, const TrainOptions&
   const int clusters = o.clusters.value_or(scene.appearance.clusters);
   if (clusters < 1 || clusters > 4096) throw Error("clusters " + std::to_string(clusters) + ": expected 1 to 4096");
   p.clusters = static_cast<std::uint32_t>(clusters);
-  const int bins = o.dist_bins.value_or(scene.appearance.dist_bins);
+  int bins = o.dist_bins.value_or(scene.appearance.dist_bins);
   if (bins < 1 || bins > 100000) throw Error("distance bins " + std::to_string(bins) + ": expected 1 to 100000");
-  p.distance.count = static_cast<std::uint32_t>(bins);
   p.distance.min_mm = o.dist_min_mm.value_or(scene.appearance.dist_min_mm);
   p.distance.max_mm = o.dist_max_mm.value_or(scene.appearance.dist_max_mm);
   if (!std::isfinite(p.distance.min_mm) || !std::isfinite(p.distance.max_mm) || p.distance.min_mm < 0 ||
       p.distance.min_mm >= p.distance.max_mm)
     throw Error("distance range " + std::to_string(p.distance.min_mm) + ":" + std::to_string(p.distance.max_mm) +
                 " mm: expected 0 <= min < max, both finite");
+  // A count given explicitly is kept; the scene's default follows the training scene's position error.
+  if (!o.dist_bins)
+    bins = bins_for_position_error(bins, p.distance.min_mm, p.distance.max_mm, scene.errors.position_sigma_mm);
+  p.distance.count = static_cast<std::uint32_t>(bins);
   const std::uint64_t space = static_cast<std::uint64_t>(p.clusters) * p.clusters * p.distance.count;
   if (space > kMaxKeySpace)
     throw Error("clusters x clusters x distance bins = " + std::to_string(space) + " keys: more than the supported " +

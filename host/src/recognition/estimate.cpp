@@ -110,16 +110,15 @@ bool same_mode(const BinIndex& a, const BinIndex& b, const PoseSpace& space) {
 
 // The best object's distinct modes after the first: the best bins of that
 // object, skipping neighbours of a mode already taken. Candidates come from the
-// top bins over all objects (the same on every backend: ties to the smaller key)
-// at or above `floor`.
+// top bins over all objects (the same on every backend: ties to the smaller key).
 std::vector<RigidPose> next_modes(const BeliefState& belief, const PoseSpace& space, std::uint64_t best,
-                                  std::size_t count, std::uint64_t floor) {
+                                  std::size_t count) {
   std::vector<RigidPose> out;
   if (count == 0) return out;
   const std::uint32_t object = PoseSpace::object_of(best);
   std::vector<BinIndex> taken{space.unpack(best)};
   for (const BinOffset& b : belief.best_bins(16 * (count + 1))) {
-    if (out.size() >= count || b.offset < floor) break;
+    if (out.size() >= count) break;
     if (PoseSpace::object_of(b.key) != object) continue;
     const BinIndex i = space.unpack(b.key);
     bool near = false;
@@ -131,15 +130,6 @@ std::vector<RigidPose> next_modes(const BeliefState& belief, const PoseSpace& sp
   return out;
 }
 
-// The fine pose starts from modes in the band: within (mass_bits + 1) bits of
-// the maximum, the only bins whose posterior mass is not 0 at the belief's
-// precision. Below it a bin is no hypothesis worth a start (and a bounded
-// belief may have forgotten it: docs/recognition.md, "Bounded memory").
-std::uint64_t band_floor(const BeliefSummary& s, const PoseSpace& space) {
-  const std::uint64_t width = (std::uint64_t{belief_math::mass_bits(space.bins_per_object())} + 1)
-                              << SVA_BELIEF_FRAC_BITS;
-  return s.max_offset >= width ? s.max_offset - width + 1 : 0;
-}
 
 }  // namespace
 
@@ -162,7 +152,6 @@ BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::
                         std::span<const double> object_weight) {
   BeliefEstimate e;
   const BeliefSummary s = belief.summarise();
-  const std::uint64_t floor = band_floor(s, space);
   const std::vector<double> mass = object_mass(s, space, object_weight);
   double z = 0.0;
   for (double m : mass) z += m;
@@ -179,7 +168,7 @@ BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::
     e.pose = e.parabolic_pose;
     if (modes > 0) {
       e.modes.push_back(e.parabolic_pose);
-      for (const RigidPose& m : next_modes(belief, space, e.best_key, modes - 1, floor)) e.modes.push_back(m);
+      for (const RigidPose& m : next_modes(belief, space, e.best_key, modes - 1)) e.modes.push_back(m);
     }
   }
   // A bin's probability: its weight 2^(offset - M) at mass_bits over the total.

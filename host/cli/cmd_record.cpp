@@ -1,0 +1,185 @@
+// sva record: records a real tactile array (USB) and the arm's pose stream into
+// a session file, forming readings as contacts settle (printed as JSON lines).
+// Ctrl-C ends the recording; the file is valid up to its last record whatever
+// happens.
+#include <sva/drivers/session.hpp>
+#include <sva/drivers/usb_transport.hpp>
+
+#include <atomic>
+#include <cstdio>
+#include <cstdlib>
+#include <deque>
+#include <fstream>
+#include <iostream>
+#include <mutex>
+#include <thread>
+
+#include "args.hpp"
+#include "util/interrupt.hpp"
+
+namespace sva::cli {
+
+namespace {
+
+// Reads pose lines on its own thread (a pipe blocks) and queues them with their arrival time.
+class PoseReader {
+ public:
+  explicit PoseReader(const std::string& source) {
+    state_->source = source;
+    if (source != "-") {
+      state_->file.open(source);
+      if (!state_->file) throw Error(source + ": cannot read the pose stream");
+    }
+    // A blocked read of stdin cannot be cancelled: the thread owns its state and the process ends it.
+    std::thread([state = state_] { run(*state); }).detach();
+  }
+  // Poses that have arrived, and notes about lines that could not be read.
+  void take(std::vector<drivers::RecordedPose>& poses, std::vector<std::string>& problems, bool& ended) {
+    std::lock_guard lock(state_->mutex);
+    poses.assign(state_->poses.begin(), state_->poses.end());
+    state_->poses.clear();
+    problems.swap(state_->problems);
+    state_->problems.clear();
+    ended = state_->ended;
+  }
+
+ private:
+  struct State {
+    std::mutex mutex;
+    std::deque<drivers::RecordedPose> poses;
+    std::vector<std::string> problems;
+    bool ended = false;
+    std::string source;
+    std::ifstream file;
+  };
+  static void run(State& state) {
+    std::istream& in = state.source == "-" ? std::cin : state.file;
+    std::string line;
+    for (std::size_t n = 1; std::getline(in, line); ++n) {
+      if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+      const auto arrival = drivers::monotonic_ns();
+      std::lock_guard lock(state.mutex);
+      try {
+        state.poses.push_back({arrival, drivers::parse_pose_line(line, state.source + ":" + std::to_string(n))});
+      } catch (const Error& e) {
+        state.problems.push_back(e.what());
+      }
+    }
+    std::lock_guard lock(state.mutex);
+    state.ended = true;
+  }
+  std::shared_ptr<State> state_ = std::make_shared<State>();
+};
+
+std::uint8_t parse_endpoint(const std::string& text) {
+  char* end = nullptr;
+  const unsigned long v = std::strtoul(text.c_str(), &end, 0);
+  if (text.empty() || *end != '\0' || v > 0xff) throw Error("--endpoint " + text + ": expected an address like 0x81");
+  return static_cast<std::uint8_t>(v);
+}
+
+drivers::SettleRule settle_rule(const Args& a) {
+  drivers::SettleRule r;
+  r.frames = static_cast<int>(a.integer("--settle-frames", r.frames, 1, 10000));
+  r.target_kpa = a.number("--target-kpa", r.target_kpa, 0, 1e6);
+  r.tolerance_kpa = a.number("--tolerance-kpa", r.tolerance_kpa, 0, 1e6);
+  r.stable_kpa = a.number("--stable-kpa", r.stable_kpa, 0, 1e6);
+  r.contact_kpa = a.number("--contact-kpa", r.contact_kpa, 1e-9, 1e6);
+  r.validate();
+  return r;
+}
+
+}  // namespace
+
+int cmd_record(const std::vector<std::string>& argv) {
+  Args a("sva record",
+         "Record a tactile array over USB and the arm's pose stream (JSON lines: time, position, normal, x_axis,\n"
+         "optional status; time in seconds on this machine's monotonic clock) into SESSION. Readings are formed\n"
+         "as contacts settle and printed as JSON lines. Ctrl-C (or --duration) stops; the recording is valid up to its "
+         "last record even after a crash. See docs/usb-sensor.md.",
+         argv);
+  a.option("--device", "SERIAL|VID:PID|BUS-PORT", "which sensor")
+      .option("--calibration", "CAL.json", "the array's calibration (docs/usb-sensor.md)")
+      .option("--poses", "POSES.jsonl|-", "the arm's pose stream: a file, a named pipe, or - for stdin")
+      .option("--out", "SESSION", "the recording to write")
+      .flag("--append", "continue an existing recording (its calibration and settle rule are kept)")
+      .option("--interface", "N", "USB interface number (default 0)")
+      .option("--endpoint", "ADDR", "bulk IN endpoint, e.g. 0x81 (default)")
+      .option("--duration", "S", "stop after this many seconds (default: until Ctrl-C)")
+      .option("--settle-frames", "N", "consecutive stable frames that settle a contact (default 5)")
+      .option("--target-kpa", "KPA", "the contact controller's target mean pressure (default 0: any)")
+      .option("--tolerance-kpa", "KPA", "allowed distance of the mean pressure from the target (default 5)")
+      .option("--stable-kpa", "KPA", "largest change of any element between settled frames (default 1)")
+      .option("--contact-kpa", "KPA", "mean pressure that starts (and, below it, ends) a contact (default 0.5)");
+  if (!a.parse()) return 0;
+  drivers::UsbOptions usb;
+  usb.device = drivers::DeviceSelector::parse(a.required("--device"));
+  usb.interface_number = static_cast<int>(a.integer("--interface", 0, 0, 255));
+  usb.endpoint = parse_endpoint(a.get_or("--endpoint", "0x81"));
+  drivers::SessionSettings settings{drivers::Calibration::load(a.required("--calibration")), settle_rule(a),
+                                    "USB " + usb.device.describe()};
+  const double duration = a.number("--duration", 0, 0, 1e7);
+  const std::string poses_source = a.required("--poses"), out = a.required("--out");
+
+  auto transport = std::make_unique<drivers::UsbTransport>(usb);
+  drivers::SessionWriter writer(out, settings, a.has("--append"));
+  if (a.has("--append")) settings = drivers::load_session(out).settings;
+  PoseReader poses(poses_source);
+  drivers::StreamOptions options;
+  options.rows = settings.calibration.sensor.rows;
+  options.cols = settings.calibration.sensor.cols;
+  options.on_chunk = [&](const drivers::Chunk& c) { writer.chunk(c); };
+  drivers::SensorStream stream(std::move(transport), options);
+  drivers::ReadingFormer former(settings.calibration, settings.settle);
+  const auto start = drivers::monotonic_ns();
+  std::size_t readings = 0;
+  bool poses_ended = false, told_poses_ended = false;
+  std::vector<drivers::RecordedPose> arrived;
+  std::vector<std::string> problems;
+  while (!util::interrupted() && (duration == 0 || drivers::monotonic_ns() - start < duration * 1e9)) {
+    poses.take(arrived, problems, poses_ended);
+    for (const auto& p : arrived) {
+      writer.pose(p);
+      former.add_pose(p.pose);
+    }
+    for (const auto& text : problems) {
+      writer.note({static_cast<double>(drivers::monotonic_ns()) * 1e-9, text});
+      std::fprintf(stderr, "sva record: %s (skipped)\n", text.c_str());
+    }
+    if (poses_ended && !told_poses_ended) {
+      former.poses_ended();  // contacts waiting for a pose are dropped with a note; frames are still recorded
+      told_poses_ended = true;
+    }
+    auto e = stream.next(std::chrono::milliseconds(50));
+    if (e && e->status == drivers::LinkStatus::data) former.add_frame(e->frame);
+    if (e && e->status != drivers::LinkStatus::data) {
+      std::fprintf(stderr, "sva record: link %s: %s\n", drivers::to_string(e->status), e->message.c_str());
+      if (e->status == drivers::LinkStatus::disconnected) former.link_lost(static_cast<double>(e->host_ns) * 1e-9);
+      if (e->status == drivers::LinkStatus::failed || e->status == drivers::LinkStatus::ended) break;
+    }
+    for (const auto& n : former.take_notes()) {
+      writer.note(n);
+      std::fprintf(stderr, "sva record: %s\n", n.text.c_str());
+    }
+    for (const auto& r : former.take_readings()) {
+      writer.reading(r);
+      std::printf("{\"type\":\"reading\",\"time\":%.6f,\"sequence\":%u,\"status\":\"%s\"}\n", r.time, r.sequence,
+                  to_string(r.reading.status));
+      std::fflush(stdout);
+      ++readings;
+    }
+  }
+  stream.stop();
+  const auto s = stream.stats();
+  std::fprintf(stderr,
+               "sva record: wrote %s: %zu readings, %llu frames, %llu CRC errors, %llu frames missing, %llu "
+               "dropped by a slow consumer, %llu disconnects\n",
+               out.c_str(), readings, static_cast<unsigned long long>(s.parser.frames),
+               static_cast<unsigned long long>(s.parser.crc_errors),
+               static_cast<unsigned long long>(s.parser.frames_missing),
+               static_cast<unsigned long long>(s.ring_overflows), static_cast<unsigned long long>(s.disconnects));
+  util::clear_interrupt();  // Ctrl-C is how a recording ends: the file is complete
+  return 0;
+}
+
+}  // namespace sva::cli

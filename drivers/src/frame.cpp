@@ -1,6 +1,7 @@
 #include <sva/drivers/frame.hpp>
 #include <sva/error.hpp>
 
+#include <array>
 #include <string>
 
 namespace sva::drivers {
@@ -17,11 +18,18 @@ std::size_t frame_bytes(int rows, int cols) {
 }
 
 std::uint16_t crc16_ccitt(std::span<const std::uint8_t> bytes) {
+  // Table-driven (one lookup per byte): the CRC is most of the parser's work on large arrays.
+  static const auto table = [] {
+    std::array<std::uint16_t, 256> t{};
+    for (int b = 0; b < 256; ++b) {
+      auto crc = static_cast<std::uint16_t>(b << 8);
+      for (int i = 0; i < 8; ++i) crc = static_cast<std::uint16_t>((crc & 0x8000) ? (crc << 1) ^ 0x1021 : crc << 1);
+      t[static_cast<std::size_t>(b)] = crc;
+    }
+    return t;
+  }();
   std::uint16_t crc = 0xffff;
-  for (std::uint8_t b : bytes) {
-    crc ^= static_cast<std::uint16_t>(b << 8);
-    for (int i = 0; i < 8; ++i) crc = static_cast<std::uint16_t>((crc & 0x8000) ? (crc << 1) ^ 0x1021 : crc << 1);
-  }
+  for (std::uint8_t b : bytes) crc = static_cast<std::uint16_t>((crc << 8) ^ table[((crc >> 8) ^ b) & 0xff]);
   return crc;
 }
 

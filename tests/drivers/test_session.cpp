@@ -161,3 +161,57 @@ TEST_CASE("sva export --recording and sva replay: readings and estimates on stdo
             &out) == 1);
   CHECK_THAT(out, Contains("frames per touch"));
 }
+
+TEST_CASE("the whole chain: split, merged and corrupted transfers lose only the touch whose frame was corrupted") {
+  const auto d = tiny_world();
+  auto data = sva::load_dataset(d / "test.svad");
+  data.samples.resize(std::min<std::size_t>(data.samples.size(), 6));
+  const auto file = d / "chain.svar";
+  export_dataset_session(data, export_calibration(data.scene.sensor), 10.0, 100.0, file);
+  const auto clean = load_session(file);
+  auto collect = [](const Session& s, std::vector<std::string>* notes = nullptr) {
+    std::vector<FormedReading> out;
+    PipelineEvents events;
+    events.on_reading = [&](const FormedReading& f, std::int64_t) { out.push_back(f); };
+    events.on_note = [&](const ContactNote& n) {
+      if (notes) notes->push_back(n.text);
+    };
+    replay_session(s, 0.0, events);
+    return out;
+  };
+  const auto expected = collect(clean);
+  REQUIRE(expected.size() == data.samples.size());
+
+  // The same bytes in transfers of 1..80 bytes (up to a frame: a frame's time, that of the transfer completing it,
+  // moves by at most one frame), one byte corrupted in the third touch's settle window.
+  Session rechunked = clean;
+  rechunked.chunks.clear();
+  std::vector<std::uint8_t> all;
+  std::vector<std::int64_t> time_of_byte;
+  for (const auto& c : clean.chunks) {
+    all.insert(all.end(), c.bytes.begin(), c.bytes.end());
+    time_of_byte.insert(time_of_byte.end(), c.bytes.size(), c.host_ns);
+  }
+  const std::size_t frame = frame_bytes(data.scene.sensor.rows, data.scene.sensor.cols);
+  all[(2 * 10 + 7) * frame + 20] ^= 0x10;  // touch 2 (10 frames each), the 4th of its 6 held frames
+  std::uint32_t state = 12345;
+  for (std::size_t at = 0, n = 0; at < all.size(); at += n) {
+    state = state * 1664525u + 1013904223u;
+    n = std::min<std::size_t>(all.size() - at, 1 + (state >> 8) % frame);
+    // A transfer completes when its last byte arrived.
+    rechunked.chunks.push_back({LinkStatus::data,
+                                time_of_byte[at + n - 1],
+                                std::vector<std::uint8_t>(all.begin() + static_cast<std::ptrdiff_t>(at),
+                                                          all.begin() + static_cast<std::ptrdiff_t>(at + n)),
+                                {}});
+  }
+  const auto got = collect(rechunked);
+  REQUIRE(got.size() == expected.size() - 1);
+  for (std::size_t i = 0, j = 0; i < expected.size(); ++i) {
+    if (i == 2) continue;  // never formed from (or across) the corrupted frame
+    CHECK(got[j].reading.pressure == expected[i].reading.pressure);
+    CHECK(got[j].reading.position == expected[i].reading.position);
+    CHECK(std::abs(got[j].time - expected[i].time) <= 0.0100001);
+    ++j;
+  }
+}

@@ -55,6 +55,22 @@ StreamStats replay_session(const Session& session, double speed, const PipelineE
   return stream.stats();
 }
 
+std::vector<TactileFrame> collect_frames(SensorStream& stream, int count, std::chrono::milliseconds timeout) {
+  std::vector<TactileFrame> frames;
+  while (static_cast<int>(frames.size()) < count) {
+    auto e = stream.next(timeout);
+    if (!e)
+      throw Error(stream.describe() + ": no frame within " + std::to_string(timeout.count()) + " ms (" +
+                  std::to_string(frames.size()) + " of " + std::to_string(count) + " collected)");
+    if (e->status == LinkStatus::data)
+      frames.push_back(std::move(e->frame.frame));
+    else if (e->status != LinkStatus::reconnected)
+      throw Error(stream.describe() + ": link " + to_string(e->status) + " after " + std::to_string(frames.size()) +
+                  " of " + std::to_string(count) + " frames" + (e->message.empty() ? "" : " (" + e->message + ")"));
+  }
+  return frames;
+}
+
 Calibration export_calibration(const SensorSpec& sensor) { return Calibration::uniform(sensor, 0.01f, 1000.0f); }
 
 void export_dataset_session(const Dataset& data, const Calibration& calibration, double touch_rate_hz,

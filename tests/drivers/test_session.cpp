@@ -147,6 +147,16 @@ TEST_CASE("sva export --recording and sva replay: readings and estimates on stdo
                              &out) == 0);
   REQUIRE(sva::test::run_sva("replay " + rec + " --speed 0 --map " + (d / "map.svam").string(), &out) == 0);
   CHECK_THAT(out, Contains("\"type\":\"reading\"") && Contains("\"type\":\"estimate\"") && Contains("worst latency"));
+  // The export's touches start unloaded (zero at 1000 counts): a tare from its first frames finds that zero.
+  const auto cal = (d / "cal.json").string();
+  REQUIRE(sva::test::run_sva("calibrate --session " + rec + " --frames 3 --gain 0.01 --out " + cal, &out) == 0);
+  const auto tared = Calibration::load(cal);
+  CHECK(tared.zero == std::vector<float>(36, 1000.0f));
+  CHECK(tared.gain == std::vector<float>(36, 0.01f));
+  CHECK(sva::test::run_sva("calibrate --session " + rec + " --frames 100000 --out " + cal, &out) == 1);
+  CHECK_THAT(out, Contains("link ended") && Contains("of 100000"));
+  CHECK(sva::test::run_sva("calibrate --out " + cal, &out) == 1);
+  CHECK_THAT(out, Contains("exactly one of --device, --session"));
   // A crash mid-record: everything before it replays, and the user is told.
   std::filesystem::resize_file(rec, std::filesystem::file_size(rec) - 10);
   REQUIRE(sva::test::run_sva("replay " + rec + " --speed 0", &out) == 0);

@@ -73,6 +73,10 @@ struct PipelineEvents {
 // statistics.
 StreamStats replay_session(const Session& session, double speed, const PipelineEvents& events);
 
+// The first `count` frames of a stream (the array unloaded), for Calibration::tare. Throws when the link
+// ends or fails first, or when no frame arrives within `timeout` (naming the stream).
+std::vector<TactileFrame> collect_frames(SensorStream& stream, int count, std::chrono::milliseconds timeout);
+
 // A simulated dataset as a recording: each sample with contact becomes a touch
 // at `touch_rate_hz` (unloaded frames, then the pressure image held for the
 // settle window plus one), frames at `frame_rate_hz` encoded with `calibration`,

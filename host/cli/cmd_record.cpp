@@ -5,14 +5,8 @@
 #include <sva/drivers/session.hpp>
 #include <sva/drivers/usb_transport.hpp>
 
-#include <atomic>
 #include <cstdio>
 #include <cstdlib>
-#include <deque>
-#include <fstream>
-#include <iostream>
-#include <mutex>
-#include <thread>
 
 #include "args.hpp"
 #include "util/interrupt.hpp"
@@ -20,56 +14,6 @@
 namespace sva::cli {
 
 namespace {
-
-// Reads pose lines on its own thread (a pipe blocks) and queues them with their arrival time.
-class PoseReader {
- public:
-  explicit PoseReader(const std::string& source) {
-    state_->source = source;
-    if (source != "-") {
-      state_->file.open(source);
-      if (!state_->file) throw Error(source + ": cannot read the pose stream");
-    }
-    // A blocked read of stdin cannot be cancelled: the thread owns its state and the process ends it.
-    std::thread([state = state_] { run(*state); }).detach();
-  }
-  // Poses that have arrived, and notes about lines that could not be read.
-  void take(std::vector<drivers::RecordedPose>& poses, std::vector<std::string>& problems, bool& ended) {
-    std::lock_guard lock(state_->mutex);
-    poses.assign(state_->poses.begin(), state_->poses.end());
-    state_->poses.clear();
-    problems.swap(state_->problems);
-    state_->problems.clear();
-    ended = state_->ended;
-  }
-
- private:
-  struct State {
-    std::mutex mutex;
-    std::deque<drivers::RecordedPose> poses;
-    std::vector<std::string> problems;
-    bool ended = false;
-    std::string source;
-    std::ifstream file;
-  };
-  static void run(State& state) {
-    std::istream& in = state.source == "-" ? std::cin : state.file;
-    std::string line;
-    for (std::size_t n = 1; std::getline(in, line); ++n) {
-      if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-      const auto arrival = drivers::monotonic_ns();
-      std::lock_guard lock(state.mutex);
-      try {
-        state.poses.push_back({arrival, drivers::parse_pose_line(line, state.source + ":" + std::to_string(n))});
-      } catch (const Error& e) {
-        state.problems.push_back(e.what());
-      }
-    }
-    std::lock_guard lock(state.mutex);
-    state.ended = true;
-  }
-  std::shared_ptr<State> state_ = std::make_shared<State>();
-};
 
 std::uint8_t parse_endpoint(const std::string& text) {
   char* end = nullptr;
@@ -124,53 +68,25 @@ int cmd_record(const std::vector<std::string>& argv) {
   auto transport = std::make_unique<drivers::UsbTransport>(usb);
   drivers::SessionWriter writer(out, settings, a.has("--append"));
   if (a.has("--append")) settings = drivers::load_session(out).settings;
-  PoseReader poses(poses_source);
-  drivers::StreamOptions options;
-  options.rows = settings.calibration.sensor.rows;
-  options.cols = settings.calibration.sensor.cols;
-  options.on_chunk = [&](const drivers::Chunk& c) { writer.chunk(c); };
-  drivers::SensorStream stream(std::move(transport), options);
-  drivers::ReadingFormer former(settings.calibration, settings.settle);
+  drivers::PoseStream poses(poses_source);
+  drivers::LiveOptions live{settings, &writer};
   const auto start = drivers::monotonic_ns();
+  live.keep_going = [&] {
+    return !util::interrupted() && (duration == 0 || drivers::monotonic_ns() - start < duration * 1e9);
+  };
   std::size_t readings = 0;
-  bool poses_ended = false, told_poses_ended = false;
-  std::vector<drivers::RecordedPose> arrived;
-  std::vector<std::string> problems;
-  while (!util::interrupted() && (duration == 0 || drivers::monotonic_ns() - start < duration * 1e9)) {
-    poses.take(arrived, problems, poses_ended);
-    for (const auto& p : arrived) {
-      writer.pose(p);
-      former.add_pose(p.pose);
-    }
-    for (const auto& text : problems) {
-      writer.note({static_cast<double>(drivers::monotonic_ns()) * 1e-9, text});
-      std::fprintf(stderr, "sva record: %s (skipped)\n", text.c_str());
-    }
-    if (poses_ended && !told_poses_ended) {
-      former.poses_ended();  // contacts waiting for a pose are dropped with a note; frames are still recorded
-      told_poses_ended = true;
-    }
-    auto e = stream.next(std::chrono::milliseconds(50));
-    if (e && e->status == drivers::LinkStatus::data) former.add_frame(e->frame);
-    if (e && e->status != drivers::LinkStatus::data) {
-      std::fprintf(stderr, "sva record: link %s: %s\n", drivers::to_string(e->status), e->message.c_str());
-      if (e->status == drivers::LinkStatus::disconnected) former.link_lost(static_cast<double>(e->host_ns) * 1e-9);
-      if (e->status == drivers::LinkStatus::failed || e->status == drivers::LinkStatus::ended) break;
-    }
-    for (const auto& n : former.take_notes()) {
-      writer.note(n);
-      std::fprintf(stderr, "sva record: %s\n", n.text.c_str());
-    }
-    for (const auto& r : former.take_readings()) {
-      writer.reading(r);
-      std::printf("{\"type\":\"reading\",\"time\":%.6f,\"sequence\":%u,\"status\":\"%s\"}\n", r.time, r.sequence,
-                  to_string(r.reading.status));
-      std::fflush(stdout);
-      ++readings;
-    }
-  }
-  stream.stop();
-  const auto s = stream.stats();
+  drivers::PipelineEvents events;
+  events.on_reading = [&](const drivers::FormedReading& r, std::int64_t) {
+    std::printf("{\"type\":\"reading\",\"time\":%.6f,\"sequence\":%u,\"status\":\"%s\"}\n", r.time, r.sequence,
+                to_string(r.reading.status));
+    std::fflush(stdout);
+    ++readings;
+  };
+  events.on_note = [](const drivers::ContactNote& n) { std::fprintf(stderr, "sva record: %s\n", n.text.c_str()); };
+  events.on_link = [](const drivers::SensorEvent& e) {
+    std::fprintf(stderr, "sva record: link %s: %s\n", drivers::to_string(e.status), e.message.c_str());
+  };
+  const auto s = drivers::run_live(std::move(transport), poses, live, events);
   std::fprintf(stderr,
                "sva record: wrote %s: %zu readings, %llu frames, %llu CRC errors, %llu frames missing, %llu "
                "dropped by a slow consumer, %llu disconnects\n",

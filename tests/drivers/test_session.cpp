@@ -225,3 +225,44 @@ TEST_CASE("the whole chain: split, merged and corrupted transfers lose only the 
     ++j;
   }
 }
+
+TEST_CASE("recording live (an emulated sensor and a pose file) writes a session that replays to the same readings") {
+  const auto d = tiny_world();
+  auto data = sva::load_dataset(d / "test.svad");
+  data.samples.resize(std::min<std::size_t>(data.samples.size(), 4));
+  export_dataset_session(data, export_calibration(data.scene.sensor), 10.0, 100.0, d / "source.svar");
+  const auto source = load_session(d / "source.svar");
+  {
+    std::ofstream poses(d / "poses.jsonl");
+    for (const auto& p : source.poses) poses << pose_line(p.pose) << "\n";
+    poses << "{\"time\": \"late\"}\n";  // a bad line: skipped with a note naming it
+  }
+  PoseStream poses((d / "poses.jsonl").string());
+  SessionWriter writer(d / "live.svar", source.settings);
+  LiveOptions live{source.settings, &writer};
+  std::vector<FormedReading> formed;
+  std::vector<std::string> notes;
+  PipelineEvents events;
+  events.on_reading = [&](const FormedReading& f, std::int64_t) { formed.push_back(f); };
+  events.on_note = [&](const ContactNote& n) { notes.push_back(n.text); };
+  // The emulated sensor plays at 4x the recorded pace, so the pose file has been read long before the frames end.
+  run_live(std::make_unique<ReplayTransport>(source.chunks, 4.0), poses, live, events);
+  CHECK(formed.size() == data.samples.size());
+  REQUIRE(notes.size() == 1);
+  CHECK_THAT(notes[0], Contains("poses.jsonl:" + std::to_string(source.poses.size() + 1)));
+
+  const auto recorded = load_session(d / "live.svar");
+  CHECK(recorded.readings.size() == formed.size());
+  CHECK(recorded.poses.size() == source.poses.size());
+  CHECK(recorded.notes.size() == 1);
+  std::vector<FormedReading> replayed;
+  PipelineEvents again;
+  again.on_reading = [&](const FormedReading& f, std::int64_t) { replayed.push_back(f); };
+  replay_session(recorded, 0.0, again);
+  REQUIRE(replayed.size() == formed.size());
+  for (std::size_t i = 0; i < formed.size(); ++i) {
+    CHECK(replayed[i].reading.pressure == formed[i].reading.pressure);
+    CHECK(replayed[i].reading.position == formed[i].reading.position);
+    CHECK(replayed[i].time == formed[i].time);
+  }
+}

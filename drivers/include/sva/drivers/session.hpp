@@ -73,6 +73,33 @@ struct PipelineEvents {
 // statistics.
 StreamStats replay_session(const Session& session, double speed, const PipelineEvents& events);
 
+// The arm's pose stream as it arrives: JSON lines from a file, a named pipe or
+// stdin ("-"), read on a thread of its own (a pipe blocks) and stamped with
+// their arrival time.
+class PoseStream {
+ public:
+  explicit PoseStream(const std::string& source);  // throws when the file cannot be opened
+  // Poses that arrived since the last call, lines that could not be read (with
+  // FILE:LINE and the fault), and whether the stream has ended.
+  void take(std::vector<RecordedPose>& poses, std::vector<std::string>& problems, bool& ended);
+
+  struct State;
+
+ private:
+  std::shared_ptr<State> state_;
+};
+
+// Records live: frames from `transport`, poses from `poses`, readings formed as
+// contacts settle; everything is written to `writer` (when given) as it
+// happens. Runs until `keep_going()` says no, the link ends or fails.
+struct LiveOptions {
+  SessionSettings settings;
+  SessionWriter* writer = nullptr;
+  std::function<bool()> keep_going = [] { return true; };
+};
+StreamStats run_live(std::unique_ptr<Transport> transport, PoseStream& poses, const LiveOptions& options,
+                     const PipelineEvents& events);
+
 // The first `count` frames of a stream (the array unloaded), for Calibration::tare. Throws when the link
 // ends or fails first, or when no frame arrives within `timeout` (naming the stream).
 std::vector<TactileFrame> collect_frames(SensorStream& stream, int count, std::chrono::milliseconds timeout);

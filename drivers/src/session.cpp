@@ -81,7 +81,10 @@ FormedReading parse_reading(io::BinaryReader& r) {
   if (status > static_cast<std::uint8_t>(ControllerStatus::no_contact)) r.fail("unknown reading status");
   f.reading.status = static_cast<ControllerStatus>(status);
   f.reading.iterations = r.get<std::uint16_t>();
-  f.reading.pressure.resize(r.get<std::uint32_t>());
+  const auto n = r.get<std::uint32_t>();
+  if (n > r.remaining() / sizeof(float))
+    r.fail("pressure image of " + std::to_string(n) + " values exceeds its record");
+  f.reading.pressure.resize(n);
   r.get_array(f.reading.pressure.data(), f.reading.pressure.size());
   r.expect_end();
   return f;

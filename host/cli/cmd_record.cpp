@@ -1,5 +1,6 @@
 // sva record: records a real tactile array (USB) and the arm's pose stream into
-// a session file, forming readings as contacts settle (printed as JSON lines).
+// a session file, forming readings as contacts settle (printed as JSON lines)
+// and, with a map, recognising while touching (the estimate after each).
 // Ctrl-C ends the recording; the file is valid up to its last record whatever
 // happens.
 #include <sva/drivers/session.hpp>
@@ -9,6 +10,8 @@
 #include <cstdlib>
 
 #include "args.hpp"
+#include "recognition/vote_backend_factory.hpp"
+#include "sensor_output.hpp"
 #include "util/interrupt.hpp"
 
 namespace sva::cli {
@@ -54,7 +57,9 @@ int cmd_record(const std::vector<std::string>& argv) {
       .option("--target-kpa", "KPA", "the contact controller's target mean pressure (default 0: any)")
       .option("--tolerance-kpa", "KPA", "allowed distance of the mean pressure from the target (default 5)")
       .option("--stable-kpa", "KPA", "largest change of any element between settled frames (default 1)")
-      .option("--contact-kpa", "KPA", "mean pressure that starts (and, below it, ends) a contact (default 0.5)");
+      .option("--contact-kpa", "KPA", "mean pressure that starts (and, below it, ends) a contact (default 0.5)")
+      .option("--map", "MAP", "recognise while touching: the estimate after each converged reading on stdout")
+      .option("--backend", "cpu|vulkan|auto", "vote backend with --map (default cpu)");
   if (!a.parse()) return 0;
   drivers::UsbOptions usb;
   usb.device = drivers::DeviceSelector::parse(a.required("--device"));
@@ -74,14 +79,10 @@ int cmd_record(const std::vector<std::string>& argv) {
   live.keep_going = [&] {
     return !util::interrupted() && (duration == 0 || drivers::monotonic_ns() - start < duration * 1e9);
   };
-  std::size_t readings = 0;
+  ReadingPrinter printer("sva record", a.get_or("--map", ""),
+                         parse_backend_kind(a.get_or("--backend", "cpu"), "sva record: --backend"));
   drivers::PipelineEvents events;
-  events.on_reading = [&](const drivers::FormedReading& r, std::int64_t) {
-    std::printf("{\"type\":\"reading\",\"time\":%.6f,\"sequence\":%u,\"status\":\"%s\"}\n", r.time, r.sequence,
-                to_string(r.reading.status));
-    std::fflush(stdout);
-    ++readings;
-  };
+  events.on_reading = [&](const drivers::FormedReading& r, std::int64_t) { printer(r); };
   events.on_note = [](const drivers::ContactNote& n) { std::fprintf(stderr, "sva record: %s\n", n.text.c_str()); };
   events.on_link = [](const drivers::SensorEvent& e) {
     std::fprintf(stderr, "sva record: link %s: %s\n", drivers::to_string(e.status), e.message.c_str());
@@ -90,7 +91,7 @@ int cmd_record(const std::vector<std::string>& argv) {
   std::fprintf(stderr,
                "sva record: wrote %s: %zu readings, %llu frames, %llu CRC errors, %llu frames missing, %llu "
                "dropped by a slow consumer, %llu disconnects\n",
-               out.c_str(), readings, static_cast<unsigned long long>(s.parser.frames),
+               out.c_str(), printer.readings(), static_cast<unsigned long long>(s.parser.frames),
                static_cast<unsigned long long>(s.parser.crc_errors),
                static_cast<unsigned long long>(s.parser.frames_missing),
                static_cast<unsigned long long>(s.ring_overflows), static_cast<unsigned long long>(s.disconnects));

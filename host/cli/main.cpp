@@ -23,12 +23,16 @@ const Command kCommands[] = {
      sva::cli::cmd_demo},
     {"simulate", "simulate tactile readings of a scene's objects with the Embree simulator", sva::cli::cmd_simulate},
     {"inspect", "summarise a dataset or map file", sva::cli::cmd_inspect},
-    {"export", "write a dataset as CSV and PLY (contact points with normals)", sva::cli::cmd_export},
+    {"export", "write a dataset as CSV and PLY (contact points with normals), or as a session recording",
+     sva::cli::cmd_export},
     {"train", "build the SVA pair map (appearance classes + surface-patch pairs) from training readings",
      sva::cli::cmd_train},
     {"eval", "run recognition trials on test readings and report accuracy and pose errors", sva::cli::cmd_eval},
     {"recognize", "recognise a batch of sessions of readings", sva::cli::cmd_recognize},
     {"bench", "measure votes per second and time per update", sva::cli::cmd_bench},
+    {"record", "record a real tactile sensor and the arm's poses into a session file", sva::cli::cmd_record},
+    {"calibrate", "record a tactile array's zero counts (tare) into a calibration file", sva::cli::cmd_calibrate},
+    {"replay", "play a session recording: the readings it forms and, with a map, the estimates", sva::cli::cmd_replay},
 };
 
 void usage() {

@@ -1,0 +1,102 @@
+// sva record: records a real tactile array (USB) and the arm's pose stream into
+// a session file, forming readings as contacts settle (printed as JSON lines)
+// and, with a map, recognising while touching (the estimate after each).
+// Ctrl-C ends the recording; the file is valid up to its last record whatever
+// happens.
+#include <sva/drivers/session.hpp>
+#include <sva/drivers/usb_transport.hpp>
+
+#include <cstdio>
+#include <cstdlib>
+
+#include "args.hpp"
+#include "recognition/vote_backend_factory.hpp"
+#include "sensor_output.hpp"
+#include "util/interrupt.hpp"
+
+namespace sva::cli {
+
+namespace {
+
+std::uint8_t parse_endpoint(const std::string& text) {
+  char* end = nullptr;
+  const unsigned long v = std::strtoul(text.c_str(), &end, 0);
+  if (text.empty() || *end != '\0' || v > 0xff) throw Error("--endpoint " + text + ": expected an address like 0x81");
+  return static_cast<std::uint8_t>(v);
+}
+
+drivers::SettleRule settle_rule(const Args& a) {
+  drivers::SettleRule r;
+  r.frames = static_cast<int>(a.integer("--settle-frames", r.frames, 1, 10000));
+  r.target_kpa = a.number("--target-kpa", r.target_kpa, 0, 1e6);
+  r.tolerance_kpa = a.number("--tolerance-kpa", r.tolerance_kpa, 0, 1e6);
+  r.stable_kpa = a.number("--stable-kpa", r.stable_kpa, 0, 1e6);
+  r.contact_kpa = a.number("--contact-kpa", r.contact_kpa, 1e-9, 1e6);
+  r.validate();
+  return r;
+}
+
+}  // namespace
+
+int cmd_record(const std::vector<std::string>& argv) {
+  Args a("sva record",
+         "Record a tactile array over USB and the arm's pose stream (JSON lines: time, position, normal, x_axis,\n"
+         "optional status; time in seconds on this machine's monotonic clock) into SESSION. Readings are formed\n"
+         "as contacts settle and printed as JSON lines. Ctrl-C (or --duration) stops; the recording is valid up to its "
+         "last record even after a crash. See docs/usb-sensor.md.",
+         argv);
+  a.option("--device", "SERIAL|VID:PID|BUS-PORT", "which sensor")
+      .option("--calibration", "CAL.json", "the array's calibration (docs/usb-sensor.md)")
+      .option("--poses", "POSES.jsonl|-", "the arm's pose stream: a file, a named pipe, or - for stdin")
+      .option("--out", "SESSION", "the recording to write")
+      .flag("--append", "continue an existing recording (its calibration and settle rule are kept)")
+      .option("--interface", "N", "USB interface number (default 0)")
+      .option("--endpoint", "ADDR", "bulk IN endpoint, e.g. 0x81 (default)")
+      .option("--duration", "S", "stop after this many seconds (default: until Ctrl-C)")
+      .option("--settle-frames", "N", "consecutive stable frames that settle a contact (default 5)")
+      .option("--target-kpa", "KPA", "the contact controller's target mean pressure (default 0: any)")
+      .option("--tolerance-kpa", "KPA", "allowed distance of the mean pressure from the target (default 5)")
+      .option("--stable-kpa", "KPA", "largest change of any element between settled frames (default 1)")
+      .option("--contact-kpa", "KPA", "mean pressure that starts (and, below it, ends) a contact (default 0.5)")
+      .option("--map", "MAP", "recognise while touching: the estimate after each converged reading on stdout")
+      .option("--backend", "cpu|vulkan|auto", "vote backend with --map (default cpu)");
+  if (!a.parse()) return 0;
+  drivers::UsbOptions usb;
+  usb.device = drivers::DeviceSelector::parse(a.required("--device"));
+  usb.interface_number = static_cast<int>(a.integer("--interface", 0, 0, 255));
+  usb.endpoint = parse_endpoint(a.get_or("--endpoint", "0x81"));
+  drivers::SessionSettings settings{drivers::Calibration::load(a.required("--calibration")), settle_rule(a),
+                                    "USB " + usb.device.describe()};
+  const double duration = a.number("--duration", 0, 0, 1e7);
+  const std::string poses_source = a.required("--poses"), out = a.required("--out");
+
+  auto transport = std::make_unique<drivers::UsbTransport>(usb);
+  drivers::SessionWriter writer(out, settings, a.has("--append"));
+  if (a.has("--append")) settings = drivers::load_session(out).settings;
+  drivers::PoseStream poses(poses_source);
+  drivers::LiveOptions live{settings, &writer};
+  const auto start = drivers::monotonic_ns();
+  live.keep_going = [&] {
+    return !util::interrupted() && (duration == 0 || drivers::monotonic_ns() - start < duration * 1e9);
+  };
+  ReadingPrinter printer("sva record", a.get_or("--map", ""),
+                         parse_backend_kind(a.get_or("--backend", "cpu"), "sva record: --backend"));
+  drivers::PipelineEvents events;
+  events.on_reading = [&](const drivers::FormedReading& r, std::int64_t) { printer(r); };
+  events.on_note = [](const drivers::ContactNote& n) { std::fprintf(stderr, "sva record: %s\n", n.text.c_str()); };
+  events.on_link = [](const drivers::SensorEvent& e) {
+    std::fprintf(stderr, "sva record: link %s: %s\n", drivers::to_string(e.status), e.message.c_str());
+  };
+  const auto s = drivers::run_live(std::move(transport), poses, live, events);
+  std::fprintf(stderr,
+               "sva record: wrote %s: %zu readings, %llu frames, %llu CRC errors, %llu frames missing, %llu "
+               "dropped by a slow consumer, %llu disconnects\n",
+               out.c_str(), printer.readings(), static_cast<unsigned long long>(s.parser.frames),
+               static_cast<unsigned long long>(s.parser.crc_errors),
+               static_cast<unsigned long long>(s.parser.frames_missing),
+               static_cast<unsigned long long>(s.ring_overflows), static_cast<unsigned long long>(s.disconnects));
+  util::clear_interrupt();  // Ctrl-C is how a recording ends: the file is complete
+  return 0;
+}
+
+}  // namespace sva::cli

@@ -52,6 +52,7 @@ int cmd_eval(const std::vector<std::string>& args);
 int cmd_recognize(const std::vector<std::string>& args);
 int cmd_bench(const std::vector<std::string>& args);
 int cmd_record(const std::vector<std::string>& args);
+int cmd_live(const std::vector<std::string>& args);
 int cmd_calibrate(const std::vector<std::string>& args);
 int cmd_replay(const std::vector<std::string>& args);
 

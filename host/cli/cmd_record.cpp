@@ -36,19 +36,11 @@ drivers::SettleRule settle_rule(const Args& a) {
   return r;
 }
 
-}  // namespace
-
-int cmd_record(const std::vector<std::string>& argv) {
-  Args a("sva record",
-         "Record a tactile array over USB and the arm's pose stream (JSON lines: time, position, normal, x_axis,\n"
-         "optional status; time in seconds on this machine's monotonic clock) into SESSION. Readings are formed\n"
-         "as contacts settle and printed as JSON lines. Ctrl-C (or --duration) stops; the recording is valid up to its "
-         "last record even after a crash. See docs/usb-sensor.md.",
-         argv);
+void declare_options(Args& a, bool live) {
   a.option("--device", "SERIAL|VID:PID|BUS-PORT", "which sensor")
       .option("--calibration", "CAL.json", "the array's calibration (docs/usb-sensor.md)")
       .option("--poses", "POSES.jsonl|-", "the arm's pose stream: a file, a named pipe, or - for stdin")
-      .option("--out", "SESSION", "the recording to write")
+      .option("--out", "SESSION", live ? "also record the session into this file" : "the recording to write")
       .flag("--append", "continue an existing recording (its calibration and settle rule are kept)")
       .option("--interface", "N", "USB interface number (default 0)")
       .option("--endpoint", "ADDR", "bulk IN endpoint, e.g. 0x81 (default)")
@@ -58,9 +50,14 @@ int cmd_record(const std::vector<std::string>& argv) {
       .option("--tolerance-kpa", "KPA", "allowed distance of the mean pressure from the target (default 5)")
       .option("--stable-kpa", "KPA", "largest change of any element between settled frames (default 1)")
       .option("--contact-kpa", "KPA", "mean pressure that starts (and, below it, ends) a contact (default 0.5)")
-      .option("--map", "MAP", "recognise while touching: the estimate after each converged reading on stdout")
-      .option("--backend", "cpu|vulkan|auto", "vote backend with --map (default cpu)");
-  if (!a.parse()) return 0;
+      .option("--map", "MAP",
+              live ? "the map to recognise with: the estimate after each converged reading on stdout"
+                   : "recognise while touching: the estimate after each converged reading on stdout")
+      .option("--backend", "cpu|vulkan|auto", "vote backend with --map (default auto)");
+}
+
+// sva record and sva live: one loop; record must write a file, live must recognise.
+int run_sensor(const std::string& name, Args& a, bool live) {
   drivers::UsbOptions usb;
   usb.device = drivers::DeviceSelector::parse(a.required("--device"));
   usb.interface_number = static_cast<int>(a.integer("--interface", 0, 0, 255));
@@ -68,35 +65,67 @@ int cmd_record(const std::vector<std::string>& argv) {
   drivers::SessionSettings settings{drivers::Calibration::load(a.required("--calibration")), settle_rule(a),
                                     "USB " + usb.device.describe()};
   const double duration = a.number("--duration", 0, 0, 1e7);
-  const std::string poses_source = a.required("--poses"), out = a.required("--out");
+  const std::string poses_source = a.required("--poses");
+  const std::string out = live ? a.get_or("--out", "") : a.required("--out");
+  const std::string map = live ? a.required("--map") : a.get_or("--map", "");
 
   auto transport = std::make_unique<drivers::UsbTransport>(usb);
-  drivers::SessionWriter writer(out, settings, a.has("--append"));
-  if (a.has("--append")) settings = drivers::load_session(out).settings;
+  std::unique_ptr<drivers::SessionWriter> writer;
+  if (!out.empty()) {
+    writer = std::make_unique<drivers::SessionWriter>(out, settings, a.has("--append"));
+    if (a.has("--append")) settings = drivers::load_session(out).settings;
+  }
   drivers::PoseStream poses(poses_source);
-  drivers::LiveOptions live{settings, &writer};
+  drivers::LiveOptions opts{settings, writer.get()};
   const auto start = drivers::monotonic_ns();
-  live.keep_going = [&] {
+  opts.keep_going = [&] {
     return !util::interrupted() && (duration == 0 || drivers::monotonic_ns() - start < duration * 1e9);
   };
-  ReadingPrinter printer("sva record", a.get_or("--map", ""),
-                         parse_backend_kind(a.get_or("--backend", "cpu"), "sva record: --backend"));
+  ReadingPrinter printer(name, map, parse_backend_kind(a.get_or("--backend", "auto"), name + ": --backend"));
   drivers::PipelineEvents events;
   events.on_reading = [&](const drivers::FormedReading& r, std::int64_t) { printer(r); };
-  events.on_note = [](const drivers::ContactNote& n) { std::fprintf(stderr, "sva record: %s\n", n.text.c_str()); };
-  events.on_link = [](const drivers::SensorEvent& e) {
-    std::fprintf(stderr, "sva record: link %s: %s\n", drivers::to_string(e.status), e.message.c_str());
+  events.on_note = [&](const drivers::ContactNote& n) {
+    std::fprintf(stderr, "%s: %s\n", name.c_str(), n.text.c_str());
   };
-  const auto s = drivers::run_live(std::move(transport), poses, live, events);
+  events.on_link = [&](const drivers::SensorEvent& e) {
+    std::fprintf(stderr, "%s: link %s: %s\n", name.c_str(), drivers::to_string(e.status), e.message.c_str());
+  };
+  const auto s = drivers::run_live(std::move(transport), poses, opts, events);
   std::fprintf(stderr,
-               "sva record: wrote %s: %zu readings, %llu frames, %llu CRC errors, %llu frames missing, %llu "
-               "dropped by a slow consumer, %llu disconnects\n",
-               out.c_str(), printer.readings(), static_cast<unsigned long long>(s.parser.frames),
-               static_cast<unsigned long long>(s.parser.crc_errors),
+               "%s: %s%s%zu readings, %llu frames, %llu CRC errors, %llu frames missing, %llu dropped by a slow "
+               "consumer, %llu disconnects\n",
+               name.c_str(), out.empty() ? "" : "wrote ", out.empty() ? "" : (out + ": ").c_str(), printer.readings(),
+               static_cast<unsigned long long>(s.parser.frames), static_cast<unsigned long long>(s.parser.crc_errors),
                static_cast<unsigned long long>(s.parser.frames_missing),
                static_cast<unsigned long long>(s.ring_overflows), static_cast<unsigned long long>(s.disconnects));
-  util::clear_interrupt();  // Ctrl-C is how a recording ends: the file is complete
+  util::clear_interrupt();  // Ctrl-C is how a session ends: the file is complete
   return 0;
+}
+
+}  // namespace
+
+int cmd_record(const std::vector<std::string>& argv) {
+  Args a("sva record",
+         "Record a tactile array over USB and the arm's pose stream (JSON lines: time, position, normal, x_axis,\n"
+         "optional status; time in seconds on this machine's monotonic clock) into SESSION. Readings are formed\n"
+         "as contacts settle and printed as JSON lines. Ctrl-C (or --duration) stops; the recording is valid up to its "
+         "last record even after a crash. See docs/usb-sensor.md.",
+         argv);
+  declare_options(a, false);
+  if (!a.parse()) return 0;
+  return run_sensor("sva record", a, false);
+}
+
+int cmd_live(const std::vector<std::string>& argv) {
+  Args a("sva live",
+         "Recognise while touching: a tactile array over USB and the arm's pose stream (as sva record) feed the\n"
+         "recognizer; after each settled reading the estimate (object probabilities, best pose, hypotheses) goes to\n"
+         "stdout as a JSON line and a one-line summary to stderr. --out also records the session. Ctrl-C stops.\n"
+         "See docs/usb-sensor.md.",
+         argv);
+  declare_options(a, true);
+  if (!a.parse()) return 0;
+  return run_sensor("sva live", a, true);
 }
 
 }  // namespace sva::cli

@@ -31,6 +31,7 @@ const Command kCommands[] = {
     {"recognize", "recognise a batch of sessions of readings", sva::cli::cmd_recognize},
     {"bench", "measure votes per second and time per update", sva::cli::cmd_bench},
     {"record", "record a real tactile sensor and the arm's poses into a session file", sva::cli::cmd_record},
+    {"live", "recognise while touching with a real tactile sensor and the arm's poses", sva::cli::cmd_live},
     {"calibrate", "record a tactile array's zero counts (tare) into a calibration file", sva::cli::cmd_calibrate},
     {"replay", "play a session recording: the readings it forms and, with a map, the estimates", sva::cli::cmd_replay},
 };

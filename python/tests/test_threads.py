@@ -73,3 +73,44 @@ def test_one_recognizer_shared_by_threads_takes_turns(tiny, tiny_map):
     for t in threads:
         t.join()
     assert rec.readings() == len(readings)
+
+
+CTRL_C_CHILD = """
+import signal, sys, time
+import sva
+signal.signal(signal.SIGINT, signal.default_int_handler)
+train, test = sva.simulate("tiny", train=12, test=5, seed=3)
+m = sva.train(train)
+print("ready", flush=True)
+try:
+    sva.evaluate(m, test, trials=10**7, max_readings=6, backend="cpu", threads=1)
+    print("finished", flush=True)
+except KeyboardInterrupt:
+    print("engine interrupted", flush=True)
+try:
+    print("sleeping", flush=True)
+    time.sleep(60)
+except KeyboardInterrupt:
+    print("python interrupted", flush=True)
+"""
+
+
+def test_ctrl_c_stops_the_engine_and_python_gets_its_handler_back():
+    import os
+    import signal
+    import subprocess
+    import sys
+
+    p = subprocess.Popen([sys.executable, "-c", CTRL_C_CHILD], stdout=subprocess.PIPE, text=True, env=os.environ)
+    try:
+        assert p.stdout.readline().strip() == "ready"
+        time.sleep(0.5)
+        p.send_signal(signal.SIGINT)  # inside sva.evaluate: the engine stops, KeyboardInterrupt
+        assert p.stdout.readline().strip() == "engine interrupted"
+        assert p.stdout.readline().strip() == "sleeping"
+        time.sleep(0.2)
+        p.send_signal(signal.SIGINT)  # back in Python: Python's own handler
+        assert p.stdout.readline().strip() == "python interrupted"
+        assert p.wait(timeout=30) == 0
+    finally:
+        p.kill()

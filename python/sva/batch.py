@@ -69,11 +69,21 @@ class SessionsFile:
         return out
 
 
+def check_writable(file: PathLike) -> None:
+    """Refuses an output path whose folder is missing before any recognition runs (as the commands do)."""
+    parent = Path(file).parent
+    if not parent.is_dir():
+        raise Error(f"{os.fspath(file)}: cannot write: folder {os.fspath(parent)} does not exist")
+
+
 def write_atomically(file: PathLike, chunks: Iterator[bytes]) -> None:
     """Writes the chunks to a temporary file beside ``file`` and renames it into place (no partial results file
     that looks complete, as the engine writes its files)."""
     path = Path(file)
-    fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent if str(path.parent) else ".")
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
+    except OSError as e:
+        raise Error(f"{os.fspath(file)}: cannot write: {e.strerror}") from None
     try:
         with os.fdopen(fd, "wb") as out:
             for chunk in chunks:
@@ -104,6 +114,8 @@ def recognize_batch(
         map = Map.load(map)
     if sessions_per_submission < 1:
         raise Error(f"sessions_per_submission must be >= 1, got {sessions_per_submission}")
+    if out is not None:
+        check_writable(out)
     file = SessionsFile(sessions)
     (whole,) = file.shards(file.sessions)
     rec = BatchRecognizer(map, min(sessions_per_submission, whole.sessions), **options)

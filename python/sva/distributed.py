@@ -28,7 +28,7 @@ from pathlib import Path
 from typing import Any, Optional
 
 from ._sva_core import BatchRecognizer, Error, Map
-from .batch import PathLike, SessionsFile, Shard, write_atomically
+from .batch import PathLike, SessionsFile, Shard, check_writable, write_atomically
 
 # This worker process's engines, by (map file, its size and mtime, options): normally exactly one.
 _engines: dict[tuple, tuple[Map, BatchRecognizer]] = {}
@@ -87,6 +87,8 @@ def recognize_batch(
     map_file = os.path.abspath(os.fspath(map))
     if not os.path.isfile(map_file):
         raise Error(f"{map_file}: no such map file (it must be readable at this path on every worker)")
+    if out is not None:
+        check_writable(out)
     file = SessionsFile(sessions)
     workers = len(client.scheduler_info().get("workers", {})) or 1
     per_shard = sessions_per_shard or default_sessions_per_shard(file.sessions, workers, sessions_per_submission)

@@ -29,6 +29,7 @@ def test_installed_package_is_complete_and_finds_its_assets(tmp_path):
     for f in ("__init__.py", "batch.py", "distributed.py", "py.typed", "_sva_core.pyi", "assets/scenes/tiny.json"):
         assert (pkg / f).is_file(), f
     stub = (pkg / "_sva_core.pyi").read_text()
+    compile(stub, "_sva_core.pyi", "exec")  # valid Python (no duplicate arguments either)
     assert "class Recognizer:" in stub and "def add_reading(self, reading: Reading)" in stub
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "SVA_ASSETS")}
     env["PYTHONPATH"] = str(prefix)

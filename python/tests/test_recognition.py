@@ -95,6 +95,8 @@ def test_recognize_batch_reports_the_bad_line(tiny, tmp_path):
     with pytest.raises(sva.Error, match=r"bad\.jsonl:4: readings\[0\]\.position: expected an array of 3 numbers"):
         sva.recognize_batch(str(tiny.map), f, out, backend="cpu")
     assert not out.exists()
+    with pytest.raises(sva.Error, match="no-such-dir/out.jsonl: cannot write"):
+        sva.recognize_batch(str(tiny.map), tiny.sessions, tmp_path / "no-such-dir" / "out.jsonl", backend="cpu")
     empty = tmp_path / "empty.jsonl"
     empty.write_text("\n  \n")
     with pytest.raises(sva.Error, match="no sessions"):

@@ -49,7 +49,7 @@ def main() -> None:
     for n in (int(w) for w in a.workers.split(",")):
         # Each worker's engine gets its share of the cores (the CPU reference's threads).
         threads = max(1, (len(__import__("os").sched_getaffinity(0)) // n))
-        with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+        with LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=":0") as cluster, \
                 Client(cluster) as client:
             rates = []
             for run in range(a.runs + 1):

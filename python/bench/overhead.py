@@ -134,6 +134,10 @@ def main() -> None:
         lb, eb = statistics.median(last[base]), statistics.median(every[base])
         print(f"  {n:38s} at {a.readings} readings {l:8.3f} ({100 * (l - lb) / lb:+5.1f}%)   all steps {e:8.3f} "
               f"({100 * (e - eb) / eb:+5.1f}%)")
+    py = "Python (sva.Recognizer)"
+    ratios = [p / c for p, c in zip(last[py], last[base])]
+    print(f"  Python / C++ in this process, round by round at {a.readings} readings: "
+          + ", ".join(f"{100 * (r - 1):+.1f}%" for r in ratios) + f" (median {100 * (statistics.median(ratios) - 1):+.1f}%)")
     print("estimated objects identical at every step of every trial")
 
 if __name__ == "__main__":

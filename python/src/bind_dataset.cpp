@@ -71,14 +71,14 @@ void bind_dataset(nb::module_& m) {
       .def_static(
           "load",
           [](const std::filesystem::path& file) {
-            EngineScope scope;
+            EngineScope scope(true);
             return load_dataset(file);
           },
           "path"_a, "Load a .svad file (sva simulate).")
       .def(
           "save",
           [](const Dataset& d, const std::filesystem::path& file) {
-            EngineScope scope;
+            EngineScope scope(true);
             save_dataset(d, file);
           },
           "path"_a)

@@ -213,8 +213,8 @@ void bind_workflow(nb::module_& m) {
       "json"_a = nb::none(), "csv"_a = nb::none(), "plot"_a = nb::none(), "options"_a,
       nb::sig("def evaluate(map: Map | str | os.PathLike, data: Dataset | str | os.PathLike, *, trials: int | None = "
               "None, max_readings: int = 30, seed: int = 1, threads: int = 0, json: str | os.PathLike | None = None, "
-              "csv: str | os.PathLike | None = None, plot: str | os.PathLike | None = None, " RECOGNIZER_OPTIONS_SIG_NO_THREADS
-              ") -> dict[str, typing.Any]"),
+              "csv: str | os.PathLike | None = None, plot: str | os.PathLike | None = "
+              "None, " RECOGNIZER_OPTIONS_SIG_NO_THREADS ") -> dict[str, typing.Any]"),
       "Recognition trials of a map on a test set, as `sva eval` runs them (docs/evaluation.md): returns the JSON "
       "summary as a dict (the curve against the number of readings); `json`, `csv` and `plot` also write the "
       "files. Trials default to 3 per object.");

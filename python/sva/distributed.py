@@ -133,7 +133,9 @@ def main(argv: Optional[list[str]] = None) -> int:
 
     if a.local is not None and a.local < 1:
         p.error("--local expects at least 1 worker")
-    cluster = LocalCluster(n_workers=a.local, threads_per_worker=1, processes=True, dashboard_address=None) if a.local else None
+    cluster = None
+    if a.local:
+        cluster = LocalCluster(n_workers=a.local, threads_per_worker=1, processes=True, dashboard_address=":0")
     try:
         with Client(cluster if cluster else a.scheduler) as client:
             start = time.perf_counter()

@@ -24,7 +24,10 @@ def sva_bin() -> Path:
 
 
 def run_sva(*args: str) -> str:
-    r = subprocess.run([str(sva_bin()), *args], capture_output=True, text=True)
+    # The package's assets for the command line too: the scene's mesh paths are written into the datasets and maps,
+    # so both sides must read the same files (an installed package carries its own copy).
+    env = dict(os.environ, SVA_ASSETS=str(sva.assets_dir()))
+    r = subprocess.run([str(sva_bin()), *args], capture_output=True, text=True, env=env)
     assert r.returncode == 0, f"sva {' '.join(args)} failed:\n{r.stderr}"
     return r.stdout
 

@@ -8,6 +8,7 @@ packages=(
   libglm-dev libembree-dev libtinygltf-dev libstb-dev nlohmann-json3-dev
   libusb-1.0-0-dev catch2 libtbb-dev
   patchelf  # scripts/bundle.sh: $ORIGIN run paths in the relocatable bundle for a GPU machine
+  python3 python3-venv python3-dev python3-pip  # the Python package (python/, docs/python.md)
 )
 missing=()
 for p in "${packages[@]}"; do
@@ -17,4 +18,31 @@ if [ ${#missing[@]} -gt 0 ]; then
   SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
   $SUDO apt-get update
   $SUDO apt-get install -y --no-install-recommends "${missing[@]}"
+fi
+
+# The Python package's build and test tools, in a virtual environment at .venv made with Debian's python3 (not
+# whatever python3 comes first on PATH): nanobind and scikit-build-core to build, NumPy, pytest, matplotlib and
+# Dask distributed to run and test (python/requirements.txt, pinned).
+repo="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+if [ ! -x "$repo/.venv/bin/python" ] || ! "$repo/.venv/bin/python" -c 'import sys; sys.exit(sys.base_prefix != "/usr")'; then
+  rm -rf "$repo/.venv"
+  /usr/bin/python3 -m venv "$repo/.venv"
+fi
+pins_installed() {  # every pin of python/requirements.txt installed at its version
+  "$repo/.venv/bin/python" - "$repo/python/requirements.txt" <<'PY'
+import sys
+from importlib.metadata import PackageNotFoundError, version
+for line in open(sys.argv[1]):
+    line = line.split("#")[0].strip()
+    if line:
+        name, want = line.split("==")
+        try:
+            if version(name) != want:
+                sys.exit(1)
+        except PackageNotFoundError:
+            sys.exit(1)
+PY
+}
+if ! pins_installed; then
+  "$repo/.venv/bin/python" -m pip install --disable-pip-version-check -q -r "$repo/python/requirements.txt"
 fi

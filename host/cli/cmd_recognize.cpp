@@ -10,11 +10,11 @@
 #include <cstdio>
 
 #include "args.hpp"
+#include "batch/batch_recognition.hpp"
 #include "eval/evaluation.hpp"
 #include "eval/trial_sessions.hpp"
 #include "io/batch_sessions.hpp"
 #include "map/pair_map.hpp"
-#include "recognition/lockstep.hpp"
 #include "recognition/vote_backend_factory.hpp"
 #include "util/progress.hpp"
 
@@ -73,25 +73,11 @@ int cmd_recognize(const std::vector<std::string>& argv) {
   std::size_t total_readings = 0;
   for (const auto& s : sessions) total_readings += s.readings.size();
   util::Progress progress("recognize", total_readings);
-  std::vector<Estimate> estimates(sessions.size());
   BatchRecognizer rec(map, map.pose_space(), std::min(per, sessions.size()), ro);
   if (!rec.backend_fallback_reason().empty())
     std::fprintf(stderr, "sva recognize: backend auto chose the CPU reference: %s\n",
                  rec.backend_fallback_reason().c_str());
-  LockstepHooks hooks;
-  hooks.progress = &progress;
-  hooks.group = [&](std::size_t first, std::size_t count) {
-    std::vector<std::span<const Reading>> readings;
-    for (std::size_t i = 0; i < count; ++i) readings.emplace_back(sessions[first + i].readings);
-    return readings;
-  };
-  hooks.on_group_end = [&](std::size_t first, std::size_t count) {
-    for (std::size_t i = 0; i < count; ++i) estimates[first + i] = rec.estimate(i, top_k);
-  };
-  hooks.on_error = [&](const Error& e, const LockstepStep& s) {
-    return Error(batch_file + ": " + e.what() + " (session numbers count from " + std::to_string(s.first) + ")");
-  };
-  run_lockstep(rec, sessions.size(), hooks);
+  const std::vector<Estimate> estimates = batch::recognize_sessions(rec, sessions, top_k, batch_file, 0, &progress);
   progress.finish();
   io::write_batch_results(out_file, sessions, estimates, map.object_names());
   std::fprintf(stderr, "recognised %zu sessions (%zu readings) with %s; wrote %s\n", sessions.size(), total_readings,

@@ -91,7 +91,10 @@ Scene load_scene(const std::string& name_or_file);
 const std::vector<std::string>& builtin_scene_names();
 // The scene serialised back to JSON (mesh paths absolute).
 std::string scene_to_json(const Scene& scene);
-// Directory of the built-in assets (env SVA_ASSETS overrides).
+// Directory of the built-in assets: env SVA_ASSETS when set, else the directory an embedding registered with
+// set_assets_dir (the Python package registers the copy inside its wheel), else the source tree's, else the
+// installed one (share/sva/assets).
 std::filesystem::path assets_dir();
+void set_assets_dir(const std::filesystem::path& dir);
 
 }  // namespace sva

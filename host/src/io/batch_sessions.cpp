@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <stdexcept>
 
 #include "io/text_file.hpp"
@@ -108,17 +109,27 @@ json pose_json(const RigidPose& p) {
   return {{"R", R}, {"T", vec3_json(p.T)}, {"rodrigues", vec3_json(rotation::log(p.R))}};
 }
 
-std::vector<BatchSession> read_batch_sessions(const std::string& file, int elements) {
-  std::ifstream in(file);
-  if (!in) throw Error(file + ": cannot read the sessions file");
+std::vector<BatchSession> parse_batch_sessions(std::string_view text, const std::string& file, std::size_t first_line,
+                                               std::size_t first_session, int elements) {
   std::vector<BatchSession> out;
-  std::string line;
-  std::size_t line_no = 0;
-  while (std::getline(in, line)) {
-    ++line_no;
+  std::size_t line_no = first_line;
+  for (std::size_t begin = 0; begin < text.size(); ++line_no) {
+    std::size_t end = text.find('\n', begin);
+    if (end == std::string_view::npos) end = text.size();
+    const std::string line(text.substr(begin, end - begin));
+    begin = end + 1;
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    out.push_back(session_of(line, file + ":" + std::to_string(line_no), out.size(), elements));
+    out.push_back(session_of(line, file + ":" + std::to_string(line_no), first_session + out.size(), elements));
   }
+  return out;
+}
+
+std::vector<BatchSession> read_batch_sessions(const std::string& file, int elements) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw Error(file + ": cannot read the sessions file");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw Error(file + ": cannot read the sessions file");
+  std::vector<BatchSession> out = parse_batch_sessions(text, file, 1, 0, elements);
   if (out.empty()) throw Error(file + ": no sessions (empty file)");
   return out;
 }
@@ -139,14 +150,19 @@ void write_batch_sessions(const std::string& file, std::span<const BatchSession>
   write_text_file(file, text);
 }
 
-void write_batch_results(const std::string& file, std::span<const BatchSession> sessions,
-                         std::span<const Estimate> estimates, std::span<const std::string> objects) {
+std::string format_batch_results(std::span<const BatchSession> sessions, std::span<const Estimate> estimates,
+                                 std::span<const std::string> objects) {
   if (sessions.size() != estimates.size())
-    throw std::logic_error("write_batch_results: one estimate per session is needed");
+    throw std::logic_error("format_batch_results: one estimate per session is needed");
   std::string text;
   for (std::size_t i = 0; i < sessions.size(); ++i)
     text += result_json(sessions[i], estimates[i], objects).dump() + "\n";
-  write_text_file(file, text);
+  return text;
+}
+
+void write_batch_results(const std::string& file, std::span<const BatchSession> sessions,
+                         std::span<const Estimate> estimates, std::span<const std::string> objects) {
+  write_text_file(file, format_batch_results(sessions, estimates, objects));
 }
 
 }  // namespace sva::io

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <mutex>
 #include <set>
 #include <sstream>
 
@@ -196,8 +197,22 @@ const std::vector<std::string>& builtin_scene_names() {
   return names;
 }
 
+namespace {
+std::mutex g_assets_mutex;
+std::filesystem::path g_registered_assets;  // set_assets_dir
+}  // namespace
+
+void set_assets_dir(const std::filesystem::path& dir) {
+  std::lock_guard lock(g_assets_mutex);
+  g_registered_assets = dir;
+}
+
 std::filesystem::path assets_dir() {
   if (const char* env = std::getenv("SVA_ASSETS"); env && *env) return env;
+  {
+    std::lock_guard lock(g_assets_mutex);
+    if (!g_registered_assets.empty()) return g_registered_assets;
+  }
   std::error_code ec;
   std::filesystem::path src = SVA_SOURCE_ASSETS_DIR;
   if (!src.empty() && std::filesystem::exists(src / "scenes", ec)) return src;

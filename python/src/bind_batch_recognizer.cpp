@@ -1,0 +1,107 @@
+// sva.BatchRecognizer: many independent sessions against one map, stepped together (one backend call, one GPU
+// submission, per add_readings). Calls take turns on one object; the GIL is released during them.
+#include <sva/batch_recognizer.hpp>
+#include <sva/error.hpp>
+
+#include <nanobind/stl/optional.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
+
+#include <mutex>
+#include <string_view>
+
+#include "batch/batch_recognition.hpp"
+#include "bindings.hpp"
+#include "recognizer_options.hpp"
+
+namespace sva::python {
+
+using namespace nb::literals;
+
+namespace {
+
+struct PyBatchRecognizer {
+  PyBatchRecognizer(const Map& map, const PoseSpaceSpec& space, std::size_t sessions, const RecognizerOptions& o)
+      : rec(map, space, sessions, o) {}
+  BatchRecognizer rec;
+  mutable std::mutex mutex;
+};
+
+void add_readings(PyBatchRecognizer& b, const std::vector<std::size_t>& sessions,
+                  const std::vector<Reading>& readings) {
+  if (sessions.size() != readings.size())
+    throw Error("BatchRecognizer.add_readings: " + std::to_string(sessions.size()) + " sessions but " +
+                std::to_string(readings.size()) + " readings (one reading per session)");
+  EngineScope scope;
+  std::lock_guard lock(b.mutex);
+  b.rec.add_readings(sessions, readings);
+}
+
+// One shard of a sessions file, recognised on this batch (host/src/batch/batch_recognition.hpp).
+nb::bytes recognize_shard(PyBatchRecognizer& b, const Map& map, nb::bytes text, const std::string& source,
+                          std::size_t first_line, std::size_t first_session, std::size_t top_k) {
+  std::string results;
+  {
+    const std::string_view lines(text.c_str(), text.size());
+    EngineScope scope(true);
+    std::lock_guard lock(b.mutex);
+    results = batch::recognize_shard(b.rec, map, lines, source, first_line, first_session, top_k);
+  }
+  return nb::bytes(results.data(), results.size());
+}
+
+}  // namespace
+
+void bind_batch_recognizer(nb::module_& m) {
+  nb::class_<PyBatchRecognizer>(m, "BatchRecognizer",
+                                "Many independent recognition sessions against one map, stepped together. Each "
+                                "session's estimates equal those of a Recognizer fed the same readings.")
+      .def(
+          "__init__",
+          [](PyBatchRecognizer* self, const Map& map, std::size_t sessions, const std::optional<PoseSpaceSpec>& space,
+             const nb::kwargs& options) {
+            const RecognizerOptions o = recognizer_options(options, "sva.BatchRecognizer");
+            EngineScope scope;
+            new (self) PyBatchRecognizer(map, space ? *space : map.pose_space(), sessions, o);
+          },
+          "map"_a, "sessions"_a, "pose_space"_a = nb::none(), "options"_a, nb::keep_alive<1, 2>(),
+          nb::sig("def __init__(self, map: Map, sessions: int, pose_space: PoseSpaceSpec | None = None, "
+                  "*, " RECOGNIZER_OPTIONS_SIG ") -> None"))
+      .def("add_readings", &add_readings, "sessions"_a, "readings"_a,
+           "Adds readings[i] to session sessions[i] (distinct sessions) in one update; on error nothing changes.")
+      .def(
+          "estimate",
+          [](const PyBatchRecognizer& b, std::size_t session, std::size_t top_k) {
+            EngineScope scope;
+            std::lock_guard lock(b.mutex);
+            return b.rec.estimate(session, top_k);
+          },
+          "session"_a, "top_k"_a = 5)
+      .def(
+          "reset",
+          [](PyBatchRecognizer& b, std::size_t session) {
+            EngineScope scope;
+            std::lock_guard lock(b.mutex);
+            b.rec.reset(session);
+          },
+          "session"_a)
+      .def(
+          "readings",
+          [](const PyBatchRecognizer& b, std::size_t session) {
+            std::lock_guard lock(b.mutex);
+            return b.rec.readings(session);
+          },
+          "session"_a)
+      .def("sessions", [](const PyBatchRecognizer& b) { return b.rec.sessions(); })
+      .def_prop_ro(
+          "backend", [](const PyBatchRecognizer& b) { return std::string(backend_name(b.rec.backend())); },
+          "the backend in use: \"cpu\" or \"vulkan\" (auto resolved)")
+      .def("backend_description", [](const PyBatchRecognizer& b) { return b.rec.backend_description(); })
+      .def("backend_fallback_reason", [](const PyBatchRecognizer& b) { return b.rec.backend_fallback_reason(); })
+      .def("_recognize_shard", &recognize_shard, "map"_a, "text"_a, "source"_a, "first_line"_a, "first_session"_a,
+           "top_k"_a,
+           "Result lines (bytes) of the sessions in `text`, whole lines of the sessions file `source` from line "
+           "`first_line`, preceded by `first_session` sessions (sva.recognize_batch, sva.distributed).");
+}
+
+}  // namespace sva::python

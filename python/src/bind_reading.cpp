@@ -1,0 +1,89 @@
+// sva.Reading: a pressure image and the sensor pose when it was taken. The image and vectors are NumPy views of the
+// reading (float32 image, float64 vectors); assigning an array copies it in, after checking shape and dtype.
+#include <sva/reading.hpp>
+
+#include <nanobind/stl/string.h>
+
+#include <algorithm>
+#include <cstdio>
+
+#include "bindings.hpp"
+
+namespace sva::python {
+
+using namespace nb::literals;
+
+namespace {
+
+nb::ndarray<nb::numpy, float, nb::ndim<1>> pressure_view(Reading& r) {
+  return nb::ndarray<nb::numpy, float, nb::ndim<1>>(r.pressure.data(), {r.pressure.size()}, nb::handle());
+}
+
+void init_reading(Reading* r, nb::handle pressure, nb::handle position, nb::handle normal, nb::handle x_axis,
+                  ControllerStatus status) {
+  new (r) Reading();
+  r->pressure = to_pressure(pressure, "Reading.pressure");
+  r->position = to_vec3(position, "Reading.position");
+  r->normal = to_vec3(normal, "Reading.normal");
+  r->x_axis = to_vec3(x_axis, "Reading.x_axis");
+  r->status = status;
+}
+
+}  // namespace
+
+void bind_reading(nb::module_& m) {
+  nb::enum_<ControllerStatus>(m, "ControllerStatus",
+                              "How the contact controller ended; only converged readings are used.")
+      .value("converged", ControllerStatus::converged)
+      .value("not_converged", ControllerStatus::not_converged)
+      .value("no_contact", ControllerStatus::no_contact);
+  nb::class_<Reading>(m, "Reading",
+                      "A tactile reading: the pressure image (kPa, row-major, rows along the sensor y axis) and the "
+                      "sensor pose in the robot frame (position mm, outward surface normal, sensor x axis).")
+      .def("__init__", &init_reading, "pressure"_a, "position"_a, "normal"_a,
+           "x_axis"_a = nb::make_tuple(1.0, 0.0, 0.0), "status"_a = ControllerStatus::converged,
+           nb::sig("def __init__(self, pressure: numpy.typing.ArrayLike, position: numpy.typing.ArrayLike, "
+                   "normal: numpy.typing.ArrayLike, x_axis: numpy.typing.ArrayLike = (1.0, 0.0, 0.0), "
+                   "status: ControllerStatus = ...) -> None"),
+           "status defaults to ControllerStatus.converged.")
+      .def_prop_rw(
+          "pressure", &pressure_view,
+          [](Reading& r, nb::handle p) {
+            // In place: NumPy views of the image stay valid, so its size is fixed.
+            const auto values = to_pressure(p, "Reading.pressure");
+            if (values.size() != r.pressure.size())
+              throw nb::value_error(("Reading.pressure: the reading's image has " + std::to_string(r.pressure.size()) +
+                                     " values, the new one " + std::to_string(values.size()) +
+                                     "; make a new Reading for another sensor")
+                                        .c_str());
+            std::copy(values.begin(), values.end(), r.pressure.begin());
+          },
+          nb::rv_policy::reference_internal,
+          nb::for_setter(nb::sig("def pressure(self, arg: numpy.typing.ArrayLike, /) -> None")),
+          "the pressure image, flat (rows*cols,) float32, kPa")
+      .def_prop_rw(
+          "position", [](Reading& r) { return vec3_view(r.position); },
+          [](Reading& r, nb::handle v) { r.position = to_vec3(v, "Reading.position"); },
+          nb::rv_policy::reference_internal,
+          nb::for_setter(nb::sig("def position(self, arg: numpy.typing.ArrayLike, /) -> None")), "sensor centre, mm")
+      .def_prop_rw(
+          "normal", [](Reading& r) { return vec3_view(r.normal); },
+          [](Reading& r, nb::handle v) { r.normal = to_vec3(v, "Reading.normal"); }, nb::rv_policy::reference_internal,
+          nb::for_setter(nb::sig("def normal(self, arg: numpy.typing.ArrayLike, /) -> None")),
+          "outward surface normal the sensor was aligned to")
+      .def_prop_rw(
+          "x_axis", [](Reading& r) { return vec3_view(r.x_axis); },
+          [](Reading& r, nb::handle v) { r.x_axis = to_vec3(v, "Reading.x_axis"); }, nb::rv_policy::reference_internal,
+          nb::for_setter(nb::sig("def x_axis(self, arg: numpy.typing.ArrayLike, /) -> None")), "sensor x axis")
+      .def_rw("status", &Reading::status)
+      .def_ro("iterations", &Reading::iterations, "contact controller iterations used")
+      .def("__copy__", [](const Reading& r) { return Reading(r); })
+      .def("__repr__", [](const Reading& r) {
+        char buf[200];
+        std::snprintf(buf, sizeof buf, "Reading(position=[%.2f, %.2f, %.2f], %zu pressure values, %s)", r.position.x,
+                      r.position.y, r.position.z, r.pressure.size(), to_string(r.status));
+        return std::string(buf);
+      });
+}
+
+}  // namespace sva::python

@@ -1,0 +1,108 @@
+// sva.Recognizer, sva.Estimate, sva.Hypothesis: feed readings one at a time, read the estimate. Options are keyword
+// arguments with RecognizerOptions' names; the GIL is released during updates and estimates.
+#include <sva/recognizer.hpp>
+
+#include <nanobind/stl/optional.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
+
+#include <mutex>
+
+#include "bindings.hpp"
+#include "recognizer_options.hpp"
+
+namespace sva::python {
+
+using namespace nb::literals;
+
+namespace {
+
+// A Recognizer with a lock: Python threads may share one (the engine's object is not thread-safe, so calls on
+// one recognizer take turns; different recognizers run in parallel, the GIL released).
+struct PyRecognizer {
+  PyRecognizer(const Map& map, const PoseSpaceSpec& space, const RecognizerOptions& options)
+      : rec(map, space, options) {}
+  Recognizer rec;
+  mutable std::mutex mutex;
+};
+
+void bind_estimate(nb::module_& m) {
+  nb::class_<Hypothesis>(m, "Hypothesis", "A pose bin of the belief: object, pose (bin centre) and posterior mass.")
+      .def_ro("object", &Hypothesis::object)
+      .def_ro("object_name", &Hypothesis::object_name)
+      .def_rw("pose", &Hypothesis::pose)
+      .def_ro("probability", &Hypothesis::probability)
+      .def("__repr__", [](const Hypothesis& h) {
+        return "Hypothesis(object='" + h.object_name + "', probability=" + std::to_string(h.probability) + ")";
+      });
+  nb::class_<Estimate>(m, "Estimate", "The recognizer's belief after the readings so far.")
+      .def_ro("readings", &Estimate::readings, "readings seen so far")
+      .def_ro("object", &Estimate::object, "the object with the most mass summed over poses")
+      .def_ro("object_name", &Estimate::object_name)
+      .def_prop_ro(
+          "object_probability", [](const Estimate& e) { return doubles_copy(e.object_probability); },
+          nb::rv_policy::automatic, "per object, sums to 1 (a NumPy array)")
+      .def_rw("pose", &Estimate::pose, "continuous pose of `object` (the fine pose when refined)")
+      .def_rw("parabolic_pose", &Estimate::parabolic_pose)
+      .def_rw("bin_pose", &Estimate::bin_pose)
+      .def_ro("pose_refined", &Estimate::pose_refined)
+      .def_ro("pose_valid", &Estimate::pose_valid, "false until a pair has voted")
+      .def_ro("top", &Estimate::top, "best bins, most probable first")
+      .def_ro("votes", &Estimate::votes)
+      .def_ro("votes_outside", &Estimate::votes_outside)
+      .def_ro("votes_zero", &Estimate::votes_zero)
+      .def("__repr__", [](const Estimate& e) {
+        return "Estimate(readings=" + std::to_string(e.readings) + ", object='" + e.object_name +
+               "', pose_valid=" + (e.pose_valid ? "True" : "False") + ")";
+      });
+}
+
+}  // namespace
+
+void bind_recognizer(nb::module_& m) {
+  bind_estimate(m);
+  nb::class_<PyRecognizer>(m, "Recognizer",
+                           "Recognition of one object from a stream of readings against a map (one session).")
+      .def(
+          "__init__",
+          [](PyRecognizer* self, const Map& map, const std::optional<PoseSpaceSpec>& pose_space,
+             const nb::kwargs& options) {
+            const RecognizerOptions o = recognizer_options(options, "sva.Recognizer");
+            EngineScope scope;
+            new (self) PyRecognizer(map, pose_space ? *pose_space : map.pose_space(), o);
+          },
+          "map"_a, "pose_space"_a = nb::none(), "options"_a, nb::keep_alive<1, 2>(),
+          nb::sig("def __init__(self, map: Map, pose_space: PoseSpaceSpec | None = None, *, " RECOGNIZER_OPTIONS_SIG
+                  ") -> None"),
+          "pose_space defaults to the map's; options as RecognizerOptions (docs/recognition.md).")
+      .def(
+          "add_reading",
+          [](PyRecognizer& r, const Reading& reading) {
+            EngineScope scope;
+            std::lock_guard lock(r.mutex);
+            r.rec.add_reading(reading);
+          },
+          "reading"_a,
+          "Adds one reading (robot frame) and updates the belief; refuses readings that are not converged or cannot "
+          "be described (sva.Error).")
+      .def(
+          "estimate",
+          [](const PyRecognizer& r, std::size_t top_k) {
+            EngineScope scope;
+            std::lock_guard lock(r.mutex);
+            return r.rec.estimate(top_k);
+          },
+          "top_k"_a = 5)
+      .def("reset",
+           [](PyRecognizer& r) {
+             EngineScope scope;
+             std::lock_guard lock(r.mutex);
+             r.rec.reset();
+           })
+      .def("readings", [](const PyRecognizer& r) {
+        std::lock_guard lock(r.mutex);
+        return r.rec.readings();
+      });
+}
+
+}  // namespace sva::python

@@ -1,0 +1,55 @@
+// sva.Scene, sva.SensorSpec, sva.load_scene: the objects, sensor and pose space a dataset was made of, and where the
+// built-in scenes live (sva.assets_dir; the package registers the assets inside its wheel with set_assets_dir).
+#include <sva/scene.hpp>
+
+#include <nanobind/stl/filesystem.h>
+#include <nanobind/stl/string.h>
+#include <nanobind/stl/vector.h>
+
+#include "bindings.hpp"
+
+namespace sva::python {
+
+using namespace nb::literals;
+
+void bind_scene(nb::module_& m) {
+  nb::class_<SensorSpec>(m, "SensorSpec", "Geometry of the tactile array (square elements, row-major image).")
+      .def(nb::init<>())
+      .def_rw("rows", &SensorSpec::rows)
+      .def_rw("cols", &SensorSpec::cols)
+      .def_rw("pitch_mm", &SensorSpec::pitch_mm)
+      .def_prop_ro("elements", &SensorSpec::elements);
+  nb::class_<Scene>(m, "Scene", "A scene: objects, sensor, pose space, appearance defaults and protocol.")
+      .def_ro("name", &Scene::name)
+      .def_ro("file", &Scene::file)
+      .def_prop_ro(
+          "object_names",
+          [](const Scene& s) {
+            std::vector<std::string> names;
+            for (const auto& o : s.objects) names.push_back(o.name);
+            return names;
+          },
+          "names of the objects, in id order")
+      .def_prop_ro(
+          "meshes",
+          [](const Scene& s) {
+            std::vector<std::filesystem::path> meshes;
+            for (const auto& o : s.objects) meshes.push_back(o.mesh);
+            return meshes;
+          },
+          "mesh file of each object, in id order")
+      .def_rw("sensor", &Scene::sensor)
+      .def_rw("pose_space", &Scene::pose_space)
+      .def("to_json", &scene_to_json, "The scene as JSON text (mesh paths absolute).")
+      .def("__repr__", [](const Scene& s) {
+        return "Scene(name='" + s.name + "', objects=" + std::to_string(s.objects.size()) + ")";
+      });
+  m.def("load_scene", &load_scene, "name_or_file"_a,
+        "A scene file, or a built-in scene by name (paper3d, letters2d, tiny, household10|25|50).");
+  m.def("parse_scene", &parse_scene, "json_text"_a, "origin"_a,
+        "A scene from JSON text; `origin` names it in errors and relative mesh paths resolve against its directory.");
+  m.def("assets_dir", &assets_dir, "Directory of the built-in assets (env SVA_ASSETS overrides).");
+  m.def("_set_assets_dir", &set_assets_dir, "dir"_a);
+}
+
+}  // namespace sva::python

@@ -1,0 +1,223 @@
+// The entry points of the commands, as functions: sva.simulate (sva simulate), sva.train (sva train) and
+// sva.evaluate (sva eval). They call the library functions the CLI calls, with the GIL released and Ctrl-C reaching
+// the engine.
+#include <sva/dataset.hpp>
+#include <sva/error.hpp>
+#include <sva/map.hpp>
+#include <sva/scene.hpp>
+
+#include <nanobind/stl/filesystem.h>
+#include <nanobind/stl/optional.h>
+#include <nanobind/stl/pair.h>
+#include <nanobind/stl/string.h>
+
+#include <cmath>
+#include <filesystem>
+#include <memory>
+#include <optional>
+
+#include "bindings.hpp"
+#include "eval/evaluation.hpp"
+#include "eval/figure.hpp"
+#include "eval/report.hpp"
+#include "io/text_file.hpp"
+#include "recognizer_options.hpp"
+#include "util/progress.hpp"
+
+#if __has_include(<sva/sim/simulate.hpp>)
+#include <sva/sim/simulate.hpp>
+#define SVA_HAVE_SIM 1
+#endif
+
+namespace sva::python {
+
+using namespace nb::literals;
+
+namespace {
+
+// A Dataset argument: a Dataset, or the path of a .svad file (loaded).
+struct DatasetArg {
+  const Dataset* data = nullptr;  // the caller's, or `loaded`
+  std::shared_ptr<const Dataset> loaded;
+  std::string name = "dataset";
+};
+
+DatasetArg dataset_arg(nb::handle obj, const char* what) {
+  DatasetArg a;
+  if (nb::try_cast(obj, a.data, false) && a.data) return a;
+  std::filesystem::path file;
+  if (!nb::try_cast(obj, file))
+    throw nb::type_error((std::string(what) + ": expected a Dataset or the path of a .svad file").c_str());
+  {
+    EngineScope scope(true);
+    a.loaded = std::make_shared<const Dataset>(load_dataset(file));
+  }
+  a.data = a.loaded.get();
+  a.name = file.string();
+  return a;
+}
+
+struct MapArg {
+  Map map;
+  std::string name = "map";
+};
+
+MapArg map_arg(nb::handle obj, const char* what) {
+  MapArg a;
+  if (nb::try_cast(obj, a.map, false)) return a;
+  std::filesystem::path file;
+  if (!nb::try_cast(obj, file))
+    throw nb::type_error((std::string(what) + ": expected a Map or the path of a .svam file").c_str());
+  EngineScope scope(true);
+  a.map = Map::load(file);
+  a.name = file.string();
+  return a;
+}
+
+std::pair<Dataset, Dataset> simulate(nb::handle scene_arg, std::optional<int> train, std::optional<int> test,
+                                     std::uint64_t seed, unsigned threads,
+                                     const std::optional<std::filesystem::path>& out,
+                                     const std::optional<std::filesystem::path>& preview) {
+#ifdef SVA_HAVE_SIM
+  Scene scene;
+  if (!nb::try_cast(scene_arg, scene, false)) {
+    std::string name;
+    if (!nb::try_cast(scene_arg, name))
+      throw nb::type_error("sva.simulate: scene expects a Scene, a built-in scene's name or a scene file");
+    scene = load_scene(name);
+  }
+  sim::SimulateOptions opt;
+  opt.train_per_object = train.value_or(-1);
+  opt.test_per_object = test.value_or(-1);
+  if (opt.train_per_object < -1 || opt.test_per_object < -1)
+    throw Error("sva.simulate: train and test are readings per object, >= 0");
+  opt.seed = seed;
+  opt.threads = threads;
+  EngineScope scope(true);
+  std::error_code ec;
+  if (out && std::filesystem::exists(*out, ec) && !std::filesystem::is_directory(*out, ec))
+    throw Error(out->string() + ": exists and is not a directory");
+  sim::SimulatedData data = sim::simulate(scene, opt);  // all inputs validated before anything is written
+  if (out) {
+    std::filesystem::create_directories(*out, ec);
+    if (ec) throw Error(out->string() + ": cannot create directory: " + ec.message());
+    save_dataset(data.train, *out / "train.svad");
+    save_dataset(data.test, *out / "test.svad");
+  }
+  if (preview) sim::write_preview(data.train, *preview);
+  return {std::move(data.train), std::move(data.test)};
+#else
+  (void)scene_arg, (void)train, (void)test, (void)seed, (void)threads, (void)out, (void)preview;
+  throw Error("sva.simulate: this build has no simulator (configure with -DSVA_BUILD_SIM=ON and Embree 3)");
+#endif
+}
+
+Map train(nb::handle data_arg, const std::optional<std::string>& descriptor, std::optional<int> clusters,
+          std::optional<int> dist_bins, std::optional<std::pair<double, double>> dist_range, std::uint64_t seed,
+          unsigned threads, const std::optional<std::filesystem::path>& out, TrainReport* report) {
+  TrainOptions o;
+  if (descriptor && *descriptor != "mn" && *descriptor != "mnti")
+    throw Error("sva.train: descriptor expects \"mn\" or \"mnti\", got \"" + *descriptor + "\"");
+  o.descriptor = descriptor;
+  if (clusters && *clusters < 1) throw Error("sva.train: clusters must be >= 1");
+  o.clusters = clusters;
+  if (dist_bins && *dist_bins < 1) throw Error("sva.train: dist_bins must be >= 1");
+  o.dist_bins = dist_bins;
+  if (dist_range) {
+    const auto [lo, hi] = *dist_range;
+    if (!std::isfinite(lo) || !std::isfinite(hi) || lo < 0 || lo >= hi)
+      throw Error("sva.train: dist_range expects (MIN, MAX) in mm with 0 <= MIN < MAX");
+    o.dist_min_mm = lo;
+    o.dist_max_mm = hi;
+  }
+  o.seed = seed;
+  o.threads = threads;
+  o.progress = true;  // shown when sva.show_progress(True)
+  const DatasetArg data = dataset_arg(data_arg, "sva.train: data");
+  EngineScope scope(true);
+  Map map = Map::train(*data.data, o, report);
+  if (out) map.save(*out);
+  return map;
+}
+
+struct EvalFiles {
+  std::optional<std::filesystem::path> json, csv, plot;
+};
+
+std::string evaluate(const MapArg& map, const DatasetArg& test, eval::EvalOptions o, const EvalFiles& files) {
+  EngineScope scope(true);
+  eval::check_compatible(map.map, *test.data, map.name, test.name);
+  if (o.trials == 0) o.trials = 3 * test.data->scene.objects.size();
+  const eval::EvalResult result = eval::run_evaluation(map.map, *test.data, o);
+  const eval::Curve curve = eval::summarize(result);
+  const std::string json = eval::to_json(result, curve);
+  if (files.json) io::write_text_file(*files.json, json);
+  if (files.csv) io::write_text_file(*files.csv, eval::to_csv(result));
+  if (files.plot) eval::write_figure({curve}, *files.plot);
+  return json;
+}
+
+nb::object evaluate_py(nb::handle map_obj, nb::handle data_obj, std::optional<std::size_t> trials,
+                       std::size_t max_readings, std::uint64_t seed, unsigned threads, const EvalFiles& files,
+                       const nb::kwargs& options) {
+  eval::EvalOptions o;
+  o.recognizer = recognizer_options(options, "sva.evaluate");
+  if (trials && *trials == 0) throw Error("sva.evaluate: trials must be >= 1");
+  o.trials = trials.value_or(0);
+  if (max_readings == 0) throw Error("sva.evaluate: max_readings must be >= 1");
+  o.max_readings = max_readings;
+  o.seed = seed;
+  o.threads = threads;
+  o.progress = true;  // shown when sva.show_progress(True)
+  const MapArg map = map_arg(map_obj, "sva.evaluate: map");
+  const DatasetArg test = dataset_arg(data_obj, "sva.evaluate: data");
+  o.map_name = map.name;
+  o.data_name = test.name;
+  const std::string json = evaluate(map, test, o, files);
+  return nb::module_::import_("json").attr("loads")(json);
+}
+
+}  // namespace
+
+void bind_workflow(nb::module_& m) {
+  // Progress lines on stderr suit the command line; a Python program asks for them.
+  util::Progress::set_quiet(true);
+  m.def(
+      "show_progress", [](bool on) { util::Progress::set_quiet(!on); }, "on"_a = true,
+      "Show the progress of simulation, training and evaluation on stderr (off by default).");
+  m.def("simulate", &simulate, "scene"_a, nb::kw_only(), "train"_a = nb::none(), "test"_a = nb::none(), "seed"_a = 1,
+        "threads"_a = 0, "out"_a = nb::none(), "preview"_a = nb::none(),
+        nb::sig("def simulate(scene: Scene | str, *, train: int | None = None, test: int | None = None, seed: int = 1, "
+                "threads: int = 0, out: str | os.PathLike | None = None, preview: str | os.PathLike | None = None) "
+                "-> tuple[Dataset, Dataset]"),
+        "Simulated (train, test) datasets of a scene (a Scene, a built-in scene's name or a scene file), `train` and "
+        "`test` readings per object (default: the scene's protocol); with `out`, also written as out/train.svad and "
+        "out/test.svad, as `sva simulate` does. Same seed, same data, whatever `threads`.");
+  m.def("train", &train, "data"_a, nb::kw_only(), "descriptor"_a = nb::none(), "clusters"_a = nb::none(),
+        "dist_bins"_a = nb::none(), "dist_range"_a = nb::none(), "seed"_a = 1, "threads"_a = 0, "out"_a = nb::none(),
+        "report"_a = nb::none(),
+        nb::sig("def train(data: Dataset | str | os.PathLike, *, descriptor: str | None = None, clusters: int | None = "
+                "None, dist_bins: int | None = None, dist_range: tuple[float, float] | None = None, seed: int = 1, "
+                "threads: int = 0, out: str | os.PathLike | None = None, report: TrainReport | None = None) -> Map"),
+        "The SVA map of a training dataset, as `sva train` builds it (defaults from the dataset's scene); with `out`, "
+        "also saved there; `report` (a TrainReport) is filled in.");
+  m.def(
+      "evaluate",
+      [](nb::handle map, nb::handle data, std::optional<std::size_t> trials, std::size_t max_readings,
+         std::uint64_t seed, unsigned threads, std::optional<std::filesystem::path> json,
+         std::optional<std::filesystem::path> csv, std::optional<std::filesystem::path> plot,
+         const nb::kwargs& options) {
+        return evaluate_py(map, data, trials, max_readings, seed, threads, EvalFiles{json, csv, plot}, options);
+      },
+      "map"_a, "data"_a, nb::kw_only(), "trials"_a = nb::none(), "max_readings"_a = 30, "seed"_a = 1, "threads"_a = 0,
+      "json"_a = nb::none(), "csv"_a = nb::none(), "plot"_a = nb::none(), "options"_a,
+      nb::sig("def evaluate(map: Map | str | os.PathLike, data: Dataset | str | os.PathLike, *, trials: int | None = "
+              "None, max_readings: int = 30, seed: int = 1, threads: int = 0, json: str | os.PathLike | None = None, "
+              "csv: str | os.PathLike | None = None, plot: str | os.PathLike | None = "
+              "None, " RECOGNIZER_OPTIONS_SIG_NO_THREADS ") -> dict[str, typing.Any]"),
+      "Recognition trials of a map on a test set, as `sva eval` runs them (docs/evaluation.md): returns the JSON "
+      "summary as a dict (the curve against the number of readings); `json`, `csv` and `plot` also write the "
+      "files. Trials default to 3 per object.");
+}
+
+}  // namespace sva::python

@@ -1,0 +1,79 @@
+"""sva: tactile object recognition and localization by spatially-varying appearance.
+
+The C++ engine (module ``sva._sva_core``) with the C++ names::
+
+    import sva
+    train, test = sva.simulate("tiny", train=20, test=5)
+    m = sva.train(train)
+    rec = sva.Recognizer(m, backend="auto")
+    for sample in test:
+        rec.add_reading(sample.reading)
+    est = rec.estimate()
+    est.object_name, est.pose.R, est.pose.T      # NumPy arrays
+
+Batch recognition of a sessions file: :func:`sva.recognize_batch`, on one machine, and
+:func:`sva.distributed.recognize_batch`, sharded over a Dask cluster. See docs/python.md.
+"""
+
+from pathlib import Path as _Path
+
+from ._sva_core import (
+    BatchRecognizer,
+    ControllerStatus,
+    Dataset,
+    Error,
+    Estimate,
+    Hypothesis,
+    Map,
+    PoseSpaceKind,
+    PoseSpaceSpec,
+    Reading,
+    Recognizer,
+    RigidPose,
+    Sample,
+    Scene,
+    SensorSpec,
+    TrainReport,
+    assets_dir,
+    evaluate,
+    load_scene,
+    parse_scene,
+    show_progress,
+    simulate,
+    train,
+)
+from ._sva_core import _set_assets_dir
+from .batch import recognize_batch
+
+__all__ = [
+    "BatchRecognizer",
+    "ControllerStatus",
+    "Dataset",
+    "Error",
+    "Estimate",
+    "Hypothesis",
+    "Map",
+    "PoseSpaceKind",
+    "PoseSpaceSpec",
+    "Reading",
+    "Recognizer",
+    "RigidPose",
+    "Sample",
+    "Scene",
+    "SensorSpec",
+    "TrainReport",
+    "assets_dir",
+    "evaluate",
+    "load_scene",
+    "parse_scene",
+    "recognize_batch",
+    "show_progress",
+    "simulate",
+    "train",
+]
+
+# An installed wheel carries the built-in scenes and objects beside this file; the engine looks there (unless
+# SVA_ASSETS says otherwise). In the build tree there is no such folder and the source tree's assets are used.
+_packaged_assets = _Path(__file__).resolve().parent / "assets"
+if (_packaged_assets / "scenes").is_dir():
+    _set_assets_dir(str(_packaged_assets))

@@ -1,0 +1,125 @@
+"""Batch recognition of a sessions file (docs/batch-format.md) on this machine: what ``sva recognize`` does.
+
+The file is split into shards of consecutive sessions (whole lines); each shard is recognised by the engine
+(``BatchRecognizer._recognize_shard``) and yields the result lines of its sessions, so the results file is the
+shards' lines concatenated in input order. :mod:`sva.distributed` runs the same shards on a Dask cluster.
+"""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Iterator, Optional, Union
+
+from ._sva_core import BatchRecognizer, Error, Map
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+@dataclass(frozen=True)
+class Shard:
+    """Whole lines of a sessions file: ``text`` starts at line ``first_line`` (from 1) and is preceded in the
+    file by ``first_session`` sessions; it holds ``sessions`` sessions."""
+
+    text: bytes
+    first_line: int
+    first_session: int
+    sessions: int
+
+
+def _is_session(line: bytes) -> bool:
+    # As the engine's reader: a line of only spaces, tabs and carriage returns is skipped.
+    return line.strip(b" \t\r") != b""
+
+
+class SessionsFile:
+    """A sessions file's lines, cut into shards on line boundaries only: every field is checked by the engine when
+    a shard is recognised, and errors name FILE:LINE as for the whole file."""
+
+    def __init__(self, file: PathLike):
+        self.name = os.fspath(file)
+        try:
+            data = Path(file).read_bytes()
+        except OSError:
+            raise Error(f"{self.name}: cannot read the sessions file") from None
+        self._lines = data.split(b"\n")
+        if self._lines and self._lines[-1] == b"":
+            self._lines.pop()  # the newline that ends the last line
+        self._starts = [i for i, line in enumerate(self._lines) if _is_session(line)]
+        if not self._starts:
+            raise Error(f"{self.name}: no sessions (empty file)")
+
+    @property
+    def sessions(self) -> int:
+        return len(self._starts)
+
+    def shards(self, sessions_per_shard: int) -> list[Shard]:
+        """Consecutive shards of ``sessions_per_shard`` sessions (the last may have fewer), in file order."""
+        if sessions_per_shard < 1:
+            raise Error(f"sessions per shard must be >= 1, got {sessions_per_shard}")
+        out = []
+        for first in range(0, self.sessions, sessions_per_shard):
+            last = min(first + sessions_per_shard, self.sessions)
+            begin = 0 if first == 0 else self._starts[first]
+            end = self._starts[last] if last < self.sessions else len(self._lines)
+            text = b"\n".join(self._lines[begin:end]) + b"\n"
+            out.append(Shard(text, begin + 1, first, last - first))
+        return out
+
+
+def check_writable(file: PathLike) -> None:
+    """Refuses an output path whose folder is missing before any recognition runs (as the commands do)."""
+    parent = Path(file).parent
+    if not parent.is_dir():
+        raise Error(f"{os.fspath(file)}: cannot write: folder {os.fspath(parent)} does not exist")
+
+
+def write_atomically(file: PathLike, chunks: Iterator[bytes]) -> None:
+    """Writes the chunks to a temporary file beside ``file`` and renames it into place (no partial results file
+    that looks complete, as the engine writes its files)."""
+    path = Path(file)
+    try:
+        fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
+    except OSError as e:
+        raise Error(f"{os.fspath(file)}: cannot write: {e.strerror}") from None
+    try:
+        with os.fdopen(fd, "wb") as out:
+            for chunk in chunks:
+                out.write(chunk)
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+
+
+def recognize_batch(
+    map: Union[Map, PathLike],
+    sessions: PathLike,
+    out: Optional[PathLike] = None,
+    *,
+    sessions_per_submission: int = 64,
+    top: int = 3,
+    **options,
+) -> list[str]:
+    """Recognises every session of a sessions file, as ``sva recognize --batch SESSIONS --out OUT`` does: the
+    results (one JSON line per session, in input order; docs/batch-format.md) are returned as strings and, with
+    ``out``, written there (byte for byte the command's file). ``options`` are the Recognizer's (backend="auto",
+    refine_pose, vulkan_device, ...)."""
+    if not isinstance(map, Map):
+        map = Map.load(map)
+    if sessions_per_submission < 1:
+        raise Error(f"sessions_per_submission must be >= 1, got {sessions_per_submission}")
+    if out is not None:
+        check_writable(out)
+    file = SessionsFile(sessions)
+    (whole,) = file.shards(file.sessions)
+    rec = BatchRecognizer(map, min(sessions_per_submission, whole.sessions), **options)
+    results = rec._recognize_shard(map, whole.text, file.name, whole.first_line, whole.first_session, top)
+    if out is not None:
+        write_atomically(out, iter([results]))
+    return results.decode("utf-8").splitlines()

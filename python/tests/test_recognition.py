@@ -1,0 +1,117 @@
+"""The Python path gives the C++ path's estimates: the Recognizer, the BatchRecognizer and batch recognition of a
+sessions file against `sva recognize` on the same map and sessions."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import sva
+from conftest import reading_of
+
+
+def pose_of(j: dict) -> tuple[np.ndarray, np.ndarray]:
+    return np.array(j["R"]), np.array(j["T"])
+
+
+def assert_estimate_is(est: sva.Estimate, want: dict, names: list[str]) -> None:
+    """An Estimate equals a line of the C++ results file (numbers as written: round-trip precision); `names` are
+    the map's objects in id order."""
+    assert est.readings == want["readings"]
+    assert est.object_name == want["object"]
+    assert est.pose_valid == want["pose_valid"]
+    assert est.object_probability.tolist() == [want["object_probability"][n] for n in names]
+    if est.pose_valid:
+        R, T = pose_of(want["pose"])
+        assert np.array_equal(est.pose.R, R) and np.array_equal(est.pose.T, T)
+    assert len(est.top) == len(want["top"])
+    for h, w in zip(est.top, want["top"]):
+        assert h.object_name == w["object"] and h.probability == w["probability"]
+        R, T = pose_of(w)
+        assert np.array_equal(h.pose.R, R) and np.array_equal(h.pose.T, T)
+
+
+def test_recognizer_gives_the_cli_estimates(tiny, tiny_map):
+    results = tiny.result_lines()
+    sessions = tiny.session_lines()
+    assert len(sessions) == len(results) == 6
+    rec = sva.Recognizer(tiny_map, backend="cpu")
+    for s, want in zip(sessions, results):
+        rec.reset()
+        for r in s["readings"]:
+            rec.add_reading(reading_of(r))
+        assert rec.readings() == len(s["readings"])
+        assert_estimate_is(rec.estimate(top_k=3), want, tiny_map.object_names)
+    # and the estimates are not trivial: most trials find the object (6 readings on the tiny scene)
+    right = sum(w["object"] == s["truth"]["object"] for s, w in zip(sessions, results))
+    assert right >= 4
+
+
+def test_estimate_arrays(tiny, tiny_map):
+    rec = sva.Recognizer(tiny_map, backend="cpu")
+    for r in tiny.session_lines()[0]["readings"]:
+        rec.add_reading(reading_of(r))
+    est = rec.estimate()
+    assert est.pose.R.shape == (3, 3) and est.pose.R.dtype == np.float64
+    assert est.pose.T.shape == (3,)
+    assert np.allclose(est.pose.R @ est.pose.R.T, np.eye(3), atol=1e-9)
+    assert est.object_probability.shape == (tiny_map.objects,)
+    assert est.object_probability.sum() == pytest.approx(1.0)
+    assert len(est.top) == 5 and est.top[0].probability >= est.top[-1].probability
+    # the 4x4 matrix and apply() agree with R and T
+    M = est.pose.matrix()
+    x = np.array([10.0, -5.0, 3.0])
+    assert np.allclose(M[:3, :3] @ x + M[:3, 3], est.pose.apply(x))
+    assert np.allclose(est.pose.apply(x), est.pose.R @ x + est.pose.T)
+
+
+def test_batch_recognizer_gives_the_cli_estimates(tiny, tiny_map):
+    sessions = tiny.session_lines()
+    results = tiny.result_lines()
+    b = sva.BatchRecognizer(tiny_map, len(sessions), backend="cpu")
+    assert b.backend == "cpu" and b.sessions() == len(sessions)
+    for step in range(max(len(s["readings"]) for s in sessions)):
+        ids = [i for i, s in enumerate(sessions) if step < len(s["readings"])]
+        b.add_readings(ids, [reading_of(sessions[i]["readings"][step]) for i in ids])
+    for i, want in enumerate(results):
+        assert b.readings(i) == len(sessions[i]["readings"])
+        assert_estimate_is(b.estimate(i, top_k=3), want, tiny_map.object_names)
+
+
+@pytest.mark.parametrize("per_submission", [64, 4])
+def test_recognize_batch_writes_the_cli_file(tiny, tiny_map, tmp_path, per_submission):
+    out = tmp_path / "results.jsonl"
+    lines = sva.recognize_batch(tiny_map, tiny.sessions, out, sessions_per_submission=per_submission, backend="cpu")
+    assert out.read_bytes() == tiny.results.read_bytes()
+    assert lines == tiny.results.read_text().splitlines()
+
+
+def test_recognize_batch_reports_the_bad_line(tiny, tmp_path):
+    lines = tiny.sessions.read_text().splitlines()
+    bad = lines[:3] + [lines[3].replace('"position":[', '"position":["x",', 1)] + lines[4:]
+    f = tmp_path / "bad.jsonl"
+    f.write_text("\n".join(bad) + "\n")
+    out = tmp_path / "out.jsonl"
+    with pytest.raises(sva.Error, match=r"bad\.jsonl:4: readings\[0\]\.position: expected an array of 3 numbers"):
+        sva.recognize_batch(str(tiny.map), f, out, backend="cpu")
+    assert not out.exists()
+    with pytest.raises(sva.Error, match="no-such-dir/out.jsonl: cannot write"):
+        sva.recognize_batch(str(tiny.map), tiny.sessions, tmp_path / "no-such-dir" / "out.jsonl", backend="cpu")
+    empty = tmp_path / "empty.jsonl"
+    empty.write_text("\n  \n")
+    with pytest.raises(sva.Error, match="no sessions"):
+        sva.recognize_batch(str(tiny.map), empty, backend="cpu")
+
+
+def test_pose_space_and_options(tiny_map):
+    ps = tiny_map.pose_space
+    assert ps.kind == sva.PoseSpaceKind.spatial and ps.translation_bins > 0
+    wide = sva.PoseSpaceSpec(translation_bins=10, translation_min_mm=-300, translation_max_mm=300)
+    rec = sva.Recognizer(tiny_map, wide, backend="cpu", refine_pose=False, threads=1)
+    assert rec.readings() == 0
+    with pytest.raises(sva.Error, match="backend"):
+        sva.Recognizer(tiny_map, backend="gpu")
+    with pytest.raises(TypeError, match="unknown option \"backnd\""):
+        sva.Recognizer(tiny_map, backnd="cpu")
+    with pytest.raises(sva.Error, match="likelihood_cutoff"):
+        sva.Recognizer(tiny_map, backend="cpu", likelihood_cutoff=-1.0)

@@ -8,6 +8,8 @@
 
 #include <mutex>
 
+#include <algorithm>
+
 #include "bindings.hpp"
 #include "recognizer_options.hpp"
 
@@ -35,6 +37,26 @@ void bind_estimate(nb::module_& m) {
       .def("__repr__", [](const Hypothesis& h) {
         return "Hypothesis(object='" + h.object_name + "', probability=" + std::to_string(h.probability) + ")";
       });
+  nb::class_<PoseHypothesis>(m, "PoseHypothesis",
+                             "A distinct mode of the belief: object, pose, posterior mass and a 6x6 covariance in "
+                             "ROS PoseWithCovariance order (x, y, z in mm; rotation about X, Y, Z in rad).")
+      .def_ro("object", &PoseHypothesis::object)
+      .def_ro("object_name", &PoseHypothesis::object_name)
+      .def_rw("pose", &PoseHypothesis::pose)
+      .def_ro("probability", &PoseHypothesis::probability)
+      .def_ro("valid", &PoseHypothesis::valid, "false for an object no vote has reached (object_hypotheses)")
+      .def_prop_ro(
+          "covariance",
+          [](const PoseHypothesis& h) {
+            auto* d = new double[36];
+            std::copy(h.covariance.begin(), h.covariance.end(), d);
+            nb::capsule owner(d, [](void* p) noexcept { delete[] static_cast<double*>(p); });
+            return nb::ndarray<nb::numpy, double, nb::shape<6, 6>>(d, {6, 6}, owner);
+          },
+          nb::rv_policy::take_ownership, "6x6 NumPy array (a copy), row-major, ROS order")
+      .def("__repr__", [](const PoseHypothesis& h) {
+        return "PoseHypothesis(object='" + h.object_name + "', probability=" + std::to_string(h.probability) + ")";
+      });
   nb::class_<Estimate>(m, "Estimate", "The recognizer's belief after the readings so far.")
       .def_ro("readings", &Estimate::readings, "readings seen so far")
       .def_ro("object", &Estimate::object, "the object with the most mass summed over poses")
@@ -48,6 +70,8 @@ void bind_estimate(nb::module_& m) {
       .def_ro("pose_refined", &Estimate::pose_refined)
       .def_ro("pose_valid", &Estimate::pose_valid, "false until a pair has voted")
       .def_ro("top", &Estimate::top, "best bins, most probable first")
+      .def_ro("hypotheses", &Estimate::hypotheses, "distinct modes after non-maximum suppression, most probable first")
+      .def_ro("object_hypotheses", &Estimate::object_hypotheses, "each object's best mode, in object order")
       .def_ro("votes", &Estimate::votes)
       .def_ro("votes_outside", &Estimate::votes_outside)
       .def_ro("votes_zero", &Estimate::votes_zero)

@@ -115,3 +115,21 @@ def test_pose_space_and_options(tiny_map):
         sva.Recognizer(tiny_map, backnd="cpu")
     with pytest.raises(sva.Error, match="likelihood_cutoff"):
         sva.Recognizer(tiny_map, backend="cpu", likelihood_cutoff=-1.0)
+
+
+
+def test_hypotheses_with_covariance(tiny, tiny_map):
+    """Distinct modes carry a 6x6 covariance in ROS PoseWithCovariance order as a NumPy array."""
+    rec = sva.Recognizer(tiny_map, backend="cpu")
+    for r in tiny.session_lines()[0]["readings"]:
+        rec.add_reading(reading_of(r))
+    est = rec.estimate()
+    assert len(est.hypotheses) >= 1
+    h = est.hypotheses[0]
+    assert h.object == est.object and 0.0 < h.probability <= 1.0
+    cov = h.covariance
+    assert cov.shape == (6, 6) and cov.dtype == np.float64
+    assert np.allclose(cov, cov.T)
+    assert np.all(np.diag(cov)[:3] > 0)  # the bin quantisation alone gives every translation axis a variance
+    assert len(est.object_hypotheses) == tiny_map.objects
+    assert est.object_hypotheses[est.object].valid

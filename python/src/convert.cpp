@@ -7,6 +7,7 @@
 #include <nanobind/stl/string.h>
 
 #include "bindings.hpp"
+#include "recognition/vote_backend_factory.hpp"
 #include "util/interrupt.hpp"
 
 namespace sva::python {
@@ -101,24 +102,10 @@ std::vector<float> to_pressure(nb::handle obj, const char* what) {
   return {f.data(), f.data() + f.size()};
 }
 
-BackendKind to_backend(const std::string& text, const std::string& what) {
-  if (text == "cpu") return BackendKind::cpu;
-  if (text == "vulkan") return BackendKind::vulkan;
-  if (text == "auto") return BackendKind::automatic;
-  throw Error(what + ": expected \"auto\", \"cpu\" or \"vulkan\", got \"" + text + "\"");
-}
+// The library's own parsing and names (one policy for every command and for Python).
+BackendKind to_backend(const std::string& text, const std::string& what) { return parse_backend_kind(text, what); }
 
-const char* backend_name(BackendKind kind) {
-  switch (kind) {
-    case BackendKind::cpu:
-      return "cpu";
-    case BackendKind::vulkan:
-      return "vulkan";
-    case BackendKind::automatic:
-      return "auto";
-  }
-  return "?";
-}
+const char* backend_name(BackendKind kind) { return backend_kind_name(kind); }
 
 namespace {
 bool on_main_thread() {

@@ -1,4 +1,5 @@
 #include "eval/report.hpp"
+#include "eval/table_cell.hpp"
 
 #include "eval/metrics.hpp"
 
@@ -19,13 +20,6 @@ using nlohmann::json;
 namespace {
 
 json opt(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
-
-std::string cell(const std::optional<double>& v, const char* fmt) {
-  if (!v) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, fmt, *v);
-  return buf;
-}
 
 std::string num(double v) {
   char buf[64];

@@ -1,4 +1,5 @@
 #include "eval/robustness.hpp"
+#include "eval/table_cell.hpp"
 
 #include <sva/error.hpp>
 
@@ -18,13 +19,6 @@ namespace {
 constexpr double kMissing = std::numeric_limits<double>::quiet_NaN();
 
 const CurvePoint& point_at(const Curve& c, std::size_t readings) { return c.points[readings - 1]; }
-
-std::string cell(const std::optional<double>& v, const char* format) {
-  if (!v) return "-";
-  char buf[64];
-  std::snprintf(buf, sizeof buf, format, *v);
-  return buf;
-}
 
 std::string scale_text(double scale) {
   char buf[32];

@@ -36,6 +36,7 @@ BayesFilter::BayesFilter(const PairMap& map, const PoseSpace& space, const Filte
 
 void BayesFilter::reset() {
   belief_->reset();
+  kept_after_forget_ = 0;
   readings_.clear();
   last_ = {};
   incomplete_ = false;
@@ -163,7 +164,10 @@ std::vector<UpdateStats> update_sessions(const std::vector<BayesFilter*>& sessio
 }
 
 std::size_t BayesFilter::keep_within_budget() {
-  if (options_.belief_budget_bins == 0 || belief_->touched() <= options_.belief_budget_bins) return 0;
+  // Past the budget, and past a quarter more than the last forgetting left (bins within the margin are kept, so a
+  // belief may stay above its budget: this bounds the passes over the table to one per quarter of growth).
+  const std::size_t threshold = std::max(options_.belief_budget_bins, kept_after_forget_ + kept_after_forget_ / 4);
+  if (options_.belief_budget_bins == 0 || belief_->touched() <= threshold) return 0;
   const std::uint64_t margin = std::uint64_t{options_.forget_margin_bits} << SVA_BELIEF_FRAC_BITS;
   const BeliefSummary summary = belief_->summarise();
   const std::uint64_t max = summary.max_offset;
@@ -176,6 +180,7 @@ std::size_t BayesFilter::keep_within_budget() {
   std::sort(keep.begin(), keep.end());
   keep.erase(std::unique(keep.begin(), keep.end()), keep.end());
   const std::size_t forgotten = belief_->forget_below(max - margin, keep);
+  kept_after_forget_ = belief_->touched();
   last_.bins_forgotten = forgotten;
   return forgotten;
 }

@@ -90,6 +90,7 @@ class BayesFilter {
   std::uint64_t max_pairs_;  // fixed-point headroom (belief_math::max_pairs)
   std::vector<ObservedReading> readings_;
   UpdateStats last_;
+  std::size_t kept_after_forget_ = 0;  // touched bins the last forgetting kept (keep_within_budget)
   bool incomplete_ = false;
 };
 

@@ -8,9 +8,10 @@
 //           flag: the host grows that table and folds the session again);
 //  PAIR_LOG: per pair, the log2(total eps) that all its bins subtract;
 //  ADD:     add the slot's term to the reserved bin (integer atomics, so
-//           the order of the additions does not change the sums), and keep
-//           the bin's table slot in the vote slot for the passes below;
-//  MAX, RESET, BEST: keep the session's estimate state current from the
+//           the order of the additions does not change the sums), raise the
+//           maximum and the object's best offset, and keep the bin's table
+//           slot in the vote slot for BEST;
+//  RESET, BEST: keep the session's estimate state current from the
 //           bins this fold raised (offsets only grow, so nothing else can
 //           change it): the maximum, each object's best offset and smallest
 //           key at it, the band list; BEST clears the vote slot, so that the
@@ -67,7 +68,19 @@ uint64_t band_width() { return uint64_t(pc.band_width_lo) | (uint64_t(pc.band_wi
 
 SvaWords session_state(uint s) { return SvaWords(sva_address(sessions[s].state_lo, sessions[s].state_hi)); }
 
-// MAX and BEST, for a slot whose ADD pass ran: the bin's table slot is in the vote slot.
+// The maximum and the object's best offset after an add that left `offset`
+// in a bin: atomicAdd serialises the adds to one bin, so the largest `offset`
+// any of them sees is the bin's final one. A plain read first: the words only
+// grow, so a stale value only lets more through.
+void raise_maximum(uint s, uint object, uint64_t offset) {
+  SvaWords state = session_state(s);
+  uint best = sva_state_object(SVA_STATE_BEST_OFFSET, pc.objects, object);
+  if (offset > state.w[SVA_STATE_MAX]) atomicMax(state.w[SVA_STATE_MAX], offset);
+  if (offset > state.w[best] && atomicMax(state.w[best], offset) < offset)
+    state.w[sva_state_object(SVA_STATE_RAISED, pc.objects, object)] = 1ul;
+}
+
+// BEST, for a slot whose ADD pass ran: the bin's table slot is in the vote slot.
 void track_slot(uint i, uint64_t bin, uint s) {
   uint capacity = sessions[s].capacity;
   uint slot = uint(vote_sum[i]);
@@ -75,13 +88,6 @@ void track_slot(uint i, uint64_t bin, uint s) {
   uint object = uint(bin >> pc.object_shift);
   SvaWords state = session_state(s);
   uint best = sva_state_object(SVA_STATE_BEST_OFFSET, pc.objects, object);
-  if (pc.pass == SVA_FOLD_MAX) {
-    // A plain read first: the words only grow, so a stale value only lets more through.
-    if (offset > state.w[SVA_STATE_MAX]) atomicMax(state.w[SVA_STATE_MAX], offset);
-    if (offset > state.w[best] && atomicMax(state.w[best], offset) < offset)
-      state.w[sva_state_object(SVA_STATE_RAISED, pc.objects, object)] = 1ul;
-    return;
-  }
   if (offset == state.w[best]) atomicMin(state.w[sva_state_object(SVA_STATE_BEST_KEY, pc.objects, object)], bin);
   if (state.w[SVA_STATE_MAX] - offset < band_width())
     sva_band_join(state, sva_table_marks(sessions[s].table_lo, sessions[s].table_hi, capacity),
@@ -134,9 +140,10 @@ void fold_slot(uint i) {
   SvaWords offsets = sva_table_offsets(sessions[s].table_lo, sessions[s].table_hi, capacity);
   uint64_t floor_log = pair_total[pc.pairs + q];
   // fold_count 2: both orders of Eq 5 cast the same votes, so the term counts twice.
-  atomicAdd(offsets.w[slot], sva_fold_units_given(uint64_t(mass), pair_total[q], eps_units, floor_log) *
-                                 uint64_t(pairs[q].fold_count));
-  vote_sum[i] = int64_t(slot);  // for MAX and BEST: the mass is spent
+  uint64_t term =
+      sva_fold_units_given(uint64_t(mass), pair_total[q], eps_units, floor_log) * uint64_t(pairs[q].fold_count);
+  raise_maximum(s, uint(bin >> pc.object_shift), atomicAdd(offsets.w[slot], term) + term);
+  vote_sum[i] = int64_t(slot);  // for BEST: the mass is spent
 }
 
 // Per (session, object): an object whose best offset rose forgets its best

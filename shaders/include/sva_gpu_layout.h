@@ -127,10 +127,9 @@ struct SvaFoldParams {
 };
 #define SVA_FOLD_RESERVE 0u
 #define SVA_FOLD_PAIR_LOG 1u  // per pair: log2(total eps), the term every bin of the pair subtracts
-#define SVA_FOLD_ADD 2u
-#define SVA_FOLD_MAX 3u    // the maximum and each object's best offset, from the bins this fold raised
-#define SVA_FOLD_RESET 4u  // per object whose best offset rose: forget its best key
-#define SVA_FOLD_BEST 5u   // the smallest key at each best offset; bins new to the band join its list
+#define SVA_FOLD_ADD 2u    // also raises the maximum and each object's best offset
+#define SVA_FOLD_RESET 3u  // per object whose best offset rose: forget its best key
+#define SVA_FOLD_BEST 4u   // the smallest key at each best offset; bins new to the band join its list
 
 // A session's estimate state (uint64 words, device memory), kept current by
 // the fold because offsets only grow: the maximum M, each object's touched

@@ -361,8 +361,8 @@ class VulkanVoteBackend final : public VoteBackend {
   }
 
   // The fold passes of belief_fold.comp for the pending sessions: RESERVE,
-  // PAIR_LOG, ADD, and MAX, RESET, BEST, which keep each session's estimate
-  // state current (BEST clears every vote-table slot it folds).
+  // PAIR_LOG, ADD (which also raises the maxima), RESET and BEST, which keep
+  // each session's estimate state current (BEST clears every slot it folds).
   std::vector<vk::Dispatch> fold_dispatches(std::size_t P, const std::vector<GpuBelief*>& beliefs, const Fold& fold) {
     const std::size_t S = beliefs.size();
     auto* sess = sessions_.as<gpu::SvaGpuSession>();
@@ -395,8 +395,7 @@ class VulkanVoteBackend final : public VoteBackend {
     p.band_width_lo = gpu::lo(band_width);
     p.band_width_hi = gpu::hi(band_width);
     std::vector<vk::Dispatch> ds;
-    for (std::uint32_t pass :
-         {SVA_FOLD_RESERVE, SVA_FOLD_PAIR_LOG, SVA_FOLD_ADD, SVA_FOLD_MAX, SVA_FOLD_RESET, SVA_FOLD_BEST}) {
+    for (std::uint32_t pass : {SVA_FOLD_RESERVE, SVA_FOLD_PAIR_LOG, SVA_FOLD_ADD, SVA_FOLD_RESET, SVA_FOLD_BEST}) {
       p.pass = pass;
       const std::uint64_t invocations = pass == SVA_FOLD_PAIR_LOG ? P
                                         : pass == SVA_FOLD_RESET  ? S * std::uint64_t{space_.objects()}

@@ -18,59 +18,36 @@ double value(const std::optional<double>& v) { return v ? *v : kMissing; }
 
 }  // namespace
 
-void write_figure(const std::vector<Curve>& curves, const std::filesystem::path& file) {
-  if (curves.empty()) throw Error(file.string() + ": no curves to plot");
-  constexpr int kPanelW = 620, kPanelH = 430, kHeader = 34;
-  plot::Canvas canvas(2 * kPanelW, 2 * kPanelH + kHeader);
-
-  std::string title = curves.front().scene + ": ";
-  for (std::size_t i = 0; i < curves.size(); ++i)
-    title += (i ? ", " : "") + curves[i].label + " (" + std::to_string(curves[i].trials) + " trials)";
-  canvas.text((canvas.width() - plot::Canvas::text_width(title, 2)) / 2, 10, title, plot::kBlack, 2);
-
-  struct Panel {
-    const char* title;
-    const char* y_label;
-    double (*get)(const CurvePoint&);
-    bool percent;
-  };
-  const Panel panels[] = {
-      {"(a) classification accuracy", "accuracy (%)", [](const CurvePoint& p) { return 100.0 * p.accuracy; }, true},
+const std::vector<Panel>& panels() {
+  static const std::vector<Panel> p = {
+      {"(a) classification accuracy", "accuracy (%)", [](const CurvePoint& c) { return 100.0 * c.accuracy; }, true},
       {"(b) inertial error", "median inertial distance (mm)",
-       [](const CurvePoint& p) { return value(p.inertial_mm.median); }, false},
+       [](const CurvePoint& c) { return value(c.inertial_mm.median); }, false},
       {"(c) translational error", "median |T_hat - T| (mm)",
-       [](const CurvePoint& p) { return value(p.translation_mm.median); }, false},
-      {"(d) angular error", "median angle (deg)", [](const CurvePoint& p) { return value(p.angular_deg.median); },
+       [](const CurvePoint& c) { return value(c.translation_mm.median); }, false},
+      {"(d) angular error", "median angle (deg)", [](const CurvePoint& c) { return value(c.angular_deg.median); },
        false},
   };
-  double max_readings = 1.0;
-  for (const auto& c : curves)
-    for (const auto& p : c.points) max_readings = std::max(max_readings, static_cast<double>(p.readings));
+  return p;
+}
 
-  for (int k = 0; k < 4; ++k) {
-    std::vector<plot::Series> series;
-    for (std::size_t i = 0; i < curves.size(); ++i) {
-      plot::Series s;
-      s.label = curves[i].label;
-      s.color = plot::palette(i);
-      s.markers = curves[i].points.size() <= 60;
-      for (const auto& p : curves[i].points) {
-        s.x.push_back(static_cast<double>(p.readings));
-        s.y.push_back(panels[k].get(p));
-      }
-      // A curve without pose errors (the appearance-only baseline) stays out
-      // of the error panels rather than cluttering their legends.
-      const bool any = std::any_of(s.y.begin(), s.y.end(), [](double v) { return std::isfinite(v); });
-      if (any || panels[k].percent) series.push_back(std::move(s));
-    }
+void write_panel_figure(const std::string& title, const std::string& x_label, double x_max,
+                        const std::function<std::vector<plot::Series>(const Panel&)>& series_of,
+                        const std::filesystem::path& file) {
+  constexpr int kPanelW = 620, kPanelH = 430, kHeader = 34;
+  plot::Canvas canvas(2 * kPanelW, 2 * kPanelH + kHeader);
+  canvas.text((canvas.width() - plot::Canvas::text_width(title, 2)) / 2, 10, title, plot::kBlack, 2);
+  for (std::size_t k = 0; k < panels().size(); ++k) {
+    const Panel& panel = panels()[k];
+    const std::vector<plot::Series> series = series_of(panel);
     plot::ChartOptions o;
-    o.title = panels[k].title;
-    o.x_label = "number of readings";
-    o.y_label = panels[k].y_label;
+    o.title = panel.title;
+    o.x_label = x_label;
+    o.y_label = panel.y_label;
     o.x_min = 0.0;
-    o.x_max = max_readings;
+    o.x_max = x_max;
     o.y_min = 0.0;
-    if (panels[k].percent) {
+    if (panel.percent) {
       o.y_max = 100.0;
     } else {
       // Headroom above the largest error so the curve does not run along the frame.
@@ -80,9 +57,41 @@ void write_figure(const std::vector<Curve>& curves, const std::filesystem::path&
           if (std::isfinite(v)) top = std::max(top, v);
       if (top > 0.0) o.y_max = 1.1 * top;
     }
-    line_chart(canvas, (k % 2) * kPanelW, kHeader + (k / 2) * kPanelH, kPanelW, kPanelH, series, o);
+    const int col = static_cast<int>(k % 2), row = static_cast<int>(k / 2);
+    line_chart(canvas, col * kPanelW, kHeader + row * kPanelH, kPanelW, kPanelH, series, o);
   }
   canvas.write_png(file);
+}
+
+void write_figure(const std::vector<Curve>& curves, const std::filesystem::path& file) {
+  if (curves.empty()) throw Error(file.string() + ": no curves to plot");
+  std::string title = curves.front().scene + ": ";
+  for (std::size_t i = 0; i < curves.size(); ++i)
+    title += (i ? ", " : "") + curves[i].label + " (" + std::to_string(curves[i].trials) + " trials)";
+  double max_readings = 1.0;
+  for (const auto& c : curves)
+    for (const auto& p : c.points) max_readings = std::max(max_readings, static_cast<double>(p.readings));
+  write_panel_figure(
+      title, "number of readings", max_readings,
+      [&](const Panel& panel) {
+        std::vector<plot::Series> series;
+        for (std::size_t i = 0; i < curves.size(); ++i) {
+          plot::Series s;
+          s.label = curves[i].label;
+          s.color = plot::palette(i);
+          s.markers = curves[i].points.size() <= 60;
+          for (const auto& p : curves[i].points) {
+            s.x.push_back(static_cast<double>(p.readings));
+            s.y.push_back(panel.get(p));
+          }
+          // A curve without pose errors (the appearance-only baseline) stays out
+          // of the error panels rather than cluttering their legends.
+          const bool any = std::any_of(s.y.begin(), s.y.end(), [](double v) { return std::isfinite(v); });
+          if (any || panel.percent) series.push_back(std::move(s));
+        }
+        return series;
+      },
+      file);
 }
 
 }  // namespace sva::eval

@@ -9,14 +9,13 @@
 #include <cstdlib>
 #include <limits>
 
+#include "eval/figure.hpp"
 #include "eval/report.hpp"
 #include "plot/canvas.hpp"
 
 namespace sva::eval {
 
 namespace {
-
-constexpr double kMissing = std::numeric_limits<double>::quiet_NaN();
 
 const CurvePoint& point_at(const Curve& c, std::size_t readings) { return c.points[readings - 1]; }
 
@@ -83,56 +82,27 @@ std::string format_sweep_table(const std::vector<SweepLevel>& levels, const std:
 void write_sweep_figure(const std::vector<SweepLevel>& levels, const std::vector<std::size_t>& readings,
                         const std::filesystem::path& file) {
   if (levels.empty()) throw Error(file.string() + ": no levels to plot");
-  constexpr int kPanelW = 620, kPanelH = 430, kHeader = 34;
-  plot::Canvas canvas(2 * kPanelW, 2 * kPanelH + kHeader);
   const Curve& first = levels.front().curve;
   const std::string title =
       first.scene + ": robustness sweep, " + first.method + " (" + std::to_string(first.trials) + " trials per level)";
-  canvas.text((canvas.width() - plot::Canvas::text_width(title, 2)) / 2, 10, title, plot::kBlack, 2);
-
-  struct Panel {
-    const char* title;
-    const char* y_label;
-    double (*get)(const CurvePoint&);
-    bool percent;
-  };
-  const Panel panels[] = {
-      {"(a) classification accuracy", "accuracy (%)", [](const CurvePoint& p) { return 100.0 * p.accuracy; }, true},
-      {"(b) inertial error", "median inertial distance (mm)",
-       [](const CurvePoint& p) { return p.inertial_mm.median.value_or(kMissing); }, false},
-      {"(c) translational error", "median |T_hat - T| (mm)",
-       [](const CurvePoint& p) { return p.translation_mm.median.value_or(kMissing); }, false},
-      {"(d) angular error", "median angle (deg)",
-       [](const CurvePoint& p) { return p.angular_deg.median.value_or(kMissing); }, false},
-  };
-  for (int k = 0; k < 4; ++k) {
-    std::vector<plot::Series> series;
-    double top = 0.0;
-    for (std::size_t i = 0; i < readings.size(); ++i) {
-      plot::Series s;
-      s.label = std::to_string(readings[i]) + " readings";
-      s.color = plot::palette(i);
-      for (const auto& l : levels) {
-        s.x.push_back(l.scale);
-        s.y.push_back(panels[k].get(point_at(l.curve, readings[i])));
-        if (std::isfinite(s.y.back())) top = std::max(top, s.y.back());
-      }
-      series.push_back(std::move(s));
-    }
-    plot::ChartOptions o;
-    o.title = panels[k].title;
-    o.x_label = "error level (x the scene's realistic errors)";
-    o.y_label = panels[k].y_label;
-    o.x_min = 0.0;
-    o.x_max = std::max(levels.back().scale, 1e-9);
-    o.y_min = 0.0;
-    if (panels[k].percent)
-      o.y_max = 100.0;
-    else if (top > 0.0)
-      o.y_max = 1.1 * top;  // headroom so the curve does not run along the frame
-    line_chart(canvas, (k % 2) * kPanelW, kHeader + (k / 2) * kPanelH, kPanelW, kPanelH, series, o);
-  }
-  canvas.write_png(file);
+  const double x_max = std::max(levels.back().scale, 1e-9);
+  write_panel_figure(
+      title, "error level (x the scene's realistic errors)", x_max,
+      [&](const Panel& panel) {
+        std::vector<plot::Series> series;
+        for (std::size_t i = 0; i < readings.size(); ++i) {
+          plot::Series s;
+          s.label = std::to_string(readings[i]) + " readings";
+          s.color = plot::palette(i);
+          for (const auto& l : levels) {
+            s.x.push_back(l.scale);
+            s.y.push_back(panel.get(point_at(l.curve, readings[i])));
+          }
+          series.push_back(std::move(s));
+        }
+        return series;
+      },
+      file);
 }
 
 }  // namespace sva::eval

@@ -70,8 +70,8 @@ int main(int argc, char** argv) try {
   const std::size_t objects = map.objects();
   std::vector<std::vector<const sva::Reading*>> by_object(objects);
   for (const sva::Sample& s : test.samples)
-    if (s.reading.status == sva::ControllerStatus::converged && s.reading.object < objects)
-      by_object[s.reading.object].push_back(&s.reading);
+    if (s.reading.status == sva::ControllerStatus::converged && s.object < objects)
+      by_object[s.object].push_back(&s.reading);
 
   const int marks[] = {10, 30, 100};
   std::vector<double> at_mark[3], cpu_at_mark[3];

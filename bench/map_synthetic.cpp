@@ -46,7 +46,7 @@ int main(int argc, char** argv) try {
       const glm::dvec3 p = u * axes;
       const glm::dvec3 n = glm::normalize(u / axes);
       sva::Sample s;
-      s.reading.object = static_cast<std::uint32_t>(o);
+      s.object = static_cast<std::uint32_t>(o);
       s.reading.position = p;
       s.reading.normal = n;
       s.reading.x_axis =

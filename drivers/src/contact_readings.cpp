@@ -207,6 +207,7 @@ void ReadingFormer::resolve_waiting() {
       r.reading.normal = pose->normal;
       r.reading.x_axis = pose->x_axis;
       r.reading.pressure = s.pressure;
+      r.reading.time_s = s.time;
       r.reading.status = pose->status.value_or(ControllerStatus::converged);
       readings_.push_back(std::move(r));
     }

@@ -86,6 +86,7 @@ FormedReading parse_reading(io::BinaryReader& r) {
     r.fail("pressure image of " + std::to_string(n) + " values exceeds its record");
   f.reading.pressure.resize(n);
   r.get_array(f.reading.pressure.data(), f.reading.pressure.size());
+  f.reading.time_s = f.time;
   r.expect_end();
   return f;
 }

@@ -27,7 +27,7 @@ int main(int argc, char** argv) {
   std::size_t used = 0;
   auto t0 = std::chrono::steady_clock::now();
   for (const auto& s : data.samples) {
-    if (s.reading.object != 3) continue;
+    if (s.object != 3) continue;
     try {
       rec.add_reading(s.reading);
     } catch (const sva::Error&) {

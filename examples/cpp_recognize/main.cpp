@@ -53,7 +53,7 @@ int main(int argc, char** argv) {
     unsigned long used = 0;
     for (const sva::Sample& sample : data.samples) {
       if (used == wanted) break;
-      if (sample.reading.object != object) continue;  // the dataset's ground truth picks one object's readings
+      if (sample.object != object) continue;  // the dataset's ground truth picks one object's readings
       try {
         recognizer.add_reading(sample.reading);
       } catch (const sva::Error& e) {  // a contact that did not converge, or an image with nothing on it

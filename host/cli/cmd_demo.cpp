@@ -194,11 +194,11 @@ void stage_summary(const DemoData& data) {
   std::map<std::uint32_t, double> iters;
   for (const Dataset* d : {&data.train, &data.test})
     for (const auto& s : d->samples) {
-      auto& p = per[s.reading.object];
+      auto& p = per[s.object];
       std::size_t off = d == &data.train ? 0 : 2;
       p[off]++;
       p[off + 1] += s.reading.status == ControllerStatus::converged;
-      iters[s.reading.object] += s.reading.iterations;
+      iters[s.object] += s.reading.iterations;
     }
   for (std::uint32_t o = 0; o < data.train.scene.objects.size(); ++o) {
     auto p = per[o];

@@ -72,7 +72,7 @@ int cmd_export(const std::vector<std::string>& argv) {
     };
     for (const auto& s : d.samples) {
       const Reading& r = s.reading;
-      out << r.object << "," << csv_field(d.scene.objects[r.object].name) << "," << to_string(r.status) << ","
+      out << s.object << "," << csv_field(d.scene.objects[s.object].name) << "," << to_string(r.status) << ","
           << r.iterations;
       for (const auto* v : {&r.position, &r.normal, &r.x_axis})
         out << "," << num(v->x) << "," << num(v->y) << "," << num(v->z);
@@ -94,9 +94,9 @@ int cmd_export(const std::vector<std::string>& argv) {
     for (const auto& s : d.samples) {
       const Reading& r = s.reading;
       if (r.status == ControllerStatus::no_contact) continue;
-      plot::Rgb c = plot::palette(r.object);
+      plot::Rgb c = plot::palette(s.object);
       std::snprintf(buf, sizeof buf, "%.6f %.6f %.6f %.6f %.6f %.6f %d %d %d %u\n", r.position.x, r.position.y,
-                    r.position.z, r.normal.x, r.normal.y, r.normal.z, c.r, c.g, c.b, r.object);
+                    r.position.z, r.normal.x, r.normal.y, r.normal.z, c.r, c.g, c.b, s.object);
       out << buf;
     }
   });

@@ -27,11 +27,11 @@ void inspect_dataset(const std::string& file) {
   std::map<std::uint32_t, std::map<ControllerStatus, std::size_t>> per;
   std::map<std::uint32_t, double> mean_p, iters;
   for (const auto& s : d.samples) {
-    per[s.reading.object][s.reading.status]++;
+    per[s.object][s.reading.status]++;
     double sum = 0;
     for (float p : s.reading.pressure) sum += p;
-    mean_p[s.reading.object] += sum / static_cast<double>(s.reading.pressure.size());
-    iters[s.reading.object] += s.reading.iterations;
+    mean_p[s.object] += sum / static_cast<double>(s.reading.pressure.size());
+    iters[s.object] += s.reading.iterations;
   }
   std::printf("  %-16s %8s %10s %8s %14s %12s\n", "object", "readings", "converged", "failed", "mean kPa/elem",
               "mean iters");

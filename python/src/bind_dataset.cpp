@@ -64,7 +64,7 @@ void bind_dataset(nb::module_& m) {
       .def_rw("reading", &Sample::reading)
       .def_rw("object_pose", &Sample::object_pose, "true pose of the object when the reading was taken")
       .def_prop_ro(
-          "object", [](const Sample& s) { return s.reading.object; },
+          "object", [](const Sample& s) { return s.object; },
           "true object id (index into the scene's objects)");
   nb::class_<Dataset>(m, "Dataset", "Readings of a scene's objects with ground truth (a .svad file).")
       .def(nb::init<>())
@@ -105,7 +105,7 @@ void bind_dataset(nb::module_& m) {
           "objects",
           [](const Dataset& d) {
             std::vector<std::uint32_t> out;
-            for (const auto& s : d.samples) out.push_back(s.reading.object);
+            for (const auto& s : d.samples) out.push_back(s.object);
             return owned_array(std::move(out), {d.samples.size()});
           },
           "Every sample's true object id, (samples,) uint32 (a copy).")

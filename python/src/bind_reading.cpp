@@ -77,6 +77,8 @@ void bind_reading(nb::module_& m) {
           nb::for_setter(nb::sig("def x_axis(self, arg: numpy.typing.ArrayLike, /) -> None")), "sensor x axis")
       .def_rw("status", &Reading::status)
       .def_ro("iterations", &Reading::iterations, "contact controller iterations used")
+      .def_rw("time_s", &Reading::time_s,
+              "when the contact settled, seconds on the clock of its frames (0: unknown, e.g. simulated)")
       .def("__copy__", [](const Reading& r) { return Reading(r); })
       .def("__repr__", [](const Reading& r) {
         char buf[200];

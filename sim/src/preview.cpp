@@ -72,7 +72,7 @@ void write_preview(const Dataset& data, const std::filesystem::path& png, int ma
   for (const auto& s : data.samples) {
     if (s.reading.status == ControllerStatus::no_contact) continue;
     glm::dvec2 q = project(s.reading.position, top_down);
-    auto [it, fresh] = bounds.try_emplace(s.reading.object, q, q);
+    auto [it, fresh] = bounds.try_emplace(s.object, q, q);
     if (!fresh) it->second = {glm::min(it->second.first, q), glm::max(it->second.second, q)};
   }
 
@@ -81,6 +81,7 @@ void write_preview(const Dataset& data, const std::filesystem::path& png, int ma
     // Evenly spaced over the dataset so that every object appears.
     std::size_t idx = shown > 1 ? static_cast<std::size_t>(c) * (n - 1) / static_cast<std::size_t>(shown - 1) : 0;
     const Reading& r = data.samples[idx].reading;
+    const std::uint32_t object = data.samples[idx].object;
     int ox = 6 + (c % cols) * cell_w, oy = header + (c / cols) * cell_h;
     // Heat map: row 0 (most negative sensor y) at the bottom, like a plot.
     int ew = std::max(1, S / std::max(rs, cs));
@@ -95,7 +96,7 @@ void write_preview(const Dataset& data, const std::filesystem::path& png, int ma
     // Contact view.
     int vx = ox + S + 8;
     cv.rect(vx, oy, S, S, plot::kLightGrey);
-    auto b = bounds.find(r.object);
+    auto b = bounds.find(object);
     if (b != bounds.end()) {
       glm::dvec2 lo = b->second.first, hi = b->second.second;
       double span = std::max({hi.x - lo.x, hi.y - lo.y, 1e-6});
@@ -104,7 +105,7 @@ void write_preview(const Dataset& data, const std::filesystem::path& png, int ma
         return glm::dvec2(vx + S / 2.0 + q.x * (S - 8), oy + S / 2.0 - q.y * (S - 8));
       };
       for (const auto& s : data.samples) {
-        if (s.reading.object != r.object || s.reading.status == ControllerStatus::no_contact) continue;
+        if (s.object != object || s.reading.status == ControllerStatus::no_contact) continue;
         glm::dvec2 q = to_px(s.reading.position);
         cv.set(static_cast<int>(q.x), static_cast<int>(q.y), plot::kGrey);
       }
@@ -114,7 +115,7 @@ void write_preview(const Dataset& data, const std::filesystem::path& png, int ma
         cv.fill_circle(q.x, q.y, 3.0, plot::kRed);
       }
     }
-    std::string name = r.object < data.scene.objects.size() ? data.scene.objects[r.object].name : "?";
+    std::string name = object < data.scene.objects.size() ? data.scene.objects[object].name : "?";
     char cap[160];
     std::snprintf(cap, sizeof cap, "#%zu %s", idx, name.c_str());
     cv.text(ox, oy + S + 4, cap, plot::kBlack);

@@ -68,7 +68,7 @@ ControllerSettings controller_settings(const TactileSensor& sensor, const Scene&
 Sample report(const Contact& c, const ErrorModel& errors, std::uint64_t arm_seed, std::uint32_t object) {
   Sample s;
   s.reading = c.reading;
-  s.reading.object = object;
+  s.object = object;
   s.truth = {c.reading.position, c.reading.normal, c.reading.x_axis, c.surface_normal};
   report_pose(errors, arm_seed, s.reading.position, s.reading.normal, s.reading.x_axis);
   return s;

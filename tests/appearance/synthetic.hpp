@@ -59,7 +59,7 @@ inline Dataset synthetic_dataset(int objects, int per_object, std::uint64_t seed
       const double rho = std::sqrt(1 - z * z);
       const glm::dvec3 n{rho * std::cos(phi), rho * std::sin(phi), z};
       Sample s;
-      s.reading.object = static_cast<std::uint32_t>(o);
+      s.object = static_cast<std::uint32_t>(o);
       s.reading.position = (30.0 + 5.0 * o) * n;
       s.reading.normal = n;
       s.reading.x_axis =

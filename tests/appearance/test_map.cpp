@@ -245,11 +245,11 @@ TEST_CASE("map: bad training input is refused with a clear message") {
   CHECK_THROWS_WITH(Map::train(empty, {}), Contains("no readings"));
   Dataset missing = data();
   for (auto& s : missing.samples)
-    if (s.reading.object == 1) s.reading.pressure.assign(36, 0.0f);  // nothing to describe
+    if (s.object == 1) s.reading.pressure.assign(36, 0.0f);  // nothing to describe
   CHECK_THROWS_WITH(Map::train(missing, {}), Contains("obj1") && Contains("no usable"));
   Dataset failed = data();
   for (auto& s : failed.samples)
-    if (s.reading.object == 2) s.reading.status = ControllerStatus::not_converged;
+    if (s.object == 2) s.reading.status = ControllerStatus::not_converged;
   CHECK_THROWS_WITH(Map::train(failed, {}), Contains("obj2"));
   TrainOptions range;
   range.dist_min_mm = 50;
@@ -300,7 +300,7 @@ TEST_CASE("appearance baseline: histograms and a naive-Bayes posterior that find
   for (std::uint32_t o = 0; o < 3; ++o) {
     std::vector<double> logp;
     for (const auto& s : test_set.samples)
-      if (s.reading.object == o) b.update(logp, m.appearance.classify(m.appearance.describe(s.reading)));
+      if (s.object == o) b.update(logp, m.appearance.classify(m.appearance.describe(s.reading)));
     const auto p = AppearanceBaseline::posterior(logp);
     double sum = 0;
     for (double v : p) sum += v;

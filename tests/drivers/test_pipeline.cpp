@@ -121,6 +121,7 @@ TEST_CASE("a contact settles into one reading with the interpolated pose of its 
   auto readings = former.take_readings();
   REQUIRE(readings.size() == 1);
   CHECK(readings[0].time == Approx(1.008));
+  CHECK(readings[0].reading.time_s == readings[0].time);  // the reading carries when its contact settled
   CHECK(readings[0].reading.position.x == Approx(0.54));
   CHECK(readings[0].reading.pressure[0] == Approx(10.0f).margin(0.01));
   CHECK(readings[0].reading.status == sva::ControllerStatus::converged);

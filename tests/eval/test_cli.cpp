@@ -68,7 +68,7 @@ Dataset tiny_dataset(const Scene& scene, const std::string& split, int per_objec
       const double phi = i * std::numbers::pi * (3.0 - std::sqrt(5.0)) + shift;
       const glm::dvec3 n(std::sqrt(1 - z * z) * std::cos(phi), std::sqrt(1 - z * z) * std::sin(phi), z);
       Sample s;
-      s.reading.object = o;
+      s.object = o;
       s.reading.position = 40.0 * n;
       s.reading.normal = n;
       s.reading.x_axis = glm::normalize(glm::cross(n, std::abs(n.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));

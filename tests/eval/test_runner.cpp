@@ -38,7 +38,8 @@ Dataset make_test_set(std::size_t objects, std::size_t per_object) {
   for (std::size_t o = 0; o < objects; ++o)
     for (std::size_t k = 0; k < per_object; ++k) {
       Sample s;
-      s.reading.object = static_cast<std::uint32_t>(o);
+      s.object = static_cast<std::uint32_t>(o);
+      s.reading.iterations = static_cast<std::uint16_t>(o);  // a reading has no ground truth: the script reads it here
       double a = 0.7 * static_cast<double>(k);
       s.reading.position = {30.0 * std::cos(a), 30.0 * std::sin(a), static_cast<double>(k)};
       s.reading.normal = {std::cos(a), std::sin(a), 0.0};
@@ -50,7 +51,7 @@ Dataset make_test_set(std::size_t objects, std::size_t per_object) {
 }
 
 // Wrong object for the first reading of a session, right afterwards (it reads
-// the ground-truth id); a pose from the second reading on: no rotation, the
+// the ground-truth id the test data hides in `iterations`); a pose from the second reading on: no rotation, the
 // translation is the last contact position. Forgetting reset() between trials
 // would make the first step right.
 class ScriptedSession final : public Session {
@@ -64,7 +65,8 @@ class ScriptedSession final : public Session {
   Estimate estimate() const override {
     Estimate e;
     e.readings = count_;
-    e.object = count_ >= 2 ? last_.object : static_cast<std::uint32_t>((last_.object + 1) % objects_);
+    const std::uint32_t truth = last_.iterations;  // the test data carries the object id in `iterations`
+    e.object = count_ >= 2 ? truth : static_cast<std::uint32_t>((truth + 1) % objects_);
     e.object_probability.assign(objects_, 0.0);
     e.object_probability[e.object] = 1.0;
     e.pose_valid = count_ >= 2;

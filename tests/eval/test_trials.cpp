@@ -34,7 +34,7 @@ Dataset make_test_set(std::size_t objects, std::size_t per_object, bool planar =
   for (std::size_t o = 0; o < objects; ++o) {
     for (std::size_t k = 0; k <= per_object; ++k) {
       Sample s;
-      s.reading.object = static_cast<std::uint32_t>(o);
+      s.object = static_cast<std::uint32_t>(o);
       double a = 2.0 * std::numbers::pi * static_cast<double>(k) / static_cast<double>(per_object + 1);
       s.reading.position = {40.0 * std::cos(a), 40.0 * std::sin(a), 5.0 * static_cast<double>(o)};
       s.reading.normal = {std::cos(a), std::sin(a), 0.0};
@@ -110,7 +110,7 @@ TEST_CASE("trials cycle through objects, present distinct converged readings, tr
     CHECK(distinct.size() == 6);
     for (std::size_t k = 0; k < 6; ++k) {
       const Reading& original = d.samples[tr.samples[k]].reading;
-      CHECK(original.object == tr.object);
+      CHECK(d.samples[tr.samples[k]].object == tr.object);
       CHECK(original.status == ControllerStatus::converged);
       CHECK(glm::length(tr.readings[k].position - tr.pose.apply(original.position)) < 1e-9);
       CHECK(glm::length(tr.readings[k].normal - tr.pose.R * original.normal) < 1e-12);
@@ -127,7 +127,7 @@ TEST_CASE("more readings than the test set: every reading once, then with replac
   REQUIRE(tr.samples.size() == 12);
   std::set<std::size_t> first(tr.samples.begin(), tr.samples.begin() + 5);
   CHECK(first.size() == 5);
-  for (std::size_t s : tr.samples) CHECK(d.samples[s].reading.object == 0);
+  for (std::size_t s : tr.samples) CHECK(d.samples[s].object == 0);
 }
 
 TEST_CASE("readings stored in a moved object's frame are brought back to the object frame") {
@@ -176,7 +176,7 @@ TEST_CASE("bad test sets are refused with a message naming the fault") {
   SECTION("an object without readings") {
     Dataset d = make_test_set(2, 3);
     for (auto& s : d.samples)
-      if (s.reading.object == 1) s.reading.status = ControllerStatus::no_contact;
+      if (s.object == 1) s.reading.status = ControllerStatus::no_contact;
     CHECK_THROWS_WITH(TrialGenerator(d, space, 1, 5, "t.svad"), Catch::Contains("obj1"));
   }
   SECTION("NaN position") {

@@ -24,8 +24,8 @@ std::vector<Reading> readings_of(std::uint32_t object, std::uint64_t seed, int c
   std::vector<Reading> out;
   for (int i = 0; i < count; ++i)
     out.push_back(reading_of(t.data.scene.sensor,
-                             world_point(t.spec, static_cast<int>(object), static_cast<int>(rng.below(70))), object,
-                             truth, rng));
+                             world_point(t.spec, static_cast<int>(object), static_cast<int>(rng.below(70))), truth,
+                             rng));
   return out;
 }
 

@@ -44,7 +44,7 @@ const SimWorld& sim_world() {
       r.normal = pose.rotate(r.normal);
       r.x_axis = pose.rotate(r.x_axis);
       out.observed.push_back(sva::describe_reading(*out.map, r, "test reading"));
-      out.object.push_back(s.reading.object);
+      out.object.push_back(s.object);
     }
     return out;
   }();

@@ -23,8 +23,8 @@ TEST_CASE("Recognizer: SVA on a trained map finds the object and its pose") {
     util::Rng rng(41, object);
     for (int i = 0; i < 14; ++i)
       rec.add_reading(reading_of(t.data.scene.sensor,
-                                 world_point(t.spec, static_cast<int>(object), static_cast<int>(rng.below(70))), object,
-                                 truth, rng));
+                                 world_point(t.spec, static_cast<int>(object), static_cast<int>(rng.below(70))), truth,
+                                 rng));
     const Estimate e = rec.estimate(5);
     INFO("object " << object << " probability " << e.object_probability[object]);
     CHECK(e.readings == 14);
@@ -51,7 +51,7 @@ TEST_CASE("Recognizer: the appearance-only baseline gives object probabilities w
   util::Rng rng(42);
   for (int i = 0; i < 10; ++i)
     rec.add_reading(
-        reading_of(t.data.scene.sensor, world_point(t.spec, 1, static_cast<int>(rng.below(70))), 1, RigidPose{}, rng));
+        reading_of(t.data.scene.sensor, world_point(t.spec, 1, static_cast<int>(rng.below(70))), RigidPose{}, rng));
   const Estimate e = rec.estimate();
   CHECK_FALSE(e.pose_valid);
   REQUIRE(e.object_probability.size() == 3);
@@ -67,7 +67,7 @@ TEST_CASE("Recognizer: refused readings, options and maps") {
   const Trained& t = trained();
   util::Rng rng(43);
   Recognizer rec(t.map, paper_space());
-  Reading r = reading_of(t.data.scene.sensor, world_point(t.spec, 0, 0), 0, RigidPose{}, rng);
+  Reading r = reading_of(t.data.scene.sensor, world_point(t.spec, 0, 0), RigidPose{}, rng);
   Reading bad = r;
   bad.status = ControllerStatus::not_converged;
   CHECK_THROWS_WITH(rec.add_reading(bad), Catch::Contains("converge"));
@@ -117,7 +117,7 @@ TEST_CASE("Recognizer: votes whose mass rounds to zero are counted in the estima
   util::Rng rng(43);
   for (int i = 0; i < 6; ++i) {
     const Reading r =
-        reading_of(t.data.scene.sensor, world_point(t.spec, 0, static_cast<int>(rng.below(70))), 0, truth, rng);
+        reading_of(t.data.scene.sensor, world_point(t.spec, 0, static_cast<int>(rng.below(70))), truth, rng);
     normal.add_reading(r);
     quiet.add_reading(r);
   }
@@ -150,9 +150,9 @@ TEST_CASE("Recognizer: a workspace frame recognises the object where the box is 
     const WorldPoint w = world_point(t.spec, 2, static_cast<int>(pick.below(70)));
     util::Rng image_a(45, static_cast<std::uint64_t>(i)), image_b(45, static_cast<std::uint64_t>(i)),
         image_c(45, static_cast<std::uint64_t>(i));
-    at_origin.add_reading(reading_of(t.data.scene.sensor, w, 2, truth, image_a));
-    placed.add_reading(reading_of(t.data.scene.sensor, w, 2, workspace * truth, image_b));
-    unplaced.add_reading(reading_of(t.data.scene.sensor, w, 2, workspace * truth, image_c));
+    at_origin.add_reading(reading_of(t.data.scene.sensor, w, truth, image_a));
+    placed.add_reading(reading_of(t.data.scene.sensor, w, workspace * truth, image_b));
+    unplaced.add_reading(reading_of(t.data.scene.sensor, w, workspace * truth, image_c));
   }
   const Estimate a = at_origin.estimate(3), b = placed.estimate(3), c = unplaced.estimate(3);
   REQUIRE(a.pose_valid);
@@ -178,7 +178,7 @@ TEST_CASE("Recognizer: distinct hypotheses carry a mass and a covariance, the be
   util::Rng rng(46);
   for (int i = 0; i < 10; ++i)
     rec.add_reading(
-        reading_of(t.data.scene.sensor, world_point(t.spec, 1, static_cast<int>(rng.below(70))), 1, truth, rng));
+        reading_of(t.data.scene.sensor, world_point(t.spec, 1, static_cast<int>(rng.below(70))), truth, rng));
   const Estimate e = rec.estimate(4);
   REQUIRE(e.pose_valid);
   REQUIRE(!e.hypotheses.empty());
@@ -217,7 +217,7 @@ TEST_CASE("Recognizer: a prior over objects decides what touch cannot, and a fla
   camera.set_prior({{0.1, 0.2, 0.7}});
   util::Rng rng(47);
   const Reading first =
-      reading_of(t.data.scene.sensor, world_point(t.spec, 0, static_cast<int>(rng.below(70))), 0, truth, rng);
+      reading_of(t.data.scene.sensor, world_point(t.spec, 0, static_cast<int>(rng.below(70))), truth, rng);
   plain.add_reading(first);
   flat.add_reading(first);
   camera.add_reading(first);
@@ -226,7 +226,7 @@ TEST_CASE("Recognizer: a prior over objects decides what touch cannot, and a fla
   CHECK(camera.estimate().object_probability[2] == Approx(0.7));
   for (int i = 0; i < 2; ++i) {
     const Reading r =
-        reading_of(t.data.scene.sensor, world_point(t.spec, 0, static_cast<int>(rng.below(70))), 0, truth, rng);
+        reading_of(t.data.scene.sensor, world_point(t.spec, 0, static_cast<int>(rng.below(70))), truth, rng);
     plain.add_reading(r);
     flat.add_reading(r);
     camera.add_reading(r);

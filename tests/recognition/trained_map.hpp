@@ -29,10 +29,8 @@ inline std::vector<float> texture_image(const SensorSpec& sensor, std::uint32_t 
   return img;
 }
 
-inline Reading reading_of(const SensorSpec& sensor, const WorldPoint& w, std::uint32_t object, const RigidPose& pose,
-                          util::Rng& rng) {
+inline Reading reading_of(const SensorSpec& sensor, const WorldPoint& w, const RigidPose& pose, util::Rng& rng) {
   Reading r;
-  r.object = object;
   r.position = pose.apply(w.p);
   r.normal = pose.rotate(w.n);
   r.x_axis =
@@ -69,8 +67,8 @@ inline const Trained& trained() {
       for (int i = 0; i < x.spec.points; ++i) {
         util::Rng rng(1, static_cast<std::uint64_t>(o), static_cast<std::uint64_t>(i));
         Sample s;
-        s.reading =
-            reading_of(x.data.scene.sensor, world_point(x.spec, o, i), static_cast<std::uint32_t>(o), RigidPose{}, rng);
+        s.object = static_cast<std::uint32_t>(o);
+        s.reading = reading_of(x.data.scene.sensor, world_point(x.spec, o, i), RigidPose{}, rng);
         x.data.samples.push_back(s);
       }
     x.map = Map::train(x.data, {});

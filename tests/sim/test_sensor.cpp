@@ -218,7 +218,7 @@ TEST_CASE("letters2d readings are pressed straight down on the grid") {
       CHECK(std::abs(r.position.z - s.truth.position.z) <= pos_tol);
       CHECK(degrees(r.normal, s.truth.normal) <= normal_tol);
       const Sample& t = data.test.samples[i];
-      CHECK(t.reading.object == r.object);
+      CHECK(t.object == s.object);
       CHECK(glm::length(t.truth.position - s.truth.position) < 1.0);
       differs += t.reading.pressure != r.pressure;
     }

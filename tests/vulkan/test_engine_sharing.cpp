@@ -47,7 +47,7 @@ TEST_CASE("GPU engine: two recognizers of one engine hold one map's device memor
   const std::size_t session = 0;
   for (int i = 0; i < 8; ++i) {
     const Reading r =
-        reading_of(t.data.scene.sensor, world_point(t.spec, 1, static_cast<int>(rng.below(70))), 1, truth, rng);
+        reading_of(t.data.scene.sensor, world_point(t.spec, 1, static_cast<int>(rng.below(70))), truth, rng);
     a.add_readings(std::span(&session, 1), std::span(&r, 1));
     b.add_readings(std::span(&session, 1), std::span(&r, 1));
     cpu.add_readings(std::span(&session, 1), std::span(&r, 1));

@@ -23,9 +23,10 @@ struct SensorTruth {
 };
 
 struct Sample {
-  Reading reading;
-  RigidPose object_pose;  // true pose of the object when the reading was taken (identity in simulation)
-  SensorTruth truth;      // true sensor pose in the same frame as the reading (before object_pose is applied)
+  std::uint32_t object = 0;  // which of the scene's objects was touched (ground truth; training labels)
+  Reading reading;           // what the sensor gave
+  RigidPose object_pose;     // true pose of the object when the reading was taken (identity in simulation)
+  SensorTruth truth;         // true sensor pose in the same frame as the reading (before object_pose is applied)
 };
 
 struct Dataset {

@@ -37,8 +37,8 @@ inline const char* to_string(ControllerStatus s) {
   return "unknown";
 }
 
+// What a sensor gives: no ground truth (a dataset's Sample holds the touched object and the true poses).
 struct Reading {
-  std::uint32_t object = 0;  // object id in the scene (ground truth; ignored by recognition)
   // Sensor pose in the robot frame: the sensor centre, the outward surface
   // normal it was aligned to (the sensor presses along -normal), and its x axis
   // (perpendicular to normal; rotation about the normal is uncontrolled).
@@ -48,6 +48,10 @@ struct Reading {
   std::vector<float> pressure;  // SensorSpec::elements() values, kPa, row-major
   ControllerStatus status = ControllerStatus::converged;
   std::uint16_t iterations = 0;  // controller iterations used
+  // When the contact settled, in seconds on the clock of the frames it came from (a real sensor: the host's
+  // monotonic clock; a recording: its timeline). 0: unknown (simulated datasets). Recognition does not read it;
+  // it travels with the reading into saved sessions and outputs so that a robot can match estimates to motion.
+  double time_s = 0.0;
 };
 
 }  // namespace sva

@@ -56,7 +56,7 @@ void save_dataset(const Dataset& d, const std::filesystem::path& file) {
   for (const auto& s : d.samples) {
     const Reading& r = s.reading;
     if (r.pressure.size() != elements) throw std::logic_error("save_dataset: pressure image has the wrong size");
-    w.put<std::uint32_t>(r.object);
+    w.put<std::uint32_t>(s.object);
     w.put<std::uint8_t>(static_cast<std::uint8_t>(r.status));
     w.put<std::uint16_t>(r.iterations);
     put3(w, r.position);
@@ -94,8 +94,8 @@ Dataset load_dataset(const std::filesystem::path& file) {
     auto bad = [&](const std::string& what) { r.fail("sample " + std::to_string(i) + ": " + what); };
     Sample& s = d.samples[i];
     Reading& rd = s.reading;
-    rd.object = r.get<std::uint32_t>();
-    if (rd.object >= d.scene.objects.size()) bad("object id " + std::to_string(rd.object) + " out of range");
+    s.object = r.get<std::uint32_t>();
+    if (s.object >= d.scene.objects.size()) bad("object id " + std::to_string(s.object) + " out of range");
     auto status = r.get<std::uint8_t>();
     if (status > 2) bad("invalid controller status " + std::to_string(status));
     rd.status = static_cast<ControllerStatus>(status);

@@ -72,7 +72,7 @@ TrialGenerator::TrialGenerator(const Dataset& test, const PoseSpaceSpec& space, 
     const Reading& r = s.reading;
     if (r.status != ControllerStatus::converged) continue;
     auto bad = [&](const std::string& what) { throw Error(source + ": sample " + std::to_string(i) + ": " + what); };
-    if (r.object >= n_objects) bad("object id " + std::to_string(r.object) + " out of range");
+    if (s.object >= n_objects) bad("object id " + std::to_string(s.object) + " out of range");
     if (!finite(r.position) || !finite(r.normal) || !finite(r.x_axis) || !finite(s.object_pose.T))
       bad("sensor or object pose holds a NaN or infinite value");
     if (!is_rotation(s.object_pose.R)) bad("object pose rotation is not a rotation matrix");
@@ -84,7 +84,7 @@ TrialGenerator::TrialGenerator(const Dataset& test, const PoseSpaceSpec& space, 
     // Readings are stored in the robot frame of their session; bring them to
     // the object frame so that the trial pose is the only motion.
     object_frame_[i] = transform_reading(r, s.object_pose.inverse());
-    by_object_[r.object].push_back(i);
+    by_object_[s.object].push_back(i);
   }
   std::size_t total = 0;
   for (const auto& v : by_object_) total += v.size();

@@ -4,13 +4,15 @@
 
 #include "io/binary_file.hpp"
 
+#include <cmath>
 #include <string_view>
 
 namespace sva::io {
 
 namespace {
 constexpr std::string_view kMagic = "SVASESS1";
-constexpr std::uint32_t kVersion = 1;
+constexpr std::uint32_t kVersion = 2;  // 2: a reading stores its time (1: a ground-truth object id)
+constexpr std::uint32_t kOldestVersion = 1;
 constexpr std::size_t kMaxElements = 1 << 16;  // pressure values of one reading
 }  // namespace
 
@@ -25,14 +27,14 @@ void save_session_file(const SessionFile& session, const std::filesystem::path& 
     for (const glm::dvec3& v : {r.position, r.normal, r.x_axis}) w.put_array(&v.x, 3);
     w.put(static_cast<std::uint8_t>(r.status));
     w.put(r.iterations);
-    w.put(r.object);
+    w.put(r.time_s);
     w.put_vector(r.pressure);
   }
   w.write_file(file, kMagic, kVersion);
 }
 
 SessionFile load_session_file(const std::filesystem::path& file) {
-  BinaryReader r(file, kMagic, kVersion, "session");
+  BinaryReader r(file, kMagic, kOldestVersion, kVersion, "session");
   SessionFile s;
   s.scene_hash = r.get<std::uint64_t>();
   s.objects = r.get<std::uint32_t>();
@@ -50,7 +52,12 @@ SessionFile load_session_file(const std::filesystem::path& file) {
       r.fail("reading status " + std::to_string(status) + " is not a controller status");
     x.status = static_cast<ControllerStatus>(status);
     x.iterations = r.get<std::uint16_t>();
-    x.object = r.get<std::uint32_t>();
+    if (r.version() >= 2) {
+      x.time_s = r.get<double>();
+      if (!std::isfinite(x.time_s)) r.fail("reading time is not finite");
+    } else {
+      r.get<std::uint32_t>();  // version 1 kept the dataset's object id, which recognition never read
+    }
     x.pressure = r.get_vector<float>(kMaxElements);
   }
   r.expect_end();

@@ -3,10 +3,11 @@
 // has taken so far (robot frame, as given) and its prior, with the map they
 // belong to named by its scene hash. Restoring replays the readings, which
 // rebuilds the belief bit for bit (the fold is integer). Layout: the binary
-// container (io/binary_file.hpp), magic "SVASESS1", version 1; payload:
+// container (io/binary_file.hpp), magic "SVASESS1", version 2; payload:
 //   u64 scene_hash | u32 objects | string scene_name | vector<f64> prior |
 //   u64 readings | per reading: f64 position[3], normal[3], x_axis[3],
-//   u8 status, u16 iterations, u32 object, vector<f32> pressure.
+//   u8 status, u16 iterations, f64 time_s, vector<f32> pressure.
+// Version 1 held a u32 ground-truth object id in place of the time; it still loads (time unknown).
 #include <sva/reading.hpp>
 
 #include <cstdint>

@@ -205,7 +205,7 @@ std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParamete
   for (std::uint32_t o = 0; o < scene.objects.size(); ++o)
     for (std::size_t i = 0; i < data.samples.size(); ++i) {
       const Reading& r = data.samples[i].reading;
-      if (r.object != o) continue;
+      if (data.samples[i].object != o) continue;
       if (r.status != ControllerStatus::converged) {
         ++rep.skipped_not_converged;
         continue;
@@ -217,7 +217,7 @@ std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParamete
       use.push_back(i);
     }
   std::vector<std::size_t> per_object(scene.objects.size(), 0);
-  for (auto i : use) ++per_object[data.samples[i].reading.object];
+  for (auto i : use) ++per_object[data.samples[i].object];
   for (std::uint32_t o = 0; o < scene.objects.size(); ++o)
     if (per_object[o] == 0)
       throw Error("object \"" + scene.objects[o].name + "\" has no usable training reading (converged, with contact)");
@@ -246,7 +246,7 @@ std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParamete
           if (!(len > 0) || !std::isfinite(len))
             throw Error("training reading " + std::to_string(use[j]) + " has a zero normal");
           nrm /= len;
-          rd.object[j] = r.object;
+          rd.object[j] = s.object;
           rd.px[j] = static_cast<float>(pos.x), rd.py[j] = static_cast<float>(pos.y),
           rd.pz[j] = static_cast<float>(pos.z);
           rd.nx[j] = static_cast<float>(nrm.x), rd.ny[j] = static_cast<float>(nrm.y),

@@ -39,7 +39,7 @@ sva::Dataset tiny_dataset(const std::string& split, int per_object, double shift
       const double phi = i * std::numbers::pi * (3.0 - std::sqrt(5.0)) + shift;
       const glm::dvec3 n(std::sqrt(1 - z * z) * std::cos(phi), std::sqrt(1 - z * z) * std::sin(phi), z);
       sva::Sample s;
-      s.reading.object = object;
+      s.object = object;
       s.reading.position = 40.0 * n;
       s.reading.normal = n;
       s.reading.x_axis = glm::normalize(glm::cross(n, std::abs(n.z) < 0.9 ? glm::dvec3(0, 0, 1) : glm::dvec3(1, 0, 0)));
@@ -86,7 +86,7 @@ int main(int argc, char** argv) {
   const sva::Engine engine(map);
   sva::Recognizer rec(engine, map.pose_space());
   for (const sva::Sample& s : test.samples)
-    if (s.reading.object == 1 && rec.readings() < 8) rec.add_reading(s.reading);
+    if (s.object == 1 && rec.readings() < 8) rec.add_reading(s.reading);
   const sva::Estimate e = rec.estimate(2);
   std::printf("ok: engine on %s; recognised %s with p = %.3f, %zu hypotheses\n", engine.backend_description().c_str(),
               e.object_name.c_str(), e.object_probability[e.object], e.hypotheses.size());

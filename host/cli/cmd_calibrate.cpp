@@ -51,7 +51,7 @@ void wait_for_press(drivers::SensorStream& stream, double kpa) {
   std::string line;
   if (!std::getline(std::cin, line))
     throw Error("sva calibrate: stdin ended before the " + std::to_string(kpa) + " kPa load was confirmed");
-  while (auto e = stream.next(std::chrono::nanoseconds(0))) {
+  while (stream.next(std::chrono::nanoseconds(0))) {
   }
 }
 

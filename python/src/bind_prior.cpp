@@ -56,15 +56,16 @@ void bind_pose_prior(nb::module_& m) {
           nb::sig("def __init__(self, position: numpy.typing.ArrayLike, position_sigma_mm: float, rotation: "
                   "numpy.typing.ArrayLike | None = None, rotation_sigma_rad: float = 0.0) -> None"))
       .def_prop_ro(
-          "position", [](const PosePrior& p) { return vec3_copy(p.position); }, "mean position (a copy), mm")
+          "position", [](const PosePrior& p) { return vec3_copy(p.position); }, nb::rv_policy::automatic,
+          "mean position (a copy), mm")
       .def_ro("position_sigma_mm", &PosePrior::position_sigma_mm)
       .def_prop_ro(
           "rotation",
           [](const PosePrior& p) -> nb::object {
             if (!p.has_rotation) return nb::none();
-            return nb::cast(mat3_copy(p.rotation));
+            return nb::cast(mat3_copy(p.rotation), nb::rv_policy::automatic);
           },
-          "mean rotation (a copy), or None when the prior says nothing about the rotation")
+          nb::rv_policy::automatic, "mean rotation (a copy), or None when the prior says nothing about the rotation")
       .def_ro("rotation_sigma_rad", &PosePrior::rotation_sigma_rad)
       .def("__repr__", [](const PosePrior& p) {
         char buf[160];
@@ -94,7 +95,7 @@ void bind_prior(nb::module_& m) {
                   "collections.abc.Sequence[PosePrior | None] | None = None) -> None"))
       .def_prop_ro(
           "object_probability", [](const Prior& p) { return doubles_copy(p.object_probability); },
-          "per object (a copy; empty: flat)")
+          nb::rv_policy::automatic, "per object (a copy; empty: flat)")
       .def_ro("object_pose", &Prior::object_pose, "per object: a PosePrior or None (empty: none)")
       .def("__repr__", [](const Prior& p) {
         return "Prior(objects=" + std::to_string(p.object_probability.size()) +

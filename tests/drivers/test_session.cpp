@@ -268,7 +268,7 @@ TEST_CASE("recording live (an emulated sensor and a pose file) writes a session 
   }
 }
 
-TEST_CASE("a pose clock offset matches an arm's poses on another clock; the wrong one misses them") {
+TEST_CASE("a pose clock offset matches an arm's poses on another clock, the wrong one misses them") {
   const auto d = tiny_world();
   auto data = sva::load_dataset(d / "test.svad");
   data.samples.resize(std::min<std::size_t>(data.samples.size(), 6));

@@ -14,7 +14,7 @@ namespace sva {
 // A Gaussian over one object's pose (a camera's detection), in the robot frame: over the position, and optionally
 // over the rotation (by the angle between the rotation and the mean's). Its weight at a pose is
 //   exp(-|T - position|^2 / (2 position_sigma_mm^2) - angle(R, rotation)^2 / (2 rotation_sigma_rad^2)),
-// 1 at the mean.
+// 1 at the mean (not a normalised density: it lowers the object's bins away from the mean, and leaves other objects').
 struct PosePrior {
   glm::dvec3 position{0.0};       // mean position of the object's origin (RigidPose::T), mm
   double position_sigma_mm = 0;   // > 0

@@ -124,4 +124,136 @@ std::vector<std::uint16_t> Calibration::to_counts(std::span<const float> pressur
   return counts;
 }
 
+namespace {
+
+std::string kpa_text(double kpa) {
+  std::ostringstream o;
+  o << kpa << " kPa";
+  return o.str();
+}
+
+std::string element_name(const SensorSpec& s, std::size_t i) {
+  return "element " + std::to_string(i) + " (row " + std::to_string(static_cast<int>(i) / s.cols) + ", col " +
+         std::to_string(static_cast<int>(i) % s.cols) + ")";
+}
+
+// The loads a fit can use: finite, positive, each with frames of the calibration's size and nothing saturated.
+void check_loads(const Calibration& c, std::span<const LoadFrames> loads) {
+  if (loads.empty()) throw Error("gain fit: no loads (give at least one known pressure above 0 kPa)");
+  for (const auto& load : loads) {
+    if (!std::isfinite(load.kpa) || load.kpa <= 0)
+      throw Error("gain fit: load " + kpa_text(load.kpa) + " must be a finite pressure above 0 kPa");
+    if (load.frames.empty()) throw Error("gain fit: load " + kpa_text(load.kpa) + " has no frames");
+    for (const auto& f : load.frames) {
+      check_size(f, c.sensor);
+      for (std::size_t i = 0; i < f.counts.size(); ++i)
+        if (f.counts[i] >= c.saturation_counts)
+          throw Error("gain fit: " + element_name(c.sensor, i) + " is saturated under " + kpa_text(load.kpa) +
+                      " (counts " + std::to_string(f.counts[i]) + " >= " + std::to_string(c.saturation_counts) +
+                      "): use lighter loads");
+    }
+  }
+}
+
+// Each element's mean and standard deviation over the unloaded frames.
+void zero_statistics(const Calibration& c, std::span<const TactileFrame> unloaded, std::vector<double>& mean,
+                     std::vector<double>& sigma) {
+  if (unloaded.empty()) throw Error("gain fit: no unloaded frames to take the zero from");
+  const auto n = static_cast<std::size_t>(c.sensor.elements());
+  mean.assign(n, 0.0);
+  sigma.assign(n, 0.0);
+  for (const auto& f : unloaded) {
+    check_size(f, c.sensor);
+    for (std::size_t i = 0; i < n; ++i) mean[i] += f.counts[i];
+  }
+  for (auto& m : mean) m /= static_cast<double>(unloaded.size());
+  for (const auto& f : unloaded)
+    for (std::size_t i = 0; i < n; ++i) sigma[i] += (f.counts[i] - mean[i]) * (f.counts[i] - mean[i]);
+  for (auto& s : sigma) s = std::sqrt(s / static_cast<double>(unloaded.size()));
+}
+
+// The mean rise above zero of element i under the heaviest load: how well its slope is determined.
+double heaviest_rise(std::span<const LoadFrames> loads, std::size_t i, double zero) {
+  const auto heaviest = std::max_element(loads.begin(), loads.end(),
+                                         [](const LoadFrames& a, const LoadFrames& b) { return a.kpa < b.kpa; });
+  double rise = 0;
+  for (const auto& f : heaviest->frames) rise += f.counts[i] - zero;
+  return rise / static_cast<double>(heaviest->frames.size());
+}
+
+// Least squares through the zero: gain = sum(p d) / sum(d^2), d = counts - zero; returns the element's sum of
+// squared residuals in *sse.
+double fit_element(std::span<const LoadFrames> loads, std::size_t i, double zero, double* sse) {
+  double pd = 0, dd = 0, pp = 0;
+  for (const auto& load : loads)
+    for (const auto& f : load.frames) {
+      const double d = f.counts[i] - zero;
+      pd += load.kpa * d;
+      dd += d * d;
+      pp += load.kpa * load.kpa;
+    }
+  const double gain = pd / dd;
+  *sse = std::max(0.0, pp - gain * pd);  // sum (p - g d)^2 at the optimum
+  return gain;
+}
+
+}  // namespace
+
+GainFit fit_gains(Calibration& c, std::span<const TactileFrame> unloaded, std::span<const LoadFrames> loads,
+                  const GainFitOptions& options) {
+  check_loads(c, loads);
+  std::vector<double> zero, sigma;
+  zero_statistics(c, unloaded, zero, sigma);
+  GainFit fit;
+  double load_sq = 0;
+  for (const auto& load : loads) {
+    fit.frames += load.frames.size();
+    load_sq += load.kpa * load.kpa * static_cast<double>(load.frames.size());
+  }
+  std::vector<double> kpa;
+  for (const auto& load : loads) kpa.push_back(load.kpa);
+  std::sort(kpa.begin(), kpa.end());
+  fit.loads = static_cast<int>(std::unique(kpa.begin(), kpa.end()) - kpa.begin());
+  std::vector<float> gain(zero.size());
+  double total_sse = 0;
+  for (std::size_t i = 0; i < zero.size(); ++i) {
+    const double rise = heaviest_rise(loads, i, zero[i]);
+    const double needed = std::max(options.min_response_counts, options.min_response_sigmas * sigma[i]);
+    if (!(rise >= needed)) {
+      std::ostringstream why;
+      why << "gain fit: " << element_name(c.sensor, i) << (rise < 0 ? " falls " : " rises only ") << std::abs(rise)
+          << " counts " << (rise < 0 ? "below" : "above") << " its zero under " << kpa[fit.loads - 1]
+          << " kPa (needs >= " << needed << ": its unloaded noise is " << sigma[i]
+          << " counts): its gain cannot be fitted (ill-conditioned; a dead element, a load that misses it, or loads "
+             "too light)";
+      throw Error(why.str());
+    }
+    double sse = 0;
+    gain[i] = static_cast<float>(fit_element(loads, i, zero[i], &sse));
+    total_sse += sse;
+    const double element_rms = std::sqrt(sse / static_cast<double>(fit.frames));
+    if (element_rms >= fit.worst_residual_kpa) {
+      fit.worst_residual_kpa = element_rms;
+      fit.worst_element = static_cast<int>(i);
+    }
+  }
+  fit.rms_residual_kpa = std::sqrt(total_sse / static_cast<double>(fit.frames * zero.size()));
+  fit.relative_residual = fit.rms_residual_kpa / std::sqrt(load_sq / static_cast<double>(fit.frames));
+  if (fit.relative_residual > options.max_relative_residual) {
+    std::ostringstream why;
+    why << "gain fit: residual " << fit.rms_residual_kpa << " kPa RMS is " << 100 * fit.relative_residual
+        << "% of the loads (limit " << 100 * options.max_relative_residual << "%; worst "
+        << element_name(c.sensor, static_cast<std::size_t>(fit.worst_element)) << ", " << fit.worst_residual_kpa
+        << " kPa): the counts do not follow the loads linearly (a load not flat over the array, or presses that do "
+           "not match the load list)";
+    throw Error(why.str());
+  }
+  const auto [lo, hi] = std::minmax_element(gain.begin(), gain.end());
+  fit.min_gain = *lo;
+  fit.max_gain = *hi;
+  c.gain = std::move(gain);
+  for (std::size_t i = 0; i < zero.size(); ++i) c.zero[i] = static_cast<float>(zero[i]);
+  return fit;
+}
+
 }  // namespace sva::drivers

@@ -77,12 +77,19 @@ void SettleRule::validate() const {
   if (frames < 1 || frames > 10000) throw bad("frames must be in [1, 10000]");
   for (double v : {target_kpa, tolerance_kpa, stable_kpa, contact_kpa, max_pose_gap_s})
     if (!std::isfinite(v) || v < 0) throw bad("values must be finite and non-negative");
+  if (!std::isfinite(pose_clock_offset_s) || std::abs(pose_clock_offset_s) > 1e9)
+    throw bad("pose_clock_offset_s must be a finite number of seconds (|offset| <= 1e9)");
   if (contact_kpa <= 0) throw bad("contact_kpa must be positive");
 }
 
 std::string SettleRule::to_json() const {
-  return nlohmann::json{{"frames", frames},         {"target_kpa", target_kpa},   {"tolerance_kpa", tolerance_kpa},
-                        {"stable_kpa", stable_kpa}, {"contact_kpa", contact_kpa}, {"max_pose_gap_s", max_pose_gap_s}}
+  return nlohmann::json{{"frames", frames},
+                        {"target_kpa", target_kpa},
+                        {"tolerance_kpa", tolerance_kpa},
+                        {"stable_kpa", stable_kpa},
+                        {"contact_kpa", contact_kpa},
+                        {"max_pose_gap_s", max_pose_gap_s},
+                        {"pose_clock_offset_s", pose_clock_offset_s}}
       .dump();
 }
 
@@ -96,6 +103,7 @@ SettleRule SettleRule::from_json(const std::string& text, const std::string& sou
     r.stable_kpa = j.value("stable_kpa", r.stable_kpa);
     r.contact_kpa = j.value("contact_kpa", r.contact_kpa);
     r.max_pose_gap_s = j.value("max_pose_gap_s", r.max_pose_gap_s);
+    r.pose_clock_offset_s = j.value("pose_clock_offset_s", r.pose_clock_offset_s);  // absent in older recordings
   } catch (const nlohmann::json::exception& e) {
     throw Error(source + ": bad settle rule: " + e.what());
   }
@@ -143,10 +151,13 @@ void ReadingFormer::add_frame(const StreamFrame& f) {
   resolve_waiting();
 }
 
-void ReadingFormer::add_pose(const PoseSample& pose) {
+void ReadingFormer::add_pose(const PoseSample& given) {
+  // On the host's clock from here on (the arm's own clock may differ: SettleRule::pose_clock_offset_s).
+  PoseSample pose = given;
+  pose.time += rule_.pose_clock_offset_s;
   if (!poses_.empty() && pose.time < poses_.back().time)
-    throw Error("pose stream: time " + seconds(pose.time) + " is earlier than the previous pose's " +
-                seconds(poses_.back().time));
+    throw Error("pose stream: time " + seconds(given.time) + " is earlier than the previous pose's " +
+                seconds(poses_.back().time - rule_.pose_clock_offset_s));
   poses_.push_back(pose);
   // Keep the poses a waiting contact or the next one may need.
   const double keep_from = waiting_.empty() ? pose.time - 10.0 : waiting_.front().time - 10.0;

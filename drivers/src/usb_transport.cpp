@@ -39,7 +39,68 @@ std::string read_serial(libusb_device_handle* h, const libusb_device_descriptor&
   return n > 0 ? std::string(reinterpret_cast<char*>(buf), static_cast<std::size_t>(n)) : std::string();
 }
 
+// libusb's hotplug callback: a device the vendor/product filter admits has arrived (the whole selector is checked
+// when opening it). Stays registered.
+int LIBUSB_CALL on_arrival(libusb_context*, libusb_device*, libusb_hotplug_event, void* arrived) {
+  static_cast<std::atomic<bool>*>(arrived)->store(true);
+  return 0;
+}
+
+// Registers on_arrival for the devices `s` could match; libusb's code.
+int register_arrivals(libusb_context* ctx, const DeviceSelector& s, std::atomic<bool>* arrived,
+                      libusb_hotplug_callback_handle* handle) {
+  const int vid = s.vendor_id ? *s.vendor_id : LIBUSB_HOTPLUG_MATCH_ANY;
+  const int pid = s.product_id ? *s.product_id : LIBUSB_HOTPLUG_MATCH_ANY;
+  return libusb_hotplug_register_callback(ctx, LIBUSB_HOTPLUG_EVENT_DEVICE_ARRIVED, LIBUSB_HOTPLUG_NO_FLAGS, vid, pid,
+                                          LIBUSB_HOTPLUG_MATCH_ANY, &on_arrival, arrived, handle);
+}
+
+// Chooses how to notice the device's return and registers the callback when it is hotplug; *registered says
+// whether a callback is now registered (to remove before libusb_exit).
+ReconnectPlan setup_reconnect(libusb_context* ctx, const UsbOptions& o, std::atomic<bool>* arrived,
+                              libusb_hotplug_callback_handle* handle, bool* registered) {
+  const bool has = usb_has_hotplug();
+  const int code = o.hotplug && has ? register_arrivals(ctx, o.device, arrived, handle) : LIBUSB_ERROR_NOT_SUPPORTED;
+  *registered = o.hotplug && has && code == 0;
+  return plan_reconnect(o.hotplug, has, code, o.reconnect_poll);
+}
+
 }  // namespace
+
+ReconnectPlan plan_reconnect(bool wanted, bool platform_has_hotplug, int register_code,
+                             std::chrono::milliseconds poll) {
+  ReconnectPlan p;
+  if (wanted && platform_has_hotplug && register_code == 0) {
+    p.mode = ReconnectMode::hotplug;
+    p.message = "libusb hotplug events";
+    return p;
+  }
+  p.mode = ReconnectMode::polling;
+  p.message = "polling every " + std::to_string(poll.count()) + " ms (";
+  if (!wanted)
+    p.message += "hotplug turned off";
+  else if (!platform_has_hotplug)
+    p.message += "libusb has no hotplug support on this platform";
+  else
+    p.message += std::string("registering the hotplug callback failed: ") + libusb_error_name(register_code);
+  p.message += ")";
+  return p;
+}
+
+bool usb_has_hotplug() { return libusb_has_capability(LIBUSB_CAP_HAS_HOTPLUG) != 0; }
+
+ReconnectPlan usb_reconnect_plan(const UsbOptions& options) {
+  libusb_context* ctx = nullptr;
+  if (int r = libusb_init(&ctx); r != 0)
+    throw Error(std::string("USB unavailable: libusb_init failed (") + libusb_error_name(r) + ")");
+  std::atomic<bool> arrived{false};
+  libusb_hotplug_callback_handle handle{};
+  bool registered = false;
+  const ReconnectPlan plan = setup_reconnect(ctx, options, &arrived, &handle, &registered);
+  if (registered) libusb_hotplug_deregister_callback(ctx, handle);
+  libusb_exit(ctx);
+  return plan;
+}
 
 DeviceSelector DeviceSelector::parse(const std::string& text) {
   DeviceSelector s;
@@ -133,11 +194,20 @@ struct UsbTransport::Impl {
   std::deque<Chunk> pending;
   std::atomic<bool> interrupted{false};
   bool ended = false;
+  // Reconnecting: the plan, the hotplug callback's flag, and until when to try opening (a device that has just
+  // arrived may not be openable at once: udev applies its permissions after the event).
+  ReconnectPlan plan;
+  std::atomic<bool> arrived{false};
+  libusb_hotplug_callback_handle hotplug_handle{};
+  bool hotplug_registered = false;
+  std::int64_t try_open_until_ns = 0;
 
   ~Impl() {
     release();
+    if (hotplug_registered) libusb_hotplug_deregister_callback(ctx, hotplug_handle);
     if (ctx) libusb_exit(ctx);
   }
+  bool device_may_be_back(std::chrono::milliseconds timeout);
   int open_matching(std::string* why);
   void check_endpoint();
   void start();
@@ -272,9 +342,27 @@ UsbTransport::UsbTransport(UsbOptions options) : impl_(std::make_unique<Impl>())
   if (r != 0) throw Error(describe_usb_error(r, "opening " + which, o.device.describe()));
   impl_->check_endpoint();
   impl_->start();
+  impl_->plan = setup_reconnect(impl_->ctx, o, &impl_->arrived, &impl_->hotplug_handle, &impl_->hotplug_registered);
 }
 
 UsbTransport::~UsbTransport() = default;
+
+const ReconnectPlan& UsbTransport::reconnect_plan() const { return impl_->plan; }
+
+// Waits up to `timeout` for a sign that the device is back: with hotplug, an arrival event (then opening is tried
+// for 5 s); polling, every reconnect_poll.
+bool UsbTransport::Impl::device_may_be_back(std::chrono::milliseconds timeout) {
+  const auto wait = std::min(timeout, options.reconnect_poll);
+  if (plan.mode == ReconnectMode::polling) {
+    std::this_thread::sleep_for(wait);
+    return true;
+  }
+  const auto us = std::chrono::duration_cast<std::chrono::microseconds>(wait).count();
+  timeval tv{static_cast<time_t>(us / 1000000), static_cast<suseconds_t>(us % 1000000)};
+  libusb_handle_events_timeout_completed(ctx, &tv, nullptr);  // delivers hotplug callbacks
+  if (arrived.exchange(false)) try_open_until_ns = monotonic_ns() + 5'000'000'000;
+  return monotonic_ns() < try_open_until_ns;
+}
 
 void UsbTransport::interrupt() {
   impl_->interrupted = true;
@@ -302,13 +390,18 @@ Chunk UsbTransport::read(std::chrono::milliseconds timeout) {
     if (m.lost || m.active == 0) {
       std::string reason = m.lost_reason.empty() ? "all transfers stopped" : m.lost_reason;
       m.release();
-      return Chunk{LinkStatus::disconnected, monotonic_ns(), {}, describe() + ": " + reason + "; reconnecting"};
+      // One try at once: the device may be back before the first event is handled.
+      m.try_open_until_ns = monotonic_ns() + std::chrono::nanoseconds(m.options.reconnect_poll).count();
+      return Chunk{LinkStatus::disconnected,
+                   monotonic_ns(),
+                   {},
+                   describe() + ": " + reason + "; reconnecting by " + m.plan.message};
     }
     return Chunk{LinkStatus::idle, monotonic_ns(), {}, {}};
   }
-  // Disconnected: poll for the same device (by the same selector) until it returns.
-  std::this_thread::sleep_for(std::min(timeout, m.options.reconnect_poll));
-  if (m.open_matching(nullptr) != 0) return Chunk{LinkStatus::idle, monotonic_ns(), {}, {}};
+  // Disconnected: wait for the same device (by the same selector) to return.
+  if (!m.device_may_be_back(timeout) || m.open_matching(nullptr) != 0)
+    return Chunk{LinkStatus::idle, monotonic_ns(), {}, {}};
   try {
     m.check_endpoint();
     m.start();
@@ -316,7 +409,7 @@ Chunk UsbTransport::read(std::chrono::milliseconds timeout) {
     m.ended = true;
     return Chunk{LinkStatus::failed, monotonic_ns(), {}, e.what()};
   }
-  return Chunk{LinkStatus::reconnected, monotonic_ns(), {}, describe() + ": reconnected"};
+  return Chunk{LinkStatus::reconnected, monotonic_ns(), {}, describe() + ": reconnected (" + m.plan.message + ")"};
 }
 
 }  // namespace sva::drivers

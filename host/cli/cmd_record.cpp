@@ -32,6 +32,7 @@ drivers::SettleRule settle_rule(const Args& a) {
   r.tolerance_kpa = a.number("--tolerance-kpa", r.tolerance_kpa, 0, 1e6);
   r.stable_kpa = a.number("--stable-kpa", r.stable_kpa, 0, 1e6);
   r.contact_kpa = a.number("--contact-kpa", r.contact_kpa, 1e-9, 1e6);
+  r.pose_clock_offset_s = a.number("--pose-clock-offset", r.pose_clock_offset_s, -1e9, 1e9);
   r.validate();
   return r;
 }
@@ -44,12 +45,16 @@ void declare_options(Args& a, bool live) {
       .flag("--append", "continue an existing recording (its calibration and settle rule are kept)")
       .option("--interface", "N", "USB interface number (default 0)")
       .option("--endpoint", "ADDR", "bulk IN endpoint, e.g. 0x81 (default)")
+      .flag("--no-hotplug", "after a disconnect, poll every 0.5 s instead of waiting for libusb's hotplug events")
       .option("--duration", "S", "stop after this many seconds (default: until Ctrl-C)")
       .option("--settle-frames", "N", "consecutive stable frames that settle a contact (default 5)")
       .option("--target-kpa", "KPA", "the contact controller's target mean pressure (default 0: any)")
       .option("--tolerance-kpa", "KPA", "allowed distance of the mean pressure from the target (default 5)")
       .option("--stable-kpa", "KPA", "largest change of any element between settled frames (default 1)")
       .option("--contact-kpa", "KPA", "mean pressure that starts (and, below it, ends) a contact (default 0.5)")
+      .option("--pose-clock-offset", "S",
+              "seconds added to the pose stream's times before matching (arm clock + S = host monotonic clock; "
+              "default 0); saved with the recording")
       .option("--map", "MAP",
               live ? "the map to recognise with: the estimate after each converged reading on stdout"
                    : "recognise while touching: the estimate after each converged reading on stdout")
@@ -62,6 +67,7 @@ int run_sensor(const std::string& name, Args& a, bool live) {
   usb.device = drivers::DeviceSelector::parse(a.required("--device"));
   usb.interface_number = static_cast<int>(a.integer("--interface", 0, 0, 255));
   usb.endpoint = parse_endpoint(a.get_or("--endpoint", "0x81"));
+  usb.hotplug = !a.has("--no-hotplug");
   drivers::SessionSettings settings{drivers::Calibration::load(a.required("--calibration")), settle_rule(a),
                                     "USB " + usb.device.describe()};
   const double duration = a.number("--duration", 0, 0, 1e7);
@@ -70,10 +76,20 @@ int run_sensor(const std::string& name, Args& a, bool live) {
   const std::string map = live ? a.required("--map") : a.get_or("--map", "");
 
   auto transport = std::make_unique<drivers::UsbTransport>(usb);
+  std::fprintf(stderr, "%s: %s opened; if the cable is pulled, it is found again by %s\n", name.c_str(),
+               transport->describe().c_str(), transport->reconnect_plan().message.c_str());
   std::unique_ptr<drivers::SessionWriter> writer;
   if (!out.empty()) {
     writer = std::make_unique<drivers::SessionWriter>(out, settings, a.has("--append"));
-    if (a.has("--append")) settings = drivers::load_session(out).settings;
+    if (a.has("--append")) {
+      const double offset = settings.settle.pose_clock_offset_s;
+      settings = drivers::load_session(out).settings;
+      // One offset per recording, so that a replay matches every pose as the live run did.
+      if (a.has("--pose-clock-offset") && offset != settings.settle.pose_clock_offset_s)
+        throw Error(name + ": --pose-clock-offset " + a.required("--pose-clock-offset") + " differs from " + out +
+                    "'s own (" + std::to_string(settings.settle.pose_clock_offset_s) +
+                    " s); a recording keeps one offset: start a new one");
+    }
   }
   drivers::PoseStream poses(poses_source);
   drivers::LiveOptions opts{settings, writer.get()};

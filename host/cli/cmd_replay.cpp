@@ -29,11 +29,17 @@ int cmd_replay(const std::vector<std::string>& argv_in) {
   a.option("--session", "SESSION", "the recording (or give it first, without the option)")
       .option("--map", "MAP", "recognise the readings with this map (sva train)")
       .option("--speed", "X", "1: the recorded pace (default), 2: twice as fast, 0: as fast as possible")
-      .option("--backend", "cpu|vulkan|auto", "vote backend with --map (default cpu)");
+      .option("--backend", "cpu|vulkan|auto", "vote backend with --map (default cpu)")
+      .option("--pose-clock-offset", "S",
+              "seconds added to the recorded poses' times before matching, in place of the recording's own offset");
   if (!a.parse()) return 0;
   const std::string file = positional ? *positional : a.required("--session");
   const double speed = a.number("--speed", 1.0, 0.0, 1e6);
-  const auto session = drivers::load_session(file);
+  auto session = drivers::load_session(file);
+  if (a.has("--pose-clock-offset")) {
+    session.settings.settle.pose_clock_offset_s = a.number("--pose-clock-offset", 0.0, -1e9, 1e9);
+    session.settings.settle.validate();
+  }
   if (!session.tail_problem.empty())
     std::fprintf(stderr, "sva replay: %s ends early (%s); replaying everything before it\n", file.c_str(),
                  session.tail_problem.c_str());

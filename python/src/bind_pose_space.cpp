@@ -1,4 +1,6 @@
-// sva.PoseSpaceSpec: the recognizer's pose space (docs/recognition.md), a box of translations and rotations.
+// sva.PoseSpaceSpec: the recognizer's pose space (docs/recognition.md), a box of translations and rotations, and
+// its workspace frame (where the box lies in the robot frame: sva.placed_pose_space).
+#include <sva/pose_space.hpp>
 #include <sva/scene.hpp>
 
 #include <nanobind/stl/string.h>
@@ -27,6 +29,8 @@ void bind_pose_space(nb::module_& m) {
       .def_rw("translation_min_mm", &PoseSpaceSpec::translation_min_mm)
       .def_rw("translation_max_mm", &PoseSpaceSpec::translation_max_mm)
       .def_rw("rotation_bins", &PoseSpaceSpec::rotation_bins, "per Rodrigues axis (planar: over [-pi, pi])")
+      .def_rw("workspace", &PoseSpaceSpec::workspace,
+              "where the box lies in the robot frame (x_robot = workspace.apply(x_box)); identity by default")
       .def("__repr__", [](const PoseSpaceSpec& p) {
         return std::string("PoseSpaceSpec(kind=") + (p.kind == PoseSpaceSpec::Kind::planar ? "planar" : "spatial") +
                ", translation_bins=" + std::to_string(p.translation_bins) +
@@ -34,6 +38,18 @@ void bind_pose_space(nb::module_& m) {
                ", translation_max_mm=" + std::to_string(p.translation_max_mm) +
                ", rotation_bins=" + std::to_string(p.rotation_bins) + ")";
       });
+  m.def(
+      "placed_pose_space",
+      [](const PoseSpaceSpec& grid, nb::handle centre, double half_extent_mm, nb::handle rotation) {
+        return placed_pose_space(
+            grid, to_vec3(centre, "placed_pose_space: centre"), half_extent_mm,
+            rotation.is_none() ? glm::dmat3(1.0) : to_mat3(rotation, "placed_pose_space: rotation"));
+      },
+      "grid"_a, "centre"_a, "half_extent_mm"_a, "rotation"_a = nb::none(),
+      nb::sig("def placed_pose_space(grid: PoseSpaceSpec, centre: numpy.typing.ArrayLike, half_extent_mm: float, "
+              "rotation: numpy.typing.ArrayLike | None = None) -> PoseSpaceSpec"),
+      "The grid of `grid`, its box a cube of half side half_extent_mm centred on `centre` (robot frame, mm) and "
+      "turned by `rotation`.");
 }
 
 }  // namespace sva::python

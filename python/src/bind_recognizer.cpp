@@ -1,7 +1,11 @@
-// sva.Recognizer, sva.Estimate, sva.Hypothesis: feed readings one at a time, read the estimate. Options are keyword
-// arguments with RecognizerOptions' names; the GIL is released during updates and estimates.
+// sva.Recognizer, sva.Estimate, sva.Hypothesis: feed readings one at a time, read the estimate; a prior, saving and
+// restoring the session, and recognizers sharing one sva.Engine. Options are keyword arguments with
+// RecognizerOptions' names; the GIL is released during updates, estimates and restores.
+#include <sva/engine.hpp>
+#include <sva/error.hpp>
 #include <sva/recognizer.hpp>
 
+#include <nanobind/stl/filesystem.h>
 #include <nanobind/stl/optional.h>
 #include <nanobind/stl/string.h>
 #include <nanobind/stl/vector.h>
@@ -24,6 +28,8 @@ namespace {
 struct PyRecognizer {
   PyRecognizer(const Map& map, const PoseSpaceSpec& space, const RecognizerOptions& options)
       : rec(map, space, options) {}
+  PyRecognizer(const Engine& engine, const PoseSpaceSpec& space, const RecognizerOptions& options)
+      : rec(engine, space, options) {}
   Recognizer rec;
   mutable std::mutex mutex;
 };
@@ -81,24 +87,77 @@ void bind_estimate(nb::module_& m) {
       });
 }
 
+// With an engine, the backend and device are the engine's: asking for them again is a mistake worth naming.
+RecognizerOptions engine_recognizer_options(const nb::kwargs& options) {
+  for (const char* key : {"backend", "vulkan_device"})
+    if (options.contains(key))
+      throw Error(std::string("sva.Recognizer: ") + key +
+                  " comes from the engine when one is given (make the Engine with it)");
+  return recognizer_options(options, "sva.Recognizer");
+}
+
+void bind_session(nb::class_<PyRecognizer>& c) {
+  c.def(
+       "set_prior",
+       [](PyRecognizer& r, const Prior& prior) {
+         std::lock_guard lock(r.mutex);
+         r.rec.set_prior(prior);
+       },
+       "prior"_a,
+       "A prior for this session (sva.Prior), replacing any earlier one; it enters at estimate time. sva.Error when it "
+       "does not fit the map.")
+      .def(
+          "save_session",
+          [](const PyRecognizer& r, const std::filesystem::path& file) {
+            EngineScope scope;
+            std::lock_guard lock(r.mutex);
+            r.rec.save_session(file);
+          },
+          "path"_a, "Saves the readings so far and the object prior to a small file (restore_session resumes).")
+      .def(
+          "restore_session",
+          [](PyRecognizer& r, const std::filesystem::path& file) {
+            EngineScope scope(true);
+            std::lock_guard lock(r.mutex);
+            r.rec.restore_session(file);
+          },
+          "path"_a,
+          "Replaces this session by a saved one (its belief rebuilt bit for bit); sva.Error naming the file when it "
+          "cannot be read or was saved with another map.");
+}
+
 }  // namespace
 
 void bind_recognizer(nb::module_& m) {
   bind_estimate(m);
-  nb::class_<PyRecognizer>(m, "Recognizer",
-                           "Recognition of one object from a stream of readings against a map (one session).")
+  auto c = nb::class_<PyRecognizer>(m, "Recognizer",
+                                    "Recognition of one object from a stream of readings against a map (one session).");
+  c.def(
+       "__init__",
+       [](PyRecognizer* self, const Map& map, const std::optional<PoseSpaceSpec>& pose_space,
+          const nb::kwargs& options) {
+         const RecognizerOptions o = recognizer_options(options, "sva.Recognizer");
+         EngineScope scope;
+         new (self) PyRecognizer(map, pose_space ? *pose_space : map.pose_space(), o);
+       },
+       "map"_a, "pose_space"_a = nb::none(), "options"_a, nb::keep_alive<1, 2>(),
+       nb::sig("def __init__(self, map: Map, pose_space: PoseSpaceSpec | None = None, *, " RECOGNIZER_OPTIONS_SIG
+               ") -> None"),
+       "pose_space defaults to the map's; options as RecognizerOptions (docs/recognition.md).")
       .def(
           "__init__",
-          [](PyRecognizer* self, const Map& map, const std::optional<PoseSpaceSpec>& pose_space,
+          [](PyRecognizer* self, const Engine& engine, const std::optional<PoseSpaceSpec>& pose_space,
              const nb::kwargs& options) {
-            const RecognizerOptions o = recognizer_options(options, "sva.Recognizer");
+            const RecognizerOptions o = engine_recognizer_options(options);
             EngineScope scope;
-            new (self) PyRecognizer(map, pose_space ? *pose_space : map.pose_space(), o);
+            new (self) PyRecognizer(engine, pose_space ? *pose_space : engine.map().pose_space(), o);
           },
-          "map"_a, "pose_space"_a = nb::none(), "options"_a, nb::keep_alive<1, 2>(),
-          nb::sig("def __init__(self, map: Map, pose_space: PoseSpaceSpec | None = None, *, " RECOGNIZER_OPTIONS_SIG
-                  ") -> None"),
-          "pose_space defaults to the map's; options as RecognizerOptions (docs/recognition.md).")
+          "engine"_a, "pose_space"_a = nb::none(), "options"_a,
+          nb::sig("def __init__(self, engine: Engine, pose_space: PoseSpaceSpec | None = None, *, "
+                  "method: str = 'sva', eps: float = 1e-06, likelihood_cutoff: float = 0.0, "
+                  "object_prune_probability: float = 0.0, max_pairs_per_update: int = 0, refine_pose: bool = True, "
+                  "threads: int = 0) -> None"),
+          "A recognizer sharing `engine` (its map, backend and device; the engine is kept alive).")
       .def(
           "add_reading",
           [](PyRecognizer& r, const Reading& reading) {
@@ -117,16 +176,19 @@ void bind_recognizer(nb::module_& m) {
             return r.rec.estimate(top_k);
           },
           "top_k"_a = 5)
-      .def("reset",
-           [](PyRecognizer& r) {
-             EngineScope scope;
-             std::lock_guard lock(r.mutex);
-             r.rec.reset();
-           })
+      .def(
+          "reset",
+          [](PyRecognizer& r) {
+            EngineScope scope;
+            std::lock_guard lock(r.mutex);
+            r.rec.reset();
+          },
+          "Forgets the readings and the prior: a fresh session (the belief's memory is kept for the next one).")
       .def("readings", [](const PyRecognizer& r) {
         std::lock_guard lock(r.mutex);
         return r.rec.readings();
       });
+  bind_session(c);
 }
 
 }  // namespace sva::python

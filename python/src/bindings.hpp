@@ -24,6 +24,8 @@ void bind_scene(nb::module_& m);
 void bind_reading(nb::module_& m);
 void bind_dataset(nb::module_& m);
 void bind_map(nb::module_& m);
+void bind_engine(nb::module_& m);
+void bind_prior(nb::module_& m);
 void bind_recognizer(nb::module_& m);
 void bind_batch_recognizer(nb::module_& m);
 void bind_workflow(nb::module_& m);

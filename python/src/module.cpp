@@ -11,6 +11,8 @@ NB_MODULE(_sva_core, m) {
   bind_reading(m);
   bind_dataset(m);
   bind_map(m);
+  bind_engine(m);
+  bind_prior(m);
   bind_recognizer(m);
   bind_batch_recognizer(m);
   bind_workflow(m);

@@ -243,3 +243,37 @@ TEST_CASE("USB: device selectors, and the errors that need no device") {
   CHECK_THAT(describe_usb_error(-6, "claiming interface 0", "x"), Contains("another program"));
   CHECK_THAT(describe_usb_error(-4, "reading", "x"), Contains("unplugged"));
 }
+
+TEST_CASE("USB reconnect: hotplug events where libusb has them, else polling, and the status says which") {
+  using namespace std::chrono_literals;
+  // The decision: hotplug only when wanted, offered by the platform, and the callback registered.
+  const auto hot = plan_reconnect(true, true, 0, 500ms);
+  CHECK(hot.mode == ReconnectMode::hotplug);
+  CHECK_THAT(hot.message, Contains("hotplug"));
+  const auto unsupported = plan_reconnect(true, false, 0, 500ms);
+  CHECK(unsupported.mode == ReconnectMode::polling);
+  CHECK_THAT(unsupported.message, Contains("polling every 500 ms") && Contains("no hotplug support"));
+  // libusb's -12: LIBUSB_ERROR_NOT_SUPPORTED.
+  const auto failed = plan_reconnect(true, true, -12, 250ms);
+  CHECK(failed.mode == ReconnectMode::polling);
+  CHECK_THAT(failed.message, Contains("polling every 250 ms") && Contains("LIBUSB_ERROR_NOT_SUPPORTED"));
+  const auto off = plan_reconnect(false, true, 0, 500ms);
+  CHECK(off.mode == ReconnectMode::polling);
+  CHECK_THAT(off.message, Contains("turned off"));
+
+  // The same decision made against this machine's libusb, registering and removing the real callback (no device
+  // needed): hotplug exactly where libusb reports the capability.
+  UsbOptions options;
+  options.device = DeviceSelector::parse("16c0:05dc");
+  try {
+    const auto here = usb_reconnect_plan(options);
+    CHECK((here.mode == ReconnectMode::hotplug) == usb_has_hotplug());
+    options.hotplug = false;
+    CHECK(usb_reconnect_plan(options).mode == ReconnectMode::polling);
+    options.hotplug = true;
+    options.device = DeviceSelector::parse("A12B");  // a serial: any vendor's arrival wakes it, the serial is checked
+    CHECK((usb_reconnect_plan(options).mode == ReconnectMode::hotplug) == usb_has_hotplug());
+  } catch (const sva::Error& e) {
+    CHECK_THAT(e.what(), Contains("USB unavailable"));  // a container without USB: the error path, named
+  }
+}

@@ -9,6 +9,7 @@
 #include <sva/map.hpp>
 #include <sva/recognizer.hpp>
 
+#include <cmath>
 #include <fstream>
 
 #include "io/recording_file.hpp"
@@ -265,4 +266,59 @@ TEST_CASE("recording live (an emulated sensor and a pose file) writes a session 
     CHECK(replayed[i].reading.position == formed[i].reading.position);
     CHECK(replayed[i].time == formed[i].time);
   }
+}
+
+TEST_CASE("a pose clock offset matches an arm's poses on another clock, the wrong one misses them") {
+  const auto d = tiny_world();
+  auto data = sva::load_dataset(d / "test.svad");
+  data.samples.resize(std::min<std::size_t>(data.samples.size(), 6));
+  export_dataset_session(data, export_calibration(data.scene.sensor), 5.0, 200.0, d / "clock.svar");
+  const auto on_host_clock = load_session(d / "clock.svar");
+  auto formed_by = [](const Session& s, std::vector<std::string>* notes) {
+    std::vector<sva::Reading> out;
+    PipelineEvents events;
+    events.on_reading = [&](const FormedReading& f, std::int64_t) { out.push_back(f.reading); };
+    events.on_note = [&](const ContactNote& n) { notes->push_back(n.text); };
+    replay_session(s, 0.0, events);
+    return out;
+  };
+  std::vector<std::string> notes;
+  const auto expected = formed_by(on_host_clock, &notes);
+  REQUIRE(expected.size() >= 3);
+  REQUIRE(notes.empty());
+
+  // The arm's clock runs 1234.5 s behind the host's: its pose times are that much smaller (arrival unchanged).
+  Session arm_clock = on_host_clock;
+  for (auto& p : arm_clock.poses) p.pose.time -= 1234.5;
+  const auto missed = formed_by(arm_clock, &notes);
+  CHECK(missed.empty());
+  CHECK(notes.size() == expected.size());  // every contact dropped with a note
+  if (!notes.empty()) CHECK_THAT(notes[0], Contains("dropped"));
+
+  arm_clock.settings.settle.pose_clock_offset_s = 1234.5;
+  notes.clear();
+  const auto matched = formed_by(arm_clock, &notes);
+  CHECK(notes.empty());
+  REQUIRE(matched.size() == expected.size());
+  for (std::size_t i = 0; i < matched.size(); ++i) {
+    CHECK(matched[i].position == expected[i].position);
+    CHECK(matched[i].normal == expected[i].normal);
+    CHECK(matched[i].pressure == expected[i].pressure);
+  }
+
+  // The offset is saved with the recording's settle rule, so a replay applies it again; the CLI may override it.
+  {
+    SessionWriter writer(d / "offset.svar", arm_clock.settings);
+    for (const auto& c : arm_clock.chunks) writer.chunk(c);
+    for (const auto& p : arm_clock.poses) writer.pose(p);
+  }
+  CHECK(load_session(d / "offset.svar").settings.settle.pose_clock_offset_s == 1234.5);
+  std::string out;
+  REQUIRE(sva::test::run_sva("replay " + (d / "offset.svar").string() + " --speed 0", &out) == 0);
+  CHECK_THAT(out, Contains("sva replay: " + std::to_string(expected.size()) + " readings"));
+  REQUIRE(sva::test::run_sva("replay " + (d / "offset.svar").string() + " --speed 0 --pose-clock-offset 0", &out) == 0);
+  CHECK_THAT(out, Contains("sva replay: 0 readings") && Contains("dropped"));
+  SettleRule bad;
+  bad.pose_clock_offset_s = std::nan("");
+  CHECK_THROWS_WITH(bad.validate(), Contains("pose_clock_offset_s"));
 }

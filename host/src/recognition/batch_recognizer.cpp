@@ -53,9 +53,10 @@ PoseHypothesis public_hypothesis(const ModeHypothesis& m, const PoseSpace& space
 // The distinct hypotheses, in the robot frame. The best object's best mode carries the estimate's own pose (the
 // fine pose when refined), so hypotheses[0] and Estimate::pose agree.
 void add_hypotheses(const BayesFilter& filter, const PoseSpace& space, const std::vector<MapObject>& objects,
-                    int radius, std::size_t top_k, std::span<const double> prior, const BeliefEstimate& b,
-                    Estimate* e) {
-  const HypothesisSet set = hypotheses(filter.belief(), space, filter.belief().summarise(), top_k, radius, prior);
+                    int radius, std::size_t top_k, std::span<const double> prior, const PoseWeighting& pose_prior,
+                    const BeliefEstimate& b, Estimate* e) {
+  const HypothesisSet set =
+      hypotheses(filter.belief(), space, filter.belief().summarise(), top_k, radius, prior, pose_prior);
   for (const ModeHypothesis& m : set.modes) {
     e->hypotheses.push_back(public_hypothesis(m, space, objects));
     if (b.pose_valid && m.key == b.best_key) e->hypotheses.back().pose = e->pose;
@@ -89,6 +90,39 @@ std::vector<double> prior_weights(const Prior& prior, std::size_t objects) {
   for (std::size_t o = 0; o < p.size(); ++o) w[o] = p[o] / top;
   return w;
 }
+
+bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// A rotation: finite, orthonormal to 1e-6 and proper.
+bool is_rotation(const glm::dmat3& r) {
+  const glm::dmat3 d = glm::transpose(r) * r - glm::dmat3(1.0);
+  double worst = 0.0;
+  for (int c = 0; c < 3; ++c) {
+    if (!finite(r[c])) return false;
+    for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(d[c][k]));
+  }
+  return worst < 1e-6 && glm::determinant(r) > 0.0;
+}
+
+// The pose priors of a Prior, checked against the map: empty, or one (optional) per object, each well formed.
+void check_pose_priors(const Prior& prior, std::size_t objects) {
+  const auto& p = prior.object_pose;
+  if (p.empty()) return;
+  if (p.size() != objects)
+    throw Error("prior: " + std::to_string(p.size()) + " object pose priors, but the map has " +
+                std::to_string(objects) + " objects (give one per object, empty where there is none)");
+  for (std::size_t o = 0; o < p.size(); ++o) {
+    if (!p[o]) continue;
+    const std::string what = "prior: object " + std::to_string(o) + "'s pose prior: ";
+    if (!finite(p[o]->position)) throw Error(what + "the position is not finite");
+    if (!(p[o]->position_sigma_mm > 0.0) || !std::isfinite(p[o]->position_sigma_mm))
+      throw Error(what + "position_sigma_mm = " + std::to_string(p[o]->position_sigma_mm) + " must be > 0");
+    if (!p[o]->has_rotation) continue;
+    if (!is_rotation(p[o]->rotation)) throw Error(what + "the rotation is not a rotation matrix");
+    if (!(p[o]->rotation_sigma_rad > 0.0) || !std::isfinite(p[o]->rotation_sigma_rad))
+      throw Error(what + "rotation_sigma_rad = " + std::to_string(p[o]->rotation_sigma_rad) + " must be > 0");
+  }
+}
 }  // namespace
 
 struct BatchRecognizer::Impl {
@@ -99,6 +133,7 @@ struct BatchRecognizer::Impl {
     std::uint64_t last_votes = 0;
     std::vector<double> prior_weight;  // per object, largest 1; empty: flat
     std::vector<double> prior;         // as given (saved with the session)
+    PoseWeighting pose_prior;          // the Gaussian pose priors (none: empty)
     std::vector<Reading> taken;        // the readings added, as given (saved with the session)
   };
 
@@ -246,7 +281,7 @@ Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const
     e.object_name = objects[e.object].name;
     return e;
   }
-  const BeliefEstimate b = s.filter->estimate(top_k, impl_->surface ? kRefineStarts : 1, s.prior_weight);
+  const BeliefEstimate b = s.filter->estimate(top_k, impl_->surface ? kRefineStarts : 1, s.prior_weight, s.pose_prior);
   e.object = b.object;
   e.object_name = objects[b.object].name;
   e.object_probability = b.object_probability;
@@ -272,8 +307,8 @@ Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const
     e.top.push_back(out);
   }
   if (top_k > 0)
-    add_hypotheses(*s.filter, impl_->space, objects, impl_->options.hypothesis_radius_bins, top_k, s.prior_weight, b,
-                   &e);
+    add_hypotheses(*s.filter, impl_->space, objects, impl_->options.hypothesis_radius_bins, top_k, s.prior_weight,
+                   s.pose_prior, b, &e);
   e.votes_outside = s.filter->last_update().votes_outside;
   e.votes_zero = s.filter->last_update().votes_zero;
   return e;
@@ -282,8 +317,10 @@ Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const
 void BatchRecognizer::set_prior(std::size_t session, const Prior& prior) {
   const std::lock_guard lock(impl_->mutex);
   Impl::Session& s = impl_->at(session);
+  check_pose_priors(prior, impl_->pair_map->objects.size());
   s.prior_weight = prior_weights(prior, impl_->pair_map->objects.size());
   s.prior = prior.object_probability;
+  s.pose_prior = PoseWeighting(prior.object_pose, impl_->space);
 }
 
 void BatchRecognizer::save_session(std::size_t session, const std::filesystem::path& file) const {
@@ -320,6 +357,7 @@ void BatchRecognizer::reset(std::size_t session) {
   Impl::Session& s = impl_->at(session);
   s.prior_weight.clear();
   s.prior.clear();
+  s.pose_prior = {};
   s.taken.clear();  // keeps its capacity
   s.readings = 0;
   s.last_votes = 0;

@@ -22,8 +22,8 @@ Belief::Belief(const PoseSpace& space, double eps)
 }
 
 void Belief::reset() {
-  offset_.clear();
-  band_.clear();
+  offset_.clear_keeping_capacity();
+  band_.clear_keeping_capacity();
   band_pruned_size_ = 0;
   pairs_ = 0;
   max_ = 0;
@@ -98,6 +98,7 @@ std::size_t Belief::forget_below(std::uint64_t below, std::span<const std::uint6
     ++touched_[o];
   });
   const std::size_t forgotten = offset_.size() - kept.size();
+  retired_allocations_ += offset_.allocations();
   offset_ = std::move(kept);
   prune_band();  // its members lie in the band, above `below` (the caller's margin exceeds the band width)
   return forgotten;

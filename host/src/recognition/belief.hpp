@@ -44,7 +44,11 @@ struct BeliefSummary {
 class BeliefState {
  public:
   virtual ~BeliefState() = default;
+  // Forgets every bin; the table's allocation is kept for the next session.
   virtual void reset() = 0;
+  // Belief tables allocated so far: the first, and one per growth or rehash (forgetting). A reset allocates none,
+  // so a session after it allocates none until it outgrows the previous one's table.
+  virtual std::size_t table_allocations() const = 0;
   virtual std::size_t pairs_folded() const = 0;
   virtual std::size_t touched() const = 0;
   virtual BeliefSummary summarise() const = 0;
@@ -78,6 +82,7 @@ class Belief final : public BeliefState {
   bool add(const std::vector<BinOffset>& terms, std::uint32_t count);
 
   void reset() override;
+  std::size_t table_allocations() const override { return retired_allocations_ + offset_.allocations(); }
   std::size_t pairs_folded() const override { return pairs_; }
   std::size_t touched() const override { return offset_.size(); }
   BeliefSummary summarise() const override;
@@ -105,6 +110,7 @@ class Belief final : public BeliefState {
   std::uint32_t mass_bits_;
   std::uint64_t band_width_;
   BinTable<std::uint64_t> offset_;
+  std::size_t retired_allocations_ = 0;  // of offset tables replaced by forget_below
   std::size_t pairs_ = 0;
   std::uint64_t max_ = 0;
   std::vector<std::uint64_t> touched_, best_offset_, best_key_;

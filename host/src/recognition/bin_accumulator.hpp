@@ -37,6 +37,15 @@ class BinTable {
   }
   std::size_t size() const { return size_; }
   void clear() { init(1024); }
+  // Empties the table but keeps its slots (a belief's reset: the next session reuses the allocation).
+  void clear_keeping_capacity() {
+    std::fill(keys_.begin(), keys_.end(), kEmpty);
+    std::fill(values_.begin(), values_.end(), Value{});
+    size_ = 0;
+  }
+  std::size_t capacity() const { return keys_.size(); }
+  // Slot arrays allocated by this table: at construction, clear() and every growth.
+  std::size_t allocations() const { return allocations_; }
   // Visits every touched key in slot order (for order-independent reductions).
   template <class Fn>
   void for_each(Fn&& fn) const {
@@ -66,6 +75,7 @@ class BinTable {
     values_.assign(cap, Value{});
     mask_ = cap - 1;
     size_ = 0;
+    ++allocations_;
   }
   Value& slot(std::uint64_t key) {
     assert(key != kEmpty);
@@ -87,6 +97,7 @@ class BinTable {
     old_keys.swap(keys_);
     old_values.swap(values_);
     mask_ = keys_.size() - 1;
+    ++allocations_;
     for (std::size_t j = 0; j < old_keys.size(); ++j) {
       if (old_keys[j] == kEmpty) continue;
       std::size_t i = mix(old_keys[j]) & mask_;
@@ -99,6 +110,7 @@ class BinTable {
   std::vector<Value> values_;
   std::size_t size_ = 0;
   std::size_t mask_ = 0;
+  std::size_t allocations_ = 0;
 };
 
 // Fixed-point vote mass per bin.

@@ -39,7 +39,9 @@ double units_to_bits(std::uint64_t units) { return static_cast<double>(units) / 
 // does for histograms: near its maximum, the log-belief that many pairs
 // concentrate is close to quadratic. An axis whose neighbour lies outside the
 // grid keeps the centre; the planar angle wraps around.
-RigidPose refine(const BeliefState& belief, const PoseSpace& space, std::uint64_t best) {
+// A pose prior adds its log2 weight to each of the three bins (a Gaussian in position is exactly quadratic, so
+// along a translation axis the parabola stays exact).
+RigidPose refine(const BeliefState& belief, const PoseSpace& space, std::uint64_t best, const PoseWeighting& prior) {
   const BinIndex c = space.unpack(best);
   const PoseSpaceSpec& spec = space.spec();
   const bool planar = space.planar();
@@ -72,14 +74,17 @@ RigidPose refine(const BeliefState& belief, const PoseSpace& space, std::uint64_
     has[a] = true;
   }
   const std::vector<std::uint64_t> off = belief.offsets(keys);
+  auto bits = [&](std::size_t i) {
+    return units_to_bits(off[i]) + (prior.applies_to(c.object) ? prior.log2_weight(keys[i]) : 0.0);
+  };
   glm::dvec3 t = space.translation_centre(c), r = space.rotation_centre(c);
   const double tw = (spec.translation_max_mm - spec.translation_min_mm) / spec.translation_bins;
   const double rw = 2.0 * std::numbers::pi / spec.rotation_bins;
-  const double oc = units_to_bits(off[0]);
+  const double oc = bits(0);
   std::size_t next = 1;
   for (std::size_t a = 0; a < axes.size(); ++a) {
     if (!has[a]) continue;
-    const double om = units_to_bits(off[next]), op = units_to_bits(off[next + 1]);
+    const double om = bits(next), op = bits(next + 1);
     next += 2;
     const double curvature = om - 2.0 * oc + op;
     if (!(curvature < 0.0)) continue;  // flat: no better guess than the centre
@@ -111,13 +116,14 @@ bool same_mode(const BinIndex& a, const BinIndex& b, const PoseSpace& space) {
 // The best object's distinct modes after the first: the best bins of that
 // object, skipping neighbours of a mode already taken. Candidates come from the
 // top bins over all objects (the same on every backend: ties to the smaller key).
+// A pose prior orders the candidates by evidence plus prior.
 std::vector<RigidPose> next_modes(const BeliefState& belief, const PoseSpace& space, std::uint64_t best,
-                                  std::size_t count) {
+                                  std::size_t count, const PoseWeighting& prior) {
   std::vector<RigidPose> out;
   if (count == 0) return out;
   const std::uint32_t object = PoseSpace::object_of(best);
   std::vector<BinIndex> taken{space.unpack(best)};
-  for (const BinOffset& b : belief.best_bins(16 * (count + 1))) {
+  for (const BinOffset& b : order_by_pose_prior(belief.best_bins(16 * (count + 1)), prior)) {
     if (out.size() >= count) break;
     if (PoseSpace::object_of(b.key) != object) continue;
     const BinIndex i = space.unpack(b.key);
@@ -129,7 +135,6 @@ std::vector<RigidPose> next_modes(const BeliefState& belief, const PoseSpace& sp
   }
   return out;
 }
-
 
 }  // namespace
 
@@ -148,8 +153,54 @@ std::vector<double> object_probability(const BeliefSummary& summary, const PoseS
   return p;
 }
 
+std::vector<BinOffset> order_by_pose_prior(std::vector<BinOffset> bins, const PoseWeighting& prior) {
+  if (prior.empty()) return bins;
+  std::vector<std::pair<double, BinOffset>> scored;
+  for (const BinOffset& b : bins) scored.push_back({units_to_bits(b.offset) + prior.log2_weight(b.key), b});
+  std::stable_sort(scored.begin(), scored.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  for (std::size_t i = 0; i < bins.size(); ++i) bins[i] = scored[i].second;
+  return bins;
+}
+
+std::uint64_t best_bin_under_prior(const BeliefState& belief, const BeliefSummary& s, std::uint32_t object,
+                                   const PoseWeighting& prior) {
+  std::uint64_t best = s.best_key[object];
+  double score = units_to_bits(s.best_offset[object]) + prior.log2_weight(best);
+  for (const BinOffset& b : belief.best_bins(kPosePriorCandidates)) {
+    if (PoseSpace::object_of(b.key) != object) continue;
+    const double v = units_to_bits(b.offset) + prior.log2_weight(b.key);
+    if (v > score || (v == score && b.key < best)) best = b.key, score = v;
+  }
+  return best;
+}
+
+PoseWeighting::PoseWeighting(std::vector<std::optional<PosePrior>> per_object, const PoseSpace& space)
+    : per_object_(std::move(per_object)), space_(&space) {
+  bool any = false;
+  for (const auto& p : per_object_) any = any || p.has_value();
+  if (!any) per_object_.clear();
+}
+
+double PoseWeighting::log2_weight(std::uint32_t object, const RigidPose& grid_pose) const {
+  if (!applies_to(object)) return 0.0;
+  const PosePrior& p = *per_object_[object];
+  const RigidPose pose = space_->to_robot(grid_pose);
+  const glm::dvec3 d = pose.T - p.position;
+  double nats = 0.5 * glm::dot(d, d) / (p.position_sigma_mm * p.position_sigma_mm);
+  if (p.has_rotation) {
+    const double a = rotation::angle(glm::transpose(p.rotation) * pose.R);
+    nats += 0.5 * a * a / (p.rotation_sigma_rad * p.rotation_sigma_rad);
+  }
+  return -nats / std::numbers::ln2;
+}
+
+double PoseWeighting::log2_weight(std::uint64_t key) const {
+  const std::uint32_t object = PoseSpace::object_of(key);
+  return applies_to(object) ? log2_weight(object, space_->centre(key)) : 0.0;
+}
+
 BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::size_t top_k, std::size_t modes,
-                        std::span<const double> object_weight) {
+                        std::span<const double> object_weight, const PoseWeighting& pose_weighting) {
   BeliefEstimate e;
   const BeliefSummary s = belief.summarise();
   const std::vector<double> mass = object_mass(s, space, object_weight);
@@ -162,13 +213,14 @@ BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::
     if (mass[o] > mass[e.object]) e.object = o;
   if (s.touched[e.object] > 0) {
     e.pose_valid = true;
-    e.best_key = s.best_key[e.object];
+    e.best_key = pose_weighting.applies_to(e.object) ? best_bin_under_prior(belief, s, e.object, pose_weighting)
+                                                     : s.best_key[e.object];
     e.bin_pose = space.centre(e.best_key);
-    e.parabolic_pose = refine(belief, space, e.best_key);
+    e.parabolic_pose = refine(belief, space, e.best_key, pose_weighting);
     e.pose = e.parabolic_pose;
     if (modes > 0) {
       e.modes.push_back(e.parabolic_pose);
-      for (const RigidPose& m : next_modes(belief, space, e.best_key, modes - 1)) e.modes.push_back(m);
+      for (const RigidPose& m : next_modes(belief, space, e.best_key, modes - 1, pose_weighting)) e.modes.push_back(m);
     }
   }
   // A bin's probability: its weight 2^(offset - M) at mass_bits over the total.

@@ -3,15 +3,36 @@
 // per object, the best object's best bin refined below the bin size, and the
 // top-k bins over all objects. Computed once, here, for every backend.
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include <sva/pose.hpp>
+#include <sva/prior.hpp>
 
 #include "recognition/belief.hpp"
 #include "recognition/pose_space.hpp"
 
 namespace sva {
+
+// A Gaussian pose prior per object (sva::PosePrior, robot frame) as log2 weights at poses of the grid: 0 at the
+// mean, negative elsewhere, 0 for an object without one. The estimate adds them to the log-belief (in bits) of the
+// bins it reads (docs/api.md, "Priors").
+class PoseWeighting {
+ public:
+  PoseWeighting() = default;
+  // `per_object`: empty, or one entry per object of `space` (checked by the recognizer).
+  PoseWeighting(std::vector<std::optional<PosePrior>> per_object, const PoseSpace& space);
+  bool empty() const { return per_object_.empty(); }
+  bool applies_to(std::uint32_t object) const { return object < per_object_.size() && per_object_[object]; }
+  // log2 of the prior's weight at `grid_pose` (the grid's frame) of `object`, or at the centre of bin `key`.
+  double log2_weight(std::uint32_t object, const RigidPose& grid_pose) const;
+  double log2_weight(std::uint64_t key) const;
+
+ private:
+  std::vector<std::optional<PosePrior>> per_object_;
+  const PoseSpace* space_ = nullptr;
+};
 
 struct BinHypothesis {
   std::uint64_t key = 0;
@@ -46,7 +67,22 @@ std::vector<double> object_probability(const BeliefSummary& summary, const PoseS
 // top-k bins over all objects. `object_weight` (per object, largest 1; empty: flat) is a prior over objects: it
 // scales every bin of an object (a per-object offset of log2(weight) in the log-domain belief), so it moves the
 // object posterior and the bins' probabilities but not which bin of an object is best, nor the top bins' order.
+// `pose_weighting` (a pose prior) moves each object's best bin to the candidate bin with the most evidence plus
+// prior (candidates: the object's best bin and its bins among the best bins read for the modes), adds the prior to
+// the log-belief of the parabola's bins and orders the modes by it; it leaves the object posterior and `top`
+// (the evidence's best bins) as they are.
 BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::size_t top_k, std::size_t modes = 1,
-                        std::span<const double> object_weight = {});
+                        std::span<const double> object_weight = {}, const PoseWeighting& pose_weighting = {});
+// The candidates a pose prior chooses an object's best bin among: how many of the best bins (over all objects)
+// are read.
+constexpr std::size_t kPosePriorCandidates = 64;
+// The object's best bin under a pose prior: the most evidence plus prior among its best bin and its bins among
+// the kPosePriorCandidates best bins over all objects (the bins the estimate reads; an unread bin is not a
+// candidate). Ties to the smaller key. `summary` is belief.summarise().
+std::uint64_t best_bin_under_prior(const BeliefState& belief, const BeliefSummary& summary, std::uint32_t object,
+                                   const PoseWeighting& prior);
+// Bins ordered by their log-belief plus the pose prior's log2 weight, best first (ties keep best_bins' order:
+// the smaller key first). Without a prior: as given.
+std::vector<BinOffset> order_by_pose_prior(std::vector<BinOffset> bins, const PoseWeighting& prior);
 
 }  // namespace sva

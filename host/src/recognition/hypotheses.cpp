@@ -70,13 +70,13 @@ bool within(const BinIndex& a, const BinIndex& b, const PoseSpace& space, int ra
   return true;
 }
 
-// A mode's neighbourhood: its bins (the centre first), their keys and offsets.
+// A mode's neighbourhood: its bins (the centre first), their keys and offsets, and the pose prior's log2 weight
+// at each (empty: no prior).
 struct Hood {
   std::vector<BinIndex> bins;
   std::vector<std::uint64_t> keys, offsets;
-  std::uint64_t offset_of(std::uint64_t key) const {
-    return offsets[static_cast<std::size_t>(std::find(keys.begin(), keys.end(), key) - keys.begin())];
-  }
+  std::vector<double> prior_bits;
+  double prior_of(std::size_t i) const { return prior_bits.empty() ? 0.0 : prior_bits[i]; }
 };
 
 // The parabolic peak of the log-belief around a bin, per grid axis (as the estimate's parabolic_pose: an axis
@@ -87,7 +87,12 @@ RigidPose parabolic_peak(const PoseSpace& space, const BinIndex& c, const Hood& 
   glm::dvec3 t = space.translation_centre(c), r = space.rotation_centre(c);
   const double tw = (spec.translation_max_mm - spec.translation_min_mm) / spec.translation_bins;
   const double rw = 2.0 * std::numbers::pi / spec.rotation_bins;
-  const double oc = units_to_bits(off.offsets.front());
+  const double oc = units_to_bits(off.offsets.front()) + off.prior_of(0);
+  auto bits = [&](const BinIndex& b) {
+    const auto i =
+        static_cast<std::size_t>(std::find(off.keys.begin(), off.keys.end(), space.pack(b)) - off.keys.begin());
+    return units_to_bits(off.offsets[i]) + off.prior_of(i);
+  };
   for (int a = 0; a < 6; ++a) {
     const bool rotation = a >= 3;
     const int k = a % 3;
@@ -104,7 +109,7 @@ RigidPose parabolic_peak(const PoseSpace& space, const BinIndex& c, const Hood& 
     BinIndex m = c, p = c;
     (rotation ? m.r[k] : m.t[k]) = lo;
     (rotation ? p.r[k] : p.t[k]) = hi;
-    const double om = units_to_bits(off.offset_of(space.pack(m))), op = units_to_bits(off.offset_of(space.pack(p)));
+    const double om = bits(m), op = bits(p);
     const double curvature = om - 2.0 * oc + op;
     if (!(curvature < 0.0)) continue;
     const double shift = std::clamp(0.5 * (om - op) / curvature, -0.5, 0.5);
@@ -132,11 +137,14 @@ void moments(const PoseSpace& space, const Hood& hood, std::uint64_t max_offset,
   std::map<std::array<int, 3>, glm::dvec3> small_rotation;
   double sum = 0.0;
   std::uint64_t mass = 0;
-  const double centre_bits = units_to_bits(hood.offsets.front());
+  double prior_mass = 0.0;  // with a pose prior: each bin's integer weight times the prior's there
+  const double centre_bits = units_to_bits(hood.offsets.front()) + hood.prior_of(0);
   std::array<double, 6> mean{};
   for (std::size_t i = 0; i < bins.size(); ++i) {
     const std::uint64_t offset = hood.offsets[i];
-    mass += belief_math::sva_exp2_neg_units(max_offset - offset, mass_bits);
+    const std::uint64_t m = belief_math::sva_exp2_neg_units(max_offset - offset, mass_bits);
+    mass += m;
+    prior_mass += static_cast<double>(m) * std::exp2(hood.prior_of(i));
     const glm::dvec3 dt = space.translation_centre(bins[i]) - t0;
     // Few distinct rotation bins (3^3 at radius 1) recur across the translations: one exp and log each.
     const std::array<int, 3> rkey{bins[i].r[0], bins[i].r[1], bins[i].r[2]};
@@ -145,11 +153,11 @@ void moments(const PoseSpace& space, const Hood& hood, std::uint64_t max_offset,
       it = small_rotation.emplace(rkey, rotation::log(rotation::exp(space.rotation_centre(bins[i])) * r0t)).first;
     const glm::dvec3 dr = it->second;
     x[i] = {dt.x, dt.y, dt.z, dr.x, dr.y, dr.z};
-    w[i] = std::exp2(units_to_bits(offset) - centre_bits);
+    w[i] = std::exp2(units_to_bits(offset) + hood.prior_of(i) - centre_bits);
     sum += w[i];
     for (int a = 0; a < 6; ++a) mean[a] += w[i] * x[i][a];
   }
-  h->probability = static_cast<double>(mass) / z;
+  h->probability = (hood.prior_bits.empty() ? static_cast<double>(mass) : prior_mass) / z;
   for (double& m : mean) m /= sum;
   h->covariance.fill(0.0);
   for (std::size_t i = 0; i < bins.size(); ++i)
@@ -170,7 +178,8 @@ void moments(const PoseSpace& space, const Hood& hood, std::uint64_t max_offset,
 }  // namespace
 
 HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, const BeliefSummary& summary,
-                         std::size_t count, int radius, std::span<const double> object_weight) {
+                         std::size_t count, int radius, std::span<const double> object_weight,
+                         const PoseWeighting& pose_weighting) {
   HypothesisSet set;
   set.per_object.resize(space.objects());
   set.per_object_valid.assign(space.objects(), false);
@@ -179,7 +188,9 @@ HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, cons
   std::vector<BinIndex> centres;
   // Candidates: the best bin alone for one mode; else as many as the fine pose's mode search reads (a request
   // beyond the bins near the maximum costs a pass over the whole belief).
-  for (const BinOffset& b : belief.best_bins(count <= 1 ? count : 16 * (count + 1))) {
+  const bool prior = !pose_weighting.empty();
+  for (const BinOffset& b :
+       order_by_pose_prior(belief.best_bins(count <= 1 && !prior ? count : 16 * (count + 1)), pose_weighting)) {
     if (centres.size() >= count) break;
     const BinIndex i = space.unpack(b.key);
     bool suppressed = false;
@@ -190,7 +201,9 @@ HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, cons
   for (std::uint32_t o = 0; o < space.objects(); ++o)
     if (summary.touched[o] > 0) {
       set.per_object_valid[o] = true;
-      centres.push_back(space.unpack(summary.best_key[o]));
+      centres.push_back(space.unpack(pose_weighting.applies_to(o)
+                                         ? best_bin_under_prior(belief, summary, o, pose_weighting)
+                                         : summary.best_key[o]));
     }
   // One read of every neighbourhood's offsets (one device round trip on a GPU backend).
   std::vector<Hood> hoods;
@@ -199,6 +212,8 @@ HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, cons
     Hood h;
     h.bins = neighbourhood(space, c, std::max(radius, 1));
     for (const BinIndex& b : h.bins) h.keys.push_back(space.pack(b));
+    if (pose_weighting.applies_to(c.object))
+      for (std::uint64_t k : h.keys) h.prior_bits.push_back(pose_weighting.log2_weight(k));
     keys.insert(keys.end(), h.keys.begin(), h.keys.end());
     hoods.push_back(std::move(h));
   }
@@ -226,6 +241,7 @@ HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, cons
       if (m < modes && !claimed.insert(hoods[m].keys[i]).second) continue;
       hood.bins.push_back(hoods[m].bins[i]);
       hood.offsets.push_back(hoods[m].offsets[i]);
+      if (!hoods[m].prior_bits.empty()) hood.prior_bits.push_back(hoods[m].prior_bits[i]);
     }
     moments(space, hood, summary.max_offset, mass_bits, z, &h);
     if (!object_weight.empty()) h.probability *= object_weight[h.object];

@@ -11,6 +11,7 @@
 #include <sva/pose.hpp>
 
 #include "recognition/belief.hpp"
+#include "recognition/estimate.hpp"
 #include "recognition/pose_space.hpp"
 
 namespace sva {
@@ -36,9 +37,14 @@ struct HypothesisSet {
 // Up to `count` modes over all objects, chosen greedily from the best bins (the strongest first; a bin within
 // `radius` grid steps of a stronger mode of the same object is suppressed), and every touched object's best
 // mode. `summary` is belief.summarise(); `object_weight` a prior over objects (sva::estimate), which scales the
-// masses (the modes' order is the evidence's).
+// masses (the modes' order is the evidence's). `pose_weighting` (a pose prior) orders the candidate bins by
+// evidence plus prior before the suppression, chooses each object's mode as best_bin_under_prior does, and
+// weighs every bin of a mode's mass and spread by the prior at its centre; the masses stay over the evidence's
+// total (the prior's normaliser would need every bin), so they compare modes but need not sum to an object's
+// probability.
 HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, const BeliefSummary& summary,
-                         std::size_t count, int radius, std::span<const double> object_weight = {});
+                         std::size_t count, int radius, std::span<const double> object_weight = {},
+                         const PoseWeighting& pose_weighting = {});
 
 // The covariance of a mode carried into the robot frame by the workspace rotation (both 3 x 3 blocks turn).
 std::array<double, 36> covariance_to_robot(const std::array<double, 36>& grid, const glm::dmat3& workspace);

@@ -50,19 +50,32 @@ GpuBelief::GpuBelief(GpuBeliefKernels& kernels, double eps)
 }
 
 void GpuBelief::allocate(vk::Buffer& b, std::uint32_t capacity) const {
-  // The device's own memory: only kernels touch a belief. Keys empty, offsets and band marks 0.
+  // The device's own memory: only kernels touch a belief.
   const std::size_t keys = std::size_t{capacity} * sizeof(std::uint64_t);
   b = k_->ctx->create_device_buffer(2 * keys + capacity / 32 * sizeof(std::uint32_t));
+  ++table_allocations_;
+  clear_table(b, capacity);
+}
+
+void GpuBelief::clear_table(vk::Buffer& b, std::uint32_t capacity) const {
+  const std::size_t keys = std::size_t{capacity} * sizeof(std::uint64_t);
   k_->ctx->run({}, nullptr, {{&b, 0xffffffffu, 0, keys}, {&b, 0u, keys, 0}});
 }
 
 void GpuBelief::reset() {
-  capacity_ = static_cast<std::uint32_t>(std::bit_ceil(std::max<std::size_t>(k_->initial_slots, 64)));
-  allocate(table_, capacity_);
+  // A reset session keeps its table and band list (emptied): the next session allocates none until it outgrows them.
+  if (table_.size() == 0) {
+    capacity_ = static_cast<std::uint32_t>(std::bit_ceil(std::max<std::size_t>(k_->initial_slots, 64)));
+    allocate(table_, capacity_);
+  } else {
+    clear_table(table_, capacity_);
+  }
   const std::uint32_t objects = k_->space->objects();
   if (state_.size() == 0) state_ = k_->ctx->create_device_buffer(state_words(objects) * sizeof(std::uint64_t));
-  band_capacity_ = std::min<std::uint32_t>(kInitialBand, capacity_);
-  band_ = k_->ctx->create_device_buffer(2 * std::size_t{band_capacity_} * sizeof(std::uint32_t));
+  if (band_.size() == 0) {
+    band_capacity_ = std::min<std::uint32_t>(kInitialBand, capacity_);
+    band_ = k_->ctx->create_device_buffer(2 * std::size_t{band_capacity_} * sizeof(std::uint32_t));
+  }
   // Every word 0 but the best keys (none yet: the largest key, so that atomicMin finds the first).
   const std::size_t best_key = object_word(kBestKey, objects) * sizeof(std::uint64_t);
   const std::size_t best_key_bytes = std::size_t{objects} * sizeof(std::uint64_t);

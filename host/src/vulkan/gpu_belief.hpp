@@ -40,6 +40,7 @@ class GpuBelief final : public BeliefState {
   GpuBelief(GpuBeliefKernels& kernels, double eps);
 
   void reset() override;
+  std::size_t table_allocations() const override { return table_allocations_; }
   std::size_t pairs_folded() const override { return pairs_; }
   std::size_t touched() const override { return count_; }
   BeliefSummary summarise() const override;
@@ -71,6 +72,8 @@ class GpuBelief final : public BeliefState {
 
  private:
   void allocate(vk::Buffer& b, std::uint32_t capacity) const;
+  // Empties a table of `capacity` slots in place: keys empty, offsets and band marks 0.
+  void clear_table(vk::Buffer& b, std::uint32_t capacity) const;
   // Moves the table into one of at least `slots` slots (a power of two); with
   // `forget`, only the bins at or above `below` and those in `keep_` (sorted linear keys).
   void move_to(std::uint64_t slots, bool forget, std::uint64_t below);
@@ -90,6 +93,7 @@ class GpuBelief final : public BeliefState {
   // Mutable for the band marks at its end, which the estimate's compaction clears.
   mutable vk::Buffer table_;
   std::uint32_t capacity_ = 0;
+  mutable std::size_t table_allocations_ = 0;
   std::size_t count_ = 0, pairs_ = 0;
   // The estimate's state (SVA_STATE_* words) and the band list's two sides.
   mutable vk::Buffer state_, band_;

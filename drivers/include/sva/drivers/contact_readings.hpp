@@ -41,7 +41,11 @@ struct SettleRule {
   double stable_kpa = 1.0;
   double contact_kpa = 0.5;
   double max_pose_gap_s = 0.5;  // poses further apart than this around a contact are not interpolated
-  void validate() const;        // throws sva::Error naming the bad value
+  // Added to every pose's time before frames are matched to poses: for an arm whose clock is not the host's
+  // monotonic clock (pose time + offset = host time). Poses are recorded as they came; the offset is saved with
+  // the rule, so a replay matches them the same way.
+  double pose_clock_offset_s = 0.0;
+  void validate() const;  // throws sva::Error naming the bad value
   std::string to_json() const;
   static SettleRule from_json(const std::string& text, const std::string& source);
 };
@@ -64,7 +68,8 @@ class ReadingFormer {
   // Feed in time order. A frame that settles a contact leaves it pending until
   // a pose at or after its time has arrived (the pose stream may lag).
   void add_frame(const StreamFrame& frame);
-  void add_pose(const PoseSample& pose);  // throws on a pose older than the previous one
+  void add_pose(const PoseSample& pose);  // throws on a pose older than the previous one (its time as given, before
+                                          // SettleRule::pose_clock_offset_s is added)
   void link_lost(double time);            // a disconnect breaks any contact in progress
   void poses_ended();                     // no more poses: pending contacts are dropped with a note
   // Readings and notes ready so far (moved out).

@@ -3,8 +3,9 @@
 // serviced on the thread that calls read() (SensorStream's reader thread).
 // The device is chosen by serial number, VID:PID or bus-port, so two
 // identical sensors can be told apart. When the cable is pulled, read()
-// reports `disconnected` once, then polls for the same device and reports
-// `reconnected` when it is back.
+// reports `disconnected` once, then waits for the same device and reports
+// `reconnected` when it is back: woken by libusb's hotplug events where the
+// platform has them, else polling every 0.5 s (ReconnectPlan says which).
 #include <sva/drivers/transport.hpp>
 
 #include <cstdint>
@@ -33,7 +34,24 @@ struct UsbOptions {
   std::size_t transfer_bytes = 4096;  // per bulk transfer (frames split and merge across them)
   int transfers_in_flight = 4;
   std::chrono::milliseconds reconnect_poll{500};
+  bool hotplug = true;  // false: always poll, even where libusb has hotplug events
 };
+
+// How a pulled cable's return is noticed.
+enum class ReconnectMode { hotplug, polling };
+struct ReconnectPlan {
+  ReconnectMode mode = ReconnectMode::polling;
+  std::string message;  // for status lines: "libusb hotplug events" or "polling every 500 ms (why not hotplug)"
+};
+
+// The decision from what libusb offers: hotplug when it is wanted, the platform has it (LIBUSB_CAP_HAS_HOTPLUG)
+// and registering the arrival callback returned `register_code` 0; else polling every `poll`, saying why.
+ReconnectPlan plan_reconnect(bool wanted, bool platform_has_hotplug, int register_code, std::chrono::milliseconds poll);
+// Whether this libusb has hotplug events on this platform (needs no device).
+bool usb_has_hotplug();
+// The plan a UsbTransport with these options would follow here: registers (and removes) the same arrival callback
+// in a libusb context of its own, so it needs no device. Throws sva::Error when USB is unavailable.
+ReconnectPlan usb_reconnect_plan(const UsbOptions& options);
 
 struct UsbDeviceInfo {
   std::uint16_t vendor_id = 0, product_id = 0;
@@ -58,6 +76,7 @@ class UsbTransport : public Transport {
   Chunk read(std::chrono::milliseconds timeout) override;
   void interrupt() override;
   std::string describe() const override;
+  const ReconnectPlan& reconnect_plan() const;
 
   struct Impl;
 

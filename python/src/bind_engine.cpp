@@ -1,0 +1,38 @@
+// sva.Engine: a map with its backend chosen once (on Vulkan, the device and one uploaded copy of the map), shared
+// by any number of sva.Recognizer(engine, ...) (docs/api.md, "Engines and sessions").
+#include <sva/engine.hpp>
+
+#include <nanobind/stl/string.h>
+
+#include "bindings.hpp"
+
+namespace sva::python {
+
+using namespace nb::literals;
+
+void bind_engine(nb::module_& m) {
+  nb::class_<Engine>(m, "Engine",
+                     "A map and its backend, chosen once: recognizers made from one engine share the device and one "
+                     "uploaded copy of the map (and the host map and fine-pose index on every backend).")
+      .def(
+          "__init__",
+          [](Engine* e, const Map& map, const std::string& backend, const std::string& vulkan_device) {
+            EngineOptions o;
+            o.backend = to_backend(backend, "sva.Engine: backend");
+            o.vulkan_device = vulkan_device;
+            EngineScope scope;
+            new (e) Engine(map, o);
+          },
+          "map"_a, "backend"_a = "auto", "vulkan_device"_a = "",
+          "backend: 'auto' (a GPU where one is usable, else the CPU reference), 'cpu' or 'vulkan'.")
+      .def_prop_ro("map", &Engine::map, "the engine's map (shares its memory)")
+      .def_prop_ro(
+          "backend", [](const Engine& e) { return std::string(backend_name(e.backend())); },
+          "'cpu' or 'vulkan' (auto resolved)")
+      .def_prop_ro("fallback_reason", &Engine::fallback_reason,
+                   "with backend 'auto' on the CPU: why no Vulkan device was usable ('' otherwise)")
+      .def_prop_ro("backend_description", &Engine::backend_description, "'cpu', or 'vulkan: DEVICE'")
+      .def("__repr__", [](const Engine& e) { return "Engine(" + e.backend_description() + ")"; });
+}
+
+}  // namespace sva::python

@@ -27,7 +27,13 @@ TEST_CASE("Session file: readings keep their time, and a version-1 file (object 
   s.scene_hash = 0x1234;
   s.objects = 3;
   s.scene_name = "unit";
-  s.prior = {0.2, 0.3, 0.5};
+  s.prior.object_probability = {0.2, 0.3, 0.5};
+  s.prior.object_pose.resize(3);
+  PosePrior seen{{10.0, -20.0, 30.0}, 4.0};
+  seen.has_rotation = true;
+  seen.rotation = glm::dmat3(0.0, 1.0, 0.0, -1.0, 0.0, 0.0, 0.0, 0.0, 1.0);
+  seen.rotation_sigma_rad = 0.25;
+  s.prior.object_pose[2] = seen;
   s.readings = {reading_at(1.0, 12.5), reading_at(-4.0, 13.25)};
   io::save_session_file(s, dir / "now.svas");
   const io::SessionFile back = io::load_session_file(dir / "now.svas");
@@ -36,7 +42,15 @@ TEST_CASE("Session file: readings keep their time, and a version-1 file (object 
   CHECK(back.readings[1].time_s == 13.25);
   CHECK(back.readings[1].position == s.readings[1].position);
   CHECK(back.readings[0].pressure == s.readings[0].pressure);
-  CHECK(back.prior == s.prior);
+  CHECK(back.prior.object_probability == s.prior.object_probability);
+  REQUIRE(back.prior.object_pose.size() == 3);
+  CHECK_FALSE(back.prior.object_pose[0].has_value());
+  REQUIRE(back.prior.object_pose[2].has_value());
+  CHECK(back.prior.object_pose[2]->position == seen.position);
+  CHECK(back.prior.object_pose[2]->position_sigma_mm == 4.0);
+  CHECK(back.prior.object_pose[2]->has_rotation);
+  CHECK(back.prior.object_pose[2]->rotation == seen.rotation);
+  CHECK(back.prior.object_pose[2]->rotation_sigma_rad == 0.25);
 
   // Version 1 stored the dataset's object id where the time now is: read, the id is skipped and the time unknown.
   io::BinaryWriter w;
@@ -57,6 +71,14 @@ TEST_CASE("Session file: readings keep their time, and a version-1 file (object 
   CHECK(v1.readings[0].position == r.position);
   CHECK(v1.readings[0].pressure == r.pressure);
   CHECK(v1.readings[0].time_s == 0.0);
+  CHECK(v1.prior.object_pose.empty());
+
+  // Pose priors for another object count are refused before anything is read past them.
+  s.prior.object_pose.resize(2);
+  io::save_session_file(s, dir / "count.svas");
+  CHECK_THROWS_WITH(io::load_session_file(dir / "count.svas"),
+                    Catch::Contains("count.svas") && Catch::Contains("2 pose priors for 3 objects"));
+  s.prior.object_pose.resize(3);
 
   // A non-finite time is refused with the file's name.
   s.readings[0].time_s = std::numeric_limits<double>::quiet_NaN();

@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <memory>
 
 #include "fixture.hpp"
@@ -42,8 +43,8 @@ std::vector<Reading> readings_of(std::uint32_t object, const RigidPose& truth, s
   std::vector<Reading> out;
   for (int i = 0; i < count; ++i)
     out.push_back(reading_of(t.data.scene.sensor,
-                             world_point(t.spec, static_cast<int>(object), static_cast<int>(rng.below(70))), object,
-                             truth, rng));
+                             world_point(t.spec, static_cast<int>(object), static_cast<int>(rng.below(70))), truth,
+                             rng));
   return out;
 }
 
@@ -145,6 +146,33 @@ TEST_CASE("Pose prior: it moves the best pose and the hypotheses to the mode it 
       CHECK(with_prior[b].hypotheses[i].covariance == with_prior[0].hypotheses[i].covariance);
     }
   }
+}
+
+TEST_CASE("Pose prior: a saved session keeps it, and a restored one answers as the original") {
+  const RigidPose truth = random_pose(720, 100.0);
+  const std::vector<Reading> readings = readings_of(1, truth, 721, 3);
+  const std::filesystem::path dir = temp_dir("pose-prior-session");
+  Recognizer original = recognizer_on(BackendKind::cpu);
+  for (const Reading& r : readings) original.add_reading(r);
+  const Estimate plain = original.estimate(kPosePriorCandidates);
+  const Hypothesis* target = other_bin(plain);
+  REQUIRE(target != nullptr);
+  Prior prior;
+  prior.object_probability.assign(3, 0.3);
+  prior.object_probability[target->object] = 0.4;  // the best object stays the best
+  prior.object_pose.resize(3);
+  prior.object_pose[target->object] = gaussian_at(target->pose, 0.02 * bin_width(paper_space()), 0.05);
+  original.set_prior(prior);
+  original.save_session(dir / "s.svas");
+  Recognizer resumed = recognizer_on(BackendKind::cpu);
+  resumed.restore_session(dir / "s.svas");
+  const Estimate a = original.estimate(3), b = resumed.estimate(3);
+  CHECK(b.bin_pose.T == a.bin_pose.T);
+  CHECK(b.bin_pose.T == target->pose.T);  // the pose prior came back, not only the object prior
+  CHECK(b.object_probability == a.object_probability);
+  REQUIRE(b.hypotheses.size() == a.hypotheses.size());
+  for (std::size_t i = 0; i < a.hypotheses.size(); ++i) CHECK(b.hypotheses[i].pose.T == a.hypotheses[i].pose.T);
+  std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("Pose prior: priors that do not fit are refused, and the box can be placed around one") {

@@ -14,6 +14,41 @@ constexpr std::string_view kMagic = "SVASESS1";
 constexpr std::uint32_t kVersion = 2;  // 2: a reading stores its time (1: a ground-truth object id)
 constexpr std::uint32_t kOldestVersion = 1;
 constexpr std::size_t kMaxElements = 1 << 16;  // pressure values of one reading
+
+void put_pose_priors(BinaryWriter& w, const std::vector<std::optional<PosePrior>>& priors) {
+  w.put(static_cast<std::uint32_t>(priors.size()));
+  for (const auto& p : priors) {
+    w.put(static_cast<std::uint8_t>(p.has_value()));
+    if (!p) continue;
+    w.put_array(&p->position.x, 3);
+    w.put(p->position_sigma_mm);
+    w.put(static_cast<std::uint8_t>(p->has_rotation));
+    w.put_array(&p->rotation[0][0], 9);
+    w.put(p->rotation_sigma_rad);
+  }
+}
+
+// Values are checked against the map (finite, positive sigmas, a rotation) when the session is restored.
+std::vector<std::optional<PosePrior>> get_pose_priors(BinaryReader& r, std::uint32_t objects) {
+  const auto n = r.get<std::uint32_t>();
+  if (n != 0 && n != objects)
+    r.fail(std::to_string(n) + " pose priors for " + std::to_string(objects) + " objects (0 or one per object)");
+  std::vector<std::optional<PosePrior>> out(n);
+  for (auto& p : out) {
+    const auto present = r.get<std::uint8_t>();
+    if (present > 1) r.fail("pose prior flag " + std::to_string(present) + " is not 0 or 1");
+    if (!present) continue;
+    p.emplace();
+    r.get_array(&p->position.x, 3);
+    p->position_sigma_mm = r.get<double>();
+    const auto rot = r.get<std::uint8_t>();
+    if (rot > 1) r.fail("pose prior rotation flag " + std::to_string(rot) + " is not 0 or 1");
+    p->has_rotation = rot == 1;
+    r.get_array(&p->rotation[0][0], 9);
+    p->rotation_sigma_rad = r.get<double>();
+  }
+  return out;
+}
 }  // namespace
 
 void save_session_file(const SessionFile& session, const std::filesystem::path& file) {
@@ -21,7 +56,8 @@ void save_session_file(const SessionFile& session, const std::filesystem::path& 
   w.put(session.scene_hash);
   w.put(session.objects);
   w.put_string(session.scene_name);
-  w.put_vector(session.prior);
+  w.put_vector(session.prior.object_probability);
+  put_pose_priors(w, session.prior.object_pose);
   w.put<std::uint64_t>(session.readings.size());
   for (const Reading& r : session.readings) {
     for (const glm::dvec3& v : {r.position, r.normal, r.x_axis}) w.put_array(&v.x, 3);
@@ -39,7 +75,8 @@ SessionFile load_session_file(const std::filesystem::path& file) {
   s.scene_hash = r.get<std::uint64_t>();
   s.objects = r.get<std::uint32_t>();
   s.scene_name = r.get_string();
-  s.prior = r.get_vector<double>(s.objects);
+  s.prior.object_probability = r.get_vector<double>(s.objects);
+  if (r.version() >= 2) s.prior.object_pose = get_pose_priors(r, s.objects);
   const auto n = r.get<std::uint64_t>();
   if (n > r.remaining()) r.fail(std::to_string(n) + " readings exceed the file");
   s.readings.resize(n);

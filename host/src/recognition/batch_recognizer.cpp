@@ -132,7 +132,7 @@ struct BatchRecognizer::Impl {
     std::size_t readings = 0;
     std::uint64_t last_votes = 0;
     std::vector<double> prior_weight;  // per object, largest 1; empty: flat
-    std::vector<double> prior;         // as given (saved with the session)
+    Prior prior;                       // as given (saved with the session)
     PoseWeighting pose_prior;          // the Gaussian pose priors (none: empty)
     std::vector<Reading> taken;        // the readings added, as given (saved with the session)
   };
@@ -319,7 +319,7 @@ void BatchRecognizer::set_prior(std::size_t session, const Prior& prior) {
   Impl::Session& s = impl_->at(session);
   check_pose_priors(prior, impl_->pair_map->objects.size());
   s.prior_weight = prior_weights(prior, impl_->pair_map->objects.size());
-  s.prior = prior.object_probability;
+  s.prior = prior;
   s.pose_prior = PoseWeighting(prior.object_pose, impl_->space);
 }
 
@@ -342,9 +342,10 @@ void BatchRecognizer::restore_session(std::size_t session, const std::filesystem
     throw Error("session file " + file.string() + " was recorded with map '" + f.scene_name + "' (" +
                 std::to_string(f.objects) + " objects), not with this recognizer's map '" + m.scene_name + "'");
   reset(session);
-  if (!f.prior.empty()) set_prior(session, Prior{f.prior});
-  // Replaying rebuilds the belief bit for bit; a reading refused now (a damaged file) leaves the session reset.
+  // Replaying rebuilds the belief bit for bit; a prior or reading refused now (a damaged file) leaves the session
+  // reset.
   try {
+    set_prior(session, f.prior);
     for (const Reading& r : f.readings) add_readings(std::span(&session, 1), std::span(&r, 1));
   } catch (const Error& e) {
     reset(session);
@@ -356,7 +357,7 @@ void BatchRecognizer::reset(std::size_t session) {
   const std::lock_guard lock(impl_->mutex);
   Impl::Session& s = impl_->at(session);
   s.prior_weight.clear();
-  s.prior.clear();
+  s.prior = {};
   s.pose_prior = {};
   s.taken.clear();  // keeps its capacity
   s.readings = 0;

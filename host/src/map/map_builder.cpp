@@ -174,21 +174,13 @@ void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>&
   if (bar) bar->finish();
 }
 
-std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParameters& p, TrainReport* report) {
-  TrainReport rep;
-  const Scene& scene = data.scene;
-  if (scene.objects.empty()) throw Error("dataset has no objects");
-  if (data.samples.empty()) throw Error("dataset has no readings");
-  auto map = std::make_shared<PairMap>();
-  map->scene_name = scene.name;
-  map->pose_space = scene.pose_space;
-  const std::string scene_json = scene_to_json(scene);
-  map->scene_hash = io::fnv1a64(reinterpret_cast<const std::uint8_t*>(scene_json.data()), scene_json.size());
-  map->train_seed = p.seed;
-  for (const auto& o : scene.objects) map->objects.push_back({o.name, o.symmetry, o.inertial_radius_mm});
+namespace {
 
-  AppearanceModel& model = map->appearance;
-  model.descriptor = p.descriptor;
+// The appearance model's fixed part: the sensor's calibration and the descriptor's sizes (the medoids and psi come
+// from clustering).
+AppearanceModel appearance_model_for(const Scene& scene, DescriptorKind descriptor) {
+  AppearanceModel model;
+  model.descriptor = descriptor;
   model.calibration.sensor = scene.sensor;
   model.calibration.stiffness_kpa_per_mm = scene.skin.stiffness_kpa_per_mm;
   model.calibration.contact_threshold_kpa = scene.skin.contact_threshold_kpa;
@@ -197,11 +189,17 @@ std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParamete
   model.mn_size = static_cast<std::uint32_t>(std::max(scene.sensor.rows, scene.sensor.cols)) + 2;
   model.mnti_pad = 2 * model.mn_size;
   model.mnti_freqs = std::min<std::uint32_t>(4, model.mnti_pad / 2);
-  model.descriptor_size = p.descriptor == DescriptorKind::mn ? model.mn_size * model.mn_size
-                                                             : appearance::fourier_magnitude_count(model.mnti_freqs);
+  model.descriptor_size = descriptor == DescriptorKind::mn ? model.mn_size * model.mn_size
+                                                           : appearance::fourier_magnitude_count(model.mnti_freqs);
+  return model;
+}
 
-  // Usable readings, grouped by object (stable within an object).
+// The samples training uses (converged, describable), grouped by object and stable within one; every object
+// needs at least one.
+std::vector<std::size_t> usable_samples(const Dataset& data, const AppearanceModel& model, TrainReport& rep) {
+  const Scene& scene = data.scene;
   std::vector<std::size_t> use;
+  std::vector<std::size_t> per_object(scene.objects.size(), 0);
   for (std::uint32_t o = 0; o < scene.objects.size(); ++o)
     for (std::size_t i = 0; i < data.samples.size(); ++i) {
       const Reading& r = data.samples[i].reading;
@@ -215,55 +213,62 @@ std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParamete
         continue;
       }
       use.push_back(i);
+      ++per_object[o];
     }
-  std::vector<std::size_t> per_object(scene.objects.size(), 0);
-  for (auto i : use) ++per_object[data.samples[i].object];
   for (std::uint32_t o = 0; o < scene.objects.size(); ++o)
     if (per_object[o] == 0)
       throw Error("object \"" + scene.objects[o].name + "\" has no usable training reading (converged, with contact)");
-  const std::size_t n = use.size();
-  rep.readings_used = n;
+  return use;
+}
 
-  MapReadings& rd = map->readings;
+// Fills the map's reading table (object frame positions and normals, normConf) and returns the descriptors, one
+// row of model.descriptor_size per used sample.
+std::vector<float> describe_training_readings(const Dataset& data, const std::vector<std::size_t>& use,
+                                              const AppearanceModel& model, const TrainParameters& p, MapReadings& rd) {
+  const std::size_t n = use.size();
   rd.object.resize(n);
   for (auto* v : {&rd.px, &rd.py, &rd.pz, &rd.nx, &rd.ny, &rd.nz, &rd.norm_conf}) v->resize(n);
   const std::uint32_t dim = model.descriptor_size;
   std::vector<float> descriptors(n * dim);
-  {
-    std::unique_ptr<util::Progress> bar;
-    if (p.progress) bar = std::make_unique<util::Progress>("describe", n);
-    util::parallel_for(
-        n,
-        [&](std::size_t j) {
-          const Sample& s = data.samples[use[j]];
-          const Reading& r = s.reading;
-          // Positions and normals in the object frame (the pose the object had
-          // when the reading was taken; identity in simulation).
-          const RigidPose inv = s.object_pose.inverse();
-          const glm::dvec3 pos = inv.apply(r.position);
-          glm::dvec3 nrm = inv.rotate(r.normal);
-          const double len = glm::length(nrm);
-          if (!(len > 0) || !std::isfinite(len))
-            throw Error("training reading " + std::to_string(use[j]) + " has a zero normal");
-          nrm /= len;
-          rd.object[j] = s.object;
-          rd.px[j] = static_cast<float>(pos.x), rd.py[j] = static_cast<float>(pos.y),
-          rd.pz[j] = static_cast<float>(pos.z);
-          rd.nx[j] = static_cast<float>(nrm.x), rd.ny[j] = static_cast<float>(nrm.y),
-          rd.nz[j] = static_cast<float>(nrm.z);
-          if (!std::isfinite(rd.px[j]) || !std::isfinite(rd.py[j]) || !std::isfinite(rd.pz[j]))
-            throw Error("training reading " + std::to_string(use[j]) + " has a position out of float range");
-          rd.norm_conf[j] = model.norm_conf(r);
-          const auto d = model.describe(r);
-          std::copy(d.begin(), d.end(), descriptors.begin() + static_cast<std::ptrdiff_t>(j * dim));
-          if (bar) bar->advance();
-        },
-        p.threads);
-    if (bar) bar->finish();
-  }
+  std::unique_ptr<util::Progress> bar;
+  if (p.progress) bar = std::make_unique<util::Progress>("describe", n);
+  util::parallel_for(
+      n,
+      [&](std::size_t j) {
+        const Sample& s = data.samples[use[j]];
+        const Reading& r = s.reading;
+        // Positions and normals in the object frame (the pose the object had
+        // when the reading was taken; identity in simulation).
+        const RigidPose inv = s.object_pose.inverse();
+        const glm::dvec3 pos = inv.apply(r.position);
+        glm::dvec3 nrm = inv.rotate(r.normal);
+        const double len = glm::length(nrm);
+        if (!(len > 0) || !std::isfinite(len))
+          throw Error("training reading " + std::to_string(use[j]) + " has a zero normal");
+        nrm /= len;
+        rd.object[j] = s.object;
+        rd.px[j] = static_cast<float>(pos.x), rd.py[j] = static_cast<float>(pos.y),
+        rd.pz[j] = static_cast<float>(pos.z);
+        rd.nx[j] = static_cast<float>(nrm.x), rd.ny[j] = static_cast<float>(nrm.y),
+        rd.nz[j] = static_cast<float>(nrm.z);
+        if (!std::isfinite(rd.px[j]) || !std::isfinite(rd.py[j]) || !std::isfinite(rd.pz[j]))
+          throw Error("training reading " + std::to_string(use[j]) + " has a position out of float range");
+        rd.norm_conf[j] = model.norm_conf(r);
+        const auto d = model.describe(r);
+        std::copy(d.begin(), d.end(), descriptors.begin() + static_cast<std::ptrdiff_t>(j * dim));
+        if (bar) bar->advance();
+      },
+      p.threads);
+  if (bar) bar->finish();
+  return descriptors;
+}
 
-  auto t0 = std::chrono::steady_clock::now();
-  auto c0 = std::clock();
+// Appearance classes (PAM, Eq 7-9): the medoids and psi go into the model; returns the number of classes.
+std::uint32_t cluster_appearance(const std::vector<float>& descriptors, const TrainParameters& p,
+                                 AppearanceModel& model, TrainReport& rep) {
+  const std::uint32_t dim = model.descriptor_size;
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto c0 = std::clock();
   appearance::PamOptions po;
   po.k = p.clusters;
   po.seed = p.seed;
@@ -279,9 +284,35 @@ std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParamete
     std::copy_n(&descriptors[static_cast<std::size_t>(clusters.medoids[i]) * dim], dim,
                 &model.medoids[static_cast<std::size_t>(i) * dim]);
   model.psi = appearance::cluster_psi(descriptors, model.medoids, clusters.membership, dim);
+  return k;
+}
 
-  t0 = std::chrono::steady_clock::now();
-  c0 = std::clock();
+}  // namespace
+
+std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParameters& p, TrainReport* report) {
+  TrainReport rep;
+  const Scene& scene = data.scene;
+  if (scene.objects.empty()) throw Error("dataset has no objects");
+  if (data.samples.empty()) throw Error("dataset has no readings");
+  auto map = std::make_shared<PairMap>();
+  map->scene_name = scene.name;
+  map->pose_space = scene.pose_space;
+  const std::string scene_json = scene_to_json(scene);
+  map->scene_hash = io::fnv1a64(reinterpret_cast<const std::uint8_t*>(scene_json.data()), scene_json.size());
+  map->train_seed = p.seed;
+  for (const auto& o : scene.objects) map->objects.push_back({o.name, o.symmetry, o.inertial_radius_mm});
+
+  AppearanceModel& model = map->appearance;
+  model = appearance_model_for(scene, p.descriptor);
+  const std::vector<std::size_t> use = usable_samples(data, model, rep);
+  const std::size_t n = use.size();
+  rep.readings_used = n;
+  const std::vector<float> descriptors = describe_training_readings(data, use, model, p, map->readings);
+  const std::uint32_t k = cluster_appearance(descriptors, p, model, rep);
+
+  const auto t0 = std::chrono::steady_clock::now();
+  const auto c0 = std::clock();
+  const std::uint32_t dim = model.descriptor_size;
   std::vector<std::vector<ClassWeight>> classes(n);
   util::parallel_for(
       n,
@@ -296,7 +327,8 @@ std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParamete
   map->distance = p.distance;
   map->key_space = {k, p.distance.count};
   build_pair_index(*map, classes, p.threads, p.progress);
-  map->baseline = AppearanceBaseline::fit(static_cast<std::uint32_t>(scene.objects.size()), k, rd.object, classes);
+  map->baseline =
+      AppearanceBaseline::fit(static_cast<std::uint32_t>(scene.objects.size()), k, map->readings.object, classes);
   rep.map_build_seconds = seconds_since(t0);
   rep.map_build_cpu_seconds = cpu_seconds_since(c0);
   if (report) *report = rep;

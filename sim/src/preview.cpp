@@ -38,6 +38,73 @@ glm::dvec2 project(const glm::dvec3& p, bool top_down) {
   return {x, y};
 }
 
+constexpr int kCell = 84;  // side of a heat map and of a contact view, pixels
+
+// The colour scale's top: the 99th percentile of the non-zero pressures, so that a few saturated elements do not
+// wash out every other image.
+float pressure_scale(const Dataset& data) {
+  std::vector<float> all;
+  for (const auto& s : data.samples)
+    for (float p : s.reading.pressure)
+      if (p > 0) all.push_back(p);
+  if (all.empty()) return 1.0f;
+  auto k = all.begin() + static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(all.size() - 1));
+  std::nth_element(all.begin(), k, all.end());
+  return std::max(*k, 1e-3f);
+}
+
+using Bounds = std::map<std::uint32_t, std::pair<glm::dvec2, glm::dvec2>>;
+
+// Per object: the projected bounds of its contact points.
+Bounds contact_bounds(const Dataset& data, bool top_down) {
+  Bounds bounds;
+  for (const auto& s : data.samples) {
+    if (s.reading.status == ControllerStatus::no_contact) continue;
+    glm::dvec2 q = project(s.reading.position, top_down);
+    auto [it, fresh] = bounds.try_emplace(s.object, q, q);
+    if (!fresh) it->second = {glm::min(it->second.first, q), glm::max(it->second.second, q)};
+  }
+  return bounds;
+}
+
+// The pressure image at (ox, oy): row 0 (most negative sensor y) at the bottom, like a plot.
+void draw_heat_map(plot::Canvas& cv, const Reading& r, const SensorSpec& sensor, float pmax, int ox, int oy) {
+  const int rs = sensor.rows, cs = sensor.cols;
+  const int ew = std::max(1, kCell / std::max(rs, cs));
+  for (int i = 0; i < rs; ++i)
+    for (int j = 0; j < cs; ++j) {
+      float p = r.pressure.size() == static_cast<std::size_t>(rs * cs)
+                    ? r.pressure[static_cast<std::size_t>(i * cs + j)]
+                    : 0.0f;
+      cv.fill_rect(ox + j * ew, oy + (rs - 1 - i) * ew, ew, ew, plot::colormap(p / pmax));
+    }
+  cv.rect(ox - 1, oy - 1, cs * ew + 2, rs * ew + 2, plot::kGrey);
+}
+
+// All contact points of `object` at (vx, oy), with this reading's point and normal in red.
+void draw_contact_view(plot::Canvas& cv, const Dataset& data, const Bounds& bounds, bool top_down, std::uint32_t object,
+                       const Reading& r, int vx, int oy) {
+  cv.rect(vx, oy, kCell, kCell, plot::kLightGrey);
+  auto b = bounds.find(object);
+  if (b == bounds.end()) return;
+  const glm::dvec2 lo = b->second.first, hi = b->second.second;
+  const double span = std::max({hi.x - lo.x, hi.y - lo.y, 1e-6});
+  auto to_px = [&](const glm::dvec3& p) {
+    glm::dvec2 q = (project(p, top_down) - 0.5 * (lo + hi)) / span;
+    return glm::dvec2(vx + kCell / 2.0 + q.x * (kCell - 8), oy + kCell / 2.0 - q.y * (kCell - 8));
+  };
+  for (const auto& s : data.samples) {
+    if (s.object != object || s.reading.status == ControllerStatus::no_contact) continue;
+    glm::dvec2 q = to_px(s.reading.position);
+    cv.set(static_cast<int>(q.x), static_cast<int>(q.y), plot::kGrey);
+  }
+  if (r.status != ControllerStatus::no_contact) {
+    glm::dvec2 q = to_px(r.position), e = to_px(r.position + 0.25 * span * r.normal);
+    cv.line(q.x, q.y, e.x, e.y, plot::kRed, 1);
+    cv.fill_circle(q.x, q.y, 3.0, plot::kRed);
+  }
+}
+
 }  // namespace
 
 void write_preview(const Dataset& data, const std::filesystem::path& png, int max_readings) {
@@ -45,82 +112,31 @@ void write_preview(const Dataset& data, const std::filesystem::path& png, int ma
   const std::size_t n = data.samples.size();
   const int shown = static_cast<int>(std::min<std::size_t>(n, static_cast<std::size_t>(max_readings)));
   const bool top_down = data.scene.pose_space.kind == PoseSpaceSpec::Kind::planar;
-  const int S = 84, cell_w = 2 * S + 14, cell_h = S + 30, cols = std::max(1, std::min(shown, 6));
+  const int cell_w = 2 * kCell + 14, cell_h = kCell + 30, cols = std::max(1, std::min(shown, 6));
   const int rows = std::max(1, (shown + cols - 1) / cols);
   const int header = 34;
   plot::Canvas cv(cols * cell_w + 10, header + rows * cell_h + 24);
-
-  // Colour scale: the 99th percentile of the non-zero pressures, so that a few
-  // saturated elements do not wash out every other image.
-  std::vector<float> all;
-  for (const auto& s : data.samples)
-    for (float p : s.reading.pressure)
-      if (p > 0) all.push_back(p);
-  float pmax = 1;
-  if (!all.empty()) {
-    auto k = all.begin() + static_cast<std::ptrdiff_t>(0.99 * static_cast<double>(all.size() - 1));
-    std::nth_element(all.begin(), k, all.end());
-    pmax = std::max(*k, 1e-3f);
-  }
+  const float pmax = pressure_scale(data);
   char title[256];
   std::snprintf(title, sizeof title, "%s / %s: %zu readings (%zu converged), showing %d", data.scene.name.c_str(),
                 data.split.c_str(), n, data.count_converged(), shown);
   cv.text(6, 6, title, plot::kBlack, 2);
 
-  // Per object: the projected bounds of its contact points.
-  std::map<std::uint32_t, std::pair<glm::dvec2, glm::dvec2>> bounds;
-  for (const auto& s : data.samples) {
-    if (s.reading.status == ControllerStatus::no_contact) continue;
-    glm::dvec2 q = project(s.reading.position, top_down);
-    auto [it, fresh] = bounds.try_emplace(s.object, q, q);
-    if (!fresh) it->second = {glm::min(it->second.first, q), glm::max(it->second.second, q)};
-  }
-
-  const int rs = data.scene.sensor.rows, cs = data.scene.sensor.cols;
+  const Bounds bounds = contact_bounds(data, top_down);
   for (int c = 0; c < shown; ++c) {
     // Evenly spaced over the dataset so that every object appears.
     std::size_t idx = shown > 1 ? static_cast<std::size_t>(c) * (n - 1) / static_cast<std::size_t>(shown - 1) : 0;
     const Reading& r = data.samples[idx].reading;
     const std::uint32_t object = data.samples[idx].object;
-    int ox = 6 + (c % cols) * cell_w, oy = header + (c / cols) * cell_h;
-    // Heat map: row 0 (most negative sensor y) at the bottom, like a plot.
-    int ew = std::max(1, S / std::max(rs, cs));
-    for (int i = 0; i < rs; ++i)
-      for (int j = 0; j < cs; ++j) {
-        float p = r.pressure.size() == static_cast<std::size_t>(rs * cs)
-                      ? r.pressure[static_cast<std::size_t>(i * cs + j)]
-                      : 0.0f;
-        cv.fill_rect(ox + j * ew, oy + (rs - 1 - i) * ew, ew, ew, plot::colormap(p / pmax));
-      }
-    cv.rect(ox - 1, oy - 1, cs * ew + 2, rs * ew + 2, plot::kGrey);
-    // Contact view.
-    int vx = ox + S + 8;
-    cv.rect(vx, oy, S, S, plot::kLightGrey);
-    auto b = bounds.find(object);
-    if (b != bounds.end()) {
-      glm::dvec2 lo = b->second.first, hi = b->second.second;
-      double span = std::max({hi.x - lo.x, hi.y - lo.y, 1e-6});
-      auto to_px = [&](const glm::dvec3& p) {
-        glm::dvec2 q = (project(p, top_down) - 0.5 * (lo + hi)) / span;
-        return glm::dvec2(vx + S / 2.0 + q.x * (S - 8), oy + S / 2.0 - q.y * (S - 8));
-      };
-      for (const auto& s : data.samples) {
-        if (s.object != object || s.reading.status == ControllerStatus::no_contact) continue;
-        glm::dvec2 q = to_px(s.reading.position);
-        cv.set(static_cast<int>(q.x), static_cast<int>(q.y), plot::kGrey);
-      }
-      if (r.status != ControllerStatus::no_contact) {
-        glm::dvec2 q = to_px(r.position), e = to_px(r.position + 0.25 * span * r.normal);
-        cv.line(q.x, q.y, e.x, e.y, plot::kRed, 1);
-        cv.fill_circle(q.x, q.y, 3.0, plot::kRed);
-      }
-    }
+    const int ox = 6 + (c % cols) * cell_w, oy = header + (c / cols) * cell_h;
+    draw_heat_map(cv, r, data.scene.sensor, pmax, ox, oy);
+    draw_contact_view(cv, data, bounds, top_down, object, r, ox + kCell + 8, oy);
     std::string name = object < data.scene.objects.size() ? data.scene.objects[object].name : "?";
     char cap[160];
     std::snprintf(cap, sizeof cap, "#%zu %s", idx, name.c_str());
-    cv.text(ox, oy + S + 4, cap, plot::kBlack);
+    cv.text(ox, oy + kCell + 4, cap, plot::kBlack);
     std::snprintf(cap, sizeof cap, "%s, %d it", status_word(r.status), static_cast<int>(r.iterations));
-    cv.text(ox, oy + S + 15, cap, r.status == ControllerStatus::converged ? plot::kGrey : plot::kRed);
+    cv.text(ox, oy + kCell + 15, cap, r.status == ControllerStatus::converged ? plot::kGrey : plot::kRed);
   }
   // Colour scale.
   int ly = header + rows * cell_h + 4;

@@ -155,9 +155,17 @@ double nice_step(double range, int n) {
     if (m * p >= raw) return m * p;
   return 10 * p;
 }
-}  // namespace
 
-void line_chart(Canvas& cv, int x, int y, int w, int h, const std::vector<Series>& series, const ChartOptions& o) {
+// The data range a chart shows, and where it lies on the canvas.
+struct ChartFrame {
+  double xmin = 0, xmax = 1, ymin = 0, ymax = 1;
+  int left = 0, right = 0, top = 0, bottom = 0;
+  double px(double v) const { return left + (v - xmin) / (xmax - xmin) * (right - left); }
+  double py(double v) const { return bottom - (v - ymin) / (ymax - ymin) * (bottom - top); }
+};
+
+// The finite points' range, overridden by the options' fixed bounds; never empty.
+void fit_range(const std::vector<Series>& series, const ChartOptions& o, ChartFrame& f) {
   double xmin = std::numeric_limits<double>::infinity(), xmax = -xmin, ymin = xmin, ymax = -xmin;
   for (const auto& s : series)
     for (std::size_t i = 0; i < std::min(s.x.size(), s.y.size()); ++i)
@@ -166,37 +174,38 @@ void line_chart(Canvas& cv, int x, int y, int w, int h, const std::vector<Series
         ymin = std::min(ymin, s.y[i]), ymax = std::max(ymax, s.y[i]);
       }
   if (!std::isfinite(xmin)) xmin = 0, xmax = 1, ymin = 0, ymax = 1;
-  if (o.x_min) xmin = *o.x_min;
-  if (o.x_max) xmax = *o.x_max;
-  if (o.y_min) ymin = *o.y_min;
-  if (o.y_max) ymax = *o.y_max;
-  if (!(xmax > xmin)) xmax = xmin + 1;
-  if (!(ymax > ymin)) ymax = ymin + 1;
+  f.xmin = o.x_min.value_or(xmin), f.xmax = o.x_max.value_or(xmax);
+  f.ymin = o.y_min.value_or(ymin), f.ymax = o.y_max.value_or(ymax);
+  if (!(f.xmax > f.xmin)) f.xmax = f.xmin + 1;
+  if (!(f.ymax > f.ymin)) f.ymax = f.ymin + 1;
+}
 
-  const int left = x + 56, right = x + w - 12, top = y + (o.title.empty() ? 10 : 28), bottom = y + h - 40;
-  if (right - left < 20 || bottom - top < 20) return;
-  auto px = [&](double v) { return left + (v - xmin) / (xmax - xmin) * (right - left); };
-  auto py = [&](double v) { return bottom - (v - ymin) / (ymax - ymin) * (bottom - top); };
-  if (!o.title.empty()) cv.text(x + (w - Canvas::text_width(o.title, 2)) / 2, y + 4, o.title, kBlack, 2);
-  double xs = nice_step(xmax - xmin, o.ticks), ys = nice_step(ymax - ymin, o.ticks);
-  for (double v = std::ceil(xmin / xs) * xs; v <= xmax + 1e-9 * xs; v += xs) {
-    int X = static_cast<int>(std::lround(px(v)));
-    cv.line(X, top, X, bottom, kLightGrey);
-    cv.line(X, bottom, X, bottom + 4, kBlack);
+// Grid lines, ticks with labels, the axes and their labels.
+void draw_axes(Canvas& cv, int x, int y, const ChartFrame& f, const ChartOptions& o) {
+  const double xs = nice_step(f.xmax - f.xmin, o.ticks), ys = nice_step(f.ymax - f.ymin, o.ticks);
+  for (double v = std::ceil(f.xmin / xs) * xs; v <= f.xmax + 1e-9 * xs; v += xs) {
+    int X = static_cast<int>(std::lround(f.px(v)));
+    cv.line(X, f.top, X, f.bottom, kLightGrey);
+    cv.line(X, f.bottom, X, f.bottom + 4, kBlack);
     std::string l = tick_label(v, xs);
-    cv.text(X - Canvas::text_width(l) / 2, bottom + 7, l, kBlack);
+    cv.text(X - Canvas::text_width(l) / 2, f.bottom + 7, l, kBlack);
   }
-  for (double v = std::ceil(ymin / ys) * ys; v <= ymax + 1e-9 * ys; v += ys) {
-    int Y = static_cast<int>(std::lround(py(v)));
-    cv.line(left, Y, right, Y, kLightGrey);
-    cv.line(left - 4, Y, left, Y, kBlack);
+  for (double v = std::ceil(f.ymin / ys) * ys; v <= f.ymax + 1e-9 * ys; v += ys) {
+    int Y = static_cast<int>(std::lround(f.py(v)));
+    cv.line(f.left, Y, f.right, Y, kLightGrey);
+    cv.line(f.left - 4, Y, f.left, Y, kBlack);
     std::string l = tick_label(v, ys);
-    cv.text(left - 7 - Canvas::text_width(l), Y - 4, l, kBlack);
+    cv.text(f.left - 7 - Canvas::text_width(l), Y - 4, l, kBlack);
   }
-  cv.line(left, bottom, right, bottom, kBlack);
-  cv.line(left, top, left, bottom, kBlack);
-  if (!o.x_label.empty()) cv.text((left + right - Canvas::text_width(o.x_label)) / 2, bottom + 22, o.x_label, kBlack);
-  if (!o.y_label.empty()) cv.text(x + 2, top - 12 < y ? y : top - 12, o.y_label, kBlack);
+  cv.line(f.left, f.bottom, f.right, f.bottom, kBlack);
+  cv.line(f.left, f.top, f.left, f.bottom, kBlack);
+  if (!o.x_label.empty())
+    cv.text((f.left + f.right - Canvas::text_width(o.x_label)) / 2, f.bottom + 22, o.x_label, kBlack);
+  if (!o.y_label.empty()) cv.text(x + 2, f.top - 12 < y ? y : f.top - 12, o.y_label, kBlack);
+}
+
+// Each series as a polyline (broken at non-finite points), clamped to the frame.
+void draw_series(Canvas& cv, const ChartFrame& f, const std::vector<Series>& series) {
   for (const auto& s : series) {
     bool have = false;
     double lx = 0, ly = 0;
@@ -205,28 +214,42 @@ void line_chart(Canvas& cv, int x, int y, int w, int h, const std::vector<Series
         have = false;
         continue;
       }
-      double X = px(std::clamp(s.x[i], xmin, xmax)), Y = py(std::clamp(s.y[i], ymin, ymax));
+      double X = f.px(std::clamp(s.x[i], f.xmin, f.xmax)), Y = f.py(std::clamp(s.y[i], f.ymin, f.ymax));
       if (have) cv.line(lx, ly, X, Y, s.color, 2);
       if (s.markers) cv.fill_circle(X, Y, 2.5, s.color);
       lx = X, ly = Y, have = true;
     }
   }
-  // Legend, top right inside the plot area.
-  int lw = 0;
-  for (const auto& s : series) lw = std::max(lw, Canvas::text_width(s.label));
-  int lx = right - lw - 34, ly = top + 6;
-  int rows = 0;
-  for (const auto& s : series) rows += !s.label.empty();
-  if (rows) {
-    cv.fill_rect(lx - 4, ly - 4, lw + 36, rows * 12 + 6, kWhite);
-    cv.rect(lx - 4, ly - 4, lw + 36, rows * 12 + 6, kGrey);
-    for (const auto& s : series) {
-      if (s.label.empty()) continue;
-      cv.line(lx, ly + 4, lx + 20, ly + 4, s.color, 2);
-      cv.text(lx + 26, ly, s.label, kBlack);
-      ly += 12;
-    }
+}
+
+// The labelled series' legend, top right inside the plot area.
+void draw_legend(Canvas& cv, const ChartFrame& f, const std::vector<Series>& series) {
+  int lw = 0, rows = 0;
+  for (const auto& s : series) lw = std::max(lw, Canvas::text_width(s.label)), rows += !s.label.empty();
+  if (!rows) return;
+  const int lx = f.right - lw - 34;
+  int ly = f.top + 6;
+  cv.fill_rect(lx - 4, ly - 4, lw + 36, rows * 12 + 6, kWhite);
+  cv.rect(lx - 4, ly - 4, lw + 36, rows * 12 + 6, kGrey);
+  for (const auto& s : series) {
+    if (s.label.empty()) continue;
+    cv.line(lx, ly + 4, lx + 20, ly + 4, s.color, 2);
+    cv.text(lx + 26, ly, s.label, kBlack);
+    ly += 12;
   }
+}
+
+}  // namespace
+
+void line_chart(Canvas& cv, int x, int y, int w, int h, const std::vector<Series>& series, const ChartOptions& o) {
+  ChartFrame f;
+  fit_range(series, o, f);
+  f.left = x + 56, f.right = x + w - 12, f.top = y + (o.title.empty() ? 10 : 28), f.bottom = y + h - 40;
+  if (f.right - f.left < 20 || f.bottom - f.top < 20) return;
+  if (!o.title.empty()) cv.text(x + (w - Canvas::text_width(o.title, 2)) / 2, y + 4, o.title, kBlack, 2);
+  draw_axes(cv, x, y, f, o);
+  draw_series(cv, f, series);
+  draw_legend(cv, f, series);
 }
 
 }  // namespace sva::plot

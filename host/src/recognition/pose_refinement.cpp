@@ -35,6 +35,13 @@ struct Fit {
   std::vector<Match> matches;
 };
 
+// The weighted normal equations of one Gauss-Newton step: h (point-to-plane plus normal tilt) and g, and hs, the
+// point-to-plane rows with the observed normals, which judge what the surface constrains.
+struct Equations {
+  Mat h{}, hs{};
+  Vec g{};
+};
+
 struct Step {
   Vec delta{};         // in the parameters above
   int observable = 0;  // directions the point-to-plane equations constrain
@@ -138,6 +145,7 @@ class Problem {
   }
 
   Fit fit(const RigidPose& pose, double scale) const;
+  Equations normal_equations(const Fit& fit, double scale) const;
   Step step(const Fit& fit, double scale) const;
   RigidPose apply(const RigidPose& pose, const Vec& delta, double t) const;
   // One start through every scale; the fit at the final scale.
@@ -190,7 +198,7 @@ Fit Problem::fit(const RigidPose& pose, double scale) const {
   return f;
 }
 
-Step Problem::step(const Fit& fit, double scale) const {
+Equations Problem::normal_equations(const Fit& fit, double scale) const {
   Mat hp{}, hs{}, h{};
   Vec g{};
   const double lw = s_.normal_weight_mm / spread_;
@@ -220,6 +228,11 @@ Step Problem::step(const Fit& fit, double scale) const {
   }
   for (int i = 0; i < dim_; ++i)
     for (int j = 0; j < dim_; ++j) h[i][j] += hp[i][j];
+  return {h, hs, g};
+}
+
+Step Problem::step(const Fit& fit, double scale) const {
+  const auto [h, hs, g] = normal_equations(fit, scale);
   // Observability from point-to-plane equations alone, and with the observed
   // normals: a sliding direction (a plane's slide, a cylinder's spin) moves
   // the contacts along the surface, which the observed normal sees as no

@@ -1,0 +1,115 @@
+#pragma once
+// Choosing where to touch next (active touch planning, docs/api.md "Choosing the next touch"). After each reading
+// the recognizer holds a belief over objects and poses; the map knows every object's surface as its training
+// contacts (position, normal, appearance class). For a candidate touch the planner predicts what each hypothesis
+// of the estimate would feel there - from the map's stored surface, not a mesh: a real robot has the map - and
+// scores the touch by how well the outcome would tell the hypotheses apart.
+//
+//   sva::TouchPlanner planner(map);                       // once per map (k-d trees, classes of the contacts)
+//   sva::Estimate est = recognizer.estimate(8);           // the hypotheses to tell apart
+//   auto candidates = planner.sample_candidates(est, 100, seed);   // or the robot's reachable touches
+//   sva::TouchPlan plan = sva::plan_next_touch(planner, est, candidates);
+//   if (!plan.best.empty()) move_to(plan.best[0].touch);
+//
+// It reads only the Estimate's hypotheses, so it is the same for every backend (CPU reference and Vulkan).
+#include <sva/map.hpp>
+#include <sva/pose.hpp>
+#include <sva/recognizer.hpp>
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace sva {
+
+// A touch the robot could make (robot frame): the sensor is brought to `position` pressing along `approach`, so
+// a surface felt there faces the sensor with outward normal near -approach.
+struct CandidateTouch {
+  glm::dvec3 position{0.0};             // mm
+  glm::dvec3 approach{0.0, 0.0, -1.0};  // unit direction of the press (need not be normalised; not zero)
+  bool reachable = true;                // false: the robot cannot make it; scored never, chosen never
+};
+
+struct TouchPlanOptions {
+  std::size_t best = 1;               // how many candidates to return (the best k), >= 1
+  std::size_t max_hypotheses = 16;    // the strongest hypotheses considered, >= 1
+  double min_hypothesis_mass = 1e-4;  // hypotheses below this share of the considered mass are left out
+  // A hypothesis feels contact at a candidate when one of its object's training contacts lies within
+  // contact_tolerance_mm of the candidate (in the hypothesis' pose) with its outward normal within
+  // normal_tolerance_deg of -approach. 0 = from the map: twice the median spacing of its training contacts.
+  double contact_tolerance_mm = 0.0;
+  double normal_tolerance_deg = 60.0;
+  // How alike two predicted contacts are (1 alike, 0 told apart): the overlap of their appearance classes
+  // (Bhattacharyya) times Gaussian kernels on their distance (sigma: position_sigma_mm, 0 = the contact
+  // tolerance) and on the angle between their normals (normal_sigma_deg).
+  double position_sigma_mm = 0.0;
+  double normal_sigma_deg = 20.0;
+  double confusion = 0.02;  // floor of every likeness: what any outcome may be mistaken for (sensor errors)
+  // Touches already made (robot frame): a candidate nearer than min_separation_mm to every one of them pairs with
+  // none of them (the map's pairs start at its shortest distance bin), so it is skipped while any candidate that
+  // pairs with at least one remains. min_separation_mm < 0 = the map's shortest pair distance; 0 = off.
+  std::vector<glm::dvec3> visited;
+  double min_separation_mm = -1.0;
+};
+
+struct TouchScore {
+  std::size_t candidate = 0;  // index into the candidates given
+  CandidateTouch touch;
+  double score = 0.0;                // expected information gain over the hypotheses (bits, >= 0; see plan())
+  double contact_probability = 0.0;  // mass of the hypotheses that predict contact there
+};
+
+struct TouchPlan {
+  std::vector<TouchScore> best;  // at most options.best, highest score first (ties: lower index first);
+                                 // empty when no candidate is reachable
+  std::size_t hypotheses = 0;    // the hypotheses scored over (0: no pose yet, every score is 0)
+  std::size_t reachable = 0;     // candidates reachable (and finite)
+  std::size_t separated = 0;     // of them, those far enough from the visited touches (all when none are)
+  std::string note;              // why the plan is empty or uninformative, "" otherwise
+};
+
+// The map's surfaces as the planner reads them: one k-d tree of training contacts per object and each contact's
+// appearance classes (recovered from the pair entries it takes part in). Immutable and cheap to share: any number
+// of threads may plan with one planner at once. Build once per map (paper3d: tens of milliseconds).
+class TouchPlanner {
+ public:
+  explicit TouchPlanner(const Map& map);
+  ~TouchPlanner();
+  TouchPlanner(TouchPlanner&&) noexcept;
+  TouchPlanner& operator=(TouchPlanner&&) noexcept;
+
+  // Scores every reachable candidate: for each hypothesis h (mass w_h, renormalised over those considered) the
+  // predicted outcome y_h (contact or not; if contact, where, the normal and the appearance classes), and the
+  // likeness s(y_h, y_g) in [confusion, 1] of two outcomes (1 for two misses). The score is the expected
+  // information gain under the kernel model p(y_h | g) proportional to s(y_h, y_g):
+  //   score = - sum_h w_h log2( sum_g w_g s(y_h, y_g) ),
+  // 0 when every hypothesis predicts the same, the entropy of the masses when every outcome tells all apart.
+  // Candidates with a non-finite position or a zero or non-finite approach count as unreachable. Deterministic;
+  // never throws on a candidate set (empty, one, all unreachable: an empty or all-zero plan with a note).
+  TouchPlan plan(const Estimate& estimate, std::span<const CandidateTouch> candidates,
+                 const TouchPlanOptions& options = {}) const;
+
+  // `count` candidates on the hypotheses' surfaces: training contacts of the hypotheses' objects, carried by
+  // their poses to the robot frame, pressed along -normal; each drawn hypothesis by mass (options' hypotheses),
+  // then a contact uniformly. Deterministic for a seed. Empty when the estimate has no pose hypothesis.
+  std::vector<CandidateTouch> sample_candidates(const Estimate& estimate, std::size_t count, std::uint64_t seed,
+                                                const TouchPlanOptions& options = {}) const;
+
+  // The contact tolerance used when options leave it at 0 (mm).
+  double default_contact_tolerance_mm() const;
+  // The map's shortest pair distance (mm): the default min_separation_mm.
+  double shortest_pair_mm() const;
+
+  struct Impl;
+
+ private:
+  std::shared_ptr<const Impl> impl_;
+};
+
+// planner.plan(estimate, candidates, options): the best options.best candidates with their scores.
+TouchPlan plan_next_touch(const TouchPlanner& planner, const Estimate& estimate,
+                          std::span<const CandidateTouch> candidates, const TouchPlanOptions& options = {});
+
+}  // namespace sva

@@ -1,0 +1,299 @@
+// Active touch planning (sva/touch_planner.hpp): predicts, from the map's training contacts, what each hypothesis
+// of an estimate would feel at a candidate touch and scores the touch by the expected information gain over the
+// hypotheses under a likeness kernel. Backend-independent: it reads only the Estimate.
+#include <sva/error.hpp>
+#include <sva/touch_planner.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <numeric>
+#include <string>
+
+#include "map/pair_map.hpp"
+#include "map/surface_index.hpp"
+#include "planning/contact_classes.hpp"
+#include "util/rng.hpp"
+
+namespace sva {
+
+struct TouchPlanner::Impl {
+  explicit Impl(const PairMap& map)
+      : surface(map.readings, map.objects.size()), classes(planning::contact_classes(map)) {
+    shortest_pair_mm = map.distance.min_mm;
+    tolerance_mm = 2.0 * median_spacing();
+  }
+
+  // The median distance from a training contact to its nearest neighbour on the same object: how densely the map
+  // knows a surface, hence how near a touch must come to a known contact to be predicted from it.
+  double median_spacing() const {
+    std::vector<double> d;
+    std::vector<SurfaceNeighbour> nn;
+    for (std::uint32_t o = 0; o < surface.objects(); ++o)
+      for (const SurfacePoint& p : surface.points(o)) {
+        surface.nearest(o, p.position, 2, &nn);
+        if (nn.size() == 2) d.push_back(std::sqrt(nn[1].distance_sq));
+      }
+    if (d.empty()) return 2.5;
+    std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
+    const double m = d[d.size() / 2];
+    return m > 0.0 ? m : 2.5;
+  }
+
+  SurfaceIndex surface;
+  std::vector<std::vector<ClassWeight>> classes;  // per map reading row
+  double tolerance_mm = 5.0;
+  double shortest_pair_mm = 0.0;
+};
+
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+bool finite_pose(const RigidPose& p) { return finite(p.T) && finite(p.R[0]) && finite(p.R[1]) && finite(p.R[2]); }
+
+// A hypothesis as the planner weighs it.
+struct Weighed {
+  std::uint32_t object = 0;
+  RigidPose pose, inverse;
+  double weight = 0.0;
+};
+
+bool same_mode(const PoseHypothesis& a, const PoseHypothesis& b) {
+  if (a.object != b.object) return false;
+  const glm::dmat3 d = a.pose.R - b.pose.R;
+  return glm::length(a.pose.T - b.pose.T) < 1e-6 && glm::length(d[0]) + glm::length(d[1]) + glm::length(d[2]) < 1e-9;
+}
+
+// The estimate's distinct hypotheses, then each object's best mode that is not among them (so that every object
+// the belief holds is represented), strongest first, at most max_hypotheses, masses renormalised.
+std::vector<Weighed> weighed_hypotheses(const Estimate& est, const TouchPlanOptions& o, std::size_t objects) {
+  std::vector<const PoseHypothesis*> all;
+  auto usable = [&](const PoseHypothesis& h) {
+    return h.object < objects && std::isfinite(h.probability) && h.probability > 0.0 && finite_pose(h.pose);
+  };
+  for (const PoseHypothesis& h : est.hypotheses)
+    if (usable(h)) all.push_back(&h);
+  for (const PoseHypothesis& h : est.object_hypotheses)
+    if (h.valid && usable(h) && std::none_of(all.begin(), all.end(), [&](auto* g) { return same_mode(*g, h); }))
+      all.push_back(&h);
+  std::stable_sort(all.begin(), all.end(), [](auto* a, auto* b) { return a->probability > b->probability; });
+  if (all.size() > o.max_hypotheses) all.resize(o.max_hypotheses);
+  double total = 0.0;
+  for (auto* h : all) total += h->probability;
+  std::vector<Weighed> out;
+  for (auto* h : all)
+    if (h->probability >= o.min_hypothesis_mass * total)
+      out.push_back({h->object, h->pose, h->pose.inverse(), h->probability});
+  double kept = 0.0;
+  for (const Weighed& w : out) kept += w.weight;
+  for (Weighed& w : out) w.weight /= kept;
+  return out;
+}
+
+// What a hypothesis predicts at a candidate: a miss, or a contact at a training contact of its object.
+struct Outcome {
+  bool contact = false;
+  glm::dvec3 position{0.0}, normal{0.0};  // robot frame
+  const std::vector<ClassWeight>* classes = nullptr;
+};
+
+struct Resolved {
+  double tolerance_mm, cos_normal, sigma_p, sigma_n, confusion, separation_mm;
+};
+
+Outcome predict(const TouchPlanner::Impl& m, const Weighed& h, const CandidateTouch& c, const Resolved& r,
+                std::vector<SurfaceNeighbour>& nn) {
+  const glm::dvec3 q = h.inverse.apply(c.position), facing = -h.inverse.rotate(c.approach);
+  m.surface.nearest(h.object, q, 4, &nn);
+  const auto& points = m.surface.points(h.object);
+  for (const SurfaceNeighbour& n : nn) {
+    if (n.distance_sq > r.tolerance_mm * r.tolerance_mm) break;
+    const SurfacePoint& p = points[n.index];
+    if (glm::dot(p.normal, facing) < r.cos_normal) continue;
+    return {true, h.pose.apply(p.position), h.pose.rotate(p.normal), &m.classes[p.reading]};
+  }
+  return {};
+}
+
+// Bhattacharyya coefficient of two soft class lists (both in increasing class order).
+double class_overlap(const std::vector<ClassWeight>& a, const std::vector<ClassWeight>& b) {
+  double s = 0.0;
+  std::size_t i = 0, j = 0;
+  while (i < a.size() && j < b.size()) {
+    if (a[i].cls < b[j].cls) {
+      ++i;
+    } else if (b[j].cls < a[i].cls) {
+      ++j;
+    } else {
+      s += std::sqrt(static_cast<double>(a[i].weight) * static_cast<double>(b[j].weight));
+      ++i;
+      ++j;
+    }
+  }
+  return std::min(s, 1.0);
+}
+
+double likeness(const Outcome& a, const Outcome& b, const Resolved& r) {
+  if (!a.contact && !b.contact) return 1.0;
+  if (a.contact != b.contact) return r.confusion;
+  const glm::dvec3 d = a.position - b.position;
+  const double angle = std::acos(std::clamp(glm::dot(a.normal, b.normal), -1.0, 1.0));
+  const double alike = class_overlap(*a.classes, *b.classes) *
+                       std::exp(-0.5 * glm::dot(d, d) / (r.sigma_p * r.sigma_p)) *
+                       std::exp(-0.5 * angle * angle / (r.sigma_n * r.sigma_n));
+  return r.confusion + (1.0 - r.confusion) * alike;
+}
+
+// - sum_h w_h log2(sum_g w_g s(y_h, y_g)); the inner sum holds w_h s(y_h, y_h) = w_h > 0, so it is finite.
+double information_gain(const std::vector<Weighed>& hyps, const std::vector<Outcome>& y, const Resolved& r) {
+  double gain = 0.0;
+  for (std::size_t h = 0; h < hyps.size(); ++h) {
+    double agree = 0.0;
+    for (std::size_t g = 0; g < hyps.size(); ++g) agree += hyps[g].weight * (g == h ? 1.0 : likeness(y[h], y[g], r));
+    gain -= hyps[h].weight * std::log2(agree);
+  }
+  return std::max(gain, 0.0);
+}
+
+void check_options(const TouchPlanOptions& o) {
+  auto bad = [](const std::string& what) { throw Error("touch planner options: " + what); };
+  if (o.best == 0) bad("best must be at least 1, got 0");
+  if (o.max_hypotheses == 0) bad("max_hypotheses must be at least 1, got 0");
+  auto check = [&](const char* name, double v, double lo, double hi) {
+    if (!(v >= lo && v <= hi))
+      bad(std::string(name) + " must lie in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " +
+          std::to_string(v));
+  };
+  check("min_hypothesis_mass", o.min_hypothesis_mass, 0.0, 1.0);
+  check("contact_tolerance_mm", o.contact_tolerance_mm, 0.0, 1e6);
+  check("normal_tolerance_deg", o.normal_tolerance_deg, 0.0, 180.0);
+  check("position_sigma_mm", o.position_sigma_mm, 0.0, 1e6);
+  check("normal_sigma_deg", o.normal_sigma_deg, 1e-3, 1e6);
+  check("confusion", o.confusion, 0.0, 1.0);
+  check("min_separation_mm", o.min_separation_mm, -1.0, 1e6);
+  for (const glm::dvec3& v : o.visited)
+    if (!finite(v)) bad("a visited touch holds a NaN or infinite coordinate");
+}
+
+Resolved resolve(const TouchPlanner::Impl& m, const TouchPlanOptions& o) {
+  Resolved r{};
+  r.tolerance_mm = o.contact_tolerance_mm > 0.0 ? o.contact_tolerance_mm : m.tolerance_mm;
+  r.cos_normal = std::cos(o.normal_tolerance_deg * kDeg);
+  r.sigma_p = o.position_sigma_mm > 0.0 ? o.position_sigma_mm : r.tolerance_mm;
+  r.sigma_n = o.normal_sigma_deg * kDeg;
+  r.confusion = o.confusion;
+  r.separation_mm = o.min_separation_mm < 0.0 ? 0.5 * m.shortest_pair_mm : o.min_separation_mm;
+  return r;
+}
+
+bool usable(const CandidateTouch& c) {
+  return c.reachable && finite(c.position) && finite(c.approach) && glm::dot(c.approach, c.approach) > 0.0;
+}
+
+// Whether a candidate repeats a touch already made (within the separation of it).
+bool repeats(const CandidateTouch& c, const TouchPlanOptions& o, double separation_mm) {
+  return std::any_of(o.visited.begin(), o.visited.end(), [&](const glm::dvec3& v) {
+    const glm::dvec3 d = c.position - v;
+    return glm::dot(d, d) < separation_mm * separation_mm;
+  });
+}
+
+// The candidates to score: the reachable ones that do not repeat a visited touch, or all reachable ones when every
+// one does (a plan never comes back empty for want of fresh ground).
+std::vector<std::size_t> eligible(std::span<const CandidateTouch> cands, const TouchPlanOptions& o, const Resolved& r,
+                                  TouchPlan& plan) {
+  std::vector<std::size_t> reachable, fresh;
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    if (!usable(cands[i])) continue;
+    reachable.push_back(i);
+    if (r.separation_mm <= 0.0 || !repeats(cands[i], o, r.separation_mm)) fresh.push_back(i);
+  }
+  plan.reachable = reachable.size();
+  plan.separated = fresh.size();
+  if (fresh.empty() && !reachable.empty()) {
+    plan.note = "every reachable candidate lies within " + std::to_string(r.separation_mm) +
+                " mm of a touch already made: scored them all";
+    return reachable;
+  }
+  return fresh;
+}
+
+}  // namespace
+
+TouchPlanner::TouchPlanner(const Map& map) {
+  if (map.empty()) throw Error("touch planner: the map is empty");
+  impl_ = std::make_shared<const Impl>(map.internal());
+}
+TouchPlanner::~TouchPlanner() = default;
+TouchPlanner::TouchPlanner(TouchPlanner&&) noexcept = default;
+TouchPlanner& TouchPlanner::operator=(TouchPlanner&&) noexcept = default;
+
+double TouchPlanner::default_contact_tolerance_mm() const { return impl_->tolerance_mm; }
+double TouchPlanner::shortest_pair_mm() const { return impl_->shortest_pair_mm; }
+
+TouchPlan TouchPlanner::plan(const Estimate& estimate, std::span<const CandidateTouch> candidates,
+                             const TouchPlanOptions& options) const {
+  check_options(options);
+  const Resolved r = resolve(*impl_, options);
+  TouchPlan plan;
+  const std::vector<Weighed> hyps = weighed_hypotheses(estimate, options, impl_->surface.objects());
+  plan.hypotheses = hyps.size();
+  const std::vector<std::size_t> scored = eligible(candidates, options, r, plan);
+  if (plan.reachable == 0) {
+    plan.note = candidates.empty() ? "no candidate touches were given" : "no candidate touch is reachable";
+    return plan;
+  }
+  if (hyps.empty()) plan.note = "the estimate has no pose hypothesis yet: every candidate scores 0";
+  std::vector<TouchScore> scores;
+  std::vector<Outcome> y(hyps.size());
+  std::vector<SurfaceNeighbour> nn;
+  for (std::size_t i : scored) {
+    CandidateTouch c = candidates[i];
+    c.approach = glm::normalize(c.approach);
+    TouchScore s{i, candidates[i], 0.0, 0.0};
+    for (std::size_t h = 0; h < hyps.size(); ++h) {
+      y[h] = predict(*impl_, hyps[h], c, r, nn);
+      if (y[h].contact) s.contact_probability += hyps[h].weight;
+    }
+    s.score = hyps.size() > 1 ? information_gain(hyps, y, r) : 0.0;
+    scores.push_back(s);
+  }
+  const std::size_t k = std::min(options.best, scores.size());
+  std::partial_sort(scores.begin(), scores.begin() + static_cast<std::ptrdiff_t>(k), scores.end(),
+                    [](const TouchScore& a, const TouchScore& b) {
+                      return a.score > b.score || (a.score == b.score && a.candidate < b.candidate);
+                    });
+  scores.resize(k);
+  plan.best = std::move(scores);
+  return plan;
+}
+
+std::vector<CandidateTouch> TouchPlanner::sample_candidates(const Estimate& estimate, std::size_t count,
+                                                            std::uint64_t seed, const TouchPlanOptions& options) const {
+  check_options(options);
+  const std::vector<Weighed> hyps = weighed_hypotheses(estimate, options, impl_->surface.objects());
+  std::vector<CandidateTouch> out;
+  if (hyps.empty()) return out;
+  util::Rng rng(seed, 0x70c4);
+  for (std::size_t i = 0; i < count; ++i) {
+    // A hypothesis by mass (the last one takes the rounding's remainder), then one of its object's contacts.
+    double u = rng.uniform();
+    std::size_t h = 0;
+    while (h + 1 < hyps.size() && u >= hyps[h].weight) u -= hyps[h++].weight;
+    const auto& points = impl_->surface.points(hyps[h].object);
+    if (points.empty()) continue;
+    const SurfacePoint& p = points[rng.below(points.size())];
+    out.push_back({hyps[h].pose.apply(p.position), -hyps[h].pose.rotate(p.normal), true});
+  }
+  return out;
+}
+
+TouchPlan plan_next_touch(const TouchPlanner& planner, const Estimate& estimate,
+                          std::span<const CandidateTouch> candidates, const TouchPlanOptions& options) {
+  return planner.plan(estimate, candidates, options);
+}
+
+}  // namespace sva

@@ -36,6 +36,10 @@ struct TouchPlanOptions {
   std::size_t best = 1;               // how many candidates to return (the best k), >= 1
   std::size_t max_hypotheses = 16;    // the strongest hypotheses considered, >= 1
   double min_hypothesis_mass = 1e-4;  // hypotheses below this share of the considered mass are left out
+  // Each object's best mode (Estimate::object_hypotheses) weighs at least this share, however little mass the
+  // belief gives it: the belief is overconfident (every reading pairs with all earlier ones, so its evidence counts
+  // many times over) and a wrong object may hold nearly all of it until the one touch that tells them apart.
+  double object_floor = 0.02;
   // A hypothesis feels contact at a candidate when one of its object's training contacts lies within
   // contact_tolerance_mm of the candidate (in the hypothesis' pose) with its outward normal within
   // normal_tolerance_deg of -approach. 0 = from the map: twice the median spacing of its training contacts.

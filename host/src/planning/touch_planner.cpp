@@ -67,26 +67,53 @@ bool same_mode(const PoseHypothesis& a, const PoseHypothesis& b) {
   return glm::length(a.pose.T - b.pose.T) < 1e-6 && glm::length(d[0]) + glm::length(d[1]) + glm::length(d[2]) < 1e-9;
 }
 
+// A hypothesis of the estimate before weighing: its mass, and whether it is its object's best mode.
+struct Mode {
+  const PoseHypothesis* h;
+  double weight;
+  bool best_of_object;
+};
+
 // The estimate's distinct hypotheses, then each object's best mode that is not among them (so that every object
-// the belief holds is represented), strongest first, at most max_hypotheses, masses renormalised.
-std::vector<Weighed> weighed_hypotheses(const Estimate& est, const TouchPlanOptions& o, std::size_t objects) {
-  std::vector<const PoseHypothesis*> all;
+// the belief reaches is represented), with their masses.
+std::vector<Mode> modes_of(const Estimate& est, std::size_t objects) {
+  std::vector<Mode> all;
   auto usable = [&](const PoseHypothesis& h) {
-    return h.object < objects && std::isfinite(h.probability) && h.probability > 0.0 && finite_pose(h.pose);
+    return h.object < objects && std::isfinite(h.probability) && h.probability >= 0.0 && finite_pose(h.pose);
   };
   for (const PoseHypothesis& h : est.hypotheses)
-    if (usable(h)) all.push_back(&h);
-  for (const PoseHypothesis& h : est.object_hypotheses)
-    if (h.valid && usable(h) && std::none_of(all.begin(), all.end(), [&](auto* g) { return same_mode(*g, h); }))
-      all.push_back(&h);
-  std::stable_sort(all.begin(), all.end(), [](auto* a, auto* b) { return a->probability > b->probability; });
-  if (all.size() > o.max_hypotheses) all.resize(o.max_hypotheses);
+    if (usable(h) && h.probability > 0.0) all.push_back({&h, h.probability, false});
+  for (const PoseHypothesis& h : est.object_hypotheses) {
+    if (!h.valid || !usable(h)) continue;
+    auto same = std::find_if(all.begin(), all.end(), [&](const Mode& m) { return same_mode(*m.h, h); });
+    if (same != all.end())
+      same->best_of_object = true;
+    else
+      all.push_back({&h, h.probability, true});
+  }
+  return all;
+}
+
+// The modes weighed for planning: masses normalised, each object's best mode raised to at least object_floor
+// (the belief is overconfident - every reading pairs with all earlier ones, so its evidence counts many times
+// over, and a wrong object can hold nearly all the mass until the one telling touch - so the touches that could
+// overturn it must still count), the strongest max_hypotheses kept, those below min_hypothesis_mass dropped.
+std::vector<Weighed> weighed_hypotheses(const Estimate& est, const TouchPlanOptions& o, std::size_t objects) {
+  std::vector<Mode> all = modes_of(est, objects);
   double total = 0.0;
-  for (auto* h : all) total += h->probability;
+  for (const Mode& m : all) total += m.weight;
+  for (Mode& m : all) {
+    m.weight = total > 0.0 ? m.weight / total : 0.0;
+    if (m.best_of_object) m.weight = std::max(m.weight, o.object_floor);
+  }
+  std::stable_sort(all.begin(), all.end(), [](const Mode& a, const Mode& b) { return a.weight > b.weight; });
+  if (all.size() > o.max_hypotheses) all.resize(o.max_hypotheses);
+  total = 0.0;
+  for (const Mode& m : all) total += m.weight;
   std::vector<Weighed> out;
-  for (auto* h : all)
-    if (h->probability >= o.min_hypothesis_mass * total)
-      out.push_back({h->object, h->pose, h->pose.inverse(), h->probability});
+  for (const Mode& m : all)
+    if (m.weight > 0.0 && m.weight >= o.min_hypothesis_mass * total)
+      out.push_back({m.h->object, m.h->pose, m.h->pose.inverse(), m.weight});
   double kept = 0.0;
   for (const Weighed& w : out) kept += w.weight;
   for (Weighed& w : out) w.weight /= kept;
@@ -173,6 +200,7 @@ void check_options(const TouchPlanOptions& o) {
   check("position_sigma_mm", o.position_sigma_mm, 0.0, 1e6);
   check("normal_sigma_deg", o.normal_sigma_deg, 1e-3, 1e6);
   check("confusion", o.confusion, 0.0, 1.0);
+  check("object_floor", o.object_floor, 0.0, 1.0);
   check("min_separation_mm", o.min_separation_mm, -1.0, 1e6);
   for (const glm::dvec3& v : o.visited)
     if (!finite(v)) bad("a visited touch holds a NaN or infinite coordinate");

@@ -40,22 +40,26 @@ struct TouchPlanOptions {
   // belief gives it: the belief is overconfident (every reading pairs with all earlier ones, so its evidence counts
   // many times over) and a wrong object may hold nearly all of it until the one touch that tells them apart.
   double object_floor = 0.02;
-  // A hypothesis feels contact at a candidate when one of its object's training contacts lies within
-  // contact_tolerance_mm of the candidate (in the hypothesis' pose) with its outward normal within
-  // normal_tolerance_deg of -approach. 0 = from the map: twice the median spacing of its training contacts.
+  // What a hypothesis feels at a candidate: the training contact of its object (in the hypothesis' pose) nearest
+  // to the candidate among those whose outward normal lies within normal_tolerance_deg of -approach - the surface
+  // a guarded move along the approach meets - or a miss when none lies within contact_tolerance_mm (0: no limit,
+  // the default: in `sva eval` every planned touch ends on the true object).
   double contact_tolerance_mm = 0.0;
   double normal_tolerance_deg = 60.0;
   // How alike two predicted contacts are (1 alike, 0 told apart): the overlap of their appearance classes
-  // (Bhattacharyya) times Gaussian kernels on their distance (sigma: position_sigma_mm, 0 = the contact
-  // tolerance) and on the angle between their normals (normal_sigma_deg).
+  // (Bhattacharyya) times Gaussian kernels on their distance (sigma: position_sigma_mm, 0 = twice the median
+  // spacing of the map's training contacts) and on the angle between their normals (normal_sigma_deg).
   double position_sigma_mm = 0.0;
   double normal_sigma_deg = 20.0;
   double confusion = 0.02;  // floor of every likeness: what any outcome may be mistaken for (sensor errors)
-  // Touches already made (robot frame): a candidate nearer than min_separation_mm to every one of them pairs with
-  // none of them (the map's pairs start at its shortest distance bin), so it is skipped while any candidate that
-  // pairs with at least one remains. min_separation_mm < 0 = the map's shortest pair distance; 0 = off.
+  // Touches already made (robot frame). A reading's evidence is its pairs with the earlier readings, and the map
+  // pairs only contacts [pair_min_mm, pair_max_mm] apart (its distance bins): a candidate that pairs with none of
+  // the visited touches is skipped while any candidate pairs with one, and every score is scaled by the share of
+  // the visited touches the candidate pairs with. pair_min_mm, pair_max_mm < 0: the map's range. No visited
+  // touches: no scaling.
   std::vector<glm::dvec3> visited;
-  double min_separation_mm = -1.0;
+  double pair_min_mm = -1.0;
+  double pair_max_mm = -1.0;
 };
 
 struct TouchScore {
@@ -70,7 +74,7 @@ struct TouchPlan {
                                  // empty when no candidate is reachable
   std::size_t hypotheses = 0;    // the hypotheses scored over (0: no pose yet, every score is 0)
   std::size_t reachable = 0;     // candidates reachable (and finite)
-  std::size_t separated = 0;     // of them, those far enough from the visited touches (all when none are)
+  std::size_t pairing = 0;       // of them, those that pair with a visited touch (all when none was visited)
   std::string note;              // why the plan is empty or uninformative, "" otherwise
 };
 
@@ -101,10 +105,11 @@ class TouchPlanner {
   std::vector<CandidateTouch> sample_candidates(const Estimate& estimate, std::size_t count, std::uint64_t seed,
                                                 const TouchPlanOptions& options = {}) const;
 
-  // The contact tolerance used when options leave it at 0 (mm).
-  double default_contact_tolerance_mm() const;
-  // The map's shortest pair distance (mm): the default min_separation_mm.
+  // The position sigma used when options leave it at 0 (mm): twice the median spacing of the training contacts.
+  double default_position_sigma_mm() const;
+  // The map's pair distance range (mm): the default pair_min_mm and pair_max_mm.
   double shortest_pair_mm() const;
+  double longest_pair_mm() const;
 
   struct Impl;
 

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <numeric>
 #include <string>
@@ -21,7 +22,8 @@ struct TouchPlanner::Impl {
   explicit Impl(const PairMap& map)
       : surface(map.readings, map.objects.size()), classes(planning::contact_classes(map)) {
     shortest_pair_mm = map.distance.min_mm;
-    tolerance_mm = 2.0 * median_spacing();
+    longest_pair_mm = map.distance.max_mm;
+    sigma_mm = 2.0 * median_spacing();
   }
 
   // The median distance from a training contact to its nearest neighbour on the same object: how densely the map
@@ -42,8 +44,8 @@ struct TouchPlanner::Impl {
 
   SurfaceIndex surface;
   std::vector<std::vector<ClassWeight>> classes;  // per map reading row
-  double tolerance_mm = 5.0;
-  double shortest_pair_mm = 0.0;
+  double sigma_mm = 5.0;
+  double shortest_pair_mm = 0.0, longest_pair_mm = 0.0;
 };
 
 namespace {
@@ -128,13 +130,13 @@ struct Outcome {
 };
 
 struct Resolved {
-  double tolerance_mm, cos_normal, sigma_p, sigma_n, confusion, separation_mm;
+  double tolerance_mm, cos_normal, sigma_p, sigma_n, confusion, pair_min, pair_max;
 };
 
 Outcome predict(const TouchPlanner::Impl& m, const Weighed& h, const CandidateTouch& c, const Resolved& r,
                 std::vector<SurfaceNeighbour>& nn) {
   const glm::dvec3 q = h.inverse.apply(c.position), facing = -h.inverse.rotate(c.approach);
-  m.surface.nearest(h.object, q, 4, &nn);
+  m.surface.nearest(h.object, q, 8, &nn);
   const auto& points = m.surface.points(h.object);
   for (const SurfaceNeighbour& n : nn) {
     if (n.distance_sq > r.tolerance_mm * r.tolerance_mm) break;
@@ -201,19 +203,21 @@ void check_options(const TouchPlanOptions& o) {
   check("normal_sigma_deg", o.normal_sigma_deg, 1e-3, 1e6);
   check("confusion", o.confusion, 0.0, 1.0);
   check("object_floor", o.object_floor, 0.0, 1.0);
-  check("min_separation_mm", o.min_separation_mm, -1.0, 1e6);
+  check("pair_min_mm", o.pair_min_mm, -1.0, 1e6);
+  check("pair_max_mm", o.pair_max_mm, -1.0, 1e6);
   for (const glm::dvec3& v : o.visited)
     if (!finite(v)) bad("a visited touch holds a NaN or infinite coordinate");
 }
 
 Resolved resolve(const TouchPlanner::Impl& m, const TouchPlanOptions& o) {
   Resolved r{};
-  r.tolerance_mm = o.contact_tolerance_mm > 0.0 ? o.contact_tolerance_mm : m.tolerance_mm;
+  r.tolerance_mm = o.contact_tolerance_mm > 0.0 ? o.contact_tolerance_mm : std::numeric_limits<double>::infinity();
   r.cos_normal = std::cos(o.normal_tolerance_deg * kDeg);
-  r.sigma_p = o.position_sigma_mm > 0.0 ? o.position_sigma_mm : r.tolerance_mm;
+  r.sigma_p = o.position_sigma_mm > 0.0 ? o.position_sigma_mm : m.sigma_mm;
   r.sigma_n = o.normal_sigma_deg * kDeg;
   r.confusion = o.confusion;
-  r.separation_mm = o.min_separation_mm < 0.0 ? 0.5 * m.shortest_pair_mm : o.min_separation_mm;
+  r.pair_min = o.pair_min_mm < 0.0 ? m.shortest_pair_mm : o.pair_min_mm;
+  r.pair_max = o.pair_max_mm < 0.0 ? m.longest_pair_mm : o.pair_max_mm;
   return r;
 }
 
@@ -221,32 +225,34 @@ bool usable(const CandidateTouch& c) {
   return c.reachable && finite(c.position) && finite(c.approach) && glm::dot(c.approach, c.approach) > 0.0;
 }
 
-// Whether a candidate repeats a touch already made (within the separation of it).
-bool repeats(const CandidateTouch& c, const TouchPlanOptions& o, double separation_mm) {
-  return std::any_of(o.visited.begin(), o.visited.end(), [&](const glm::dvec3& v) {
-    const glm::dvec3 d = c.position - v;
-    return glm::dot(d, d) < separation_mm * separation_mm;
-  });
+// The share of the visited touches a candidate would pair with (1 when none was visited).
+double pairing_share(const CandidateTouch& c, const TouchPlanOptions& o, const Resolved& r) {
+  if (o.visited.empty()) return 1.0;
+  std::size_t pairs = 0;
+  for (const glm::dvec3& v : o.visited) {
+    const double d = glm::length(c.position - v);
+    pairs += d >= r.pair_min && d <= r.pair_max;
+  }
+  return static_cast<double>(pairs) / static_cast<double>(o.visited.size());
 }
 
-// The candidates to score: the reachable ones that do not repeat a visited touch, or all reachable ones when every
-// one does (a plan never comes back empty for want of fresh ground).
+// The candidates to score: the reachable ones that pair with a visited touch, or all reachable ones when none does
+// (a plan never comes back empty for want of pairs).
 std::vector<std::size_t> eligible(std::span<const CandidateTouch> cands, const TouchPlanOptions& o, const Resolved& r,
                                   TouchPlan& plan) {
-  std::vector<std::size_t> reachable, fresh;
+  std::vector<std::size_t> reachable, pairing;
   for (std::size_t i = 0; i < cands.size(); ++i) {
     if (!usable(cands[i])) continue;
     reachable.push_back(i);
-    if (r.separation_mm <= 0.0 || !repeats(cands[i], o, r.separation_mm)) fresh.push_back(i);
+    if (pairing_share(cands[i], o, r) > 0.0) pairing.push_back(i);
   }
   plan.reachable = reachable.size();
-  plan.separated = fresh.size();
-  if (fresh.empty() && !reachable.empty()) {
-    plan.note = "every reachable candidate lies within " + std::to_string(r.separation_mm) +
-                " mm of a touch already made: scored them all";
+  plan.pairing = pairing.size();
+  if (pairing.empty() && !reachable.empty()) {
+    plan.note = "no reachable candidate pairs with a touch already made: scored them all";
     return reachable;
   }
-  return fresh;
+  return pairing;
 }
 
 }  // namespace
@@ -259,8 +265,9 @@ TouchPlanner::~TouchPlanner() = default;
 TouchPlanner::TouchPlanner(TouchPlanner&&) noexcept = default;
 TouchPlanner& TouchPlanner::operator=(TouchPlanner&&) noexcept = default;
 
-double TouchPlanner::default_contact_tolerance_mm() const { return impl_->tolerance_mm; }
+double TouchPlanner::default_position_sigma_mm() const { return impl_->sigma_mm; }
 double TouchPlanner::shortest_pair_mm() const { return impl_->shortest_pair_mm; }
+double TouchPlanner::longest_pair_mm() const { return impl_->longest_pair_mm; }
 
 TouchPlan TouchPlanner::plan(const Estimate& estimate, std::span<const CandidateTouch> candidates,
                              const TouchPlanOptions& options) const {
@@ -286,7 +293,7 @@ TouchPlan TouchPlanner::plan(const Estimate& estimate, std::span<const Candidate
       y[h] = predict(*impl_, hyps[h], c, r, nn);
       if (y[h].contact) s.contact_probability += hyps[h].weight;
     }
-    s.score = hyps.size() > 1 ? information_gain(hyps, y, r) : 0.0;
+    s.score = hyps.size() > 1 ? information_gain(hyps, y, r) * pairing_share(c, options, r) : 0.0;
     scores.push_back(s);
   }
   const std::size_t k = std::min(options.best, scores.size());

@@ -34,8 +34,14 @@ struct ActiveSetup {
   Policy policy = Policy::active;
   std::size_t candidates = 100;  // sampled on the hypotheses' surfaces before every plan
   std::size_t hypotheses = 8;    // estimate top_k the planner reads
-  TouchPlanOptions plan;         // its `best` is the touches active-sim tries in turn
-  TouchSimulator simulate;       // active_sim only
+  // The plan's options; its `best` (3) is how many planned touches active-sim tries in turn before it falls back
+  // to the random reading (active takes the best one).
+  TouchPlanOptions plan = [] {
+    TouchPlanOptions o;
+    o.best = 3;
+    return o;
+  }();
+  TouchSimulator simulate;  // active_sim only
 };
 
 // The trials of run_trials (same objects, poses, first reading), the readings chosen by `active`; each step

@@ -235,6 +235,8 @@ int cmd_eval(const std::vector<std::string>& argv) {
                   map.scene_name() + "\"");
     if (c.method == method && c.policy == eval::policy_name(o.policy))
       c.label = std::filesystem::path(f).stem().string();
+    else if (c.method == "sva" && c.policy == "random" && o.policy != eval::Policy::random)
+      c.label = "sva random";  // beside the active policies' curves
     others.push_back(std::move(c));
   }
 

@@ -80,10 +80,12 @@ std::string confidence_line(const Curve& curve) {
   char line[320];
   std::snprintf(line, sizeof line,
                 "policy %s: readings until the true object holds >= %.0f%%: mean %s, median %s (%zu of %zu trials "
-                "got there; the others count as %s)",
+                "got there",
                 curve.policy.c_str(), 100.0 * c.threshold, cell(c.mean, "%.2f").c_str(), cell(c.median, "%.1f").c_str(),
-                c.reached, c.trials, curve.points.empty() ? "-" : std::to_string(curve.points.size() + 1).c_str());
+                c.reached, c.trials);
   std::string s = line;
+  if (c.reached < c.trials) s += "; the others count as " + std::to_string(curve.points.size() + 1);
+  s += ")";
   if (curve.plan_ms) {
     std::snprintf(line, sizeof line, "; median plan %.3f ms", *curve.plan_ms);
     s += line;

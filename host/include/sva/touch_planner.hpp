@@ -60,6 +60,16 @@ struct TouchPlanOptions {
   std::vector<glm::dvec3> visited;
   double pair_min_mm = -1.0;
   double pair_max_mm = -1.0;
+  // The fine pose (docs/recognition.md) aligns the readings to the surface, point to plane: a touch adds to its score
+  // the information (bits) its predicted contact - normal and lever arm - would give the strongest hypothesis' pose
+  // beyond what the visited touches give, 0.5 log2(1 + J^T A^-1 J) with J = (n, (p - T) x n) and A the sum of the
+  // visited touches' J J^T, times that hypothesis' weight - once its object holds pose_gain_confidence of the
+  // posterior (Estimate::object_probability; before, telling the objects apart comes first). Needs visited_normals
+  // (the outward surface normal felt at each visited touch, as many as visited); off when they are missing or
+  // pose_gain is false.
+  std::vector<glm::dvec3> visited_normals;
+  bool pose_gain = true;
+  double pose_gain_confidence = 0.95;
 };
 
 struct TouchScore {

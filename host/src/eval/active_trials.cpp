@@ -79,12 +79,13 @@ struct Chooser {
 
   // Step k's reading after the estimate `est` of the readings so far (at `visited`).
   Choice choose(const Trial& trial, const TrialReadings& tr, const Estimate& est, std::size_t k,
-                const std::vector<glm::dvec3>& visited) const {
+                const std::vector<glm::dvec3>& visited, const std::vector<glm::dvec3>& normals) const {
     if (k == 0) return random(tr, k);
     const auto start = std::chrono::steady_clock::now();
     const std::uint64_t draw = util::Rng(seed, trial.index, k).below(std::uint64_t{1} << 62);
     TouchPlanOptions o = active.plan;
     o.visited = visited;
+    o.visited_normals = normals;
     const std::vector<CandidateTouch> cands = planner.sample_candidates(est, active.candidates, draw, o);
     const TouchPlan plan = planner.plan(est, cands, o);
     const double plan_ms = ms_since(start);
@@ -108,12 +109,12 @@ void run_active_trial(const Trial& trial, const TrialGenerator& gen, const Choos
                       const Dataset& test, const TrialSetup& setup, TrialResult& out) {
   const SceneObject& object = test.scene.objects[trial.object];
   TrialReadings tr(gen, trial);
-  std::vector<glm::dvec3> visited;
+  std::vector<glm::dvec3> visited, normals;
   Estimate est;
   session.reset();
   for (std::size_t k = 0; k < setup.max_readings; ++k) {
     util::throw_if_interrupted();
-    const Choice c = chooser.choose(trial, tr, est, k, visited);
+    const Choice c = chooser.choose(trial, tr, est, k, visited, normals);
     const auto start = std::chrono::steady_clock::now();
     try {
       session.add_reading(c.reading);
@@ -130,6 +131,7 @@ void run_active_trial(const Trial& trial, const TrialGenerator& gen, const Choos
     out.samples[k] = c.sample;
     if (c.sample != kSimulated) tr.show(c.sample);
     visited.push_back(c.reading.position);
+    normals.push_back(c.reading.normal);
   }
 }
 

@@ -259,3 +259,40 @@ TEST_CASE("Touch planner: empty, single, unreachable and bad candidate sets give
   bad.contact_tolerance_mm = nan;
   CHECK_THROWS_AS(planner().plan(e, one, bad), Error);
 }
+
+TEST_CASE(
+    "Touch planner: once the object is known, a touch that constrains the pose where the visited ones do not wins") {
+  Estimate e = both_at(RigidPose{});
+  e.hypotheses.resize(1);  // object 0 alone, at the identity
+  e.hypotheses[0].probability = 1.0;
+  e.object_probability = {1.0, 0.0};
+  const auto cands = planner().sample_candidates(e, 400, 21);
+  // The candidate facing most nearly up (+z) and the one facing most nearly sideways (+x).
+  std::size_t up = 0, side = 0;
+  for (std::size_t i = 0; i < cands.size(); ++i) {
+    if (-cands[i].approach.z > -cands[up].approach.z) up = i;
+    if (-cands[i].approach.x > -cands[side].approach.x) side = i;
+  }
+  TouchPlanOptions o;
+  o.best = cands.size();
+  // Three touches on the top, all felt with normal +z: they fix z and the tilts, not x, y or the turn about z.
+  o.visited = {{0.0, 0.0, 15.0}, {12.0, 0.0, 12.0}, {0.0, 10.0, 12.0}};
+  o.visited_normals = {{0.0, 0.0, 1.0}, {0.0, 0.0, 1.0}, {0.0, 0.0, 1.0}};
+  o.pair_min_mm = 0.0;  // every candidate pairs: the comparison is the pose term's alone
+  auto score_of = [&](const TouchPlan& p, std::size_t c) {
+    for (const TouchScore& s : p.best)
+      if (s.candidate == c) return s.score;
+    return -1.0;
+  };
+  const TouchPlan plan = planner().plan(e, cands, o);
+  INFO("up " << -cands[up].approach.z << " side " << -cands[side].approach.x);
+  CHECK(score_of(plan, side) > score_of(plan, up) + 0.5);
+  CHECK(std::isfinite(plan.best.front().score));
+  o.pose_gain = false;  // one hypothesis, nothing to tell apart: every score is 0
+  CHECK(planner().plan(e, cands, o).best.front().score == 0.0);
+  o.pose_gain = true;
+  e.object_probability = {0.9, 0.1};  // the object not yet known: no pose term
+  CHECK(planner().plan(e, cands, o).best.front().score == 0.0);
+  o.visited_normals.pop_back();
+  CHECK_THROWS_WITH(planner().plan(e, cands, o), Catch::Contains("2 visited normals for 3 visited touches"));
+}

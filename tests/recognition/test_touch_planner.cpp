@@ -117,7 +117,7 @@ Outcome run_trial(std::uint32_t object, std::uint64_t seed, bool active, std::si
   for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
   for (std::size_t i = 0; i < order.size(); ++i) std::swap(order[i], order[i + rng.below(order.size() - i)]);
   std::vector<bool> used(pool.size(), false);
-  std::vector<glm::dvec3> visited;
+  std::vector<glm::dvec3> visited, normals;
   Estimate est;
   Outcome out{max_readings + 1, max_readings + 1};
   for (std::size_t n = 1; n <= max_readings; ++n) {
@@ -125,6 +125,7 @@ Outcome run_trial(std::uint32_t object, std::uint64_t seed, bool active, std::si
     if (active && est.pose_valid) {
       TouchPlanOptions o;
       o.visited = visited;
+      o.visited_normals = normals;
       const auto cands = planner().sample_candidates(est, 100, seed * 100 + n, o);
       const TouchPlan plan = plan_next_touch(planner(), est, cands, o);
       if (!plan.best.empty() && plan.best[0].score > 0.0) {
@@ -139,6 +140,7 @@ Outcome run_trial(std::uint32_t object, std::uint64_t seed, bool active, std::si
     if (pool[pick].cap) out.first_cap = std::min(out.first_cap, n);
     const Reading r = reading_of(t.data.scene.sensor, pool[pick].w, object, truth, rng);
     visited.push_back(r.position);
+    normals.push_back(r.normal);
     rec.add_reading(r);
     est = rec.estimate(8);
     if (est.object_probability[object] >= 0.95) {

@@ -4,9 +4,13 @@
 #include <sva/map.hpp>
 #include <sva/recognizer.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <memory>
+#include <numbers>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -19,6 +23,14 @@
 #include "eval/robustness.hpp"
 #include "io/text_file.hpp"
 #include "recognition/vote_backend_factory.hpp"
+#include "util/rng.hpp"
+
+#if __has_include(<sva/sim/tactile_sensor.hpp>)
+#include <sva/sim/mesh.hpp>
+#include <sva/sim/sensor_errors.hpp>
+#include <sva/sim/tactile_sensor.hpp>
+#define SVA_HAVE_SIM 1
+#endif
 
 namespace sva::cli {
 
@@ -66,6 +78,69 @@ int sweep_report(const Args& a) {
   return 0;
 }
 
+#ifdef SVA_HAVE_SIM
+// The scene's objects as the simulator presses them: one mesh and one test sensor (the scene's errors) each.
+struct SimWorld {
+  Scene scene;
+  std::vector<std::unique_ptr<sim::ObjectGeometry>> geometry;
+  std::vector<std::unique_ptr<sim::TactileSensor>> sensors;
+};
+
+// Presses a planned touch on the trial's object as `sva simulate` takes a test reading: the sensor starts the
+// protocol's approach distance off the planned point, pressing along the planned approach with an uncontrolled
+// turn about it, the contact controller settles it, and the arm's pose error is put on the reading.
+std::optional<Reading> press_planned(const SimWorld& w, const eval::Trial& trial, const CandidateTouch& touch,
+                                     std::uint64_t seed) {
+  const RigidPose to_object = trial.pose.inverse();
+  const glm::dvec3 n = -glm::normalize(to_object.rotate(touch.approach));
+  const glm::dvec3 t1 = glm::normalize(glm::cross(std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0), n));
+  const glm::dvec3 t2 = glm::cross(n, t1);
+  util::Rng rng(seed, 0x5e55);
+  const double psi = 2.0 * std::numbers::pi * rng.uniform();
+  sim::SensorPose start;
+  start.normal = n;
+  start.x_axis = std::cos(psi) * t1 + std::sin(psi) * t2;
+  start.position = to_object.apply(touch.position) + w.scene.protocol.approach_mm * n;
+  const sim::TactileSensor& sensor = *w.sensors[trial.object];
+  sim::ControllerSettings cs;
+  cs.max_iterations = w.scene.protocol.max_iterations;
+  cs.max_approach_mm = sensor.reach_mm();
+  if (w.scene.protocol.kind == "letters2d") cs.reorient = cs.recenter = false;  // pressed flat, as simulated
+  const sim::Contact c = sim::press(sensor, start, cs, util::splitmix64(rng.next()));
+  if (c.reading.status != ControllerStatus::converged) return std::nullopt;
+  Reading r = c.reading;
+  r.object = trial.object;
+  sim::report_pose(w.scene.errors, util::splitmix64(rng.next()), r.position, r.normal, r.x_axis);
+  return eval::transform_reading(r, trial.pose);
+}
+#endif
+
+// --policy active-sim: the scene's meshes loaded once, every planned touch pressed on its trial's object.
+eval::TouchSimulator touch_simulator(const Scene& scene, const std::string& data_file) {
+#ifdef SVA_HAVE_SIM
+  auto w = std::make_shared<SimWorld>();
+  w->scene = scene;
+  const double reach = scene.protocol.approach_mm + 10.0;  // as `sva simulate`'s sensors
+  for (const auto& o : scene.objects) {
+    try {
+      w->geometry.push_back(std::make_unique<sim::ObjectGeometry>(sim::load_object_mesh(o)));
+    } catch (const Error& e) {
+      throw Error("sva eval: --policy active-sim presses the planned touches on the scene's meshes; object \"" +
+                  o.name + "\" of " + data_file + "'s scene has none usable: " + e.what());
+    }
+    w->sensors.push_back(std::make_unique<sim::TactileSensor>(*w->geometry.back(), scene.sensor, scene.skin, reach,
+                                                              scene.errors, scene.errors.test_sensor));
+  }
+  return [w](const eval::Trial& trial, const CandidateTouch& touch, std::uint64_t seed) {
+    return press_planned(*w, trial, touch, seed);
+  };
+#else
+  (void)scene;
+  throw Error("sva eval: --policy active-sim needs the simulator, and this sva was built without it (" + data_file +
+              ")");
+#endif
+}
+
 }  // namespace
 
 int cmd_eval(const std::vector<std::string>& argv) {
@@ -92,6 +167,12 @@ int cmd_eval(const std::vector<std::string>& argv) {
            "fine pose: align the readings to the object's surface (default on; docs/recognition.md)");
   a.option("--belief-budget", "BINS",
            "touched pose bins per session before hopeless ones are forgotten (default 4194304; 0 = no bound)");
+  a.option("--policy", "random|active|active-sim",
+           "how each next reading is chosen: random test readings (default, the paper's protocol), the test "
+           "reading nearest to the planned touch (active), or the planned touch pressed on the scene's mesh "
+           "(active-sim); docs/evaluation.md, \"Choosing the next touch\"");
+  a.option("--candidates", "N", "active policies: candidate touches sampled per plan (default 100)");
+  a.option("--plan-hypotheses", "K", "active policies: hypotheses of the estimate the plan tells apart (default 8)");
   a.option("--sweep", "LEVEL=RUN.json",
            "report mode (no trials): a robustness sweep's runs, one per error level; prints a table of "
            "accuracy and pose errors against the level, --plot draws them (bench/robustness_sweep.sh)",
@@ -122,6 +203,12 @@ int cmd_eval(const std::vector<std::string>& argv) {
   o.recognizer.refine_pose = a.on_off("--refine", o.recognizer.refine_pose);
   o.recognizer.belief_budget_bins = static_cast<std::size_t>(
       a.integer("--belief-budget", static_cast<long long>(o.recognizer.belief_budget_bins), 0, 1ll << 40));
+  o.policy = eval::parse_policy(a.get_or("--policy", "random"), "sva eval: --policy");
+  if (o.policy == eval::Policy::random)
+    for (const char* opt : {"--candidates", "--plan-hypotheses"})
+      if (a.has(opt)) throw Error(std::string("sva eval: ") + opt + " needs --policy active or active-sim");
+  o.active.candidates = static_cast<std::size_t>(a.integer("--candidates", 100, 1, 1000000));
+  o.active.hypotheses = static_cast<std::size_t>(a.integer("--plan-hypotheses", 8, 1, 64));
   const auto json_file = a.get("--json"), csv_file = a.get("--csv"), plot_file = a.get("--plot");
   if (json_file) check_writable("--json", *json_file);
   if (csv_file) check_writable("--csv", *csv_file);
@@ -138,6 +225,7 @@ int cmd_eval(const std::vector<std::string>& argv) {
   const Map map = Map::load(map_file);
   eval::check_compatible(map, test, map_file, data_file);
   o.trials = trials_arg > 0 ? static_cast<std::size_t>(trials_arg) : 3 * test.scene.objects.size();
+  if (o.policy == eval::Policy::active_sim) o.active.simulate = touch_simulator(test.scene, data_file);
 
   std::vector<eval::Curve> others;
   for (const auto& f : compare_files) {
@@ -145,7 +233,10 @@ int cmd_eval(const std::vector<std::string>& argv) {
     if (c.scene != map.scene_name())
       throw Error("sva eval: --compare " + f + " is from scene \"" + c.scene + "\", this run is on \"" +
                   map.scene_name() + "\"");
-    if (c.method == method) c.label = std::filesystem::path(f).stem().string();
+    if (c.method == method && c.policy == eval::policy_name(o.policy))
+      c.label = std::filesystem::path(f).stem().string();
+    else if (c.method == "sva" && c.policy == "random" && o.policy != eval::Policy::random)
+      c.label = "sva random";  // beside the active policies' curves
     others.push_back(std::move(c));
   }
 

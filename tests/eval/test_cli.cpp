@@ -361,3 +361,51 @@ TEST_CASE("sva bench on the Vulkan backend reports device memory (n/a until the 
   if (batch["memory"]["device_bytes"].is_null()) CHECK(out.find("device: n/a") != std::string::npos);
   CHECK(j["roofline"]["votes_per_second"].get<double>() > 0);
 }
+
+TEST_CASE("sva eval --policy: random is the default bit for bit; active plans each touch, the same on 1 or 2 threads") {
+  Fixture f;
+  std::string out;
+  const std::string common = f.base() + "--trials 4 --max-readings 6 --seed 3 ";
+  REQUIRE(sva::test::run_sva(common + "--json " + f.path("default.json"), &out) == 0);
+  CHECK(out.find("policy random: readings until the true object holds >= 95%") != std::string::npos);
+  REQUIRE(sva::test::run_sva(common + "--policy random --json " + f.path("random.json"), &out) == 0);
+  auto def = without_timing(f.path("default.json")), rnd = without_timing(f.path("random.json"));
+  CHECK(def == rnd);
+  CHECK(rnd["policy"] == "random");
+  CHECK(rnd["plan_ms_median"].is_null());
+
+  REQUIRE(sva::test::run_sva(common + "--policy active --threads 1 --json " + f.path("a1.json") + " --plot " +
+                                 f.path("ar.png") + " --compare " + f.path("random.json"),
+                             &out) == 0);
+  CHECK(out.find("policy active") != std::string::npos);
+  CHECK(std::filesystem::file_size(f.path("ar.png")) > 1000);
+  REQUIRE(sva::test::run_sva(common + "--policy active --threads 2 --json " + f.path("a2.json"), &out) == 0);
+  auto a1 = without_timing(f.path("a1.json")), a2 = without_timing(f.path("a2.json"));
+  a1.erase("plan_ms_median");
+  a2.erase("plan_ms_median");
+  CHECK(a1 == a2);
+  CHECK(a1["policy"] == "active");
+  // The first reading is the random policy's own; the plans start once the estimate has a pose.
+  CHECK(a1["curve"][0] == rnd["curve"][0]);
+  const auto& c = a1["readings_to_95"];
+  CHECK(c["trials"] == 4);
+  CHECK(c["mean"].get<double>() >= 1.0);
+  CHECK(c["mean"].get<double>() <= 7.0);
+  CHECK(nlohmann::json::parse(read_file(f.path("a1.json")))["plan_ms_median"].get<double>() > 0.0);
+}
+
+TEST_CASE("sva eval --policy refuses what it cannot run, naming it") {
+  Fixture f;
+  std::string out;
+  CHECK(sva::test::run_sva(f.base() + "--policy greedy", &out) != 0);
+  CHECK(out.find("greedy") != std::string::npos);
+  CHECK(sva::test::run_sva(f.base() + "--candidates 10", &out) != 0);
+  CHECK(out.find("--policy active") != std::string::npos);
+  CHECK(sva::test::run_sva(f.base() + "--policy active --candidates 0", &out) != 0);
+  CHECK(out.find("--candidates") != std::string::npos);
+  // The tiny scene's meshes do not exist: active-sim cannot press its touches.
+  CHECK(sva::test::run_sva(f.base() + "--policy active-sim --trials 2 --max-readings 3", &out) != 0);
+  CHECK(out.find("active-sim") != std::string::npos);
+  CHECK(out.find("ball") != std::string::npos);
+  CHECK(out.find("internal error") == std::string::npos);
+}

@@ -281,3 +281,25 @@ TEST_CASE("the symmetry point travels into the map (version 3); older maps read 
   CHECK_THROWS_WITH(save_pair_map(m, dir / "nan.svam"), Catch::Contains("symmetry point"));
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("readings until the true object holds 95%: per trial, a trial that never gets there counts as M + 1") {
+  sva::eval::EvalResult r;
+  r.max_readings = 3;
+  for (const std::vector<double>& probs :
+       {std::vector<double>{0.5, 0.96, 1.0}, std::vector<double>{0.1, 0.2, 0.3}, std::vector<double>{0.95, 0.9, 1.0}}) {
+    sva::eval::TrialResult t;
+    for (double p : probs) {
+      sva::eval::StepResult s;
+      s.true_object_probability = p;
+      t.steps.push_back(s);
+    }
+    r.trials.push_back(t);
+  }
+  const sva::eval::Confidence c = sva::eval::readings_to_confidence(r, 0.95);
+  CHECK(c.trials == 3);
+  CHECK(c.reached == 2);
+  CHECK(*c.mean == Approx((2.0 + 4.0 + 1.0) / 3.0));
+  CHECK(*c.median == Approx(2.0));
+  CHECK(sva::eval::summarize(r).to_95.reached == 2);
+  CHECK_FALSE(sva::eval::readings_to_confidence(sva::eval::EvalResult{}, 0.95).mean.has_value());
+}

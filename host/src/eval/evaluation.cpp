@@ -2,10 +2,12 @@
 
 #include <sva/error.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 
 #include <sva/batch_recognizer.hpp>
+#include <sva/engine.hpp>
 
 #include "eval/metrics.hpp"
 #include "eval/trial_runner.hpp"
@@ -20,8 +22,13 @@ namespace {
 class RecognizerSession final : public Session {
  public:
   RecognizerSession(const Map& map, const RecognizerOptions& options) : recognizer_(map, map.pose_space(), options) {}
+  RecognizerSession(const Engine& engine, const RecognizerOptions& options)
+      : recognizer_(engine, engine.map().pose_space(), options) {}
   void add_reading(const Reading& reading) override { recognizer_.add_reading(reading); }
   Estimate estimate() const override { return recognizer_.estimate(1); }
+  Estimate estimate_top(std::size_t top_k) const override {
+    return recognizer_.estimate(std::max<std::size_t>(top_k, 1));
+  }
   void reset() override { recognizer_.reset(); }
 
  private:
@@ -56,6 +63,27 @@ std::string fmt(double v) {
   std::ostringstream s;
   s << v;
   return s.str();
+}
+
+// The adaptive policies: every trial steps on its own (the next reading depends on the estimate), each worker with a
+// recognizer of one engine (auto resolved once, the map held once).
+EvalResult run_active(const Map& map, const Dataset& test, TrialSetup setup, const EvalOptions& options) {
+  RecognizerOptions ro = options.recognizer;
+  if (ro.method == Method::appearance) ro.backend = BackendKind::cpu;
+  EngineOptions eo;
+  eo.backend = ro.backend;
+  eo.vulkan_device = ro.vulkan_device;
+  const Engine engine(map, eo);
+  setup.backend = backend_name(engine.backend());
+  if (engine.backend() == BackendKind::cpu && options.trials > 1) ro.threads = 1;  // trials occupy the cores
+  const TouchPlanner planner(map);
+  ActiveSetup active = options.active;
+  active.policy = options.policy;
+  EvalResult r = run_trials_active(
+      test, setup, [&] { return std::make_unique<RecognizerSession>(engine, ro); }, planner, active);
+  r.device = engine.backend_description();
+  r.backend_fallback_reason = engine.fallback_reason();
+  return r;
 }
 
 }  // namespace
@@ -99,6 +127,7 @@ EvalResult run_evaluation(const Map& map, const Dataset& test, const EvalOptions
   setup.scene = map.scene_name();
   setup.backend = backend_name(options.recognizer.backend);
   setup.method = method_name(options.recognizer.method);
+  if (options.policy != Policy::random) return run_active(map, test, setup, options);
   RecognizerOptions ro = options.recognizer;
   // The Vulkan backend runs the trials in lock step, a batch per submission
   // (one device, one upload of the map), as batch recognition does.

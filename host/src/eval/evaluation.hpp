@@ -14,6 +14,7 @@
 #include <optional>
 #include <string>
 
+#include "eval/active_trials.hpp"
 #include "eval/results.hpp"
 
 namespace sva::eval {
@@ -28,6 +29,10 @@ struct EvalOptions {
   bool progress = true;
   std::string map_name = "map";  // names the files in errors
   std::string data_name = "test set";
+  // How each next reading is chosen (eval/active_trials.hpp): random (the paper's protocol, the default) or
+  // planned; the adaptive policies step every trial on its own (no lock-step batches), on the resolved backend.
+  Policy policy = Policy::random;
+  ActiveSetup active;  // its policy is set from `policy`
 };
 
 // Throws sva::Error naming both files when the test set cannot be evaluated

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <numbers>
 #include <sstream>
 
@@ -72,6 +73,34 @@ std::string spread_cells(const Spread& s, const char* fmt) {
   return buf;
 }
 
+// The readings-to-95% metric and, for the active policies, the plan's cost: one line under the table.
+std::string confidence_line(const Curve& curve) {
+  const Confidence& c = curve.to_95;
+  if (c.trials == 0) return "";
+  char line[320];
+  std::snprintf(line, sizeof line,
+                "policy %s: readings until the true object holds >= %.0f%%: mean %s, median %s (%zu of %zu trials "
+                "got there",
+                curve.policy.c_str(), 100.0 * c.threshold, cell(c.mean, "%.2f").c_str(), cell(c.median, "%.1f").c_str(),
+                c.reached, c.trials);
+  std::string s = line;
+  if (c.reached < c.trials) s += "; the others count as " + std::to_string(curve.points.size() + 1);
+  s += ")";
+  if (curve.plan_ms) {
+    std::snprintf(line, sizeof line, "; median plan %.3f ms", *curve.plan_ms);
+    s += line;
+  }
+  return s + "\n";
+}
+
+json confidence_json(const Confidence& c) {
+  return {{"threshold", c.threshold},
+          {"trials", c.trials},
+          {"reached", c.reached},
+          {"mean", opt(c.mean)},
+          {"median", opt(c.median)}};
+}
+
 }  // namespace
 
 std::string to_json(const EvalResult& result, const Curve& curve) {
@@ -79,6 +108,7 @@ std::string to_json(const EvalResult& result, const Curve& curve) {
   j["scene"] = result.scene;
   j["backend"] = result.backend;
   j["method"] = result.method;
+  j["policy"] = result.policy;
   j["trials"] = result.trials.size();
   j["seed"] = result.seed;
   j["max_readings"] = result.max_readings;
@@ -96,6 +126,8 @@ std::string to_json(const EvalResult& result, const Curve& curve) {
     points.push_back(std::move(q));
   }
   j["curve"] = std::move(points);
+  j["readings_to_95"] = confidence_json(curve.to_95);
+  j["plan_ms_median"] = opt(curve.plan_ms);
   return j.dump(2) + "\n";
 }
 
@@ -109,8 +141,11 @@ std::string to_csv(const EvalResult& result) {
     for (std::size_t k = 0; k < t.steps.size(); ++k) {
       const StepResult& st = t.steps[k];
       s << t.index << ',' << t.object << ',' << csv_quote(name) << ',' << (k + 1) << ','
-        << (k < t.samples.size() ? std::to_string(t.samples[k]) : std::string()) << ',' << st.estimated_object << ','
-        << (st.correct ? 1 : 0) << ',' << num(st.true_object_probability) << ',' << (st.pose_valid ? 1 : 0) << ',';
+        << (k < t.samples.size() && t.samples[k] != std::numeric_limits<std::size_t>::max()
+                ? std::to_string(t.samples[k])
+                : std::string())
+        << ',' << st.estimated_object << ',' << (st.correct ? 1 : 0) << ',' << num(st.true_object_probability) << ','
+        << (st.pose_valid ? 1 : 0) << ',';
       if (st.has_pose_error())
         s << num(st.translation_error_mm) << ',' << num(st.angular_error_rad * 180.0 / std::numbers::pi) << ','
           << num(st.inertial_error_mm);
@@ -150,7 +185,7 @@ std::string format_table(const Curve& curve) {
     std::snprintf(line, sizeof line, " %8s\n", cell(p.update_ms_p95, "%.3f").c_str());
     s << line;
   }
-  s << zero_votes_line(curve);
+  s << zero_votes_line(curve) << confidence_line(curve);
   return s.str();
 }
 
@@ -175,6 +210,21 @@ Curve read_curve_json(const std::filesystem::path& file) {
   c.backend = j["backend"].get<std::string>();
   c.method = j["method"].get<std::string>();
   c.label = c.method;
+  if (j.contains("policy") && j["policy"].is_string()) c.policy = j["policy"].get<std::string>();
+  if (c.method == "sva" && c.policy != "random") c.label = "sva " + c.policy;
+  if (j.contains("readings_to_95") && j["readings_to_95"].is_object()) {
+    const json& r = j["readings_to_95"];
+    auto get = [&](const char* key) -> std::optional<double> {
+      if (!r.contains(key) || !r[key].is_number() || !std::isfinite(r[key].get<double>())) return std::nullopt;
+      return r[key].get<double>();
+    };
+    c.to_95.threshold = get("threshold").value_or(0.95);
+    c.to_95.trials = static_cast<std::size_t>(get("trials").value_or(0.0));
+    c.to_95.reached = static_cast<std::size_t>(get("reached").value_or(0.0));
+    c.to_95.mean = get("mean");
+    c.to_95.median = get("median");
+  }
+  if (j.contains("plan_ms_median") && j["plan_ms_median"].is_number()) c.plan_ms = j["plan_ms_median"].get<double>();
   if (!j.contains("trials") || !j["trials"].is_number_unsigned()) fail("missing or invalid \"trials\"");
   c.trials = j["trials"].get<std::size_t>();
   if (!j.contains("curve") || !j["curve"].is_array()) fail("missing \"curve\" array");

@@ -9,9 +9,36 @@ namespace sva::eval {
 
 Spread spread_of(const std::vector<double>& values) { return {median(values), mean(values), percentile(values, 90.0)}; }
 
+Confidence readings_to_confidence(const EvalResult& result, double threshold) {
+  Confidence c;
+  c.threshold = threshold;
+  c.trials = result.trials.size();
+  std::vector<double> n;
+  for (const auto& trial : result.trials) {
+    std::size_t first = result.max_readings + 1;
+    for (std::size_t k = 0; k < trial.steps.size(); ++k)
+      if (trial.steps[k].true_object_probability >= threshold) {
+        first = k + 1;
+        break;
+      }
+    c.reached += first <= result.max_readings;
+    n.push_back(static_cast<double>(first));
+  }
+  c.mean = mean(n);
+  c.median = median(n);
+  return c;
+}
+
 Curve summarize(const EvalResult& result) {
   Curve c;
-  c.label = result.method;
+  c.label = result.method == "sva" && result.policy != "random" ? "sva " + result.policy : result.method;
+  c.policy = result.policy;
+  c.to_95 = readings_to_confidence(result, 0.95);
+  std::vector<double> plans;
+  for (const auto& trial : result.trials)
+    for (const StepResult& s : trial.steps)
+      if (s.plan_ms > 0.0) plans.push_back(s.plan_ms);
+  c.plan_ms = median(plans);
   c.scene = result.scene;
   c.backend = result.backend;
   c.method = result.method;

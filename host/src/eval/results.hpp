@@ -21,6 +21,7 @@ struct StepResult {
   double angular_error_rad = 0.0;
   double inertial_error_mm = 0.0;
   double update_ms = 0.0;        // add_reading + estimate (timing: varies run to run)
+  double plan_ms = 0.0;          // choosing this reading (the active policies' plan; 0 for random)
   std::uint64_t votes = 0;       // votes cast inside the pose space by this reading's update
   std::uint64_t votes_zero = 0;  // of them, those whose fixed-point mass rounds to 0 (they add nothing)
   RigidPose estimate;            // the estimated pose (when pose_valid)
@@ -53,17 +54,30 @@ struct CurvePoint {
   std::uint64_t votes = 0, votes_zero = 0;  // summed over all trials at this step
 };
 
+// Readings until the true object first holds at least `threshold` of the posterior, per trial: the mean and
+// median over all trials, a trial that never gets there counted as max_readings + 1 (so both are lower bounds
+// when `reached` < `trials`).
+struct Confidence {
+  double threshold = 0.95;
+  std::size_t trials = 0, reached = 0;
+  std::optional<double> mean, median;
+};
+
 struct Curve {
   std::string label;  // legend text (the method, or a file name)
   std::string scene, backend, method;
+  std::string policy = "random";  // how each next reading was chosen (eval/active_trials.hpp)
+  Confidence to_95;               // readings until the true object holds >= 95%
+  std::optional<double> plan_ms;  // median time per plan (active policies)
   std::size_t trials = 0;
   std::vector<CurvePoint> points;
 };
 
 struct EvalResult {
   std::string scene;
-  std::string backend;  // "cpu" | "vulkan"
-  std::string method;   // "sva" | "appearance"
+  std::string backend;            // "cpu" | "vulkan"
+  std::string method;             // "sva" | "appearance"
+  std::string policy = "random";  // "random" | "active" | "active-sim"
   std::uint64_t seed = 0;
   std::size_t max_readings = 0;
   std::vector<std::string> objects;
@@ -76,5 +90,7 @@ struct EvalResult {
 
 // The curve of a result: one point per reading count 1..max_readings.
 Curve summarize(const EvalResult& result);
+
+Confidence readings_to_confidence(const EvalResult& result, double threshold);
 
 }  // namespace sva::eval

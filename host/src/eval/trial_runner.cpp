@@ -10,43 +10,13 @@
 #include <vector>
 
 #include "eval/metrics.hpp"
+#include "eval/session_pool.hpp"
 #include "eval/trials.hpp"
 #include "util/interrupt.hpp"
 #include "util/parallel.hpp"
 #include "util/progress.hpp"
 
 namespace sva::eval {
-
-namespace {
-
-// Sessions are expensive to build (a Vulkan backend opens a device), so each
-// worker borrows one from a pool and resets it between trials.
-class SessionPool {
- public:
-  explicit SessionPool(const SessionFactory& make) : make_(make) {}
-  std::unique_ptr<Session> take() {
-    {
-      std::lock_guard lock(mutex_);
-      if (!free_.empty()) {
-        auto s = std::move(free_.back());
-        free_.pop_back();
-        return s;
-      }
-    }
-    auto s = make_();
-    if (!s) throw std::logic_error("eval: the session factory returned no session");
-    return s;
-  }
-  void give_back(std::unique_ptr<Session> s) {
-    std::lock_guard lock(mutex_);
-    free_.push_back(std::move(s));
-  }
-
- private:
-  const SessionFactory& make_;
-  std::mutex mutex_;
-  std::vector<std::unique_ptr<Session>> free_;
-};
 
 // What one step of a trial shows: the estimate against the truth.
 void record_step(StepResult& s, const Estimate& est, const Trial& trial, const SceneObject& object, double update_ms) {
@@ -90,8 +60,6 @@ void start_trial(TrialResult& out, const Trial& trial) {
   out.samples = trial.samples;
   out.steps.resize(trial.readings.size());
 }
-
-}  // namespace
 
 EvalResult run_trials(const Dataset& test, const TrialSetup& setup, const SessionFactory& make_session) {
   EvalResult result = empty_result(test, setup);

@@ -24,6 +24,11 @@ class Session {
   virtual ~Session() = default;
   virtual void add_reading(const Reading& reading) = 0;
   virtual Estimate estimate() const = 0;
+  // The estimate with up to top_k distinct hypotheses (what the touch planner reads); estimate() by default.
+  virtual Estimate estimate_top(std::size_t top_k) const {
+    (void)top_k;
+    return estimate();
+  }
   virtual void reset() = 0;
 };
 using SessionFactory = std::function<std::unique_ptr<Session>()>;
@@ -57,5 +62,14 @@ EvalResult run_trials(const Dataset& test, const TrialSetup& setup, const Sessio
 // run_trials' (but for timings: a step's time is the batch update's time
 // divided by the number of trials in it).
 EvalResult run_trials_batched(const Dataset& test, const TrialSetup& setup, SessionBatch& batch);
+
+// The parts the runners share (eval/active_trials.cpp steps trials its own way).
+struct Trial;
+// The result with its trials sized, the setup's names copied; sva::Error for 0 trials or readings.
+EvalResult empty_result(const Dataset& test, const TrialSetup& setup);
+// Copies the trial's object, pose and samples into its result and sizes its steps.
+void start_trial(TrialResult& out, const Trial& trial);
+// Records the estimate after one more reading against the trial's truth.
+void record_step(StepResult& s, const Estimate& est, const Trial& trial, const SceneObject& object, double update_ms);
 
 }  // namespace sva::eval

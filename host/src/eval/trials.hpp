@@ -53,6 +53,10 @@ class TrialGenerator {
 
   std::size_t object_count() const { return by_object_.size(); }
   std::size_t readings_of(std::uint32_t object) const { return by_object_[object].size(); }
+  // The converged test samples of an object (dataset indices), and a sample's reading in its object's frame
+  // (the adaptive policies pick readings by where they lie on the object).
+  const std::vector<std::size_t>& samples_of(std::uint32_t object) const { return by_object_[object]; }
+  const Reading& object_frame(std::size_t sample) const { return object_frame_[sample]; }
 
  private:
   const Dataset& test_;

@@ -37,6 +37,7 @@ SurfaceIndex::SurfaceIndex(const MapReadings& readings, std::size_t objects) : t
     SurfacePoint p;
     p.position = {readings.px[i], readings.py[i], readings.pz[i]};
     p.normal = {readings.nx[i], readings.ny[i], readings.nz[i]};
+    p.reading = static_cast<std::uint32_t>(i);
     trees_[readings.object[i]].points.push_back(p);
   }
   for (Tree& t : trees_) {

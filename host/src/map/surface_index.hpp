@@ -17,6 +17,7 @@ namespace sva {
 struct SurfacePoint {
   glm::dvec3 position{0.0};
   glm::dvec3 normal{0.0, 0.0, 1.0};
+  std::uint32_t reading = 0;  // its row in the map's reading table (MapReadings)
 };
 
 struct SurfaceNeighbour {

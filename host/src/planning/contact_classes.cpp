@@ -1,0 +1,52 @@
+#include "planning/contact_classes.hpp"
+
+#include <cstdint>
+
+namespace sva::planning {
+
+namespace {
+
+// Row `mass` (one weight per class) normalised, classes below a thousandth of the row's total dropped (rounding
+// dust from float weights), or empty when the row holds nothing.
+std::vector<ClassWeight> normalised(const double* mass, std::uint32_t classes) {
+  double total = 0.0;
+  for (std::uint32_t c = 0; c < classes; ++c) total += mass[c];
+  std::vector<ClassWeight> out;
+  if (!(total > 0.0)) return out;
+  double kept = 0.0;
+  for (std::uint32_t c = 0; c < classes; ++c)
+    if (mass[c] >= 1e-3 * total) kept += mass[c];
+  for (std::uint32_t c = 0; c < classes; ++c)
+    if (mass[c] >= 1e-3 * total) out.push_back({c, static_cast<float>(mass[c] / kept)});
+  return out;
+}
+
+}  // namespace
+
+std::vector<std::vector<ClassWeight>> contact_classes(const PairMap& map) {
+  const std::size_t n = map.readings.size();
+  const std::uint32_t k = map.key_space.n_classes, bins = map.key_space.n_dist_bins;
+  std::vector<std::vector<ClassWeight>> out(n);
+  if (k == 0 || bins == 0) return out;
+  std::vector<double> mass(n * k, 0.0);
+  for (std::size_t i = 0; i + 1 < map.offsets.size() && i < map.keys.size(); ++i) {
+    const std::uint32_t ab = map.keys[i] / bins, ca = ab / k, cb = ab % k;
+    for (std::uint32_t e = map.offsets[i]; e < map.offsets[i + 1]; ++e) {
+      const double w = map.entry_weight[e];
+      if (map.entry_a[e] < n) mass[map.entry_a[e] * k + ca] += w;
+      if (map.entry_b[e] < n) mass[map.entry_b[e] * k + cb] += w;
+    }
+  }
+  const auto& histogram = map.baseline.class_given_object;
+  std::vector<double> uniform(k, 1.0);
+  for (std::size_t r = 0; r < n; ++r) {
+    out[r] = normalised(&mass[r * k], k);
+    if (!out[r].empty()) continue;
+    const std::size_t o = map.readings.object[r];
+    const bool has_histogram = map.baseline.n_classes == k && (o + 1) * k <= histogram.size();
+    out[r] = normalised(has_histogram ? &histogram[o * k] : uniform.data(), k);
+  }
+  return out;
+}
+
+}  // namespace sva::planning

@@ -1,0 +1,18 @@
+#pragma once
+// The appearance classes of each training contact, as the planner predicts what a touch would feel. The map file
+// does not store them, but every pair entry carries them: an entry of reading a under key (c_a, c_b, d) has weight
+// w_a(c_a) w_b(c_b) w(d), so summing an entry's weight into its ends' classes and normalising gives each reading's
+// soft classes back exactly (the partners' class and distance weights each sum to 1).
+#include <vector>
+
+#include "appearance/appearance_model.hpp"
+#include "map/pair_map.hpp"
+
+namespace sva::planning {
+
+// Per row of map.readings: its soft classes (weight > 0, increasing class, summing to 1). A reading that takes
+// part in no pair (no partner within the distance bins) gets its object's class histogram (the appearance
+// baseline's), or uniform classes when the map has none.
+std::vector<std::vector<ClassWeight>> contact_classes(const PairMap& map);
+
+}  // namespace sva::planning

@@ -109,7 +109,6 @@ std::optional<Reading> press_planned(const SimWorld& w, const eval::Trial& trial
   const sim::Contact c = sim::press(sensor, start, cs, util::splitmix64(rng.next()));
   if (c.reading.status != ControllerStatus::converged) return std::nullopt;
   Reading r = c.reading;
-  r.object = trial.object;
   sim::report_pose(w.scene.errors, util::splitmix64(rng.next()), r.position, r.normal, r.x_axis);
   return eval::transform_reading(r, trial.pose);
 }

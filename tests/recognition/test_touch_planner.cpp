@@ -66,8 +66,8 @@ const Twins& twins() {
       for (int i = 0; i < 90; ++i) {
         util::Rng rng(2, static_cast<std::uint64_t>(o), static_cast<std::uint64_t>(i));
         Sample s;
-        s.reading =
-            reading_of(x.data.scene.sensor, twin_point(o, i, 3).w, static_cast<std::uint32_t>(o), RigidPose{}, rng);
+        s.object = static_cast<std::uint32_t>(o);
+        s.reading = reading_of(x.data.scene.sensor, twin_point(o, i, 3).w, RigidPose{}, rng);
         x.data.samples.push_back(s);
       }
     x.map = Map::train(x.data, {});
@@ -138,7 +138,7 @@ Outcome run_trial(std::uint32_t object, std::uint64_t seed, bool active, std::si
     }
     used[pick] = true;
     if (pool[pick].cap) out.first_cap = std::min(out.first_cap, n);
-    const Reading r = reading_of(t.data.scene.sensor, pool[pick].w, object, truth, rng);
+    const Reading r = reading_of(t.data.scene.sensor, pool[pick].w, truth, rng);
     visited.push_back(r.position);
     normals.push_back(r.normal);
     rec.add_reading(r);

@@ -97,10 +97,7 @@ struct Chooser {
       return {tr.reading(s), s, plan_ms};
     }
     for (const TouchScore& t : plan.best)
-      if (std::optional<Reading> r = active.simulate(trial, t.touch, draw)) {
-        r->object = trial.object;
-        return {*r, kSimulated, plan_ms};
-      }
+      if (std::optional<Reading> r = active.simulate(trial, t.touch, draw)) return {*r, kSimulated, plan_ms};
     return c;  // no planned touch converged on the mesh
   }
 };

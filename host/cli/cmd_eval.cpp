@@ -9,7 +9,6 @@
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
-#include <numbers>
 #include <optional>
 #include <sstream>
 #include <string>
@@ -23,12 +22,9 @@
 #include "eval/robustness.hpp"
 #include "io/text_file.hpp"
 #include "recognition/vote_backend_factory.hpp"
-#include "util/rng.hpp"
 
-#if __has_include(<sva/sim/tactile_sensor.hpp>)
-#include <sva/sim/mesh.hpp>
-#include <sva/sim/sensor_errors.hpp>
-#include <sva/sim/tactile_sensor.hpp>
+#if __has_include(<sva/sim/touch_simulator.hpp>)
+#include <sva/sim/touch_simulator.hpp>
 #define SVA_HAVE_SIM 1
 #endif
 
@@ -78,60 +74,18 @@ int sweep_report(const Args& a) {
   return 0;
 }
 
-#ifdef SVA_HAVE_SIM
-// The scene's objects as the simulator presses them: one mesh and one test sensor (the scene's errors) each.
-struct SimWorld {
-  Scene scene;
-  std::vector<std::unique_ptr<sim::ObjectGeometry>> geometry;
-  std::vector<std::unique_ptr<sim::TactileSensor>> sensors;
-};
-
-// Presses a planned touch on the trial's object as `sva simulate` takes a test reading: the sensor starts the
-// protocol's approach distance off the planned point, pressing along the planned approach with an uncontrolled
-// turn about it, the contact controller settles it, and the arm's pose error is put on the reading.
-std::optional<Reading> press_planned(const SimWorld& w, const eval::Trial& trial, const CandidateTouch& touch,
-                                     std::uint64_t seed) {
-  const RigidPose to_object = trial.pose.inverse();
-  const glm::dvec3 n = -glm::normalize(to_object.rotate(touch.approach));
-  const glm::dvec3 t1 = glm::normalize(glm::cross(std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0), n));
-  const glm::dvec3 t2 = glm::cross(n, t1);
-  util::Rng rng(seed, 0x5e55);
-  const double psi = 2.0 * std::numbers::pi * rng.uniform();
-  sim::SensorPose start;
-  start.normal = n;
-  start.x_axis = std::cos(psi) * t1 + std::sin(psi) * t2;
-  start.position = to_object.apply(touch.position) + w.scene.protocol.approach_mm * n;
-  const sim::TactileSensor& sensor = *w.sensors[trial.object];
-  sim::ControllerSettings cs;
-  cs.max_iterations = w.scene.protocol.max_iterations;
-  cs.max_approach_mm = sensor.reach_mm();
-  if (w.scene.protocol.kind == "letters2d") cs.reorient = cs.recenter = false;  // pressed flat, as simulated
-  const sim::Contact c = sim::press(sensor, start, cs, util::splitmix64(rng.next()));
-  if (c.reading.status != ControllerStatus::converged) return std::nullopt;
-  Reading r = c.reading;
-  sim::report_pose(w.scene.errors, util::splitmix64(rng.next()), r.position, r.normal, r.x_axis);
-  return eval::transform_reading(r, trial.pose);
-}
-#endif
-
 // --policy active-sim: the scene's meshes loaded once, every planned touch pressed on its trial's object.
 eval::TouchSimulator touch_simulator(const Scene& scene, const std::string& data_file) {
 #ifdef SVA_HAVE_SIM
-  auto w = std::make_shared<SimWorld>();
-  w->scene = scene;
-  const double reach = scene.protocol.approach_mm + 10.0;  // as `sva simulate`'s sensors
-  for (const auto& o : scene.objects) {
-    try {
-      w->geometry.push_back(std::make_unique<sim::ObjectGeometry>(sim::load_object_mesh(o)));
-    } catch (const Error& e) {
-      throw Error("sva eval: --policy active-sim presses the planned touches on the scene's meshes; object \"" +
-                  o.name + "\" of " + data_file + "'s scene has none usable: " + e.what());
-    }
-    w->sensors.push_back(std::make_unique<sim::TactileSensor>(*w->geometry.back(), scene.sensor, scene.skin, reach,
-                                                              scene.errors, scene.errors.test_sensor));
+  std::shared_ptr<const sim::TouchSimulator> press;
+  try {
+    press = std::make_shared<const sim::TouchSimulator>(scene);
+  } catch (const Error& e) {
+    throw Error("sva eval: --policy active-sim presses the planned touches on the scene's meshes, and " + data_file +
+                "'s scene cannot be simulated here: " + e.what());
   }
-  return [w](const eval::Trial& trial, const CandidateTouch& touch, std::uint64_t seed) {
-    return press_planned(*w, trial, touch, seed);
+  return [press](const eval::Trial& trial, const CandidateTouch& touch, std::uint64_t seed) {
+    return press->press(trial.object, trial.pose, touch, seed);
   };
 #else
   (void)scene;

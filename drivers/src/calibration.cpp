@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "io/json_limits.hpp"
+
 namespace sva::drivers {
 
 namespace {
@@ -41,6 +43,7 @@ Calibration Calibration::uniform(const SensorSpec& sensor, float gain, float zer
 }
 
 Calibration Calibration::from_json(const std::string& text, const std::string& source) {
+  if (io::json_depth(text) > io::kMaxJsonDepth) throw Error(source + ": " + io::json_too_deep_message());
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);

@@ -21,7 +21,8 @@ namespace sva::fuzz {
 // collide), in /dev/shm when there is one so that it costs no disk write.
 inline std::filesystem::path write_input(std::span<const std::uint8_t> bytes, const char* name) {
   static const std::filesystem::path dir = [] {
-    std::filesystem::path base = std::filesystem::exists("/dev/shm") ? "/dev/shm" : std::filesystem::temp_directory_path();
+    std::filesystem::path base =
+        std::filesystem::exists("/dev/shm") ? "/dev/shm" : std::filesystem::temp_directory_path();
     auto d = base / ("sva-fuzz-" + std::to_string(::getpid()));
     std::filesystem::create_directories(d);
     return d;

@@ -7,6 +7,7 @@
 #include <iterator>
 #include <stdexcept>
 
+#include "io/json_limits.hpp"
 #include "io/text_file.hpp"
 #include "recognition/rotation.hpp"
 
@@ -62,6 +63,7 @@ Reading reading_of(const json& jr, const std::string& w, int elements) {
 
 // One line of the sessions file; `number` is the session's place in the file.
 BatchSession session_of(const std::string& line, const std::string& where, std::size_t number, int elements) {
+  if (json_depth(line) > kMaxJsonDepth) throw Error(where + ": " + json_too_deep_message());
   json j;
   try {
     j = json::parse(line);

@@ -12,6 +12,9 @@ namespace {
 constexpr std::string_view kMagic = "SVASESS1";
 constexpr std::uint32_t kVersion = 1;
 constexpr std::size_t kMaxElements = 1 << 16;  // pressure values of one reading
+// The fewest bytes a reading takes (9 f64, u8, u16, u32, an empty pressure vector's u64 length): the count is
+// checked against them before the readings are allocated.
+constexpr std::size_t kMinReadingBytes = 9 * 8 + 1 + 2 + 4 + 8;
 }  // namespace
 
 void save_session_file(const SessionFile& session, const std::filesystem::path& file) {
@@ -39,7 +42,7 @@ SessionFile load_session_file(const std::filesystem::path& file) {
   s.scene_name = r.get_string();
   s.prior = r.get_vector<double>(s.objects);
   const auto n = r.get<std::uint64_t>();
-  if (n > r.remaining()) r.fail(std::to_string(n) + " readings exceed the file");
+  if (n > r.remaining() / kMinReadingBytes) r.fail(std::to_string(n) + " readings exceed the file");
   s.readings.resize(n);
   for (Reading& x : s.readings) {
     r.get_array(&x.position.x, 3);

@@ -53,9 +53,9 @@ Reading reading_of(const json& jr, const std::string& w, int elements) {
   if (!p.is_array() || p.size() != static_cast<std::size_t>(elements))
     throw Error(w + ".pressure: expected " + std::to_string(elements) + " numbers (the map's sensor)");
   for (const auto& v : p) {
-    if (!v.is_number() || !std::isfinite(v.get<double>()))
-      throw Error(w + ".pressure: non-numeric or non-finite value");
-    rd.pressure.push_back(v.get<float>());
+    const auto f = json_float(v);
+    if (!f) throw Error(w + ".pressure: non-numeric, non-finite or out-of-range value");
+    rd.pressure.push_back(*f);
   }
   if (jr.contains("status")) rd.status = status_of(jr["status"], w + ".status");
   return rd;

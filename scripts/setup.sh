@@ -8,6 +8,7 @@ packages=(
   libglm-dev libembree-dev libtinygltf-dev libstb-dev nlohmann-json3-dev
   libusb-1.0-0-dev catch2 libtbb-dev
   patchelf  # scripts/bundle.sh: $ORIGIN run paths in the relocatable bundle for a GPU machine
+  clang-14 libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer (libclang_rt.fuzzer) and the sanitizer runtimes
   python3 python3-venv python3-dev python3-pip  # the Python package (python/, docs/python.md)
 )
 missing=()

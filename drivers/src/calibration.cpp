@@ -7,6 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include "io/json_limits.hpp"
+
 namespace sva::drivers {
 
 namespace {
@@ -41,6 +43,7 @@ Calibration Calibration::uniform(const SensorSpec& sensor, float gain, float zer
 }
 
 Calibration Calibration::from_json(const std::string& text, const std::string& source) {
+  if (io::json_depth(text) > io::kMaxJsonDepth) throw Error(source + ": " + io::json_too_deep_message());
   nlohmann::json j;
   try {
     j = nlohmann::json::parse(text);
@@ -49,15 +52,28 @@ Calibration Calibration::from_json(const std::string& text, const std::string& s
   }
   if (!j.is_object()) throw Error(source + ": expected a JSON object");
   Calibration c;
+  auto floats = [&](const char* key) {
+    const auto& a = j.at(key);
+    if (!a.is_array()) throw Error(source + ": " + key + " must be an array of numbers");
+    std::vector<float> out;
+    for (const auto& v : a) {
+      const auto f = io::json_float(v);
+      if (!f) throw Error(source + ": " + key + " holds a non-numeric, non-finite or out-of-range value");
+      out.push_back(*f);
+    }
+    return out;
+  };
   try {
-    c.sensor.rows = j.at("rows").get<int>();
-    c.sensor.cols = j.at("cols").get<int>();
+    const auto rows = io::json_int(j.at("rows"), 1, 255), cols = io::json_int(j.at("cols"), 1, 255);
+    if (!rows || !cols) throw Error(source + ": rows/cols must be in [1, 255]");
+    c.sensor.rows = *rows;
+    c.sensor.cols = *cols;
     c.sensor.pitch_mm = j.at("pitch_mm").get<double>();
-    c.gain = j.at("gain_kpa_per_count").get<std::vector<float>>();
-    c.zero = j.at("zero_counts").get<std::vector<float>>();
-    const int saturation = j.value("saturation_counts", 65535);
-    if (saturation < 1 || saturation > 65535) throw Error(source + ": saturation_counts must be in [1, 65535]");
-    c.saturation_counts = static_cast<std::uint16_t>(saturation);
+    c.gain = floats("gain_kpa_per_count");
+    c.zero = floats("zero_counts");
+    const auto saturation = io::json_int(j.value("saturation_counts", nlohmann::json(65535)), 1, 65535);
+    if (!saturation) throw Error(source + ": saturation_counts must be in [1, 65535]");
+    c.saturation_counts = static_cast<std::uint16_t>(*saturation);
   } catch (const nlohmann::json::exception& e) {
     throw Error(source + ": missing or mistyped field: " + e.what());
   }

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
+#include "io/json_limits.hpp"
+
 namespace sva::drivers {
 
 namespace {
@@ -97,7 +99,11 @@ SettleRule SettleRule::from_json(const std::string& text, const std::string& sou
   SettleRule r;
   try {
     const auto j = nlohmann::json::parse(text);
-    r.frames = j.value("frames", r.frames);
+    if (j.contains("frames")) {  // range-checked as a double first: get<int>() of 1e300 is undefined
+      const auto frames = io::json_int(j.at("frames"), 1, 10000);
+      if (!frames) throw Error(source + ": bad settle rule: frames must be a whole number in [1, 10000]");
+      r.frames = *frames;
+    }
     r.target_kpa = j.value("target_kpa", r.target_kpa);
     r.tolerance_kpa = j.value("tolerance_kpa", r.tolerance_kpa);
     r.stable_kpa = j.value("stable_kpa", r.stable_kpa);

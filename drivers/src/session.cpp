@@ -6,6 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include "io/binary_file.hpp"
+#include "io/json_limits.hpp"
 #include "io/recording_file.hpp"
 
 namespace sva::drivers {
@@ -23,6 +24,9 @@ std::vector<std::uint8_t> settings_payload(const SessionSettings& s) {
 }
 
 SessionSettings parse_settings(const std::vector<std::uint8_t>& payload, const std::string& source) {
+  const std::string_view text(reinterpret_cast<const char*>(payload.data()), payload.size());
+  if (io::json_depth(text) > io::kMaxJsonDepth)
+    throw Error(source + ": bad settings record: " + io::json_too_deep_message());
   try {
     const auto j = nlohmann::json::parse(payload.begin(), payload.end());
     SessionSettings s;

@@ -5,6 +5,7 @@
 #include <sva/error.hpp>
 #include <sva/sim/mesh.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -14,8 +15,10 @@
 #include <string>
 
 #include <tiny_gltf.h>
+
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include "io/json_limits.hpp"
 
 namespace sva::sim {
 
@@ -24,6 +27,13 @@ namespace {
 [[noreturn]] void fail(const std::filesystem::path& file, const std::string& what) {
   throw Error(file.string() + ": " + what);
 }
+
+// Bounds on what one file may make the loader build, checked before the memory is taken: a node graph may
+// instance a mesh many times over (a node listing the same child a thousand times, 64 levels deep).
+constexpr std::size_t kMaxVertices = std::size_t{1} << 22;  // 4 M vertices, 100 MB: 100x the largest asset
+constexpr std::size_t kMaxNodeVisits = 1 << 16;
+// External buffers (a .gltf naming a .bin) are read only when they are regular files of at most this size.
+constexpr std::uintmax_t kMaxExternalBytes = std::uintmax_t{1} << 31;
 
 bool finite3(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
@@ -160,7 +170,8 @@ class Loader {
     const glm::dmat3 nxf = glm::transpose(glm::inverse(lin));
     const bool flip = glm::determinant(lin) < 0.0;
     const auto base = static_cast<std::uint32_t>(mesh.positions.size());
-    if (pos.size() > std::numeric_limits<std::uint32_t>::max() - base) fail(file_, "too many vertices");
+    if (pos.size() > kMaxVertices - base)
+      fail(file_, where + ": the node graph instances more than " + std::to_string(kMaxVertices) + " vertices");
     for (std::size_t i = 0; i < pos.size(); ++i) {
       glm::dvec3 w = glm::dvec3(xf * glm::dvec4(pos[i], 1.0));
       if (!finite3(pos[i]) || !finite3(w))
@@ -231,6 +242,8 @@ class Loader {
     if (node < 0 || static_cast<std::size_t>(node) >= m_.nodes.size())
       fail(file_, "node " + std::to_string(node) + " does not exist");
     if (depth > 64) fail(file_, "node hierarchy is deeper than 64 levels (a cycle?)");
+    if (++visits_ > kMaxNodeVisits)
+      fail(file_, "the node graph visits more than " + std::to_string(kMaxNodeVisits) + " nodes (shared children)");
     const auto& n = m_.nodes[static_cast<std::size_t>(node)];
     std::string where = "node " + std::to_string(node);
     glm::dmat4 xf = parent * local_transform(n, where);
@@ -250,7 +263,36 @@ class Loader {
  private:
   const std::filesystem::path& file_;
   const tinygltf::Model& m_;
+  mutable std::size_t visits_ = 0;
 };
+
+// tinygltf's file reader, bounded: a buffer URI naming a device, a directory or a huge file (/dev/zero,
+// /proc/kcore) is refused instead of being read or allocated for.
+bool read_external_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+  std::error_code ec;
+  const auto size = std::filesystem::file_size(path, ec);
+  if (ec || !std::filesystem::is_regular_file(path, ec) || size == 0 || size > kMaxExternalBytes) {
+    if (err) *err += "external file " + path + " is not a regular file of 1 byte to 2 GiB\n";
+    return false;
+  }
+  std::ifstream in(path, std::ios::binary);
+  out->resize(static_cast<std::size_t>(size));
+  if (!in.read(reinterpret_cast<char*>(out->data()), static_cast<std::streamsize>(size))) {
+    if (err) *err += "cannot read external file " + path + "\n";
+    return false;
+  }
+  return true;
+}
+
+// The JSON text of a .gltf, or of a .glb's first chunk (empty when the header is malformed: tinygltf reports it).
+std::string_view gltf_json(const std::vector<unsigned char>& bytes, bool binary) {
+  const char* text = reinterpret_cast<const char*>(bytes.data());
+  if (!binary) return {text, bytes.size()};
+  if (bytes.size() < 20) return {};
+  std::uint32_t length;
+  std::memcpy(&length, bytes.data() + 12, 4);
+  return {text + 20, std::min<std::size_t>(length, bytes.size() - 20)};
+}
 
 void compute_missing_normals(Mesh& mesh, const std::vector<char>& has_normal) {
   std::vector<glm::dvec3> acc(mesh.positions.size(), glm::dvec3(0.0));
@@ -312,7 +354,10 @@ Mesh load_mesh(const std::filesystem::path& file) {
     if (i == bytes.size() || bytes[i] != '{')
       fail(file, "not a glTF file (neither the binary 'glTF' magic nor a JSON object)");
   }
+  if (io::json_depth(gltf_json(bytes, binary)) > io::kMaxJsonDepth) fail(file, io::json_too_deep_message());
   tinygltf::TinyGLTF gltf;
+  gltf.SetFsCallbacks(
+      {&tinygltf::FileExists, &tinygltf::ExpandFilePath, &read_external_file, &tinygltf::WriteWholeFile, nullptr});
   tinygltf::Model model;
   std::string err, warn;
   // Images are irrelevant to touch; skip decoding them (and their failures).

@@ -7,6 +7,7 @@
 #include <iterator>
 #include <stdexcept>
 
+#include "io/json_limits.hpp"
 #include "io/text_file.hpp"
 #include "recognition/rotation.hpp"
 
@@ -52,9 +53,9 @@ Reading reading_of(const json& jr, const std::string& w, int elements) {
   if (!p.is_array() || p.size() != static_cast<std::size_t>(elements))
     throw Error(w + ".pressure: expected " + std::to_string(elements) + " numbers (the map's sensor)");
   for (const auto& v : p) {
-    if (!v.is_number() || !std::isfinite(v.get<double>()))
-      throw Error(w + ".pressure: non-numeric or non-finite value");
-    rd.pressure.push_back(v.get<float>());
+    const auto f = json_float(v);
+    if (!f) throw Error(w + ".pressure: non-numeric, non-finite or out-of-range value");
+    rd.pressure.push_back(*f);
   }
   if (jr.contains("status")) rd.status = status_of(jr["status"], w + ".status");
   return rd;
@@ -62,6 +63,7 @@ Reading reading_of(const json& jr, const std::string& w, int elements) {
 
 // One line of the sessions file; `number` is the session's place in the file.
 BatchSession session_of(const std::string& line, const std::string& where, std::size_t number, int elements) {
+  if (json_depth(line) > kMaxJsonDepth) throw Error(where + ": " + json_too_deep_message());
   json j;
   try {
     j = json::parse(line);

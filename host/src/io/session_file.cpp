@@ -14,6 +14,9 @@ constexpr std::string_view kMagic = "SVASESS1";
 constexpr std::uint32_t kVersion = 2;  // 2: a reading stores its time (1: a ground-truth object id)
 constexpr std::uint32_t kOldestVersion = 1;
 constexpr std::size_t kMaxElements = 1 << 16;  // pressure values of one reading
+// The fewest bytes a reading takes (9 f64, u8, u16, the version-1 u32 object id or the version-2 f64 time, an empty
+// pressure vector's u64 length): the count is checked against them before the readings are allocated.
+constexpr std::size_t min_reading_bytes(std::uint32_t version) { return 9 * 8 + 1 + 2 + (version >= 2 ? 8 : 4) + 8; }
 
 void put_pose_priors(BinaryWriter& w, const std::vector<std::optional<PosePrior>>& priors) {
   w.put(static_cast<std::uint32_t>(priors.size()));
@@ -33,6 +36,7 @@ std::vector<std::optional<PosePrior>> get_pose_priors(BinaryReader& r, std::uint
   const auto n = r.get<std::uint32_t>();
   if (n != 0 && n != objects)
     r.fail(std::to_string(n) + " pose priors for " + std::to_string(objects) + " objects (0 or one per object)");
+  if (n > r.remaining()) r.fail(std::to_string(n) + " pose priors exceed the file");  // a flag byte each, at least
   std::vector<std::optional<PosePrior>> out(n);
   for (auto& p : out) {
     const auto present = r.get<std::uint8_t>();
@@ -78,7 +82,7 @@ SessionFile load_session_file(const std::filesystem::path& file) {
   s.prior.object_probability = r.get_vector<double>(s.objects);
   if (r.version() >= 2) s.prior.object_pose = get_pose_priors(r, s.objects);
   const auto n = r.get<std::uint64_t>();
-  if (n > r.remaining()) r.fail(std::to_string(n) + " readings exceed the file");
+  if (n > r.remaining() / min_reading_bytes(r.version())) r.fail(std::to_string(n) + " readings exceed the file");
   s.readings.resize(n);
   for (Reading& x : s.readings) {
     r.get_array(&x.position.x, 3);

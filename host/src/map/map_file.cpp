@@ -175,8 +175,11 @@ std::shared_ptr<PairMap> load_pair_map(const std::filesystem::path& file) {
   r.expect_end();
   if (r.version() == 1) {
     if (m.entry_b.size() != m.entry_a.size() || m.entry_weight.size() != m.entry_a.size() ||
-        m.offsets.size() != m.keys.size() + 1 || m.offsets.back() != m.entry_a.size())
+        m.offsets.size() != m.keys.size() + 1 || m.offsets.front() != 0 || m.offsets.back() != m.entry_a.size())
       r.fail("invalid map: entry columns and offsets do not match");
+    // keep_one_order walks every key's range before validate_pair_map runs: each must lie inside the entries.
+    for (std::size_t k = 0; k + 1 < m.offsets.size(); ++k)
+      if (m.offsets[k + 1] < m.offsets[k]) r.fail("invalid map: offsets decrease at key " + std::to_string(k));
     keep_one_order(m);
   }
   validate_pair_map(m, file.string());

@@ -14,6 +14,8 @@
 #include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
+#include "io/json_limits.hpp"
+
 #ifndef SVA_SOURCE_ASSETS_DIR
 #define SVA_SOURCE_ASSETS_DIR ""
 #endif
@@ -26,6 +28,9 @@ namespace sva {
 using nlohmann::json;
 
 namespace {
+
+// A map holds at most 65,536 objects (map/map_file.cpp); a scene of more could never be trained.
+constexpr std::size_t kMaxSceneObjects = 1 << 16;
 
 class Ctx {
  public:
@@ -221,6 +226,7 @@ std::filesystem::path assets_dir() {
 
 Scene parse_scene(const std::string& text, const std::filesystem::path& origin) {
   Ctx c(origin.string());
+  if (io::json_depth(text) > io::kMaxJsonDepth) c.fail("", io::json_too_deep_message());
   json j;
   try {
     j = json::parse(text);
@@ -237,6 +243,9 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
   if (!j.contains("objects")) c.fail("", "missing \"objects\"");
   const json& objs = j["objects"];
   if (!objs.is_array() || objs.empty()) c.fail("objects", "expected a non-empty array of objects");
+  if (objs.size() > kMaxSceneObjects)
+    c.fail("objects", std::to_string(objs.size()) + " objects, more than the " + std::to_string(kMaxSceneObjects) +
+                          " a map can hold");
   auto base = origin.has_parent_path() ? origin.parent_path() : std::filesystem::path(".");
   std::set<std::string> names;
   for (std::size_t i = 0; i < objs.size(); ++i) {

@@ -127,10 +127,13 @@ void session_files(const fs::path& out) {
   s.scene_hash = 42;
   s.objects = 2;
   s.scene_name = "tiny";
-  s.prior = {0.25, 0.75};
+  s.prior.object_probability = {0.25, 0.75};
+  s.prior.object_pose.resize(2);
+  s.prior.object_pose[1] = PosePrior{{10.0, 20.0, 30.0}, 5.0, true, glm::dmat3(1.0), 0.2};
   s.readings = {reading(0, 36), reading(1, 36)};
+  s.readings[1].time_s = 12.5;
   io::save_session_file(s, out / "two.svas");
-  s.prior.clear();
+  s.prior = {};
   s.readings.resize(1);
   io::save_session_file(s, out / "flat-prior.svas");
 }

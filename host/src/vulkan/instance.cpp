@@ -26,9 +26,11 @@ VKAPI_ATTR VkBool32 VKAPI_CALL on_validation(VkDebugUtilsMessageSeverityFlagBits
 
 void require_validation_layer() {
   std::uint32_t n = 0;
-  vkEnumerateInstanceLayerProperties(&n, nullptr);
+  check(vkEnumerateInstanceLayerProperties(&n, nullptr), "vkEnumerateInstanceLayerProperties");
   std::vector<VkLayerProperties> props(n);
-  vkEnumerateInstanceLayerProperties(&n, props.data());
+  const VkResult listed = vkEnumerateInstanceLayerProperties(&n, props.data());
+  if (listed != VK_INCOMPLETE) check(listed, "vkEnumerateInstanceLayerProperties");
+  props.resize(n);
   const auto is_validation = [](const VkLayerProperties& p) { return std::strcmp(p.layerName, kValidationLayer) == 0; };
   if (std::none_of(props.begin(), props.end(), is_validation))
     throw Error(

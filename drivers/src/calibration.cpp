@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "io/json_limits.hpp"
+#include "io/text_file.hpp"
 
 namespace sva::drivers {
 
@@ -95,11 +96,7 @@ std::string Calibration::to_json() const {
   return j.dump();
 }
 
-void Calibration::save(const std::filesystem::path& file) const {
-  std::ofstream out(file);
-  out << to_json() << "\n";
-  if (!out) throw Error(file.string() + ": cannot write calibration file");
-}
+void Calibration::save(const std::filesystem::path& file) const { io::write_text_file(file, to_json() + "\n"); }
 
 std::vector<float> Calibration::to_pressure(const TactileFrame& f) const {
   check_size(f, sensor);

@@ -1,7 +1,6 @@
 // glTF loading through tinygltf. tinygltf parses the container; everything it
 // hands back is validated here before use, because a malformed file must give
 // a message naming the file and the fault, never an out-of-bounds read.
-#include <unistd.h>
 #include <sva/error.hpp>
 #include <sva/sim/mesh.hpp>
 
@@ -19,6 +18,8 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include "io/json_limits.hpp"
+
+#include "io/text_file.hpp"
 
 namespace sva::sim {
 
@@ -496,19 +497,7 @@ void save_glb(const Mesh& mesh, const std::filesystem::path& file, bool with_nor
   std::ostringstream out;
   tinygltf::TinyGLTF gltf;
   if (!gltf.WriteGltfSceneToStream(&model, out, false, true)) throw Error(file.string() + ": cannot encode glTF");
-  std::filesystem::path tmp = file;
-  tmp += ".tmp." + std::to_string(::getpid());
-  {
-    std::ofstream f(tmp, std::ios::binary | std::ios::trunc);
-    const std::string s = out.str();
-    f.write(s.data(), static_cast<std::streamsize>(s.size()));
-    if (!f) {
-      std::error_code ec;
-      std::filesystem::remove(tmp, ec);
-      throw Error(file.string() + ": cannot write");
-    }
-  }
-  std::filesystem::rename(tmp, file);
+  io::write_text_file(file, out.str());
 }
 
 }  // namespace sva::sim

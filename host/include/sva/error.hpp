@@ -17,4 +17,12 @@ class Interrupted : public Error {
   Interrupted() : Error("interrupted") {}
 };
 
+// The GPU was lost mid-work (VK_ERROR_DEVICE_LOST: a driver reset, a hang, a removed device). The recognizer that
+// threw it cannot go on on that device; its readings so far are intact: save_session, make a new Engine (a new
+// device) and restore_session onto a new Recognizer, which replays them bit for bit (docs/reliability-faults.md).
+class DeviceLost : public Error {
+ public:
+  using Error::Error;
+};
+
 }  // namespace sva

@@ -3,9 +3,19 @@
 #include <sva/error.hpp>
 
 #include <unistd.h>
+
+#include <cerrno>
+#include <cstring>
 #include <fstream>
 
 namespace sva::io {
+
+namespace {
+
+// The system's reason for the last failure ("No space left on device", "Read-only file system").
+std::string reason(int error) { return error ? std::string(" (") + std::strerror(error) + ")" : std::string(); }
+
+}  // namespace
 
 void write_file_atomically(const std::filesystem::path& file, const std::function<void(std::ostream&)>& body) {
   std::error_code ec;
@@ -13,12 +23,24 @@ void write_file_atomically(const std::filesystem::path& file, const std::functio
   auto tmp = file;
   tmp += ".tmp." + std::to_string(::getpid());
   {
+    errno = 0;
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) throw Error(file.string() + ": cannot open for writing");
+    if (!out)
+      throw Error(file.string() + ": cannot write: cannot create a temporary file beside it" + reason(errno) +
+                  "; any earlier file is left as it was");
+    // The first failure's errno: a full disk shows in body(), when the stream's buffer reaches the file, or at
+    // the final flush.
+    const auto check = [&] {
+      if (!out) throw Error(file.string() + ": write failed" + reason(errno) + "; any earlier file is left as it was");
+    };
     try {
+      errno = 0;
       body(out);
+      check();
       out.flush();
-      if (!out) throw Error(file.string() + ": write failed (disk full?)");
+      check();
+      out.close();
+      check();
     } catch (...) {
       out.close();
       std::filesystem::remove(tmp, ec);
@@ -28,7 +50,8 @@ void write_file_atomically(const std::filesystem::path& file, const std::functio
   std::filesystem::rename(tmp, file, ec);
   if (ec) {
     std::filesystem::remove(tmp, ec);
-    throw Error(file.string() + ": cannot rename the temporary file into place (" + ec.message() + ")");
+    throw Error(file.string() + ": cannot rename the temporary file into place (" + ec.message() +
+                "); any earlier file is left as it was");
   }
 }
 

@@ -1,7 +1,11 @@
 #pragma once
 // Every output file is written atomically: to a temporary name first, renamed
 // into place only when complete, so an error or Ctrl-C never leaves a partial
-// file that looks complete.
+// file that looks complete, and a full disk or a read-only directory leaves
+// the previous file intact with an sva::Error naming the file and the system's
+// reason. The one helper for every writer (maps, datasets, sessions, batch
+// results, figures, eval and bench outputs, calibrations, meshes); recordings
+// alone append in place (a crash keeps every whole record; docs/recording-format.md).
 #include <filesystem>
 #include <functional>
 #include <iosfwd>

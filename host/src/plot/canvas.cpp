@@ -1,12 +1,14 @@
 #include "plot/canvas.hpp"
 
-#include <unistd.h>
 #include <sva/error.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <ostream>
+
+#include "io/text_file.hpp"
 
 #define STB_IMAGE_WRITE_STATIC
 #define STB_IMAGE_WRITE_IMPLEMENTATION
@@ -125,19 +127,13 @@ int Canvas::text_width(const std::string& s, int scale) {
 }
 
 void Canvas::write_png(const std::filesystem::path& file) const {
-  std::filesystem::path tmp = file;
-  tmp += ".tmp." + std::to_string(::getpid());
-  if (!stbi_write_png(tmp.c_str(), w_, h_, 3, px_.data(), w_ * 3)) {
-    std::error_code ec;
-    std::filesystem::remove(tmp, ec);
-    throw Error(file.string() + ": cannot write PNG");
-  }
-  std::error_code ec;
-  std::filesystem::rename(tmp, file, ec);
-  if (ec) {
-    std::filesystem::remove(tmp, ec);
-    throw Error(file.string() + ": cannot write PNG (rename failed)");
-  }
+  io::write_file_atomically(file, [&](std::ostream& out) {
+    const auto to_stream = [](void* context, void* data, int size) {
+      static_cast<std::ostream*>(context)->write(static_cast<const char*>(data), size);
+    };
+    if (!stbi_write_png_to_func(to_stream, &out, w_, h_, 3, px_.data(), w_ * 3))
+      throw Error(file.string() + ": cannot encode PNG");
+  });
 }
 
 namespace {

@@ -3,11 +3,14 @@
 #include <sva/error.hpp>
 
 #include <algorithm>
+#include <cstdio>
 #include <cstring>
+#include <string>
 #include <utility>
 #include <vector>
 
 #include "vulkan/device.hpp"
+#include "vulkan/faults.hpp"
 #include "vulkan/vk_check.hpp"
 
 namespace sva::vk {
@@ -35,13 +38,37 @@ std::vector<std::uint32_t> memory_types(const VkPhysicalDeviceMemoryProperties& 
   return types;
 }
 
+// The injected budget (vulkan/faults.hpp): the device's own memory past it
+// fails as the driver's would.
+bool over_budget(const Device& device, std::uint64_t bytes) {
+  const std::uint64_t budget = faults::memory_budget();
+  return budget > 0 && device.device_bytes() + bytes > budget;
+}
+
+std::string mib(std::uint64_t bytes) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.1f MiB", static_cast<double>(bytes) / (1 << 20));
+  return b;
+}
+
+OutOfMemory out_of_memory(const Device& device, VkResult r, std::size_t bytes) {
+  std::string what = "Vulkan: out of memory (" + result_name(r) + ") allocating " + std::to_string(bytes) + " bytes (" +
+                     mib(bytes) + ") on " + device.info().name + ", which holds " + mib(device.device_bytes()) +
+                     " of sva's buffers";
+  if (const std::uint64_t budget = faults::memory_budget())
+    what += " (budget SVA_VK_MEMORY_BUDGET_BYTES " + mib(budget) + ")";
+  return OutOfMemory(what, bytes);
+}
+
 }  // namespace
 
 Buffer::Buffer(const Device& device, std::size_t bytes, Memory kind, bool never_map)
     : device_(device.handle()), size_(bytes ? bytes : 16) {
   if (size_ > device.info().max_allocation)
-    throw Error("Vulkan: a buffer of " + std::to_string(size_) + " bytes exceeds the device's largest allocation (" +
-                std::to_string(device.info().max_allocation) + " bytes)");
+    throw OutOfMemory("Vulkan: a buffer of " + std::to_string(size_) +
+                          " bytes exceeds the device's largest allocation (" +
+                          std::to_string(device.info().max_allocation) + " bytes, maxMemoryAllocationSize)",
+                      size_);
   VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   bci.size = size_;
   bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
@@ -68,10 +95,12 @@ void Buffer::allocate(const Device& device, Memory kind, bool never_map) {
   bool host_visible = false;
   for (std::uint32_t type : memory_types(device.memory(), req.memoryTypeBits, kind)) {
     mai.memoryTypeIndex = type;
-    r = vkAllocateMemory(device_, &mai, nullptr, &memory_);
+    const VkMemoryPropertyFlags f = device.memory().memoryTypes[type].propertyFlags;
+    const bool local = (f & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT) != 0;
+    r = local && over_budget(device, req.size) ? VK_ERROR_OUT_OF_DEVICE_MEMORY
+                                               : vkAllocateMemory(device_, &mai, nullptr, &memory_);
     if (r == VK_SUCCESS) {
-      const VkMemoryPropertyFlags f = device.memory().memoryTypes[type].propertyFlags;
-      device_local_ = (f & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT) != 0;
+      device_local_ = local;
       host_visible = (f & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) != 0;
       if (device_local_) {
         owner_ = &device;
@@ -82,8 +111,7 @@ void Buffer::allocate(const Device& device, Memory kind, bool never_map) {
     }
     if (r != VK_ERROR_OUT_OF_DEVICE_MEMORY && r != VK_ERROR_OUT_OF_HOST_MEMORY) break;
   }
-  if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY)
-    throw Error("Vulkan: out of memory allocating " + std::to_string(size_) + " bytes");
+  if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY) throw out_of_memory(device, r, size_);
   check(r, "vkAllocateMemory");
   check(vkBindBufferMemory(device_, buffer_, memory_, 0), "vkBindBufferMemory");
   if (host_visible && !(kind == Memory::device && never_map)) {

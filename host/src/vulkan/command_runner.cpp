@@ -4,6 +4,7 @@
 #include <stdexcept>
 
 #include "vulkan/device.hpp"
+#include "vulkan/faults.hpp"
 #include "vulkan/vk_check.hpp"
 
 namespace sva::vk {
@@ -202,12 +203,20 @@ void CommandRunner::record_dispatch(VkCommandBuffer cmd, const Dispatch& d, std:
 }
 
 void CommandRunner::submit_and_wait(VkCommandBuffer cmd) {
+  if (device_.lost()) fail(VK_ERROR_DEVICE_LOST, "vkQueueSubmit (the device was lost by an earlier submission)");
   VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   si.commandBufferCount = 1;
   si.pCommandBuffers = &cmd;
-  check(vkResetFences(device_.handle(), 1, &fence_), "vkResetFences");
-  check(vkQueueSubmit(device_.queue(), 1, &si, fence_), "vkQueueSubmit");
-  check(vkWaitForFences(device_.handle(), 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+  try {
+    check(vkResetFences(device_.handle(), 1, &fence_), "vkResetFences");
+    // The injected loss (vulkan/faults.hpp) stands in for the submission, as a reset GPU would answer it.
+    check(faults::take_device_loss() ? VK_ERROR_DEVICE_LOST : vkQueueSubmit(device_.queue(), 1, &si, fence_),
+          "vkQueueSubmit");
+    check(vkWaitForFences(device_.handle(), 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
+  } catch (const DeviceLost&) {
+    device_.mark_lost();
+    throw;
+  }
 }
 
 void CommandRunner::read_kernel_ms(std::size_t dispatches, std::vector<double>& kernel_ms) const {

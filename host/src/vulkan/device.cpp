@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cstdlib>
+#include <string>
 #include <vector>
 
 #include "sva_shared.h"  // SVA_WORKGROUP_SIZE
+#include "vulkan/faults.hpp"
 #include "vulkan/instance.hpp"
 #include "vulkan/vk_check.hpp"
 
@@ -67,29 +69,52 @@ std::uint32_t compute_family(VkPhysicalDevice dev, std::uint32_t* timestamp_bits
 
 // The feature queries: 64-bit integers and buffer atomics (the vote and belief
 // tables), buffer device addresses (belief tables past one binding's range).
-bool has_features(VkPhysicalDevice dev, const VkPhysicalDeviceProperties& props) {
-  if (props.apiVersion < VK_API_VERSION_1_2) return false;
+// The names of what the device lacks, as the Vulkan specification spells them
+// (with the fault injection's forced one, vulkan/faults.hpp); empty when usable.
+std::vector<std::string> missing_features(VkPhysicalDevice dev, const VkPhysicalDeviceProperties& props) {
+  std::vector<std::string> missing;
+  if (props.apiVersion < VK_API_VERSION_1_2) missing.push_back("Vulkan 1.2");
   VkPhysicalDeviceVulkan12Features v12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
   VkPhysicalDeviceFeatures2 f2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
-  f2.pNext = &v12;
-  vkGetPhysicalDeviceFeatures2(dev, &f2);
-  return f2.features.shaderInt64 && v12.shaderBufferInt64Atomics && v12.bufferDeviceAddress;
+  if (props.apiVersion >= VK_API_VERSION_1_2) {
+    f2.pNext = &v12;
+    vkGetPhysicalDeviceFeatures2(dev, &f2);
+  }
+  const std::string forced = faults::missing_feature();
+  const auto need = [&](bool present, const char* name) {
+    if ((!present || forced == name) && std::find(missing.begin(), missing.end(), name) == missing.end())
+      missing.push_back(name);
+  };
+  need(f2.features.shaderInt64, "shaderInt64");
+  need(v12.shaderBufferInt64Atomics, "shaderBufferInt64Atomics");
+  need(v12.bufferDeviceAddress, "bufferDeviceAddress");
+  if (forced == "Vulkan 1.2") need(false, "Vulkan 1.2");
+  return missing;
+}
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string s;
+  for (const std::string& n : names) s += (s.empty() ? "" : ", ") + n;
+  return s;
 }
 
 std::vector<Candidate> usable_devices(VkInstance instance) {
   std::uint32_t count = 0;
-  vkEnumeratePhysicalDevices(instance, &count, nullptr);
+  check(vkEnumeratePhysicalDevices(instance, &count, nullptr), "vkEnumeratePhysicalDevices");
   std::vector<VkPhysicalDevice> devices(count);
-  vkEnumeratePhysicalDevices(instance, &count, devices.data());
+  const VkResult listed = vkEnumeratePhysicalDevices(instance, &count, devices.data());
+  if (listed != VK_INCOMPLETE) check(listed, "vkEnumeratePhysicalDevices");  // a device removed meanwhile: fewer
+  devices.resize(count);
   std::vector<Candidate> ok;
   std::string rejected;
   for (auto dev : devices) {
     Candidate c{dev, {}, 0, 0};
     vkGetPhysicalDeviceProperties(dev, &c.props);
     c.family = compute_family(dev, &c.timestamp_bits);
-    if (c.family == UINT32_MAX || !has_features(dev, c.props)) {
-      rejected +=
-          std::string(" ") + c.props.deviceName + " (lacks compute/int64 atomics/buffer device address/Vulkan 1.2);";
+    std::vector<std::string> missing = missing_features(dev, c.props);
+    if (c.family == UINT32_MAX) missing.insert(missing.begin(), "a compute queue");
+    if (!missing.empty()) {
+      rejected += std::string(" ") + c.props.deviceName + " lacks " + joined(missing) + ";";
       continue;
     }
     ok.push_back(c);
@@ -176,7 +201,7 @@ Device::Device(const Instance& instance, const std::string& choice) {
 }
 
 Device::~Device() {
-  if (device_) {
+  if (device_) {  // a lost device's wait returns VK_ERROR_DEVICE_LOST at once; the objects are destroyed all the same
     vkDeviceWaitIdle(device_);
     vkDestroyDevice(device_, nullptr);
   }

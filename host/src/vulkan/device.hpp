@@ -54,6 +54,10 @@ class Device {
   // A 2-D grid of SVA_WORKGROUP_SIZE-wide workgroups covering `invocations`
   // (x is capped at maxComputeWorkGroupCount[0]); shaders flatten it back.
   Grid grid(std::uint64_t invocations) const;
+  // Set once a submission returned VK_ERROR_DEVICE_LOST: every later use throws sva::DeviceLost at once (the
+  // driver would too), and no new engine is made on this device (VulkanEngine::shared).
+  bool lost() const { return lost_.load(); }
+  void mark_lost() const { lost_ = true; }
 
  private:
   VkPhysicalDevice physical_ = VK_NULL_HANDLE;
@@ -63,6 +67,7 @@ class Device {
   DeviceInfo info_;
   VkPhysicalDeviceMemoryProperties memory_{};
   mutable std::atomic<std::uint64_t> device_bytes_{0}, peak_device_bytes_{0};
+  mutable std::atomic<bool> lost_{false};
 };
 
 }  // namespace sva::vk

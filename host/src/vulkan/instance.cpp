@@ -3,6 +3,11 @@
 #include <sva/error.hpp>
 
 #include <algorithm>
+#include <string>
+#ifdef __SANITIZE_ADDRESS__
+#include <dlfcn.h>
+#include <link.h>
+#endif
 #include <cstring>
 
 #include "vulkan/vk_check.hpp"
@@ -26,9 +31,11 @@ VKAPI_ATTR VkBool32 VKAPI_CALL on_validation(VkDebugUtilsMessageSeverityFlagBits
 
 void require_validation_layer() {
   std::uint32_t n = 0;
-  vkEnumerateInstanceLayerProperties(&n, nullptr);
+  check(vkEnumerateInstanceLayerProperties(&n, nullptr), "vkEnumerateInstanceLayerProperties");
   std::vector<VkLayerProperties> props(n);
-  vkEnumerateInstanceLayerProperties(&n, props.data());
+  const VkResult listed = vkEnumerateInstanceLayerProperties(&n, props.data());
+  if (listed != VK_INCOMPLETE) check(listed, "vkEnumerateInstanceLayerProperties");
+  props.resize(n);
   const auto is_validation = [](const VkLayerProperties& p) { return std::strcmp(p.layerName, kValidationLayer) == 0; };
   if (std::none_of(props.begin(), props.end(), is_validation))
     throw Error(
@@ -50,6 +57,21 @@ VkDebugUtilsMessengerEXT create_messenger(VkInstance instance, Instance::Log* lo
   check(create(instance, &mci, nullptr, &messenger), "vkCreateDebugUtilsMessengerEXT");
   return messenger;
 }
+
+#ifdef __SANITIZE_ADDRESS__
+// Sanitizer builds only: the Vulkan driver (lavapipe and its LLVM) keeps process-lifetime state that it never frees,
+// and the loader unloads it at vkDestroyInstance, so LeakSanitizer could not name its frames and its suppression
+// (tests/lsan-suppressions.txt) could not match. Marking the loaded driver libraries never-unloaded keeps them named.
+int keep_loaded(dl_phdr_info* info, std::size_t, void*) {
+  const std::string name = info->dlpi_name ? info->dlpi_name : "";
+  if (name.find("libvulkan_") != std::string::npos || name.find("libLLVM") != std::string::npos)
+    dlopen(name.c_str(), RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);  // a reference that is never dropped
+  return 0;
+}
+void keep_drivers_loaded() { dl_iterate_phdr(keep_loaded, nullptr); }
+#else
+void keep_drivers_loaded() {}
+#endif
 
 }  // namespace
 
@@ -75,6 +97,7 @@ Instance::Instance(bool validation) {
         "no Vulkan device: no Vulkan driver is installed (apt-get install mesa-vulkan-drivers for the "
         "lavapipe CPU driver)");
   check(r, "vkCreateInstance");
+  keep_drivers_loaded();
   if (!validation) return;
   try {
     messenger_ = create_messenger(instance_, log_.get());

@@ -17,6 +17,7 @@
 #include "spv/match_votes_portable.h"
 #include "spv/scan_matches.h"
 #include "vulkan/gpu_layout.hpp"
+#include "vulkan/vk_check.hpp"
 
 namespace sva {
 
@@ -43,8 +44,9 @@ std::shared_ptr<VulkanEngine> VulkanEngine::shared(const PairMap& map, const vk:
   for (auto it = g_registry.begin(); it != g_registry.end();) it = it->second.expired() ? g_registry.erase(it) : ++it;
   // A map freed while its engine lived would be a caller's bug (a backend must
   // not outlive its map), so a live entry always refers to this very map.
+  // A lost device serves no new engine: a recognizer rebuilt after sva::DeviceLost gets a fresh device.
   if (auto it = g_registry.find(key); it != g_registry.end())
-    if (auto e = it->second.lock()) return e;
+    if (auto e = it->second.lock(); e && !e->ctx.device().lost()) return e;
   auto e = std::make_shared<VulkanEngine>(map, context, max_chunk_entries, portable_kernel);
   g_registry[key] = e;
   return e;
@@ -57,6 +59,11 @@ bool use_subgroups(const vk::Context& ctx, bool portable_kernel) {
   return ctx.info().subgroup_aggregation && !portable_kernel;
 }
 }  // namespace
+
+std::size_t VulkanEngine::map_device_bytes(const PairMap& map) {
+  return map.readings.size() * sizeof(gpu::SvaGpuReading) + map.keys.size() * sizeof(std::uint32_t) +
+         map.offsets.size() * sizeof(map.offsets[0]) + map.entry_count() * (sizeof(std::uint32_t) * 2 + sizeof(float));
+}
 
 VulkanEngine::VulkanEngine(const PairMap& map, const vk::ContextOptions& context, std::size_t max_chunk_entries,
                            bool portable_kernel)
@@ -72,7 +79,15 @@ VulkanEngine::VulkanEngine(const PairMap& map, const vk::ContextOptions& context
       reduce(ctx.create_pipeline(sva_spv_belief_reduce, 1, sizeof(gpu::SvaReduceParams))),
       lookup(ctx.create_pipeline(sva_spv_belief_lookup, 1, sizeof(gpu::SvaLookupParams))) {
   subgroup_aggregation = use_subgroups(ctx, portable_kernel);
-  upload_map(map, max_chunk_entries);
+  try {
+    upload_map(map, max_chunk_entries);
+  } catch (const vk::OutOfMemory& e) {
+    // No chunking makes a map fit: every chunk stays resident. Say what the map needs; under auto the caller
+    // falls back to the CPU reference with this message.
+    throw vk::OutOfMemory("the map needs " + std::to_string(map_device_bytes(map)) +
+                              " bytes of GPU memory and does not fit on " + ctx.info().name + ": " + e.what(),
+                          e.bytes());
+  }
   ++g_alive;
 }
 

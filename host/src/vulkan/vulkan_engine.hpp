@@ -32,6 +32,8 @@ class VulkanEngine {
                                               std::size_t max_chunk_entries, bool portable_kernel = false);
   // Engines alive in the process (tests of the sharing).
   static std::size_t alive();
+  // The device memory the map's upload needs (before the chunk table): what an out-of-memory error names.
+  static std::size_t map_device_bytes(const PairMap& map);
 
   VulkanEngine(const PairMap& map, const vk::ContextOptions& context, std::size_t max_chunk_entries,
                bool portable_kernel);

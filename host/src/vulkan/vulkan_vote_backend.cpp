@@ -15,6 +15,7 @@
 #include "vulkan/gpu_belief.hpp"
 #include "vulkan/gpu_layout.hpp"
 #include "vulkan/linear_bins.hpp"
+#include "vulkan/vk_check.hpp"
 #include "vulkan/vulkan_engine.hpp"
 
 namespace sva {
@@ -278,7 +279,12 @@ class VulkanVoteBackend final : public VoteBackend {
     if (first >= last) return;
     const std::size_t P = last - first;
     std::size_t K = 0;
-    if (!upload_inputs(batch, first, last, &K)) return split(batch, first, last, consume);
+    try {
+      if (!upload_inputs(batch, first, last, &K)) return split(batch, first, last, consume);
+    } catch (const vk::OutOfMemory&) {
+      if (P == 1) throw;
+      return split(batch, first, last, consume);  // chunk further: half the pairs need half the input buffers
+    }
     for (;;) {
       util::throw_if_interrupted();
       if (slots_ > max_slots()) {
@@ -286,9 +292,23 @@ class VulkanVoteBackend final : public VoteBackend {
           slots_ = max_slots();  // each half starts from the largest table one binding holds
           return split(batch, first, last, consume);
         }
-        throw Error("GPU vote table would exceed one binding (" + std::to_string(slots_) + " slots) for one pair");
+        throw Error("GPU vote table would exceed one binding or the device memory (" + std::to_string(slots_) +
+                    " slots) for one pair");
       }
-      const std::vector<vk::Fill> clear = table_clears();
+      std::vector<vk::Fill> clear;
+      try {
+        clear = table_clears();
+      } catch (const vk::OutOfMemory& e) {
+        // Chunk further: the halves need smaller tables; the largest that fitted becomes the cap.
+        if (P > 1 && slots_ > kMinSlots) {
+          slot_cap_ = std::max(kMinSlots, slots_ / 4);
+          slots_ = slot_cap_;
+          return split(batch, first, last, consume);
+        }
+        throw vk::OutOfMemory("the GPU vote table of one pair (" + std::to_string(slots_) + " slots, " +
+                                  std::to_string(slots_ * 16) + " bytes) does not fit: " + e.what(),
+                              e.bytes());
+      }
       *status_.as<std::uint32_t>() = 0;
       std::memset(counters_.data(), 0, P * SVA_PAIR_COUNTERS * sizeof(std::uint64_t));
       std::vector<vk::Dispatch> ds;
@@ -355,9 +375,10 @@ class VulkanVoteBackend final : public VoteBackend {
     slots_ = std::min(max_slots(), std::max(slots_, want));
   }
 
-  // The largest power-of-two vote table that one binding can hold.
+  // The largest power-of-two vote table that one binding can hold (and, once an allocation failed, that fitted).
   std::size_t max_slots() const {
-    return std::bit_floor(static_cast<std::size_t>(ctx_.info().max_storage_buffer_range / sizeof(std::uint64_t)));
+    return std::min(slot_cap_, std::bit_floor(static_cast<std::size_t>(ctx_.info().max_storage_buffer_range /
+                                                                       sizeof(std::uint64_t))));
   }
 
   // The fold passes of belief_fold.comp for the pending sessions: RESERVE,
@@ -457,7 +478,7 @@ class VulkanVoteBackend final : public VoteBackend {
         beliefs[s]->record(st[s].inserted, 0);
         if (st[s].overflow) {
           // Room for every key the session's pairs voted for, at half load.
-          beliefs[s]->grow(2 * (beliefs[s]->touched() + st[s].vote_entries));
+          grow_belief(*beliefs[s], s, 2 * (beliefs[s]->touched() + st[s].vote_entries));
           ++stats_.table_grows;
           again = true;
         } else {
@@ -474,6 +495,19 @@ class VulkanVoteBackend final : public VoteBackend {
       if (folded[s]) beliefs[s]->record(0, folded[s]);
     table_dirty_ = false;  // every slot was folded, and cleared
     keep_vote_table_half_empty(entries);
+  }
+
+  // A session's belief cannot be split: when its table does not fit, say how large it is and what bounds it.
+  static void grow_belief(GpuBelief& belief, std::size_t session, std::size_t slots) {
+    try {
+      belief.grow(slots);
+    } catch (const vk::OutOfMemory& e) {
+      throw vk::OutOfMemory(
+          "the GPU belief of session " + std::to_string(session) + " (" + std::to_string(belief.touched()) +
+              " touched pose bins, growing to " + std::to_string(slots) +
+              " slots) does not fit; a smaller RecognizerOptions::belief_budget_bins bounds it: " + e.what(),
+          e.bytes());
+    }
   }
 
   void split(const VoteBatch& batch, std::size_t first, std::size_t last, const Consumer& consume) {
@@ -503,6 +537,8 @@ class VulkanVoteBackend final : public VoteBackend {
   double kernel_ms_ = 0.0, fold_ms_ = 0.0;
   std::vector<ChunkWork> work_;
   std::size_t slots_ = 0;
+  static constexpr std::size_t kMinSlots = 1024;
+  std::size_t slot_cap_ = SIZE_MAX;  // the vote table's slots after an allocation failed (chunk further)
   VulkanBackendStats stats_;
 };
 

@@ -1,0 +1,33 @@
+#pragma once
+// Fault injection for tests: the GPU faults a shared or failing device gives,
+// made on demand on any device (lavapipe included), so that the paths that
+// handle them run in ctest. Each is set by an environment variable (read once,
+// at first use, so that CLI tests reach it) or by a test hook that overrides it:
+//   SVA_VK_MEMORY_BUDGET_BYTES=N   the device's own memory past N bytes (all live
+//                                  buffers of one device) fails to allocate with
+//                                  VK_ERROR_OUT_OF_DEVICE_MEMORY, as a full GPU would;
+//   SVA_VK_FAULT_DEVICE_LOST_AFTER=N  the submission after the next N returns
+//                                  VK_ERROR_DEVICE_LOST (once; later devices work);
+//   SVA_VK_FAULT_MISSING_FEATURE=F the device reports feature F (shaderInt64,
+//                                  shaderBufferInt64Atomics, bufferDeviceAddress,
+//                                  Vulkan 1.2) as missing.
+#include <cstdint>
+#include <optional>
+#include <string>
+
+namespace sva::vk::faults {
+
+// 0 = no budget.
+std::uint64_t memory_budget();
+void set_memory_budget(std::uint64_t bytes);  // tests; 0 clears
+
+// Whether this submission is to fail as lost (counts submissions down; fires once).
+bool take_device_loss();
+void lose_device_after(std::uint64_t submissions);  // tests
+void clear_device_loss();                           // tests
+
+// The feature a device is to lack ("" = none).
+std::string missing_feature();
+void set_missing_feature(const std::string& feature);  // tests; "" clears
+
+}  // namespace sva::vk::faults

@@ -48,8 +48,8 @@ std::vector<Reading> readings_of_object(const Trained& t, std::uint32_t object, 
   std::vector<Reading> out;
   for (int i = 0; i < n; ++i)
     out.push_back(reading_of(t.data.scene.sensor,
-                             world_point(t.spec, static_cast<int>(object), static_cast<int>(rng.below(70))), object,
-                             truth, rng));
+                             world_point(t.spec, static_cast<int>(object), static_cast<int>(rng.below(70))), truth,
+                             rng));
   return out;
 }
 

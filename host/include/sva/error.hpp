@@ -19,7 +19,7 @@ class Interrupted : public Error {
 
 // The GPU was lost mid-work (VK_ERROR_DEVICE_LOST: a driver reset, a hang, a removed device). The recognizer that
 // threw it cannot go on on that device; its readings so far are intact: save_session, make a new Engine (a new
-// device) and restore_session onto a new Recognizer, which replays them bit for bit (docs/reliability-faults.md).
+// device) and restore_session onto a new Recognizer, which replays them bit for bit (docs/reliability.md).
 class DeviceLost : public Error {
  public:
   using Error::Error;

@@ -1,7 +1,7 @@
 #pragma once
 // Every Vulkan call's result goes through check(): the one place that turns a
 // VkResult into an error. A lost device becomes sva::DeviceLost (the session
-// can be rebuilt from its readings, docs/reliability-faults.md), exhausted
+// can be rebuilt from its readings, docs/reliability.md), exhausted
 // memory vk::OutOfMemory (callers that can chunk further catch it), anything
 // else an sva::Error naming the call and the result.
 #include <vulkan/vulkan.h>

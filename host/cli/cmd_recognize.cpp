@@ -14,6 +14,7 @@
 #include "eval/evaluation.hpp"
 #include "eval/trial_sessions.hpp"
 #include "io/batch_sessions.hpp"
+#include "io/text_file.hpp"
 #include "map/pair_map.hpp"
 #include "recognition/vote_backend_factory.hpp"
 #include "util/progress.hpp"
@@ -62,7 +63,9 @@ int cmd_recognize(const std::vector<std::string>& argv) {
   const std::string map_file = a.required("--map"), batch_file = a.required("--batch"), out_file = a.required("--out");
   const Map map = Map::load(map_file);
   const PairMap& pm = map.internal();
-  const auto sessions = io::read_batch_sessions(batch_file, pm.appearance.calibration.sensor.elements());
+  // Checked whole first (a bad line anywhere stops it before any recognition), then streamed a group at a time.
+  const io::BatchSessionsSummary summary =
+      io::scan_batch_sessions(batch_file, pm.appearance.calibration.sensor.elements());
   const auto per = static_cast<std::size_t>(a.integer("--sessions-per-submission", 64, 1, 1 << 20));
   const auto top_k = static_cast<std::size_t>(a.integer("--top", 3, 0, 1000));
   RecognizerOptions ro;
@@ -70,17 +73,16 @@ int cmd_recognize(const std::vector<std::string>& argv) {
   ro.vulkan_device = a.get_or("--device", "");
   ro.refine_pose = a.on_off("--refine", ro.refine_pose);
 
-  std::size_t total_readings = 0;
-  for (const auto& s : sessions) total_readings += s.readings.size();
-  util::Progress progress("recognize", total_readings);
-  BatchRecognizer rec(map, map.pose_space(), std::min(per, sessions.size()), ro);
+  util::Progress progress("recognize", summary.readings);
+  BatchRecognizer rec(map, map.pose_space(), std::min(per, summary.sessions), ro);
   if (!rec.backend_fallback_reason().empty())
     std::fprintf(stderr, "sva recognize: backend auto chose the CPU reference: %s\n",
                  rec.backend_fallback_reason().c_str());
-  const std::vector<Estimate> estimates = batch::recognize_sessions(rec, sessions, top_k, batch_file, 0, &progress);
+  io::write_file_atomically(out_file, [&](std::ostream& out) {
+    batch::recognize_file(rec, map, batch_file, summary.sessions, out, top_k, &progress);
+  });
   progress.finish();
-  io::write_batch_results(out_file, sessions, estimates, map.object_names());
-  std::fprintf(stderr, "recognised %zu sessions (%zu readings) with %s; wrote %s\n", sessions.size(), total_readings,
+  std::fprintf(stderr, "recognised %zu sessions (%zu readings) with %s; wrote %s\n", summary.sessions, summary.readings,
                rec.backend_description().c_str(), out_file.c_str());
   return 0;
 }

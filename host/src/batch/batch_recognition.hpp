@@ -8,6 +8,7 @@
 #include <sva/map.hpp>
 
 #include <cstddef>
+#include <ostream>
 #include <span>
 #include <string>
 #include <string_view>
@@ -24,6 +25,13 @@ namespace sva::batch {
 std::vector<Estimate> recognize_sessions(BatchRecognizer& rec, std::span<const io::BatchSession> sessions,
                                          std::size_t top_k, const std::string& source, std::size_t first_session = 0,
                                          util::Progress* progress = nullptr);
+
+// The whole sessions file `source` (checked first: io::scan_batch_sessions), streamed: sessions are read one group
+// of rec.sessions() at a time and each group's result lines go to `out` as it ends, so that memory holds one
+// group whatever the file's length. The lines are those of format_batch_results over the whole file. Returns the
+// sessions recognised.
+std::size_t recognize_file(BatchRecognizer& rec, const Map& map, const std::string& source, std::size_t sessions,
+                           std::ostream& out, std::size_t top_k, util::Progress* progress = nullptr);
 
 // One shard: the lines of `text` (whole lines of the sessions file `source`, the first being line `first_line`,
 // preceded in the file by `first_session` sessions) parsed, recognised on `rec` and formatted as result lines.

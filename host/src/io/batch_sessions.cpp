@@ -136,6 +136,33 @@ std::vector<BatchSession> read_batch_sessions(const std::string& file, int eleme
   return out;
 }
 
+BatchSessionReader::BatchSessionReader(const std::string& file, int elements)
+    : in_(file, std::ios::binary), file_(file), elements_(elements) {
+  if (!in_) throw Error(file + ": cannot read the sessions file");
+}
+
+std::vector<BatchSession> BatchSessionReader::next(std::size_t count) {
+  std::vector<BatchSession> out;
+  std::string line;
+  while (out.size() < count && std::getline(in_, line)) {
+    ++line_;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    out.push_back(session_of(line, file_ + ":" + std::to_string(line_), sessions_ + out.size(), elements_));
+  }
+  if (in_.bad()) throw Error(file_ + ": cannot read the sessions file (line " + std::to_string(line_ + 1) + ")");
+  sessions_ += out.size();
+  return out;
+}
+
+BatchSessionsSummary scan_batch_sessions(const std::string& file, int elements) {
+  BatchSessionReader reader(file, elements);
+  BatchSessionsSummary sum;
+  for (std::vector<BatchSession> part; !(part = reader.next(256)).empty();)
+    for (const BatchSession& s : part) ++sum.sessions, sum.readings += s.readings.size();
+  if (sum.sessions == 0) throw Error(file + ": no sessions (empty file)");
+  return sum;
+}
+
 void write_batch_sessions(const std::string& file, std::span<const BatchSession> sessions) {
   std::string text;
   for (const BatchSession& s : sessions) {

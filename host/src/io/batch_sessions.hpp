@@ -7,6 +7,7 @@
 #include <sva/reading.hpp>
 #include <sva/recognizer.hpp>
 
+#include <fstream>
 #include <nlohmann/json.hpp>
 #include <span>
 #include <string>
@@ -43,6 +44,29 @@ std::string format_batch_results(std::span<const BatchSession> sessions, std::sp
                                  std::span<const std::string> objects);
 
 // Writes format_batch_results to `file`.
+// A sessions file read a few sessions at a time, so that batch recognition of a file of any length holds one
+// group's sessions at once. Lines and session numbers count as in read_batch_sessions.
+class BatchSessionReader {
+ public:
+  BatchSessionReader(const std::string& file, int elements);
+  // The next `count` sessions (fewer at the end of the file; none after it).
+  std::vector<BatchSession> next(std::size_t count);
+
+ private:
+  std::ifstream in_;
+  std::string file_;
+  int elements_ = 0;
+  std::size_t line_ = 0;      // lines read so far
+  std::size_t sessions_ = 0;  // sessions returned so far
+};
+
+struct BatchSessionsSummary {
+  std::size_t sessions = 0, readings = 0;
+};
+// Reads the whole file once, checking every line as read_batch_sessions does, and keeps only the counts: a bad
+// line anywhere is refused before hours of recognition. sva::Error for a file without sessions.
+BatchSessionsSummary scan_batch_sessions(const std::string& file, int elements);
+
 void write_batch_results(const std::string& file, std::span<const BatchSession> sessions,
                          std::span<const Estimate> estimates, std::span<const std::string> objects);
 

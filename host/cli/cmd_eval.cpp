@@ -94,15 +94,54 @@ eval::TouchSimulator touch_simulator(const Scene& scene, const std::string& data
 #endif
 }
 
-}  // namespace
+// The options every eval run takes (everything but the files), checked.
+eval::EvalOptions eval_options(const Args& a) {
+  eval::EvalOptions o;
+  o.max_readings = static_cast<std::size_t>(a.integer("--max-readings", 30, 1, 100000));
+  o.seed = static_cast<std::uint64_t>(a.integer("--seed", 1, 0, std::numeric_limits<long long>::max()));
+  o.threads = static_cast<unsigned>(a.integer("--threads", 0, 1, 1024));
+  o.recognizer.backend = parse_backend_kind(a.get_or("--backend", "auto"), "sva eval: --backend");
+  const std::string method = a.get_or("--method", "sva");
+  if (method == "sva")
+    o.recognizer.method = Method::sva;
+  else if (method == "appearance")
+    o.recognizer.method = Method::appearance;
+  else
+    throw Error("sva eval: --method expects sva or appearance, got \"" + method + "\"");
+  o.recognizer.eps = a.number("--eps", o.recognizer.eps, 1e-300, 1.0);
+  if (a.has("--eps") && !(o.recognizer.eps > 0)) throw Error("sva eval: --eps must be positive");
+  o.recognizer.refine_pose = a.on_off("--refine", o.recognizer.refine_pose);
+  o.recognizer.belief_budget_bins = static_cast<std::size_t>(
+      a.integer("--belief-budget", static_cast<long long>(o.recognizer.belief_budget_bins), 0, 1ll << 40));
+  o.policy = eval::parse_policy(a.get_or("--policy", "random"), "sva eval: --policy");
+  if (o.policy == eval::Policy::random)
+    for (const char* opt : {"--candidates", "--plan-hypotheses"})
+      if (a.has(opt)) throw Error(std::string("sva eval: ") + opt + " needs --policy active or active-sim");
+  o.active.candidates = static_cast<std::size_t>(a.integer("--candidates", 100, 1, 1000000));
+  o.active.hypotheses = static_cast<std::size_t>(a.integer("--plan-hypotheses", 8, 1, 64));
+  return o;
+}
 
-int cmd_eval(const std::vector<std::string>& argv) {
-  Args a("sva eval",
-         "Run recognition trials: each trial takes an object (cycling through the objects), a random pose from the "
-         "map's pose space and that object's test readings, transformed by the pose, in random order; after every "
-         "reading it records whether the object is right, the translational, angular (with the object's symmetries) "
-         "and inertial errors, and the update time. Prints the curve; see docs/evaluation.md.",
-         argv);
+// --compare's curves, checked against this run's scene, labelled for the figure.
+std::vector<eval::Curve> compared_curves(const std::vector<std::string>& files, const Map& map,
+                                         const eval::EvalOptions& o) {
+  const std::string method = o.recognizer.method == Method::sva ? "sva" : "appearance";
+  std::vector<eval::Curve> others;
+  for (const auto& f : files) {
+    eval::Curve c = eval::read_curve_json(f);
+    if (c.scene != map.scene_name())
+      throw Error("sva eval: --compare " + f + " is from scene \"" + c.scene + "\", this run is on \"" +
+                  map.scene_name() + "\"");
+    if (c.method == method && c.policy == eval::policy_name(o.policy))
+      c.label = std::filesystem::path(f).stem().string();
+    else if (c.method == "sva" && c.policy == "random" && o.policy != eval::Policy::random)
+      c.label = "sva random";  // beside the active policies' curves
+    others.push_back(std::move(c));
+  }
+  return others;
+}
+
+void declare_eval_options(Args& a) {
   a.option("--map", "MAP", "map file (sva train)");
   a.option("--data", "TEST", "test dataset (sva simulate ... test.svad)");
   a.option("--trials", "N", "trials (default: 3 repetitions x objects, as in the paper)");
@@ -132,6 +171,18 @@ int cmd_eval(const std::vector<std::string>& argv) {
            true);
   a.option("--sweep-readings", "LIST", "with --sweep: the reading counts to report (default 5,10,20,30)");
   a.option("--table", "OUT.md", "with --sweep: also write the table to this file");
+}
+
+}  // namespace
+
+int cmd_eval(const std::vector<std::string>& argv) {
+  Args a("sva eval",
+         "Run recognition trials: each trial takes an object (cycling through the objects), a random pose from the "
+         "map's pose space and that object's test readings, transformed by the pose, in random order; after every "
+         "reading it records whether the object is right, the translational, angular (with the object's symmetries) "
+         "and inertial errors, and the update time. Prints the curve; see docs/evaluation.md.",
+         argv);
+  declare_eval_options(a);
   if (!a.parse()) return 0;
   if (a.has("--sweep")) return sweep_report(a);
   for (const char* o : {"--sweep-readings", "--table"})
@@ -139,29 +190,7 @@ int cmd_eval(const std::vector<std::string>& argv) {
 
   const std::string map_file = a.required("--map");
   const std::string data_file = a.required("--data");
-  eval::EvalOptions o;
-  o.max_readings = static_cast<std::size_t>(a.integer("--max-readings", 30, 1, 100000));
-  o.seed = static_cast<std::uint64_t>(a.integer("--seed", 1, 0, std::numeric_limits<long long>::max()));
-  o.threads = static_cast<unsigned>(a.integer("--threads", 0, 1, 1024));
-  o.recognizer.backend = parse_backend_kind(a.get_or("--backend", "auto"), "sva eval: --backend");
-  const std::string method = a.get_or("--method", "sva");
-  if (method == "sva")
-    o.recognizer.method = Method::sva;
-  else if (method == "appearance")
-    o.recognizer.method = Method::appearance;
-  else
-    throw Error("sva eval: --method expects sva or appearance, got \"" + method + "\"");
-  o.recognizer.eps = a.number("--eps", o.recognizer.eps, 1e-300, 1.0);
-  if (a.has("--eps") && !(o.recognizer.eps > 0)) throw Error("sva eval: --eps must be positive");
-  o.recognizer.refine_pose = a.on_off("--refine", o.recognizer.refine_pose);
-  o.recognizer.belief_budget_bins = static_cast<std::size_t>(
-      a.integer("--belief-budget", static_cast<long long>(o.recognizer.belief_budget_bins), 0, 1ll << 40));
-  o.policy = eval::parse_policy(a.get_or("--policy", "random"), "sva eval: --policy");
-  if (o.policy == eval::Policy::random)
-    for (const char* opt : {"--candidates", "--plan-hypotheses"})
-      if (a.has(opt)) throw Error(std::string("sva eval: ") + opt + " needs --policy active or active-sim");
-  o.active.candidates = static_cast<std::size_t>(a.integer("--candidates", 100, 1, 1000000));
-  o.active.hypotheses = static_cast<std::size_t>(a.integer("--plan-hypotheses", 8, 1, 64));
+  eval::EvalOptions o = eval_options(a);
   const auto json_file = a.get("--json"), csv_file = a.get("--csv"), plot_file = a.get("--plot");
   if (json_file) check_writable("--json", *json_file);
   if (csv_file) check_writable("--csv", *csv_file);
@@ -179,19 +208,7 @@ int cmd_eval(const std::vector<std::string>& argv) {
   eval::check_compatible(map, test, map_file, data_file);
   o.trials = trials_arg > 0 ? static_cast<std::size_t>(trials_arg) : 3 * test.scene.objects.size();
   if (o.policy == eval::Policy::active_sim) o.active.simulate = touch_simulator(test.scene, data_file);
-
-  std::vector<eval::Curve> others;
-  for (const auto& f : compare_files) {
-    eval::Curve c = eval::read_curve_json(f);
-    if (c.scene != map.scene_name())
-      throw Error("sva eval: --compare " + f + " is from scene \"" + c.scene + "\", this run is on \"" +
-                  map.scene_name() + "\"");
-    if (c.method == method && c.policy == eval::policy_name(o.policy))
-      c.label = std::filesystem::path(f).stem().string();
-    else if (c.method == "sva" && c.policy == "random" && o.policy != eval::Policy::random)
-      c.label = "sva random";  // beside the active policies' curves
-    others.push_back(std::move(c));
-  }
+  const std::vector<eval::Curve> others = compared_curves(compare_files, map, o);
 
   const eval::EvalResult result = eval::run_evaluation(map, test, o);
   if (!result.backend_fallback_reason.empty())

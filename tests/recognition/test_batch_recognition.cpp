@@ -21,15 +21,7 @@ using namespace sva::test;
 namespace {
 
 std::vector<Reading> readings_of(std::uint32_t object, std::uint64_t seed, int count) {
-  const Trained& t = trained();
-  const RigidPose truth = random_pose(seed, 100.0);
-  util::Rng rng(seed, 9);
-  std::vector<Reading> out;
-  for (int i = 0; i < count; ++i)
-    out.push_back(reading_of(t.data.scene.sensor,
-                             world_point(t.spec, static_cast<int>(object), static_cast<int>(rng.below(70))), truth,
-                             rng));
-  return out;
+  return readings_at(object, random_pose(seed, 100.0), util::Rng(seed, 9), count);
 }
 
 // Seven sessions of 2 to 5 readings, written by the project's writer, with blank lines between some of them and

@@ -38,14 +38,7 @@ std::vector<BackendKind> backends() {
 }
 
 std::vector<Reading> readings_of(std::uint32_t object, const RigidPose& truth, std::uint64_t seed, int count) {
-  const Trained& t = trained();
-  util::Rng rng(seed, 3);
-  std::vector<Reading> out;
-  for (int i = 0; i < count; ++i)
-    out.push_back(reading_of(t.data.scene.sensor,
-                             world_point(t.spec, static_cast<int>(object), static_cast<int>(rng.below(70))), truth,
-                             rng));
-  return out;
+  return readings_at(object, truth, util::Rng(seed, 3), count);
 }
 
 Recognizer recognizer_on(BackendKind kind) {

@@ -77,4 +77,15 @@ inline const Trained& trained() {
   return t;
 }
 
+// `count` readings of the synthetic world's `object` at points drawn by `rng`, the object lying at `truth`.
+inline std::vector<Reading> readings_at(std::uint32_t object, const RigidPose& truth, util::Rng rng, int count) {
+  const Trained& t = trained();
+  std::vector<Reading> out;
+  for (int i = 0; i < count; ++i)
+    out.push_back(reading_of(t.data.scene.sensor,
+                             world_point(t.spec, static_cast<int>(object), static_cast<int>(rng.below(70))), truth,
+                             rng));
+  return out;
+}
+
 }  // namespace sva::test

@@ -42,15 +42,8 @@ std::string device_name_or_skip() {
   }
 }
 
-std::vector<Reading> readings_of_object(const Trained& t, std::uint32_t object, int n, std::uint64_t seed) {
-  const RigidPose truth = random_pose(seed, 100.0);
-  util::Rng rng(seed + 1);
-  std::vector<Reading> out;
-  for (int i = 0; i < n; ++i)
-    out.push_back(reading_of(t.data.scene.sensor,
-                             world_point(t.spec, static_cast<int>(object), static_cast<int>(rng.below(70))), truth,
-                             rng));
-  return out;
+std::vector<Reading> readings_of_object(std::uint32_t object, int n, std::uint64_t seed) {
+  return readings_at(object, random_pose(seed, 100.0), util::Rng(seed + 1), n);
 }
 
 bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
@@ -80,7 +73,7 @@ TEST_CASE("GPU faults: a map past the device memory is a clear error on vulkan a
   CHECK(contains(fallback.fallback_reason(), "does not fit"));
   // The CPU reference answers as it always does.
   Recognizer rec(fallback, paper_space());
-  for (const Reading& r : readings_of_object(t, 1, 6, 700)) rec.add_reading(r);
+  for (const Reading& r : readings_of_object(1, 6, 700)) rec.add_reading(r);
   CHECK(rec.estimate().object == 1);
 }
 
@@ -140,7 +133,7 @@ TEST_CASE("GPU faults: a lost device is reported and the session is rebuilt from
   FaultsCleared cleared;
   const std::string device = device_name_or_skip();
   const Trained& t = trained();
-  const std::vector<Reading> readings = readings_of_object(t, 2, 10, 710);
+  const std::vector<Reading> readings = readings_of_object(2, 10, 710);
   auto engine = std::make_unique<Engine>(t.map, EngineOptions{.backend = BackendKind::vulkan, .vulkan_device = device});
   REQUIRE(engine->backend() == BackendKind::vulkan);
   auto rec = std::make_unique<Recognizer>(*engine, paper_space());

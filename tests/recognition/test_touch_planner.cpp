@@ -49,19 +49,7 @@ struct Twins {
 const Twins& twins() {
   static const Twins t = [] {
     Twins x;
-    x.data.scene.name = "twins";
-    for (int o = 0; o < 2; ++o) {
-      SceneObject so;
-      so.name = "twin" + std::to_string(o);
-      so.mesh = "/nonexistent.glb";
-      x.data.scene.objects.push_back(so);
-    }
-    x.data.scene.appearance.descriptor = "mnti";
-    x.data.scene.appearance.clusters = 4;
-    x.data.scene.appearance.dist_bins = 12;
-    x.data.scene.appearance.dist_min_mm = 5.0;
-    x.data.scene.appearance.dist_max_mm = 80.0;
-    x.data.split = "train";
+    x.data = synthetic_training_set("twins", "twin", 2);
     for (int o = 0; o < 2; ++o)
       for (int i = 0; i < 90; ++i) {
         util::Rng rng(2, static_cast<std::uint64_t>(o), static_cast<std::uint64_t>(i));

@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <string>
 
 #include "fixture.hpp"
 
@@ -39,6 +40,26 @@ inline Reading reading_of(const SensorSpec& sensor, const WorldPoint& w, const R
   return r;
 }
 
+// An empty training set of the synthetic world: `objects` objects named prefix0, prefix1, ... with no mesh, and
+// the appearance settings the synthetic textures need (mnti, 4 classes, 12 distance bins over 5-80 mm).
+inline Dataset synthetic_training_set(const std::string& scene, const std::string& prefix, int objects) {
+  Dataset d;
+  d.scene.name = scene;
+  for (int o = 0; o < objects; ++o) {
+    SceneObject so;
+    so.name = prefix + std::to_string(o);
+    so.mesh = "/nonexistent.glb";
+    d.scene.objects.push_back(so);
+  }
+  d.scene.appearance.descriptor = "mnti";
+  d.scene.appearance.clusters = 4;
+  d.scene.appearance.dist_bins = 12;
+  d.scene.appearance.dist_min_mm = 5.0;
+  d.scene.appearance.dist_max_mm = 80.0;
+  d.split = "train";
+  return d;
+}
+
 struct Trained {
   WorldSpec spec;
   Dataset data;
@@ -50,19 +71,7 @@ inline const Trained& trained() {
     Trained x;
     x.spec.classes = 4;
     x.spec.points = 70;
-    x.data.scene.name = "synthetic-recognizer";
-    for (int o = 0; o < x.spec.objects; ++o) {
-      SceneObject so;
-      so.name = "obj" + std::to_string(o);
-      so.mesh = "/nonexistent.glb";
-      x.data.scene.objects.push_back(so);
-    }
-    x.data.scene.appearance.descriptor = "mnti";
-    x.data.scene.appearance.clusters = 4;
-    x.data.scene.appearance.dist_bins = 12;
-    x.data.scene.appearance.dist_min_mm = 5.0;
-    x.data.scene.appearance.dist_max_mm = 80.0;
-    x.data.split = "train";
+    x.data = synthetic_training_set("synthetic-recognizer", "obj", x.spec.objects);
     for (int o = 0; o < x.spec.objects; ++o)
       for (int i = 0; i < x.spec.points; ++i) {
         util::Rng rng(1, static_cast<std::uint64_t>(o), static_cast<std::uint64_t>(i));

@@ -44,7 +44,8 @@ fi
 t3=$(date +%s)
 # Time per plan against the number of candidates (a few trials of 10 readings each).
 for n in 10 100 1000; do
-  "$SVA" "${common[@]}" --trials "$TIMING_TRIALS" --max-readings 10 --policy active --candidates "$n" \
+  "$SVA" "${common[@]}" --trials "$TIMING_TRIALS" --max-readings 10 --policy active --candidates-from hypotheses \
+    --candidates "$n" \
     --json "$OUT/timing_$n.json" > /dev/null
 done
 t4=$(date +%s)

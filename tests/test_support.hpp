@@ -3,14 +3,37 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <system_error>
+#include <vector>
 
 namespace sva::test {
 
-// A fresh, empty temporary directory for one test.
+// The temporary directories this test process made, removed when it exits (ctest runs one test case per process)
+// unless SVA_KEEP_TEST_DIRS is set, to look at what a failing test wrote: a suite run leaves /tmp as it found it.
+class TempDirs {
+ public:
+  ~TempDirs() {
+    if (std::getenv("SVA_KEEP_TEST_DIRS")) return;
+    std::error_code ec;
+    for (const auto& d : dirs_) std::filesystem::remove_all(d, ec);
+  }
+  void add(const std::filesystem::path& d) { dirs_.push_back(d); }
+
+ private:
+  std::vector<std::filesystem::path> dirs_;
+};
+
+inline TempDirs& temp_dirs() {
+  static TempDirs dirs;
+  return dirs;
+}
+
+// A fresh, empty temporary directory for one test (removed when the test process exits).
 inline std::filesystem::path temp_dir(const std::string& name) {
   auto dir = std::filesystem::temp_directory_path() / ("sva-test-" + name + "-" + std::to_string(::getpid()));
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
+  temp_dirs().add(dir);
   return dir;
 }
 

@@ -115,10 +115,19 @@ eval::EvalOptions eval_options(const Args& a) {
       a.integer("--belief-budget", static_cast<long long>(o.recognizer.belief_budget_bins), 0, 1ll << 40));
   o.policy = eval::parse_policy(a.get_or("--policy", "random"), "sva eval: --policy");
   if (o.policy == eval::Policy::random)
-    for (const char* opt : {"--candidates", "--plan-hypotheses"})
+    for (const char* opt : {"--candidates", "--candidates-from", "--plan-hypotheses", "--plan-second"})
       if (a.has(opt)) throw Error(std::string("sva eval: ") + opt + " needs --policy active or active-sim");
   o.active.candidates = static_cast<std::size_t>(a.integer("--candidates", 100, 1, 1000000));
   o.active.hypotheses = static_cast<std::size_t>(a.integer("--plan-hypotheses", 8, 1, 64));
+  const std::string from = a.get_or("--candidates-from", "object");
+  if (from != "hypotheses" && from != "object")
+    throw Error("sva eval: --candidates-from expects hypotheses or object, got \"" + from + "\"");
+  o.active.candidates_on_object = from == "object";
+  if (o.active.candidates_on_object && a.has("--candidates"))
+    throw Error(
+        "sva eval: --candidates N samples candidates on the hypotheses' surfaces: it needs --candidates-from "
+        "hypotheses");
+  o.active.contact_hypotheses = static_cast<std::size_t>(a.integer("--plan-second", 6, 0, 64));
   return o;
 }
 
@@ -163,8 +172,16 @@ void declare_eval_options(Args& a) {
            "how each next reading is chosen: random test readings (default, the paper's protocol), the test "
            "reading nearest to the planned touch (active), or the planned touch pressed on the scene's mesh "
            "(active-sim); docs/evaluation.md, \"Choosing the next touch\"");
-  a.option("--candidates", "N", "active policies: candidate touches sampled per plan (default 100)");
+  a.option("--candidates", "N",
+           "active policies with --candidates-from hypotheses: candidate touches sampled per plan (default 100)");
   a.option("--plan-hypotheses", "K", "active policies: hypotheses of the estimate the plan tells apart (default 8)");
+  a.option("--candidates-from", "hypotheses|object",
+           "active policies: the candidate touches: the true object's unused test contacts in its true pose "
+           "(default: the surface a robot's camera offers, not which object it is), or --candidates sampled on the "
+           "hypotheses' surfaces");
+  a.option("--plan-second", "K",
+           "active policies: plan the second touch over K guesses per object from the first touch's appearance "
+           "(TouchPlanner::contact_estimate; default 6; 0: the second touch is random, as the first)");
   a.option("--sweep", "LEVEL=RUN.json",
            "report mode (no trials): a robustness sweep's runs, one per error level; prints a table of "
            "accuracy and pose errors against the level, --plot draws them (bench/robustness_sweep.sh)",

@@ -146,11 +146,9 @@ TEST_CASE("Touch planner: between two objects alike but for a cap, the best touc
   const Estimate e = both_at(pose);
   const auto cands = planner().sample_candidates(e, 200, 9);
   REQUIRE(cands.size() == 200);
-  const TouchPlan plan = plan_next_touch(planner(), e, cands, [] {
-    TouchPlanOptions o;
-    o.best = 5;
-    return o;
-  }());
+  TouchPlanOptions o;
+  o.best = 5;
+  const TouchPlan plan = plan_next_touch(planner(), e, cands, o);
   REQUIRE(plan.best.size() == 5);
   CHECK(plan.hypotheses == 2);
   CHECK(plan.note.empty());
@@ -285,4 +283,64 @@ TEST_CASE(
   CHECK(planner().plan(e, cands, o).best.front().score == 0.0);
   o.visited_normals.pop_back();
   CHECK_THROWS_WITH(planner().plan(e, cands, o), Catch::Contains("2 visited normals for 3 visited touches"));
+}
+
+TEST_CASE("Touch planner: the first touch's contact estimate guesses poses that put a like contact at the touch") {
+  const Twins& t = twins();
+  const RigidPose truth = random_pose(12, 80.0);
+  // A touch on object 0's cap: its texture is object 0's alone.
+  TwinPoint cap;
+  for (int i = 2000; !cap.cap; ++i) cap = twin_point(0, i, 41);
+  util::Rng rng(12, 1);
+  const Reading touch = reading_of(t.data.scene.sensor, cap.w, truth, rng);
+  const Estimate e = planner().contact_estimate(touch, 5, 7);
+  CHECK(e.readings == 1);
+  CHECK_FALSE(e.pose_valid);
+  REQUIRE(e.object_probability.size() == 2);
+  CHECK(e.object_probability[0] + e.object_probability[1] == Approx(1.0));
+  CHECK(e.object_probability[0] > 0.8);  // only object 0 has contacts that feel like its cap
+  CHECK(e.object == 0);
+  REQUIRE(e.object_hypotheses.size() == 2);
+  CHECK(e.object_hypotheses[0].valid);
+  std::size_t of_object0 = 0;
+  double mass = 0.0;
+  for (const PoseHypothesis& h : e.hypotheses) {
+    mass += h.probability;
+    of_object0 += h.object == 0;
+    // The pose carries one of the object's training contacts onto the touch, normal onto normal.
+    const glm::dvec3 q = h.pose.inverse().apply(touch.position), n = h.pose.inverse().rotate(touch.normal);
+    double nearest = std::numeric_limits<double>::infinity(), normal_gap = 0.0;
+    for (const Sample& s : t.data.samples) {
+      if (s.object != h.object) continue;
+      const double d = glm::length(s.reading.position - q);
+      if (d < nearest) nearest = d, normal_gap = glm::length(glm::normalize(s.reading.normal) - n);
+    }
+    CHECK(nearest < 1e-6);
+    CHECK(normal_gap < 1e-6);
+  }
+  CHECK(of_object0 == 5);
+  CHECK(mass == Approx(1.0));
+  // Deterministic for a seed; another seed draws other guesses.
+  const Estimate again = planner().contact_estimate(touch, 5, 7), other = planner().contact_estimate(touch, 5, 8);
+  REQUIRE(again.hypotheses.size() == e.hypotheses.size());
+  for (std::size_t i = 0; i < e.hypotheses.size(); ++i) CHECK(again.hypotheses[i].pose.T == e.hypotheses[i].pose.T);
+  CHECK(other.hypotheses.front().pose.T != e.hypotheses.front().pose.T);
+  // The second touch can be planned over it: candidates on the guessed surfaces, scored over the guesses.
+  TouchPlanOptions o;
+  o.max_hypotheses = e.hypotheses.size();
+  o.visited = {touch.position};
+  const auto cands = planner().sample_candidates(e, 50, 3, o);
+  CHECK(cands.size() == 50);
+  const TouchPlan plan = planner().plan(e, cands, o);
+  CHECK(plan.hypotheses == e.hypotheses.size());
+  REQUIRE_FALSE(plan.best.empty());
+  CHECK(std::isfinite(plan.best.front().score));
+
+  CHECK_THROWS_WITH(planner().contact_estimate(touch, 0, 7), Catch::Contains("at least 1 hypothesis per object"));
+  Reading unsettled = touch;
+  unsettled.status = ControllerStatus::not_converged;
+  CHECK_THROWS_WITH(planner().contact_estimate(unsettled, 5, 7), Catch::Contains("the first touch"));
+  Reading broken = touch;
+  broken.pressure.pop_back();
+  CHECK_THROWS_WITH(planner().contact_estimate(broken, 5, 7), Catch::Contains("pressure values"));
 }

@@ -14,6 +14,7 @@
 // It reads only the Estimate's hypotheses, so it is the same for every backend (CPU reference and Vulkan).
 #include <sva/map.hpp>
 #include <sva/pose.hpp>
+#include <sva/reading.hpp>
 #include <sva/recognizer.hpp>
 
 #include <cstdint>
@@ -114,6 +115,17 @@ class TouchPlanner {
   // then a contact uniformly. Deterministic for a seed. Empty when the estimate has no pose hypothesis.
   std::vector<CandidateTouch> sample_candidates(const Estimate& estimate, std::size_t count, std::uint64_t seed,
                                                 const TouchPlanOptions& options = {}) const;
+
+  // An estimate from the first touch alone, to plan the second: until two touches pair, the recognizer's estimate
+  // holds no pose, but the first touch's appearance already says which objects, and where on them, it could have
+  // been. For each object, `per_object` of its training contacts drawn by how alike their appearance classes are
+  // to the touch's (Bhattacharyya), each aligned to the touch - the contact onto the touched position, its normal
+  // onto the touch's - and turned about the normal by a random angle. An object's probability is its contacts' mean
+  // likeness, normalised; its hypotheses share it equally (object_hypotheses: the first of each). pose_valid stays
+  // false: these poses are guesses to plan over, not evidence. Plan with max_hypotheses >= objects x per_object to
+  // weigh them all. Deterministic for a seed; sva::Error naming the fault when the touch cannot be described (not
+  // converged, an image of the wrong size, a NaN) or per_object is 0.
+  Estimate contact_estimate(const Reading& touch, std::size_t per_object, std::uint64_t seed) const;
 
   // The position sigma used when options leave it at 0 (mm): twice the median spacing of the training contacts.
   double default_position_sigma_mm() const;

@@ -52,6 +52,17 @@ class TrialReadings {
     return best;
   }
   Reading reading(std::size_t sample) const { return transform_reading(gen_.object_frame(sample), trial_.pose); }
+  // The object's surface as a robot's camera would offer it: the unshown test contacts of the true object in its
+  // true pose, pressed along their inward normals (candidate touches; which object it is stays unknown).
+  std::vector<CandidateTouch> surface_candidates() const {
+    std::vector<CandidateTouch> out;
+    for (std::size_t s : gen_.samples_of(trial_.object))
+      if (!shown(s)) {
+        const Reading& r = gen_.object_frame(s);
+        out.push_back({trial_.pose.apply(r.position), -trial_.pose.rotate(r.normal), true});
+      }
+    return out;
+  }
   void show(std::size_t sample) { shown_.push_back(sample); }
 
  private:
@@ -77,16 +88,24 @@ struct Chooser {
     return {tr.reading(s), s, 0.0};
   }
 
-  // Step k's reading after the estimate `est` of the readings so far (at `visited`).
-  Choice choose(const Trial& trial, const TrialReadings& tr, const Estimate& est, std::size_t k,
-                const std::vector<glm::dvec3>& visited, const std::vector<glm::dvec3>& normals) const {
+  // Step k's reading after the estimate `belief` of the readings so far (at `visited`; the first one `first`).
+  // Before two readings pair the belief holds no pose, so the second touch is planned over the first touch's
+  // contact estimate (its appearance alone).
+  Choice choose(const Trial& trial, const TrialReadings& tr, const Estimate& belief, std::size_t k,
+                const Reading& first, const std::vector<glm::dvec3>& visited,
+                const std::vector<glm::dvec3>& normals) const {
     if (k == 0) return random(tr, k);
     const auto start = std::chrono::steady_clock::now();
     const std::uint64_t draw = util::Rng(seed, trial.index, k).below(std::uint64_t{1} << 62);
     TouchPlanOptions o = active.plan;
     o.visited = visited;
     o.visited_normals = normals;
-    const std::vector<CandidateTouch> cands = planner.sample_candidates(est, active.candidates, draw, o);
+    const bool from_contact = k == 1 && active.contact_hypotheses > 0;
+    const Estimate est = from_contact ? planner.contact_estimate(first, active.contact_hypotheses, draw) : belief;
+    if (from_contact) o.max_hypotheses = std::max(o.max_hypotheses, est.hypotheses.size());
+    const std::vector<CandidateTouch> cands = active.candidates_on_object
+                                                  ? tr.surface_candidates()
+                                                  : planner.sample_candidates(est, active.candidates, draw, o);
     const TouchPlan plan = planner.plan(est, cands, o);
     const double plan_ms = ms_since(start);
     Choice c = random(tr, k);
@@ -107,11 +126,12 @@ void run_active_trial(const Trial& trial, const TrialGenerator& gen, const Choos
   const SceneObject& object = test.scene.objects[trial.object];
   TrialReadings tr(gen, trial);
   std::vector<glm::dvec3> visited, normals;
+  Reading first;
   Estimate est;
   session.reset();
   for (std::size_t k = 0; k < setup.max_readings; ++k) {
     util::throw_if_interrupted();
-    const Choice c = chooser.choose(trial, tr, est, k, visited, normals);
+    const Choice c = chooser.choose(trial, tr, est, k, first, visited, normals);
     const auto start = std::chrono::steady_clock::now();
     try {
       session.add_reading(c.reading);
@@ -127,6 +147,7 @@ void run_active_trial(const Trial& trial, const TrialGenerator& gen, const Choos
     out.steps[k].plan_ms = c.plan_ms;
     out.samples[k] = c.sample;
     if (c.sample != kSimulated) tr.show(c.sample);
+    if (k == 0) first = c.reading;
     visited.push_back(c.reading.position);
     normals.push_back(c.reading.normal);
   }

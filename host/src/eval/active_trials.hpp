@@ -4,8 +4,8 @@
 // with sva::plan_next_touch over candidates sampled from the estimate's hypotheses, then
 //   active:     take the true object's unused test reading nearest to the planned touch in the object's true pose;
 //   active-sim: press the planned touch on the mesh (a TouchSimulator: the CLI's Embree contact controller).
-// Until the estimate has a pose hypothesis (the first readings) or when no candidate is informative, both take the
-// trial's next random reading, as the random policy would.
+// The first touch, and any step where no candidate is informative, take the trial's next random reading, as the
+// random policy would; the second is planned over the first touch's contact estimate (its appearance alone).
 #include <sva/dataset.hpp>
 #include <sva/touch_planner.hpp>
 
@@ -34,6 +34,13 @@ struct ActiveSetup {
   Policy policy = Policy::active;
   std::size_t candidates = 100;  // sampled on the hypotheses' surfaces before every plan
   std::size_t hypotheses = 8;    // estimate top_k the planner reads
+  // The second touch is planned over the first touch's contact estimate (TouchPlanner::contact_estimate) with
+  // this many hypotheses per object; 0: it is taken at random, as the first.
+  std::size_t contact_hypotheses = 6;
+  // Candidates: true, the true object's unshown test contacts in its true pose (the surface a robot's camera
+  // offers, not which object it is; the planned touch is then a test reading itself); false, `candidates`
+  // sampled on the hypotheses' surfaces (the planned touch is then carried to the nearest test reading).
+  bool candidates_on_object = true;
   // The plan's options; its `best` (3) is how many planned touches active-sim tries in turn before it falls back
   // to the random reading (active takes the best one).
   TouchPlanOptions plan = [] {

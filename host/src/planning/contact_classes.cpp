@@ -1,5 +1,7 @@
 #include "planning/contact_classes.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 
 namespace sva::planning {
@@ -47,6 +49,23 @@ std::vector<std::vector<ClassWeight>> contact_classes(const PairMap& map) {
     out[r] = normalised(has_histogram ? &histogram[o * k] : uniform.data(), k);
   }
   return out;
+}
+
+double class_overlap(const std::vector<ClassWeight>& a, const std::vector<ClassWeight>& b) {
+  double s = 0.0;
+  std::size_t i = 0, j = 0;
+  while (i < a.size() && j < b.size()) {
+    if (a[i].cls < b[j].cls) {
+      ++i;
+    } else if (b[j].cls < a[i].cls) {
+      ++j;
+    } else {
+      s += std::sqrt(static_cast<double>(a[i].weight) * static_cast<double>(b[j].weight));
+      ++i;
+      ++j;
+    }
+  }
+  return std::min(s, 1.0);
 }
 
 }  // namespace sva::planning

@@ -15,4 +15,7 @@ namespace sva::planning {
 // baseline's), or uniform classes when the map has none.
 std::vector<std::vector<ClassWeight>> contact_classes(const PairMap& map);
 
+// How alike two soft class lists are (both in increasing class order): their Bhattacharyya coefficient, in [0, 1].
+double class_overlap(const std::vector<ClassWeight>& a, const std::vector<ClassWeight>& b);
+
 }  // namespace sva::planning

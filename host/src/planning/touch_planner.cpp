@@ -12,42 +12,38 @@
 #include <numeric>
 #include <string>
 
-#include "map/pair_map.hpp"
-#include "map/surface_index.hpp"
 #include "planning/contact_classes.hpp"
+#include "planning/planner_state.hpp"
 #include "util/rng.hpp"
 
 namespace sva {
 
-struct TouchPlanner::Impl {
-  explicit Impl(const PairMap& map)
-      : surface(map.readings, map.objects.size()), classes(planning::contact_classes(map)) {
-    shortest_pair_mm = map.distance.min_mm;
-    longest_pair_mm = map.distance.max_mm;
-    sigma_mm = 2.0 * median_spacing();
-  }
+namespace {
 
-  // The median distance from a training contact to its nearest neighbour on the same object: how densely the map
-  // knows a surface, hence how near a touch must come to a known contact to be predicted from it.
-  double median_spacing() const {
-    std::vector<double> d;
-    std::vector<SurfaceNeighbour> nn;
-    for (std::uint32_t o = 0; o < surface.objects(); ++o)
-      for (const SurfacePoint& p : surface.points(o)) {
-        surface.nearest(o, p.position, 2, &nn);
-        if (nn.size() == 2) d.push_back(std::sqrt(nn[1].distance_sq));
-      }
-    if (d.empty()) return 2.5;
-    std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
-    const double m = d[d.size() / 2];
-    return m > 0.0 ? m : 2.5;
-  }
+// The median distance from a training contact to its nearest neighbour on the same object: how densely the map
+// knows a surface, hence how near a touch must come to a known contact to be predicted from it.
+double median_spacing(const SurfaceIndex& surface) {
+  std::vector<double> d;
+  std::vector<SurfaceNeighbour> nn;
+  for (std::uint32_t o = 0; o < surface.objects(); ++o)
+    for (const SurfacePoint& p : surface.points(o)) {
+      surface.nearest(o, p.position, 2, &nn);
+      if (nn.size() == 2) d.push_back(std::sqrt(nn[1].distance_sq));
+    }
+  if (d.empty()) return 2.5;
+  std::nth_element(d.begin(), d.begin() + static_cast<std::ptrdiff_t>(d.size() / 2), d.end());
+  const double m = d[d.size() / 2];
+  return m > 0.0 ? m : 2.5;
+}
 
-  SurfaceIndex surface;
-  std::vector<std::vector<ClassWeight>> classes;  // per map reading row
-  double sigma_mm = 5.0;
-  double shortest_pair_mm = 0.0, longest_pair_mm = 0.0;
-};
+}  // namespace
+
+TouchPlanner::Impl::Impl(std::shared_ptr<const PairMap> m)
+    : map(std::move(m)), surface(map->readings, map->objects.size()), classes(planning::contact_classes(*map)) {
+  shortest_pair_mm = map->distance.min_mm;
+  longest_pair_mm = map->distance.max_mm;
+  sigma_mm = 2.0 * median_spacing(surface);
+}
 
 namespace {
 
@@ -148,30 +144,12 @@ Outcome predict(const TouchPlanner::Impl& m, const Weighed& h, const CandidateTo
   return {};
 }
 
-// Bhattacharyya coefficient of two soft class lists (both in increasing class order).
-double class_overlap(const std::vector<ClassWeight>& a, const std::vector<ClassWeight>& b) {
-  double s = 0.0;
-  std::size_t i = 0, j = 0;
-  while (i < a.size() && j < b.size()) {
-    if (a[i].cls < b[j].cls) {
-      ++i;
-    } else if (b[j].cls < a[i].cls) {
-      ++j;
-    } else {
-      s += std::sqrt(static_cast<double>(a[i].weight) * static_cast<double>(b[j].weight));
-      ++i;
-      ++j;
-    }
-  }
-  return std::min(s, 1.0);
-}
-
 double likeness(const Outcome& a, const Outcome& b, const Resolved& r) {
   if (!a.contact && !b.contact) return 1.0;
   if (a.contact != b.contact) return r.confusion;
   const glm::dvec3 d = a.position - b.position;
   const double angle = std::acos(std::clamp(glm::dot(a.normal, b.normal), -1.0, 1.0));
-  const double alike = class_overlap(*a.classes, *b.classes) *
+  const double alike = planning::class_overlap(*a.classes, *b.classes) *
                        std::exp(-0.5 * glm::dot(d, d) / (r.sigma_p * r.sigma_p)) *
                        std::exp(-0.5 * angle * angle / (r.sigma_n * r.sigma_n));
   return r.confusion + (1.0 - r.confusion) * alike;
@@ -333,7 +311,7 @@ std::vector<std::size_t> eligible(std::span<const CandidateTouch> cands, const T
 
 TouchPlanner::TouchPlanner(const Map& map) {
   if (map.empty()) throw Error("touch planner: the map is empty");
-  impl_ = std::make_shared<const Impl>(map.internal());
+  impl_ = std::make_shared<const Impl>(map.shared());
 }
 TouchPlanner::~TouchPlanner() = default;
 TouchPlanner::TouchPlanner(TouchPlanner&&) noexcept = default;

@@ -5,7 +5,9 @@
 # object holds >= 95% (mean per trial), the median pose errors at 10 and 20 readings, the plan's time for 10, 100
 # and 1000 candidates beside an update's at 10 readings, and the issue's goals; draws both curves on one figure.
 #   usage: bench/active_touch.sh    (DATA=dir with train.svad, test.svad [, map.svam]; TRIALS=30 READINGS=20;
-#                                    TIMING_TRIALS=10; SIM=1 adds the active-sim policy; SVA=... THREADS=2 OUT=dir)
+#                                    TIMING_TRIALS=10; SIM=1 adds the active-sim policy; BOUND=1 adds the oracle
+#                                    bound of bench/active_touch_bound.py (needs the Python package in
+#                                    build/python); SVA=... THREADS=2 OUT=dir)
 # Without DATA it simulates paper3d (2 min) and trains the map (30 s) into OUT.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/find_sva.sh"
@@ -49,7 +51,15 @@ for n in 10 100 1000; do
     --json "$OUT/timing_$n.json" > /dev/null
 done
 t4=$(date +%s)
-echo "== wall time: random $((t1 - t0)) s, active $((t2 - t1)) s, active-sim $((t3 - t2)) s, timing $((t4 - t3)) s"
+if [[ "${BOUND:-0}" == 1 ]]; then
+  # The fewest readings to 95% any policy can reach after random's first touch (an oracle tries every second one).
+  "$SVA" "${common[@]}" --trials "$TRIALS" --max-readings 6 --csv "$OUT/random6.csv" > /dev/null
+  PYTHONPATH="${PYTHONPATH:-$(dirname "$SVA")/python}" "${PYTHON:-$ROOT/.venv/bin/python}" \
+    "$ROOT/bench/active_touch_bound.py" --map "$MAP" --data "$DATA/test.svad" --random-csv "$OUT/random6.csv" |
+    tee "$OUT/bound.txt" | tail -3
+fi
+t5=$(date +%s)
+echo "== wall time: random $((t1 - t0)) s, active $((t2 - t1)) s, active-sim $((t3 - t2)) s, timing $((t4 - t3)) s, bound $((t5 - t4)) s"
 echo "== figure: $OUT/active_vs_random.png"
 
 python3 - "$OUT" "${curves[@]}" <<'PY'

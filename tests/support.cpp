@@ -24,6 +24,7 @@ int run_sva(const std::string& arguments, std::string* output) {
 void skip(const std::string& reason) {
   std::fprintf(stderr, "SKIPPED: %s\n", reason.c_str());
   std::fflush(stderr);
+  temp_dirs().remove();  // _Exit runs no destructors
   std::_Exit(77);
 }
 

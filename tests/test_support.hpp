@@ -12,10 +12,12 @@ namespace sva::test {
 // unless SVA_KEEP_TEST_DIRS is set, to look at what a failing test wrote: a suite run leaves /tmp as it found it.
 class TempDirs {
  public:
-  ~TempDirs() {
+  ~TempDirs() { remove(); }
+  void remove() {
     if (std::getenv("SVA_KEEP_TEST_DIRS")) return;
     std::error_code ec;
     for (const auto& d : dirs_) std::filesystem::remove_all(d, ec);
+    dirs_.clear();
   }
   void add(const std::filesystem::path& d) { dirs_.push_back(d); }
 

@@ -16,4 +16,5 @@ NB_MODULE(_sva_core, m) {
   bind_recognizer(m);
   bind_batch_recognizer(m);
   bind_workflow(m);
+  bind_touch_planner(m);
 }

@@ -362,7 +362,7 @@ TEST_CASE("sva bench on the Vulkan backend reports device memory (n/a until the 
   CHECK(j["roofline"]["votes_per_second"].get<double>() > 0);
 }
 
-TEST_CASE("sva eval --policy: random is the default bit for bit; active plans each touch, the same on 1 or 2 threads") {
+TEST_CASE("sva eval --policy: random is the default bit for bit, active plans each touch, the same on 1 or 2 threads") {
   Fixture f;
   std::string out;
   const std::string common = f.base() + "--trials 4 --max-readings 6 --seed 3 ";
@@ -392,6 +392,17 @@ TEST_CASE("sva eval --policy: random is the default bit for bit; active plans ea
   CHECK(c["mean"].get<double>() >= 1.0);
   CHECK(c["mean"].get<double>() <= 7.0);
   CHECK(nlohmann::json::parse(read_file(f.path("a1.json")))["plan_ms_median"].get<double>() > 0.0);
+
+  // Candidates sampled on the hypotheses' surfaces and the second touch at random: the first two readings are the
+  // random policy's, so the curve's first two points are its own.
+  REQUIRE(sva::test::run_sva(common +
+                                 "--policy active --candidates-from hypotheses --candidates 30 --plan-second 0 "
+                                 "--json " +
+                                 f.path("h.json"),
+                             &out) == 0);
+  auto h = without_timing(f.path("h.json"));
+  CHECK(h["curve"][0] == rnd["curve"][0]);
+  CHECK(h["curve"][1] == rnd["curve"][1]);
 }
 
 TEST_CASE("sva eval --policy refuses what it cannot run, naming it") {
@@ -401,8 +412,15 @@ TEST_CASE("sva eval --policy refuses what it cannot run, naming it") {
   CHECK(out.find("greedy") != std::string::npos);
   CHECK(sva::test::run_sva(f.base() + "--candidates 10", &out) != 0);
   CHECK(out.find("--policy active") != std::string::npos);
-  CHECK(sva::test::run_sva(f.base() + "--policy active --candidates 0", &out) != 0);
+  CHECK(sva::test::run_sva(f.base() + "--policy active --candidates-from hypotheses --candidates 0", &out) != 0);
   CHECK(out.find("--candidates") != std::string::npos);
+  // Sampled candidates only where they are used; the candidate source by name.
+  CHECK(sva::test::run_sva(f.base() + "--policy active --candidates 10", &out) != 0);
+  CHECK(out.find("--candidates-from hypotheses") != std::string::npos);
+  CHECK(sva::test::run_sva(f.base() + "--policy active --candidates-from camera", &out) != 0);
+  CHECK(out.find("camera") != std::string::npos);
+  CHECK(sva::test::run_sva(f.base() + "--plan-second 3", &out) != 0);
+  CHECK(out.find("--policy active") != std::string::npos);
   // The tiny scene's meshes do not exist: active-sim cannot press its touches.
   CHECK(sva::test::run_sva(f.base() + "--policy active-sim --trials 2 --max-readings 3", &out) != 0);
   CHECK(out.find("active-sim") != std::string::npos);

@@ -264,7 +264,7 @@ TEST_CASE("the scene's symmetry point: parsed, written back only when set, refus
                     Catch::Contains("point[1]"));
 }
 
-TEST_CASE("the symmetry point travels into the map (version 3); older maps read it as the origin") {
+TEST_CASE("the symmetry point travels into the map (version 3), older maps read it as the origin") {
   sim::SimulateOptions so;
   so.train_per_object = 12;
   so.test_per_object = 1;

@@ -1,4 +1,4 @@
-"""examples/python_quickstart.py runs and writes its figure."""
+"""The examples run: python_quickstart.py writes its figure, python_active_touch.py plans its touches."""
 
 from __future__ import annotations
 
@@ -19,3 +19,12 @@ def test_quickstart_runs(tmp_path):
     assert (tmp_path / "map.svam").is_file() and (tmp_path / "train.svad").is_file()
     last = r.stdout.strip().splitlines()[-1]
     assert last.startswith("final: brick"), r.stdout
+
+
+def test_active_touch_example_runs(tmp_path):
+    r = subprocess.run([sys.executable, str(REPO / "examples" / "python_active_touch.py"), "--out", str(tmp_path)],
+                       capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr
+    lines = r.stdout.strip().splitlines()
+    assert lines[-2].startswith("touches until one object holds 95%: "), r.stdout
+    assert lines[-1].startswith("final: brick"), r.stdout

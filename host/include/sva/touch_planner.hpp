@@ -121,10 +121,11 @@ class TouchPlanner {
   // been. For each object, `per_object` of its training contacts drawn by how alike their appearance classes are
   // to the touch's (Bhattacharyya), each aligned to the touch - the contact onto the touched position, its normal
   // onto the touch's - and turned about the normal by a random angle. An object's probability is its contacts' mean
-  // likeness, normalised; its hypotheses share it equally (object_hypotheses: the first of each). pose_valid stays
-  // false: these poses are guesses to plan over, not evidence. Plan with max_hypotheses >= objects x per_object to
-  // weigh them all. Deterministic for a seed; sva::Error naming the fault when the touch cannot be described (not
-  // converged, an image of the wrong size, a NaN) or per_object is 0.
+  // likeness, normalised (uniform, with no guesses, when no contact looks alike: then every candidate scores 0); its
+  // hypotheses share it equally (object_hypotheses: the first of each). pose_valid stays false: these poses are
+  // guesses to plan over, not evidence. Plan with max_hypotheses >= objects x per_object to weigh them all.
+  // Deterministic for a seed; sva::Error naming the fault when the touch cannot be described (not converged, an
+  // image of the wrong size, a NaN) or per_object is 0.
   Estimate contact_estimate(const Reading& touch, std::size_t per_object, std::uint64_t seed) const;
 
   // The position sigma used when options leave it at 0 (mm): twice the median spacing of the training contacts.

@@ -47,8 +47,8 @@ TouchPlanOptions plan_options(const nb::kwargs& kwargs, const std::string& what)
   TouchPlanOptions o;
   for (auto [k, v] : kwargs) {
     const std::string key = nb::cast<std::string>(k);
-    auto number = [&](double& field) { field = option<double>(v, what, key, "a number"); };
-    auto count = [&](std::size_t& field) { field = option<std::size_t>(v, what, key, "a non-negative int"); };
+    auto number = [&](double& field) { field = keyword_value<double>(v, what, key, "a number"); };
+    auto count = [&](std::size_t& field) { field = keyword_value<std::size_t>(v, what, key, "a non-negative int"); };
     if (key == "best")
       count(o.best);
     else if (key == "max_hypotheses")
@@ -76,7 +76,7 @@ TouchPlanOptions plan_options(const nb::kwargs& kwargs, const std::string& what)
     else if (key == "pair_max_mm")
       number(o.pair_max_mm);
     else if (key == "pose_gain")
-      o.pose_gain = option<bool>(v, what, key, "a bool");
+      o.pose_gain = keyword_value<bool>(v, what, key, "a bool");
     else if (key == "pose_gain_confidence")
       number(o.pose_gain_confidence);
     else

@@ -5,6 +5,7 @@
 // work while keeping Ctrl-C working.
 #include <nanobind/nanobind.h>
 #include <nanobind/ndarray.h>
+#include <nanobind/stl/string.h>
 
 #include <sva/pose.hpp>
 #include <sva/recognizer.hpp>
@@ -49,6 +50,17 @@ glm::dvec3 to_vec3(nb::handle obj, const char* what);
 glm::dmat3 to_mat3(nb::handle obj, const char* what);
 // A pressure image: rows x cols (2-D) or flat (1-D), row-major; float32 arrays are read without conversion.
 std::vector<float> to_pressure(nb::handle obj, const char* what);
+
+// A keyword argument's value as T, or a TypeError "<what>: option <key> expects <type>, got <its type>".
+template <class T>
+T keyword_value(nb::handle value, const std::string& what, const std::string& key, const char* type) {
+  T out{};
+  if (!nb::try_cast(value, out))
+    throw nb::type_error((what + ": option " + key + " expects " + type + ", got " +
+                          nb::cast<std::string>(value.type().attr("__name__")))
+                             .c_str());
+  return out;
+}
 
 // "auto", "cpu", "vulkan" (anything else: sva.Error naming `what`).
 BackendKind to_backend(const std::string& text, const std::string& what);

@@ -10,16 +10,6 @@ namespace sva::python {
 
 namespace {
 
-template <class T>
-T get(nb::handle value, const std::string& what, const char* key, const char* type) {
-  T out{};
-  if (!nb::try_cast(value, out))
-    throw nb::type_error((what + ": option " + key + " expects " + type + ", got " +
-                          nb::cast<std::string>(value.type().attr("__name__")))
-                             .c_str());
-  return out;
-}
-
 Method to_method(const std::string& text, const std::string& what) {
   if (text == "sva") return Method::sva;
   if (text == "appearance") return Method::appearance;
@@ -34,24 +24,24 @@ RecognizerOptions recognizer_options(const nb::kwargs& kwargs, const std::string
   for (auto [k, v] : kwargs) {
     const std::string key = nb::cast<std::string>(k);
     if (key == "backend") {
-      o.backend = to_backend(get<std::string>(v, what, "backend", "a string"), what + ": backend");
+      o.backend = to_backend(keyword_value<std::string>(v, what, "backend", "a string"), what + ": backend");
     } else if (key == "method") {
-      o.method = to_method(get<std::string>(v, what, "method", "a string"), what);
+      o.method = to_method(keyword_value<std::string>(v, what, "method", "a string"), what);
     } else if (key == "eps") {
-      o.eps = get<double>(v, what, "eps", "a number");
+      o.eps = keyword_value<double>(v, what, "eps", "a number");
       if (!(o.eps > 0) || !std::isfinite(o.eps)) throw Error(what + ": eps must be a positive number");
     } else if (key == "likelihood_cutoff") {
-      o.likelihood_cutoff = static_cast<float>(get<double>(v, what, "likelihood_cutoff", "a number"));
+      o.likelihood_cutoff = static_cast<float>(keyword_value<double>(v, what, "likelihood_cutoff", "a number"));
     } else if (key == "object_prune_probability") {
-      o.object_prune_probability = get<double>(v, what, "object_prune_probability", "a number");
+      o.object_prune_probability = keyword_value<double>(v, what, "object_prune_probability", "a number");
     } else if (key == "max_pairs_per_update") {
-      o.max_pairs_per_update = get<int>(v, what, "max_pairs_per_update", "an int");
+      o.max_pairs_per_update = keyword_value<int>(v, what, "max_pairs_per_update", "an int");
     } else if (key == "threads") {
-      o.threads = get<unsigned>(v, what, "threads", "a non-negative int");
+      o.threads = keyword_value<unsigned>(v, what, "threads", "a non-negative int");
     } else if (key == "vulkan_device") {
-      o.vulkan_device = get<std::string>(v, what, "vulkan_device", "a string");
+      o.vulkan_device = keyword_value<std::string>(v, what, "vulkan_device", "a string");
     } else if (key == "refine_pose") {
-      o.refine_pose = get<bool>(v, what, "refine_pose", "a bool");
+      o.refine_pose = keyword_value<bool>(v, what, "refine_pose", "a bool");
     } else {
       throw nb::type_error((what + ": unknown option \"" + key +
                             "\" (options: backend, method, eps, likelihood_cutoff, object_prune_probability, "

@@ -56,6 +56,8 @@ const Hypothesis* other_bin(const Estimate& e) {
       return &e.top[i];
   return nullptr;
 }
+// The result points into the estimate: a temporary one would be freed before the pointer is read.
+const Hypothesis* other_bin(const Estimate&&) = delete;
 
 PosePrior gaussian_at(const RigidPose& pose, double sigma_mm, double sigma_rad) {
   PosePrior p;
@@ -79,7 +81,8 @@ TEST_CASE("Pose prior: it moves the best pose and the hypotheses to the mode it 
     for (const Reading& r : readings) plain.add_reading(r), camera.add_reading(r), vague.add_reading(r);
     const Estimate p = plain.estimate(3);
     REQUIRE(p.pose_valid);
-    const Hypothesis* target = other_bin(plain.estimate(kPosePriorCandidates));
+    const Estimate wide = plain.estimate(kPosePriorCandidates);
+    const Hypothesis* target = other_bin(wide);
     REQUIRE(target != nullptr);               // three readings leave the belief wide
     const RigidPose favoured = target->pose;  // a bin centre
 

@@ -3,8 +3,9 @@
 # benchmark on a GPU machine with no build tools (docs/vulkan-backend.md,
 # "Running on a GPU machine"):
 #
-#   scripts/bundle.sh OUT_DIR          BUILD_DIR=build (default): reused when built,
-#                                      else configured and built with PRESET (default)
+#   scripts/bundle.sh OUT_DIR          BUILD_DIR=build-ci (default): reused when built,
+#                                      else configured and built with PRESET (ci: the
+#                                      default preset builds the command line only)
 #
 # OUT_DIR/  sva, tests/sva_tests_<area>, assets/ (scenes and objects), lib/ (every
 #           shared library they load but the C library and the Vulkan drivers),
@@ -14,11 +15,11 @@
 # SVA_BIN and SVA_ASSETS, so the build and source paths compiled into the tests
 # (tests/main.cpp) are never used.
 set -euo pipefail
-usage() { echo "usage: [BUILD_DIR=build] [PRESET=default] scripts/bundle.sh OUT_DIR" >&2; exit 2; }
+usage() { echo "usage: [BUILD_DIR=build-ci] [PRESET=ci] scripts/bundle.sh OUT_DIR" >&2; exit 2; }
 [[ $# -eq 1 && -n $1 ]] || usage
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out=$1
-preset=${PRESET:-default}
+preset=${PRESET:-ci}
 # The presets' binary folders: build/ for default, build-<preset>/ for the others.
 default_build=$root/build
 [[ $preset == default ]] || default_build=$root/build-$preset

@@ -158,4 +158,9 @@ def main(argv: Optional[list[str]] = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    # Run as a script (`python -m sva.distributed`), this file is the module `__main__`, and pickle would send its
+    # functions to the workers by value, with the module's lock (which cannot be pickled). The importable module's
+    # own main submits `sva.distributed._recognize_shard`, which workers import by name.
+    from sva.distributed import main as _main
+
+    sys.exit(_main())

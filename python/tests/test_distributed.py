@@ -3,6 +3,14 @@ byte for byte, with each worker holding one engine."""
 
 from __future__ import annotations
 
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from pathlib import Path
+
 import pytest
 
 import sva
@@ -57,3 +65,59 @@ def test_command_line_on_a_local_cluster(tiny, tmp_path, capfd):
     assert rc == 0
     assert out.read_bytes() == tiny.results.read_bytes()
     assert "recognised 6 sessions on 2 workers" in capfd.readouterr().err
+
+
+# The command line as docs/python.md shows it: `python -m sva.distributed`, in a process of its own (run as
+# `__main__`, where pickling the worker function by value once failed on the module's lock).
+def run_cli(*args: str, timeout: float = 240) -> subprocess.CompletedProcess:
+    return subprocess.run([sys.executable, "-m", "sva.distributed", *args], capture_output=True, text=True,
+                          timeout=timeout, env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path)))
+
+
+def test_python_m_sva_distributed_local(tiny, tmp_path):
+    out = tmp_path / "local.jsonl"
+    r = run_cli("--local", "2", "--map", str(tiny.map), "--batch", str(tiny.sessions), "--out", str(out),
+                "--backend", "cpu", "--threads", "1")
+    assert r.returncode == 0, r.stderr
+    assert out.read_bytes() == tiny.results.read_bytes()
+    assert "recognised 6 sessions on 2 workers" in r.stderr
+
+
+def start(*module_and_args: str, log: Path) -> subprocess.Popen:
+    """A Dask command line of ours in its own process group (so that teardown ends its children too)."""
+    return subprocess.Popen([sys.executable, "-m", *module_and_args], stdout=log.open("w"), stderr=subprocess.STDOUT,
+                            start_new_session=True, env=dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path)))
+
+
+def stop(p: subprocess.Popen) -> None:
+    if p.poll() is None:
+        os.killpg(p.pid, signal.SIGTERM)
+        try:
+            p.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            os.killpg(p.pid, signal.SIGKILL)
+            p.wait()
+
+
+def test_python_m_sva_distributed_scheduler(tiny, tmp_path):
+    """`dask scheduler` and `dask worker` as a lab would start them, on the loopback address only."""
+    info = tmp_path / "scheduler.json"
+    procs = [start("distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
+                   "--scheduler-file", str(info), log=tmp_path / "scheduler.log")]
+    try:
+        deadline = time.monotonic() + 60
+        while not info.is_file() and time.monotonic() < deadline and procs[0].poll() is None:
+            time.sleep(0.2)
+        assert info.is_file(), (tmp_path / "scheduler.log").read_text()
+        address = json.loads(info.read_text())["address"]
+        assert address.startswith("tcp://127.0.0.1:"), address
+        procs.append(start("distributed.cli.dask_worker", "--scheduler-file", str(info), "--host", "127.0.0.1",
+                           "--nworkers", "1", "--nthreads", "1", "--no-dashboard", log=tmp_path / "worker.log"))
+        out = tmp_path / "scheduler.jsonl"
+        r = run_cli("--scheduler", address, "--map", str(tiny.map), "--batch", str(tiny.sessions), "--out", str(out),
+                    "--backend", "cpu", "--threads", "1")
+        assert r.returncode == 0, r.stderr + (tmp_path / "worker.log").read_text()
+        assert out.read_bytes() == tiny.results.read_bytes()
+    finally:
+        for p in reversed(procs):
+            stop(p)

@@ -45,3 +45,37 @@ TEST_CASE("binary container round-trips and refuses damage") {
   CHECK_THROWS_WITH(r.get_vector<double>(), Catch::Contains("exceeds"));
   std::filesystem::remove_all(dir);
 }
+
+TEST_CASE("binary container: a file cut short says truncated with both sizes, even inside the header") {
+  auto dir = sva::test::temp_dir("binary-cut");
+  BinaryWriter w;
+  w.put<std::uint64_t>(7);
+  w.write_file(dir / "x.bin", "SVATEST1", 3);
+  std::string bytes;
+  {
+    std::ifstream in(dir / "x.bin", std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  REQUIRE(bytes.size() == 40);
+  std::ofstream(dir / "head.bin", std::ios::binary) << bytes.substr(0, 20);  // the magic intact, the header cut
+  CHECK_THROWS_WITH(
+      BinaryReader(dir / "head.bin", "SVATEST1", 3, "test"),
+      Catch::Contains("head.bin: truncated test file: 20 bytes, its header alone is 32") && !Catch::Contains("magic"));
+  std::ofstream(dir / "body.bin", std::ios::binary) << bytes.substr(0, 36);
+  CHECK_THROWS_WITH(
+      BinaryReader(dir / "body.bin", "SVATEST1", 3, "test"),
+      Catch::Contains("body.bin: truncated test file: expected 40 bytes") && Catch::Contains("the file has 36"));
+  std::ofstream(dir / "pad.bin", std::ios::binary) << bytes + "xx";
+  CHECK_THROWS_WITH(BinaryReader(dir / "pad.bin", "SVATEST1", 3, "test"), Catch::Contains("padded"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("atomic write: a refused rename reports its own error, not the clean-up's") {
+  auto dir = sva::test::temp_dir("binary-rename");
+  std::filesystem::create_directories(dir / "folder");
+  BinaryWriter w;
+  w.put<std::uint32_t>(1);
+  CHECK_THROWS_WITH(w.write_file(dir / "folder", "SVATEST1", 3),
+                    Catch::Contains("cannot rename the temporary file into place (Is a directory)"));
+  std::filesystem::remove_all(dir);
+}

@@ -48,8 +48,11 @@ BinaryReader::BinaryReader(const std::filesystem::path& file, std::string_view m
   if (!in) fail("cannot open for reading");
   std::vector<char> all((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (all.empty()) fail("empty file, expected a " + std::string(what) + " file");
-  if (all.size() < kHeaderBytes || std::memcmp(all.data(), magic8.data(), 8) != 0)
+  if (all.size() < 8 || std::memcmp(all.data(), magic8.data(), 8) != 0)
     fail("not an sva " + std::string(what) + " file (bad magic)");
+  if (all.size() < kHeaderBytes)  // the magic is right: the file was cut short, e.g. by a full disk
+    fail("truncated " + std::string(what) + " file: " + std::to_string(all.size()) + " bytes, its header alone is " +
+         std::to_string(kHeaderBytes));
   std::uint32_t file_version;
   std::uint64_t size, sum;
   std::memcpy(&file_version, all.data() + 8, 4);
@@ -60,8 +63,9 @@ BinaryReader::BinaryReader(const std::filesystem::path& file, std::string_view m
          (oldest == version ? std::to_string(version) : std::to_string(oldest) + " to " + std::to_string(version)));
   version_ = file_version;
   if (size != all.size() - kHeaderBytes)
-    fail("truncated or padded: header says " + std::to_string(size) + " payload bytes, file has " +
-         std::to_string(all.size() - kHeaderBytes));
+    fail(std::string(size > all.size() - kHeaderBytes ? "truncated " : "padded ") + std::string(what) +
+         " file: expected " + std::to_string(kHeaderBytes + size) + " bytes (a " + std::to_string(kHeaderBytes) +
+         "-byte header and " + std::to_string(size) + " payload bytes), the file has " + std::to_string(all.size()));
   payload_.assign(all.begin() + kHeaderBytes, all.end());
   if (fnv1a64(payload_.data(), payload_.size()) != sum) fail("checksum mismatch: the file is corrupt");
 }

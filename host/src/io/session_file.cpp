@@ -53,9 +53,24 @@ std::vector<std::optional<PosePrior>> get_pose_priors(BinaryReader& r, std::uint
   }
   return out;
 }
+
+// Saving refuses what loading would refuse: a missing folder is a typo in the path far more often than a wish to
+// create it, and the clear error beats a rename's.
+void check_session_target(const std::filesystem::path& file) {
+  if (file.empty()) throw Error("save_session: the file name is empty");
+  std::error_code ec;
+  if (std::filesystem::is_directory(file, ec))
+    throw Error(file.string() + ": is a folder, expected a session file name");
+  const auto folder = file.parent_path();
+  if (!folder.empty() && !std::filesystem::is_directory(folder, ec))
+    throw Error(file.string() + ": cannot save: the folder " + folder.string() +
+                (std::filesystem::exists(folder, ec) ? " is not a folder" : " does not exist"));
+}
+
 }  // namespace
 
 void save_session_file(const SessionFile& session, const std::filesystem::path& file) {
+  check_session_target(file);
   BinaryWriter w;
   w.put(session.scene_hash);
   w.put(session.objects);

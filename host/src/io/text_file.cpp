@@ -49,7 +49,8 @@ void write_file_atomically(const std::filesystem::path& file, const std::functio
   }
   std::filesystem::rename(tmp, file, ec);
   if (ec) {
-    std::filesystem::remove(tmp, ec);
+    std::error_code ignored;  // the rename's error is the one to report, not the clean-up's
+    std::filesystem::remove(tmp, ignored);
     throw Error(file.string() + ": cannot rename the temporary file into place (" + ec.message() +
                 "); any earlier file is left as it was");
   }

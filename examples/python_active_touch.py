@@ -73,7 +73,7 @@ def main() -> None:
     truth = sva.RigidPose(rotation_z(30.0), [15.0, -10.0, 0.0])
     surface = [sva.Reading(s.reading.pressure, truth.apply(s.reading.position), truth.R @ s.reading.normal,
                            truth.R @ s.reading.x_axis)
-               for s in test if s.object == 1 and s.reading.status == sva.ControllerStatus.converged]
+               for s in test if s.object == 1 and s.converged]
     in_order, _ = touches_to_decide(m, surface)
     planned, est = touches_to_decide(m, surface, planner)
     print(f"touches until one object holds 95%: {planned} planned, {in_order} in the order they come")

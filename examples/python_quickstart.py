@@ -44,7 +44,7 @@ def main() -> None:
     # 3. A robot touches the brick, lying rotated by 30 degrees and shifted: test readings of object 1 moved into
     #    the robot frame by that pose (readings are in the object's frame in simulation).
     truth = sva.RigidPose(rotation_z(30.0), [15.0, -10.0, 0.0])
-    touches = [s.reading for s in test if s.object == 1 and s.reading.status == sva.ControllerStatus.converged]
+    touches = [s.reading for s in test if s.object == 1 and s.converged]  # unconverged touches are refused
     rec = sva.Recognizer(m, backend="auto")
     probabilities, errors = [], []
     for r in touches:

@@ -29,7 +29,7 @@ def readings_of(data: sva.Dataset, count: int) -> list[sva.Reading]:
     """The first `count` converged readings of the dataset's first object with that many."""
     by_object: dict[int, list[sva.Reading]] = {}
     for s in data:
-        if s.reading.status == sva.ControllerStatus.converged:
+        if s.converged:
             by_object.setdefault(s.object, []).append(s.reading)
     for rs in by_object.values():
         if len(rs) >= count:

@@ -84,7 +84,7 @@ def binding_costs(m: sva.Map, reading: sva.Reading) -> None:
     p64 = p32.astype(np.float64)
     pos, nrm = np.array(reading.position), np.array(reading.normal)
     print("binding costs per call (best of 5, microseconds):")
-    print(f"  rec.readings() (call, lock)                    {per_call(rec.readings):7.2f}")
+    print(f"  rec.reading_count() (call, lock)               {per_call(rec.reading_count):7.2f}")
     print(f"  rec.estimate(), no reading (+ GIL release,     {per_call(rec.estimate, 2000):7.2f}\n"
           "    the engine's empty estimate, Estimate to Python)")
     print(f"  sva.Reading(float32 image, vectors)            {per_call(lambda: sva.Reading(p32, pos, nrm)):7.2f}")

@@ -64,8 +64,10 @@ void bind_dataset(nb::module_& m) {
       .def_rw("reading", &Sample::reading)
       .def_rw("object_pose", &Sample::object_pose, "true pose of the object when the reading was taken")
       .def_prop_ro(
-          "object", [](const Sample& s) { return s.object; },
-          "true object id (index into the scene's objects)");
+          "object", [](const Sample& s) { return s.object; }, "true object id (index into the scene's objects)")
+      .def_prop_ro(
+          "converged", [](const Sample& s) { return s.reading.status == ControllerStatus::converged; },
+          "whether the contact controller converged: only such readings are used (add_reading refuses others)");
   nb::class_<Dataset>(m, "Dataset", "Readings of a scene's objects with ground truth (a .svad file).")
       .def(nb::init<>())
       .def_static(

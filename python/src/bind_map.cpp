@@ -47,6 +47,12 @@ void bind_map(nb::module_& m) {
       .def_prop_ro("scene_name", &Map::scene_name)
       .def_prop_ro("scene_hash", &Map::scene_hash)
       .def_prop_ro("pose_space", &Map::pose_space, "the pose space of the map's scene (a copy)")
+      .def_prop_ro("sensor", &Map::sensor, "the tactile array the map was trained with (a copy)")
+      .def_prop_ro(
+          "rows", [](const Map& map) { return map.sensor().rows; },
+          "the sensor's rows: readings' images are rows x cols")
+      .def_prop_ro(
+          "cols", [](const Map& map) { return map.sensor().cols; }, "the sensor's columns")
       .def("__repr__", [](const Map& map) {
         if (map.empty()) return std::string("Map(empty)");
         return "Map(scene='" + map.scene_name() + "', objects=" + std::to_string(map.objects()) +

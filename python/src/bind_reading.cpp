@@ -15,14 +15,39 @@ using namespace nb::literals;
 
 namespace {
 
-nb::ndarray<nb::numpy, float, nb::ndim<1>> pressure_view(Reading& r) {
-  return nb::ndarray<nb::numpy, float, nb::ndim<1>>(r.pressure.data(), {r.pressure.size()}, nb::handle());
+// (rows, cols) when the reading knows its image's shape (a 2-D image was given, or its dataset's sensor), else flat.
+nb::ndarray<nb::numpy, float> pressure_view(Reading& r) {
+  if (r.rows > 0 && r.cols > 0 &&
+      static_cast<std::size_t>(r.rows) * static_cast<std::size_t>(r.cols) == r.pressure.size())
+    return nb::ndarray<nb::numpy, float>(
+        r.pressure.data(), {static_cast<std::size_t>(r.rows), static_cast<std::size_t>(r.cols)}, nb::handle());
+  return nb::ndarray<nb::numpy, float>(r.pressure.data(), {r.pressure.size()}, nb::handle());
+}
+
+// In place: NumPy views of the image stay valid, so its size is fixed, and so is its shape once known.
+void set_pressure(Reading& r, nb::handle p) {
+  auto image = to_pressure(p, "Reading.pressure");
+  if (image.values.size() != r.pressure.size())
+    throw nb::value_error(("Reading.pressure: the reading's image has " + std::to_string(r.pressure.size()) +
+                           " values, the new one " + std::to_string(image.values.size()) +
+                           "; make a new Reading for another sensor")
+                              .c_str());
+  if (image.rows != 0 && r.rows != 0 && (image.rows != r.rows || image.cols != r.cols))
+    throw nb::value_error(("Reading.pressure: the reading's image is " + std::to_string(r.rows) + " x " +
+                           std::to_string(r.cols) + ", the new one " + std::to_string(image.rows) + " x " +
+                           std::to_string(image.cols) + "; make a new Reading for another sensor")
+                              .c_str());
+  std::copy(image.values.begin(), image.values.end(), r.pressure.begin());
+  if (image.rows != 0) r.rows = image.rows, r.cols = image.cols;
 }
 
 void init_reading(Reading* r, nb::handle pressure, nb::handle position, nb::handle normal, nb::handle x_axis,
                   ControllerStatus status) {
   new (r) Reading();
-  r->pressure = to_pressure(pressure, "Reading.pressure");
+  auto image = to_pressure(pressure, "Reading.pressure");
+  r->pressure = std::move(image.values);
+  r->rows = image.rows;
+  r->cols = image.cols;
   r->position = to_vec3(position, "Reading.position");
   r->normal = to_vec3(normal, "Reading.normal");
   r->x_axis = to_vec3(x_axis, "Reading.x_axis");
@@ -47,20 +72,12 @@ void bind_reading(nb::module_& m) {
                    "status: ControllerStatus = ...) -> None"),
            "status defaults to ControllerStatus.converged.")
       .def_prop_rw(
-          "pressure", &pressure_view,
-          [](Reading& r, nb::handle p) {
-            // In place: NumPy views of the image stay valid, so its size is fixed.
-            const auto values = to_pressure(p, "Reading.pressure");
-            if (values.size() != r.pressure.size())
-              throw nb::value_error(("Reading.pressure: the reading's image has " + std::to_string(r.pressure.size()) +
-                                     " values, the new one " + std::to_string(values.size()) +
-                                     "; make a new Reading for another sensor")
-                                        .c_str());
-            std::copy(values.begin(), values.end(), r.pressure.begin());
-          },
-          nb::rv_policy::reference_internal,
+          "pressure", &pressure_view, &set_pressure, nb::rv_policy::reference_internal,
           nb::for_setter(nb::sig("def pressure(self, arg: numpy.typing.ArrayLike, /) -> None")),
-          "the pressure image, flat (rows*cols,) float32, kPa")
+          "the pressure image, float32 kPa: (rows, cols) when the shape is known (a 2-D image was given, or the "
+          "dataset's sensor), else flat (rows*cols,)")
+      .def_ro("rows", &Reading::rows, "the image's rows when known (0: a flat image was given)")
+      .def_ro("cols", &Reading::cols, "the image's columns when known (0: a flat image was given)")
       .def_prop_rw(
           "position", [](Reading& r) { return vec3_view(r.position); },
           [](Reading& r, nb::handle v) { r.position = to_vec3(v, "Reading.position"); },

@@ -34,22 +34,40 @@ struct PyRecognizer {
   mutable std::mutex mutex;
 };
 
-void bind_estimate(nb::module_& m) {
+template <std::size_t N>
+nb::ndarray<nb::numpy, double> owned_doubles(const std::array<double, N>& values,
+                                             std::initializer_list<std::size_t> shape) {
+  auto* d = new std::array<double, N>(values);
+  nb::capsule owner(d, [](void* p) noexcept { delete static_cast<std::array<double, N>*>(p); });
+  return nb::ndarray<nb::numpy, double>(d->data(), shape, owner);
+}
+
+// sva::to_ros as three NumPy arrays: position (3,) m, orientation (4,) x y z w, covariance (6, 6) ROS order.
+nb::tuple ros_tuple(const PoseHypothesis& h) {
+  const RosPose r = to_ros(h);
+  return nb::make_tuple(owned_doubles(r.position, {3}), owned_doubles(r.orientation, {4}),
+                        owned_doubles(r.covariance, {6, 6}));
+}
+
+// Before the first reading the estimate names no object (sva::Estimate::ready): None, not a placeholder id.
+nb::object if_ready(const Estimate& e, nb::object value) { return e.ready ? value : nb::none(); }
+
+void bind_hypotheses(nb::module_& m) {
   nb::class_<Hypothesis>(m, "Hypothesis", "A pose bin of the belief: object, pose (bin centre) and posterior mass.")
-      .def_ro("object", &Hypothesis::object)
-      .def_ro("object_name", &Hypothesis::object_name)
-      .def_rw("pose", &Hypothesis::pose)
-      .def_ro("probability", &Hypothesis::probability)
+      .def_ro("object", &Hypothesis::object, "object id (index into Map.object_names)")
+      .def_ro("object_name", &Hypothesis::object_name, "the object's name")
+      .def_rw("pose", &Hypothesis::pose, "the bin's pose of the object, robot frame (x_robot = R x_object + T, mm)")
+      .def_ro("probability", &Hypothesis::probability, "posterior mass of this bin (0 to 1)")
       .def("__repr__", [](const Hypothesis& h) {
         return "Hypothesis(object='" + h.object_name + "', probability=" + std::to_string(h.probability) + ")";
       });
   nb::class_<PoseHypothesis>(m, "PoseHypothesis",
                              "A distinct mode of the belief: object, pose, posterior mass and a 6x6 covariance in "
                              "ROS PoseWithCovariance order (x, y, z in mm; rotation about X, Y, Z in rad).")
-      .def_ro("object", &PoseHypothesis::object)
-      .def_ro("object_name", &PoseHypothesis::object_name)
-      .def_rw("pose", &PoseHypothesis::pose)
-      .def_ro("probability", &PoseHypothesis::probability)
+      .def_ro("object", &PoseHypothesis::object, "object id (index into Map.object_names)")
+      .def_ro("object_name", &PoseHypothesis::object_name, "the object's name")
+      .def_rw("pose", &PoseHypothesis::pose, "the mode's pose of the object, robot frame (mm)")
+      .def_ro("probability", &PoseHypothesis::probability, "posterior mass of the mode (0 to 1)")
       .def_ro("valid", &PoseHypothesis::valid, "false for an object no vote has reached (object_hypotheses)")
       .def_prop_ro(
           "covariance",
@@ -59,20 +77,40 @@ void bind_estimate(nb::module_& m) {
             nb::capsule owner(d, [](void* p) noexcept { delete[] static_cast<double*>(p); });
             return nb::ndarray<nb::numpy, double, nb::shape<6, 6>>(d, {6, 6}, owner);
           },
-          nb::rv_policy::take_ownership, "6x6 NumPy array (a copy), row-major, ROS order")
+          nb::rv_policy::take_ownership, "6x6 NumPy array (a copy), row-major, ROS order (mm and rad)")
+      .def("to_ros", &ros_tuple,
+           nb::sig("def to_ros(self) -> tuple[numpy.typing.NDArray[numpy.float64], "
+                   "numpy.typing.NDArray[numpy.float64], numpy.typing.NDArray[numpy.float64]]"),
+           "(position, orientation, covariance) for geometry_msgs/PoseWithCovariance: position (3,) in metres, "
+           "orientation (4,) a unit quaternion x, y, z, w (w >= 0), covariance (6, 6) in ROS order (x, y, z in m; "
+           "rotation about X, Y, Z in rad). docs/api.md, \"Mapping an Estimate onto vision_msgs/Detection3D\".")
       .def("__repr__", [](const PoseHypothesis& h) {
         return "PoseHypothesis(object='" + h.object_name + "', probability=" + std::to_string(h.probability) + ")";
       });
+}
+
+void bind_estimate(nb::module_& m) {
+  bind_hypotheses(m);
   nb::class_<Estimate>(m, "Estimate", "The recognizer's belief after the readings so far.")
+      .def_ro("ready", &Estimate::ready,
+              "False before the first reading: no answer yet (object and object_name are None, object_probability "
+              "is the prior, the poses are the identity, top and the hypotheses are empty)")
       .def_ro("readings", &Estimate::readings, "readings seen so far")
-      .def_ro("object", &Estimate::object, "the object with the most mass summed over poses")
-      .def_ro("object_name", &Estimate::object_name)
+      .def_prop_ro(
+          "object", [](const Estimate& e) { return if_ready(e, nb::cast(e.object)); },
+          nb::sig("def object(self) -> int | None"),
+          "id of the object with the most mass summed over poses (None before the first reading)")
+      .def_prop_ro(
+          "object_name", [](const Estimate& e) { return if_ready(e, nb::cast(e.object_name)); },
+          nb::sig("def object_name(self) -> str | None"), "that object's name (None before the first reading)")
       .def_prop_ro(
           "object_probability", [](const Estimate& e) { return doubles_copy(e.object_probability); },
           nb::rv_policy::automatic, "per object, sums to 1 (a NumPy array)")
       .def_rw("pose", &Estimate::pose, "continuous pose of `object` (the fine pose when refined)")
-      .def_rw("parabolic_pose", &Estimate::parabolic_pose)
-      .def_rw("bin_pose", &Estimate::bin_pose)
+      .def_rw("parabolic_pose", &Estimate::parabolic_pose,
+              "the histogram's pose of `object`: the parabolic peak of the log-belief at its best bin")
+      .def_rw("bin_pose", &Estimate::bin_pose,
+              "the centre of `object`'s best pose bin (robot frame; the pose space's resolution)")
       .def_ro("pose_refined", &Estimate::pose_refined)
       .def_ro("pose_valid", &Estimate::pose_valid, "false until a pair has voted")
       .def_ro("top", &Estimate::top, "best bins, most probable first")
@@ -175,7 +213,10 @@ void bind_recognizer(nb::module_& m) {
             std::lock_guard lock(r.mutex);
             return r.rec.estimate(top_k);
           },
-          "top_k"_a = 5)
+          "top_k"_a = 5,
+          "The belief after the readings so far (sva.Estimate): the object posterior, the best object's pose, the "
+          "top_k best bins (top) and distinct modes (hypotheses). Before the first reading est.ready is False and "
+          "est.object is None: there is no answer yet.")
       .def(
           "reset",
           [](PyRecognizer& r) {
@@ -184,10 +225,22 @@ void bind_recognizer(nb::module_& m) {
             r.rec.reset();
           },
           "Forgets the readings and the prior: a fresh session (the belief's memory is kept for the next one).")
-      .def("readings", [](const PyRecognizer& r) {
-        std::lock_guard lock(r.mutex);
-        return r.rec.readings();
-      });
+      .def(
+          "reading_count",
+          [](const PyRecognizer& r) {
+            std::lock_guard lock(r.mutex);
+            return r.rec.reading_count();
+          },
+          "How many readings the session holds (0 after reset()).")
+      .def(
+          "readings",
+          [](const PyRecognizer& r) {
+            if (PyErr_WarnEx(PyExc_DeprecationWarning, "Recognizer.readings() is deprecated: use reading_count()", 1))
+              throw nb::python_error();
+            std::lock_guard lock(r.mutex);
+            return r.rec.reading_count();
+          },
+          "Deprecated: reading_count().");
   bind_session(c);
 }
 

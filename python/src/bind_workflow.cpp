@@ -105,6 +105,12 @@ std::pair<Dataset, Dataset> simulate(nb::handle scene_arg, std::optional<int> tr
     save_dataset(data.test, *out / "test.svad");
   }
   if (preview) sim::write_preview(data.train, *preview);
+  // The images have the scene's sensor's shape, as in a loaded dataset (Reading.pressure is then 2-D).
+  for (Dataset* d : {&data.train, &data.test})
+    for (Sample& s : d->samples) {
+      s.reading.rows = d->scene.sensor.rows;
+      s.reading.cols = d->scene.sensor.cols;
+    }
   return {std::move(data.train), std::move(data.test)};
 #else
   (void)scene_arg, (void)train, (void)test, (void)seed, (void)threads, (void)out, (void)preview;

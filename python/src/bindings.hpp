@@ -49,7 +49,11 @@ nb::ndarray<nb::numpy, double, nb::ndim<1>> doubles_copy(const std::vector<doubl
 glm::dvec3 to_vec3(nb::handle obj, const char* what);
 glm::dmat3 to_mat3(nb::handle obj, const char* what);
 // A pressure image: rows x cols (2-D) or flat (1-D), row-major; float32 arrays are read without conversion.
-std::vector<float> to_pressure(nb::handle obj, const char* what);
+struct PressureImage {
+  std::vector<float> values;
+  int rows = 0, cols = 0;  // its shape when 2-D (Reading::rows, cols); 0 when flat
+};
+PressureImage to_pressure(nb::handle obj, const char* what);
 
 // A keyword argument's value as T, or a TypeError "<what>: option <key> expects <type>, got <its type>".
 template <class T>

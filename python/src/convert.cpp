@@ -91,7 +91,7 @@ glm::dmat3 to_mat3(nb::handle obj, const char* what) {
   return m;
 }
 
-std::vector<float> to_pressure(nb::handle obj, const char* what) {
+PressureImage to_pressure(nb::handle obj, const char* what) {
   const auto f = as_array<float>(obj, what);
   if (f.ndim() != 1 && f.ndim() != 2)
     throw nb::value_error((std::string(what) +
@@ -99,7 +99,12 @@ std::vector<float> to_pressure(nb::handle obj, const char* what) {
                            shape_of(f))
                               .c_str());
   if (f.size() == 0) throw nb::value_error((std::string(what) + ": the pressure image is empty").c_str());
-  return {f.data(), f.data() + f.size()};
+  PressureImage image{{f.data(), f.data() + f.size()}};
+  if (f.ndim() == 2) {
+    image.rows = static_cast<int>(f.shape(0));
+    image.cols = static_cast<int>(f.shape(1));
+  }
+  return image;
 }
 
 // The library's own parsing and names (one policy for every command and for Python).

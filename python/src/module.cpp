@@ -4,6 +4,7 @@
 NB_MODULE(_sva_core, m) {
   using namespace sva::python;
   m.doc() = "sva: tactile object recognition and localization by spatially-varying appearance (C++ engine).";
+  m.attr("__version__") = SVA_VERSION;
   bind_errors(m);
   bind_pose(m);
   bind_pose_space(m);

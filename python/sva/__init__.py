@@ -3,13 +3,16 @@
 The C++ engine (module ``sva._sva_core``) with the C++ names::
 
     import sva
-    train, test = sva.simulate("tiny", train=20, test=5)
+    train, test = sva.simulate("tiny", train=20, test=8, seed=1)
     m = sva.train(train)
-    rec = sva.Recognizer(m, backend="auto")
-    for sample in test:
-        rec.add_reading(sample.reading)
-    est = rec.estimate()
-    est.object_name, est.pose.R, est.pose.T      # NumPy arrays
+    engine = sva.Engine(m, backend="auto")          # the map uploaded once, shared by the sessions
+    for o, name in enumerate(m.object_names):      # one session per object: its touches only
+        rec = sva.Recognizer(engine)
+        for sample in test:
+            if sample.object == o and sample.converged:  # add_reading refuses unconverged readings
+                rec.add_reading(sample.reading)
+        est = rec.estimate()                        # est.ready is False if no reading was added
+        print(name, est.object_name, est.object_probability.max(), est.pose.T)  # pose.R, pose.T: NumPy
 
 Batch recognition of a sessions file: :func:`sva.recognize_batch`, on one machine, and
 :func:`sva.distributed.recognize_batch`, sharded over a Dask cluster. See docs/python.md.
@@ -53,7 +56,7 @@ from ._sva_core import (
     simulate,
     train,
 )
-from ._sva_core import _set_assets_dir
+from ._sva_core import __version__, _set_assets_dir
 from .batch import recognize_batch
 
 __all__ = [

@@ -106,7 +106,7 @@ def test_save_and_restore_give_the_same_estimate(tiny, tiny_map, tmp_path):
     original.save_session(path)
     resumed = sva.Recognizer(engine)
     resumed.restore_session(path)
-    assert resumed.readings() == len(s["readings"])
+    assert resumed.reading_count() == len(s["readings"])
     same_estimate(resumed.estimate(top_k=3), original.estimate(top_k=3))
     # and both go on alike
     more = reading_of(tiny.session_lines()[3]["readings"][0])
@@ -120,7 +120,7 @@ def test_reset_then_the_same_readings_give_the_same_estimate(tiny, tiny_map):
     rec = fed(sva.Recognizer(tiny_map, backend="cpu"), s)
     first = rec.estimate(top_k=3)
     rec.reset()
-    assert rec.readings() == 0
+    assert rec.reading_count() == 0
     fed(rec, s)
     same_estimate(rec.estimate(top_k=3), first)
 

@@ -57,6 +57,7 @@ def test_pose_arrays():
         (dict(position=[math.nan, 0.0, 0.0]), "the sensor position is not finite"),
         (dict(normal=[0.0, 0.0, 0.0]), "the sensor normal has zero length"),
         (dict(pressure=np.full((5, 5), 10.0)), "25 pressure values, but the map's sensor has 36"),
+        (dict(pressure=np.full((4, 9), 10.0)), "the pressure image is 4 x 9, but the map's sensor is 6 x 6"),
         (dict(status=sva.ControllerStatus.not_converged), "did not converge"),
     ],
 )
@@ -64,7 +65,7 @@ def test_bad_readings_are_refused_by_the_engine(tiny_map, kw, msg):
     rec = sva.Recognizer(tiny_map, backend="cpu")
     with pytest.raises(sva.Error, match=msg):
         rec.add_reading(sva.Reading(**good(**kw)))
-    assert rec.readings() == 0  # nothing was added
+    assert rec.reading_count() == 0  # nothing was added
 
 
 def test_batch_recognizer_checks_its_arguments(tiny_map):

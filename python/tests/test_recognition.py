@@ -40,7 +40,7 @@ def test_recognizer_gives_the_cli_estimates(tiny, tiny_map):
         rec.reset()
         for r in s["readings"]:
             rec.add_reading(reading_of(r))
-        assert rec.readings() == len(s["readings"])
+        assert rec.reading_count() == len(s["readings"])
         assert_estimate_is(rec.estimate(top_k=3), want, tiny_map.object_names)
     # and the estimates are not trivial: most trials find the object (6 readings on the tiny scene)
     right = sum(w["object"] == s["truth"]["object"] for s, w in zip(sessions, results))
@@ -108,7 +108,7 @@ def test_pose_space_and_options(tiny_map):
     assert ps.kind == sva.PoseSpaceKind.spatial and ps.translation_bins > 0
     wide = sva.PoseSpaceSpec(translation_bins=10, translation_min_mm=-300, translation_max_mm=300)
     rec = sva.Recognizer(tiny_map, wide, backend="cpu", refine_pose=False, threads=1)
-    assert rec.readings() == 0
+    assert rec.reading_count() == 0
     with pytest.raises(sva.Error, match="backend"):
         sva.Recognizer(tiny_map, backend="gpu")
     with pytest.raises(TypeError, match="unknown option \"backnd\""):

@@ -72,7 +72,7 @@ def test_one_recognizer_shared_by_threads_takes_turns(tiny, tiny_map):
         t.start()
     for t in threads:
         t.join()
-    assert rec.readings() == len(readings)
+    assert rec.reading_count() == len(readings)
 
 
 CTRL_C_CHILD = """

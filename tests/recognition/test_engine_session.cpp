@@ -112,10 +112,10 @@ TEST_CASE("Session: saved and restored, a session resumes where it stopped, bit 
   require_same(resumed.estimate(), original.estimate());
   // Reset keeps nothing of the session.
   resumed.reset();
-  CHECK(resumed.readings() == 0);
+  CHECK(resumed.reading_count() == 0);
   resumed.save_session(file);
   resumed.restore_session(file);
-  CHECK(resumed.readings() == 0);
+  CHECK(resumed.reading_count() == 0);
   CHECK(resumed.estimate().object_probability[0] == Approx(1.0 / 3.0));
   std::filesystem::remove_all(dir);
 }
@@ -141,6 +141,6 @@ TEST_CASE("Session: a missing, damaged or foreign session file is refused with t
     f.put('\x7f');
   }
   CHECK_THROWS_AS(rec.restore_session(file), Error);
-  CHECK(rec.readings() == 4);  // a refused file leaves the session as it was
+  CHECK(rec.reading_count() == 4);  // a refused file leaves the session as it was
   std::filesystem::remove_all(dir);
 }

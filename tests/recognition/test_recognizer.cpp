@@ -28,6 +28,7 @@ TEST_CASE("Recognizer: SVA on a trained map finds the object and its pose") {
     const Estimate e = rec.estimate(5);
     INFO("object " << object << " probability " << e.object_probability[object]);
     CHECK(e.readings == 14);
+    CHECK(e.ready);
     CHECK(e.object == object);
     CHECK(e.object_name == "obj" + std::to_string(object));
     double sum = 0;
@@ -38,9 +39,69 @@ TEST_CASE("Recognizer: SVA on a trained map finds the object and its pose") {
     CHECK(e.votes > 0);
     if (e.object == object) CHECK(glm::length(e.pose.T - truth.T) < 1.5 * bin_width(paper_space()));
     rec.reset();
-    CHECK(rec.readings() == 0);
+    CHECK(rec.reading_count() == 0);
     CHECK_FALSE(rec.estimate().pose_valid);
   }
+}
+
+TEST_CASE("Recognizer: before any reading the estimate is not ready and names no object") {
+  const Trained& t = trained();
+  Recognizer rec(t.map, paper_space());
+  Estimate e = rec.estimate(5);
+  CHECK_FALSE(e.ready);
+  CHECK_FALSE(e.pose_valid);
+  CHECK(e.object_name.empty());
+  CHECK(e.top.empty());
+  CHECK(e.hypotheses.empty());
+  CHECK(e.object_hypotheses.empty());
+  CHECK(e.object_probability == std::vector<double>(3, 1.0 / 3.0));
+  rec.set_prior(Prior{.object_probability = {1.0, 2.0, 1.0}});
+  CHECK(rec.estimate().object_probability == std::vector<double>{0.25, 0.5, 0.25});  // the prior, not evidence
+  CHECK_FALSE(rec.estimate().ready);
+}
+
+TEST_CASE("Map: the sensor's shape, and a reading of another shape is refused naming both") {
+  const Trained& t = trained();
+  CHECK(t.map.sensor().rows == t.data.scene.sensor.rows);
+  CHECK(t.map.sensor().cols == t.data.scene.sensor.cols);
+  util::Rng rng(3);
+  Reading r = reading_of(t.data.scene.sensor, world_point(t.spec, 1, 0), RigidPose{}, rng);
+  Recognizer rec(t.map, paper_space());
+  r.rows = 4;
+  r.cols = 9;
+  CHECK_THROWS_WITH(rec.add_reading(r),
+                    Catch::Contains("the pressure image is 4 x 9, but the map's sensor is " +
+                                    std::to_string(t.map.sensor().rows) + " x " + std::to_string(t.map.sensor().cols)));
+  r.rows = t.map.sensor().rows;
+  r.cols = t.map.sensor().cols;
+  rec.add_reading(r);
+  CHECK(rec.reading_count() == 1);
+  CHECK(rec.estimate().ready);
+}
+
+TEST_CASE("to_ros: metres, an x y z w quaternion with w >= 0, and the covariance in metres") {
+  PoseHypothesis h;
+  const double a = 2.5;  // about z: q = (0, 0, sin(a/2), cos(a/2))
+  h.pose.R = glm::dmat3(std::cos(a), std::sin(a), 0.0, -std::sin(a), std::cos(a), 0.0, 0.0, 0.0, 1.0);
+  h.pose.T = {1000.0, -250.0, 5.0};
+  for (std::size_t i = 0; i < 36; ++i) h.covariance[i] = static_cast<double>(i + 1);
+  const RosPose r = to_ros(h);
+  CHECK(r.position[0] == Approx(1.0));
+  CHECK(r.position[1] == Approx(-0.25));
+  CHECK(r.position[2] == Approx(0.005));
+  CHECK(r.orientation[0] == Approx(0.0).margin(1e-12));
+  CHECK(r.orientation[1] == Approx(0.0).margin(1e-12));
+  CHECK(r.orientation[2] == Approx(std::sin(a / 2)));
+  CHECK(r.orientation[3] == Approx(std::cos(a / 2)));
+  CHECK(r.covariance[0] == Approx(1e-6));    // x x: mm^2 to m^2
+  CHECK(r.covariance[3] == Approx(4e-3));    // x rotX: mm rad to m rad
+  CHECK(r.covariance[18] == Approx(19e-3));  // rotX x
+  CHECK(r.covariance[21] == Approx(22.0));   // rotX rotX: rad^2
+  // A half turn about x: w = 0 and the axis's sign is free; a rotation just short of it: w > 0, never w < 0.
+  h.pose.R = glm::dmat3(1.0, 0.0, 0.0, 0.0, std::cos(3.1), std::sin(3.1), 0.0, -std::sin(3.1), std::cos(3.1));
+  const RosPose near_half = to_ros(h);
+  CHECK(near_half.orientation[3] == Approx(std::cos(1.55)));
+  CHECK(near_half.orientation[0] == Approx(std::sin(1.55)));
 }
 
 TEST_CASE("Recognizer: the appearance-only baseline gives object probabilities without a pose") {
@@ -89,7 +150,7 @@ TEST_CASE("Recognizer: refused readings, options and maps") {
     rec.add_reading(bad);
   } catch (const Error&) {
   }
-  CHECK(rec.readings() <= 1);
+  CHECK(rec.reading_count() <= 1);
   const Estimate e = rec.estimate();
   for (double p : e.object_probability) CHECK(std::isfinite(p));
 

@@ -142,7 +142,7 @@ TEST_CASE("GPU faults: a lost device is reported and the session is rebuilt from
   CHECK_THROWS_WITH(rec->add_reading(readings[4]), Catch::Contains("VK_ERROR_DEVICE_LOST"));
   // The session refuses later work (its belief holds part of the lost update); the readings taken so far are intact.
   CHECK_THROWS_AS(rec->add_reading(readings[4]), Error);
-  CHECK(rec->readings() == 4);
+  CHECK(rec->reading_count() == 4);
   // The documented recovery: save, a new engine (a new device: the lost one serves no new engine), restore.
   const auto dir = temp_dir("gpu-faults");
   rec->save_session(dir / "lost.svas");
@@ -150,7 +150,7 @@ TEST_CASE("GPU faults: a lost device is reported and the session is rebuilt from
   CHECK(VulkanEngine::alive() == 2);
   Recognizer rebuilt(fresh, paper_space());
   rebuilt.restore_session(dir / "lost.svas");
-  REQUIRE(rebuilt.readings() == 4);
+  REQUIRE(rebuilt.reading_count() == 4);
   rec.reset();
   engine.reset();
   CHECK(VulkanEngine::alive() == 1);

@@ -4,6 +4,7 @@
 // private to the engine; see docs/map-format.md for the file format.
 #include <sva/pose.hpp>
 #include <sva/pose_space.hpp>
+#include <sva/reading.hpp>
 
 #include <cstdint>
 #include <filesystem>
@@ -63,6 +64,8 @@ class Map {
   const PoseSpaceSpec& pose_space() const;
   std::uint64_t scene_hash() const;  // FNV-1a of the dataset's scene JSON
   std::vector<std::string> object_names() const;
+  // The tactile array the map was trained with: readings must have its rows x cols image.
+  const SensorSpec& sensor() const;
 
   // The engine's private view (host/src/map/pair_map.hpp).
   const PairMap& internal() const;

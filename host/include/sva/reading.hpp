@@ -46,6 +46,10 @@ struct Reading {
   glm::dvec3 normal{0.0, 0.0, 1.0};
   glm::dvec3 x_axis{1.0, 0.0, 0.0};
   std::vector<float> pressure;  // SensorSpec::elements() values, kPa, row-major
+  // The image's shape when its source gave one (a 2-D array, a dataset's sensor); 0 x 0: not given. A given shape
+  // must be the map's sensor's: a 4 x 9 image has a 6 x 6 sensor's 36 values but is another sensor's image.
+  int rows = 0;
+  int cols = 0;
   ControllerStatus status = ControllerStatus::converged;
   std::uint16_t iterations = 0;  // controller iterations used
   // When the contact settled, in seconds on the clock of the frames it came from (a real sensor: the host's

@@ -67,7 +67,20 @@ struct PoseHypothesis {
   bool valid = false;  // false only in Estimate::object_hypotheses, for an object no vote has reached
 };
 
+// A hypothesis in ROS's units and conventions (geometry_msgs/PoseWithCovariance; docs/api.md, "Mapping an Estimate
+// onto vision_msgs/Detection3D"): sva works in millimetres and rotation matrices, a robot stack in metres and
+// quaternions.
+struct RosPose {
+  std::array<double, 3> position{};                       // metres
+  std::array<double, 4> orientation{0.0, 0.0, 0.0, 1.0};  // unit quaternion x, y, z, w (w >= 0)
+  std::array<double, 36> covariance{};                    // row-major: x, y, z (m), rotation about X, Y, Z (rad)
+};
+RosPose to_ros(const PoseHypothesis& hypothesis);
+
 struct Estimate {
+  // false before the session's first reading: there is no answer yet. object_probability is then the prior
+  // (uniform without one); object_name is empty, the poses are the identity, top and the hypotheses are empty.
+  bool ready = false;
   std::size_t readings = 0;  // readings seen so far
   std::uint32_t object = 0;  // the object with the most mass summed over poses
   std::string object_name;
@@ -124,7 +137,9 @@ class Recognizer {
   // replaying the readings. sva::Error naming the file when it cannot be read or was saved with another map.
   void save_session(const std::filesystem::path& file) const;
   void restore_session(const std::filesystem::path& file);
-  std::size_t readings() const;
+  // How many readings the session holds (0 after reset(); the estimate is not ready until there is one).
+  std::size_t reading_count() const;
+  [[deprecated("use reading_count()")]] std::size_t readings() const { return reading_count(); }
 
   struct Impl;
 

@@ -113,6 +113,8 @@ Dataset load_dataset(const std::filesystem::path& file) {
       if (!finite(s.object_pose.R[c])) bad("non-finite object rotation");
     rd.pressure.resize(elements);
     r.get_array(rd.pressure.data(), elements);
+    rd.rows = d.scene.sensor.rows;
+    rd.cols = d.scene.sensor.cols;
     for (float p : rd.pressure)
       if (!std::isfinite(p) || p < 0.0f) bad("pressure image holds a NaN, infinite or negative value");
     if (has_truth)

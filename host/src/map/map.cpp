@@ -44,6 +44,7 @@ std::size_t Map::bytes() const {
          bytes_of(m.baseline.class_given_object);
 }
 const std::string& Map::scene_name() const { return require(map_).scene_name; }
+const SensorSpec& Map::sensor() const { return require(map_).appearance.calibration.sensor; }
 const PoseSpaceSpec& Map::pose_space() const { return require(map_).pose_space; }
 std::uint64_t Map::scene_hash() const { return require(map_).scene_hash; }
 std::vector<std::string> Map::object_names() const {

@@ -75,6 +75,7 @@ Estimate TouchPlanner::contact_estimate(const Reading& touch, std::size_t per_ob
     total += guesses.back().likeness;
   }
   Estimate est;
+  est.ready = true;
   est.readings = 1;
   est.object_probability.assign(objects, total > 0.0 ? 0.0 : 1.0 / std::max<std::uint32_t>(objects, 1));
   est.object_hypotheses.resize(objects);

@@ -71,6 +71,19 @@ void add_hypotheses(const BayesFilter& filter, const PoseSpace& space, const std
   }
 }
 
+// Before any reading there is no evidence: the object posterior is the prior (uniform without one), and no
+// object, pose or hypothesis is reported, so that a caller cannot take a placeholder for an answer.
+Estimate not_ready(std::size_t objects, const std::vector<double>& prior_weight) {
+  Estimate e;
+  e.object_probability.assign(objects, 1.0 / static_cast<double>(objects));
+  if (!prior_weight.empty()) {
+    double z = 0.0;
+    for (double w : prior_weight) z += w;
+    for (std::size_t o = 0; o < objects; ++o) e.object_probability[o] = prior_weight[o] / z;
+  }
+  return e;
+}
+
 // A prior over objects as weights whose largest is 1 (empty: flat), checked against the map.
 std::vector<double> prior_weights(const Prior& prior, std::size_t objects) {
   const std::vector<double>& p = prior.object_probability;
@@ -265,10 +278,12 @@ void BatchRecognizer::add_readings(std::span<const std::size_t> sessions, std::s
 Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const {
   const std::lock_guard lock(impl_->mutex);
   const Impl::Session& s = impl_->at(session);
+  const auto& objects = impl_->pair_map->objects;
+  if (s.readings == 0) return not_ready(objects.size(), s.prior_weight);
   Estimate e;
+  e.ready = true;
   e.readings = s.readings;
   e.votes = s.last_votes;
-  const auto& objects = impl_->pair_map->objects;
   if (!s.filter) {
     e.object_probability = AppearanceBaseline::posterior(s.appearance_log_posterior);
     if (!s.prior_weight.empty()) {
@@ -426,6 +441,6 @@ void Recognizer::set_prior(const Prior& prior) { impl_->batch.set_prior(0, prior
 void Recognizer::save_session(const std::filesystem::path& file) const { impl_->batch.save_session(0, file); }
 void Recognizer::restore_session(const std::filesystem::path& file) { impl_->batch.restore_session(0, file); }
 void Recognizer::reset() { impl_->batch.reset(0); }
-std::size_t Recognizer::readings() const { return impl_->batch.readings(0); }
+std::size_t Recognizer::reading_count() const { return impl_->batch.readings(0); }
 
 }  // namespace sva

@@ -14,6 +14,10 @@ ObservedReading describe_reading(const PairMap& map, const Reading& r, const std
   if (r.pressure.size() != static_cast<std::size_t>(cal.sensor.elements()))
     throw Error(what + ": " + std::to_string(r.pressure.size()) + " pressure values, but the map's sensor has " +
                 std::to_string(cal.sensor.elements()));
+  if ((r.rows != 0 || r.cols != 0) && (r.rows != cal.sensor.rows || r.cols != cal.sensor.cols))
+    throw Error(what + ": the pressure image is " + std::to_string(r.rows) + " x " + std::to_string(r.cols) +
+                ", but the map's sensor is " + std::to_string(cal.sensor.rows) + " x " +
+                std::to_string(cal.sensor.cols));
   for (float v : r.pressure)
     if (!std::isfinite(v)) throw Error(what + ": the pressure image has a non-finite value");
   ObservedReading o;

@@ -86,7 +86,7 @@ int main(int argc, char** argv) {
   const sva::Engine engine(map);
   sva::Recognizer rec(engine, map.pose_space());
   for (const sva::Sample& s : test.samples)
-    if (s.object == 1 && rec.readings() < 8) rec.add_reading(s.reading);
+    if (s.object == 1 && rec.reading_count() < 8) rec.add_reading(s.reading);
   const sva::Estimate e = rec.estimate(2);
   std::printf("ok: engine on %s; recognised %s with p = %.3f, %zu hypotheses\n", engine.backend_description().c_str(),
               e.object_name.c_str(), e.object_probability[e.object], e.hypotheses.size());

@@ -9,7 +9,7 @@ over 12 placements it needs about as many touches as the given order (die 6.9 ag
 On paper3d (10 objects, ~100 points each) it needs 93% of random's touches and halves the pose error at 8 touches
 (docs/evaluation.md, "Choosing the next touch").
 
-Run it after `pip install .` (or with PYTHONPATH=build/python in a build tree). docs/python.md, "Choosing the next
+Run it after `pip install .` (or with PYTHONPATH=build-ci/python in the ci preset's build tree). docs/python.md, "Choosing the next
 touch"; docs/api.md for the planner's model.
 """
 

@@ -3,7 +3,7 @@ touches, and plot the belief (a PNG, matplotlib's Agg backend: no display needed
 
     .venv/bin/python examples/python_quickstart.py [--out DIR]
 
-Run it after `pip install .` (or with PYTHONPATH=build/python in a build tree).
+Run it after `pip install .` (or with PYTHONPATH=build-ci/python in the ci preset's build tree).
 """
 
 from __future__ import annotations

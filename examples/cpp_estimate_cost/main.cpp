@@ -1,10 +1,11 @@
 // What an estimate costs: Recognizer::estimate(0) (no hypotheses), estimate(1) and estimate(3) (distinct
-// hypotheses with masses and covariances, and one per object), on the CPU backend, after N readings of object 3
-// of a dataset, with the fine pose off (it is the same in every case).
+// hypotheses with masses and covariances, and one per object), on the CPU backend, after N readings of one object
+// (default 3) of a dataset, with the fine pose off (it is the same in every case).
 //
-//   cpp_estimate_cost MAP.svam TEST.svad N
+//   cpp_estimate_cost MAP.svam TEST.svad N [OBJECT]
 #include <chrono>
 #include <cstdio>
+#include <cstdint>
 #include <cstdlib>
 #include <sva/dataset.hpp>
 #include <sva/engine.hpp>
@@ -12,12 +13,13 @@
 #include <sva/recognizer.hpp>
 int main(int argc, char** argv) {
   if (argc < 4) {
-    std::fprintf(stderr, "usage: %s MAP.svam TEST.svad READINGS\n", argv[0]);
+    std::fprintf(stderr, "usage: %s MAP.svam TEST.svad READINGS [OBJECT]\n", argv[0]);
     return 2;
   }
   const sva::Map map = sva::Map::load(argv[1]);
   const sva::Dataset data = sva::load_dataset(argv[2]);
   const std::size_t n = std::strtoul(argv[3], nullptr, 10);
+  const std::uint32_t object = argc > 4 ? static_cast<std::uint32_t>(std::strtoul(argv[4], nullptr, 10)) : 3;
   sva::EngineOptions eo;
   eo.backend = sva::BackendKind::cpu;
   const sva::Engine engine(map, eo);
@@ -27,13 +29,17 @@ int main(int argc, char** argv) {
   std::size_t used = 0;
   auto t0 = std::chrono::steady_clock::now();
   for (const auto& s : data.samples) {
-    if (s.object != 3) continue;
+    if (s.object != object) continue;
     try {
       rec.add_reading(s.reading);
     } catch (const sva::Error&) {
       continue;
     }
     if (++used == n) break;
+  }
+  if (used == 0) {
+    std::fprintf(stderr, "%s: no reading of object %u could be added\n", argv[2], object);
+    return 1;
   }
   const double upd = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / used;
   auto time = [&](std::size_t k) {

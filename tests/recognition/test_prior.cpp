@@ -81,8 +81,8 @@ TEST_CASE("Pose prior: it moves the best pose and the hypotheses to the mode it 
     for (const Reading& r : readings) plain.add_reading(r), camera.add_reading(r), vague.add_reading(r);
     const Estimate p = plain.estimate(3);
     REQUIRE(p.pose_valid);
-    const Estimate wide = plain.estimate(kPosePriorCandidates);
-    const Hypothesis* target = other_bin(wide);
+    const Estimate candidates = plain.estimate(kPosePriorCandidates);
+    const Hypothesis* target = other_bin(candidates);
     REQUIRE(target != nullptr);               // three readings leave the belief wide
     const RigidPose favoured = target->pose;  // a bin centre
 

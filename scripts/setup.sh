@@ -3,10 +3,11 @@
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 packages=(
-  build-essential cmake ninja-build pkg-config git
+  build-essential cmake ninja-build pkg-config git ccache
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools
   libglm-dev libembree-dev libtinygltf-dev libstb-dev nlohmann-json3-dev
   libusb-1.0-0-dev catch2 libtbb-dev
+  qemu-user  # tests/determinism: the same binary run as other x86-64 CPUs (qemu-x86_64 -cpu Nehalem)
   patchelf  # scripts/bundle.sh: $ORIGIN run paths in the relocatable bundle for a GPU machine
   clang-14 libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer (libclang_rt.fuzzer) and the sanitizer runtimes
   python3 python3-venv python3-dev python3-pip  # the Python package (python/, docs/python.md)

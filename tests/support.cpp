@@ -29,3 +29,24 @@ void skip(const std::string& reason) {
 }
 
 }  // namespace sva::test
+
+namespace sva::test {
+
+std::uint64_t scenario_seed(std::uint64_t base) {
+  const char* s = std::getenv("SVA_TEST_SEED");
+  if (!s || !*s) return base;
+  char* end = nullptr;
+  const unsigned long long k = std::strtoull(s, &end, 10);
+  if (*end) {
+    std::fprintf(stderr, "SVA_TEST_SEED=%s: not a non-negative integer\n", s);
+    std::exit(2);
+  }
+  return base + 7919 * k;  // k = 0 is the checked-in seed
+}
+
+void margin(const std::string& statistic, double value, const char* relation, double threshold) {
+  std::printf("margin: %s = %.6g (asserted %s %.6g)\n", statistic.c_str(), value, relation, threshold);
+  std::fflush(stdout);
+}
+
+}  // namespace sva::test

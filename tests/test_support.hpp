@@ -1,5 +1,6 @@
 #pragma once
 // Helpers shared by the test areas.
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -42,6 +43,13 @@ inline std::filesystem::path temp_dir(const std::string& name) {
 // Runs the sva CLI (path from SVA_BIN) with arguments; returns the exit code
 // and captures stdout+stderr in `output`.
 int run_sva(const std::string& arguments, std::string* output = nullptr);
+
+// Statistical tests (docs/reliability.md, "Margins"). A scenario draws its seeds through scenario_seed, which
+// SVA_TEST_SEED=k moves to another stream (0 or unset: the checked-in seed), so that bench/test_margins.sh can run
+// the same scenario at several seeds. margin() prints the statistic beside its threshold as one "margin:" line,
+// which that bench collects; the test still asserts the threshold itself.
+std::uint64_t scenario_seed(std::uint64_t base);
+void margin(const std::string& statistic, double value, const char* relation, double threshold);
 
 // Ends the current test as skipped (ctest SKIP_RETURN_CODE 77) with a reason.
 [[noreturn]] void skip(const std::string& reason);

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <limits>
 
+#include "core/portable_math.hpp"
 #include "util/rng.hpp"
 
 namespace sva::sim {
@@ -21,11 +22,11 @@ namespace {
 
 // Rodrigues' rotation of v by angle a about the unit axis k.
 glm::dvec3 rotate(const glm::dvec3& v, double a, const glm::dvec3& k) {
-  return v * std::cos(a) + glm::cross(k, v) * std::sin(a) + k * glm::dot(k, v) * (1.0 - std::cos(a));
+  return v * pmath::cos(a) + glm::cross(k, v) * pmath::sin(a) + k * glm::dot(k, v) * (1.0 - pmath::cos(a));
 }
 
 double angle_between(const glm::dvec3& a, const glm::dvec3& b) {
-  return std::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
+  return pmath::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
 }
 
 // Re-orthonormalise so that rounding cannot accumulate over iterations.

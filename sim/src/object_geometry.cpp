@@ -1,11 +1,25 @@
 // An object mesh in Embree. Embree reports errors through a callback that may
 // not throw (it is called from C); the message is kept per thread and turned
 // into sva::Error right after the Embree call that raised it.
+//
+// Embree only finds the candidate triangles; which one is hit, where and with
+// what normal is decided by ray_triangle.hpp in double precision. Embree picks
+// its kernels by the CPU (SSE2 to AVX-512) and they round differently in the
+// last bits, so its own hits would make every simulated dataset depend on the
+// CPU that made it (docs/reliability.md, "Same answers on every machine").
+// Every triangle Embree reports anywhere along the ray is collected by a filter
+// that rejects it (so traversal goes on), together with the triangles around
+// its vertices: a triangle that one kernel misses at its edge is then still a
+// candidate through the neighbour that kernel hits (robust mode is watertight).
 #include <sva/error.hpp>
 #include <sva/sim/tactile_sensor.hpp>
 
+#include "ray_triangle.hpp"
+
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <mutex>
 #include <string>
@@ -31,19 +45,52 @@ void check(const std::string& what) {
   }
 }
 
+// The device configuration: SVA_EMBREE_ISA forces Embree's kernels (sse2, sse4.2, avx, avx2, avx512), so that one
+// machine can show that the simulation does not depend on them (tests/determinism).
+std::string device_config() {
+  std::string config = "threads=1,set_affinity=0";  // builds are small; our own threads do the ray work
+  const char* isa = std::getenv("SVA_EMBREE_ISA");
+  if (!isa || !*isa) return config;
+  static const std::array<std::string, 5> known{"sse2", "sse4.2", "avx", "avx2", "avx512"};
+  if (std::find(known.begin(), known.end(), isa) == known.end())
+    throw Error(std::string("SVA_EMBREE_ISA=") + isa + ": not an Embree ISA (sse2, sse4.2, avx, avx2 or avx512)");
+  return config + ",isa=" + isa;
+}
+
 // One device per process: creating devices is expensive and they are thread-safe.
 RTCDevice device() {
   static std::mutex mutex;
   static RTCDevice dev = nullptr;
   std::lock_guard lock(mutex);
   if (!dev) {
-    dev = rtcNewDevice("threads=1,set_affinity=0");  // builds are small; our own threads do the ray work
+    const std::string config = device_config();
+    dev = rtcNewDevice(config.c_str());
     if (!dev)
-      throw Error("cannot create an Embree device (error " +
+      throw Error("cannot create an Embree device with \"" + config + "\" (error " +
                   std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
+    if (!rtcGetDeviceProperty(dev, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED)) {
+      rtcReleaseDevice(dev);
+      dev = nullptr;
+      throw Error("this Embree was built without filter functions, which the simulator's exact hits need");
+    }
     rtcSetDeviceErrorFunction(dev, on_embree_error, nullptr);
   }
   return dev;
+}
+
+// The rays' context: where the filter collects every triangle Embree reports.
+struct CandidateContext {
+  RTCIntersectContext context;  // first member: Embree hands the filter a pointer to it
+  std::vector<std::uint32_t>* found;
+};
+
+extern "C" void collect_candidate(const RTCFilterFunctionNArguments* args) {
+  auto* ctx = reinterpret_cast<CandidateContext*>(args->context);
+  for (unsigned i = 0; i < args->N; ++i) {
+    if (args->valid[i] != -1) continue;
+    ctx->found->push_back(RTCHitN_primID(args->hit, args->N, i));
+    args->valid[i] = 0;  // rejected: traversal goes on to every other triangle along the ray
+  }
 }
 
 }  // namespace
@@ -52,6 +99,9 @@ struct ObjectGeometry::Impl {
   Mesh mesh;
   RTCScene scene = nullptr;
   std::vector<double> cdf;  // cumulative triangle areas, for sampling by area
+  TriangleRings rings;      // the triangles around each triangle's corners, by position
+  ObjectGeometry::Hit exact_hit(std::vector<std::uint32_t>& found, const glm::dvec3& o, const glm::dvec3& d,
+                                double tnear, double tfar) const;
 };
 
 ObjectGeometry::ObjectGeometry(Mesh mesh) : impl_(std::make_unique<Impl>()) {
@@ -85,6 +135,7 @@ ObjectGeometry::ObjectGeometry(Mesh mesh) : impl_(std::make_unique<Impl>()) {
     t[3 * i + 1] = m.triangles[i].y;
     t[3 * i + 2] = m.triangles[i].z;
   }
+  rtcSetGeometryIntersectFilterFunction(geom, collect_candidate);
   rtcCommitGeometry(geom);
   rtcAttachGeometry(impl_->scene, geom);
   rtcReleaseGeometry(geom);
@@ -95,6 +146,7 @@ ObjectGeometry::ObjectGeometry(Mesh mesh) : impl_(std::make_unique<Impl>()) {
     rtcReleaseScene(impl_->scene);
     throw;
   }
+  impl_->rings = TriangleRings(m);
   impl_->cdf.resize(m.triangles.size());
   double acc = 0;
   for (std::size_t i = 0; i < m.triangles.size(); ++i) {
@@ -117,7 +169,10 @@ const Mesh& ObjectGeometry::mesh() const { return impl_->mesh; }
 
 namespace {
 
-RTCRayHit make_ray(const glm::dvec3& o, const glm::dvec3& d, double tnear, double tfar, unsigned id) {
+// Embree's interval is widened so that a triangle whose float test lands just outside [tnear, tfar] is still
+// collected; the double-precision test applies the exact interval.
+RTCRayHit make_ray(const glm::dvec3& o, const glm::dvec3& d, double tnear, double tfar) {
+  const double margin = 1e-3 + 1e-4 * std::fabs(tfar);
   RTCRayHit rh;
   rh.ray.org_x = static_cast<float>(o.x);
   rh.ray.org_y = static_cast<float>(o.y);
@@ -125,53 +180,55 @@ RTCRayHit make_ray(const glm::dvec3& o, const glm::dvec3& d, double tnear, doubl
   rh.ray.dir_x = static_cast<float>(d.x);
   rh.ray.dir_y = static_cast<float>(d.y);
   rh.ray.dir_z = static_cast<float>(d.z);
-  rh.ray.tnear = static_cast<float>(tnear);
-  rh.ray.tfar = static_cast<float>(tfar);
+  rh.ray.tnear = static_cast<float>(std::max(0.0, tnear - margin));
+  rh.ray.tfar = std::isfinite(tfar) ? static_cast<float>(tfar + margin) : std::numeric_limits<float>::infinity();
   rh.ray.time = 0.0f;
   rh.ray.mask = 0xFFFFFFFFu;
-  rh.ray.id = id;
+  rh.ray.id = 0;
   rh.ray.flags = 0;
   rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
   rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
   return rh;
 }
 
-ObjectGeometry::Hit hit_of(const RTCRayHit& rh) {
-  ObjectGeometry::Hit h;
-  if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return h;
-  h.hit = true;
-  h.t = rh.ray.tfar;
-  h.triangle = rh.hit.primID;
-  const glm::dvec3 n(rh.hit.Ng_x, rh.hit.Ng_y, rh.hit.Ng_z);
-  const double len = glm::length(n);
-  h.normal = len > 0 ? n / len : glm::dvec3(0.0);
-  return h;
-}
-
 }  // namespace
+
+// The nearest triangle among the candidates and their neighbours, by the exact test; equal distances go to the
+// smaller triangle index, so the answer never depends on the order Embree found them in.
+ObjectGeometry::Hit ObjectGeometry::Impl::exact_hit(std::vector<std::uint32_t>& found, const glm::dvec3& o,
+                                                    const glm::dvec3& d, double tnear, double tfar) const {
+  rings.expand(found);
+  Hit best;
+  for (std::uint32_t tri : found) {
+    const glm::uvec3& t = mesh.triangles[tri];
+    const auto hit = intersect_triangle(o, d, glm::dvec3(mesh.positions[t.x]), glm::dvec3(mesh.positions[t.y]),
+                                        glm::dvec3(mesh.positions[t.z]));
+    if (!hit || *hit < tnear || *hit > tfar) continue;
+    if (best.hit && (*hit > best.t || (*hit == best.t && tri > best.triangle))) continue;
+    best.hit = true;
+    best.t = *hit;
+    best.triangle = tri;
+  }
+  if (best.hit) best.normal = triangle_normal(mesh, best.triangle);
+  return best;
+}
 
 ObjectGeometry::Hit ObjectGeometry::intersect(const glm::dvec3& o, const glm::dvec3& d, double tnear,
                                               double tfar) const {
-  RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
-  RTCRayHit rh = make_ray(o, d, tnear, tfar, 0);
-  rtcIntersect1(impl_->scene, &ctx, &rh);
-  return hit_of(rh);
+  thread_local std::vector<std::uint32_t> found;
+  found.clear();
+  CandidateContext ctx;
+  rtcInitIntersectContext(&ctx.context);
+  ctx.found = &found;
+  RTCRayHit rh = make_ray(o, d, tnear, tfar);
+  rtcIntersect1(impl_->scene, &ctx.context, &rh);
+  return impl_->exact_hit(found, o, d, tnear, tfar);
 }
 
 void ObjectGeometry::intersect_parallel(const std::vector<glm::dvec3>& origins, const glm::dvec3& d, double tfar,
                                         std::vector<Hit>& hits) const {
-  thread_local std::vector<RTCRayHit> rays;
-  rays.resize(origins.size());
-  for (std::size_t i = 0; i < origins.size(); ++i)
-    rays[i] = make_ray(origins[i], d, 0.0, tfar, static_cast<unsigned>(i));
-  RTCIntersectContext ctx;
-  rtcInitIntersectContext(&ctx);
-  ctx.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-  if (!rays.empty())
-    rtcIntersect1M(impl_->scene, &ctx, rays.data(), static_cast<unsigned>(rays.size()), sizeof(RTCRayHit));
   hits.resize(origins.size());
-  for (std::size_t i = 0; i < rays.size(); ++i) hits[i] = hit_of(rays[i]);
+  for (std::size_t i = 0; i < origins.size(); ++i) hits[i] = intersect(origins[i], d, 0.0, tfar);
 }
 
 void ObjectGeometry::sample_surface(double u0, double u1, double u2, glm::dvec3& point, glm::dvec3& normal) const {

@@ -12,6 +12,7 @@
 #include <memory>
 #include <string>
 
+#include "core/portable_math.hpp"
 #include "util/parallel.hpp"
 #include "util/progress.hpp"
 #include "util/rng.hpp"
@@ -23,7 +24,7 @@ namespace {
 constexpr std::uint64_t kTrainStream = 1, kTestStream = 2;
 
 glm::dvec3 rotate(const glm::dvec3& v, double a, const glm::dvec3& k) {
-  return v * std::cos(a) + glm::cross(k, v) * std::sin(a) + k * glm::dot(k, v) * (1.0 - std::cos(a));
+  return v * pmath::cos(a) + glm::cross(k, v) * pmath::sin(a) + k * glm::dot(k, v) * (1.0 - pmath::cos(a));
 }
 
 void basis(const glm::dvec3& n, glm::dvec3& t1, glm::dvec3& t2) {
@@ -84,10 +85,10 @@ Sample paper3d_reading(const TactileSensor& sensor, const Scene& scene, std::uin
   const double tilt = pr.tilt_deg * M_PI / 180.0 * rng.uniform();
   const double phi = 2.0 * M_PI * rng.uniform();
   SensorPose start;
-  start.normal = glm::normalize(rotate(n, tilt, std::cos(phi) * t1 + std::sin(phi) * t2));
+  start.normal = glm::normalize(rotate(n, tilt, pmath::cos(phi) * t1 + pmath::sin(phi) * t2));
   basis(start.normal, t1, t2);
   const double psi = 2.0 * M_PI * rng.uniform();  // rotation about the normal is not controlled
-  start.x_axis = std::cos(psi) * t1 + std::sin(psi) * t2;
+  start.x_axis = pmath::cos(psi) * t1 + pmath::sin(psi) * t2;
   start.position = p + pr.approach_mm * n;
   const Contact c = press(sensor, start, controller_settings(sensor, scene), util::splitmix64(rng.next()));
   return report(c, scene.errors, util::splitmix64(rng.next()), job.object);
@@ -113,7 +114,7 @@ Sample letters2d_reading(const TactileSensor& sensor, const Scene& scene, std::u
   const Mesh& mesh = sensor.object().mesh();
   SensorPose start;
   start.normal = {0, 0, 1};
-  start.x_axis = {std::cos(angle), std::sin(angle), 0.0};
+  start.x_axis = {pmath::cos(angle), pmath::sin(angle), 0.0};
   start.position = {x, y, mesh.bounds_max.z + pr.approach_mm};
   ControllerSettings cs = controller_settings(sensor, scene);
   cs.reorient = false;  // the letters are pressed flat against the array

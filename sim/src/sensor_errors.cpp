@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "core/portable_math.hpp"
 #include "util/rng.hpp"
 
 namespace sva::sim {
@@ -26,14 +27,14 @@ glm::dvec3 rotate(const glm::dvec3& v, const glm::dvec3& rotation_vector) {
   const double a = glm::length(rotation_vector);
   if (a == 0.0) return v;
   const glm::dvec3 k = rotation_vector / a;
-  return v * std::cos(a) + glm::cross(k, v) * std::sin(a) + k * glm::dot(k, v) * (1.0 - std::cos(a));
+  return v * pmath::cos(a) + glm::cross(k, v) * pmath::sin(a) + k * glm::dot(k, v) * (1.0 - pmath::cos(a));
 }
 
 }  // namespace
 
 SensorInstance::SensorInstance(const SensorSpec& sensor, const ErrorModel& errors, std::uint64_t instance_seed,
                                double skin_noise_kpa)
-    : sensor_(sensor), errors_(errors), noise_kpa_(std::hypot(skin_noise_kpa, errors.noise_kpa)) {
+    : sensor_(sensor), errors_(errors), noise_kpa_(pmath::hypot(skin_noise_kpa, errors.noise_kpa)) {
   if (sensor.elements() < 1) throw Error("sensor: the array has no elements");
   const auto n = static_cast<std::size_t>(sensor.elements());
   gains_.assign(n, 1.0);

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include "core/portable_math.hpp"
 
 namespace sva::sim {
 
@@ -36,7 +37,7 @@ TactileSensor::TactileSensor(const ObjectGeometry& object, const SensorSpec& sen
   kernel_.assign(static_cast<std::size_t>(2 * margin_ + 1), 0.0);
   double total = 0;
   for (int k = -margin_; k <= margin_; ++k) {
-    double w = sigma > 0 ? std::exp(-0.5 * (k * k) / (sigma * sigma)) : 1.0;
+    double w = sigma > 0 ? pmath::exp(-0.5 * (k * k) / (sigma * sigma)) : 1.0;
     kernel_[static_cast<std::size_t>(k + margin_)] = w;
     total += w;
   }

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <vector>
 
+#include "core/portable_math.hpp"
 #include "util/rng.hpp"
 
 namespace sva::sim {
@@ -50,7 +51,7 @@ std::optional<Reading> TouchSimulator::press(std::uint32_t object, const RigidPo
   const double psi = 2.0 * std::numbers::pi * rng.uniform();
   SensorPose start;
   start.normal = n;
-  start.x_axis = std::cos(psi) * t1 + std::sin(psi) * t2;
+  start.x_axis = pmath::cos(psi) * t1 + pmath::sin(psi) * t2;
   start.position = to_object.apply(touch.position) + w.scene.protocol.approach_mm * n;
   const TactileSensor& sensor = *w.sensors[object];
   ControllerSettings cs;

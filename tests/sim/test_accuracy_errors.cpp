@@ -16,6 +16,7 @@
 #include "eval/evaluation.hpp"
 #include "eval/results.hpp"
 #include "map/map_builder.hpp"
+#include "test_support.hpp"
 
 using namespace sva;
 
@@ -37,7 +38,7 @@ eval::Curve evaluate(double error_scale) {
   sim::SimulateOptions so;
   so.train_per_object = 60;
   so.test_per_object = 20;
-  so.seed = 7;
+  so.seed = test::scenario_seed(7);
   so.error_scale = error_scale;
   const sim::SimulatedData data = sim::simulate(three_objects(), so);
   TrainOptions to;
@@ -46,7 +47,7 @@ eval::Curve evaluate(double error_scale) {
   eval::EvalOptions eo;
   eo.trials = 12;  // 4 per object
   eo.max_readings = 12;
-  eo.seed = 2;
+  eo.seed = test::scenario_seed(2);
   eo.progress = false;
   return eval::summarize(eval::run_evaluation(map, data.test, eo));
 }
@@ -65,17 +66,21 @@ TEST_CASE("errors: three objects are recognised and localised with the realistic
   const eval::Curve c = evaluate(1.0);
   REQUIRE(c.points.size() == 12);
   const eval::CurvePoint& last = c.points.back();
-  INFO("accuracy at 12 readings " << last.accuracy);
-  CHECK(last.accuracy >= 11.0 / 12.0);
+  // Thresholds from bench/test_margins.py (docs/reliability.md, "Margins"): over 8 seeds the accuracy at 12
+  // readings was never below 11/12 and the median translation never above 3.9 mm.
+  test::margin("three objects: accuracy at 12 readings", last.accuracy, ">=", 10.0 / 12.0);
+  CHECK(last.accuracy >= 10.0 / 12.0);
   REQUIRE(last.translation_mm.median);
-  REQUIRE(last.angular_deg.median);
-  INFO("median translation " << *last.translation_mm.median << " mm, angle " << *last.angular_deg.median << " deg");
-  // Against 0.5 mm / 0.3 degree arm errors the position is found within a few millimetres (the pose space's bins
-  // are 8 mm wide). The angle stays within a rotation bin (~40 degrees): 60 training contacts per object are too
-  // sparse a surface for the fine pose to pin it (paper3d's 1000 give 1.4 degrees, docs/evaluation.md).
-  CHECK(*last.translation_mm.median < 3.0);
-  CHECK(*last.angular_deg.median < 40.0);
+  // Against 0.5 mm / 0.3 degree arm errors the position is found within a pose bin (8 mm wide). The angle is not
+  // asserted: 60 training contacts per object are too sparse a surface for the fine pose to pin it, so each trial
+  // ends either near the truth (~5 degrees) or in a look-alike rotation of the die or the mug (~90 degrees), and
+  // the median of 12 such trials is a coin toss (28 to 109 degrees over seeds; paper3d's 1000 contacts give
+  // 1.4 degrees, docs/evaluation.md). The fine pose's angle is tested on tiny, in the right mode
+  // (test_pose_refinement.cpp).
+  test::margin("three objects: median translation (mm) at 12 readings", *last.translation_mm.median, "<", 6.0);
+  CHECK(*last.translation_mm.median < 6.0);
   // Evidence accumulates: not all right after one pair, more right at the end.
+  test::margin("three objects: accuracy gained from 2 to 12 readings", last.accuracy - c.points[1].accuracy, ">", 0.0);
   CHECK(c.points[1].accuracy < last.accuracy);
 }
 

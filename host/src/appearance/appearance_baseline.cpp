@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include "core/portable_math.hpp"
 
 namespace sva {
 
@@ -40,7 +41,7 @@ std::vector<double> AppearanceBaseline::log_likelihood(const std::vector<ClassWe
       s += static_cast<double>(c.weight) * class_given_object[static_cast<std::size_t>(o) * n_classes + c.cls];
     }
     // Smoothing keeps every entry positive; the guard covers an empty class list.
-    out[o] = std::log(std::max(s, 1e-300));
+    out[o] = pmath::log(std::max(s, 1e-300));
   }
   return out;
 }
@@ -56,7 +57,7 @@ std::vector<double> AppearanceBaseline::posterior(const std::vector<double>& log
   const double top = *std::max_element(log_posterior.begin(), log_posterior.end());
   std::vector<double> p(log_posterior.size());
   double sum = 0;
-  for (std::size_t i = 0; i < p.size(); ++i) sum += p[i] = std::exp(log_posterior[i] - top);
+  for (std::size_t i = 0; i < p.size(); ++i) sum += p[i] = pmath::exp(log_posterior[i] - top);
   for (double& v : p) v /= sum;
   return p;
 }

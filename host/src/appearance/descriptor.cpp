@@ -3,6 +3,7 @@
 #include <cassert>
 #include <cmath>
 #include <numbers>
+#include "core/portable_math.hpp"
 
 namespace sva::appearance {
 
@@ -45,8 +46,8 @@ std::vector<float> moment_normalise(const std::vector<float>& image, int rows, i
       mu02 += w * dy * dy;
       mu11 += w * dx * dy;
     }
-  const double theta = 0.5 * std::atan2(2.0 * mu11, mu20 - mu02);
-  double ex = std::cos(theta), ey = std::sin(theta);
+  const double theta = 0.5 * pmath::atan2(2.0 * mu11, mu20 - mu02);
+  double ex = pmath::cos(theta), ey = pmath::sin(theta);
   // The principal axis has no direction; the skew of the mass along it
   // (third moment) picks one, resolving the 180 degree ambiguity.
   double m3 = 0;
@@ -91,10 +92,10 @@ std::vector<float> fourier_magnitudes(const std::vector<float>& mn, std::uint32_
         const double f = mn[static_cast<std::size_t>(y) * size + x];
         if (f == 0) continue;
         const double a = -step * (kx * static_cast<double>(x) + ky * static_cast<double>(y));
-        re += f * std::cos(a);
-        im += f * std::sin(a);
+        re += f * pmath::cos(a);
+        im += f * pmath::sin(a);
       }
-    return static_cast<float>(std::hypot(re, im));
+    return static_cast<float>(pmath::hypot(re, im));
   };
   const int k = static_cast<int>(freqs);
   for (int kx = 0; kx < k; ++kx) out.push_back(coefficient(kx, 0));

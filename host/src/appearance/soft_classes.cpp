@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "appearance/descriptor.hpp"
+#include "core/portable_math.hpp"
 
 namespace sva::appearance {
 
@@ -47,7 +48,7 @@ std::vector<ClassWeight> soft_classes(const float* descriptor, const std::vector
   for (std::size_t i = 0; i < k; ++i) {
     const double dev = 1.0 - static_cast<double>(affinity(descriptor, &medoids[i * dim], dim));
     const double var = psi[i];
-    logp[i] = -0.5 * std::log(2.0 * std::numbers::pi * var) - dev * dev / (2.0 * var);
+    logp[i] = -0.5 * pmath::log(2.0 * std::numbers::pi * var) - dev * dev / (2.0 * var);
     best = std::max(best, logp[i]);
   }
   // Eq 9 normalises by the same sum for every class, so Eq 11 compares
@@ -55,7 +56,7 @@ std::vector<ClassWeight> soft_classes(const float* descriptor, const std::vector
   std::vector<ClassWeight> out;
   double total = 0;
   for (std::size_t i = 0; i < k; ++i) {
-    const double rel = std::exp(logp[i] - best);
+    const double rel = pmath::exp(logp[i] - best);
     if (logp[i] == best || rel > prune_ratio) {
       out.push_back({static_cast<std::uint32_t>(i), static_cast<float>(rel)});
       total += rel;

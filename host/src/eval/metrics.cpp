@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include "core/portable_math.hpp"
 
 namespace sva::eval {
 
@@ -22,21 +23,21 @@ glm::dmat3 skew(const glm::dvec3& a) {
 
 // The angle whose cosine is (trace - 1) / 2 when only the best trace is known
 // (the axis case below), clamped against rounding.
-double angle_from_trace(double tr) { return std::acos(std::clamp((tr - 1.0) / 2.0, -1.0, 1.0)); }
+double angle_from_trace(double tr) { return pmath::acos(std::clamp((tr - 1.0) / 2.0, -1.0, 1.0)); }
 
 }  // namespace
 
 double rotation_angle(const glm::dmat3& R) {
   const double s = glm::length(unskew_antisymmetric(R));  // sin(theta)
   const double c = (trace(R) - 1.0) / 2.0;                // cos(theta)
-  return std::atan2(s, c);
+  return pmath::atan2(s, c);
 }
 
 glm::dvec3 rotation_vector(const glm::dmat3& R) {
   const double theta = rotation_angle(R);
   if (theta < 1e-12) return glm::dvec3(0.0);
   const glm::dvec3 s = unskew_antisymmetric(R);  // sin(theta) * axis
-  if (std::sin(theta) > 1e-6) return theta / glm::length(s) * s;
+  if (pmath::sin(theta) > 1e-6) return theta / glm::length(s) * s;
   // Near pi the skew part vanishes: the axis is the dominant column of
   // (R + I) / 2 = u u^T (+ O(pi - theta)), its sign taken from the skew part.
   const glm::dmat3 B = 0.5 * (R + glm::dmat3(1.0));
@@ -99,8 +100,9 @@ glm::dmat3 closest_symmetry(const glm::dmat3& R_true, const glm::dmat3& R_est, c
       const glm::dvec3 a = glm::normalize(symmetry.axis);
       const double A = trace(Q) - glm::dot(a, Q * a);
       const double B = trace(Q * skew(a));
-      const double g = std::atan2(B, A);
-      return std::cos(g) * glm::dmat3(1.0) + std::sin(g) * skew(a) + (1.0 - std::cos(g)) * glm::outerProduct(a, a);
+      const double g = pmath::atan2(B, A);
+      return pmath::cos(g) * glm::dmat3(1.0) + pmath::sin(g) * skew(a) +
+             (1.0 - pmath::cos(g)) * glm::outerProduct(a, a);
     }
   }
   assert(false);
@@ -116,7 +118,7 @@ double translation_error(const RigidPose& truth, const RigidPose& estimate, cons
 }
 
 double inertial_distance(double translation_error_mm, double angle_rad, double radius_mm) {
-  const double rot = 0.8 * radius_mm * radius_mm * (1.0 - std::cos(angle_rad));
+  const double rot = 0.8 * radius_mm * radius_mm * (1.0 - pmath::cos(angle_rad));
   return std::sqrt(translation_error_mm * translation_error_mm + std::max(0.0, rot));
 }
 

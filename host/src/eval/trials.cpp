@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <numbers>
+#include "core/portable_math.hpp"
 
 namespace sva::eval {
 
@@ -28,7 +29,7 @@ glm::dmat3 uniform_rotation(util::Rng& rng) {
   const double u1 = rng.uniform(), u2 = rng.uniform(), u3 = rng.uniform();
   const double a = std::sqrt(1.0 - u1), b = std::sqrt(u1);
   const double t1 = 2.0 * std::numbers::pi * u2, t2 = 2.0 * std::numbers::pi * u3;
-  const glm::dquat q(b * std::cos(t2), a * std::sin(t1), a * std::cos(t1), b * std::sin(t2));  // (w, x, y, z)
+  const glm::dquat q(b * pmath::cos(t2), a * pmath::sin(t1), a * pmath::cos(t1), b * pmath::sin(t2));  // (w, x, y, z)
   return glm::mat3_cast(glm::normalize(q));
 }
 
@@ -40,7 +41,7 @@ RigidPose random_pose(util::Rng& rng, const PoseSpaceSpec& space) {
     p.T = {rng.uniform(lo, hi), rng.uniform(lo, hi), rng.uniform(lo, hi)};
   } else {
     const double angle = rng.uniform(-std::numbers::pi, std::numbers::pi);
-    const double c = std::cos(angle), s = std::sin(angle);
+    const double c = pmath::cos(angle), s = pmath::sin(angle);
     p.R = glm::dmat3(glm::dvec3(c, s, 0.0), glm::dvec3(-s, c, 0.0), glm::dvec3(0.0, 0.0, 1.0));
     p.T = {rng.uniform(lo, hi), rng.uniform(lo, hi), 0.0};
   }

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <vector>
 
+#include "core/portable_math.hpp"
 #include "planning/contact_classes.hpp"
 #include "planning/planner_state.hpp"
 #include "recognition/describe_reading.hpp"
@@ -23,7 +24,7 @@ namespace {
 glm::dmat3 rotation_onto(const glm::dvec3& from, const glm::dvec3& to) {
   const glm::dvec3 axis = glm::cross(from, to);
   const double s = glm::length(axis), c = glm::dot(from, to);
-  if (s > 1e-12) return rotation::exp(axis / s * std::atan2(s, c));
+  if (s > 1e-12) return rotation::exp(axis / s * pmath::atan2(s, c));
   if (c > 0.0) return glm::dmat3(1.0);
   const glm::dvec3 any = std::abs(from.x) < 0.9 ? glm::dvec3(1.0, 0.0, 0.0) : glm::dvec3(0.0, 1.0, 0.0);
   return rotation::exp(glm::normalize(glm::cross(from, any)) * std::numbers::pi);

@@ -12,6 +12,7 @@
 #include <numeric>
 #include <string>
 
+#include "core/portable_math.hpp"
 #include "planning/contact_classes.hpp"
 #include "planning/planner_state.hpp"
 #include "util/rng.hpp"
@@ -148,10 +149,10 @@ double likeness(const Outcome& a, const Outcome& b, const Resolved& r) {
   if (!a.contact && !b.contact) return 1.0;
   if (a.contact != b.contact) return r.confusion;
   const glm::dvec3 d = a.position - b.position;
-  const double angle = std::acos(std::clamp(glm::dot(a.normal, b.normal), -1.0, 1.0));
+  const double angle = pmath::acos(std::clamp(glm::dot(a.normal, b.normal), -1.0, 1.0));
   const double alike = planning::class_overlap(*a.classes, *b.classes) *
-                       std::exp(-0.5 * glm::dot(d, d) / (r.sigma_p * r.sigma_p)) *
-                       std::exp(-0.5 * angle * angle / (r.sigma_n * r.sigma_n));
+                       pmath::exp(-0.5 * glm::dot(d, d) / (r.sigma_p * r.sigma_p)) *
+                       pmath::exp(-0.5 * angle * angle / (r.sigma_n * r.sigma_n));
   return r.confusion + (1.0 - r.confusion) * alike;
 }
 
@@ -161,7 +162,7 @@ double information_gain(const std::vector<Weighed>& hyps, const std::vector<Outc
   for (std::size_t h = 0; h < hyps.size(); ++h) {
     double agree = 0.0;
     for (std::size_t g = 0; g < hyps.size(); ++g) agree += hyps[g].weight * (g == h ? 1.0 : likeness(y[h], y[g], r));
-    gain -= hyps[h].weight * std::log2(agree);
+    gain -= hyps[h].weight * pmath::log2(agree);
   }
   return std::max(gain, 0.0);
 }
@@ -230,7 +231,7 @@ double pose_bits(const PoseInformation& info, const Outcome& y) {
   double q = 0.0;
   for (int r = 0; r < 6; ++r)
     for (int c = 0; c < 6; ++c) q += j[r] * info.inverse[r][c] * j[c];
-  return 0.5 * std::log2(1.0 + std::max(q, 0.0));
+  return 0.5 * pmath::log2(1.0 + std::max(q, 0.0));
 }
 
 void check_options(const TouchPlanOptions& o) {
@@ -264,7 +265,7 @@ void check_options(const TouchPlanOptions& o) {
 Resolved resolve(const TouchPlanner::Impl& m, const TouchPlanOptions& o) {
   Resolved r{};
   r.tolerance_mm = o.contact_tolerance_mm > 0.0 ? o.contact_tolerance_mm : std::numeric_limits<double>::infinity();
-  r.cos_normal = std::cos(o.normal_tolerance_deg * kDeg);
+  r.cos_normal = pmath::cos(o.normal_tolerance_deg * kDeg);
   r.sigma_p = o.position_sigma_mm > 0.0 ? o.position_sigma_mm : m.sigma_mm;
   r.sigma_n = o.normal_sigma_deg * kDeg;
   r.confusion = o.confusion;

@@ -8,6 +8,8 @@
 
 #include <sva/error.hpp>
 
+#include "core/portable_math.hpp"
+
 namespace sva::belief_math {
 using std::uint64_t;
 using uint = std::uint32_t;
@@ -30,7 +32,7 @@ inline uint64_t eps_units(double eps) {
 // readings, at eps = 1e-6).
 inline std::uint64_t max_pairs(uint64_t eps_units) {
   const double bits_per_pair =
-      std::log2(1.0 + std::ldexp(1.0, SVA_EPS_FRAC_BITS) / static_cast<double>(eps_units)) + 1.0;
+      pmath::log2(1.0 + std::ldexp(1.0, SVA_EPS_FRAC_BITS) / static_cast<double>(eps_units)) + 1.0;
   return static_cast<std::uint64_t>(std::ldexp(1.0, 63 - SVA_BELIEF_FRAC_BITS) / bits_per_pair);
 }
 

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <span>
 
+#include "core/portable_math.hpp"
 #include "recognition/belief_math.hpp"
 #include "recognition/rotation.hpp"
 
@@ -230,7 +231,7 @@ BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::
     h.key = b.key;
     h.object = PoseSpace::object_of(b.key);
     h.pose = space.centre(b.key);
-    h.probability = std::exp2(-units_to_bits(s.max_offset - b.offset)) * scale;
+    h.probability = pmath::exp2(-units_to_bits(s.max_offset - b.offset)) * scale;
     if (!object_weight.empty()) h.probability *= object_weight[h.object];
     e.top.push_back(h);
   }

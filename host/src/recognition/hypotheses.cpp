@@ -6,6 +6,7 @@
 #include <numbers>
 #include <unordered_set>
 
+#include "core/portable_math.hpp"
 #include "recognition/belief_math.hpp"
 #include "recognition/estimate.hpp"
 #include "recognition/rotation.hpp"
@@ -144,7 +145,7 @@ void moments(const PoseSpace& space, const Hood& hood, std::uint64_t max_offset,
     const std::uint64_t offset = hood.offsets[i];
     const std::uint64_t m = belief_math::sva_exp2_neg_units(max_offset - offset, mass_bits);
     mass += m;
-    prior_mass += static_cast<double>(m) * std::exp2(hood.prior_of(i));
+    prior_mass += static_cast<double>(m) * pmath::exp2(hood.prior_of(i));
     const glm::dvec3 dt = space.translation_centre(bins[i]) - t0;
     // Few distinct rotation bins (3^3 at radius 1) recur across the translations: one exp and log each.
     const std::array<int, 3> rkey{bins[i].r[0], bins[i].r[1], bins[i].r[2]};
@@ -153,7 +154,7 @@ void moments(const PoseSpace& space, const Hood& hood, std::uint64_t max_offset,
       it = small_rotation.emplace(rkey, rotation::log(rotation::exp(space.rotation_centre(bins[i])) * r0t)).first;
     const glm::dvec3 dr = it->second;
     x[i] = {dt.x, dt.y, dt.z, dr.x, dr.y, dr.z};
-    w[i] = std::exp2(units_to_bits(offset) + hood.prior_of(i) - centre_bits);
+    w[i] = pmath::exp2(units_to_bits(offset) + hood.prior_of(i) - centre_bits);
     sum += w[i];
     for (int a = 0; a < 6; ++a) mean[a] += w[i] * x[i][a];
   }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include "core/portable_math.hpp"
 
 namespace sva::rotation {
 
@@ -36,8 +37,8 @@ glm::dmat3 exp(const glm::dvec3& r) {
     a = 1.0 - theta * theta / 6.0;
     b = 0.5 - theta * theta / 24.0;
   } else {
-    a = std::sin(theta) / theta;
-    b = (1.0 - std::cos(theta)) / (theta * theta);
+    a = pmath::sin(theta) / theta;
+    b = (1.0 - pmath::cos(theta)) / (theta * theta);
   }
   return glm::dmat3(1.0) + a * K + b * (K * K);
 }
@@ -80,7 +81,7 @@ glm::dvec3 log(const glm::dmat3& R) {
   glm::dvec3 v(x, y, z);
   const double s = glm::length(v);
   if (s < 1e-300) return glm::dvec3(0.0);
-  const double theta = 2.0 * std::atan2(s, w);
+  const double theta = 2.0 * pmath::atan2(s, w);
   glm::dvec3 r = v * (theta / s);
   if (w < 1e-9) r = canonical_at_pi(r);
   return r;

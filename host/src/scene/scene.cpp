@@ -11,10 +11,10 @@
 #include <set>
 #include <sstream>
 
-#include <glm/gtc/matrix_transform.hpp>
 #include <nlohmann/json.hpp>
 
 #include "io/json_limits.hpp"
+#include "recognition/rotation.hpp"
 
 #ifndef SVA_SOURCE_ASSETS_DIR
 #define SVA_SOURCE_ASSETS_DIR ""
@@ -118,7 +118,7 @@ Symmetry parse_symmetry(const Ctx& c, const json& j, const std::string& path) {
     s.kind = Symmetry::Kind::discrete;
     s.axis = axis;
     for (int k = 0; k < order; ++k)
-      s.rotations.push_back(glm::dmat3(glm::rotate(glm::dmat4(1.0), 2.0 * M_PI * k / order, axis)));
+      s.rotations.push_back(rotation::exp(glm::normalize(axis) * (2.0 * M_PI * k / order)));
   } else {
     c.fail(path + ".type", "unknown symmetry type \"" + type + "\" (none, axis, cyclic)");
   }

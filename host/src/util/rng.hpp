@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <numbers>
 
+#include "core/portable_math.hpp"
+
 namespace sva::util {
 
 inline std::uint64_t splitmix64(std::uint64_t x) {
@@ -41,7 +43,7 @@ class Rng {
   double normal() {  // Box-Muller, one value per call
     double u1 = uniform(), u2 = uniform();
     if (u1 < 1e-300) u1 = 1e-300;
-    return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
+    return std::sqrt(-2.0 * pmath::log(u1)) * pmath::cos(2.0 * std::numbers::pi * u2);
   }
 
  private:

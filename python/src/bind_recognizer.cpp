@@ -151,7 +151,9 @@ void bind_session(nb::class_<PyRecognizer>& c) {
             std::lock_guard lock(r.mutex);
             r.rec.save_session(file);
           },
-          "path"_a, "Saves the readings so far and the object prior to a small file (restore_session resumes).")
+          "path"_a,
+          "Saves the readings so far and the object prior to a small file (restore_session resumes); sva.Error "
+          "naming the path for an empty name, a folder, or a folder that does not exist (none is created).")
       .def(
           "restore_session",
           [](PyRecognizer& r, const std::filesystem::path& file) {
@@ -161,7 +163,23 @@ void bind_session(nb::class_<PyRecognizer>& c) {
           },
           "path"_a,
           "Replaces this session by a saved one (its belief rebuilt bit for bit); sva.Error naming the file when it "
-          "cannot be read or was saved with another map.");
+          "cannot be read or was saved with another map.")
+      .def(
+          "reading_count",
+          [](const PyRecognizer& r) {
+            std::lock_guard lock(r.mutex);
+            return r.rec.reading_count();
+          },
+          "How many readings the session holds (0 after reset()).")
+      .def(
+          "readings",
+          [](const PyRecognizer& r) {
+            if (PyErr_WarnEx(PyExc_DeprecationWarning, "Recognizer.readings() is deprecated: use reading_count()", 1))
+              throw nb::python_error();
+            std::lock_guard lock(r.mutex);
+            return r.rec.reading_count();
+          },
+          "Deprecated: reading_count().");
 }
 
 }  // namespace
@@ -224,23 +242,7 @@ void bind_recognizer(nb::module_& m) {
             std::lock_guard lock(r.mutex);
             r.rec.reset();
           },
-          "Forgets the readings and the prior: a fresh session (the belief's memory is kept for the next one).")
-      .def(
-          "reading_count",
-          [](const PyRecognizer& r) {
-            std::lock_guard lock(r.mutex);
-            return r.rec.reading_count();
-          },
-          "How many readings the session holds (0 after reset()).")
-      .def(
-          "readings",
-          [](const PyRecognizer& r) {
-            if (PyErr_WarnEx(PyExc_DeprecationWarning, "Recognizer.readings() is deprecated: use reading_count()", 1))
-              throw nb::python_error();
-            std::lock_guard lock(r.mutex);
-            return r.rec.reading_count();
-          },
-          "Deprecated: reading_count().");
+          "Forgets the readings and the prior: a fresh session (the belief's memory is kept for the next one).");
   bind_session(c);
 }
 

@@ -8,6 +8,7 @@ one machine.
 
 On a lab's cluster (sva installed on every machine, the map on a path every worker can read)::
 
+    # illustration: shell commands on a lab's machines; python/tests/test_distributed.py runs them on 127.0.0.1
     dask scheduler                                         # on the head node: tcp://HEAD:8786
     dask worker tcp://HEAD:8786 --nworkers 1 --nthreads 1  # on each machine (one engine per machine)
     python -m sva.distributed --scheduler tcp://HEAD:8786 \\

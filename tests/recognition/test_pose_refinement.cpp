@@ -274,7 +274,7 @@ TEST_CASE("fine pose: a planar space moves x, y and the angle only") {
   CHECK(std::fabs(r.pose.R[2][2] - 1.0) < 1e-12);  // still a rotation about z
 }
 
-TEST_CASE("fine pose end to end: on the simulated tiny scene, refinement lowers the median pose error") {
+TEST_CASE("fine pose end to end: on the simulated tiny scene, refinement lowers the angle error") {
   const Scene scene = load_scene("tiny");
   sim::SimulateOptions so;
   so.train_per_object = 80;
@@ -285,7 +285,7 @@ TEST_CASE("fine pose end to end: on the simulated tiny scene, refinement lowers 
   to.clusters = 6;
   const Map map = Map::train(data.train, to);
   eval::EvalOptions o;
-  o.trials = 8;
+  o.trials = 16;
   o.max_readings = 12;
   o.seed = test::scenario_seed(3);
   o.progress = false;
@@ -296,27 +296,28 @@ TEST_CASE("fine pose end to end: on the simulated tiny scene, refinement lowers 
   const eval::EvalResult on = run(true), off = run(false);
   const eval::CurvePoint on_end = eval::summarize(on).points.back(), off_end = eval::summarize(off).points.back();
   REQUIRE(on_end.pose_trials == off_end.pose_trials);  // the object decision does not change
-  test::margin("tiny fine pose: trials with the right object at 12 readings", on_end.pose_trials, ">=", 6);
-  REQUIRE(on_end.pose_trials >= 6);
-  std::printf("tiny, 12 readings: median translation %.3f -> %.3f mm (off -> on)\n", *off_end.translation_mm.median,
-              *on_end.translation_mm.median);
-  test::margin("tiny fine pose: median translation, refined / not",
-               *on_end.translation_mm.median / *off_end.translation_mm.median, "<", 0.5);
-  CHECK(*on_end.translation_mm.median < 0.5 * *off_end.translation_mm.median);
-  // The angle, where the histogram found the right mode (below 45 degrees): the die, a cube, is often taken in
-  // another of its rotations, which its appearance on this small map does not tell apart and its shape cannot.
-  std::vector<double> angle_on, angle_off;
+  // Trial by trial, where the histogram found the right mode (below 45 degrees): the die, a cube, is often taken
+  // in another of its rotations, which its appearance on this small map does not tell apart and its shape cannot,
+  // and there no refinement helps. The medians of the per-trial ratios, not ratios of medians: a handful of
+  // trials in the right mode make a median of errors jump (bench/test_margins.py, docs/reliability.md "Margins").
+  std::vector<double> translation_ratio, angle_ratio;
   for (std::size_t t = 0; t < on.trials.size(); ++t) {
     const eval::StepResult &a = on.trials[t].steps.back(), &b = off.trials[t].steps.back();
     if (!a.has_pose_error() || !b.has_pose_error() || deg(b.angular_error_rad) > 45.0) continue;
-    angle_on.push_back(deg(a.angular_error_rad));
-    angle_off.push_back(deg(b.angular_error_rad));
+    translation_ratio.push_back(a.translation_error_mm / std::max(b.translation_error_mm, 1e-9));
+    angle_ratio.push_back(a.angular_error_rad / std::max(b.angular_error_rad, 1e-12));
   }
-  test::margin("tiny fine pose: trials in the right mode", static_cast<double>(angle_on.size()), ">=", 3);
-  REQUIRE(angle_on.size() >= 3);
-  std::printf("tiny, 12 readings, right mode (%zu trials): median angle %.2f -> %.2f deg (off -> on)\n",
-              angle_on.size(), *eval::median(angle_off), *eval::median(angle_on));
-  test::margin("tiny fine pose: median angle in the right mode, refined / not",
-               *eval::median(angle_on) / *eval::median(angle_off), "<", 0.5);
-  CHECK(*eval::median(angle_on) < 0.5 * *eval::median(angle_off));
+  test::margin("tiny fine pose: trials in the right mode, of 16", static_cast<double>(angle_ratio.size()), ">=", 4);
+  REQUIRE(angle_ratio.size() >= 4);
+  const double tr = *eval::median(translation_ratio), ar = *eval::median(angle_ratio);
+  std::printf("tiny, 12 readings, right mode (%zu trials): median error refined / not: translation %.3f, angle %.3f\n",
+              angle_ratio.size(), tr, ar);
+  // Over 10 seeds (bench/test_margins.py): 6 to 11 trials in the right mode; the angle ratio 0.11 to 0.60, so the
+  // refinement more than halves the angle; the translation ratio 0.17 to 1.07: the histogram's sub-bin peak
+  // already places tiny's objects within 1-2 mm, and 80 training contacts per object do not reliably do better
+  // (paper3d's 1000 take it to 0.03 mm, docs/evaluation.md "Fine pose"), so here it may only not lose much.
+  test::margin("tiny fine pose: median per-trial angle, refined / not", ar, "<", 0.8);
+  test::margin("tiny fine pose: median per-trial translation, refined / not", tr, "<", 1.5);
+  CHECK(ar < 0.8);
+  CHECK(tr < 1.5);
 }

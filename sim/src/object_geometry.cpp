@@ -22,6 +22,7 @@
 #include <cstdlib>
 #include <limits>
 #include <mutex>
+#include <span>
 #include <string>
 
 #include <embree3/rtcore.h>
@@ -78,17 +79,23 @@ RTCDevice device() {
   return dev;
 }
 
-// The rays' context: where the filter collects every triangle Embree reports.
+// The rays' context: where the filter collects every triangle Embree reports (for a stream of rays, tagged with the
+// ray's id).
 struct CandidateContext {
-  RTCIntersectContext context;  // first member: Embree hands the filter a pointer to it
-  std::vector<std::uint32_t>* found;
+  RTCIntersectContext context;                   // first member: Embree hands the filter a pointer to it
+  std::vector<std::uint32_t>* found = nullptr;   // one ray: its triangles
+  std::vector<std::uint64_t>* tagged = nullptr;  // a stream: ray id << 32 | triangle
 };
 
 extern "C" void collect_candidate(const RTCFilterFunctionNArguments* args) {
   auto* ctx = reinterpret_cast<CandidateContext*>(args->context);
   for (unsigned i = 0; i < args->N; ++i) {
     if (args->valid[i] != -1) continue;
-    ctx->found->push_back(RTCHitN_primID(args->hit, args->N, i));
+    const std::uint32_t tri = RTCHitN_primID(args->hit, args->N, i);
+    if (ctx->tagged)
+      ctx->tagged->push_back(std::uint64_t{RTCRayN_id(args->ray, args->N, i)} << 32 | tri);
+    else
+      ctx->found->push_back(tri);
     args->valid[i] = 0;  // rejected: traversal goes on to every other triangle along the ray
   }
 }
@@ -100,8 +107,8 @@ struct ObjectGeometry::Impl {
   RTCScene scene = nullptr;
   std::vector<double> cdf;  // cumulative triangle areas, for sampling by area
   TriangleRings rings;      // the triangles around each triangle's corners, by position
-  ObjectGeometry::Hit exact_hit(std::vector<std::uint32_t>& found, const glm::dvec3& o, const glm::dvec3& d,
-                                double tnear, double tfar) const;
+  ObjectGeometry::Hit exact_hit(std::span<std::uint32_t> found, const glm::dvec3& o, const glm::dvec3& d, double tnear,
+                                double tfar) const;
 };
 
 ObjectGeometry::ObjectGeometry(Mesh mesh) : impl_(std::make_unique<Impl>()) {
@@ -193,21 +200,34 @@ RTCRayHit make_ray(const glm::dvec3& o, const glm::dvec3& d, double tnear, doubl
 
 }  // namespace
 
-// The nearest triangle among the candidates and their neighbours, by the exact test; equal distances go to the
-// smaller triangle index, so the answer never depends on the order Embree found them in.
-ObjectGeometry::Hit ObjectGeometry::Impl::exact_hit(std::vector<std::uint32_t>& found, const glm::dvec3& o,
+// The nearest triangle among the candidates, by the exact test; equal distances go to the smaller triangle index, so
+// the answer never depends on the order Embree found them in. Where the ray passes near a candidate's boundary, the
+// triangles around that candidate's corners are tested too: one of them may be the one hit, and another kernel may
+// have reported it instead. A triangle hit away from its boundary is reported by every kernel.
+ObjectGeometry::Hit ObjectGeometry::Impl::exact_hit(std::span<std::uint32_t> found, const glm::dvec3& o,
                                                     const glm::dvec3& d, double tnear, double tfar) const {
-  rings.expand(found);
+  std::sort(found.begin(), found.end());
+  const auto end = std::unique(found.begin(), found.end());
   Hit best;
-  for (std::uint32_t tri : found) {
+  thread_local std::vector<std::uint32_t> edgy;
+  edgy.clear();
+  auto test = [&](std::uint32_t tri) {
     const glm::uvec3& t = mesh.triangles[tri];
-    const auto hit = intersect_triangle(o, d, glm::dvec3(mesh.positions[t.x]), glm::dvec3(mesh.positions[t.y]),
-                                        glm::dvec3(mesh.positions[t.z]));
-    if (!hit || *hit < tnear || *hit > tfar) continue;
-    if (best.hit && (*hit > best.t || (*hit == best.t && tri > best.triangle))) continue;
+    const TriangleTest h = intersect_triangle(o, d, glm::dvec3(mesh.positions[t.x]), glm::dvec3(mesh.positions[t.y]),
+                                              glm::dvec3(mesh.positions[t.z]));
+    if (h.near_edge) edgy.push_back(tri);
+    if (!h.hit || h.t < tnear || h.t > tfar) return;
+    if (best.hit && (h.t > best.t || (h.t == best.t && tri > best.triangle))) return;
     best.hit = true;
-    best.t = *hit;
+    best.t = h.t;
     best.triangle = tri;
+  };
+  for (auto it = found.begin(); it != end; ++it) test(*it);
+  if (!edgy.empty()) {
+    rings.expand(edgy);
+    const std::vector<std::uint32_t> around = edgy;
+    for (std::uint32_t tri : around)
+      if (!std::binary_search(found.begin(), end, tri)) test(tri);
   }
   if (best.hit) best.normal = triangle_normal(mesh, best.triangle);
   return best;
@@ -225,10 +245,32 @@ ObjectGeometry::Hit ObjectGeometry::intersect(const glm::dvec3& o, const glm::dv
   return impl_->exact_hit(found, o, d, tnear, tfar);
 }
 
+// A coherent stream (much faster than one ray at a time); the filter tags each candidate with its ray.
 void ObjectGeometry::intersect_parallel(const std::vector<glm::dvec3>& origins, const glm::dvec3& d, double tfar,
                                         std::vector<Hit>& hits) const {
+  thread_local std::vector<RTCRayHit> rays;
+  thread_local std::vector<std::uint32_t> found;
+  thread_local std::vector<std::uint64_t> tagged;
+  rays.resize(origins.size());
+  for (std::size_t i = 0; i < origins.size(); ++i) {
+    rays[i] = make_ray(origins[i], d, 0.0, tfar);
+    rays[i].ray.id = static_cast<unsigned>(i);
+  }
+  tagged.clear();
+  CandidateContext ctx;
+  rtcInitIntersectContext(&ctx.context);
+  ctx.context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+  ctx.tagged = &tagged;
+  if (!rays.empty())
+    rtcIntersect1M(impl_->scene, &ctx.context, rays.data(), static_cast<unsigned>(rays.size()), sizeof(RTCRayHit));
+  std::sort(tagged.begin(), tagged.end());  // by ray, then triangle
   hits.resize(origins.size());
-  for (std::size_t i = 0; i < origins.size(); ++i) hits[i] = intersect(origins[i], d, 0.0, tfar);
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < origins.size(); ++i) {
+    found.clear();
+    for (; k < tagged.size() && (tagged[k] >> 32) == i; ++k) found.push_back(static_cast<std::uint32_t>(tagged[k]));
+    hits[i] = impl_->exact_hit(found, origins[i], d, 0.0, tfar);
+  }
 }
 
 void ObjectGeometry::sample_surface(double u0, double u1, double u2, glm::dvec3& point, glm::dvec3& normal) const {

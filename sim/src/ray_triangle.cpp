@@ -8,15 +8,16 @@
 
 namespace sva::sim {
 
-std::optional<double> intersect_triangle(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& a,
-                                         const glm::dvec3& b, const glm::dvec3& c) {
+TriangleTest intersect_triangle(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& a, const glm::dvec3& b,
+                                const glm::dvec3& c) {
   // Shear the ray onto +z: kz is the direction's largest axis, the others
   // follow in a right-handed order (swapped for a negative kz keeps the winding).
+  TriangleTest r;
   const glm::dvec3 ad = glm::abs(d);
   const int kz = ad.x >= ad.y ? (ad.x >= ad.z ? 0 : 2) : (ad.y >= ad.z ? 1 : 2);
   int kx = (kz + 1) % 3, ky = (kx + 1) % 3;
   if (d[kz] < 0) std::swap(kx, ky);
-  if (d[kz] == 0) return std::nullopt;  // a zero direction
+  if (d[kz] == 0) return r;  // a zero direction
   const double sx = d[kx] / d[kz], sy = d[ky] / d[kz], sz = 1.0 / d[kz];
   const glm::dvec3 A = a - o, B = b - o, C = c - o;
   const double ax = A[kx] - sx * A[kz], ay = A[ky] - sy * A[kz];
@@ -25,12 +26,16 @@ std::optional<double> intersect_triangle(const glm::dvec3& o, const glm::dvec3& 
   // Scaled barycentrics: an edge's value depends on its two vertices only, so
   // both triangles of a shared edge see it with one sign (watertight).
   const double u = cx * by - cy * bx, v = ax * cy - ay * cx, w = bx * ay - by * ax;
-  if ((u < 0 || v < 0 || w < 0) && (u > 0 || v > 0 || w > 0)) return std::nullopt;
+  const double size = std::fabs(u) + std::fabs(v) + std::fabs(w);
+  r.near_edge = !(std::min({std::fabs(u), std::fabs(v), std::fabs(w)}) > 1e-4 * size);
+  if ((u < 0 || v < 0 || w < 0) && (u > 0 || v > 0 || w > 0)) return r;
   const double det = u + v + w;
-  if (det == 0) return std::nullopt;
+  if (det == 0) return r;
   const double t = (u * (sz * A[kz]) + v * (sz * B[kz]) + w * (sz * C[kz])) / det;
-  if (!std::isfinite(t)) return std::nullopt;
-  return t;
+  if (!std::isfinite(t)) return r;
+  r.hit = true;
+  r.t = t;
+  return r;
 }
 
 glm::dvec3 triangle_normal(const Mesh& mesh, std::uint32_t triangle) {

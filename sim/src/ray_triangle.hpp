@@ -7,18 +7,24 @@
 #include <sva/sim/mesh.hpp>
 
 #include <cstdint>
-#include <optional>
 #include <vector>
 
 #include <glm/glm.hpp>
 
 namespace sva::sim {
 
-// The ray parameter t of the hit of o + t d on triangle (a, b, c), either side
-// facing; nullopt for a miss or a ray in the triangle's plane. A ray through a
-// shared edge or vertex hits at least one of the triangles there.
-std::optional<double> intersect_triangle(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& a,
-                                         const glm::dvec3& b, const glm::dvec3& c);
+// The test of o + t d against triangle (a, b, c), either side facing. A ray
+// through a shared edge or vertex hits at least one of the triangles there.
+// `near_edge`: the ray passes within a relative 1e-4 of the triangle's boundary
+// (hit or miss), where Embree's single-precision kernels may decide otherwise
+// than this test, so the triangles around it must be tested too.
+struct TriangleTest {
+  bool hit = false;
+  double t = 0.0;
+  bool near_edge = false;
+};
+TriangleTest intersect_triangle(const glm::dvec3& o, const glm::dvec3& d, const glm::dvec3& a, const glm::dvec3& b,
+                                const glm::dvec3& c);
 
 // The unit geometric normal (v1 - v0) x (v2 - v0) of a triangle, Embree's convention.
 glm::dvec3 triangle_normal(const Mesh& mesh, std::uint32_t triangle);

@@ -66,9 +66,12 @@ RTCDevice device() {
   if (!dev) {
     const std::string config = device_config();
     dev = rtcNewDevice(config.c_str());
-    if (!dev)
+    if (!dev) {
+      const RTCError e = rtcGetDeviceError(nullptr);
       throw Error("cannot create an Embree device with \"" + config + "\" (error " +
-                  std::to_string(static_cast<int>(rtcGetDeviceError(nullptr))) + ")");
+                  std::to_string(static_cast<int>(e)) + ")" +
+                  (e == RTC_ERROR_UNSUPPORTED_CPU ? ": this CPU lacks the instruction set SVA_EMBREE_ISA names" : ""));
+    }
     if (!rtcGetDeviceProperty(dev, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED)) {
       rtcReleaseDevice(dev);
       dev = nullptr;

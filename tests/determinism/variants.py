@@ -8,6 +8,7 @@ usage: variants.py --sva BUILD/sva --work DIR [--only NAME ...] [--list]
 import argparse
 import os
 import shutil
+import subprocess
 import sys
 import time
 
@@ -53,6 +54,12 @@ def main():
     ap.add_argument("--only", action="append", help="run only the variants whose name contains this")
     args = ap.parse_args()
     shutil.rmtree(args.work, ignore_errors=True)
+    # A forced ISA that Embree does not have is refused by name, not ignored.
+    bad = subprocess.run([args.sva, "simulate", "--scene", "tiny", "--out", os.path.join(args.work, "bad")],
+                         env=dict(os.environ, SVA_EMBREE_ISA="sse9"), capture_output=True, text=True)
+    if bad.returncode == 0 or "SVA_EMBREE_ISA=sse9" not in bad.stderr:
+        print(f"FAILED: SVA_EMBREE_ISA=sse9 gave exit {bad.returncode} and: {bad.stderr[-500:]}")
+        return 1
     log = []
     t0 = time.monotonic()
     want = pipeline.run(args.sva, os.path.join(args.work, "native"), log=log)

@@ -27,7 +27,7 @@ TriangleTest intersect_triangle(const glm::dvec3& o, const glm::dvec3& d, const 
   // both triangles of a shared edge see it with one sign (watertight).
   const double u = cx * by - cy * bx, v = ax * cy - ay * cx, w = bx * ay - by * ax;
   const double size = std::fabs(u) + std::fabs(v) + std::fabs(w);
-  r.near_edge = !(std::min({std::fabs(u), std::fabs(v), std::fabs(w)}) > 1e-4 * size);
+  r.near_edge = !(std::min({std::fabs(u), std::fabs(v), std::fabs(w)}) > 1e-3 * size);
   if ((u < 0 || v < 0 || w < 0) && (u > 0 || v > 0 || w > 0)) return r;
   const double det = u + v + w;
   if (det == 0) return r;

@@ -15,9 +15,11 @@ namespace sva::sim {
 
 // The test of o + t d against triangle (a, b, c), either side facing. A ray
 // through a shared edge or vertex hits at least one of the triangles there.
-// `near_edge`: the ray passes within a relative 1e-4 of the triangle's boundary
+// `near_edge`: the ray passes within a relative 1e-3 of the triangle's boundary
 // (hit or miss), where Embree's single-precision kernels may decide otherwise
-// than this test, so the triangles around it must be tested too.
+// than this test, so the triangles around it must be tested too. The band is
+// about 1e-3 mm on a 1 mm triangle, a hundred times the rounding of a float
+// coordinate near 80 mm (5e-6 mm), the simulator's object-frame scale.
 struct TriangleTest {
   bool hit = false;
   double t = 0.0;

@@ -136,6 +136,10 @@ def docstring_blocks() -> list[Block]:
                 marker = DOC_MARKER.match(code.split("\n")[0])
                 where, line = f"docstring of {name}", start + 1
                 if src:  # the block's line in the source file, found by its first line after the object's start
+                    # A build tree's copy of a package file (python/CMakeLists.txt copies them) is named by its source.
+                    source = REPO / "python" / "sva" / Path(src).name
+                    if source.is_file() and source.read_bytes() == Path(src).read_bytes():
+                        src = str(source)
                     text = Path(src).read_text().split("\n")
                     for k in range(first - 1, len(text)):
                         if text[k].strip() == body[0].strip():
@@ -214,7 +218,7 @@ class Runner:
         failed = dict(re.findall(r"^BLOCK-FAILED (\S+:\d+)\n(.*?)^BLOCK-END$", r.stdout, re.S | re.M))
         result = {}
         for b in blocks:
-            key = b.where.split(" (")[0]
+            key = f"{b.file.split(' (')[0]}:{b.line}"
             if key in failed:
                 result[key] = failed[key]
             elif key not in passed:  # after a failed block of a shared run, or the interpreter died
@@ -282,7 +286,7 @@ def main() -> int:
             continue
         ran += 1
         if b.lang == PYTHON:
-            why = py_failed.get(b.where.split(" (")[0])  # absent: it ran and passed
+            why = py_failed.get(f"{b.file.split(' (')[0]}:{b.line}")  # absent: it ran and passed
         else:
             try:
                 why = runner.shell(b) if b.lang == SHELL else runner.cpp(b)

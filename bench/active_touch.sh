@@ -7,7 +7,7 @@
 #   usage: bench/active_touch.sh    (DATA=dir with train.svad, test.svad [, map.svam]; TRIALS=30 READINGS=20;
 #                                    TIMING_TRIALS=10; SIM=1 adds the active-sim policy; BOUND=1 adds the oracle
 #                                    bound of bench/active_touch_bound.py (needs the Python package in
-#                                    build/python); SVA=... THREADS=2 OUT=dir)
+#                                    build-ci/python); SVA=... THREADS=2 OUT=dir)
 # Without DATA it simulates paper3d (2 min) and trains the map (30 s) into OUT.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/find_sva.sh"

@@ -8,7 +8,7 @@ unused test reading of the true object as the second touch (an oracle that knows
 it decides at 2 and prints the bound  mean >= (2 * decided + 3 * others) / trials,  beside the random policy's
 mean. It also tries every third reading after the random first two, to show reading 3 is reachable.
 
-  usage: PYTHONPATH=build/python .venv/bin/python bench/active_touch_bound.py --map MAP --data TEST.svad \
+  usage: PYTHONPATH=build-ci/python .venv/bin/python bench/active_touch_bound.py --map MAP --data TEST.svad \
              --random-csv RANDOM.csv [--trials N] [--threshold 0.95]
 RANDOM.csv is `sva eval --policy random --csv` of the same map, data and seed (its first readings and poses).
 """

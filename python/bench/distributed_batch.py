@@ -5,7 +5,7 @@ Writes evaluation trials as a sessions file (`sva recognize --write-sessions`), 
 (each worker loads its map and makes its engine) and warm runs (engines kept), each checked byte for byte against
 the reference.
 
-    PYTHONPATH=build/python .venv/bin/python python/bench/distributed_batch.py --map MAP --data TEST [--trials 40]
+    PYTHONPATH=build-ci/python .venv/bin/python python/bench/distributed_batch.py --map MAP --data TEST [--trials 40]
 """
 
 from __future__ import annotations

@@ -4,7 +4,7 @@ recognizer has taken the same readings, on the CPU reference (the host map is wh
 the device copy is measured by `ctest -R "GPU engine" -V`, docs/api.md). Each configuration runs in a fresh process
 so that one's freed memory does not hide the other's.
 
-    PYTHONPATH=build/python .venv/bin/python python/bench/engine_memory.py --map MAP --data TEST [--readings 10]
+    PYTHONPATH=build-ci/python .venv/bin/python python/bench/engine_memory.py --map MAP --data TEST [--readings 10]
 """
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ same readings), through sva.Recognizer(backend="cpu", threads=1): add_reading + 
 calls, so the binding's conversions, GIL release and lock are inside. Rounds alternate C++ and Python (the machine
 may be shared); the medians at the last reading count and over all steps are printed, with the overhead.
 
-    PYTHONPATH=build/python .venv/bin/python python/bench/overhead.py --map MAP --data TEST [--trials 20]
+    PYTHONPATH=build-ci/python .venv/bin/python python/bench/overhead.py --map MAP --data TEST [--trials 20]
 """
 
 from __future__ import annotations

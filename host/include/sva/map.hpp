@@ -62,7 +62,7 @@ class Map {
   // Compatibility information for the recognizer and the evaluation.
   const std::string& scene_name() const;
   const PoseSpaceSpec& pose_space() const;
-  std::uint64_t scene_hash() const;  // FNV-1a of the dataset's scene JSON
+  std::uint64_t scene_hash() const;  // FNV-1a of the dataset's scene JSON, mesh paths reduced to file names
   std::vector<std::string> object_names() const;
   // The tactile array the map was trained with: readings must have its rows x cols image.
   const SensorSpec& sensor() const;

@@ -287,6 +287,15 @@ std::uint32_t cluster_appearance(const std::vector<float>& descriptors, const Tr
   return k;
 }
 
+// The scene's identity for matching maps, datasets and saved sessions: its JSON with each mesh named by its file name,
+// not by the folder it lay in, so that the same scene trained in two checkouts (or on two machines) gives the same
+// map bytes (docs/reliability.md, "Same answers on every machine").
+std::uint64_t location_free_scene_hash(Scene scene) {
+  for (auto& o : scene.objects) o.mesh = o.mesh.filename();
+  const std::string json = scene_to_json(scene);
+  return io::fnv1a64(reinterpret_cast<const std::uint8_t*>(json.data()), json.size());
+}
+
 }  // namespace
 
 std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParameters& p, TrainReport* report) {
@@ -297,8 +306,7 @@ std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParamete
   auto map = std::make_shared<PairMap>();
   map->scene_name = scene.name;
   map->pose_space = scene.pose_space;
-  const std::string scene_json = scene_to_json(scene);
-  map->scene_hash = io::fnv1a64(reinterpret_cast<const std::uint8_t*>(scene_json.data()), scene_json.size());
+  map->scene_hash = location_free_scene_hash(scene);
   map->train_seed = p.seed;
   for (const auto& o : scene.objects) map->objects.push_back({o.name, o.symmetry, o.inertial_radius_mm});
 

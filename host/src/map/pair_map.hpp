@@ -51,7 +51,7 @@ struct PairMap {
   // Compatibility with the data it was trained on (recognizer, evaluation).
   std::string scene_name;
   PoseSpaceSpec pose_space;
-  std::uint64_t scene_hash = 0;  // FNV-1a 64 of the dataset's scene JSON
+  std::uint64_t scene_hash = 0;  // FNV-1a 64 of the dataset's scene JSON, mesh paths reduced to file names
   std::uint64_t train_seed = 0;
   double ambiguity = 0.0;  // A: mean number of soft classes per training reading (Sec 1)
 

@@ -11,8 +11,13 @@ seconds="${1:-10}"
 shift || true
 [[ "$seconds" =~ ^[0-9]+$ ]] || { echo "usage: scripts/fuzz.sh [SECONDS_PER_HARNESS] [HARNESS...]" >&2; exit 2; }
 
-cmake --preset fuzz >/dev/null
-cmake --build --preset fuzz >/dev/null
+# Quiet when it builds; the build's own output when it does not, so that a failure names its cause.
+mkdir -p build-fuzz
+if ! { cmake --preset fuzz && cmake --build --preset fuzz; } >build-fuzz/fuzz-build.log 2>&1; then
+  tail -40 build-fuzz/fuzz-build.log >&2
+  echo "fuzz.sh: building the harnesses failed (whole log: build-fuzz/fuzz-build.log)" >&2
+  exit 1
+fi
 
 all=()
 for src in tests/fuzz/fuzz_*.cpp; do all+=("$(basename "$src" .cpp | sed 's/^fuzz_//')"); done

@@ -13,9 +13,9 @@
 //
 // These are the fdlibm algorithms (as in FreeBSD's msun and musl): only +, -,
 // *, / and sqrt, which IEEE 754 rounds exactly, compiled without contraction
-// (-ffp-contract=off on sva_core). Accuracy: within 1 ulp of the correctly
-// rounded result over the ranges the engine uses (tests/core/
-// test_portable_math.cpp measures it against glibc); sin and cos reduce
+// (-ffp-contract=off on sva_core and sva_sim). Accuracy: within 1 ulp of
+// glibc's results over the ranges the engine uses, 2 for log2 and acos
+// (tests/core/test_portable_math.cpp measures it); sin and cos reduce
 // arguments exactly for |x| < 2^19 * pi/2 and less accurately beyond (still
 // deterministically). Exact functions (sqrt, floor, ldexp, fmod, fabs) stay
 // std::.

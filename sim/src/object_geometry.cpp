@@ -8,9 +8,10 @@
 // last bits, so its own hits would make every simulated dataset depend on the
 // CPU that made it (docs/reliability.md, "Same answers on every machine").
 // Every triangle Embree reports anywhere along the ray is collected by a filter
-// that rejects it (so traversal goes on), together with the triangles around
-// its vertices: a triangle that one kernel misses at its edge is then still a
-// candidate through the neighbour that kernel hits (robust mode is watertight).
+// that rejects it (so traversal goes on); where the ray passes near a
+// candidate's boundary, the triangles around its corners join them: a triangle
+// that one kernel misses at its edge is then still a candidate through the
+// neighbour that kernel hits (robust mode is watertight).
 #include <sva/error.hpp>
 #include <sva/sim/tactile_sensor.hpp>
 
@@ -214,23 +215,22 @@ ObjectGeometry::Hit ObjectGeometry::Impl::exact_hit(std::span<std::uint32_t> fou
   Hit best;
   thread_local std::vector<std::uint32_t> edgy;
   edgy.clear();
-  auto test = [&](std::uint32_t tri) {
+  auto test = [&](std::uint32_t tri, bool candidate) {
     const glm::uvec3& t = mesh.triangles[tri];
     const TriangleTest h = intersect_triangle(o, d, glm::dvec3(mesh.positions[t.x]), glm::dvec3(mesh.positions[t.y]),
                                               glm::dvec3(mesh.positions[t.z]));
-    if (h.near_edge) edgy.push_back(tri);
+    if (candidate && h.near_edge) edgy.push_back(tri);
     if (!h.hit || h.t < tnear || h.t > tfar) return;
     if (best.hit && (h.t > best.t || (h.t == best.t && tri > best.triangle))) return;
     best.hit = true;
     best.t = h.t;
     best.triangle = tri;
   };
-  for (auto it = found.begin(); it != end; ++it) test(*it);
+  for (auto it = found.begin(); it != end; ++it) test(*it, true);
   if (!edgy.empty()) {
     rings.expand(edgy);
-    const std::vector<std::uint32_t> around = edgy;
-    for (std::uint32_t tri : around)
-      if (!std::binary_search(found.begin(), end, tri)) test(tri);
+    for (std::uint32_t tri : edgy)
+      if (!std::binary_search(found.begin(), end, tri)) test(tri, false);
   }
   if (best.hit) best.normal = triangle_normal(mesh, best.triangle);
   return best;

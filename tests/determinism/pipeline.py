@@ -63,7 +63,9 @@ def run(sva, work, env_extra=None, prefix=None, stages=STAGES, log=None):
     """Runs the pipeline up to the last of `stages` in `work`; returns {stage file: sha256}."""
     log = [] if log is None else log
     prefix = prefix or []
-    env = dict(os.environ)
+    # Each variant forces only what it names: a forced ISA or tunable from the caller's environment would also
+    # reach the native run and the emulated CPUs (which may lack it).
+    env = {k: v for k, v in os.environ.items() if k not in ("SVA_EMBREE_ISA", "GLIBC_TUNABLES")}
     env.update(env_extra or {})
     os.makedirs(work, exist_ok=True)
     p = lambda name: os.path.join(work, name)

@@ -13,17 +13,21 @@ foreach(f ${installed})
     message(FATAL_ERROR "the package ships a benchmark-only file: ${f}")
   endif()
 endforeach()
-# A sanitizer build's static library needs the sanitizer runtimes in the consumer too.
-execute_process(COMMAND "${CMAKE_COMMAND}" -S "${SOURCE}" -B "${WORK}/build" -G Ninja "-DCMAKE_PREFIX_PATH=${prefix}"
-                        "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_LINK_FLAGS}"
-                RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(rc)
-  message(FATAL_ERROR "configuring the consumer failed:\n${out}\n${err}")
-endif()
-execute_process(COMMAND "${CMAKE_COMMAND}" --build "${WORK}/build" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(rc)
-  message(FATAL_ERROR "building the consumer failed:\n${out}\n${err}")
-endif()
+# Configures and builds a project against the installed package, as a robot stack would. A sanitizer build's static
+# library needs the sanitizer runtimes in the consumer too.
+function(build_against_package source binary what)
+  execute_process(COMMAND "${CMAKE_COMMAND}" -S "${source}" -B "${binary}" -G Ninja "-DCMAKE_PREFIX_PATH=${prefix}"
+                          "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_LINK_FLAGS}"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(rc)
+    message(FATAL_ERROR "configuring ${what} failed:\n${out}\n${err}")
+  endif()
+  execute_process(COMMAND "${CMAKE_COMMAND}" --build "${binary}" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(rc)
+    message(FATAL_ERROR "building ${what} failed:\n${out}\n${err}")
+  endif()
+endfunction()
+build_against_package("${SOURCE}" "${WORK}/build" "the consumer")
 # A relocated install finds its assets through SVA_ASSETS.
 set(ENV{SVA_ASSETS} "${prefix}/share/sva/assets")
 execute_process(COMMAND "${WORK}/build/consumer" "${WORK}/data" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
@@ -36,16 +40,7 @@ endif()
 # below fails on one it does not know.
 function(run_example name expect)
   get_filename_component(example "${SOURCE}/../../../examples/${name}" ABSOLUTE)
-  execute_process(COMMAND "${CMAKE_COMMAND}" -S "${example}" -B "${WORK}/${name}" -G Ninja "-DCMAKE_PREFIX_PATH=${prefix}"
-                          "-DCMAKE_EXE_LINKER_FLAGS=${CONSUMER_LINK_FLAGS}"
-                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(rc)
-    message(FATAL_ERROR "configuring examples/${name} failed:\n${out}\n${err}")
-  endif()
-  execute_process(COMMAND "${CMAKE_COMMAND}" --build "${WORK}/${name}" RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(rc)
-    message(FATAL_ERROR "building examples/${name} failed:\n${out}\n${err}")
-  endif()
+  build_against_package("${example}" "${WORK}/${name}" "examples/${name}")
   execute_process(COMMAND "${WORK}/${name}/${name}" ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
   message("${name}: ${out}${err}")
   if(rc OR NOT out MATCHES "${expect}")

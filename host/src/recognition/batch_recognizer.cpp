@@ -71,16 +71,20 @@ void add_hypotheses(const BayesFilter& filter, const PoseSpace& space, const std
   }
 }
 
+// Object probabilities times the prior's weights, renormalised; unchanged without a prior.
+void weigh_by_prior(std::vector<double>& p, const std::vector<double>& prior_weight) {
+  if (prior_weight.empty()) return;
+  double z = 0.0;
+  for (std::size_t o = 0; o < p.size(); ++o) z += p[o] *= prior_weight[o];
+  for (double& x : p) x /= z;
+}
+
 // Before any reading there is no evidence: the object posterior is the prior (uniform without one), and no
 // object, pose or hypothesis is reported, so that a caller cannot take a placeholder for an answer.
 Estimate not_ready(std::size_t objects, const std::vector<double>& prior_weight) {
   Estimate e;
-  e.object_probability.assign(objects, 1.0 / static_cast<double>(objects));
-  if (!prior_weight.empty()) {
-    double z = 0.0;
-    for (double w : prior_weight) z += w;
-    for (std::size_t o = 0; o < objects; ++o) e.object_probability[o] = prior_weight[o] / z;
-  }
+  e.object_probability.assign(objects, prior_weight.empty() ? 1.0 / static_cast<double>(objects) : 1.0);
+  weigh_by_prior(e.object_probability, prior_weight);
   return e;
 }
 
@@ -286,11 +290,7 @@ Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const
   e.votes = s.last_votes;
   if (!s.filter) {
     e.object_probability = AppearanceBaseline::posterior(s.appearance_log_posterior);
-    if (!s.prior_weight.empty()) {
-      double z = 0.0;
-      for (std::size_t o = 0; o < e.object_probability.size(); ++o) z += e.object_probability[o] *= s.prior_weight[o];
-      for (double& p : e.object_probability) p /= z;
-    }
+    weigh_by_prior(e.object_probability, s.prior_weight);
     for (std::uint32_t o = 1; o < e.object_probability.size(); ++o)
       if (e.object_probability[o] > e.object_probability[e.object]) e.object = o;
     e.object_name = objects[e.object].name;

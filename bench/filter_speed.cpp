@@ -7,6 +7,7 @@
 // Trial t recognises object t % objects from its test readings, drawn at
 // random, moved by a random pose (rotation arbitrary, translation in the pose
 // space's range, as in the paper's protocol).
+#include <sva/base/rng.hpp>
 #include <sva/dataset.hpp>
 #include <sva/error.hpp>
 #include <sva/map.hpp>
@@ -22,9 +23,8 @@
 #include <string>
 #include <vector>
 
-#include "recognition/rotation.hpp"
-#include "speed/process_memory.hpp"
-#include "util/rng.hpp"
+#include "bench/process_memory.hpp"
+#include "core/so3.hpp"
 
 namespace {
 

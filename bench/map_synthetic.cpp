@@ -14,7 +14,7 @@
 #include <numbers>
 #include <string>
 
-#include "util/rng.hpp"
+#include <sva/base/rng.hpp>
 
 int main(int argc, char** argv) try {
   if (argc < 2) {

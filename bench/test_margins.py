@@ -23,7 +23,7 @@ TESTS = [
     ("sva_tests_sim", "controller: converges on tiny's objects with errors on, settling near, not on, the true normal", True),
     ("sva_tests_recognition",
      "fine pose end to end: on the simulated tiny scene, refinement lowers the angle error", True),
-    ("sva_tests_recognition",
+    ("sva_tests_planning",
      "Touch planner: touching where the plan says decides the object in fewer readings than at random", False),
 ]
 LINE = re.compile(r"^margin: (.*) = (\S+) \(asserted (<=|>=|<|>) (\S+)\)$")

@@ -34,7 +34,7 @@ ci_build() {
 
 # The Vulkan suite again at lavapipe's subgroup sizes 4 and 32 (the default width gives 8 on x86-64 with AVX): a
 # kernel that assumes one subgroup size fails here without a GPU. The presets set LP_NATIVE_VECTOR_WIDTH and the
-# size the suite must see (tests/vulkan/test_subgroup_size.cpp checks it).
+# size the suite must see (tests/backends/vulkan/test_subgroup_size.cpp checks it).
 subgroups() {
   ctest --preset ci-subgroup-4
   ctest --preset ci-subgroup-32

@@ -13,7 +13,7 @@
 //           appended to the candidate list (the host sorts the few it gets);
 //  REBUILD: per table slot: every bin in the band joins an empty list.
 // Integer sums, so the results equal the CPU reference's
-// (host/src/recognition/belief.cpp) whatever the order.
+// (host/src/backends/cpu/belief.cpp) whatever the order.
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
 #extension GL_EXT_shader_atomic_int64 : require
 #extension GL_EXT_buffer_reference : require

@@ -6,7 +6,7 @@
 // household objects are written at their real sizes and their scenes keep them
 // (size_mm is each mesh's largest dimension).
 #include <sva/error.hpp>
-#include "io/text_file.hpp"
+#include <sva/io/text_file.hpp>
 
 #include <cmath>
 #include <cstdio>

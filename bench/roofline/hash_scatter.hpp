@@ -11,7 +11,7 @@
 #include <utility>
 #include <vector>
 
-#include "vulkan/context.hpp"
+#include "backends/vulkan/context.hpp"
 
 namespace sva::bench {
 

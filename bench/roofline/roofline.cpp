@@ -1,17 +1,18 @@
 #include "roofline/roofline.hpp"
 
+#include <sva/base/rng.hpp>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdint>
 #include <span>
 #include <vector>
 
+#include "backends/vulkan/context.hpp"
+#include "backends/vulkan/gpu_layout.hpp"
 #include "roofline/hash_scatter.hpp"
 #include "spv/fixed_point_scatter.h"
 #include "sva_shared.h"  // SVA_WORKGROUP_SIZE
-#include "util/rng.hpp"
-#include "vulkan/context.hpp"
-#include "vulkan/gpu_layout.hpp"
 
 namespace sva::bench {
 

@@ -7,8 +7,8 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "io/json_limits.hpp"
-#include "io/text_file.hpp"
+#include <sva/io/json_limits.hpp>
+#include <sva/io/text_file.hpp>
 
 namespace sva::drivers {
 

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
-#include "io/json_limits.hpp"
+#include <sva/io/json_limits.hpp>
 
 namespace sva::drivers {
 

@@ -5,9 +5,9 @@
 #include <mutex>
 #include <nlohmann/json.hpp>
 
-#include "io/binary_file.hpp"
-#include "io/json_limits.hpp"
-#include "io/recording_file.hpp"
+#include <sva/io/binary_file.hpp>
+#include <sva/io/json_limits.hpp>
+#include <sva/io/recording_file.hpp>
 
 namespace sva::drivers {
 

@@ -5,8 +5,12 @@
 // bare fixed-point atomic scatter on the same device (the roofline of the vote
 // scatter), with the ratios between them. The runs are bench/speed's; this file
 // parses the options and prints.
+#include <sva/base/parallel.hpp>
 #include <sva/dataset.hpp>
 #include <sva/error.hpp>
+#include <sva/eval/evaluation.hpp>
+#include <sva/eval/speed_run.hpp>
+#include <sva/io/text_file.hpp>
 #include <sva/map.hpp>
 
 #include <algorithm>
@@ -15,10 +19,6 @@
 #include <sstream>
 
 #include "args.hpp"
-#include "eval/evaluation.hpp"
-#include "io/text_file.hpp"
-#include "speed/speed_run.hpp"
-#include "util/parallel.hpp"
 
 namespace sva::cli {
 

@@ -6,18 +6,20 @@
 #include <sva/map.hpp>
 #include <sva/scene.hpp>
 
+#include <sva/eval/dataset_export.hpp>
+#include <sva/eval/evaluation.hpp>
+#include <sva/eval/figure.hpp>
+#include <sva/eval/report.hpp>
+#include <sva/io/binary_file.hpp>
+#include <sva/io/text_file.hpp>
+
 #include <array>
 #include <chrono>
 #include <cstdio>
 #include <map>
 
 #include "args.hpp"
-#include "eval/evaluation.hpp"
-#include "eval/figure.hpp"
-#include "eval/report.hpp"
-#include "io/binary_file.hpp"
-#include "io/text_file.hpp"
-#include "recognition/vote_backend_factory.hpp"
+#include "backends/vote_backend_factory.hpp"
 
 #if __has_include(<sva/sim/simulate.hpp>)
 #include <sva/sim/simulate.hpp>
@@ -102,7 +104,7 @@ void stage_preview(const DemoConfig& cfg, const DemoData& data) {
 #ifdef SVA_HAVE_SIM
   for (const Dataset* d : {&data.train, &data.test}) {
     auto png = cfg.work / ("preview_" + d->scene.name + "_" + d->split + ".png");
-    sim::write_preview(*d, png);
+    io::write_preview(*d, png);
     std::printf("[preview]  %s\n", png.c_str());
   }
 #else

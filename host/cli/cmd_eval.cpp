@@ -4,6 +4,13 @@
 #include <sva/map.hpp>
 #include <sva/recognizer.hpp>
 
+#include <sva/eval/evaluation.hpp>
+#include <sva/eval/figure.hpp>
+#include <sva/eval/report.hpp>
+#include <sva/eval/results.hpp>
+#include <sva/eval/robustness.hpp>
+#include <sva/io/text_file.hpp>
+
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -15,13 +22,7 @@
 #include <vector>
 
 #include "args.hpp"
-#include "eval/evaluation.hpp"
-#include "eval/figure.hpp"
-#include "eval/report.hpp"
-#include "eval/results.hpp"
-#include "eval/robustness.hpp"
-#include "io/text_file.hpp"
-#include "recognition/vote_backend_factory.hpp"
+#include "backends/vote_backend_factory.hpp"
 
 #if __has_include(<sva/sim/touch_simulator.hpp>)
 #include <sva/sim/touch_simulator.hpp>

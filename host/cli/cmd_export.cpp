@@ -4,12 +4,12 @@
 #include <unistd.h>
 #include <sva/dataset.hpp>
 #include <sva/drivers/session.hpp>
+#include <sva/eval/dataset_export.hpp>
 
 #include <algorithm>
 #include <cstdio>
 
 #include "args.hpp"
-#include "io/dataset_export.hpp"
 
 namespace sva::cli {
 

@@ -1,4 +1,5 @@
 #include <sva/dataset.hpp>
+#include <sva/io/binary_file.hpp>
 #include <sva/map.hpp>
 
 #include <algorithm>
@@ -7,7 +8,6 @@
 #include <vector>
 
 #include "args.hpp"
-#include "io/binary_file.hpp"
 #include "map/map_file.hpp"
 #include "map/pair_map.hpp"
 

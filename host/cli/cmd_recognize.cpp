@@ -1,23 +1,23 @@
 // sva recognize: batch recognition of many independent sessions (docs/batch-format.md).
 // Sessions are stepped together, so each update of the backend (one GPU
 // submission with --backend vulkan) carries one reading of every session.
+#include <sva/base/progress.hpp>
 #include <sva/batch_recognizer.hpp>
 #include <sva/dataset.hpp>
 #include <sva/error.hpp>
+#include <sva/eval/batch_recognition.hpp>
+#include <sva/eval/evaluation.hpp>
+#include <sva/eval/trial_sessions.hpp>
+#include <sva/io/text_file.hpp>
 #include <sva/map.hpp>
 
 #include <algorithm>
 #include <cstdio>
 
 #include "args.hpp"
-#include "batch/batch_recognition.hpp"
-#include "eval/evaluation.hpp"
-#include "eval/trial_sessions.hpp"
-#include "io/batch_sessions.hpp"
-#include "io/text_file.hpp"
+#include "backends/vote_backend_factory.hpp"
+#include "batch/batch_sessions.hpp"
 #include "map/pair_map.hpp"
-#include "recognition/vote_backend_factory.hpp"
-#include "util/progress.hpp"
 
 namespace sva::cli {
 

@@ -3,6 +3,7 @@
 // and, with a map, recognising while touching (the estimate after each).
 // Ctrl-C ends the recording; the file is valid up to its last record whatever
 // happens.
+#include <sva/base/interrupt.hpp>
 #include <sva/drivers/session.hpp>
 #include <sva/drivers/usb_transport.hpp>
 
@@ -10,9 +11,8 @@
 #include <cstdlib>
 
 #include "args.hpp"
-#include "recognition/vote_backend_factory.hpp"
+#include "backends/vote_backend_factory.hpp"
 #include "sensor_output.hpp"
-#include "util/interrupt.hpp"
 
 namespace sva::cli {
 

@@ -9,7 +9,7 @@
 #include <optional>
 
 #include "args.hpp"
-#include "recognition/vote_backend_factory.hpp"
+#include "backends/vote_backend_factory.hpp"
 #include "sensor_output.hpp"
 
 namespace sva::cli {

@@ -3,11 +3,13 @@
 #include <sva/dataset.hpp>
 #include <sva/scene.hpp>
 
+#include <sva/base/parallel.hpp>
+#include <sva/eval/dataset_export.hpp>
+
 #include <cstdio>
 #include <set>
 
 #include "args.hpp"
-#include "util/parallel.hpp"
 
 #if __has_include(<sva/sim/simulate.hpp>)
 #include <sva/sim/simulate.hpp>
@@ -91,7 +93,7 @@ int cmd_simulate(const std::vector<std::string>& argv) {
   save_dataset(data.train, out / "train.svad");
   save_dataset(data.test, out / "test.svad");
   if (!preview.empty()) {
-    sim::write_preview(data.train, preview);
+    io::write_preview(data.train, preview);
     std::printf("wrote %s\n", preview.c_str());
   }
   print_summary(data, out);

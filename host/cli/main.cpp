@@ -1,5 +1,8 @@
 // sva: one CLI with subcommands. Every error a user can cause ends here as a
 // one-line message on stderr and a non-zero exit code.
+#include <sva/base/interrupt.hpp>
+#include <sva/base/progress.hpp>
+
 #include <cstdio>
 #include <cstring>
 #include <exception>
@@ -7,8 +10,6 @@
 #include <vector>
 
 #include "args.hpp"
-#include "util/interrupt.hpp"
-#include "util/progress.hpp"
 
 namespace {
 

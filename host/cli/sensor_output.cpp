@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cstdio>
 
-#include "io/batch_sessions.hpp"
+#include "batch/batch_sessions.hpp"
 
 namespace sva::cli {
 

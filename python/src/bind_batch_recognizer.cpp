@@ -10,7 +10,7 @@
 #include <mutex>
 #include <string_view>
 
-#include "batch/batch_recognition.hpp"
+#include <sva/eval/batch_recognition.hpp>
 #include "bindings.hpp"
 #include "recognizer_options.hpp"
 
@@ -37,7 +37,7 @@ void add_readings(PyBatchRecognizer& b, const std::vector<std::size_t>& sessions
   b.rec.add_readings(sessions, readings);
 }
 
-// One shard of a sessions file, recognised on this batch (host/src/batch/batch_recognition.hpp).
+// One shard of a sessions file, recognised on this batch (host/eval/include/sva/eval/batch_recognition.hpp).
 nb::bytes recognize_shard(PyBatchRecognizer& b, const Map& map, nb::bytes text, const std::string& source,
                           std::size_t first_line, std::size_t first_session, std::size_t top_k) {
   std::string results;

@@ -6,6 +6,13 @@
 #include <sva/map.hpp>
 #include <sva/scene.hpp>
 
+#include <sva/base/progress.hpp>
+#include <sva/eval/dataset_export.hpp>
+#include <sva/eval/evaluation.hpp>
+#include <sva/eval/figure.hpp>
+#include <sva/eval/report.hpp>
+#include <sva/io/text_file.hpp>
+
 #include <nanobind/stl/filesystem.h>
 #include <nanobind/stl/optional.h>
 #include <nanobind/stl/pair.h>
@@ -17,12 +24,7 @@
 #include <optional>
 
 #include "bindings.hpp"
-#include "eval/evaluation.hpp"
-#include "eval/figure.hpp"
-#include "eval/report.hpp"
-#include "io/text_file.hpp"
 #include "recognizer_options.hpp"
-#include "util/progress.hpp"
 
 #if __has_include(<sva/sim/simulate.hpp>)
 #include <sva/sim/simulate.hpp>
@@ -104,7 +106,7 @@ std::pair<Dataset, Dataset> simulate(nb::handle scene_arg, std::optional<int> tr
     save_dataset(data.train, *out / "train.svad");
     save_dataset(data.test, *out / "test.svad");
   }
-  if (preview) sim::write_preview(data.train, *preview);
+  if (preview) io::write_preview(data.train, *preview);
   // The images have the scene's sensor's shape, as in a loaded dataset (Reading.pressure is then 2-D).
   for (Dataset* d : {&data.train, &data.test})
     for (Sample& s : d->samples) {

@@ -1,4 +1,5 @@
 // NumPy conversions and the engine scope shared by the bindings (bindings.hpp).
+#include <sva/base/interrupt.hpp>
 #include <sva/error.hpp>
 
 #include <algorithm>
@@ -6,9 +7,8 @@
 
 #include <nanobind/stl/string.h>
 
+#include "backends/vote_backend_factory.hpp"
 #include "bindings.hpp"
-#include "recognition/vote_backend_factory.hpp"
-#include "util/interrupt.hpp"
 
 namespace sva::python {
 

@@ -1,5 +1,5 @@
 // Integer arithmetic of the log-domain belief, written once for the C++
-// reference (host/src/recognition/belief_math.hpp) and the GLSL fold and
+// reference (host/src/belief/belief_math.hpp) and the GLSL fold and
 // reduction kernels.
 //
 // Why integers: the belief is a sum over pairs of log(1 + S_p(x) / eps), and

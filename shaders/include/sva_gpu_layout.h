@@ -1,5 +1,5 @@
 // Buffer layouts and limits of the Vulkan vote backend, shared by the C++ host
-// (host/src/vulkan/vulkan_vote_backend.cpp) and the GLSL kernels. Structs hold
+// (host/src/backends/vulkan/vulkan_vote_backend.cpp) and the GLSL kernels. Structs hold
 // 4-byte scalars only, so std430 and C++ agree without padding rules.
 #ifndef SVA_GPU_LAYOUT_H
 #define SVA_GPU_LAYOUT_H
@@ -135,7 +135,7 @@ struct SvaFoldParams {
 // the fold because offsets only grow: the maximum M, each object's touched
 // bins, best offset and smallest key at it, and the *band* list of the bins
 // within the band width of M (the only ones whose mass 2^(offset - M) at
-// mass_bits is not 0, see recognition/belief.hpp). The band list has two
+// mass_bits is not 0, see backends/cpu/belief.hpp). The band list has two
 // sides: the estimate compacts the current side into the other, dropping
 // bins that fell out of the band, then flips. Then per object, written by
 // the estimate: the mass; and the histogram of distances below M of the

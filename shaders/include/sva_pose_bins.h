@@ -75,7 +75,7 @@ SVA_FN uint64_t sva_pack_bin_key(uint object, int tx, int ty, int tz, int rx, in
          (uint64_t(uint(rz)) << SVA_KEY_RZ_SHIFT);
 }
 
-// The GPU tables' index of a packed bin key (host/src/vulkan/linear_bins.hpp):
+// The GPU tables' index of a packed bin key (host/src/backends/vulkan/linear_bins.hpp):
 // the object from bit object_shift up, below it one mixed-radix index over
 // (tx, ty, tz, rx, ry, rz), with dim_tz = dim_rxy = 1 for planar spaces. Its
 // order is the packed keys' order.

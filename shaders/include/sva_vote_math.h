@@ -16,7 +16,7 @@
 //  - C++: include inside a namespace after `using namespace glm;` with
 //    std::int64_t / std::uint64_t visible as int64_t / uint64_t, and compile
 //    with -ffp-contract=off (no fused multiply-add); see
-//    host/src/recognition/vote_math.hpp.
+//    host/src/votes/vote_math.hpp.
 //  - GLSL: SVA_PRECISE expands to `precise` so that no driver fuses a*b+c.
 //
 // Rotations are unit quaternions vec4(x, y, z, w) = (sin(a/2) axis, cos(a/2)).

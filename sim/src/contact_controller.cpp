@@ -13,8 +13,8 @@
 #include <cmath>
 #include <limits>
 
-#include "core/portable_math.hpp"
-#include "util/rng.hpp"
+#include <sva/base/portable_math.hpp>
+#include <sva/base/rng.hpp>
 
 namespace sva::sim {
 

@@ -17,9 +17,9 @@
 
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
-#include "io/json_limits.hpp"
+#include <sva/io/json_limits.hpp>
 
-#include "io/text_file.hpp"
+#include <sva/io/text_file.hpp>
 
 namespace sva::sim {
 

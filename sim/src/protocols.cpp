@@ -12,10 +12,10 @@
 #include <memory>
 #include <string>
 
-#include "core/portable_math.hpp"
-#include "util/parallel.hpp"
-#include "util/progress.hpp"
-#include "util/rng.hpp"
+#include <sva/base/parallel.hpp>
+#include <sva/base/portable_math.hpp>
+#include <sva/base/progress.hpp>
+#include <sva/base/rng.hpp>
 
 namespace sva::sim {
 

@@ -8,8 +8,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/portable_math.hpp"
-#include "util/rng.hpp"
+#include <sva/base/portable_math.hpp>
+#include <sva/base/rng.hpp>
 
 namespace sva::sim {
 

@@ -7,7 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include "core/portable_math.hpp"
+#include <sva/base/portable_math.hpp>
 
 namespace sva::sim {
 

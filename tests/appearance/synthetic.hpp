@@ -10,7 +10,7 @@
 #include <numbers>
 #include <string>
 
-#include "util/rng.hpp"
+#include <sva/base/rng.hpp>
 
 namespace sva::test {
 

@@ -1,5 +1,6 @@
 #include <catch2/catch.hpp>
 
+#include <sva/base/rng.hpp>
 #include <sva/error.hpp>
 
 #include <cmath>
@@ -7,7 +8,6 @@
 #include "appearance/appearance_model.hpp"
 #include "appearance/descriptor.hpp"
 #include "synthetic.hpp"
-#include "util/rng.hpp"
 
 using namespace sva;
 

@@ -1,3 +1,5 @@
+#include <sva/base/rng.hpp>
+
 #include <catch2/catch.hpp>
 
 #include <algorithm>
@@ -7,7 +9,6 @@
 
 #include "appearance/descriptor.hpp"
 #include "appearance/pam.hpp"
-#include "util/rng.hpp"
 
 using namespace sva;
 

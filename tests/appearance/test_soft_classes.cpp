@@ -1,12 +1,12 @@
 #include <catch2/catch.hpp>
 
+#include <sva/base/rng.hpp>
 #include <sva/error.hpp>
 
 #include <cmath>
 
 #include "appearance/appearance_model.hpp"
 #include "appearance/soft_classes.hpp"
-#include "util/rng.hpp"
 
 using namespace sva;
 

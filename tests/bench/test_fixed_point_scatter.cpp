@@ -1,5 +1,7 @@
 // The bare fixed-point scatter of the roofline (bench/roofline): the engine's
 // order-independent accumulation rule (DESIGN 4) on its own.
+#include <sva/base/rng.hpp>
+
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -7,11 +9,10 @@
 #include <cstring>
 #include <vector>
 
+#include "backends/vulkan/context.hpp"
+#include "backends/vulkan/vk_test_support.hpp"
 #include "core/fixed_point.hpp"
 #include "spv/fixed_point_scatter.h"
-#include "util/rng.hpp"
-#include "vulkan/context.hpp"
-#include "vulkan/vk_test_support.hpp"
 
 namespace {
 

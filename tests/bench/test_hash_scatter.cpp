@@ -1,10 +1,10 @@
 #include <catch2/catch.hpp>
 
+#include <sva/base/rng.hpp>
 #include <sva/error.hpp>
 
+#include "backends/vulkan/vk_test_support.hpp"
 #include "roofline/hash_scatter.hpp"
-#include "util/rng.hpp"
-#include "vulkan/vk_test_support.hpp"
 
 namespace {
 

@@ -12,7 +12,7 @@
 #include <cmath>
 #include <fstream>
 
-#include "io/recording_file.hpp"
+#include <sva/io/recording_file.hpp>
 #include "test_support.hpp"
 
 using namespace sva::drivers;

@@ -7,17 +7,17 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
+#include <sva/base/rng.hpp>
+#include <sva/eval/results.hpp>
 #include <sva/map.hpp>
 #include <sva/scene.hpp>
 #include <sva/sim/simulate.hpp>
 
 #include "eval/metrics.hpp"
-#include "eval/results.hpp"
 #include "eval/trials.hpp"
 #include "map/map_file.hpp"
 #include "map/pair_map.hpp"
 #include "test_support.hpp"
-#include "util/rng.hpp"
 
 using namespace sva;
 using namespace sva::eval;

@@ -9,8 +9,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "eval/robustness.hpp"
-#include "io/text_file.hpp"
+#include <sva/eval/robustness.hpp>
+#include <sva/io/text_file.hpp>
 #include "test_support.hpp"
 
 using namespace sva;

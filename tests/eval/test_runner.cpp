@@ -4,6 +4,8 @@
 #include <catch2/catch.hpp>
 
 #include <sva/error.hpp>
+#include <sva/eval/report.hpp>
+#include <sva/io/text_file.hpp>
 
 #include <cmath>
 #include <fstream>
@@ -13,10 +15,8 @@
 #include <nlohmann/json.hpp>
 
 #include "eval/metrics.hpp"
-#include "eval/report.hpp"
 #include "eval/trial_runner.hpp"
 #include "eval/trials.hpp"
-#include "io/text_file.hpp"
 #include "test_support.hpp"
 
 using namespace sva;

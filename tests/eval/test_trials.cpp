@@ -2,6 +2,8 @@
 // transformation, determinism across seeds and thread counts.
 #include <catch2/catch.hpp>
 
+#include <sva/base/parallel.hpp>
+#include <sva/base/rng.hpp>
 #include <sva/error.hpp>
 
 #include <cmath>
@@ -10,8 +12,6 @@
 
 #include "eval/metrics.hpp"
 #include "eval/trials.hpp"
-#include "util/parallel.hpp"
-#include "util/rng.hpp"
 
 using namespace sva;
 using namespace sva::eval;

@@ -1,10 +1,10 @@
-// Batch sessions files (host/src/io/batch_sessions.cpp, docs/batch-format.md): JSON Lines of readings.
+// Batch sessions files (host/eval/src/batch/batch_sessions.cpp, docs/batch-format.md): JSON Lines of readings.
 #include <sva/error.hpp>
 
 #include <cstdint>
 #include <string_view>
 
-#include "io/batch_sessions.hpp"
+#include "batch/batch_sessions.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {

@@ -1,4 +1,4 @@
-// Session recordings, .svar (host/src/io/recording_file.cpp read by drivers/src/session.cpp: the records and
+// Session recordings, .svar (host/io/src/recording_file.cpp read by drivers/src/session.cpp: the records and
 // their payloads: settings JSON, raw chunks, pose lines, readings, notes). Every record's checksum is repaired
 // unless bit 0 of the header's reserved field is set.
 #include <sva/drivers/session.hpp>

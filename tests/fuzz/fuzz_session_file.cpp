@@ -1,8 +1,8 @@
-// Saved recognizer sessions (host/src/io/session_file.cpp); the container's checksum is repaired.
+// Saved recognizer sessions (host/src/recognition/session_file.cpp); the container's checksum is repaired.
 #include <sva/error.hpp>
 
 #include "fuzz_support.hpp"
-#include "io/session_file.hpp"
+#include "recognition/session_file.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   const auto bytes = sva::fuzz::repair_container({data, size}, "SVASESS1");

@@ -13,7 +13,7 @@
 #include <string>
 #include <vector>
 
-#include "io/binary_file.hpp"
+#include <sva/io/binary_file.hpp>
 
 namespace sva::fuzz {
 
@@ -35,9 +35,10 @@ inline std::filesystem::path write_input(std::span<const std::uint8_t> bytes, co
   return file;
 }
 
-// The binary container (io/binary_file.hpp) is checksummed, so almost every mutation would stop at the checksum.
-// Unless bit 0 of the reserved header field is set (the fuzzer then exercises the raw header checks), the magic,
-// payload size and checksum are rewritten to match the payload, which sends the mutation on to the payload parser.
+// The binary container (host/io/include/sva/io/binary_file.hpp) is checksummed, so almost every mutation would stop at
+// the checksum. Unless bit 0 of the reserved header field is set (the fuzzer then exercises the raw header checks), the
+// magic, payload size and checksum are rewritten to match the payload, which sends the mutation on to the payload
+// parser.
 inline std::vector<std::uint8_t> repair_container(std::span<const std::uint8_t> in, const char* magic8) {
   constexpr std::size_t kHeader = 32;
   std::vector<std::uint8_t> bytes(in.begin(), in.end());

@@ -15,9 +15,9 @@
 #include <iostream>
 #include <sstream>
 
-#include "io/batch_sessions.hpp"
-#include "io/session_file.hpp"
+#include "batch/batch_sessions.hpp"
 #include "map/map_file.hpp"
+#include "recognition/session_file.hpp"
 
 namespace {
 

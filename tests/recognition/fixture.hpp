@@ -3,6 +3,8 @@
 // milliseconds: objects are ellipsoids sampled at surface points whose hard
 // appearance class depends on where they lie (spatially-varying appearance);
 // the pair map is built by the map builder's own pair index.
+#include <sva/base/rng.hpp>
+
 #include <glm/glm.hpp>
 
 #include <cmath>
@@ -11,14 +13,13 @@
 #include <string>
 #include <vector>
 
+#include "backends/vote_backend.hpp"
+#include "core/so3.hpp"
 #include "map/map_builder.hpp"
 #include "map/pair_map.hpp"
 #include "recognition/bayes_filter.hpp"
 #include "recognition/observed_reading.hpp"
-#include "recognition/pose_space.hpp"
-#include "recognition/rotation.hpp"
-#include "recognition/vote_backend.hpp"
-#include "util/rng.hpp"
+#include "votes/pose_space.hpp"
 
 namespace sva::test {
 

@@ -1,12 +1,12 @@
 // The Bayes filter's numerical robustness (DESIGN 4) and its bad-input errors.
 #include <catch2/catch.hpp>
 
+#include <sva/base/interrupt.hpp>
 #include <sva/error.hpp>
 
 #include <cmath>
 
 #include "fixture.hpp"
-#include "util/interrupt.hpp"
 
 using namespace sva;
 using namespace sva::test;

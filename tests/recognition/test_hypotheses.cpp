@@ -7,8 +7,9 @@
 #include <cmath>
 #include <map>
 
+#include "backends/cpu/belief.hpp"
+#include "belief/belief_math.hpp"
 #include "fixture.hpp"
-#include "recognition/belief_math.hpp"
 #include "recognition/estimate.hpp"
 #include "recognition/hypotheses.hpp"
 

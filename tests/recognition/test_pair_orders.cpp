@@ -9,11 +9,11 @@
 
 #include <sva/sim/simulate.hpp>
 
+#include "backends/vote_backend.hpp"
 #include "fixture.hpp"
 #include "map/map_builder.hpp"
 #include "map/pair_keys.hpp"
 #include "recognition/describe_reading.hpp"
-#include "recognition/vote_backend.hpp"
 
 namespace {
 

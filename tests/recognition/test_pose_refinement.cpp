@@ -12,9 +12,9 @@
 #include <functional>
 #include <numbers>
 
-#include "eval/evaluation.hpp"
+#include <sva/eval/evaluation.hpp>
+#include <sva/eval/results.hpp>
 #include "eval/metrics.hpp"
-#include "eval/results.hpp"
 #include "fixture.hpp"
 #include "map/surface_index.hpp"
 #include "recognition/pose_refinement.hpp"

@@ -11,10 +11,10 @@
 #include <filesystem>
 #include <memory>
 
+#include "backends/vote_backend_factory.hpp"
 #include "fixture.hpp"
 #include "recognition/describe_reading.hpp"
 #include "recognition/estimate.hpp"
-#include "recognition/vote_backend_factory.hpp"
 #include "test_support.hpp"
 #include "trained_map.hpp"
 

@@ -13,8 +13,8 @@
 
 #include <algorithm>
 
-#include "eval/evaluation.hpp"
-#include "eval/results.hpp"
+#include <sva/eval/evaluation.hpp>
+#include <sva/eval/results.hpp>
 #include "map/map_builder.hpp"
 #include "test_support.hpp"
 

@@ -6,6 +6,7 @@
 
 #include <sva/dataset.hpp>
 #include <sva/error.hpp>
+#include <sva/io/binary_file.hpp>
 #include <sva/sim/sensor_errors.hpp>
 #include <sva/sim/simulate.hpp>
 #include <sva/sim/tactile_sensor.hpp>
@@ -14,7 +15,6 @@
 #include <cmath>
 
 #include "gltf_writer.hpp"
-#include "io/binary_file.hpp"
 #include "test_support.hpp"
 
 using namespace sva;

@@ -4,13 +4,13 @@
 // repeats its vertices per face; the near-edge flag calls the neighbours in.
 #include <catch2/catch.hpp>
 
+#include <sva/base/rng.hpp>
 #include <sva/sim/tactile_sensor.hpp>
 
 #include <cmath>
 
 #include "../../sim/src/ray_triangle.hpp"
 #include "gltf_writer.hpp"
-#include "util/rng.hpp"
 
 using namespace sva;
 

@@ -1,11 +1,11 @@
 #include "appearance/appearance_baseline.hpp"
 
+#include <sva/base/portable_math.hpp>
 #include <sva/error.hpp>
 
 #include <algorithm>
 #include <cassert>
 #include <cmath>
-#include "core/portable_math.hpp"
 
 namespace sva {
 

@@ -1,9 +1,10 @@
 #include "appearance/descriptor.hpp"
 
+#include <sva/base/portable_math.hpp>
+
 #include <cassert>
 #include <cmath>
 #include <numbers>
-#include "core/portable_math.hpp"
 
 namespace sva::appearance {
 

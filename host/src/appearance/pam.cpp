@@ -1,14 +1,14 @@
 #include "appearance/pam.hpp"
 
+#include <sva/base/interrupt.hpp>
+#include <sva/base/parallel.hpp>
+#include <sva/base/progress.hpp>
+#include <sva/base/rng.hpp>
+
 #include <algorithm>
 #include <cassert>
 #include <memory>
 #include <numeric>
-
-#include "util/interrupt.hpp"
-#include "util/parallel.hpp"
-#include "util/progress.hpp"
-#include "util/rng.hpp"
 
 namespace sva::appearance {
 

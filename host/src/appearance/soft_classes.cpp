@@ -1,12 +1,13 @@
 #include "appearance/soft_classes.hpp"
 
+#include <sva/base/portable_math.hpp>
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <numbers>
 
 #include "appearance/descriptor.hpp"
-#include "core/portable_math.hpp"
 
 namespace sva::appearance {
 

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <string>
 
-#include "io/binary_file.hpp"
+#include <sva/io/binary_file.hpp>
 
 namespace sva {
 

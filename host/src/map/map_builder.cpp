@@ -1,6 +1,10 @@
 #include "map/map_builder.hpp"
 
+#include <sva/base/interrupt.hpp>
+#include <sva/base/parallel.hpp>
+#include <sva/base/progress.hpp>
 #include <sva/error.hpp>
+#include <sva/io/binary_file.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -12,11 +16,7 @@
 #include "appearance/descriptor.hpp"
 #include "appearance/pam.hpp"
 #include "appearance/soft_classes.hpp"
-#include "io/binary_file.hpp"
 #include "map/pair_keys.hpp"
-#include "util/interrupt.hpp"
-#include "util/parallel.hpp"
-#include "util/progress.hpp"
 
 namespace sva {
 

@@ -1,13 +1,13 @@
 #include "map/map_file.hpp"
 
 #include <sva/error.hpp>
+#include <sva/io/binary_file.hpp>
 
 #include <cmath>
 #include <limits>
 #include <string_view>
 
 #include "appearance/descriptor.hpp"
-#include "io/binary_file.hpp"
 
 namespace sva {
 

@@ -8,12 +8,12 @@
 #include <numbers>
 #include <vector>
 
-#include "core/portable_math.hpp"
+#include <sva/base/portable_math.hpp>
+#include <sva/base/rng.hpp>
+#include "core/so3.hpp"
 #include "planning/contact_classes.hpp"
 #include "planning/planner_state.hpp"
 #include "recognition/describe_reading.hpp"
-#include "recognition/rotation.hpp"
-#include "util/rng.hpp"
 
 namespace sva {
 

@@ -12,10 +12,10 @@
 #include <numeric>
 #include <string>
 
-#include "core/portable_math.hpp"
+#include <sva/base/portable_math.hpp>
+#include <sva/base/rng.hpp>
 #include "planning/contact_classes.hpp"
 #include "planning/planner_state.hpp"
-#include "util/rng.hpp"
 
 namespace sva {
 

@@ -12,7 +12,8 @@
 #include <string>
 
 #include "appearance/appearance_baseline.hpp"
-#include "io/session_file.hpp"
+#include "backends/vote_backend.hpp"
+#include "backends/vote_backend_factory.hpp"
 #include "map/pair_map.hpp"
 #include "map/surface_index.hpp"
 #include "recognition/bayes_filter.hpp"
@@ -20,9 +21,8 @@
 #include "recognition/engine.hpp"
 #include "recognition/hypotheses.hpp"
 #include "recognition/pose_refinement.hpp"
-#include "recognition/pose_space.hpp"
-#include "recognition/vote_backend.hpp"
-#include "recognition/vote_backend_factory.hpp"
+#include "recognition/session_file.hpp"
+#include "votes/pose_space.hpp"
 
 namespace sva {
 

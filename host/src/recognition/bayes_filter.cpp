@@ -1,7 +1,7 @@
 #include "recognition/bayes_filter.hpp"
 
+#include "belief/belief_math.hpp"
 #include "map/pair_keys.hpp"
-#include "recognition/belief_math.hpp"
 
 #include <sva/error.hpp>
 

@@ -9,12 +9,12 @@
 #include <memory>
 #include <vector>
 
+#include "backends/vote_backend.hpp"
+#include "belief/belief_state.hpp"
 #include "map/pair_map.hpp"
-#include "recognition/belief.hpp"
 #include "recognition/estimate.hpp"
 #include "recognition/observed_reading.hpp"
-#include "recognition/pose_space.hpp"
-#include "recognition/vote_backend.hpp"
+#include "votes/pose_space.hpp"
 
 namespace sva {
 

@@ -5,10 +5,10 @@
 #include <memory>
 #include <mutex>
 
+#include "backends/vote_backend.hpp"
+#include "backends/vote_backend_factory.hpp"
 #include "map/surface_index.hpp"
-#include "recognition/pose_space.hpp"
-#include "recognition/vote_backend.hpp"
-#include "recognition/vote_backend_factory.hpp"
+#include "votes/pose_space.hpp"
 
 namespace sva {
 

@@ -1,14 +1,15 @@
 #include "recognition/estimate.hpp"
 
+#include <sva/base/portable_math.hpp>
+
 #include <algorithm>
 #include <cassert>
 #include <cmath>
 #include <numbers>
 #include <span>
 
-#include "core/portable_math.hpp"
-#include "recognition/belief_math.hpp"
-#include "recognition/rotation.hpp"
+#include "belief/belief_math.hpp"
+#include "core/so3.hpp"
 
 namespace sva {
 

@@ -10,8 +10,8 @@
 #include <sva/pose.hpp>
 #include <sva/prior.hpp>
 
-#include "recognition/belief.hpp"
-#include "recognition/pose_space.hpp"
+#include "belief/belief_state.hpp"
+#include "votes/pose_space.hpp"
 
 namespace sva {
 

@@ -1,15 +1,16 @@
 #include "recognition/hypotheses.hpp"
 
+#include <sva/base/portable_math.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
 #include <unordered_set>
 
-#include "core/portable_math.hpp"
-#include "recognition/belief_math.hpp"
+#include "belief/belief_math.hpp"
+#include "core/so3.hpp"
 #include "recognition/estimate.hpp"
-#include "recognition/rotation.hpp"
 
 namespace sva {
 

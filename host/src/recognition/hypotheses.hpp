@@ -10,9 +10,9 @@
 
 #include <sva/pose.hpp>
 
-#include "recognition/belief.hpp"
+#include "belief/belief_state.hpp"
 #include "recognition/estimate.hpp"
-#include "recognition/pose_space.hpp"
+#include "votes/pose_space.hpp"
 
 namespace sva {
 

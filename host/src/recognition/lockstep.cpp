@@ -1,10 +1,10 @@
 #include "recognition/lockstep.hpp"
 
+#include <sva/base/interrupt.hpp>
+
 #include <algorithm>
 #include <chrono>
 #include <stdexcept>
-
-#include "util/interrupt.hpp"
 
 namespace sva {
 

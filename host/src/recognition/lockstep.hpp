@@ -19,7 +19,7 @@
 #include <span>
 #include <vector>
 
-#include "util/progress.hpp"
+#include <sva/base/progress.hpp>
 
 namespace sva {
 

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <vector>
 
-#include "recognition/rotation.hpp"
+#include "core/so3.hpp"
 
 namespace sva {
 

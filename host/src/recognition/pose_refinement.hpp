@@ -17,7 +17,7 @@
 
 #include "map/surface_index.hpp"
 #include "recognition/observed_reading.hpp"
-#include "recognition/pose_space.hpp"
+#include "votes/pose_space.hpp"
 
 namespace sva {
 

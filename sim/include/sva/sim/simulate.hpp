@@ -34,7 +34,4 @@ ErrorModel scale_errors(const ErrorModel& errors, double factor);
 // Throws sva::Error naming the mesh file and the fault on bad input.
 SimulatedData simulate(const Scene& scene, const SimulateOptions& options);
 
-// A contact sheet PNG: tactile images beside their contact locations.
-void write_preview(const Dataset& data, const std::filesystem::path& png, int max_readings = 48);
-
 }  // namespace sva::sim

@@ -1,0 +1,124 @@
+#include <algorithm>
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <exception>
+#include <string>
+#include <thread>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+#include <unistd.h>
+#include <vector>
+
+#include <sva/base/interrupt.hpp>
+#include <sva/base/parallel.hpp>
+#include <sva/base/progress.hpp>
+
+namespace sva::util {
+
+namespace {
+volatile std::sig_atomic_t g_interrupted = 0;
+std::atomic<bool> g_quiet{false};
+extern "C" void on_sigint(int) { g_interrupted = 1; }
+}  // namespace
+
+void install_interrupt_handler() {
+  struct sigaction sa {};
+  sa.sa_handler = on_sigint;
+  sigemptyset(&sa.sa_mask);
+  sigaction(SIGINT, &sa, nullptr);
+  sigaction(SIGTERM, &sa, nullptr);
+}
+bool interrupted() { return g_interrupted != 0; }
+void request_interrupt() { g_interrupted = 1; }
+void clear_interrupt() { g_interrupted = 0; }
+
+unsigned default_threads() {
+  if (const char* env = std::getenv("SVA_THREADS")) {
+    char* end = nullptr;
+    long v = std::strtol(env, &end, 10);
+    if (end && *end == '\0' && v >= 1 && v <= 1024) return static_cast<unsigned>(v);
+  }
+  unsigned hw = std::thread::hardware_concurrency();
+  return hw ? hw : 1;
+}
+
+// oneTBB's workers persist across calls (one pool per process), so the
+// per-update loops of recognition pay no thread start-up; an arena caps the
+// threads at the caller's count.
+void parallel_for(std::size_t n, const std::function<void(std::size_t)>& fn, unsigned threads) {
+  if (threads == 0) threads = default_threads();
+  if (n == 0) return;
+  if (threads <= 1 || n == 1) {
+    for (std::size_t i = 0; i < n; ++i) {
+      throw_if_interrupted();
+      fn(i);
+    }
+    return;
+  }
+  tbb::task_arena arena(static_cast<int>(std::min<std::size_t>(threads, n)));
+  arena.execute([&] {
+    // Grain 1: items (observed pairs, readings, chunks) are few and uneven.
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&](const tbb::blocked_range<std::size_t>& r) {
+      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+        throw_if_interrupted();
+        fn(i);
+      }
+    });
+  });
+}
+
+Progress::Progress(std::string label, std::size_t total)
+    : label_(std::move(label)),
+      total_(total),
+      start_(std::chrono::steady_clock::now()),
+      last_draw_(start_),
+      tty_(::isatty(2) != 0) {}
+
+Progress::~Progress() {
+  if (!finished_ && tty_ && !g_quiet && done_ > 0) std::fputc('\n', stderr);
+}
+
+void Progress::set_quiet(bool quiet) { g_quiet = quiet; }
+
+void Progress::advance(std::size_t n) {
+  std::size_t done = done_.fetch_add(n) + n;
+  if (g_quiet) return;
+  auto now = std::chrono::steady_clock::now();
+  std::lock_guard lock(mutex_);
+  if (tty_) {
+    if (now - last_draw_ < std::chrono::milliseconds(200) && done < total_) return;
+    last_draw_ = now;
+    draw(done, false);
+  } else {
+    int decile = total_ ? static_cast<int>(10 * done / total_) : 10;
+    if (decile == last_decile_) return;
+    last_decile_ = decile;
+    draw(done, false);
+  }
+}
+
+void Progress::finish() {
+  if (finished_) return;
+  finished_ = true;
+  if (g_quiet) return;
+  std::lock_guard lock(mutex_);
+  if (!tty_ && last_decile_ == 10) return;  // the 100% line is already out
+  draw(done_, true);
+}
+
+void Progress::draw(std::size_t done, bool final) {
+  double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+  double rate = secs > 0 ? static_cast<double>(done) / secs : 0.0;
+  std::string eta;
+  if (!final && rate > 0 && done < total_)
+    eta = ", ~" + std::to_string(static_cast<int>((total_ - done) / rate + 0.5)) + " s left";
+  std::fprintf(stderr, "%s%s: %zu/%zu (%.1f/s, %.1f s%s)%s", tty_ ? "\r\033[K" : "", label_.c_str(), done, total_, rate,
+               secs, eta.c_str(), (tty_ && !final) ? "" : "\n");
+  std::fflush(stderr);
+}
+
+}  // namespace sva::util

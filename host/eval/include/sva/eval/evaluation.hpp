@@ -1,0 +1,62 @@
+#pragma once
+// The evaluation the CLI (`sva eval`) and the demo call: recognition trials of
+// a map against a test set through sva::Recognizer, summarised as a curve.
+//
+//   eval::EvalOptions o;  o.trials = 30;  o.max_readings = 30;
+//   eval::EvalResult r = eval::run_evaluation(map, test, o);
+//   eval::Curve c = eval::summarize(r);          // results.hpp
+//   std::fputs(eval::format_table(c).c_str(), stdout);  // report.hpp
+//   eval::write_figure({c, baseline}, "fig.png");  // figure.hpp
+#include <sva/dataset.hpp>
+#include <sva/eval/results.hpp>
+#include <sva/map.hpp>
+#include <sva/recognizer.hpp>
+
+#include <optional>
+#include <string>
+
+#include "eval/active_trials.hpp"
+
+namespace sva::eval {
+
+struct EvalOptions {
+  std::size_t trials = 0;         // >= 1
+  std::size_t max_readings = 30;  // >= 1
+  std::uint64_t seed = 1;
+  RecognizerOptions recognizer;   // backend, method, eps, speed knobs
+  unsigned threads = 0;           // trials in parallel; 0 = util::default_threads()
+  std::size_t vulkan_batch = 64;  // Vulkan backend: trials stepped together per submission
+  bool progress = true;
+  std::string map_name = "map";  // names the files in errors
+  std::string data_name = "test set";
+  // How each next reading is chosen (host/eval/src/eval/active_trials.hpp): random (the paper's protocol, the default)
+  // or planned; the adaptive policies step every trial on its own (no lock-step batches), on the resolved backend.
+  Policy policy = Policy::random;
+  ActiveSetup active;  // its policy is set from `policy`
+};
+
+// Throws sva::Error naming both files when the test set cannot be evaluated
+// against the map: another scene, other objects (names or order), another
+// sensor geometry or skin calibration (the descriptors would not compare).
+void check_compatible(const Map& map, const Dataset& test, const std::string& map_name, const std::string& data_name);
+
+// Runs the trials; poses are drawn from the map's pose space.
+EvalResult run_evaluation(const Map& map, const Dataset& test, const EvalOptions& options);
+
+// A run's time per update next to the CPU reference's on the same trials (the
+// first `trials` of the run: same seed, same poses and readings). Times are
+// medians over every update of those trials, as `sva eval` reports them (a
+// batched update's time is shared by the trials in it).
+struct SpeedComparison {
+  std::string device, cpu_device;  // what ran the run, and the CPU reference
+  std::size_t trials = 0;
+  std::optional<double> update_ms, cpu_update_ms;
+};
+// Runs the CPU reference on those trials unless the run already was the CPU's.
+SpeedComparison compare_with_cpu_reference(const Map& map, const Dataset& test, const EvalOptions& options,
+                                           const EvalResult& run, std::size_t trials);
+
+const char* backend_name(BackendKind backend);
+const char* method_name(Method method);
+
+}  // namespace sva::eval

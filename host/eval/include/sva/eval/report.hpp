@@ -1,0 +1,26 @@
+#pragma once
+// Evaluation reports: the JSON summary (schema in docs/evaluation.md), the
+// per-step CSV, the stdout table, and reading a JSON summary back (for
+// overlaying another run in a plot). Write files with io::write_text_file.
+#include <filesystem>
+#include <string>
+
+#include <sva/eval/results.hpp>
+
+namespace sva::eval {
+
+// {"scene", "backend", "method", "trials", "seed", "max_readings", "objects",
+//  "curve": [{"readings", "accuracy", "pose_trials", "translation_error_mm", "angular_error_deg",
+//             "inertial_error_mm", "update_ms" (medians; each also with _mean and _p90),
+//             "update_ms_p95", "votes", "votes_zero"}]}
+// Everything but the update_ms* fields depends only on the inputs and seed.
+std::string to_json(const EvalResult& result, const Curve& curve);
+// One row per (trial, readings).
+std::string to_csv(const EvalResult& result);
+// The curve as a fixed-width table (readings, accuracy, errors, ms/update).
+std::string format_table(const Curve& curve);
+
+// Reads a JSON summary written by to_json; errors name the file and field.
+Curve read_curve_json(const std::filesystem::path& file);
+
+}  // namespace sva::eval

@@ -1,0 +1,40 @@
+#pragma once
+// The timed runs of `sva bench`: trials through one backend in lock step
+// (recognition/lockstep.hpp), `sessions` per update (one GPU submission with
+// Vulkan, one CPU reference call otherwise), with the time per update, votes
+// and session-updates per second, zero-mass votes, host and device memory, and
+// the accuracy and error those updates buy at chosen reading counts.
+#include <sva/dataset.hpp>
+#include <sva/map.hpp>
+#include <sva/recognizer.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "bench/process_memory.hpp"
+
+namespace sva::bench {
+
+struct SpeedRunSpec {
+  BackendKind backend = BackendKind::cpu;  // cpu or vulkan (never automatic: a report names what ran)
+  std::size_t trials = 1;
+  std::size_t sessions = 1;              // per update; 1 measures the single-session latency
+  std::vector<std::size_t> checkpoints;  // reading counts to report, increasing
+  std::uint64_t seed = 1;
+  std::string label;          // progress text
+  std::string vulkan_device;  // "" = the default choice
+  bool refine_pose = true;    // RecognizerOptions::refine_pose (its cost shows in estimate_ms)
+};
+
+// One run, as the JSON report gives it (docs/evaluation.md, "sva bench").
+// `meter` measures the run's host memory from before its backend is made to
+// its end, with the backend still alive.
+nlohmann::json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, MemoryMeter& meter);
+
+// The bare-scatter roofline of the device (roofline/roofline.hpp), as the JSON report gives it.
+nlohmann::json roofline_json(std::size_t votes, std::size_t bins, const std::string& device);
+
+}  // namespace sva::bench

@@ -1,0 +1,197 @@
+#include "batch/batch_sessions.hpp"
+
+#include <sva/error.hpp>
+#include <sva/io/json_limits.hpp>
+#include <sva/io/text_file.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <iterator>
+#include <stdexcept>
+
+#include "core/so3.hpp"
+
+namespace sva::io {
+
+namespace {
+
+using nlohmann::json;
+
+glm::dvec3 vec3_of(const json& j, const std::string& where) {
+  if (!j.is_array() || j.size() != 3) throw Error(where + ": expected an array of 3 numbers");
+  glm::dvec3 v;
+  for (int i = 0; i < 3; ++i) {
+    if (!j[static_cast<std::size_t>(i)].is_number()) throw Error(where + ": expected an array of 3 numbers");
+    v[i] = j[static_cast<std::size_t>(i)].get<double>();
+    if (!std::isfinite(v[i])) throw Error(where + ": non-finite value");
+  }
+  return v;
+}
+
+json vec3_json(const glm::dvec3& v) { return json::array({v.x, v.y, v.z}); }
+
+ControllerStatus status_of(const json& j, const std::string& where) {
+  if (!j.is_string()) throw Error(where + ": expected a string");
+  const std::string st = j;
+  for (auto c : {ControllerStatus::converged, ControllerStatus::not_converged, ControllerStatus::no_contact})
+    if (st == to_string(c)) return c;
+  throw Error(where + ": expected converged, not_converged or no_contact");
+}
+
+// One element of "readings"; `w` names the file, line and element.
+Reading reading_of(const json& jr, const std::string& w, int elements) {
+  if (!jr.is_object()) throw Error(w + ": expected an object");
+  Reading rd;
+  for (const char* k : {"position", "normal", "pressure"})
+    if (!jr.contains(k)) throw Error(w + ": missing \"" + k + "\"");
+  rd.position = vec3_of(jr["position"], w + ".position");
+  rd.normal = vec3_of(jr["normal"], w + ".normal");
+  if (glm::length(rd.normal) < 1e-9) throw Error(w + ".normal: zero vector");
+  rd.normal = glm::normalize(rd.normal);
+  if (jr.contains("x_axis")) rd.x_axis = vec3_of(jr["x_axis"], w + ".x_axis");
+  const json& p = jr["pressure"];
+  if (!p.is_array() || p.size() != static_cast<std::size_t>(elements))
+    throw Error(w + ".pressure: expected " + std::to_string(elements) + " numbers (the map's sensor)");
+  for (const auto& v : p) {
+    const auto f = json_float(v);
+    if (!f) throw Error(w + ".pressure: non-numeric, non-finite or out-of-range value");
+    rd.pressure.push_back(*f);
+  }
+  if (jr.contains("status")) rd.status = status_of(jr["status"], w + ".status");
+  return rd;
+}
+
+// One line of the sessions file; `number` is the session's place in the file.
+BatchSession session_of(const std::string& line, const std::string& where, std::size_t number, int elements) {
+  if (json_depth(line) > kMaxJsonDepth) throw Error(where + ": " + json_too_deep_message());
+  json j;
+  try {
+    j = json::parse(line);
+  } catch (const json::exception& e) {
+    throw Error(where + ": invalid JSON: " + e.what());
+  }
+  if (!j.is_object()) throw Error(where + ": expected one JSON object per line");
+  BatchSession s;
+  s.id = std::to_string(number);
+  if (j.contains("id")) s.id = j["id"].is_string() ? j["id"].get<std::string>() : j["id"].dump();
+  if (j.contains("truth")) s.truth = j["truth"];
+  if (!j.contains("readings") || !j["readings"].is_array() || j["readings"].empty())
+    throw Error(where + ": \"readings\" must be a non-empty array");
+  for (std::size_t r = 0; r < j["readings"].size(); ++r)
+    s.readings.push_back(reading_of(j["readings"][r], where + ": readings[" + std::to_string(r) + "]", elements));
+  return s;
+}
+
+json result_json(const BatchSession& s, const Estimate& e, std::span<const std::string> objects) {
+  json probs = json::object();
+  for (std::size_t o = 0; o < e.object_probability.size(); ++o) probs[objects[o]] = e.object_probability[o];
+  json top = json::array();
+  for (const auto& h : e.top) {
+    json t = pose_json(h.pose);
+    t["object"] = h.object_name;
+    t["probability"] = h.probability;
+    top.push_back(t);
+  }
+  json line = {{"id", s.id},
+               {"readings", e.readings},
+               {"object", e.object_name},
+               {"object_probability", probs},
+               {"pose_valid", e.pose_valid}};
+  if (e.pose_valid) line["pose"] = pose_json(e.pose);
+  line["top"] = top;
+  if (!s.truth.is_null()) line["truth"] = s.truth;
+  return line;
+}
+
+}  // namespace
+
+json pose_json(const RigidPose& p) {
+  json R = json::array();
+  for (int r = 0; r < 3; ++r) R.push_back(json::array({p.R[0][r], p.R[1][r], p.R[2][r]}));  // row-major rows
+  return {{"R", R}, {"T", vec3_json(p.T)}, {"rodrigues", vec3_json(rotation::log(p.R))}};
+}
+
+std::vector<BatchSession> parse_batch_sessions(std::string_view text, const std::string& file, std::size_t first_line,
+                                               std::size_t first_session, int elements) {
+  std::vector<BatchSession> out;
+  std::size_t line_no = first_line;
+  for (std::size_t begin = 0; begin < text.size(); ++line_no) {
+    std::size_t end = text.find('\n', begin);
+    if (end == std::string_view::npos) end = text.size();
+    const std::string line(text.substr(begin, end - begin));
+    begin = end + 1;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    out.push_back(session_of(line, file + ":" + std::to_string(line_no), first_session + out.size(), elements));
+  }
+  return out;
+}
+
+std::vector<BatchSession> read_batch_sessions(const std::string& file, int elements) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw Error(file + ": cannot read the sessions file");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw Error(file + ": cannot read the sessions file");
+  std::vector<BatchSession> out = parse_batch_sessions(text, file, 1, 0, elements);
+  if (out.empty()) throw Error(file + ": no sessions (empty file)");
+  return out;
+}
+
+BatchSessionReader::BatchSessionReader(const std::string& file, int elements)
+    : in_(file, std::ios::binary), file_(file), elements_(elements) {
+  if (!in_) throw Error(file + ": cannot read the sessions file");
+}
+
+std::vector<BatchSession> BatchSessionReader::next(std::size_t count) {
+  std::vector<BatchSession> out;
+  std::string line;
+  while (out.size() < count && std::getline(in_, line)) {
+    ++line_;
+    if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+    out.push_back(session_of(line, file_ + ":" + std::to_string(line_), sessions_ + out.size(), elements_));
+  }
+  if (in_.bad()) throw Error(file_ + ": cannot read the sessions file (line " + std::to_string(line_ + 1) + ")");
+  sessions_ += out.size();
+  return out;
+}
+
+BatchSessionsSummary scan_batch_sessions(const std::string& file, int elements) {
+  BatchSessionReader reader(file, elements);
+  BatchSessionsSummary sum;
+  for (std::vector<BatchSession> part; !(part = reader.next(256)).empty();)
+    for (const BatchSession& s : part) ++sum.sessions, sum.readings += s.readings.size();
+  if (sum.sessions == 0) throw Error(file + ": no sessions (empty file)");
+  return sum;
+}
+
+void write_batch_sessions(const std::string& file, std::span<const BatchSession> sessions) {
+  std::string text;
+  for (const BatchSession& s : sessions) {
+    json readings = json::array();
+    for (const Reading& r : s.readings)
+      readings.push_back({{"position", vec3_json(r.position)},
+                          {"normal", vec3_json(r.normal)},
+                          {"x_axis", vec3_json(r.x_axis)},
+                          {"pressure", r.pressure}});
+    json line = {{"id", s.id}, {"readings", readings}};
+    if (!s.truth.is_null()) line["truth"] = s.truth;
+    text += line.dump() + "\n";
+  }
+  write_text_file(file, text);
+}
+
+std::string format_batch_results(std::span<const BatchSession> sessions, std::span<const Estimate> estimates,
+                                 std::span<const std::string> objects) {
+  if (sessions.size() != estimates.size())
+    throw std::logic_error("format_batch_results: one estimate per session is needed");
+  std::string text;
+  for (std::size_t i = 0; i < sessions.size(); ++i)
+    text += result_json(sessions[i], estimates[i], objects).dump() + "\n";
+  return text;
+}
+
+void write_batch_results(const std::string& file, std::span<const BatchSession> sessions,
+                         std::span<const Estimate> estimates, std::span<const std::string> objects) {
+  write_text_file(file, format_batch_results(sessions, estimates, objects));
+}
+
+}  // namespace sva::io

@@ -1,0 +1,200 @@
+#include <sva/eval/speed_run.hpp>
+
+#include <sva/batch_recognizer.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <map>
+
+#include <sva/base/progress.hpp>
+#include <sva/eval/evaluation.hpp>
+#include "eval/metrics.hpp"
+#include "eval/trials.hpp"
+#include "recognition/lockstep.hpp"
+#include "roofline/roofline.hpp"
+
+namespace sva::bench {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+using nlohmann::json;
+
+// What one update of a group of sessions cast and cost.
+struct StepFigures {
+  std::size_t sessions = 0;
+  std::uint64_t votes = 0, votes_zero = 0;
+  double seconds = 0.0, estimate_seconds = 0.0;
+};
+
+// The figures at one reading count, over all groups.
+struct Checkpoint {
+  std::vector<double> update_ms;  // per group update, divided by its sessions (per session-update)
+  std::uint64_t votes = 0, votes_zero = 0;
+  std::size_t session_updates = 0;
+  double seconds = 0.0;
+  std::size_t correct = 0, trials = 0;
+  std::vector<double> translation_mm;
+  std::vector<double> kernel_ms, backend_host_ms, fold_ms;
+  std::vector<double> estimate_ms;  // per session: object, refined pose and top-1 after the update
+};
+
+double ratio(double a, double b) { return b > 0 ? a / b : 0.0; }
+double ratio(std::uint64_t a, std::uint64_t b) { return ratio(static_cast<double>(a), static_cast<double>(b)); }
+
+json median_or_null(const std::vector<double>& v) {
+  const auto m = eval::median(v);
+  return m ? json(*m) : json(nullptr);
+}
+
+void record_checkpoint(Checkpoint& c, const BatchRecognizer& rec, const std::vector<eval::Trial>& tr,
+                       const std::vector<Estimate>& est, const StepFigures& f) {
+  const auto n = static_cast<double>(f.sessions);
+  c.update_ms.push_back(1e3 * f.seconds / n);
+  c.estimate_ms.push_back(1e3 * f.estimate_seconds / n);
+  c.votes += f.votes;
+  c.votes_zero += f.votes_zero;
+  c.session_updates += f.sessions;
+  c.seconds += f.seconds;
+  const auto t = rec.last_backend_timing();
+  c.kernel_ms.push_back(t.kernel_ms);
+  c.backend_host_ms.push_back(t.host_ms);
+  c.fold_ms.push_back(t.fold_ms);
+  for (std::size_t i = 0; i < est.size(); ++i) {
+    ++c.trials;
+    if (est[i].object != tr[i].object) continue;
+    ++c.correct;
+    if (est[i].pose_valid) c.translation_mm.push_back(glm::length(est[i].pose.T - tr[i].pose.T));
+  }
+}
+
+json checkpoint_json(std::size_t readings, const Checkpoint& c) {
+  return {{"readings", readings},
+          {"update_ms", median_or_null(c.update_ms)},
+          {"votes_per_update", ratio(static_cast<double>(c.votes), static_cast<double>(c.trials))},
+          {"votes_per_second", ratio(static_cast<double>(c.votes), c.seconds)},
+          {"session_updates_per_second", ratio(static_cast<double>(c.session_updates), c.seconds)},
+          {"votes_zero_per_update", ratio(static_cast<double>(c.votes_zero), static_cast<double>(c.trials))},
+          {"votes_zero_fraction", ratio(c.votes_zero, c.votes)},
+          {"gpu_kernel_ms", median_or_null(c.kernel_ms)},
+          {"backend_host_ms", median_or_null(c.backend_host_ms)},
+          {"gpu_fold_ms", median_or_null(c.fold_ms)},
+          {"estimate_ms", median_or_null(c.estimate_ms)},
+          {"accuracy", ratio(static_cast<double>(c.correct), static_cast<double>(c.trials))},
+          {"translation_error_mm", median_or_null(c.translation_mm)}};
+}
+
+// Host memory of the run and the device memory its backend holds. A device
+// backend that does not report its memory yet gives null, not 0 bytes.
+json memory_json(const RunMemory& m, const BatchRecognizer& rec) {
+  const BatchRecognizer::DeviceMemory d = rec.device_memory();
+  const bool cpu = rec.backend() == BackendKind::cpu;
+  auto device = [&](std::uint64_t bytes) { return cpu || bytes > 0 ? json(bytes) : json(nullptr); };
+  return {{"peak_rss_bytes", m.process_peak_bytes},
+          {"rss_before_bytes", m.rss_before_bytes},
+          {"rss_after_bytes", m.rss_after_bytes},
+          {"rss_increase_bytes", m.rss_increase_bytes()},
+          {"peak_rss_during_bytes", m.peak_during_bytes ? json(*m.peak_during_bytes) : json(nullptr)},
+          {"device_bytes", device(d.bytes)},
+          {"map_device_bytes", device(d.map_bytes)}};
+}
+
+// Steps the trials through the recognizer and keeps the figures of every
+// update and of the checkpoints.
+class SpeedRecorder {
+ public:
+  SpeedRecorder(BatchRecognizer& rec, const std::vector<std::size_t>& checkpoints)
+      : rec_(rec), checkpoints_(checkpoints) {}
+
+  void on_step(const LockstepStep& s, const std::vector<eval::Trial>& tr) {
+    StepFigures f;
+    f.sessions = s.sessions.size();
+    f.seconds = s.update_ms / 1e3;
+    std::vector<Estimate> est;
+    const auto t1 = Clock::now();
+    for (std::size_t i : s.sessions) {
+      est.push_back(rec_.estimate(i, 1));
+      f.votes += est.back().votes;
+      f.votes_zero += est.back().votes_zero;
+    }
+    f.estimate_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
+    all_.votes += f.votes;
+    all_.votes_zero += f.votes_zero;
+    all_.sessions += f.sessions;
+    all_.seconds += f.seconds;
+    const std::size_t readings = s.step + 1;
+    if (std::binary_search(checkpoints_.begin(), checkpoints_.end(), readings))
+      record_checkpoint(cp_[readings], rec_, tr, est, f);
+  }
+
+  // The run's totals and its curve (without backend, device and memory).
+  json figures() const {
+    json j = {{"votes_per_second", ratio(static_cast<double>(all_.votes), all_.seconds)},
+              {"session_updates_per_second", ratio(static_cast<double>(all_.sessions), all_.seconds)},
+              {"votes", all_.votes},
+              {"votes_zero", all_.votes_zero},
+              {"votes_zero_fraction", ratio(all_.votes_zero, all_.votes)}};
+    json points = json::array();
+    for (const auto& [readings, c] : cp_) points.push_back(checkpoint_json(readings, c));
+    j["curve"] = points;
+    return j;
+  }
+
+ private:
+  BatchRecognizer& rec_;
+  const std::vector<std::size_t>& checkpoints_;
+  std::map<std::size_t, Checkpoint> cp_;
+  StepFigures all_;  // every update of the run; sessions = session-updates
+};
+
+}  // namespace
+
+json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, MemoryMeter& meter) {
+  const std::size_t max_readings = spec.checkpoints.back();
+  eval::TrialGenerator gen(test, map.pose_space(), spec.seed, max_readings);
+  RecognizerOptions ro;
+  ro.backend = spec.backend;
+  ro.vulkan_device = spec.vulkan_device;
+  ro.refine_pose = spec.refine_pose;
+  meter.start();
+  util::Progress progress(spec.label, spec.trials * max_readings);
+  BatchRecognizer rec(map, map.pose_space(), std::min(spec.sessions, spec.trials), ro);
+  SpeedRecorder recorder(rec, spec.checkpoints);
+  std::vector<eval::Trial> tr;
+  LockstepHooks hooks;
+  hooks.progress = &progress;
+  hooks.group = [&](std::size_t first, std::size_t count) {
+    tr.clear();
+    std::vector<std::span<const Reading>> readings;
+    for (std::size_t i = 0; i < count; ++i) tr.push_back(gen.make(first + i));
+    for (const auto& t : tr) readings.emplace_back(t.readings);
+    return readings;
+  };
+  hooks.on_step = [&](const LockstepStep& s) { recorder.on_step(s, tr); };
+  run_lockstep(rec, spec.trials, hooks);
+  progress.finish();
+  const RunMemory memory = meter.stop();
+  json j = {{"backend", eval::backend_name(spec.backend)},
+            {"device", rec.backend_description()},
+            {"sessions_per_submission", spec.sessions},
+            {"trials", spec.trials}};
+  j.update(recorder.figures());
+  j["memory"] = memory_json(memory, rec);
+  return j;
+}
+
+json roofline_json(std::size_t votes, std::size_t bins, const std::string& device) {
+  const Roofline r = measure_roofline(votes, bins, device);
+  json j = {{"device", r.device},
+            {"votes", r.votes},
+            {"bins", r.bins},
+            {"kernel_ms", r.kernel_ms},
+            {"votes_per_second", r.votes_per_second}};
+  if (r.hash_kernel_ms > 0) {
+    j["hash_kernel_ms"] = r.hash_kernel_ms;
+    j["hash_votes_per_second"] = r.hash_votes_per_second;
+  }
+  return j;
+}
+
+}  // namespace sva::bench

@@ -1,0 +1,268 @@
+#include <sva/eval/report.hpp>
+#include "eval/table_cell.hpp"
+
+#include "eval/metrics.hpp"
+
+#include <sva/error.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+#include <nlohmann/json.hpp>
+
+namespace sva::eval {
+
+using nlohmann::json;
+
+namespace {
+
+json opt(const std::optional<double>& v) { return v ? json(*v) : json(nullptr); }
+
+std::string num(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.9g", v);
+  return buf;
+}
+
+// Translation (mm) and rotation vector (rad): six CSV cells.
+std::string pose_cells(const RigidPose& p) {
+  const glm::dvec3 r = rotation_vector(p.R);
+  return num(p.T.x) + ',' + num(p.T.y) + ',' + num(p.T.z) + ',' + num(r.x) + ',' + num(r.y) + ',' + num(r.z);
+}
+
+std::string csv_quote(const std::string& s) {
+  if (s.find_first_of(",\"\n") == std::string::npos) return s;
+  std::string q = "\"";
+  for (char ch : s) q += ch == '"' ? std::string("\"\"") : std::string(1, ch);
+  return q + "\"";
+}
+
+// Votes that round to zero mass are counted, never silently dropped: one line
+// with their share of all votes, so a run whose evidence vanishes shows it.
+std::string zero_votes_line(const Curve& curve) {
+  std::uint64_t votes = 0, zero = 0;
+  for (const auto& p : curve.points) {
+    votes += p.votes;
+    zero += p.votes_zero;
+  }
+  if (votes == 0) return "";
+  char line[200];
+  std::snprintf(line, sizeof line,
+                "votes: %llu inside the pose space, %llu (%.3g%%) of mass 0 (below half a 2^-24 unit)\n",
+                static_cast<unsigned long long>(votes), static_cast<unsigned long long>(zero),
+                100.0 * static_cast<double>(zero) / static_cast<double>(votes));
+  return line;
+}
+
+// A statistic as JSON: "NAME" (the median), "NAME_mean", "NAME_p90".
+void put_spread(json& j, const std::string& name, const Spread& s) {
+  j[name] = opt(s.median);
+  j[name + "_mean"] = opt(s.mean);
+  j[name + "_p90"] = opt(s.p90);
+}
+
+// Three cells: median, mean, p90.
+std::string spread_cells(const Spread& s, const char* fmt) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, " %8s %8s %8s", cell(s.median, fmt).c_str(), cell(s.mean, fmt).c_str(),
+                cell(s.p90, fmt).c_str());
+  return buf;
+}
+
+// The readings-to-95% metric and, for the active policies, the plan's cost: one line under the table.
+std::string confidence_line(const Curve& curve) {
+  const Confidence& c = curve.to_95;
+  if (c.trials == 0) return "";
+  char line[320];
+  std::snprintf(line, sizeof line,
+                "policy %s: readings until the true object holds >= %.0f%%: mean %s, median %s (%zu of %zu trials "
+                "got there",
+                curve.policy.c_str(), 100.0 * c.threshold, cell(c.mean, "%.2f").c_str(), cell(c.median, "%.1f").c_str(),
+                c.reached, c.trials);
+  std::string s = line;
+  if (c.reached < c.trials) s += "; the others count as " + std::to_string(curve.points.size() + 1);
+  s += ")";
+  if (curve.plan_ms) {
+    std::snprintf(line, sizeof line, "; median plan %.3f ms", *curve.plan_ms);
+    s += line;
+  }
+  return s + "\n";
+}
+
+json confidence_json(const Confidence& c) {
+  return {{"threshold", c.threshold},
+          {"trials", c.trials},
+          {"reached", c.reached},
+          {"mean", opt(c.mean)},
+          {"median", opt(c.median)}};
+}
+
+}  // namespace
+
+std::string to_json(const EvalResult& result, const Curve& curve) {
+  json j;
+  j["scene"] = result.scene;
+  j["backend"] = result.backend;
+  j["method"] = result.method;
+  j["policy"] = result.policy;
+  j["trials"] = result.trials.size();
+  j["seed"] = result.seed;
+  j["max_readings"] = result.max_readings;
+  j["objects"] = result.objects;
+  json points = json::array();
+  for (const auto& p : curve.points) {
+    json q = {{"readings", p.readings}, {"accuracy", p.accuracy}, {"pose_trials", p.pose_trials}};
+    put_spread(q, "translation_error_mm", p.translation_mm);
+    put_spread(q, "angular_error_deg", p.angular_deg);
+    put_spread(q, "inertial_error_mm", p.inertial_mm);
+    put_spread(q, "update_ms", p.update_ms);
+    q["update_ms_p95"] = opt(p.update_ms_p95);
+    q["votes"] = p.votes;
+    q["votes_zero"] = p.votes_zero;
+    points.push_back(std::move(q));
+  }
+  j["curve"] = std::move(points);
+  j["readings_to_95"] = confidence_json(curve.to_95);
+  j["plan_ms_median"] = opt(curve.plan_ms);
+  return j.dump(2) + "\n";
+}
+
+std::string to_csv(const EvalResult& result) {
+  std::ostringstream s;
+  s << "trial,object,object_name,readings,sample,estimated_object,correct,true_object_probability,pose_valid,"
+       "translation_error_mm,angular_error_deg,inertial_error_mm,update_ms,"
+       "true_tx,true_ty,true_tz,true_rx,true_ry,true_rz,est_tx,est_ty,est_tz,est_rx,est_ry,est_rz,votes,votes_zero\n";
+  for (const auto& t : result.trials) {
+    const std::string name = t.object < result.objects.size() ? result.objects[t.object] : "";
+    for (std::size_t k = 0; k < t.steps.size(); ++k) {
+      const StepResult& st = t.steps[k];
+      s << t.index << ',' << t.object << ',' << csv_quote(name) << ',' << (k + 1) << ','
+        << (k < t.samples.size() && t.samples[k] != std::numeric_limits<std::size_t>::max()
+                ? std::to_string(t.samples[k])
+                : std::string())
+        << ',' << st.estimated_object << ',' << (st.correct ? 1 : 0) << ',' << num(st.true_object_probability) << ','
+        << (st.pose_valid ? 1 : 0) << ',';
+      if (st.has_pose_error())
+        s << num(st.translation_error_mm) << ',' << num(st.angular_error_rad * 180.0 / std::numbers::pi) << ','
+          << num(st.inertial_error_mm);
+      else
+        s << ",,";
+      s << ',' << num(st.update_ms) << ',' << pose_cells(t.pose) << ',';
+      if (st.pose_valid)
+        s << pose_cells(st.estimate);
+      else
+        s << ",,,,,";
+      s << ',' << st.votes << ',' << st.votes_zero << '\n';
+    }
+  }
+  return s.str();
+}
+
+std::string format_table(const Curve& curve) {
+  std::ostringstream s;
+  s << "scene " << curve.scene << ", method " << curve.method << ", backend " << curve.backend << ", " << curve.trials
+    << " trials (errors: median, mean and 90th percentile over trials with the right object)\n";
+  char line[320];
+  std::snprintf(line, sizeof line, "%25s %-26s %-26s %-26s %s\n", "", " translation (mm)", " angle (deg)",
+                " inertial (mm)", " ms/update (all trials)");
+  s << line;
+  const char* three = " %8s %8s %8s";
+  std::string head = "readings  accuracy  posed";
+  for (int k = 0; k < 4; ++k) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, three, "median", "mean", "p90");
+    head += buf;
+  }
+  s << head << "      p95\n";
+  for (const auto& p : curve.points) {
+    std::snprintf(line, sizeof line, "%8zu %8.1f%% %6zu", p.readings, 100.0 * p.accuracy, p.pose_trials);
+    s << line << spread_cells(p.translation_mm, "%.2f") << spread_cells(p.angular_deg, "%.2f")
+      << spread_cells(p.inertial_mm, "%.2f") << spread_cells(p.update_ms, "%.3f");
+    std::snprintf(line, sizeof line, " %8s\n", cell(p.update_ms_p95, "%.3f").c_str());
+    s << line;
+  }
+  s << zero_votes_line(curve) << confidence_line(curve);
+  return s.str();
+}
+
+Curve read_curve_json(const std::filesystem::path& file) {
+  const std::string name = file.string();
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw Error(name + ": cannot open the evaluation summary");
+  std::stringstream buf;
+  buf << in.rdbuf();
+  json j;
+  try {
+    j = json::parse(buf.str());
+  } catch (const json::parse_error& e) {
+    throw Error(name + ": invalid JSON: " + e.what());
+  }
+  auto fail = [&](const std::string& what) -> void { throw Error(name + ": " + what); };
+  if (!j.is_object()) fail("expected a JSON object (an sva eval summary)");
+  Curve c;
+  for (const char* key : {"scene", "backend", "method"})
+    if (!j.contains(key) || !j[key].is_string()) fail(std::string("missing or non-string \"") + key + "\"");
+  c.scene = j["scene"].get<std::string>();
+  c.backend = j["backend"].get<std::string>();
+  c.method = j["method"].get<std::string>();
+  c.label = c.method;
+  if (j.contains("policy") && j["policy"].is_string()) c.policy = j["policy"].get<std::string>();
+  if (c.method == "sva" && c.policy != "random") c.label = "sva " + c.policy;
+  if (j.contains("readings_to_95") && j["readings_to_95"].is_object()) {
+    const json& r = j["readings_to_95"];
+    auto get = [&](const char* key) -> std::optional<double> {
+      if (!r.contains(key) || !r[key].is_number() || !std::isfinite(r[key].get<double>())) return std::nullopt;
+      return r[key].get<double>();
+    };
+    c.to_95.threshold = get("threshold").value_or(0.95);
+    c.to_95.trials = static_cast<std::size_t>(get("trials").value_or(0.0));
+    c.to_95.reached = static_cast<std::size_t>(get("reached").value_or(0.0));
+    c.to_95.mean = get("mean");
+    c.to_95.median = get("median");
+  }
+  if (j.contains("plan_ms_median") && j["plan_ms_median"].is_number()) c.plan_ms = j["plan_ms_median"].get<double>();
+  if (!j.contains("trials") || !j["trials"].is_number_unsigned()) fail("missing or invalid \"trials\"");
+  c.trials = j["trials"].get<std::size_t>();
+  if (!j.contains("curve") || !j["curve"].is_array()) fail("missing \"curve\" array");
+  auto number = [&](const json& p, const char* key, std::size_t i) -> std::optional<double> {
+    const std::string where = "curve[" + std::to_string(i) + "]." + key;
+    if (!p.contains(key)) fail("missing " + where);
+    if (p[key].is_null()) return std::nullopt;
+    if (!p[key].is_number() || !std::isfinite(p[key].get<double>())) fail(where + " is not a finite number");
+    return p[key].get<double>();
+  };
+  for (std::size_t i = 0; i < j["curve"].size(); ++i) {
+    const json& p = j["curve"][i];
+    if (!p.is_object()) fail("curve[" + std::to_string(i) + "] is not an object");
+    CurvePoint pt;
+    auto readings = number(p, "readings", i);
+    auto accuracy = number(p, "accuracy", i);
+    if (!readings || *readings < 1 || !accuracy || *accuracy < 0 || *accuracy > 1)
+      fail("curve[" + std::to_string(i) + "]: readings must be >= 1 and accuracy in [0, 1]");
+    pt.readings = static_cast<std::size_t>(*readings);
+    pt.accuracy = *accuracy;
+    // The median is required; mean and p90 only in summaries written since they were added.
+    auto spread = [&](const std::string& key) {
+      Spread s;
+      s.median = number(p, key.c_str(), i);
+      if (p.contains(key + "_mean")) s.mean = number(p, (key + "_mean").c_str(), i);
+      if (p.contains(key + "_p90")) s.p90 = number(p, (key + "_p90").c_str(), i);
+      return s;
+    };
+    pt.translation_mm = spread("translation_error_mm");
+    pt.angular_deg = spread("angular_error_deg");
+    pt.inertial_mm = spread("inertial_error_mm");
+    pt.update_ms = spread("update_ms");
+    pt.update_ms_p95 = number(p, "update_ms_p95", i);
+    if (p.contains("pose_trials") && p["pose_trials"].is_number_unsigned())
+      pt.pose_trials = p["pose_trials"].get<std::size_t>();
+    c.points.push_back(pt);
+  }
+  return c;
+}
+
+}  // namespace sva::eval

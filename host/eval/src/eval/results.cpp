@@ -1,0 +1,75 @@
+#include <sva/eval/results.hpp>
+
+#include <cassert>
+#include <numbers>
+
+#include "eval/metrics.hpp"
+
+namespace sva::eval {
+
+Spread spread_of(const std::vector<double>& values) { return {median(values), mean(values), percentile(values, 90.0)}; }
+
+Confidence readings_to_confidence(const EvalResult& result, double threshold) {
+  Confidence c;
+  c.threshold = threshold;
+  c.trials = result.trials.size();
+  std::vector<double> n;
+  for (const auto& trial : result.trials) {
+    std::size_t first = result.max_readings + 1;
+    for (std::size_t k = 0; k < trial.steps.size(); ++k)
+      if (trial.steps[k].true_object_probability >= threshold) {
+        first = k + 1;
+        break;
+      }
+    c.reached += first <= result.max_readings;
+    n.push_back(static_cast<double>(first));
+  }
+  c.mean = mean(n);
+  c.median = median(n);
+  return c;
+}
+
+Curve summarize(const EvalResult& result) {
+  Curve c;
+  c.label = result.method == "sva" && result.policy != "random" ? "sva " + result.policy : result.method;
+  c.policy = result.policy;
+  c.to_95 = readings_to_confidence(result, 0.95);
+  std::vector<double> plans;
+  for (const auto& trial : result.trials)
+    for (const StepResult& s : trial.steps)
+      if (s.plan_ms > 0.0) plans.push_back(s.plan_ms);
+  c.plan_ms = median(plans);
+  c.scene = result.scene;
+  c.backend = result.backend;
+  c.method = result.method;
+  c.trials = result.trials.size();
+  for (std::size_t n = 1; n <= result.max_readings; ++n) {
+    CurvePoint p;
+    p.readings = n;
+    std::size_t correct = 0;
+    std::vector<double> t_err, a_err, i_err, ms;
+    for (const auto& trial : result.trials) {
+      assert(trial.steps.size() == result.max_readings);
+      const StepResult& s = trial.steps[n - 1];
+      correct += s.correct;
+      ms.push_back(s.update_ms);
+      p.votes += s.votes;
+      p.votes_zero += s.votes_zero;
+      if (!s.has_pose_error()) continue;
+      t_err.push_back(s.translation_error_mm);
+      a_err.push_back(s.angular_error_rad * 180.0 / std::numbers::pi);
+      i_err.push_back(s.inertial_error_mm);
+    }
+    p.accuracy = result.trials.empty() ? 0.0 : static_cast<double>(correct) / static_cast<double>(result.trials.size());
+    p.pose_trials = t_err.size();
+    p.translation_mm = spread_of(t_err);
+    p.angular_deg = spread_of(a_err);
+    p.inertial_mm = spread_of(i_err);
+    p.update_ms = spread_of(ms);
+    p.update_ms_p95 = percentile(ms, 95.0);
+    c.points.push_back(p);
+  }
+  return c;
+}
+
+}  // namespace sva::eval

@@ -1,0 +1,159 @@
+#include "backends/cpu/belief.hpp"
+
+#include <sva/error.hpp>
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+
+#include "backends/vote_backend.hpp"
+#include "belief/belief_math.hpp"
+#include "util/hot_path.hpp"
+
+namespace sva {
+
+Belief::Belief(const PoseSpace& space, double eps)
+    : space_(&space),
+      eps_units_(belief_math::eps_units(eps)),
+      mass_bits_(belief_math::mass_bits(space.bins_per_object())),
+      // sva_exp2_neg_units(d, mass_bits) is 0 from d = (mass_bits + 1) 2^32 on.
+      band_width_((std::uint64_t{mass_bits_} + 1) << 32) {
+  reset();
+}
+
+void Belief::reset() {
+  offset_.clear_keeping_capacity();
+  band_.clear_keeping_capacity();
+  band_pruned_size_ = 0;
+  pairs_ = 0;
+  max_ = 0;
+  touched_.assign(space_->objects(), 0);
+  best_offset_.assign(space_->objects(), 0);
+  best_key_.assign(space_->objects(), 0);
+}
+
+bool Belief::fold(const PairVotes& votes, std::uint32_t count) {
+  assert(votes.keys.size() == votes.mass.size());
+  BinAccumulator acc(votes.keys.size());
+  for (std::size_t i = 0; i < votes.keys.size(); ++i) acc.add(votes.keys[i], votes.mass[i]);
+  return add(terms(acc), count);
+}
+
+SVA_HOT_PATH std::vector<BinOffset> Belief::terms(const BinAccumulator& votes) const {
+  std::uint64_t total = 0;
+  votes.for_each(
+      [&](std::uint64_t, std::int64_t m) { total += static_cast<std::uint64_t>(std::max<std::int64_t>(m, 0)); });
+  std::vector<BinOffset> out;
+  if (total == 0) return out;  // < 2^63: votes are clamped (SVA_FIXED_MAX_VOTE_UNITS)
+  const std::uint64_t floor_log = belief_math::sva_floor_log(total, eps_units_);
+  out.reserve(votes.size());
+  votes.for_each([&](std::uint64_t key, std::int64_t m) {
+    if (m > 0)
+      out.push_back(
+          {key, belief_math::sva_fold_units_given(static_cast<std::uint64_t>(m), total, eps_units_, floor_log)});
+  });
+  return out;
+}
+
+bool Belief::add(const std::vector<BinOffset>& terms, std::uint32_t count) {
+  if (terms.empty() || count == 0) return false;
+  for (const BinOffset& t : terms) {
+    bool inserted = false;
+    const std::uint64_t off = offset_.add_get(t.key, t.offset * count, &inserted);
+    note(t.key, off, inserted);
+  }
+  pairs_ += count;
+  if (band_.size() > 2 * std::max<std::size_t>(band_pruned_size_, 1024)) prune_band();
+  return true;
+}
+
+// Keeps the reductions current after bin `key` rose to `offset`.
+void Belief::note(std::uint64_t key, std::uint64_t offset, bool inserted) {
+  const std::uint32_t o = PoseSpace::object_of(key);
+  if (inserted) ++touched_[o];
+  if ((inserted && touched_[o] == 1) || offset > best_offset_[o] || (offset == best_offset_[o] && key < best_key_[o])) {
+    best_offset_[o] = offset;
+    best_key_[o] = key;
+  }
+  max_ = std::max(max_, offset);
+  if (in_band(offset)) band_.add(key, 0);
+}
+
+void Belief::prune_band() {
+  BinTable<std::uint8_t> kept(band_.size() / 2);
+  band_.for_each([&](std::uint64_t key, std::uint8_t) {
+    if (in_band(offset_.get(key))) kept.add(key, 0);
+  });
+  band_ = std::move(kept);
+  band_pruned_size_ = band_.size();
+}
+
+std::size_t Belief::forget_below(std::uint64_t below, std::span<const std::uint64_t> keep) {
+  BinTable<std::uint64_t> kept(offset_.size());
+  std::fill(touched_.begin(), touched_.end(), 0);
+  offset_.for_each([&](std::uint64_t key, std::uint64_t off) {
+    const std::uint32_t o = PoseSpace::object_of(key);
+    if (off < below && !std::binary_search(keep.begin(), keep.end(), key)) return;
+    kept.add(key, off);
+    ++touched_[o];
+  });
+  const std::size_t forgotten = offset_.size() - kept.size();
+  retired_allocations_ += offset_.allocations();
+  offset_ = std::move(kept);
+  prune_band();  // its members lie in the band, above `below` (the caller's margin exceeds the band width)
+  return forgotten;
+}
+
+BeliefSummary Belief::summarise() const {
+  BeliefSummary s;
+  s.max_offset = max_;
+  s.touched = touched_;
+  s.best_offset = best_offset_;
+  s.best_key = best_key_;
+  s.touched_mass.assign(space_->objects(), 0);
+  band_.for_each([&](std::uint64_t key, std::uint8_t) {
+    const std::uint64_t off = offset_.get(key);
+    if (in_band(off))
+      s.touched_mass[PoseSpace::object_of(key)] += belief_math::sva_exp2_neg_units(max_ - off, mass_bits_);
+  });
+  return s;
+}
+
+std::vector<BinOffset> Belief::best_bins(std::size_t k) const {
+  const auto better = [](const BinOffset& a, const BinOffset& b) {
+    return a.offset != b.offset ? a.offset > b.offset : a.key < b.key;
+  };
+  std::vector<BinOffset> all;  // slot order: partial_sort needs no sorted read-out
+  band_.for_each([&](std::uint64_t key, std::uint8_t) {
+    const std::uint64_t off = offset_.get(key);
+    if (in_band(off)) all.push_back({key, off});
+  });
+  // Every bin outside the band lies below every bin in it: the band holds
+  // the top k unless it has fewer than k bins.
+  if (all.size() < k && all.size() < offset_.size()) {
+    all.clear();
+    all.reserve(offset_.size());
+    offset_.for_each([&](std::uint64_t key, std::uint64_t off) { all.push_back({key, off}); });
+  }
+  k = std::min(k, all.size());
+  std::partial_sort(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(k), all.end(), better);
+  all.resize(k);
+  return all;
+}
+
+std::vector<std::uint64_t> Belief::offsets(std::span<const std::uint64_t> keys) const {
+  std::vector<std::uint64_t> out;
+  out.reserve(keys.size());
+  for (std::uint64_t k : keys) out.push_back(offset_.get(k));
+  return out;
+}
+
+std::vector<BinOffset> Belief::table() const {
+  std::vector<std::uint64_t> keys, values;
+  offset_.sorted(&keys, &values);
+  std::vector<BinOffset> out(keys.size());
+  for (std::size_t i = 0; i < keys.size(); ++i) out[i] = {keys[i], values[i]};
+  return out;
+}
+
+}  // namespace sva

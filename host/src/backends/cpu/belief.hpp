@@ -1,0 +1,70 @@
+#pragma once
+// The CPU reference belief (belief/belief_state.hpp says what a belief is): the offsets in an open-addressing table
+// in host memory, folded pair by pair.
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <sva/pose.hpp>
+
+#include "backends/cpu/bin_accumulator.hpp"
+#include "belief/belief_state.hpp"
+#include "votes/pose_space.hpp"
+
+namespace sva {
+
+struct PairVotes;
+
+// The CPU reference belief.
+class Belief final : public BeliefState {
+ public:
+  Belief(const PoseSpace& space, double eps);
+
+  // Multiplies in one pair factor `count` times (count 2: both orders of Eq 5,
+  // which cast the same votes). A pair with no vote mass leaves the belief
+  // unchanged (it carries no information about the pose). Returns whether it folded.
+  bool fold(const PairVotes& votes, std::uint32_t count = 1);
+  // The same in two steps: the pair's per-bin offset increments, which only
+  // read the belief's eps (pairs compute theirs in parallel), then their
+  // addition (integers: the order of pairs does not matter).
+  std::vector<BinOffset> terms(const BinAccumulator& votes) const;
+  bool add(const std::vector<BinOffset>& terms, std::uint32_t count);
+
+  void reset() override;
+  std::size_t table_allocations() const override { return retired_allocations_ + offset_.allocations(); }
+  std::size_t pairs_folded() const override { return pairs_; }
+  std::size_t touched() const override { return offset_.size(); }
+  BeliefSummary summarise() const override;
+  std::vector<BinOffset> best_bins(std::size_t k) const override;
+  std::vector<std::uint64_t> offsets(std::span<const std::uint64_t> keys) const override;
+  std::vector<BinOffset> table() const override;
+  std::size_t forget_below(std::uint64_t below, std::span<const std::uint64_t> keep) override;
+
+  std::uint64_t offset(std::uint64_t key) const { return offset_.get(key); }
+
+ private:
+  // Offsets only grow, so the fold keeps the estimate's reductions up to date
+  // (DESIGN's "no pass over every bin per estimate"): the maximum, each
+  // object's touched count and best bin directly, and the object masses and
+  // top-k through the *band*: the bins within band_width_ of the maximum, the
+  // only ones whose weight 2^(offset - M) at mass_bits is not 0. A bin leaves
+  // the band only as the maximum grows, so the band set holds every bin in
+  // the band (and some stale ones, skipped when read, pruned as it grows).
+  bool in_band(std::uint64_t offset) const { return max_ - offset < band_width_; }
+  void note(std::uint64_t key, std::uint64_t offset, bool inserted);
+  void prune_band();
+
+  const PoseSpace* space_;
+  std::uint64_t eps_units_;
+  std::uint32_t mass_bits_;
+  std::uint64_t band_width_;
+  BinTable<std::uint64_t> offset_;
+  std::size_t retired_allocations_ = 0;  // of offset tables replaced by forget_below
+  std::size_t pairs_ = 0;
+  std::uint64_t max_ = 0;
+  std::vector<std::uint64_t> touched_, best_offset_, best_key_;
+  BinTable<std::uint8_t> band_;
+  std::size_t band_pruned_size_ = 0;
+};
+
+}  // namespace sva

@@ -1,0 +1,231 @@
+// The CPU reference vote backend: for every observed pair, every map pair it
+// matches (under any of its keys, sva_match_likelihood.h) is aligned once
+// (Sec 4.1, 4.3) and scatters the Gaussian in beta into pose bins, with the
+// shared math of sva_vote_math.h. Pairs run in parallel on the worker pool;
+// each pair's sums are integers, so the result does not depend on the thread
+// count, and the fold's integer offsets do not depend on the order of pairs.
+#include <sva/base/interrupt.hpp>
+#include <sva/base/parallel.hpp>
+#include <sva/error.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <mutex>
+#include <string>
+
+#include "backends/cpu/belief.hpp"
+#include "backends/cpu/bin_accumulator.hpp"
+#include "backends/vote_backend.hpp"
+#include "util/hot_path.hpp"
+#include "votes/vote_math.hpp"
+
+namespace sva {
+
+namespace {
+
+using vote_math::SvaPatch;
+using vote_math::vec3;
+using Clock = std::chrono::steady_clock;
+
+SvaPatch patch_of(const ObservedPatch& o) {
+  SvaPatch p;
+  p.p = vec3(o.position[0], o.position[1], o.position[2]);
+  p.n = vec3(o.normal[0], o.normal[1], o.normal[2]);
+  p.conf = o.norm_conf;
+  return p;
+}
+
+// The map entries stored under one of an observed pair's keys.
+struct KeyRange {
+  std::uint32_t begin, end;
+  float weight;   // w_obs of the key
+  bool reversed;  // the entries' ends are swapped to match the observed pair (PairKeyWeight::reversed)
+};
+
+// The owner rule of sva_match_likelihood.h over one observed pair's key
+// ranges: the text of sva_match_owner.h, which match_votes.glsl runs too,
+// compiled as members over the map and the ranges.
+class OwnerRule {
+ public:
+  OwnerRule(const PairMap& map, const std::vector<KeyRange>& ranges) : map_(map), ranges_(ranges) {}
+  using uint = std::uint32_t;
+  using uint64_t = std::uint64_t;
+
+#include "sva_match_owner.h"
+
+ private:
+  uint sva_item_begin(uint k) const { return ranges_[k].begin; }
+  uint sva_item_end(uint k) const { return ranges_[k].end; }
+  uint sva_item_reversed(uint k) const { return ranges_[k].reversed ? 1u : 0u; }
+  float sva_item_weight(uint k) const { return ranges_[k].weight; }
+  uint sva_entry_a(uint e) const { return map_.entry_a[e]; }
+  uint sva_entry_b(uint e) const { return map_.entry_b[e]; }
+  float sva_entry_weight(uint e) const { return map_.entry_weight[e]; }
+  static uint64_t sva_likelihood_units(float w) { return vote_math::sva_likelihood_units(w); }
+
+  const PairMap& map_;
+  const std::vector<KeyRange>& ranges_;
+};
+
+class CpuVoteBackend final : public VoteBackend {
+ public:
+  CpuVoteBackend(const PairMap& map, const PoseSpace& space, const VoteSettings& settings)
+      : map_(map), grid_(space.grid()), objects_(space.objects()), settings_(settings) {
+    const auto& r = map.readings;
+    patches_.resize(r.size());
+    for (std::size_t i = 0; i < r.size(); ++i) {
+      patches_[i].p = vec3(r.px[i], r.py[i], r.pz[i]);
+      patches_[i].n = vec3(r.nx[i], r.ny[i], r.nz[i]);
+      patches_[i].conf = r.norm_conf[i];
+    }
+  }
+
+  const char* name() const override { return "cpu"; }
+
+  std::vector<PairVotes> vote(const VoteBatch& batch) override {
+    const auto start = Clock::now();
+    std::vector<PairVotes> out(batch.pairs.size());
+    util::parallel_for(
+        batch.pairs.size(),
+        [&](std::size_t i) {
+          BinAccumulator acc(4096);
+          vote_pair(batch, batch.pairs[i], acc, &out[i]);
+          acc.sorted(&out[i].keys, &out[i].mass);
+        },
+        settings_.threads);
+    last_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    return out;
+  }
+
+  std::unique_ptr<BeliefState> make_belief(const PoseSpace& space, double eps) override {
+    return std::make_unique<Belief>(space, eps);
+  }
+
+  // Pairs vote and compute their fold terms in parallel on the worker pool;
+  // each adds its terms to its session's belief under that session's lock
+  // (the additions are a few percent of the work, and integers: the order of
+  // pairs does not change the belief). Only the pairs in flight hold votes.
+  std::vector<PairStats> vote_and_fold(const VoteBatch& batch, std::span<BeliefState* const> beliefs) override {
+    const auto start = Clock::now();
+    std::vector<Belief*> target(batch.pairs.size());
+    for (std::size_t i = 0; i < batch.pairs.size(); ++i) {
+      const std::uint32_t s = batch.pairs[i].session;
+      if (s >= beliefs.size()) throw Error("cpu backend: pair of session " + std::to_string(s) + " has no belief");
+      target[i] = dynamic_cast<Belief*>(beliefs[s]);
+      if (!target[i])
+        throw Error("cpu backend: session " + std::to_string(s) + " has a belief made by another backend");
+    }
+    std::vector<PairStats> out(batch.pairs.size());
+    std::vector<std::mutex> locks(beliefs.size());
+    util::parallel_for(
+        batch.pairs.size(),
+        [&](std::size_t i) {
+          BinAccumulator acc(4096);
+          vote_pair(batch, batch.pairs[i], acc, &out[i]);
+          const std::vector<BinOffset> terms = target[i]->terms(acc);
+          std::lock_guard lock(locks[batch.pairs[i].session]);
+          out[i].folded = target[i]->add(terms, batch.pairs[i].fold_count);
+        },
+        settings_.threads);
+    last_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    return out;
+  }
+
+  BackendStats statistics() const override {
+    BackendStats s;
+    s.backend = name();
+    const unsigned threads = settings_.threads ? settings_.threads : util::default_threads();
+    s.device = "CPU reference (" + std::to_string(threads) + " threads)";
+    s.last_host_ms = last_ms_;
+    return s;
+  }
+
+ private:
+  // The ranges of the pair's keys that the map holds, in the pair's key order.
+  std::vector<KeyRange> key_ranges(const VoteBatch& batch, const PairQuery& q) const {
+    std::vector<KeyRange> ranges;
+    for (std::uint32_t k = q.key_begin; k < q.key_end; ++k) {
+      const PairKeyWeight kw = batch.keys[k];
+      const auto it = std::lower_bound(map_.keys.begin(), map_.keys.end(), kw.key);
+      if (it == map_.keys.end() || *it != kw.key) continue;
+      const std::size_t slot = static_cast<std::size_t>(it - map_.keys.begin());
+      ranges.push_back({map_.offsets[slot], map_.offsets[slot + 1], kw.weight, kw.reversed != 0});
+    }
+    return ranges;
+  }
+
+  void vote_pair(const VoteBatch& batch, const PairQuery& q, BinAccumulator& acc, PairStats* out) const {
+    const SvaPatch a1 = patch_of(q.a), b1 = patch_of(q.b);
+    const std::uint8_t* active =
+        batch.object_active.empty() ? nullptr : batch.object_active.data() + std::size_t{q.session} * objects_;
+    const std::vector<KeyRange> ranges = key_ranges(batch, q);
+    OwnerRule owner(map_, ranges);  // the shared text's functions are not const members
+    for (std::size_t j = 0; j < ranges.size(); ++j)
+      for (std::uint32_t e = ranges[j].begin; e < ranges[j].end; ++e) {
+        if ((e & 1023u) == 0) util::throw_if_interrupted();
+        const std::uint32_t object = map_.readings.object[map_.entry_a[e]];
+        if (active && !active[object]) continue;
+        const std::uint32_t ra = ranges[j].reversed ? map_.entry_b[e] : map_.entry_a[e];
+        const std::uint32_t rb = ranges[j].reversed ? map_.entry_a[e] : map_.entry_b[e];
+        const float likelihood = vote_math::sva_likelihood_of_units(owner.sva_owned_likelihood(
+            0, static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(ranges.size()), ra, rb, map_.entry_weight[e]));
+        if (!(likelihood > 0.0f) || likelihood < settings_.likelihood_cutoff) continue;
+        vote_match(a1, b1, ra, rb, object, likelihood, acc, out);
+      }
+  }
+
+  // Aligns the observed pair to map pair (ra, rb) and scatters its beta samples.
+  SVA_HOT_PATH void vote_match(const SvaPatch& a1, const SvaPatch& b1, std::uint32_t ra, std::uint32_t rb,
+                               std::uint32_t object, float likelihood, BinAccumulator& acc, PairStats* out) const {
+    const vote_math::SvaAlignment al = vote_math::sva_align(a1, b1, patches_[ra], patches_[rb]);
+    const vote_math::SvaBetaPlan plan = vote_math::sva_beta_plan(al, grid_);
+    if (plan.n == 0) return;
+    ++out->matches;
+    // The weights once (sva_beta_weights, the GPU's text for the sum), then the
+    // samples' votes in a loop of independent iterations, which the CPU
+    // overlaps (the polynomials are latency-bound), then their insertion.
+    float weight[SVA_MAX_BETA_SAMPLES];
+    const float scale = vote_math::sva_vote_scale(likelihood, vote_math::sva_beta_weights(plan, weight));
+    vote_math::SvaVote votes[SVA_MAX_BETA_SAMPLES];
+    for (int s = 0; s < plan.n; ++s) votes[s] = vote_math::sva_vote(al, plan, grid_, object, weight[s] * scale, s);
+    // Neighbouring samples often share a bin (they are half a bin apart): a
+    // run of one key goes into the table as one sum (integers: same result).
+    std::uint64_t run_key = 0;
+    std::int64_t run_mass = 0;
+    for (int s = 0; s < plan.n; ++s) {
+      const vote_math::SvaVote& v = votes[s];
+      if (!v.inside) {
+        ++out->votes_outside;
+        continue;
+      }
+      ++out->votes;
+      if (v.mass <= 0) {
+        ++out->votes_zero;
+        continue;
+      }
+      if (run_mass > 0 && v.key != run_key) {
+        acc.add(run_key, run_mass);
+        run_mass = 0;
+      }
+      run_key = v.key;
+      run_mass += v.mass;
+    }
+    if (run_mass > 0) acc.add(run_key, run_mass);
+  }
+
+  const PairMap& map_;
+  vote_math::SvaPoseGrid grid_;
+  std::uint32_t objects_;
+  VoteSettings settings_;
+  std::vector<SvaPatch> patches_;
+  double last_ms_ = 0.0;  // host time of the last vote or vote_and_fold
+};
+
+}  // namespace
+
+std::unique_ptr<VoteBackend> make_cpu_vote_backend(const PairMap& map, const PoseSpace& space,
+                                                   const VoteSettings& settings) {
+  return std::make_unique<CpuVoteBackend>(map, space, settings);
+}
+
+}  // namespace sva

@@ -1,0 +1,31 @@
+#pragma once
+// The one place that picks a vote backend: cpu (the reference), vulkan, or
+// auto (Vulkan when a usable device exists, else the CPU reference, with the
+// reason). Every command and the public Recognizer / BatchRecognizer come here.
+#include <sva/recognizer.hpp>
+
+#include <memory>
+#include <string>
+
+#include "backends/vote_backend.hpp"
+#include "backends/vulkan/vulkan_vote_backend.hpp"
+
+namespace sva {
+
+struct VoteBackendChoice {
+  std::unique_ptr<VoteBackend> backend;
+  BackendKind kind = BackendKind::cpu;  // the one made: cpu or vulkan, never automatic
+  std::string fallback_reason;          // automatic only: why the CPU reference runs ("" when Vulkan does)
+};
+
+// Throws sva::Error when the asked-for backend cannot be made (vulkan without a
+// usable device, say); automatic then falls back to the CPU reference instead.
+VoteBackendChoice make_vote_backend(BackendKind kind, const PairMap& map, const PoseSpace& space,
+                                    const VoteSettings& settings, const VulkanBackendOptions& vulkan = {});
+
+// "cpu", "vulkan" or "auto"; anything else is an sva::Error naming `option` (e.g. "sva eval: --backend").
+BackendKind parse_backend_kind(const std::string& text, const std::string& option);
+// "cpu", "vulkan" or "auto".
+const char* backend_kind_name(BackendKind kind);
+
+}  // namespace sva

@@ -1,0 +1,162 @@
+#include "backends/vulkan/buffer.hpp"
+
+#include <sva/error.hpp>
+
+#include <algorithm>
+#include <cstdio>
+#include <cstring>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "backends/vulkan/device.hpp"
+#include "backends/vulkan/faults.hpp"
+#include "backends/vulkan/vk_check.hpp"
+
+namespace sva::vk {
+
+namespace {
+
+// The memory types to try, best first. Mapped buffers: host-visible coherent
+// memory, the device's own where it has such (lavapipe, integrated GPUs,
+// discrete GPUs with a large BAR), else host memory. Device buffers: the
+// device's own memory, host-visible first (no staging), then any; host memory
+// last, when the device's heaps are full.
+std::vector<std::uint32_t> memory_types(const VkPhysicalDeviceMemoryProperties& memory, std::uint32_t allowed,
+                                        Memory kind) {
+  const VkMemoryPropertyFlags mapped = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+  const VkMemoryPropertyFlags local = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
+  std::vector<VkMemoryPropertyFlags> wants{mapped | local, mapped};
+  if (kind == Memory::device) wants = {mapped | local, local, mapped};
+  std::vector<std::uint32_t> types;
+  for (VkMemoryPropertyFlags want : wants)
+    for (std::uint32_t i = 0; i < memory.memoryTypeCount; ++i)
+      if ((allowed & (1u << i)) && (memory.memoryTypes[i].propertyFlags & want) == want &&
+          std::find(types.begin(), types.end(), i) == types.end())
+        types.push_back(i);
+  if (types.empty()) throw Error("Vulkan: no usable memory type for a storage buffer");
+  return types;
+}
+
+// The injected budget (backends/vulkan/faults.hpp): the device's own memory past it
+// fails as the driver's would.
+bool over_budget(const Device& device, std::uint64_t bytes) {
+  const std::uint64_t budget = faults::memory_budget();
+  return budget > 0 && device.device_bytes() + bytes > budget;
+}
+
+std::string mib(std::uint64_t bytes) {
+  char b[32];
+  std::snprintf(b, sizeof b, "%.1f MiB", static_cast<double>(bytes) / (1 << 20));
+  return b;
+}
+
+OutOfMemory out_of_memory(const Device& device, VkResult r, std::size_t bytes) {
+  std::string what = "Vulkan: out of memory (" + result_name(r) + ") allocating " + std::to_string(bytes) + " bytes (" +
+                     mib(bytes) + ") on " + device.info().name + ", which holds " + mib(device.device_bytes()) +
+                     " of sva's buffers";
+  if (const std::uint64_t budget = faults::memory_budget())
+    what += " (budget SVA_VK_MEMORY_BUDGET_BYTES " + mib(budget) + ")";
+  return OutOfMemory(what, bytes);
+}
+
+}  // namespace
+
+Buffer::Buffer(const Device& device, std::size_t bytes, Memory kind, bool never_map)
+    : device_(device.handle()), size_(bytes ? bytes : 16) {
+  if (size_ > device.info().max_allocation)
+    throw OutOfMemory("Vulkan: a buffer of " + std::to_string(size_) +
+                          " bytes exceeds the device's largest allocation (" +
+                          std::to_string(device.info().max_allocation) + " bytes, maxMemoryAllocationSize)",
+                      size_);
+  VkBufferCreateInfo bci{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
+  bci.size = size_;
+  bci.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT |
+              VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+  bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
+  check(vkCreateBuffer(device_, &bci, nullptr, &buffer_), "vkCreateBuffer");
+  try {
+    allocate(device, kind, never_map);
+  } catch (...) {
+    release();  // the destructor does not run for a failed constructor
+    throw;
+  }
+}
+
+void Buffer::allocate(const Device& device, Memory kind, bool never_map) {
+  VkMemoryRequirements req;
+  vkGetBufferMemoryRequirements(device_, buffer_, &req);
+  VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+  flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+  VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
+  mai.pNext = &flags;
+  mai.allocationSize = req.size;
+  VkResult r = VK_ERROR_OUT_OF_DEVICE_MEMORY;
+  bool host_visible = false;
+  for (std::uint32_t type : memory_types(device.memory(), req.memoryTypeBits, kind)) {
+    mai.memoryTypeIndex = type;
+    const VkMemoryPropertyFlags f = device.memory().memoryTypes[type].propertyFlags;
+    const bool local = (f & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT) != 0;
+    r = local && over_budget(device, req.size) ? VK_ERROR_OUT_OF_DEVICE_MEMORY
+                                               : vkAllocateMemory(device_, &mai, nullptr, &memory_);
+    if (r == VK_SUCCESS) {
+      device_local_ = local;
+      host_visible = (f & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) != 0;
+      if (device_local_) {
+        owner_ = &device;
+        counted_ = req.size;
+        device.count_device_bytes(static_cast<std::int64_t>(counted_));
+      }
+      break;
+    }
+    if (r != VK_ERROR_OUT_OF_DEVICE_MEMORY && r != VK_ERROR_OUT_OF_HOST_MEMORY) break;
+  }
+  if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY) throw out_of_memory(device, r, size_);
+  check(r, "vkAllocateMemory");
+  check(vkBindBufferMemory(device_, buffer_, memory_, 0), "vkBindBufferMemory");
+  if (host_visible && !(kind == Memory::device && never_map)) {
+    check(vkMapMemory(device_, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
+    std::memset(mapped_, 0, size_);
+  }
+  VkBufferDeviceAddressInfo ai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+  ai.buffer = buffer_;
+  address_ = vkGetBufferDeviceAddress(device_, &ai);
+}
+
+void Buffer::release() {
+  if (owner_ && counted_) owner_->count_device_bytes(-static_cast<std::int64_t>(counted_));
+  owner_ = nullptr;
+  counted_ = 0;
+  if (device_) {
+    if (mapped_) vkUnmapMemory(device_, memory_);
+    if (buffer_) vkDestroyBuffer(device_, buffer_, nullptr);
+    if (memory_) vkFreeMemory(device_, memory_, nullptr);
+  }
+  device_ = VK_NULL_HANDLE;
+  buffer_ = VK_NULL_HANDLE;
+  memory_ = VK_NULL_HANDLE;
+  mapped_ = nullptr;
+  size_ = 0;
+  address_ = 0;
+  device_local_ = false;
+}
+
+Buffer::~Buffer() { release(); }
+Buffer::Buffer(Buffer&& o) noexcept { *this = std::move(o); }
+Buffer& Buffer::operator=(Buffer&& o) noexcept {
+  if (this != &o) {
+    release();
+    std::swap(owner_, o.owner_);
+    std::swap(counted_, o.counted_);
+    std::swap(device_, o.device_);
+    std::swap(buffer_, o.buffer_);
+    std::swap(memory_, o.memory_);
+    std::swap(mapped_, o.mapped_);
+    std::swap(size_, o.size_);
+    std::swap(address_, o.address_);
+    std::swap(device_local_, o.device_local_);
+  }
+  return *this;
+}
+
+}  // namespace sva::vk

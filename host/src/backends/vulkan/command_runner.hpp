@@ -1,0 +1,85 @@
+#pragma once
+// Command recording and submission: a run records buffer fills and a sequence
+// of compute dispatches into one command buffer, submits it to the device's
+// queue and waits. Owns the command pool, the fence, the descriptor pool (one
+// set per dispatch, remade each run) and the timestamp queries.
+#include <vulkan/vulkan.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "backends/vulkan/buffer.hpp"
+#include "backends/vulkan/pipeline.hpp"
+
+namespace sva::vk {
+
+class Device;
+
+// A fill of a buffer range with a 32-bit pattern, recorded before a run's
+// dispatches: clearing large device tables costs the host nothing.
+struct Fill {
+  Buffer* buffer;
+  std::uint32_t value = 0;
+  std::size_t offset = 0;
+  std::size_t bytes = 0;  // 0 = to the end of the buffer
+};
+
+// A copy between buffers (staged uploads and downloads of device buffers).
+struct Copy {
+  const Buffer* src;
+  Buffer* dst;
+  std::size_t src_offset = 0;
+  std::size_t dst_offset = 0;
+  std::size_t bytes = 0;
+};
+
+// One dispatch of a recorded sequence; consecutive dispatches are separated by
+// a full compute->compute memory barrier.
+struct Dispatch {
+  const Pipeline* pipeline;
+  std::vector<Buffer*> buffers;    // one per binding, in binding order
+  std::vector<std::uint8_t> push;  // push-constant bytes
+  std::uint32_t groups_x = 1;
+  std::uint32_t groups_y = 1;
+  // When set, the workgroup counts come from this buffer (VkDispatchIndirectCommand
+  // at offset 0), written by an earlier dispatch of the same run.
+  Buffer* indirect = nullptr;
+};
+
+class CommandRunner {
+ public:
+  explicit CommandRunner(const Device& device);
+  ~CommandRunner();
+  CommandRunner(const CommandRunner&) = delete;
+  CommandRunner& operator=(const CommandRunner&) = delete;
+
+  // Records the fills, then the dispatches, submits and waits. When
+  // `kernel_ms` is given and the device supports timestamps, it receives the
+  // GPU time of each dispatch (for "where does the time go").
+  void run(const std::vector<Dispatch>& dispatches, std::vector<double>* kernel_ms = nullptr,
+           const std::vector<Fill>& fills = {});
+  // Records the copies, submits and waits; their writes are visible to later
+  // runs and to the host's mapped reads.
+  void copy(const std::vector<Copy>& copies);
+
+ private:
+  VkCommandBuffer begin();
+  void end_submit_free(VkCommandBuffer cmd);
+  void ensure_queries(std::uint32_t count);
+  void reset_descriptor_pool(const std::vector<Dispatch>& dispatches);
+  VkDescriptorSet bind_buffers(const Dispatch& d);
+  void record_fills(VkCommandBuffer cmd, const std::vector<Fill>& fills) const;
+  void record_dispatch(VkCommandBuffer cmd, const Dispatch& d, std::uint32_t index, bool timing);
+  void submit_and_wait(VkCommandBuffer cmd);
+  void read_kernel_ms(std::size_t dispatches, std::vector<double>& kernel_ms) const;
+
+  const Device& device_;
+  VkCommandPool command_pool_ = VK_NULL_HANDLE;
+  VkDescriptorPool descriptor_pool_ = VK_NULL_HANDLE;
+  VkFence fence_ = VK_NULL_HANDLE;
+  VkQueryPool queries_ = VK_NULL_HANDLE;
+  std::uint32_t query_capacity_ = 0;
+};
+
+}  // namespace sva::vk

@@ -1,0 +1,68 @@
+#include "backends/vulkan/context.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <cstring>
+#include <stdexcept>
+
+namespace sva::vk {
+
+ContextOptions Context::from_environment() {
+  ContextOptions o;
+  if (const char* d = std::getenv("SVA_VK_DEVICE")) o.device = d;
+  if (const char* v = std::getenv("SVA_VK_VALIDATION")) o.validation = std::string(v) == "1";
+  if (const char* v = std::getenv("SVA_VK_STAGING")) o.force_staging = std::string(v) == "1";
+  return o;
+}
+
+Context::Context(const ContextOptions& options)
+    : instance_(options.validation),
+      device_(instance_, options.device),
+      commands_(device_),
+      force_staging_(options.force_staging) {}
+
+Buffer Context::create_device_buffer(std::size_t bytes) {
+  Buffer b(device_, bytes, Memory::device, force_staging_);
+  if (!b.mapped()) run({}, nullptr, {{&b, 0u, 0, 0}});  // mapped memory is zeroed by the host
+  return b;
+}
+
+// Staging moves at most this much at a time, so an upload of a large map
+// needs no second copy of it in host memory.
+constexpr std::size_t kStagingBytes = std::size_t{64} << 20;
+
+void Context::upload(Buffer& dst, const void* src, std::size_t bytes, std::size_t offset) {
+  if (offset + bytes > dst.size()) throw std::logic_error("Context::upload: range not in the buffer");
+  if (bytes == 0) return;
+  if (dst.mapped()) {
+    std::memcpy(static_cast<std::uint8_t*>(dst.data()) + offset, src, bytes);
+    return;
+  }
+  Buffer staging = create_buffer(std::min(bytes, kStagingBytes));
+  for (std::size_t done = 0; done < bytes; done += staging.size()) {
+    const std::size_t n = std::min(staging.size(), bytes - done);
+    std::memcpy(staging.data(), static_cast<const std::uint8_t*>(src) + done, n);
+    std::lock_guard lock(mutex_);
+    commands_.copy({{&staging, &dst, 0, offset + done, n}});
+  }
+}
+
+void Context::download(const Buffer& src, void* dst, std::size_t bytes, std::size_t offset) {
+  if (offset + bytes > src.size()) throw std::logic_error("Context::download: range not in the buffer");
+  if (bytes == 0) return;
+  if (src.mapped()) {
+    std::memcpy(dst, static_cast<const std::uint8_t*>(src.data()) + offset, bytes);
+    return;
+  }
+  Buffer staging = create_buffer(std::min(bytes, kStagingBytes));
+  for (std::size_t done = 0; done < bytes; done += staging.size()) {
+    const std::size_t n = std::min(staging.size(), bytes - done);
+    {
+      std::lock_guard lock(mutex_);
+      commands_.copy({{&src, &staging, offset + done, 0, n}});
+    }
+    std::memcpy(static_cast<std::uint8_t*>(dst) + done, staging.data(), n);
+  }
+}
+
+}  // namespace sva::vk

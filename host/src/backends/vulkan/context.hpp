@@ -1,0 +1,85 @@
+#pragma once
+// A small Vulkan compute context: the facade the kernel launchers use. It owns
+// one RAII piece per Vulkan object kind, each in its own file:
+//   backends/vulkan/instance.hpp        the instance and the validation log
+//   backends/vulkan/device.hpp          device selection (feature queries), limits, the queue
+//   backends/vulkan/buffer.hpp          host-mapped storage buffers with device addresses
+//   backends/vulkan/pipeline.hpp        compute pipelines and their descriptor-set layouts
+//   backends/vulkan/command_runner.hpp  recorded fills and dispatches, submitted and waited for
+// Everything the GPU backend needs and nothing more.
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+#include <mutex>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "backends/vulkan/buffer.hpp"
+#include "backends/vulkan/command_runner.hpp"
+#include "backends/vulkan/device.hpp"
+#include "backends/vulkan/instance.hpp"
+#include "backends/vulkan/pipeline.hpp"
+
+namespace sva::vk {
+
+struct ContextOptions {
+  // "" = prefer a discrete GPU; else an index or a substring of the device name (env SVA_VK_DEVICE)
+  std::string device;
+  bool validation = false;  // enable VK_LAYER_KHRONOS_validation if present (env SVA_VK_VALIDATION=1)
+  // Keep device buffers unmapped and stage every upload and download, as on a
+  // GPU without a large BAR (env SVA_VK_STAGING=1): tests the staging path on lavapipe.
+  bool force_staging = false;
+};
+
+class Context {
+ public:
+  explicit Context(const ContextOptions& options = from_environment());
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  static ContextOptions from_environment();
+  const DeviceInfo& info() const { return device_.info(); }
+  // Validation messages of severity warning or error seen so far.
+  std::uint32_t validation_messages() const { return instance_.validation_messages(); }
+  const std::vector<std::string>& validation_log() const { return instance_.validation_log(); }
+
+  // A host-mapped buffer: the kernels' inputs and outputs.
+  Buffer create_buffer(std::size_t bytes) { return Buffer(device_, bytes, Memory::mapped); }
+  // A buffer in the device's own memory, zero-filled: what only kernels touch.
+  Buffer create_device_buffer(std::size_t bytes);
+  // Host data into a buffer and back: in place when it is mapped, else through
+  // a staging buffer and a copy on the device.
+  void upload(Buffer& dst, const void* src, std::size_t bytes, std::size_t offset = 0);
+  void download(const Buffer& src, void* dst, std::size_t bytes, std::size_t offset = 0);
+  // A 2-D grid of SVA_WORKGROUP_SIZE-wide workgroups covering `invocations`
+  // (x is capped at maxComputeWorkGroupCount[0]); shaders flatten it back.
+  Grid grid(std::uint64_t invocations) const { return device_.grid(invocations); }
+  Pipeline create_pipeline(std::span<const std::uint32_t> spirv, std::uint32_t bindings, std::uint32_t push_bytes) {
+    return Pipeline(device_, spirv, bindings, push_bytes);
+  }
+  // Records the fills, then the dispatches, into one command buffer, submits
+  // and waits. When `kernel_ms` is given and the device supports timestamps,
+  // it receives the GPU time of each dispatch (for "where does the time go").
+  // Thread-safe: runs of several users of one context (recognizers sharing a
+  // VulkanEngine) take turns on its queue.
+  void run(const std::vector<Dispatch>& dispatches, std::vector<double>* kernel_ms = nullptr,
+           const std::vector<Fill>& fills = {}) {
+    std::lock_guard lock(mutex_);
+    commands_.run(dispatches, kernel_ms, fills);
+  }
+  bool force_staging() const { return force_staging_; }
+
+  const Instance& instance() const { return instance_; }
+  const Device& device() const { return device_; }
+
+ private:
+  // Declaration order is destruction order reversed: commands, device, instance.
+  Instance instance_;
+  Device device_;
+  CommandRunner commands_;
+  bool force_staging_ = false;
+  std::mutex mutex_;
+};
+
+}  // namespace sva::vk

@@ -1,0 +1,361 @@
+#include "backends/vulkan/gpu_belief.hpp"
+
+#include <sva/error.hpp>
+
+#include <algorithm>
+#include <bit>
+#include <cassert>
+#include <cstring>
+#include <string>
+
+#include "backends/vulkan/gpu_layout.hpp"
+#include "belief/belief_math.hpp"
+
+namespace sva {
+
+namespace {
+
+using gpu::ensure;
+using gpu::hi;
+using gpu::lo;
+using gpu::push_bytes;
+
+// The most slots a table may have (its index is a 32-bit uint in the shaders).
+constexpr std::uint64_t kMaxSlots = std::uint64_t{1} << 31;
+
+std::size_t state_words(std::uint32_t objects) {
+  return SVA_STATE_OBJECTS + SVA_STATE_ARRAYS * std::size_t{objects} + SVA_BELIEF_BUCKETS;
+}
+std::size_t object_word(std::uint32_t array, std::uint32_t objects) {
+  return SVA_STATE_OBJECTS + std::size_t{array} * objects;
+}
+// Per-object arrays of the state (sva_belief_table.glsl).
+constexpr std::uint32_t kTouched = 0, kBestOffset = 1, kBestKey = 2, kMass = 4;
+// Entries per side of a new band list.
+constexpr std::uint32_t kInitialBand = 1 << 12;
+
+}  // namespace
+
+std::uint64_t slot_invocations(std::uint64_t slots) {
+  return (slots + SVA_SLOTS_PER_INVOCATION - 1) / SVA_SLOTS_PER_INVOCATION;
+}
+
+GpuBelief::GpuBelief(GpuBeliefKernels& kernels, double eps)
+    : k_(&kernels),
+      eps_units_(belief_math::eps_units(eps)),
+      mass_bits_(belief_math::mass_bits(kernels.space->bins_per_object())),
+      // sva_exp2_neg_units(d, mass_bits) is 0 from d = (mass_bits + 1) 2^32 on (as backends/cpu/belief.cpp).
+      band_width_((std::uint64_t{mass_bits_} + 1) << 32) {
+  reset();
+}
+
+void GpuBelief::allocate(vk::Buffer& b, std::uint32_t capacity) const {
+  // The device's own memory: only kernels touch a belief.
+  const std::size_t keys = std::size_t{capacity} * sizeof(std::uint64_t);
+  b = k_->ctx->create_device_buffer(2 * keys + capacity / 32 * sizeof(std::uint32_t));
+  ++table_allocations_;
+  clear_table(b, capacity);
+}
+
+void GpuBelief::clear_table(vk::Buffer& b, std::uint32_t capacity) const {
+  const std::size_t keys = std::size_t{capacity} * sizeof(std::uint64_t);
+  k_->ctx->run({}, nullptr, {{&b, 0xffffffffu, 0, keys}, {&b, 0u, keys, 0}});
+}
+
+void GpuBelief::reset() {
+  // A reset session keeps its table and band list (emptied): the next session allocates none until it outgrows them.
+  if (table_.size() == 0) {
+    capacity_ = static_cast<std::uint32_t>(std::bit_ceil(std::max<std::size_t>(k_->initial_slots, 64)));
+    allocate(table_, capacity_);
+  } else {
+    clear_table(table_, capacity_);
+  }
+  const std::uint32_t objects = k_->space->objects();
+  if (state_.size() == 0) state_ = k_->ctx->create_device_buffer(state_words(objects) * sizeof(std::uint64_t));
+  if (band_.size() == 0) {
+    band_capacity_ = std::min<std::uint32_t>(kInitialBand, capacity_);
+    band_ = k_->ctx->create_device_buffer(2 * std::size_t{band_capacity_} * sizeof(std::uint32_t));
+  }
+  // Every word 0 but the best keys (none yet: the largest key, so that atomicMin finds the first).
+  const std::size_t best_key = object_word(kBestKey, objects) * sizeof(std::uint64_t);
+  const std::size_t best_key_bytes = std::size_t{objects} * sizeof(std::uint64_t);
+  k_->ctx->run({}, nullptr,
+               {{&state_, 0u, 0, best_key},
+                {&state_, 0xffffffffu, best_key, best_key_bytes},
+                {&state_, 0u, best_key + best_key_bytes, 0}});
+  band_stale_ = false;
+  count_ = 0;
+  pairs_ = 0;
+  summary_cache_.reset();
+}
+
+void GpuBelief::record(std::uint64_t inserted, std::size_t folded) {
+  count_ += inserted;
+  pairs_ += folded;
+  summary_cache_.reset();
+}
+
+void GpuBelief::grow(std::uint64_t slots) {
+  move_to(std::max<std::uint64_t>(slots, 2 * std::uint64_t{capacity_}), false, 0);
+}
+
+void GpuBelief::move_to(std::uint64_t slots, bool forget, std::uint64_t below) {
+  std::uint64_t cap = std::bit_ceil(std::max<std::uint64_t>(slots, 64));
+  vk::Buffer status = k_->ctx->create_buffer(sizeof(std::uint32_t));
+  const std::uint32_t objects = k_->space->objects();
+  const std::size_t touched = object_word(kTouched, objects) * sizeof(std::uint64_t);
+  for (;;) {
+    if (cap > kMaxSlots)
+      throw Error("GPU belief table would need more than 2^31 slots (" + std::to_string(count_) + " touched bins)");
+    vk::Buffer next;
+    allocate(next, static_cast<std::uint32_t>(cap));
+    *status.as<std::uint32_t>() = 0;
+    gpu::SvaRehashParams p{lo(table_.device_address()), hi(table_.device_address()), capacity_,
+                           lo(next.device_address()),   hi(next.device_address()),   static_cast<std::uint32_t>(cap)};
+    p.forget = forget ? 1u : 0u;
+    p.keep_lo = lo(below);
+    p.keep_hi = hi(below);
+    p.keep_count = forget ? keep_count_ : 0u;
+    p.state_lo = lo(state_.device_address());
+    p.state_hi = hi(state_.device_address());
+    p.objects = objects;
+    p.object_shift = k_->bins.object_shift();
+    const vk::Grid g = k_->ctx->grid(slot_invocations(capacity_));
+    ensure(*k_->ctx, keep_, sizeof(std::uint64_t));
+    vk::Dispatch d{k_->rehash, {&status, &keep_}, push_bytes(p), g.x};
+    d.groups_y = g.y;
+    std::vector<double> ms;
+    std::vector<vk::Fill> fills;  // forgetting counts the kept bins afresh
+    if (forget) fills.push_back({&state_, 0u, touched, std::size_t{objects} * sizeof(std::uint64_t)});
+    k_->ctx->run({d}, &ms, fills);
+    for (double m : ms) k_->kernel_ms += m;
+    if (*status.as<std::uint32_t>() == 0) {
+      table_ = std::move(next);
+      capacity_ = static_cast<std::uint32_t>(cap);
+      // The band list names slots of the old table; later folds append to it
+      // harmlessly (the rebuild starts it afresh).
+      band_stale_ = true;
+      summary_cache_.reset();
+      return;
+    }
+    cap *= 2;  // a probe run too long even at this load: spread further
+  }
+}
+
+std::size_t GpuBelief::forget_below(std::uint64_t below, std::span<const std::uint64_t> keep) {
+  if (count_ == 0) return 0;
+  const std::uint32_t objects = k_->space->objects();
+  std::vector<std::uint64_t> linear;
+  for (std::uint64_t key : keep) linear.push_back(k_->bins.linear(key));
+  std::sort(linear.begin(), linear.end());  // the kernel's binary search
+  ensure(*k_->ctx, keep_, linear.size() * sizeof(std::uint64_t));
+  if (!linear.empty()) std::memcpy(keep_.data(), linear.data(), linear.size() * sizeof(std::uint64_t));
+  keep_count_ = static_cast<std::uint32_t>(linear.size());
+  move_to(capacity_, true, below);
+  std::vector<std::uint64_t> touched(objects);
+  k_->ctx->download(state_, touched.data(), touched.size() * sizeof(std::uint64_t),
+                    object_word(kTouched, objects) * sizeof(std::uint64_t));
+  std::size_t kept = 0;
+  for (std::uint64_t t : touched) kept += t;
+  const std::size_t forgotten = count_ - kept;
+  count_ = kept;
+  // Give the memory back: a table at most a quarter full moves to one at about a quarter load.
+  if (4 * count_ < capacity_ / 2) move_to(std::max<std::size_t>(4 * count_, k_->initial_slots), false, 0);
+  return forgotten;
+}
+
+gpu::SvaReduceParams GpuBelief::reduce_params(std::uint32_t pass) const {
+  gpu::SvaReduceParams p{};
+  p.table_lo = lo(table_.device_address());
+  p.table_hi = hi(table_.device_address());
+  p.capacity = capacity_;
+  p.pass = pass;
+  p.objects = k_->space->objects();
+  p.mass_bits = mass_bits_;
+  p.object_shift = k_->bins.object_shift();
+  p.state_lo = lo(state_.device_address());
+  p.state_hi = hi(state_.device_address());
+  p.band_lo = lo(band_.device_address());
+  p.band_hi = hi(band_.device_address());
+  p.band_capacity = band_capacity_;
+  p.band_width_lo = lo(band_width_);
+  p.band_width_hi = hi(band_width_);
+  return p;
+}
+
+void GpuBelief::run_reduce(const std::vector<std::uint32_t>& passes, std::uint64_t entries,
+                           std::vector<vk::Fill> fills) const {
+  ensure(*k_->ctx, candidates_, 2 * sizeof(std::uint64_t));
+  std::vector<vk::Dispatch> ds;
+  for (std::uint32_t pass : passes) {
+    const vk::Grid g = k_->ctx->grid(pass == SVA_REDUCE_FLIP ? 1 : slot_invocations(entries));
+    vk::Dispatch d{k_->reduce, {&candidates_}, push_bytes(reduce_params(pass)), g.x};
+    d.groups_y = g.y;
+    ds.push_back(std::move(d));
+  }
+  std::vector<double> ms;
+  k_->ctx->run(ds, &ms, fills);
+  for (double m : ms) k_->kernel_ms += m;
+}
+
+void GpuBelief::rebuild_band(std::uint64_t entries) const {
+  // A side never needs more entries than the table has slots.
+  const std::uint64_t want = std::min<std::uint64_t>(std::bit_ceil(std::max<std::uint64_t>(entries, 64)), capacity_);
+  if (want > band_capacity_ || band_.size() == 0) {
+    band_capacity_ = static_cast<std::uint32_t>(want);
+    band_ = k_->ctx->create_device_buffer(2 * std::size_t{band_capacity_} * sizeof(std::uint32_t));
+  }
+  // Empty list on side 0, no marks, then every bin in the band joins.
+  const std::size_t marks = 2 * std::size_t{capacity_} * sizeof(std::uint64_t);
+  run_reduce({SVA_REDUCE_REBUILD}, capacity_,
+             {{&table_, 0u, marks, 0},
+              {&state_, 0u, SVA_STATE_BAND_COUNT * sizeof(std::uint64_t), 4 * sizeof(std::uint64_t)}});
+  band_stale_ = false;
+  ++k_->band_rebuilds;
+}
+
+void GpuBelief::reduce() const {
+  const std::uint32_t objects = k_->space->objects();
+  const std::size_t words = state_words(objects);
+  std::vector<std::uint64_t> w(words);
+  const std::size_t mass = object_word(kMass, objects) * sizeof(std::uint64_t);
+  for (int attempt = 0;; ++attempt) {
+    if (band_stale_) rebuild_band(band_capacity_);
+    // Masses and histogram from 0, then the passes over the band.
+    run_reduce({SVA_REDUCE_MASS, SVA_REDUCE_FLIP}, band_capacity_,
+               {{&state_, 0u, mass, 0}, {&state_, 0u, SVA_STATE_NEXT_COUNT * sizeof(std::uint64_t), 8}});
+    k_->ctx->download(state_, w.data(), words * sizeof(std::uint64_t));
+    if (w[SVA_STATE_BAND_LOST] == 0) break;
+    // A fold found the list full: what the passes read was incomplete. Rebuild it larger and read again.
+    if (attempt > 0 && band_capacity_ >= capacity_)
+      throw std::logic_error("GPU belief: the band list lost bins at full size");
+    band_stale_ = true;
+    band_capacity_ = std::min<std::uint32_t>(2 * band_capacity_, capacity_);
+    band_ = {};
+  }
+  BeliefSummary s;
+  s.max_offset = w[SVA_STATE_MAX];
+  const auto array = [&](std::uint32_t a) {
+    const std::uint64_t* o = w.data() + object_word(a, objects);
+    return std::vector<std::uint64_t>(o, o + objects);
+  };
+  s.touched = array(kTouched);
+  s.touched_mass = array(kMass);
+  s.best_offset = array(kBestOffset);
+  s.best_key = array(kBestKey);
+  for (std::uint32_t i = 0; i < objects; ++i) s.best_key[i] = s.touched[i] > 0 ? k_->bins.key(s.best_key[i]) : 0;
+  const std::uint64_t* h = w.data() + object_word(SVA_STATE_ARRAYS, objects);
+  histogram_.assign(h, h + SVA_BELIEF_BUCKETS);
+  summary_cache_ = std::move(s);
+}
+
+BeliefSummary GpuBelief::summarise() const {
+  if (!summary_cache_) reduce();
+  return *summary_cache_;
+}
+
+std::vector<BinOffset> GpuBelief::best_bins(std::size_t k) const {
+  k = std::min(k, count_);
+  if (k == 0) return {};
+  if (!summary_cache_) reduce();
+  if (k == 1) {
+    // The best bin overall is the best of the objects' best bins (largest
+    // offset, then smaller key): the state already holds it.
+    const BeliefSummary& s = *summary_cache_;
+    BinOffset best;
+    bool found = false;
+    for (std::size_t o = 0; o < s.touched.size(); ++o) {
+      if (s.touched[o] == 0) continue;
+      const BinOffset c{s.best_key[o], s.best_offset[o]};
+      if (!found || c.offset > best.offset || (c.offset == best.offset && c.key < best.key)) best = c;
+      found = true;
+    }
+    return {best};
+  }
+  const auto best_first = [](const BinOffset& a, const BinOffset& b) {
+    return a.offset != b.offset ? a.offset > b.offset : a.key < b.key;
+  };
+  // The smallest bucket bound that holds at least k of the band's bins: those bins contain the top k.
+  std::uint32_t bucket = 0;
+  std::uint64_t n = 0;
+  for (; bucket < SVA_BELIEF_BUCKETS; ++bucket)
+    if ((n += histogram_[bucket]) >= k) break;
+  if (bucket == SVA_BELIEF_BUCKETS || n * 2 * sizeof(std::uint64_t) > k_->ctx->info().max_storage_buffer_range) {
+    // Fewer than k bins in the band (every bin outside it lies below), or so
+    // many tie near the maximum that their list would not fit one binding:
+    // sort the whole table on the host instead (same answer).
+    std::vector<BinOffset> all = table();
+    k = std::min(k, all.size());
+    std::partial_sort(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(k), all.end(), best_first);
+    all.resize(k);
+    return all;
+  }
+  ensure(*k_->ctx, candidates_, n * 2 * sizeof(std::uint64_t));
+  gpu::SvaReduceParams p = reduce_params(SVA_REDUCE_SELECT);
+  p.select_bucket = bucket;
+  p.select_capacity = static_cast<std::uint32_t>(n);
+  const vk::Grid g = k_->ctx->grid(slot_invocations(band_capacity_));
+  vk::Dispatch d{k_->reduce, {&candidates_}, push_bytes(p), g.x};
+  d.groups_y = g.y;
+  std::vector<double> ms;
+  k_->ctx->run({d}, &ms, {{&state_, 0u, SVA_STATE_CANDIDATES * sizeof(std::uint64_t), 8}});
+  for (double m : ms) k_->kernel_ms += m;
+  std::uint64_t found = 0;
+  k_->ctx->download(state_, &found, sizeof found, SVA_STATE_CANDIDATES * sizeof(std::uint64_t));
+  if (found != n)
+    throw std::logic_error("GPU belief: top-k selection found a different number of bins than its histogram");
+  const auto* c = candidates_.as<std::uint64_t>();
+  std::vector<BinOffset> out(n);
+  for (std::size_t i = 0; i < n; ++i) out[i] = {k_->bins.key(c[2 * i]), c[2 * i + 1]};
+  std::partial_sort(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(k), out.end(), best_first);
+  out.resize(k);
+  return out;
+}
+
+std::vector<std::uint64_t> GpuBelief::offsets(std::span<const std::uint64_t> keys) const {
+  if (keys.empty()) return {};
+  ensure(*k_->ctx, queries_, keys.size() * sizeof(std::uint64_t));
+  auto* q = queries_.as<std::uint64_t>();
+  for (std::size_t i = 0; i < keys.size(); ++i) q[i] = k_->bins.linear(keys[i]);
+  gpu::SvaLookupParams p{lo(table_.device_address()), hi(table_.device_address()), capacity_,
+                         static_cast<std::uint32_t>(keys.size())};
+  const vk::Grid g = k_->ctx->grid(keys.size());
+  vk::Dispatch d{k_->lookup, {&queries_}, push_bytes(p), g.x};
+  d.groups_y = g.y;
+  std::vector<double> ms;
+  k_->ctx->run({d}, &ms);
+  for (double m : ms) k_->kernel_ms += m;
+  return std::vector<std::uint64_t>(q, q + keys.size());
+}
+
+std::vector<BinOffset> GpuBelief::table() const {
+  std::vector<std::uint64_t> words(std::size_t{capacity_} * 2);
+  k_->ctx->download(table_, words.data(), words.size() * sizeof(std::uint64_t));
+  const std::uint64_t* keys = words.data();
+  const std::uint64_t* offsets = keys + capacity_;
+  std::vector<BinOffset> out;
+  out.reserve(count_);
+  for (std::uint32_t i = 0; i < capacity_; ++i)
+    if (keys[i] != ~std::uint64_t{0}) out.push_back({k_->bins.key(keys[i]), offsets[i]});
+  std::sort(out.begin(), out.end(), [](const BinOffset& a, const BinOffset& b) { return a.key < b.key; });
+  return out;
+}
+
+std::vector<std::uint64_t> GpuBelief::band_keys() const {
+  summary_cache_.reset();
+  reduce();
+  std::uint64_t words[2];  // BAND_COUNT, BAND_SIDE
+  k_->ctx->download(state_, words, sizeof words, SVA_STATE_BAND_COUNT * sizeof(std::uint64_t));
+  std::vector<std::uint32_t> slots(words[0]);
+  if (!slots.empty())
+    k_->ctx->download(band_, slots.data(), slots.size() * sizeof(std::uint32_t),
+                      words[1] * band_capacity_ * sizeof(std::uint32_t));
+  std::vector<std::uint64_t> keys(capacity_);
+  k_->ctx->download(table_, keys.data(), keys.size() * sizeof(std::uint64_t));
+  std::vector<std::uint64_t> out;
+  for (std::uint32_t slot : slots) out.push_back(k_->bins.key(keys.at(slot)));
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+}  // namespace sva

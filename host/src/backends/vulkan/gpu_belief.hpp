@@ -1,0 +1,109 @@
+#pragma once
+// A session's belief in device memory: the Vulkan backend's BeliefState. The
+// offsets live in an open-addressing table reached by device address (it may
+// outgrow one binding's range); the fold writes it (belief_fold.comp, run by
+// the backend) and keeps the estimate's state current: the maximum, each
+// object's touched bins and best bin, and the band list of the bins near the
+// maximum. The estimate's passes visit the band list only (belief_reduce.comp),
+// and lookups a few bins (belief_lookup.comp). Only the state's few integers
+// come back to the host, which finishes the estimate with the same code as
+// the CPU reference.
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "backends/vulkan/context.hpp"
+#include "backends/vulkan/gpu_layout.hpp"
+#include "backends/vulkan/linear_bins.hpp"
+#include "belief/belief_state.hpp"
+
+namespace sva {
+
+// Invocations of a kernel that visits `slots` table slots, SVA_SLOTS_PER_INVOCATION each.
+std::uint64_t slot_invocations(std::uint64_t slots);
+
+// The pipelines and constants every GpuBelief of one backend shares.
+struct GpuBeliefKernels {
+  vk::Context* ctx = nullptr;
+  const PoseSpace* space = nullptr;
+  LinearBins bins;
+  const vk::Pipeline* rehash = nullptr;  // the engine's (backends/vulkan/vulkan_engine.hpp)
+  const vk::Pipeline* reduce = nullptr;
+  const vk::Pipeline* lookup = nullptr;
+  std::size_t initial_slots = 1 << 12;
+  double kernel_ms = 0.0;      // GPU time of belief work since the backend last reset it
+  unsigned band_rebuilds = 0;  // band lists rebuilt from a whole table (BackendStats::band_rebuilds)
+};
+
+class GpuBelief final : public BeliefState {
+ public:
+  GpuBelief(GpuBeliefKernels& kernels, double eps);
+
+  void reset() override;
+  std::size_t table_allocations() const override { return table_allocations_; }
+  std::size_t pairs_folded() const override { return pairs_; }
+  std::size_t touched() const override { return count_; }
+  BeliefSummary summarise() const override;
+  std::vector<BinOffset> best_bins(std::size_t k) const override;
+  std::vector<std::uint64_t> offsets(std::span<const std::uint64_t> keys) const override;
+  std::vector<BinOffset> table() const override;
+  std::size_t forget_below(std::uint64_t below, std::span<const std::uint64_t> keep) override;
+  // The keys on the band list after an estimate's compaction, sorted (tests:
+  // every bin within band_width() of the maximum must be there).
+  std::vector<std::uint64_t> band_keys() const;
+
+  // For the backend's fold.
+  std::uint64_t eps_units() const { return eps_units_; }
+  std::uint32_t capacity() const { return capacity_; }
+  VkDeviceAddress address() const { return table_.device_address(); }
+  VkDeviceAddress state_address() const { return state_.device_address(); }
+  VkDeviceAddress band_address() const { return band_.device_address(); }
+  std::uint32_t band_capacity() const { return band_capacity_; }
+  // A bin is in the band when M - offset < band_width() (belief units).
+  std::uint64_t band_width() const { return band_width_; }
+  // Records a fold pass: `inserted` new keys; `folded` more pairs.
+  void record(std::uint64_t inserted, std::size_t folded);
+  // Moves the table into one of at least `slots` slots (a power of two).
+  void grow(std::uint64_t slots);
+  // Keeps the load at most one half for the next update.
+  void keep_half_empty() {
+    if (2 * count_ > capacity_) grow(2 * count_);
+  }
+
+ private:
+  void allocate(vk::Buffer& b, std::uint32_t capacity) const;
+  // Empties a table of `capacity` slots in place: keys empty, offsets and band marks 0.
+  void clear_table(vk::Buffer& b, std::uint32_t capacity) const;
+  // Moves the table into one of at least `slots` slots (a power of two); with
+  // `forget`, only the bins at or above `below` and those in `keep_` (sorted linear keys).
+  void move_to(std::uint64_t slots, bool forget, std::uint64_t below);
+  gpu::SvaReduceParams reduce_params(std::uint32_t pass) const;
+  // Runs passes of belief_reduce.comp over `invocations` entries (or slots) each.
+  void run_reduce(const std::vector<std::uint32_t>& passes, std::uint64_t entries,
+                  std::vector<vk::Fill> fills = {}) const;
+  // The band list from scratch, on a side of at least `entries` entries.
+  void rebuild_band(std::uint64_t entries) const;
+  // The MASS and FLIP passes, then the state's words to the host.
+  void reduce() const;
+
+  GpuBeliefKernels* k_;
+  std::uint64_t eps_units_;
+  std::uint32_t mass_bits_;
+  std::uint64_t band_width_;
+  // Mutable for the band marks at its end, which the estimate's compaction clears.
+  mutable vk::Buffer table_;
+  std::uint32_t capacity_ = 0;
+  mutable std::size_t table_allocations_ = 0;
+  std::size_t count_ = 0, pairs_ = 0;
+  // The estimate's state (SVA_STATE_* words) and the band list's two sides.
+  mutable vk::Buffer state_, band_;
+  mutable std::uint32_t band_capacity_ = 0;
+  mutable bool band_stale_ = false;  // the table moved (its slots changed): rebuild before reading the list
+  mutable vk::Buffer candidates_, queries_;
+  vk::Buffer keep_;  // forget_below's kept keys
+  std::uint32_t keep_count_ = 0;
+  mutable std::optional<BeliefSummary> summary_cache_;
+  mutable std::vector<std::uint64_t> histogram_;
+};
+
+}  // namespace sva

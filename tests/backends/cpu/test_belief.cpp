@@ -1,0 +1,84 @@
+// The CPU belief keeps its estimate's reductions up to date as it folds
+// (maximum, per-object touched count, best bin and mass, top-k through the
+// band of bins near the maximum). They must equal a full pass over the table.
+#include <sva/base/rng.hpp>
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+
+#include "backends/cpu/belief.hpp"
+#include "belief/belief_math.hpp"
+#include "recognition/fixture.hpp"
+
+namespace {
+
+// The reductions by brute force over every touched bin (the definition).
+sva::BeliefSummary full_pass(const sva::Belief& b, const sva::PoseSpace& space) {
+  sva::BeliefSummary s;
+  const std::uint32_t n = space.objects();
+  s.touched.assign(n, 0);
+  s.touched_mass.assign(n, 0);
+  s.best_offset.assign(n, 0);
+  s.best_key.assign(n, 0);
+  const std::vector<sva::BinOffset> all = b.table();
+  for (const auto& x : all) s.max_offset = std::max(s.max_offset, x.offset);
+  const std::uint32_t bits = sva::belief_math::mass_bits(space.bins_per_object());
+  for (const auto& x : all) {
+    const std::uint32_t o = sva::PoseSpace::object_of(x.key);
+    s.touched_mass[o] += sva::belief_math::sva_exp2_neg_units(s.max_offset - x.offset, bits);
+    if (s.touched[o] == 0 || x.offset > s.best_offset[o] || (x.offset == s.best_offset[o] && x.key < s.best_key[o])) {
+      s.best_offset[o] = x.offset;
+      s.best_key[o] = x.key;
+    }
+    ++s.touched[o];
+  }
+  return s;
+}
+
+std::vector<sva::BinOffset> full_top(const sva::Belief& b, std::size_t k) {
+  std::vector<sva::BinOffset> all = b.table();
+  std::sort(all.begin(), all.end(),
+            [](const auto& x, const auto& y) { return x.offset != y.offset ? x.offset > y.offset : x.key < y.key; });
+  all.resize(std::min(k, all.size()));
+  return all;
+}
+
+}  // namespace
+
+TEST_CASE("the belief's incremental reductions equal a full pass, through folds that move the maximum far") {
+  const sva::PoseSpace space(sva::test::paper_space(), 3);
+  sva::Belief belief(space, 1e-6);
+  sva::util::Rng rng(7, 1);
+  for (int pair = 0; pair < 60; ++pair) {
+    // Votes over a wide spread of bins, one region voted far more often, so
+    // most bins drop out of the band as the maximum climbs.
+    sva::BinAccumulator acc(256);
+    for (int v = 0; v < 400; ++v) {
+      sva::BinIndex i;
+      i.object = static_cast<std::uint32_t>(rng.below(3));
+      const bool peak = rng.uniform(0.0, 1.0) < 0.3;
+      for (int a = 0; a < 3; ++a) {
+        i.t[a] = peak ? 20 + static_cast<int>(rng.below(2)) : static_cast<int>(rng.below(50));
+        i.r[a] = peak ? 4 : static_cast<int>(rng.below(9));
+      }
+      acc.add(space.pack(i), static_cast<std::int64_t>(1 + rng.below(1u << 20)));
+    }
+    REQUIRE(belief.add(belief.terms(acc), 1 + static_cast<std::uint32_t>(pair % 2)));
+    if (pair % 7 == 0 || pair == 59) {
+      INFO("after pair " << pair);
+      CHECK(belief.summarise() == full_pass(belief, space));
+      for (std::size_t k : {1u, 5u, 64u, 100000u}) CHECK(belief.best_bins(k) == full_top(belief, k));
+    }
+  }
+  // Not vacuous: the maximum is far above most bins (many left the band).
+  const sva::BeliefSummary s = belief.summarise();
+  const std::vector<sva::BinOffset> all = belief.table();
+  const auto far = std::count_if(all.begin(), all.end(), [&](const auto& x) {
+    return s.max_offset - x.offset > (std::uint64_t{sva::belief_math::mass_bits(space.bins_per_object())} + 1) << 32;
+  });
+  CHECK(far > static_cast<long>(all.size() / 2));
+  belief.reset();
+  CHECK(belief.summarise() == full_pass(belief, space));
+  CHECK(belief.best_bins(3).empty());
+}

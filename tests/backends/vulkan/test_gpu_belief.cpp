@@ -1,0 +1,238 @@
+// The device-resident belief (fold, growth, reductions, top-k, lookups) against
+// the CPU reference: identical tables, summaries and estimates, bit for bit.
+#include <catch2/catch.hpp>
+
+#include <sva/error.hpp>
+
+#include "backends/vulkan/gpu_belief.hpp"
+#include "recognition/fixture.hpp"
+#include "vk_test_support.hpp"
+
+using namespace sva;
+
+namespace {
+
+// Sessions on both backends, fed the same readings in lock step.
+struct Twin {
+  std::unique_ptr<VoteBackend> cpu, gpu;
+  std::vector<std::unique_ptr<BayesFilter>> fc, fg;
+  Twin(const test::World& w, const PoseSpace& space, int sessions, const FilterOptions& fo, const VoteSettings& vs,
+       const VulkanBackendOptions& vo) {
+    gpu = test::vulkan_backend_or_skip(*w.map, space, vs, vo);
+    cpu = make_cpu_vote_backend(*w.map, space, vs);
+    for (int s = 0; s < sessions; ++s) {
+      fc.push_back(std::make_unique<BayesFilter>(*w.map, space, fo, *cpu));
+      fg.push_back(std::make_unique<BayesFilter>(*w.map, space, fo, *gpu));
+    }
+  }
+  void add(const std::vector<ObservedReading>& obs) {
+    std::vector<BayesFilter*> pc, pg;
+    for (std::size_t s = 0; s < obs.size(); ++s) {
+      pc.push_back(fc[s].get());
+      pg.push_back(fg[s].get());
+    }
+    const auto a = update_sessions(pc, obs), b = update_sessions(pg, obs);
+    for (std::size_t s = 0; s < obs.size(); ++s) {
+      CHECK(a[s].pairs_folded == b[s].pairs_folded);
+      CHECK(a[s].votes == b[s].votes);
+      CHECK(a[s].matches == b[s].matches);
+    }
+  }
+  void require_same(std::size_t s) const {
+    INFO("session " << s);
+    const BeliefState& c = fc[s]->belief();
+    const BeliefState& g = fg[s]->belief();
+    CHECK(c.pairs_folded() == g.pairs_folded());
+    CHECK(c.touched() == g.touched());
+    const std::vector<BinOffset> table = c.table();
+    CHECK(table == g.table());
+    CHECK(c.summarise() == g.summarise());
+    for (std::size_t k : {std::size_t{1}, std::size_t{5}, std::size_t{64}, table.size() + 3})
+      CHECK(c.best_bins(k) == g.best_bins(k));
+    // Lookups of touched and untouched bins.
+    std::vector<std::uint64_t> keys;
+    for (std::size_t i = 0; i < table.size(); i += 1 + table.size() / 50) keys.push_back(table[i].key);
+    if (!table.empty())  // an untouched neighbour of a touched bin
+      fc[s]->space().for_each_neighbour(table.front().key, [&](std::uint64_t k) {
+        if (c.offsets(std::vector<std::uint64_t>{k})[0] == 0) keys.push_back(k);
+      });
+    CHECK(c.offsets(keys) == g.offsets(keys));
+    const BeliefEstimate a = fc[s]->estimate(5), b = fg[s]->estimate(5);
+    CHECK(a.object == b.object);
+    CHECK(a.object_probability == b.object_probability);
+    CHECK(a.pose_valid == b.pose_valid);
+    CHECK(a.best_key == b.best_key);
+    for (int k = 0; k < 3; ++k) CHECK(a.pose.T[k] == b.pose.T[k]);
+    REQUIRE(a.top.size() == b.top.size());
+    for (std::size_t i = 0; i < a.top.size(); ++i) {
+      CHECK(a.top[i].key == b.top[i].key);
+      CHECK(a.top[i].probability == b.top[i].probability);
+    }
+  }
+};
+
+}  // namespace
+
+TEST_CASE("GPU beliefs: tiny tables grow through overflow and stay identical to the CPU reference") {
+  test::WorldSpec spec;
+  auto w = test::make_world(spec);
+  PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
+  VulkanBackendOptions vo;
+  vo.initial_belief_slots = 64;  // the first fold overflows; the tables grow and fold again
+  vo.initial_table_slots = 256;
+  vo.max_chunk_entries = 500;
+  Twin t(w, space, 3, {}, {}, vo);
+  for (int r = 0; r < 6; ++r) {
+    std::vector<ObservedReading> obs;
+    for (std::size_t s = 0; s < 3; ++s)
+      obs.push_back(test::observe(w.objects[s][static_cast<std::size_t>(r * 13 + 5) % w.objects[s].size()],
+                                  test::random_pose(700 + s, 150.0)));
+    t.add(obs);
+  }
+  for (std::size_t s = 0; s < 3; ++s) {
+    t.require_same(s);
+    CHECK(t.fg[s]->belief().touched() > 1000);  // far past the 64 slots it started with
+  }
+  const BackendStats st = t.gpu->statistics();
+  CHECK(st.table_grows >= 3);
+  CHECK(st.validation_messages == 0);
+}
+
+TEST_CASE("GPU beliefs: planar space, pruning and a reset session match the CPU reference") {
+  const test::WorldSpec spec = test::planar_spec();
+  auto w = test::make_world(spec);
+  PoseSpace space(test::letters_space(), static_cast<std::uint32_t>(spec.objects));
+  FilterOptions fo;
+  fo.object_prune_probability = 1e-3;  // the object mask comes from the GPU's reductions
+  fo.max_pairs_per_update = 8;
+  Twin t(w, space, 2, fo, {}, {});
+  const RigidPose p0 = test::random_pose(31, 8.0, true), p1 = test::random_pose(32, 8.0, true);
+  for (int r = 0; r < 9; ++r) {
+    if (r == 4) {  // session 1 starts over
+      t.fc[1]->reset();
+      t.fg[1]->reset();
+      CHECK(t.fg[1]->belief().touched() == 0);
+      CHECK(t.fg[1]->belief().summarise() == t.fc[1]->belief().summarise());
+    }
+    t.add({test::observe(w.objects[1][static_cast<std::size_t>(r * 7) % w.objects[1].size()], p0),
+           test::observe(w.objects[2][static_cast<std::size_t>(r * 5 + 1) % w.objects[2].size()], p1)});
+  }
+  t.require_same(0);
+  t.require_same(1);
+  CHECK(t.fg[0]->estimate(1).object == 1);
+  CHECK(t.gpu->statistics().validation_messages == 0);
+}
+
+TEST_CASE("GPU beliefs: an empty belief and a misuse are reported, not crashed") {
+  test::WorldSpec spec;
+  auto w = test::make_world(spec);
+  PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
+  auto gpu = test::vulkan_backend_or_skip(*w.map, space, {});
+  auto cpu = make_cpu_vote_backend(*w.map, space, {});
+  BayesFilter g(*w.map, space, {}, *gpu), c(*w.map, space, {}, *cpu);
+  CHECK(g.belief().summarise() == c.belief().summarise());
+  CHECK(g.belief().best_bins(5).empty());
+  const BeliefEstimate e = g.estimate(5);
+  CHECK_FALSE(e.pose_valid);
+  CHECK(e.object_probability == c.estimate(5).object_probability);
+  // A belief of one backend cannot be folded by another.
+  std::vector<BeliefState*> wrong{&c.mutable_belief()};
+  VoteBatch batch;
+  g.queue_pairs(test::observe(w.objects[0][0], RigidPose{}), 0, &batch);
+  CHECK_THROWS_WITH(gpu->vote_and_fold(batch, wrong), Catch::Contains("another backend"));
+  FilterOptions bad;
+  bad.eps = 2.0;
+  CHECK_THROWS_WITH(BayesFilter(*w.map, space, bad, *gpu), Catch::Contains("eps"));
+}
+
+TEST_CASE("GPU beliefs: the band list kept by the fold gives the CPU reference's estimate after every update") {
+  // Estimates between updates compact the band list (bins fall out as the
+  // maximum grows); small tables make the fold fill the list (a lost append)
+  // and the tables grow (the list names old slots): both rebuild it.
+  test::WorldSpec spec;
+  auto w = test::make_world(spec);
+  PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
+  VulkanBackendOptions vo;
+  // 64: the tables grow often (each growth rebuilds the list); 2^16: they
+  // never grow, and the list lives on through compactions and lost appends.
+  vo.initial_belief_slots = GENERATE(std::size_t{64}, std::size_t{1} << 16);
+  INFO("initial belief slots " << vo.initial_belief_slots);
+  Twin t(w, space, 2, {}, {}, vo);
+  const RigidPose p0 = test::random_pose(41, 150.0), p1 = test::random_pose(42, 150.0);
+  std::uint64_t last_max = 0;
+  bool max_grew = false;
+  for (int r = 0; r < 14; ++r) {
+    // Session 1 touches object 1 twice in one pose, five times in another,
+    // then in the first again: the first mode falls out of the band, and its
+    // bins come back into it.
+    const auto& o1 = w.objects[1];
+    const bool first_pose = r < 2 || r >= 7;
+    t.add({test::observe(w.objects[0][static_cast<std::size_t>(r * 11 + 2) % w.objects[0].size()], p0),
+           test::observe(o1[static_cast<std::size_t>(r * 3 + 7) % o1.size()], first_pose ? p0 : p1)});
+    if (r % 3 == 2) continue;  // sometimes two folds between estimates
+    INFO("update " << r);
+    t.require_same(0);
+    t.require_same(1);
+    for (std::size_t s = 0; s < 2; ++s) {  // the list holds exactly the bins in the band
+      const auto& g = dynamic_cast<const GpuBelief&>(t.fg[s]->belief());
+      const BeliefState& c = t.fc[s]->belief();
+      const std::uint64_t m = c.summarise().max_offset;
+      std::vector<std::uint64_t> in_band;
+      for (const BinOffset& b : c.table())
+        if (m - b.offset < g.band_width()) in_band.push_back(b.key);
+      CHECK(g.band_keys() == in_band);
+    }
+    const std::uint64_t m = t.fg[0]->belief().summarise().max_offset;
+    max_grew = max_grew || (last_max > 0 && m > last_max);
+    last_max = m;
+  }
+  CHECK(max_grew);
+  const BackendStats st = t.gpu->statistics();
+  if (vo.initial_belief_slots == 64)
+    CHECK(st.band_rebuilds >= 2);
+  else
+    CHECK(st.band_rebuilds == 0);  // compaction alone kept the list
+  CHECK(st.validation_messages == 0);
+}
+
+TEST_CASE("Bounded beliefs: both backends forget the same bins, and the estimate is the unbounded one's") {
+  test::WorldSpec spec;
+  auto w = test::make_world(spec);
+  PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
+  FilterOptions bounded;
+  bounded.belief_budget_bins = 1500;  // far below what 12 readings touch
+  VulkanBackendOptions vo;
+  vo.initial_belief_slots = GENERATE(std::size_t{64}, std::size_t{1} << 16);
+  Twin t(w, space, 1, bounded, {}, vo);
+  BayesFilter unbounded(*w.map, space, FilterOptions{.belief_budget_bins = 0}, *t.cpu);
+  const RigidPose pose = test::random_pose(51, 150.0);
+  std::size_t forgotten = 0;
+  for (int r = 0; r < 12; ++r) {
+    const ObservedReading obs =
+        test::observe(w.objects[0][static_cast<std::size_t>(r * 7 + 3) % w.objects[0].size()], pose);
+    const UpdateStats a = t.fc[0]->add(obs), b = t.fg[0]->add(obs);
+    unbounded.add(obs);
+    INFO("update " << r);
+    CHECK(a.bins_forgotten == b.bins_forgotten);
+    forgotten += a.bins_forgotten;
+    t.require_same(0);  // the same bins forgotten, the same estimate on both backends
+    const BeliefEstimate e = t.fc[0]->estimate(5), u = unbounded.estimate(5);
+    CHECK(e.object_probability == u.object_probability);
+    CHECK(e.best_key == u.best_key);
+    for (int k = 0; k < 3; ++k) CHECK(e.pose.T[k] == u.pose.T[k]);
+    REQUIRE(e.top.size() == u.top.size());
+    for (std::size_t i = 0; i < e.top.size(); ++i) CHECK(e.top[i].key == u.top[i].key);
+  }
+  CHECK(forgotten > 0);
+  CHECK(t.fc[0]->belief().touched() < unbounded.belief().touched());
+  CHECK(t.gpu->statistics().validation_messages == 0);
+}
+
+TEST_CASE("Bounded beliefs: a margin inside the band is refused") {
+  test::WorldSpec spec;
+  auto w = test::make_world(spec);
+  PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
+  auto cpu = make_cpu_vote_backend(*w.map, space, {});
+  CHECK_THROWS_WITH(BayesFilter(*w.map, space, FilterOptions{.forget_margin_bits = 8}, *cpu),
+                    Catch::Contains("forget_margin_bits = 8"));
+}

@@ -17,6 +17,8 @@ using uint = std::uint32_t;
 
 // Belief units per bit of evidence.
 constexpr double kUnitsPerBit = static_cast<double>(std::uint64_t{1} << SVA_BELIEF_FRAC_BITS);
+// Belief units (offsets, their differences) as bits of evidence.
+inline double units_to_bits(std::uint64_t units) { return static_cast<double>(units) / kUnitsPerBit; }
 // The smallest eps whose quantisation to 2^-48 stays within 0.5%.
 constexpr double kMinEps = 1e-12;
 

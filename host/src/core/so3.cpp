@@ -1,5 +1,7 @@
 #include "core/so3.hpp"
 
+#include "core/finite.hpp"
+
 #include <sva/base/portable_math.hpp>
 
 #include <algorithm>
@@ -99,6 +101,15 @@ glm::dmat3 orthonormalize(const glm::dmat3& M) {
   c1 = glm::normalize(c1);
   glm::dvec3 c2 = glm::cross(c0, c1);
   return glm::dmat3(c0, c1, c2);
+}
+
+bool is_rotation(const glm::dmat3& R) {
+  if (!finite(R)) return false;
+  const glm::dmat3 E = glm::transpose(R) * R - glm::dmat3(1.0);
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r)
+      if (!(std::abs(E[c][r]) < 1e-6)) return false;
+  return glm::determinant(R) > 0.0;
 }
 
 }  // namespace sva::rotation

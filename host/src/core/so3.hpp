@@ -19,5 +19,7 @@ double angle(const glm::dmat3& R);
 glm::dmat3 about_z(double angle);
 // The nearest rotation to a matrix that is almost one (re-orthonormalised).
 glm::dmat3 orthonormalize(const glm::dmat3& M);
+// A rotation as an input check means it: finite, orthonormal to 1e-6 in every entry of R^T R - I, and proper.
+bool is_rotation(const glm::dmat3& R);
 
 }  // namespace sva::rotation

@@ -23,7 +23,7 @@
 #include <string>
 #include <vector>
 
-#include "bench/process_memory.hpp"
+#include <sva/eval/process_memory.hpp>
 #include "core/so3.hpp"
 
 namespace {

@@ -20,8 +20,10 @@ mkdir -p "$data"
 [[ -f $data/map.svam ]] || "$sva" --quiet train --data "$data/train.svad" --out "$data/map.svam" --threads "$threads"
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-# The build's own core library (the package test installs another copy under the build directory).
-libs=$(find "$build" -name 'libsva_core.a' -not -path '*/package-test/*' | head -n 1)
-c++ -std=c++20 -O2 -I"$root/host/include" -I"$root/host/src" -I"$root/shaders/include" -I"$here" \
-  "$here/filter_speed.cpp" "$here/speed/process_memory.cpp" $libs -ltbb -lvulkan -lpthread -o "$tmp/filter_speed"
+# The build's own libraries (the package test installs other copies under the build directory).
+lib() { find "$build" -name "lib$1.a" -not -path '*/package-test/*' | head -n 1; }
+libs="$(lib sva_core) $(lib sva_io) $(lib sva_base)"
+c++ -std=c++20 -O2 -I"$root/host/include" -I"$root/host/src" -I"$root/host/base/include" -I"$root/host/eval/include" \
+  -I"$root/shaders/include" -I"$here" "$here/filter_speed.cpp" "$root/host/eval/src/bench/process_memory.cpp" $libs \
+  -ltbb -lvulkan -lpthread -o "$tmp/filter_speed"
 SVA_THREADS=$threads "$tmp/filter_speed" "$data/map.svam" "$data/test.svad" "$trials" "$readings" "$threads" "${@:5}"

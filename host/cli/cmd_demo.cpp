@@ -2,6 +2,7 @@
 // a cache (reused when the scene and seed match), draw previews, train the map
 // (cached with the data), evaluate SVA and the appearance-only baseline, print
 // the table and write the figure.
+#include <sva/recognizer.hpp>
 #include <sva/dataset.hpp>
 #include <sva/map.hpp>
 #include <sva/scene.hpp>
@@ -19,7 +20,6 @@
 #include <map>
 
 #include "args.hpp"
-#include "backends/vote_backend_factory.hpp"
 
 #if __has_include(<sva/sim/simulate.hpp>)
 #include <sva/sim/simulate.hpp>

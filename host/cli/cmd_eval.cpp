@@ -22,7 +22,6 @@
 #include <vector>
 
 #include "args.hpp"
-#include "backends/vote_backend_factory.hpp"
 
 #if __has_include(<sva/sim/touch_simulator.hpp>)
 #include <sva/sim/touch_simulator.hpp>

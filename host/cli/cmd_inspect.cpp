@@ -8,8 +8,6 @@
 #include <vector>
 
 #include "args.hpp"
-#include "map/map_file.hpp"
-#include "map/pair_map.hpp"
 
 namespace sva::cli {
 
@@ -45,36 +43,28 @@ void inspect_dataset(const std::string& file) {
   }
 }
 void inspect_map(const std::string& file) {
-  const Map map = Map::load(file);
-  const PairMap& m = map.internal();
-  std::printf("%s: sva map (format %u)\n", file.c_str(), kMapVersion);
+  const MapSummary m = Map::load(file).summary();
+  std::printf("%s: sva map (format %u)\n", file.c_str(), m.format_version);
   std::printf("  scene          %s (%s pose space), scene hash %016llx, seed %llu\n", m.scene_name.c_str(),
-              m.pose_space.kind == PoseSpaceSpec::Kind::planar ? "planar" : "spatial",
-              static_cast<unsigned long long>(m.scene_hash), static_cast<unsigned long long>(m.train_seed));
-  std::printf("  descriptor     %s (%u values), T_a %.2f\n",
-              m.appearance.descriptor == DescriptorKind::mn ? "MN" : "MNTI", m.appearance.descriptor_size,
-              m.appearance.prune_ratio);
-  std::printf("  objects        %zu\n", map.objects());
-  std::printf("  classes        %u\n", map.classes());
+              m.planar ? "planar" : "spatial", static_cast<unsigned long long>(m.scene_hash),
+              static_cast<unsigned long long>(m.train_seed));
+  std::printf("  descriptor     %s (%u values), T_a %.2f\n", m.descriptor == "mn" ? "MN" : "MNTI", m.descriptor_size,
+              m.prune_ratio);
+  std::printf("  objects        %zu\n", m.objects.size());
+  std::printf("  classes        %u\n", m.classes);
   std::printf("  ambiguity A    %.3f classes per reading\n", m.ambiguity);
-  std::printf("  distance bins  %u over %g-%g mm\n", m.distance.count, m.distance.min_mm, m.distance.max_mm);
-  std::printf("  readings       %zu\n", map.readings());
-  std::printf("  entries        %zu under %zu keys (of %llu possible)\n", map.entries(), map.keys(),
-              static_cast<unsigned long long>(m.key_space.n_classes) * m.key_space.n_classes * m.key_space.n_dist_bins);
-  std::printf("  bytes          %zu (%.2f per entry)\n", map.bytes(),
-              map.entries() ? static_cast<double>(map.bytes()) / static_cast<double>(map.entries()) : 0.0);
-  if (!m.keys.empty()) {
-    std::vector<std::uint32_t> per(m.keys.size());
-    for (std::size_t i = 0; i < per.size(); ++i) per[i] = m.offsets[i + 1] - m.offsets[i];
-    std::sort(per.begin(), per.end());
-    std::printf("  entries/key    min %u, median %u, max %u\n", per.front(), per[per.size() / 2], per.back());
-  }
-  std::vector<std::size_t> readings(m.objects.size(), 0), entries(m.objects.size(), 0);
-  for (auto o : m.readings.object) ++readings[o];
-  for (auto a : m.entry_a) ++entries[m.readings.object[a]];
+  std::printf("  distance bins  %u over %g-%g mm\n", m.distance_bins, m.distance_min_mm, m.distance_max_mm);
+  std::printf("  readings       %zu\n", m.readings);
+  std::printf("  entries        %zu under %zu keys (of %llu possible)\n", m.entries, m.keys,
+              static_cast<unsigned long long>(m.possible_keys));
+  std::printf("  bytes          %zu (%.2f per entry)\n", m.bytes,
+              m.entries ? static_cast<double>(m.bytes) / static_cast<double>(m.entries) : 0.0);
+  if (m.keys > 0)
+    std::printf("  entries/key    min %u, median %u, max %u\n", m.entries_per_key_min, m.entries_per_key_median,
+                m.entries_per_key_max);
   std::printf("  %-16s %8s %12s\n", "object", "readings", "entries");
-  for (std::size_t o = 0; o < m.objects.size(); ++o)
-    std::printf("  %-16s %8zu %12zu\n", m.objects[o].name.c_str(), readings[o], entries[o]);
+  for (const MapSummary::Object& o : m.objects)
+    std::printf("  %-16s %8zu %12zu\n", o.name.c_str(), o.readings, o.entries);
 }
 }  // namespace
 
@@ -94,7 +84,7 @@ int cmd_inspect(const std::vector<std::string>& argv) {
     inspect_dataset(file);
     return 0;
   }
-  if (magic == std::string(kMapMagic, 8)) {
+  if (magic == "SVAMAP01") {  // docs/map-format.md
     inspect_map(file);
     return 0;
   }

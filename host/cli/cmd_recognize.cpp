@@ -1,11 +1,13 @@
 // sva recognize: batch recognition of many independent sessions (docs/batch-format.md).
 // Sessions are stepped together, so each update of the backend (one GPU
 // submission with --backend vulkan) carries one reading of every session.
+#include <sva/recognizer.hpp>
 #include <sva/base/progress.hpp>
 #include <sva/batch_recognizer.hpp>
 #include <sva/dataset.hpp>
 #include <sva/error.hpp>
 #include <sva/eval/batch_recognition.hpp>
+#include <sva/eval/batch_sessions.hpp>
 #include <sva/eval/evaluation.hpp>
 #include <sva/eval/trial_sessions.hpp>
 #include <sva/io/text_file.hpp>
@@ -15,9 +17,6 @@
 #include <cstdio>
 
 #include "args.hpp"
-#include "backends/vote_backend_factory.hpp"
-#include "batch/batch_sessions.hpp"
-#include "map/pair_map.hpp"
 
 namespace sva::cli {
 
@@ -62,10 +61,9 @@ int cmd_recognize(const std::vector<std::string>& argv) {
   if (auto ws = a.get("--write-sessions")) return write_sessions(a, *ws);
   const std::string map_file = a.required("--map"), batch_file = a.required("--batch"), out_file = a.required("--out");
   const Map map = Map::load(map_file);
-  const PairMap& pm = map.internal();
   // Checked whole first (a bad line anywhere stops it before any recognition), then streamed a group at a time.
   const io::BatchSessionsSummary summary =
-      io::scan_batch_sessions(batch_file, pm.appearance.calibration.sensor.elements());
+      io::scan_batch_sessions(batch_file, map.sensor().elements());
   const auto per = static_cast<std::size_t>(a.integer("--sessions-per-submission", 64, 1, 1 << 20));
   const auto top_k = static_cast<std::size_t>(a.integer("--top", 3, 0, 1000));
   RecognizerOptions ro;

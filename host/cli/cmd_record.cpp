@@ -3,6 +3,7 @@
 // and, with a map, recognising while touching (the estimate after each).
 // Ctrl-C ends the recording; the file is valid up to its last record whatever
 // happens.
+#include <sva/recognizer.hpp>
 #include <sva/base/interrupt.hpp>
 #include <sva/drivers/session.hpp>
 #include <sva/drivers/usb_transport.hpp>
@@ -11,7 +12,6 @@
 #include <cstdlib>
 
 #include "args.hpp"
-#include "backends/vote_backend_factory.hpp"
 #include "sensor_output.hpp"
 
 namespace sva::cli {

@@ -9,7 +9,6 @@
 #include <optional>
 
 #include "args.hpp"
-#include "backends/vote_backend_factory.hpp"
 #include "sensor_output.hpp"
 
 namespace sva::cli {

@@ -9,7 +9,6 @@
 #include <string>
 
 #include "args.hpp"
-#include "map/pair_map.hpp"
 
 namespace sva::cli {
 
@@ -25,9 +24,7 @@ std::pair<double, double> parse_range(const std::string& text) {
   if (a.empty() || *end != '\0') throw bad();
   const double hi = std::strtod(b.c_str(), &end);
   if (b.empty() || *end != '\0') throw bad();
-  if (!std::isfinite(lo) || !std::isfinite(hi) || lo < 0 || lo >= hi)
-    throw Error("sva train: --dist-range " + text + ": expected 0 <= MIN < MAX");
-  return {lo, hi};
+  return {lo, hi};  // the range itself is TrainOptions::validate's to check
 }
 }  // namespace
 
@@ -50,39 +47,37 @@ int cmd_train(const std::vector<std::string>& argv) {
   const std::string out_file = a.required("--out");
 
   TrainOptions o;
-  if (auto d = a.get("--descriptor")) {
-    if (*d != "mn" && *d != "mnti") throw Error("sva train: --descriptor expects mn or mnti, got \"" + *d + "\"");
-    o.descriptor = *d;
-  }
-  if (a.has("--clusters")) o.clusters = static_cast<int>(a.integer("--clusters", 25, 1, 4096));
-  if (a.has("--dist-bins")) o.dist_bins = static_cast<int>(a.integer("--dist-bins", 40, 1, 100000));
+  constexpr long long kInt = std::numeric_limits<int>::max();
+  o.descriptor = a.get("--descriptor");
+  if (a.has("--clusters")) o.clusters = static_cast<int>(a.integer("--clusters", 25, -kInt, kInt));
+  if (a.has("--dist-bins")) o.dist_bins = static_cast<int>(a.integer("--dist-bins", 40, -kInt, kInt));
   if (auto r = a.get("--dist-range")) {
     auto [lo, hi] = parse_range(*r);
     o.dist_min_mm = lo;
     o.dist_max_mm = hi;
   }
   o.seed = static_cast<std::uint64_t>(a.integer("--seed", 1, 0, std::numeric_limits<long long>::max()));
-  o.threads = static_cast<unsigned>(a.integer("--threads", 0, 0, 1024));
+  o.threads = static_cast<unsigned>(a.integer("--threads", 0, 0, kInt));
   o.progress = true;
+  o.validate("sva train");  // before the dataset loads
 
   const Dataset data = load_dataset(data_file);
   TrainReport rep;
   const Map map = Map::train(data, o, &rep);
   map.save(out_file);
 
-  const PairMap& m = map.internal();
+  const MapSummary m = map.summary();
   std::printf("%s: SVA map of scene \"%s\" from %s\n", out_file.c_str(), m.scene_name.c_str(), data_file.c_str());
-  std::printf("  descriptor     %s (%u values)\n", m.appearance.descriptor == DescriptorKind::mn ? "MN" : "MNTI",
-              m.appearance.descriptor_size);
+  std::printf("  descriptor     %s (%u values)\n", m.descriptor == "mn" ? "MN" : "MNTI", m.descriptor_size);
   std::printf("  readings       %zu used, %zu skipped (not converged), %zu skipped (no contact to describe)\n",
               rep.readings_used, rep.skipped_not_converged, rep.skipped_undescribable);
-  std::printf("  classes        %u (PAM loss %.4f, %.2f s, %.2f s CPU)\n", m.key_space.n_classes, rep.clustering_loss,
+  std::printf("  classes        %u (PAM loss %.4f, %.2f s, %.2f s CPU)\n", m.classes, rep.clustering_loss,
               rep.clustering_seconds, rep.clustering_cpu_seconds);
   std::printf("  ambiguity A    %.3f classes per reading\n", m.ambiguity);
-  std::printf("  distance bins  %u over %g-%g mm\n", m.distance.count, m.distance.min_mm, m.distance.max_mm);
+  std::printf("  distance bins  %u over %g-%g mm\n", m.distance_bins, m.distance_min_mm, m.distance_max_mm);
   std::printf("  map            %zu entries under %zu keys, %.1f MB (%.2f bytes/entry), built in %.2f s (%.2f s CPU)\n",
-              map.entries(), map.keys(), static_cast<double>(map.bytes()) / 1e6,
-              map.entries() ? static_cast<double>(map.bytes()) / static_cast<double>(map.entries()) : 0.0,
+              m.entries, m.keys, static_cast<double>(m.bytes) / 1e6,
+              m.entries ? static_cast<double>(m.bytes) / static_cast<double>(m.entries) : 0.0,
               rep.map_build_seconds, rep.map_build_cpu_seconds);
   return 0;
 }

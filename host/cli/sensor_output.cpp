@@ -2,11 +2,10 @@
 #include "sensor_output.hpp"
 
 #include <sva/drivers/transport.hpp>
+#include <sva/eval/batch_sessions.hpp>
 
 #include <algorithm>
 #include <cstdio>
-
-#include "batch/batch_sessions.hpp"
 
 namespace sva::cli {
 

@@ -124,23 +124,14 @@ Map train(nb::handle data_arg, const std::optional<std::string>& descriptor, std
           std::optional<int> dist_bins, std::optional<std::pair<double, double>> dist_range, std::uint64_t seed,
           unsigned threads, const std::optional<std::filesystem::path>& out, TrainReport* report) {
   TrainOptions o;
-  if (descriptor && *descriptor != "mn" && *descriptor != "mnti")
-    throw Error("sva.train: descriptor expects \"mn\" or \"mnti\", got \"" + *descriptor + "\"");
   o.descriptor = descriptor;
-  if (clusters && *clusters < 1) throw Error("sva.train: clusters must be >= 1");
   o.clusters = clusters;
-  if (dist_bins && *dist_bins < 1) throw Error("sva.train: dist_bins must be >= 1");
   o.dist_bins = dist_bins;
-  if (dist_range) {
-    const auto [lo, hi] = *dist_range;
-    if (!std::isfinite(lo) || !std::isfinite(hi) || lo < 0 || lo >= hi)
-      throw Error("sva.train: dist_range expects (MIN, MAX) in mm with 0 <= MIN < MAX");
-    o.dist_min_mm = lo;
-    o.dist_max_mm = hi;
-  }
+  if (dist_range) std::tie(o.dist_min_mm, o.dist_max_mm) = *dist_range;
   o.seed = seed;
   o.threads = threads;
   o.progress = true;  // shown when sva.show_progress(True)
+  o.validate("sva.train");  // before the dataset loads
   const DatasetArg data = dataset_arg(data_arg, "sva.train: data");
   EngineScope scope(true);
   Map map = Map::train(*data.data, o, report);

@@ -1,4 +1,5 @@
 // NumPy conversions and the engine scope shared by the bindings (bindings.hpp).
+#include <sva/recognizer.hpp>
 #include <sva/base/interrupt.hpp>
 #include <sva/error.hpp>
 
@@ -7,7 +8,6 @@
 
 #include <nanobind/stl/string.h>
 
-#include "backends/vote_backend_factory.hpp"
 #include "bindings.hpp"
 
 namespace sva::python {

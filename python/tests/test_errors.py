@@ -98,8 +98,10 @@ def test_missing_and_bad_files(tmp_path):
 def test_bad_workflow_options(tiny):
     with pytest.raises(sva.Error, match="descriptor"):
         sva.train(str(tiny.train), descriptor="xyz")
-    with pytest.raises(sva.Error, match="dist_range"):
+    with pytest.raises(sva.Error, match="sva.train: distance range 50"):
         sva.train(str(tiny.train), dist_range=(50.0, 10.0))
+    with pytest.raises(sva.Error, match="clusters 0: expected 1 to 4096"):
+        sva.train(str(tiny.train), clusters=0)
     with pytest.raises(sva.Error, match="method"):
         sva.evaluate(str(tiny.map), str(tiny.test), method="magic")
     with pytest.raises(sva.Error, match="the map is empty"):

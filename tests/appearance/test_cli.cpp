@@ -65,12 +65,14 @@ TEST_CASE("cli: bad maps and bad options exit non-zero with a message") {
   }
   CHECK(run("inspect " + (dir / "bad.svamap").string(), &out) != 0);
   CHECK_THAT(out, Contains("bad.svamap") && Contains("checksum"));
+  // Checked by the library (TrainOptions::validate), named by the command.
   CHECK(run(base + " --dist-range 80:20", &out) != 0);
-  CHECK_THAT(out, Contains("--dist-range"));
+  CHECK_THAT(out, Contains("sva train") && Contains("distance range 80"));
   CHECK(run(base + " --dist-range abc", &out) != 0);
   CHECK(run(base + " --descriptor sift", &out) != 0);
   CHECK_THAT(out, Contains("sift"));
   CHECK(run(base + " --clusters 0", &out) != 0);
+  CHECK_THAT(out, Contains("clusters 0: expected 1 to 4096"));
   CHECK(run("train --data " + (dir / "nope.svad").string() + " --out " + (dir / "x.svamap").string(), &out) != 0);
   CHECK_THAT(out, Contains("nope.svad"));
   CHECK(run("train --data " + (dir / "m.svamap").string() + " --out " + (dir / "x.svamap").string(), &out) != 0);

@@ -10,7 +10,7 @@
 #include <sstream>
 
 #include <sva/eval/batch_recognition.hpp>
-#include "batch/batch_sessions.hpp"
+#include <sva/eval/batch_sessions.hpp>
 #include "recognition/fixture.hpp"
 #include "recognition/trained_map.hpp"
 #include "test_support.hpp"

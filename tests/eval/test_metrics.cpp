@@ -9,12 +9,13 @@
 
 #include <sva/base/rng.hpp>
 #include <sva/eval/results.hpp>
+#include <sva/eval/trials.hpp>
 #include <sva/map.hpp>
 #include <sva/scene.hpp>
 #include <sva/sim/simulate.hpp>
 
+#include "map/map_access.hpp"
 #include "eval/metrics.hpp"
-#include "eval/trials.hpp"
 #include "map/map_file.hpp"
 #include "map/pair_map.hpp"
 #include "test_support.hpp"
@@ -270,7 +271,7 @@ TEST_CASE("the symmetry point travels into the map (version 3), older maps read 
   so.test_per_object = 1;
   TrainOptions to;
   to.clusters = 3;
-  PairMap m = Map::train(sim::simulate(load_scene("tiny"), so).train, to).internal();
+  PairMap m = MapAccess::pair_map(Map::train(sim::simulate(load_scene("tiny"), so).train, to));
   m.objects[1].symmetry.point = {1.5, -2.0, 7.25};
   const auto dir = test::temp_dir("map-symmetry-point");
   save_pair_map(m, dir / "v3.svam");

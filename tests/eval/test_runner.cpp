@@ -5,6 +5,7 @@
 
 #include <sva/error.hpp>
 #include <sva/eval/report.hpp>
+#include <sva/eval/trials.hpp>
 #include <sva/io/text_file.hpp>
 
 #include <cmath>
@@ -16,7 +17,6 @@
 
 #include "eval/metrics.hpp"
 #include "eval/trial_runner.hpp"
-#include "eval/trials.hpp"
 #include "test_support.hpp"
 
 using namespace sva;

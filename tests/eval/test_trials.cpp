@@ -5,13 +5,13 @@
 #include <sva/base/parallel.hpp>
 #include <sva/base/rng.hpp>
 #include <sva/error.hpp>
+#include <sva/eval/trials.hpp>
 
 #include <cmath>
 #include <numbers>
 #include <set>
 
 #include "eval/metrics.hpp"
-#include "eval/trials.hpp"
 
 using namespace sva;
 using namespace sva::eval;

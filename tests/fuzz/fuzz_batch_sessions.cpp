@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <string_view>
 
-#include "batch/batch_sessions.hpp"
+#include <sva/eval/batch_sessions.hpp>
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   try {

@@ -15,7 +15,7 @@
 #include <iostream>
 #include <sstream>
 
-#include "batch/batch_sessions.hpp"
+#include <sva/eval/batch_sessions.hpp>
 #include "map/map_file.hpp"
 #include "recognition/session_file.hpp"
 

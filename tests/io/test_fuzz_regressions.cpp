@@ -14,7 +14,7 @@
 #include <iterator>
 #include <map>
 
-#include "batch/batch_sessions.hpp"
+#include <sva/eval/batch_sessions.hpp>
 #include "map/map_file.hpp"
 #include "recognition/session_file.hpp"
 #include "test_support.hpp"

@@ -9,6 +9,7 @@
 #include <iterator>
 #include <tuple>
 
+#include "map/map_access.hpp"
 #include "appearance/appearance_baseline.hpp"
 #include "appearance/synthetic.hpp"
 #include "map/map_builder.hpp"
@@ -45,7 +46,7 @@ const Map& trained() {
 TEST_CASE("map: training on a synthetic dataset gives a valid, consistent map") {
   TrainReport rep;
   const Map map = Map::train(data(), {}, &rep);
-  const PairMap& m = map.internal();
+  const PairMap& m = MapAccess::pair_map(map);
   CHECK(map.objects() == 3);
   CHECK(map.classes() == 6);
   CHECK(map.readings() == 180);
@@ -138,8 +139,8 @@ TEST_CASE("map: save/load round trip is bit-exact, and training is thread-indepe
   const Map loaded = Map::load(dir / "t1.svamap");
   loaded.save(dir / "again.svamap");
   CHECK(b1 == bytes_of(dir / "again.svamap"));
-  CHECK(loaded.internal().entry_weight == trained().internal().entry_weight);
-  CHECK(loaded.internal().appearance.medoids == trained().internal().appearance.medoids);
+  CHECK(MapAccess::pair_map(loaded).entry_weight == MapAccess::pair_map(trained()).entry_weight);
+  CHECK(MapAccess::pair_map(loaded).appearance.medoids == MapAccess::pair_map(trained()).appearance.medoids);
   CHECK(loaded.scene_hash() == trained().scene_hash());
   // A different seed still gives a valid map; the same seed the same bytes.
   o.seed = 2;
@@ -172,7 +173,7 @@ TEST_CASE("map: corrupt, truncated and wrong-version files are refused with the 
 
 TEST_CASE("map: a version-1 map (both orders of every pair) loads as version 2 (each pair once)") {
   const auto dir = test::temp_dir("map-v1");
-  const PairMap v2 = trained().internal();
+  const PairMap v2 = MapAccess::pair_map(trained());
   // The version-1 layout: every entry (a, b) under (ca, cb, d) also as (b, a) under (cb, ca, d).
   std::vector<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, float>> all;
   const std::uint32_t nd = v2.key_space.n_dist_bins, nc = v2.key_space.n_classes;
@@ -213,7 +214,7 @@ TEST_CASE("map: a version-1 map (both orders of every pair) loads as version 2 (
 TEST_CASE("map: the loader validates contents that pass the checksum") {
   const auto dir = test::temp_dir("map-validate");
   auto broken = [&](auto&& mutate, const std::string& expect) {
-    auto m = std::make_shared<PairMap>(trained().internal());
+    auto m = std::make_shared<PairMap>(MapAccess::pair_map(trained()));
     mutate(*m);
     // Written without save_pair_map's own check, as a buggy or hostile writer would.
     CHECK_THROWS_WITH(validate_pair_map(*m, "mutated"), Contains("mutated") && Contains(expect));
@@ -281,12 +282,12 @@ TEST_CASE("map: more clusters than readings, one cluster, MN descriptor") {
   o.descriptor = "mn";
   const Map one = Map::train(tiny, o);
   CHECK(one.classes() == 1);
-  CHECK(one.internal().appearance.descriptor_size == 64);
-  CHECK(one.internal().ambiguity == 1.0);
+  CHECK(MapAccess::pair_map(one).appearance.descriptor_size == 64);
+  CHECK(MapAccess::pair_map(one).ambiguity == 1.0);
 }
 
 TEST_CASE("appearance baseline: histograms and a naive-Bayes posterior that finds the object") {
-  const PairMap& m = trained().internal();
+  const PairMap& m = MapAccess::pair_map(trained());
   const AppearanceBaseline& b = m.baseline;
   REQUIRE(b.n_objects == 3);
   for (std::uint32_t o = 0; o < 3; ++o) {

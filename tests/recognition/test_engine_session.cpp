@@ -9,6 +9,7 @@
 #include <fstream>
 #include <thread>
 
+#include "map/map_access.hpp"
 #include "test_support.hpp"
 #include "trained_map.hpp"
 
@@ -42,7 +43,7 @@ TEST_CASE("Engine: recognizers sharing one engine answer as recognizers with the
   eo.backend = BackendKind::cpu;
   const Engine engine(t.map, eo);
   CHECK(engine.backend() == BackendKind::cpu);
-  CHECK(engine.map().shared() == t.map.shared());  // the host map is the caller's, not a copy
+  CHECK(MapAccess::shared(engine.map()) == MapAccess::shared(t.map));  // the host map is the caller's, not a copy
   Recognizer a(engine, paper_space()), b(engine, paper_space());
   Recognizer own(t.map, paper_space(), RecognizerOptions{.backend = BackendKind::cpu});
   for (const Reading& r : readings_of(0, 640, 8)) {
@@ -129,10 +130,10 @@ TEST_CASE("Session: a missing, damaged or foreign session file is refused with t
   for (const Reading& r : readings_of(0, 670, 4)) rec.add_reading(r);
   rec.save_session(file);
   // Another map (another scene): its readings would mean nothing there.
-  auto other = std::make_shared<PairMap>(t.map.internal());
+  auto other = std::make_shared<PairMap>(MapAccess::pair_map(t.map));
   other->scene_hash ^= 1;
   other->scene_name = "another";
-  Recognizer foreign(Map(other), paper_space());
+  Recognizer foreign(MapAccess::wrap(other), paper_space());
   CHECK_THROWS_WITH(foreign.restore_session(file), Catch::Contains("another") && Catch::Contains("session.svas"));
   // A damaged file fails its checksum.
   {

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <memory>
 
+#include "map/map_access.hpp"
 #include "backends/vote_backend_factory.hpp"
 #include "fixture.hpp"
 #include "recognition/describe_reading.hpp"
@@ -207,7 +208,7 @@ TEST_CASE("Reset keeps the belief table: the next session allocates none until i
                              short_session = readings_of(0, truth, 712, 4);
   for (BackendKind kind : backends()) {
     INFO("backend " << backend_kind_name(kind));
-    const PairMap& map = t.map.internal();
+    const PairMap& map = MapAccess::pair_map(t.map);
     PoseSpace space(paper_space(), static_cast<std::uint32_t>(map.objects.size()));
     auto backend = make_vote_backend(kind, map, space, {}).backend;
     BayesFilter filter(map, space, {}, *backend);

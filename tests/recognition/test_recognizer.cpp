@@ -9,6 +9,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "map/map_access.hpp"
 #include "fixture.hpp"
 #include "trained_map.hpp"
 
@@ -170,9 +171,9 @@ TEST_CASE("Recognizer: votes whose mass rounds to zero are counted in the estima
   const Trained& t = trained();
   // The same map with every entry weight scaled by 1e-9: likelihoods (Eq 15) mostly stay above their 2^-40
   // resolution, but no beta sample of a match reaches half a vote unit.
-  auto faint = std::make_shared<PairMap>(t.map.internal());
+  auto faint = std::make_shared<PairMap>(MapAccess::pair_map(t.map));
   for (float& w : faint->entry_weight) w *= 1e-9f;
-  const Map faint_map(faint);
+  const Map faint_map = MapAccess::wrap(faint);
   const RigidPose truth = random_pose(700, 100.0);
   Recognizer normal(t.map, paper_space()), quiet(faint_map, paper_space());
   util::Rng rng(43);

@@ -29,6 +29,11 @@ struct TrainOptions {
   std::uint64_t seed = 1;  // PAM initialisation
   unsigned threads = 0;    // 0 = all cores (env SVA_THREADS); results do not depend on it
   bool progress = false;   // show progress on stderr
+
+  // The options as given, before the scene's defaults fill the unset ones: throws sva::Error naming the option,
+  // its value and the fault, after `context` (the caller: "sva train", "sva.train"). Map::train checks them too
+  // (and the scene's defaults); a caller checks early to fail before loading a dataset.
+  void validate(const std::string& context = "train options") const;
 };
 
 // What training did, for the CLI summary.
@@ -41,6 +46,30 @@ struct TrainReport {
   double clustering_cpu_seconds = 0.0;  // process CPU time, all threads (meaningful on a loaded machine)
   double map_build_cpu_seconds = 0.0;
   double clustering_loss = 0.0;  // PAM loss: sum of (1 - affinity) to the medoid
+};
+
+// What a map holds, as `sva inspect` and `sva train` print it.
+struct MapSummary {
+  std::uint32_t format_version = 0;  // of the map file this build writes (docs/map-format.md)
+  std::string scene_name;
+  bool planar = false;  // pose space: planar (x, y, yaw) or spatial
+  std::uint64_t scene_hash = 0;
+  std::uint64_t train_seed = 0;
+  std::string descriptor;  // "mn" or "mnti"
+  std::uint32_t descriptor_size = 0;
+  double prune_ratio = 0.0;  // T_a
+  std::uint32_t classes = 0;
+  double ambiguity = 0.0;  // classes per reading
+  std::uint32_t distance_bins = 0;
+  double distance_min_mm = 0.0, distance_max_mm = 0.0;
+  std::size_t readings = 0, entries = 0, keys = 0, bytes = 0;
+  std::uint64_t possible_keys = 0;  // classes^2 x distance bins
+  std::uint32_t entries_per_key_min = 0, entries_per_key_median = 0, entries_per_key_max = 0;  // 0 without keys
+  struct Object {
+    std::string name;
+    std::size_t readings = 0, entries = 0;  // entries: pairs whose first reading is this object's
+  };
+  std::vector<Object> objects;
 };
 
 class Map {
@@ -67,12 +96,12 @@ class Map {
   // The tactile array the map was trained with: readings must have its rows x cols image.
   const SensorSpec& sensor() const;
 
-  // The engine's private view (host/src/map/pair_map.hpp).
-  const PairMap& internal() const;
-  std::shared_ptr<const PairMap> shared() const { return map_; }
-  explicit Map(std::shared_ptr<const PairMap> map) : map_(std::move(map)) {}
+  MapSummary summary() const;
 
  private:
+  // The engine's view of the layout (host/src/map/map_access.hpp); nothing public reaches it.
+  friend struct MapAccess;
+  explicit Map(std::shared_ptr<const PairMap> map) : map_(std::move(map)) {}
   std::shared_ptr<const PairMap> map_;
 };
 

@@ -20,6 +20,10 @@ namespace sva {
 // automatic ("auto"): Vulkan when a usable device exists, else the CPU
 // reference; both give the same answers.
 enum class BackendKind { cpu, vulkan, automatic };
+// "cpu", "vulkan" or "auto"; anything else is an sva::Error naming `option` (e.g. "sva eval: --backend").
+BackendKind parse_backend_kind(const std::string& text, const std::string& option);
+// "cpu", "vulkan" or "auto".
+const char* backend_kind_name(BackendKind kind);
 enum class Method { sva, appearance };  // appearance: the appearance-only baseline of [15]
 
 struct RecognizerOptions {

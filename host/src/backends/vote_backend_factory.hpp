@@ -23,9 +23,4 @@ struct VoteBackendChoice {
 VoteBackendChoice make_vote_backend(BackendKind kind, const PairMap& map, const PoseSpace& space,
                                     const VoteSettings& settings, const VulkanBackendOptions& vulkan = {});
 
-// "cpu", "vulkan" or "auto"; anything else is an sva::Error naming `option` (e.g. "sva eval: --backend").
-BackendKind parse_backend_kind(const std::string& text, const std::string& option);
-// "cpu", "vulkan" or "auto".
-const char* backend_kind_name(BackendKind kind);
-
 }  // namespace sva

@@ -1,8 +1,8 @@
 #include "core/so3.hpp"
 
-#include "core/finite.hpp"
-
 #include <sva/base/portable_math.hpp>
+
+#include "core/finite.hpp"
 
 #include <algorithm>
 #include <cmath>

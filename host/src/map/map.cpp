@@ -4,6 +4,7 @@
 
 #include <algorithm>
 
+#include "map/map_access.hpp"
 #include "map/map_builder.hpp"
 #include "map/map_file.hpp"
 #include "map/pair_map.hpp"
@@ -52,7 +53,44 @@ std::vector<std::string> Map::object_names() const {
   for (const auto& o : require(map_).objects) names.push_back(o.name);
   return names;
 }
-const PairMap& Map::internal() const { return require(map_); }
+
+MapSummary Map::summary() const {
+  const PairMap& m = require(map_);
+  MapSummary s;
+  s.format_version = kMapVersion;
+  s.scene_name = m.scene_name;
+  s.planar = m.pose_space.kind == PoseSpaceSpec::Kind::planar;
+  s.scene_hash = m.scene_hash;
+  s.train_seed = m.train_seed;
+  s.descriptor = m.appearance.descriptor == DescriptorKind::mn ? "mn" : "mnti";
+  s.descriptor_size = m.appearance.descriptor_size;
+  s.prune_ratio = m.appearance.prune_ratio;
+  s.classes = m.key_space.n_classes;
+  s.ambiguity = m.ambiguity;
+  s.distance_bins = m.distance.count;
+  s.distance_min_mm = m.distance.min_mm;
+  s.distance_max_mm = m.distance.max_mm;
+  s.readings = readings();
+  s.entries = entries();
+  s.keys = keys();
+  s.bytes = bytes();
+  s.possible_keys = static_cast<std::uint64_t>(m.key_space.n_classes) * m.key_space.n_classes * m.key_space.n_dist_bins;
+  if (!m.keys.empty()) {
+    std::vector<std::uint32_t> per(m.keys.size());
+    for (std::size_t i = 0; i < per.size(); ++i) per[i] = m.offsets[i + 1] - m.offsets[i];
+    std::sort(per.begin(), per.end());
+    s.entries_per_key_min = per.front();
+    s.entries_per_key_median = per[per.size() / 2];
+    s.entries_per_key_max = per.back();
+  }
+  s.objects.resize(m.objects.size());
+  for (std::size_t o = 0; o < m.objects.size(); ++o) s.objects[o].name = m.objects[o].name;
+  for (auto o : m.readings.object) ++s.objects[o].readings;
+  for (auto a : m.entry_a) ++s.objects[m.readings.object[a]].entries;
+  return s;
+}
+
+const PairMap& MapAccess::pair_map(const Map& map) { return require(map.map_); }
 
 std::pair<std::uint32_t, std::uint32_t> PairMap::find(std::uint32_t key) const {
   auto it = std::lower_bound(keys.begin(), keys.end(), key);

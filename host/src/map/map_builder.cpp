@@ -47,7 +47,24 @@ int bins_for_position_error(int bins, double min_mm, double max_mm, double posit
 
 }  // namespace
 
+void TrainOptions::validate(const std::string& context) const {
+  auto fail = [&](const std::string& what) { throw Error(context + ": " + what); };
+  if (descriptor && *descriptor != "mn" && *descriptor != "mnti")
+    fail("descriptor \"" + *descriptor + "\": expected \"mn\" or \"mnti\"");
+  if (clusters && (*clusters < 1 || *clusters > 4096))
+    fail("clusters " + std::to_string(*clusters) + ": expected 1 to 4096");
+  if (dist_bins && (*dist_bins < 1 || *dist_bins > 100000))
+    fail("distance bins " + std::to_string(*dist_bins) + ": expected 1 to 100000");
+  if (dist_min_mm.has_value() != dist_max_mm.has_value()) fail("distance range: give both its min and its max");
+  if (dist_min_mm && (!std::isfinite(*dist_min_mm) || !std::isfinite(*dist_max_mm) || *dist_min_mm < 0 ||
+                      *dist_min_mm >= *dist_max_mm))
+    fail("distance range " + std::to_string(*dist_min_mm) + ":" + std::to_string(*dist_max_mm) +
+         " mm: expected 0 <= min < max, both finite");
+  if (threads > 1024) fail("threads " + std::to_string(threads) + ": expected 0 (all cores) to 1024");
+}
+
 TrainParameters resolve_train_parameters(const Scene& scene, const TrainOptions& o) {
+  o.validate();
   TrainParameters p;
   const std::string desc = o.descriptor.value_or(scene.appearance.descriptor);
   if (desc == "mn")

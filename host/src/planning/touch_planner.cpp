@@ -14,6 +14,7 @@
 
 #include <sva/base/portable_math.hpp>
 #include <sva/base/rng.hpp>
+#include "map/map_access.hpp"
 #include "planning/contact_classes.hpp"
 #include "planning/planner_state.hpp"
 
@@ -312,7 +313,7 @@ std::vector<std::size_t> eligible(std::span<const CandidateTouch> cands, const T
 
 TouchPlanner::TouchPlanner(const Map& map) {
   if (map.empty()) throw Error("touch planner: the map is empty");
-  impl_ = std::make_shared<const Impl>(map.shared());
+  impl_ = std::make_shared<const Impl>(MapAccess::shared(map));
 }
 TouchPlanner::~TouchPlanner() = default;
 TouchPlanner::TouchPlanner(TouchPlanner&&) noexcept = default;

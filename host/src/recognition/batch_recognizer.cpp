@@ -11,6 +11,7 @@
 #include <set>
 #include <string>
 
+#include "map/map_access.hpp"
 #include "appearance/appearance_baseline.hpp"
 #include "backends/vote_backend.hpp"
 #include "backends/vote_backend_factory.hpp"
@@ -168,9 +169,9 @@ struct BatchRecognizer::Impl {
 
   Impl(const Engine& e, const PoseSpaceSpec& spec, const RecognizerOptions& o)
       : engine(e),
-        pair_map(&e.map().internal()),
+        pair_map(&MapAccess::pair_map(e.map())),
         options(o),
-        space(spec, static_cast<std::uint32_t>(e.map().internal().objects.size())) {}
+        space(spec, static_cast<std::uint32_t>(MapAccess::pair_map(e.map()).objects.size())) {}
 
   Session& at(std::size_t s) {
     if (s >= sessions.size())

@@ -3,6 +3,7 @@
 #include <sva/error.hpp>
 
 #include "map/pair_map.hpp"
+#include "map/map_access.hpp"
 
 namespace sva {
 
@@ -10,7 +11,7 @@ Engine::Engine(const Map& map, const EngineOptions& options) : impl_(std::make_s
   if (map.empty()) throw Error("engine: the map is empty (not trained or not loaded)");
   impl_->map = map;
   impl_->options = options;
-  const PairMap& m = map.internal();
+  const PairMap& m = MapAccess::pair_map(map);
   impl_->keep_space = std::make_unique<PoseSpace>(m.pose_space, static_cast<std::uint32_t>(m.objects.size()));
   VoteBackendChoice choice = make_vote_backend(options.backend, m, *impl_->keep_space, {}, vulkan_options(*impl_));
   impl_->kind = choice.kind;
@@ -28,7 +29,7 @@ std::string Engine::backend_description() const { return impl_->description; }
 
 const SurfaceIndex& Engine::Impl::surface() const {
   std::call_once(surface_once_, [&] {
-    const PairMap& m = map.internal();
+    const PairMap& m = MapAccess::pair_map(map);
     surface_ = std::make_unique<SurfaceIndex>(m.readings, m.objects.size());
   });
   return *surface_;

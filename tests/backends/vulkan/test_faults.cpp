@@ -13,6 +13,7 @@
 #include <cstdlib>
 #include <filesystem>
 
+#include "map/map_access.hpp"
 #include "backends/vulkan/faults.hpp"
 #include "backends/vulkan/vulkan_engine.hpp"
 #include "recognition/fixture.hpp"
@@ -54,7 +55,7 @@ TEST_CASE("GPU faults: a map past the device memory is a clear error on vulkan a
   FaultsCleared cleared;
   const std::string device = device_name_or_skip();
   const Trained& t = trained();
-  const std::size_t need = VulkanEngine::map_device_bytes(t.map.internal());
+  const std::size_t need = VulkanEngine::map_device_bytes(MapAccess::pair_map(t.map));
   REQUIRE(need > 4096);
   vk::faults::set_memory_budget(need / 2);
   try {

@@ -55,7 +55,7 @@ std::vector<Estimate> recognize_sessions(BatchRecognizer& rec, std::span<const i
 
 std::size_t recognize_file(BatchRecognizer& rec, const Map& map, const std::string& source, std::size_t sessions,
                            std::ostream& out, std::size_t top_k, util::Progress* progress) {
-  io::BatchSessionReader reader(source, map.internal().appearance.calibration.sensor.elements());
+  io::BatchSessionReader reader(source, map.sensor().elements());
   const std::vector<std::string> objects = map.object_names();
   std::vector<io::BatchSession> held;  // the group being recognised: all the memory the file's sessions take
   recognize_groups(
@@ -75,7 +75,7 @@ std::size_t recognize_file(BatchRecognizer& rec, const Map& map, const std::stri
 
 std::string recognize_shard(BatchRecognizer& rec, const Map& map, std::string_view text, const std::string& source,
                             std::size_t first_line, std::size_t first_session, std::size_t top_k) {
-  const int elements = map.internal().appearance.calibration.sensor.elements();
+  const int elements = map.sensor().elements();
   const auto sessions = io::parse_batch_sessions(text, source, first_line, first_session, elements);
   const auto estimates = recognize_sessions(rec, sessions, top_k, source, first_session);
   return io::format_batch_results(sessions, estimates, map.object_names());

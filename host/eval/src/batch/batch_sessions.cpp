@@ -1,4 +1,4 @@
-#include "batch/batch_sessions.hpp"
+#include <sva/eval/batch_sessions.hpp>
 
 #include <sva/error.hpp>
 #include <sva/io/json_limits.hpp>

@@ -1,4 +1,4 @@
-#include "bench/process_memory.hpp"
+#include <sva/eval/process_memory.hpp>
 
 #include <fcntl.h>
 #include <sys/resource.h>

@@ -8,8 +8,8 @@
 
 #include <sva/base/progress.hpp>
 #include <sva/eval/evaluation.hpp>
+#include <sva/eval/trials.hpp>
 #include "eval/metrics.hpp"
-#include "eval/trials.hpp"
 #include "recognition/lockstep.hpp"
 #include "roofline/roofline.hpp"
 

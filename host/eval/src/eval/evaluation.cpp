@@ -11,8 +11,10 @@
 #include <sva/engine.hpp>
 
 #include "backends/vote_backend_factory.hpp"
+#include "eval/active_trials.hpp"
 #include "eval/metrics.hpp"
 #include "eval/trial_runner.hpp"
+#include "map/map_access.hpp"
 #include "map/pair_map.hpp"
 
 namespace sva::eval {
@@ -100,7 +102,7 @@ void check_compatible(const Map& map, const Dataset& test, const std::string& ma
   for (const auto& o : test.scene.objects) test_names.push_back(o.name);
   if (names != test_names)
     throw Error(both + " have different objects ([" + join(names) + "] and [" + join(test_names) + "])");
-  const auto& cal = map.internal().appearance.calibration;
+  const auto& cal = MapAccess::pair_map(map).appearance.calibration;
   const SensorSpec& s = test.scene.sensor;
   if (cal.sensor.rows != s.rows || cal.sensor.cols != s.cols || std::abs(cal.sensor.pitch_mm - s.pitch_mm) > 1e-9)
     throw Error(both + " use different sensors (" + std::to_string(cal.sensor.rows) + "x" +

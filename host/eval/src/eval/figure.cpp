@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "plot/canvas.hpp"
+#include "eval/panel_figure.hpp"
 
 namespace sva::eval {
 

@@ -12,6 +12,7 @@
 #include <limits>
 
 #include "plot/canvas.hpp"
+#include "eval/panel_figure.hpp"
 
 namespace sva::eval {
 

@@ -4,6 +4,7 @@
 #include <sva/base/parallel.hpp>
 #include <sva/base/progress.hpp>
 #include <sva/error.hpp>
+#include <sva/eval/trials.hpp>
 
 #include <chrono>
 #include <cmath>
@@ -14,7 +15,6 @@
 
 #include "eval/metrics.hpp"
 #include "eval/session_pool.hpp"
-#include "eval/trials.hpp"
 
 namespace sva::eval {
 

@@ -1,7 +1,7 @@
 #include <sva/base/interrupt.hpp>
 #include <sva/eval/trial_sessions.hpp>
 
-#include "eval/trials.hpp"
+#include <sva/eval/trials.hpp>
 
 namespace sva::eval {
 

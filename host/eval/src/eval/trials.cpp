@@ -1,4 +1,4 @@
-#include "eval/trials.hpp"
+#include <sva/eval/trials.hpp>
 
 #include <sva/base/portable_math.hpp>
 #include <sva/error.hpp>

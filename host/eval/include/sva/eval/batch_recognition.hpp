@@ -15,7 +15,7 @@
 #include <string_view>
 #include <vector>
 
-#include "batch/batch_sessions.hpp"
+#include <sva/eval/batch_sessions.hpp>
 
 namespace sva::batch {
 

@@ -8,14 +8,13 @@
 //   std::fputs(eval::format_table(c).c_str(), stdout);  // report.hpp
 //   eval::write_figure({c, baseline}, "fig.png");  // figure.hpp
 #include <sva/dataset.hpp>
+#include <sva/eval/active_setup.hpp>
 #include <sva/eval/results.hpp>
 #include <sva/map.hpp>
 #include <sva/recognizer.hpp>
 
 #include <optional>
 #include <string>
-
-#include "eval/active_trials.hpp"
 
 namespace sva::eval {
 

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "bench/process_memory.hpp"
+#include <sva/eval/process_memory.hpp>
 
 namespace sva::bench {
 

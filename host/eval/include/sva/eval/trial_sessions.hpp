@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "batch/batch_sessions.hpp"
+#include <sva/eval/batch_sessions.hpp>
 
 namespace sva::eval {
 

@@ -39,9 +39,10 @@ class Engine {
   std::string backend_description() const;
 
   struct Impl;
-  const std::shared_ptr<Impl>& internal() const { return impl_; }
 
  private:
+  // The recognizers reach the shared state through sva's private EngineAccess; users get no handle on it.
+  friend struct EngineAccess;
   std::shared_ptr<Impl> impl_;
 };
 

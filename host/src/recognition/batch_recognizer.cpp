@@ -1,9 +1,8 @@
-// Batch recognition and the single-session Recognizer on top of it: each
-// session is a Bayes filter (Method::sva) or an appearance-only posterior
-// (Method::appearance); one backend serves all sessions.
+// The session table of batch recognition: each session is a Bayes filter (Method::sva) or an appearance-only
+// posterior (Method::appearance); one backend serves all sessions, and one update carries every session that got
+// a reading. The estimate is put together in recognition/estimate.cpp, a prior checked in prior_checks.cpp.
 #include <sva/batch_recognizer.hpp>
 #include <sva/error.hpp>
-#include <sva/recognizer.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -12,7 +11,6 @@
 #include <string>
 
 #include "map/map_access.hpp"
-#include "appearance/appearance_baseline.hpp"
 #include "backends/vote_backend.hpp"
 #include "backends/vote_backend_factory.hpp"
 #include "map/pair_map.hpp"
@@ -20,128 +18,14 @@
 #include "recognition/bayes_filter.hpp"
 #include "recognition/describe_reading.hpp"
 #include "recognition/engine.hpp"
-#include "recognition/hypotheses.hpp"
+#include "recognition/engine_access.hpp"
+#include "recognition/estimate.hpp"
 #include "recognition/pose_refinement.hpp"
+#include "recognition/prior_checks.hpp"
 #include "recognition/session_file.hpp"
 #include "votes/pose_space.hpp"
 
 namespace sva {
-
-namespace {
-// Modes of the belief the fine pose starts from (the best bin's parabolic peak first).
-constexpr std::size_t kRefineStarts = 4;
-
-// A reading in the pose grid's frame (the workspace frame): the belief and the fine pose never see the robot frame.
-ObservedReading to_grid(const PoseSpace& space, ObservedReading r) {
-  const RigidPose to = space.workspace().inverse();
-  r.position = to.apply(r.position);
-  r.normal = to.rotate(r.normal);
-  return r;
-}
-
-PoseHypothesis public_hypothesis(const ModeHypothesis& m, const PoseSpace& space,
-                                 const std::vector<MapObject>& objects) {
-  PoseHypothesis h;
-  h.object = m.object;
-  h.object_name = objects[m.object].name;
-  h.pose = space.to_robot(m.pose);
-  h.probability = m.probability;
-  h.covariance = covariance_to_robot(m.covariance, space.workspace().R);
-  h.valid = true;
-  return h;
-}
-
-// The distinct hypotheses, in the robot frame. The best object's best mode carries the estimate's own pose (the
-// fine pose when refined), so hypotheses[0] and Estimate::pose agree.
-void add_hypotheses(const BayesFilter& filter, const PoseSpace& space, const std::vector<MapObject>& objects,
-                    int radius, std::size_t top_k, std::span<const double> prior, const PoseWeighting& pose_prior,
-                    const BeliefEstimate& b, Estimate* e) {
-  const HypothesisSet set =
-      hypotheses(filter.belief(), space, filter.belief().summarise(), top_k, radius, prior, pose_prior);
-  for (const ModeHypothesis& m : set.modes) {
-    e->hypotheses.push_back(public_hypothesis(m, space, objects));
-    if (b.pose_valid && m.key == b.best_key) e->hypotheses.back().pose = e->pose;
-  }
-  for (std::uint32_t o = 0; o < set.per_object.size(); ++o) {
-    PoseHypothesis h;
-    h.object = o;
-    h.object_name = objects[o].name;
-    if (set.per_object_valid[o]) h = public_hypothesis(set.per_object[o], space, objects);
-    if (b.pose_valid && o == b.object) h.pose = e->pose;
-    e->object_hypotheses.push_back(h);
-  }
-}
-
-// Object probabilities times the prior's weights, renormalised; unchanged without a prior.
-void weigh_by_prior(std::vector<double>& p, const std::vector<double>& prior_weight) {
-  if (prior_weight.empty()) return;
-  double z = 0.0;
-  for (std::size_t o = 0; o < p.size(); ++o) z += p[o] *= prior_weight[o];
-  for (double& x : p) x /= z;
-}
-
-// Before any reading there is no evidence: the object posterior is the prior (uniform without one), and no
-// object, pose or hypothesis is reported, so that a caller cannot take a placeholder for an answer.
-Estimate not_ready(std::size_t objects, const std::vector<double>& prior_weight) {
-  Estimate e;
-  e.object_probability.assign(objects, prior_weight.empty() ? 1.0 / static_cast<double>(objects) : 1.0);
-  weigh_by_prior(e.object_probability, prior_weight);
-  return e;
-}
-
-// A prior over objects as weights whose largest is 1 (empty: flat), checked against the map.
-std::vector<double> prior_weights(const Prior& prior, std::size_t objects) {
-  const std::vector<double>& p = prior.object_probability;
-  if (p.empty()) return {};
-  if (p.size() != objects)
-    throw Error("prior: " + std::to_string(p.size()) + " object probabilities, but the map has " +
-                std::to_string(objects) + " objects");
-  double top = 0.0;
-  for (std::size_t o = 0; o < p.size(); ++o) {
-    if (!std::isfinite(p[o]) || p[o] < 0.0)
-      throw Error("prior: object " + std::to_string(o) + " has probability " + std::to_string(p[o]) +
-                  " (must be finite and >= 0)");
-    top = std::max(top, p[o]);
-  }
-  if (!(top > 0.0)) throw Error("prior: every object probability is 0");
-  std::vector<double> w(p.size());
-  for (std::size_t o = 0; o < p.size(); ++o) w[o] = p[o] / top;
-  return w;
-}
-
-bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-// A rotation: finite, orthonormal to 1e-6 and proper.
-bool is_rotation(const glm::dmat3& r) {
-  const glm::dmat3 d = glm::transpose(r) * r - glm::dmat3(1.0);
-  double worst = 0.0;
-  for (int c = 0; c < 3; ++c) {
-    if (!finite(r[c])) return false;
-    for (int k = 0; k < 3; ++k) worst = std::max(worst, std::abs(d[c][k]));
-  }
-  return worst < 1e-6 && glm::determinant(r) > 0.0;
-}
-
-// The pose priors of a Prior, checked against the map: empty, or one (optional) per object, each well formed.
-void check_pose_priors(const Prior& prior, std::size_t objects) {
-  const auto& p = prior.object_pose;
-  if (p.empty()) return;
-  if (p.size() != objects)
-    throw Error("prior: " + std::to_string(p.size()) + " object pose priors, but the map has " +
-                std::to_string(objects) + " objects (give one per object, empty where there is none)");
-  for (std::size_t o = 0; o < p.size(); ++o) {
-    if (!p[o]) continue;
-    const std::string what = "prior: object " + std::to_string(o) + "'s pose prior: ";
-    if (!finite(p[o]->position)) throw Error(what + "the position is not finite");
-    if (!(p[o]->position_sigma_mm > 0.0) || !std::isfinite(p[o]->position_sigma_mm))
-      throw Error(what + "position_sigma_mm = " + std::to_string(p[o]->position_sigma_mm) + " must be > 0");
-    if (!p[o]->has_rotation) continue;
-    if (!is_rotation(p[o]->rotation)) throw Error(what + "the rotation is not a rotation matrix");
-    if (!(p[o]->rotation_sigma_rad > 0.0) || !std::isfinite(p[o]->rotation_sigma_rad))
-      throw Error(what + "rotation_sigma_rad = " + std::to_string(p[o]->rotation_sigma_rad) + " must be > 0");
-  }
-}
-}  // namespace
 
 struct BatchRecognizer::Impl {
   struct Session {
@@ -195,7 +79,7 @@ BatchRecognizer::BatchRecognizer(const Map& map, const PoseSpaceSpec& pose_space
                                  const RecognizerOptions& options)
     : BatchRecognizer(own_engine(map, options), pose_space, sessions, options) {
   // Nothing else shares this engine: the recognizer's own backend keeps the device alive.
-  impl_->engine.internal()->keep_backend.reset();
+  EngineAccess::impl(impl_->engine)->keep_backend.reset();
 }
 
 BatchRecognizer::BatchRecognizer(const Engine& engine, const PoseSpaceSpec& pose_space, std::size_t sessions,
@@ -220,9 +104,9 @@ BatchRecognizer::BatchRecognizer(const Engine& engine, const PoseSpaceSpec& pose
     vs.likelihood_cutoff = options.likelihood_cutoff;
     vs.threads = options.threads;
     // The engine's backend, already resolved (auto chose once, for every recognizer of the engine).
-    impl_->backend =
-        make_vote_backend(engine.backend(), *impl_->pair_map, impl_->space, vs, vulkan_options(*engine.internal()))
-            .backend;
+    impl_->backend = make_vote_backend(engine.backend(), *impl_->pair_map, impl_->space, vs,
+                                       vulkan_options(*EngineAccess::impl(engine)))
+                         .backend;
     FilterOptions fo;
     fo.eps = options.eps;
     fo.object_prune_probability = options.object_prune_probability;
@@ -231,7 +115,7 @@ BatchRecognizer::BatchRecognizer(const Engine& engine, const PoseSpaceSpec& pose
     for (auto& s : impl_->sessions)
       s.filter = std::make_unique<BayesFilter>(*impl_->pair_map, impl_->space, fo, *impl_->backend);
     if (options.refine_pose) {
-      impl_->surface = &engine.internal()->surface();
+      impl_->surface = &EngineAccess::impl(engine)->surface();
       impl_->refine = refine_settings(impl_->space);
     }
   } else {
@@ -284,49 +168,21 @@ Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const
   const std::lock_guard lock(impl_->mutex);
   const Impl::Session& s = impl_->at(session);
   const auto& objects = impl_->pair_map->objects;
-  if (s.readings == 0) return not_ready(objects.size(), s.prior_weight);
+  if (s.readings == 0) return not_ready_estimate(objects.size(), s.prior_weight);
   Estimate e;
-  e.ready = true;
+  if (s.filter) {
+    const EstimateRequest r{.top_k = top_k,
+                            .hypothesis_radius_bins = impl_->options.hypothesis_radius_bins,
+                            .object_weight = s.prior_weight,
+                            .pose_weighting = s.pose_prior,
+                            .surface = impl_->surface,
+                            .refine = impl_->refine};
+    e = filter_estimate(*s.filter, objects, r);
+  } else {
+    e = appearance_estimate(s.appearance_log_posterior, objects, s.prior_weight);
+  }
   e.readings = s.readings;
   e.votes = s.last_votes;
-  if (!s.filter) {
-    e.object_probability = AppearanceBaseline::posterior(s.appearance_log_posterior);
-    weigh_by_prior(e.object_probability, s.prior_weight);
-    for (std::uint32_t o = 1; o < e.object_probability.size(); ++o)
-      if (e.object_probability[o] > e.object_probability[e.object]) e.object = o;
-    e.object_name = objects[e.object].name;
-    return e;
-  }
-  const BeliefEstimate b = s.filter->estimate(top_k, impl_->surface ? kRefineStarts : 1, s.prior_weight, s.pose_prior);
-  e.object = b.object;
-  e.object_name = objects[b.object].name;
-  e.object_probability = b.object_probability;
-  e.pose_valid = b.pose_valid;
-  e.pose = b.pose;
-  e.parabolic_pose = b.parabolic_pose;
-  e.bin_pose = b.bin_pose;
-  if (impl_->surface && b.pose_valid) {
-    const RefinedPose r = refine_pose(*impl_->surface, b.object, s.filter->observed(), b.modes, impl_->refine);
-    e.pose = r.pose;
-    e.pose_refined = r.refined;
-  }
-  const PoseSpace& space = impl_->space;
-  e.pose = space.to_robot(e.pose);
-  e.parabolic_pose = space.to_robot(e.parabolic_pose);
-  e.bin_pose = space.to_robot(e.bin_pose);
-  for (const BinHypothesis& h : b.top) {
-    Hypothesis out;
-    out.object = h.object;
-    out.object_name = objects[h.object].name;
-    out.pose = space.to_robot(h.pose);
-    out.probability = h.probability;
-    e.top.push_back(out);
-  }
-  if (top_k > 0)
-    add_hypotheses(*s.filter, impl_->space, objects, impl_->options.hypothesis_radius_bins, top_k, s.prior_weight,
-                   s.pose_prior, b, &e);
-  e.votes_outside = s.filter->last_update().votes_outside;
-  e.votes_zero = s.filter->last_update().votes_zero;
   return e;
 }
 
@@ -419,29 +275,5 @@ BatchRecognizer::DeviceMemory BatchRecognizer::device_memory() const {
   }
   return m;
 }
-
-// The single-session Recognizer is a batch of one.
-struct Recognizer::Impl {
-  BatchRecognizer batch;
-};
-
-Recognizer::Recognizer(const Map& map, const PoseSpaceSpec& pose_space, const RecognizerOptions& options)
-    : impl_(std::make_unique<Impl>(Impl{BatchRecognizer(map, pose_space, 1, options)})) {}
-Recognizer::Recognizer(const Engine& engine, const PoseSpaceSpec& pose_space, const RecognizerOptions& options)
-    : impl_(std::make_unique<Impl>(Impl{BatchRecognizer(engine, pose_space, 1, options)})) {}
-Recognizer::~Recognizer() = default;
-Recognizer::Recognizer(Recognizer&&) noexcept = default;
-Recognizer& Recognizer::operator=(Recognizer&&) noexcept = default;
-
-void Recognizer::add_reading(const Reading& reading) {
-  const std::size_t session = 0;
-  impl_->batch.add_readings(std::span(&session, 1), std::span(&reading, 1));
-}
-Estimate Recognizer::estimate(std::size_t top_k) const { return impl_->batch.estimate(0, top_k); }
-void Recognizer::set_prior(const Prior& prior) { impl_->batch.set_prior(0, prior); }
-void Recognizer::save_session(const std::filesystem::path& file) const { impl_->batch.save_session(0, file); }
-void Recognizer::restore_session(const std::filesystem::path& file) { impl_->batch.restore_session(0, file); }
-void Recognizer::reset() { impl_->batch.reset(0); }
-std::size_t Recognizer::reading_count() const { return impl_->batch.readings(0); }
 
 }  // namespace sva

@@ -8,8 +8,11 @@
 #include <numbers>
 #include <span>
 
+#include "appearance/appearance_baseline.hpp"
 #include "belief/belief_math.hpp"
 #include "core/so3.hpp"
+#include "recognition/bayes_filter.hpp"
+#include "recognition/hypotheses.hpp"
 
 namespace sva {
 
@@ -32,8 +35,6 @@ std::vector<double> object_mass(const BeliefSummary& s, const PoseSpace& space, 
   }
   return mass;
 }
-
-double units_to_bits(std::uint64_t units) { return static_cast<double>(units) / belief_math::kUnitsPerBit; }
 
 // Sub-bin refinement: along each axis of the pose grid, a parabola through the
 // log-belief of the best bin and its two neighbours (untouched bins at the
@@ -77,7 +78,7 @@ RigidPose refine(const BeliefState& belief, const PoseSpace& space, std::uint64_
   }
   const std::vector<std::uint64_t> off = belief.offsets(keys);
   auto bits = [&](std::size_t i) {
-    return units_to_bits(off[i]) + (prior.applies_to(c.object) ? prior.log2_weight(keys[i]) : 0.0);
+    return belief_math::units_to_bits(off[i]) + (prior.applies_to(c.object) ? prior.log2_weight(keys[i]) : 0.0);
   };
   glm::dvec3 t = space.translation_centre(c), r = space.rotation_centre(c);
   const double tw = (spec.translation_max_mm - spec.translation_min_mm) / spec.translation_bins;
@@ -158,7 +159,8 @@ std::vector<double> object_probability(const BeliefSummary& summary, const PoseS
 std::vector<BinOffset> order_by_pose_prior(std::vector<BinOffset> bins, const PoseWeighting& prior) {
   if (prior.empty()) return bins;
   std::vector<std::pair<double, BinOffset>> scored;
-  for (const BinOffset& b : bins) scored.push_back({units_to_bits(b.offset) + prior.log2_weight(b.key), b});
+  for (const BinOffset& b : bins)
+    scored.push_back({belief_math::units_to_bits(b.offset) + prior.log2_weight(b.key), b});
   std::stable_sort(scored.begin(), scored.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   for (std::size_t i = 0; i < bins.size(); ++i) bins[i] = scored[i].second;
   return bins;
@@ -167,10 +169,10 @@ std::vector<BinOffset> order_by_pose_prior(std::vector<BinOffset> bins, const Po
 std::uint64_t best_bin_under_prior(const BeliefState& belief, const BeliefSummary& s, std::uint32_t object,
                                    const PoseWeighting& prior) {
   std::uint64_t best = s.best_key[object];
-  double score = units_to_bits(s.best_offset[object]) + prior.log2_weight(best);
+  double score = belief_math::units_to_bits(s.best_offset[object]) + prior.log2_weight(best);
   for (const BinOffset& b : belief.best_bins(kPosePriorCandidates)) {
     if (PoseSpace::object_of(b.key) != object) continue;
-    const double v = units_to_bits(b.offset) + prior.log2_weight(b.key);
+    const double v = belief_math::units_to_bits(b.offset) + prior.log2_weight(b.key);
     if (v > score || (v == score && b.key < best)) best = b.key, score = v;
   }
   return best;
@@ -232,10 +234,123 @@ BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::
     h.key = b.key;
     h.object = PoseSpace::object_of(b.key);
     h.pose = space.centre(b.key);
-    h.probability = pmath::exp2(-units_to_bits(s.max_offset - b.offset)) * scale;
+    h.probability = pmath::exp2(-belief_math::units_to_bits(s.max_offset - b.offset)) * scale;
     if (!object_weight.empty()) h.probability *= object_weight[h.object];
     e.top.push_back(h);
   }
+  return e;
+}
+
+namespace {
+
+// Modes of the belief the fine pose starts from (the best bin's parabolic peak first).
+constexpr std::size_t kRefineStarts = 4;
+
+// Object probabilities times the prior's weights, renormalised; unchanged without a prior.
+void weigh_by_prior(std::vector<double>& p, std::span<const double> prior_weight) {
+  if (prior_weight.empty()) return;
+  double z = 0.0;
+  for (std::size_t o = 0; o < p.size(); ++o) z += p[o] *= prior_weight[o];
+  for (double& x : p) x /= z;
+}
+
+PoseHypothesis public_hypothesis(const ModeHypothesis& m, const PoseSpace& space,
+                                 const std::vector<MapObject>& objects) {
+  PoseHypothesis h;
+  h.object = m.object;
+  h.object_name = objects[m.object].name;
+  h.pose = space.to_robot(m.pose);
+  h.probability = m.probability;
+  h.covariance = covariance_to_robot(m.covariance, space.workspace().R);
+  h.valid = true;
+  return h;
+}
+
+// The distinct hypotheses, in the robot frame. The best object's best mode carries the estimate's own pose (the
+// fine pose when refined), so hypotheses[0] and Estimate::pose agree.
+void add_hypotheses(const BayesFilter& filter, const std::vector<MapObject>& objects, const EstimateRequest& r,
+                    const BeliefEstimate& b, Estimate* e) {
+  const PoseSpace& space = filter.space();
+  const HypothesisSet set = hypotheses(filter.belief(), space, filter.belief().summarise(), r.top_k,
+                                       r.hypothesis_radius_bins, r.object_weight, r.pose_weighting);
+  for (const ModeHypothesis& m : set.modes) {
+    e->hypotheses.push_back(public_hypothesis(m, space, objects));
+    if (b.pose_valid && m.key == b.best_key) e->hypotheses.back().pose = e->pose;
+  }
+  for (std::uint32_t o = 0; o < set.per_object.size(); ++o) {
+    PoseHypothesis h;
+    h.object = o;
+    h.object_name = objects[o].name;
+    if (set.per_object_valid[o]) h = public_hypothesis(set.per_object[o], space, objects);
+    if (b.pose_valid && o == b.object) h.pose = e->pose;
+    e->object_hypotheses.push_back(h);
+  }
+}
+
+// The poses and the best bins of `e` (grid frame, from the belief) carried into the robot frame.
+void poses_to_robot(const PoseSpace& space, const std::vector<MapObject>& objects, const BeliefEstimate& b,
+                    Estimate* e) {
+  e->pose = space.to_robot(e->pose);
+  e->parabolic_pose = space.to_robot(e->parabolic_pose);
+  e->bin_pose = space.to_robot(e->bin_pose);
+  for (const BinHypothesis& h : b.top) {
+    Hypothesis out;
+    out.object = h.object;
+    out.object_name = objects[h.object].name;
+    out.pose = space.to_robot(h.pose);
+    out.probability = h.probability;
+    e->top.push_back(out);
+  }
+}
+
+}  // namespace
+
+ObservedReading to_grid(const PoseSpace& space, ObservedReading r) {
+  const RigidPose to = space.workspace().inverse();
+  r.position = to.apply(r.position);
+  r.normal = to.rotate(r.normal);
+  return r;
+}
+
+Estimate not_ready_estimate(std::size_t objects, std::span<const double> object_weight) {
+  Estimate e;
+  e.object_probability.assign(objects, object_weight.empty() ? 1.0 / static_cast<double>(objects) : 1.0);
+  weigh_by_prior(e.object_probability, object_weight);
+  return e;
+}
+
+Estimate appearance_estimate(const std::vector<double>& log_posterior, const std::vector<MapObject>& objects,
+                             std::span<const double> object_weight) {
+  Estimate e;
+  e.ready = true;
+  e.object_probability = AppearanceBaseline::posterior(log_posterior);
+  weigh_by_prior(e.object_probability, object_weight);
+  for (std::uint32_t o = 1; o < e.object_probability.size(); ++o)
+    if (e.object_probability[o] > e.object_probability[e.object]) e.object = o;
+  e.object_name = objects[e.object].name;
+  return e;
+}
+
+Estimate filter_estimate(const BayesFilter& filter, const std::vector<MapObject>& objects, const EstimateRequest& r) {
+  const BeliefEstimate b = filter.estimate(r.top_k, r.surface ? kRefineStarts : 1, r.object_weight, r.pose_weighting);
+  Estimate e;
+  e.ready = true;
+  e.object = b.object;
+  e.object_name = objects[b.object].name;
+  e.object_probability = b.object_probability;
+  e.pose_valid = b.pose_valid;
+  e.pose = b.pose;
+  e.parabolic_pose = b.parabolic_pose;
+  e.bin_pose = b.bin_pose;
+  if (r.surface && b.pose_valid) {
+    const RefinedPose fine = refine_pose(*r.surface, b.object, filter.observed(), b.modes, r.refine);
+    e.pose = fine.pose;
+    e.pose_refined = fine.refined;
+  }
+  poses_to_robot(filter.space(), objects, b, &e);
+  if (r.top_k > 0) add_hypotheses(filter, objects, r, b, &e);
+  e.votes_outside = filter.last_update().votes_outside;
+  e.votes_zero = filter.last_update().votes_zero;
   return e;
 }
 

@@ -1,7 +1,11 @@
 #pragma once
 // The estimate (DESIGN 4): from any backend's belief reductions, the posterior
 // per object, the best object's best bin refined below the bin size, and the
-// top-k bins over all objects. Computed once, here, for every backend.
+// top-k bins over all objects. Computed once, here, for every backend: each
+// belief answers through BeliefState (summarise, best_bins, offsets), so no
+// step here knows where the belief lives. Here too the public sva::Estimate is
+// put together from it (the fine pose, the distinct hypotheses, the grid's
+// frame to the robot's), so that one file answers for what a caller reads.
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -9,8 +13,13 @@
 
 #include <sva/pose.hpp>
 #include <sva/prior.hpp>
+#include <sva/recognizer.hpp>
 
 #include "belief/belief_state.hpp"
+#include "map/pair_map.hpp"
+#include "map/surface_index.hpp"
+#include "recognition/observed_reading.hpp"
+#include "recognition/pose_refinement.hpp"
 #include "votes/pose_space.hpp"
 
 namespace sva {
@@ -84,5 +93,36 @@ std::uint64_t best_bin_under_prior(const BeliefState& belief, const BeliefSummar
 // Bins ordered by their log-belief plus the pose prior's log2 weight, best first (ties keep best_bins' order:
 // the smaller key first). Without a prior: as given.
 std::vector<BinOffset> order_by_pose_prior(std::vector<BinOffset> bins, const PoseWeighting& prior);
+
+// The public estimate (sva::Estimate, robot frame). The belief and the fine pose work in the pose grid's frame (the
+// workspace frame); readings enter it through to_grid and every pose leaves it here.
+
+// A reading in the pose grid's frame: the belief and the fine pose never see the robot frame.
+ObservedReading to_grid(const PoseSpace& space, ObservedReading r);
+
+// Before any reading there is no evidence: the object posterior is the prior (uniform without one), and no
+// object, pose or hypothesis is reported, so that a caller cannot take a placeholder for an answer.
+// `object_weight`: per object, largest 1; empty: flat.
+Estimate not_ready_estimate(std::size_t objects, std::span<const double> object_weight);
+
+// Method::appearance: the appearance-only posterior of [15] times the prior; no pose.
+Estimate appearance_estimate(const std::vector<double>& log_posterior, const std::vector<MapObject>& objects,
+                             std::span<const double> object_weight);
+
+class BayesFilter;  // recognition/bayes_filter.hpp
+
+// What a session's estimate asks of its belief.
+struct EstimateRequest {
+  std::size_t top_k = 5;  // best bins and distinct hypotheses (0: neither)
+  int hypothesis_radius_bins = 1;
+  std::span<const double> object_weight;  // the prior over objects (largest 1; empty: flat)
+  const PoseWeighting& pose_weighting;    // the pose priors (none: empty)
+  const SurfaceIndex* surface = nullptr;  // the fine pose's training contacts; none: the parabolic pose
+  RefineSettings refine;                  // the fine pose's settings (with `surface`)
+};
+
+// Method::sva: the estimate of the filter's belief, refined against the surface when there is one, in the robot
+// frame, with the distinct hypotheses (hypotheses[0] carries Estimate::pose).
+Estimate filter_estimate(const BayesFilter& filter, const std::vector<MapObject>& objects, const EstimateRequest& r);
 
 }  // namespace sva

@@ -16,8 +16,6 @@ namespace sva {
 
 namespace {
 
-double units_to_bits(std::uint64_t units) { return static_cast<double>(units) / belief_math::kUnitsPerBit; }
-
 // The grid steps of a neighbourhood along one rotation axis. The planar angle wraps around, so its range is cut
 // to distinct bins when the radius would go round the circle.
 void rotation_steps(const PoseSpace& space, int radius, int* lo, int* hi) {
@@ -89,11 +87,11 @@ RigidPose parabolic_peak(const PoseSpace& space, const BinIndex& c, const Hood& 
   glm::dvec3 t = space.translation_centre(c), r = space.rotation_centre(c);
   const double tw = (spec.translation_max_mm - spec.translation_min_mm) / spec.translation_bins;
   const double rw = 2.0 * std::numbers::pi / spec.rotation_bins;
-  const double oc = units_to_bits(off.offsets.front()) + off.prior_of(0);
+  const double oc = belief_math::units_to_bits(off.offsets.front()) + off.prior_of(0);
   auto bits = [&](const BinIndex& b) {
     const auto i =
         static_cast<std::size_t>(std::find(off.keys.begin(), off.keys.end(), space.pack(b)) - off.keys.begin());
-    return units_to_bits(off.offsets[i]) + off.prior_of(i);
+    return belief_math::units_to_bits(off.offsets[i]) + off.prior_of(i);
   };
   for (int a = 0; a < 6; ++a) {
     const bool rotation = a >= 3;
@@ -140,7 +138,7 @@ void moments(const PoseSpace& space, const Hood& hood, std::uint64_t max_offset,
   double sum = 0.0;
   std::uint64_t mass = 0;
   double prior_mass = 0.0;  // with a pose prior: each bin's integer weight times the prior's there
-  const double centre_bits = units_to_bits(hood.offsets.front()) + hood.prior_of(0);
+  const double centre_bits = belief_math::units_to_bits(hood.offsets.front()) + hood.prior_of(0);
   std::array<double, 6> mean{};
   for (std::size_t i = 0; i < bins.size(); ++i) {
     const std::uint64_t offset = hood.offsets[i];
@@ -155,7 +153,7 @@ void moments(const PoseSpace& space, const Hood& hood, std::uint64_t max_offset,
       it = small_rotation.emplace(rkey, rotation::log(rotation::exp(space.rotation_centre(bins[i])) * r0t)).first;
     const glm::dvec3 dr = it->second;
     x[i] = {dt.x, dt.y, dt.z, dr.x, dr.y, dr.z};
-    w[i] = pmath::exp2(units_to_bits(offset) + hood.prior_of(i) - centre_bits);
+    w[i] = pmath::exp2(belief_math::units_to_bits(offset) + hood.prior_of(i) - centre_bits);
     sum += w[i];
     for (int a = 0; a < 6; ++a) mean[a] += w[i] * x[i][a];
   }

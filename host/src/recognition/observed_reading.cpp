@@ -5,11 +5,9 @@
 #include <cmath>
 #include <string>
 
-namespace sva {
+#include "core/finite.hpp"
 
-namespace {
-bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-}  // namespace
+namespace sva {
 
 ObservedReading validated(const ObservedReading& r, const PairMap& map, const char* what) {
   const std::string w = what;

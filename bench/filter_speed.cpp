@@ -86,11 +86,11 @@ int main(int argc, char** argv) try {
     sva::util::Rng rng(2026, static_cast<std::uint64_t>(t));
     sva::RigidPose truth;
     const glm::dvec3 axis = glm::normalize(glm::dvec3(rng.normal(), rng.normal(), rng.normal()));
-    truth.R = sva::rotation::exp(axis * rng.uniform(0.0, std::numbers::pi));
+    truth.R = sva::so3::exp(axis * rng.uniform(0.0, std::numbers::pi));
     const double lo = space.translation_min_mm, hi = space.translation_max_mm;
     truth.T = {rng.uniform(lo, hi), rng.uniform(lo, hi),
                space.kind == sva::PoseSpaceSpec::Kind::planar ? 0.0 : rng.uniform(lo, hi)};
-    if (space.kind == sva::PoseSpaceSpec::Kind::planar) truth.R = sva::rotation::about_z(rng.uniform(-3.1, 3.1));
+    if (space.kind == sva::PoseSpaceSpec::Kind::planar) truth.R = sva::so3::about_z(rng.uniform(-3.1, 3.1));
     sva::Recognizer rec(map, space, options);
     for (int i = 0; i < readings; ++i) {
       sva::Reading r = *pool[rng.below(pool.size())];

@@ -14,6 +14,7 @@
 #include <sva/scene.hpp>
 #include <sva/sim/simulate.hpp>
 
+#include "core/so3.hpp"
 #include "map/map_access.hpp"
 #include "eval/metrics.hpp"
 #include "map/map_file.hpp"
@@ -49,18 +50,12 @@ double brute_axis_error(const glm::dmat3& R, const glm::dmat3& Rh, glm::dvec3 ax
   double best = 10.0;
   for (int k = 0; k < 20000; ++k) {
     double g = 2.0 * std::numbers::pi * k / 20000;
-    best = std::min(best, rotation_angle(glm::transpose(Rh) * R * rot(g, axis)));
+    best = std::min(best, so3::angle_sincos(glm::transpose(Rh) * R * rot(g, axis)));
   }
   return best;
 }
 
 }  // namespace
-
-TEST_CASE("rotation_angle is exact near 0, in the middle and near pi") {
-  for (double a : {0.0, 1e-7, 0.3, 1.0, 2.0, std::numbers::pi - 1e-7, std::numbers::pi})
-    for (glm::dvec3 axis : {glm::dvec3(1, 0, 0), glm::dvec3(0.3, -0.5, 0.8), glm::dvec3(0, 0, -1)})
-      CHECK(rotation_angle(rot(a, axis)) == Approx(a).margin(1e-9));
-}
 
 TEST_CASE("angular error without symmetry is the angle of R R_hat^T") {
   glm::dmat3 R = rot(0.7, {1, 2, 3});
@@ -143,23 +138,6 @@ TEST_CASE("median and percentile") {
   CHECK(*percentile(v, 100.0) == 100.0);
 }
 
-TEST_CASE("rotation_vector inverts axis-angle, also near 0 and pi") {
-  util::Rng rng(21, 4);
-  for (int i = 0; i < 200; ++i) {
-    glm::dmat3 R = uniform_rotation(rng);
-    glm::dvec3 v = rotation_vector(R);
-    REQUIRE(glm::length(v) <= std::numbers::pi + 1e-12);
-    glm::dmat3 back = glm::length(v) > 0 ? rot(glm::length(v), v) : glm::dmat3(1.0);
-    CHECK(rotation_angle(glm::transpose(back) * R) < 1e-9);
-  }
-  for (double a : {0.0, 1e-9, std::numbers::pi - 1e-9, std::numbers::pi}) {
-    const glm::dvec3 axis = glm::normalize(glm::dvec3(0.2, -0.7, 0.4));
-    glm::dvec3 v = rotation_vector(rot(a, axis));
-    CHECK(glm::length(v) == Approx(a).margin(1e-9));
-    if (a > 1.0) CHECK(std::abs(glm::dot(glm::normalize(v), axis)) == Approx(1.0).margin(1e-6));
-  }
-}
-
 // --- Symmetry axes through any point (the translational error), and mean / p90 beside the median.
 
 namespace {
@@ -227,8 +205,8 @@ TEST_CASE("closest_symmetry attains Eq 22's minimum") {
     const glm::dmat3 R = rot(rng.uniform(0.0, 3.0), {rng.normal(), rng.normal(), rng.normal()});
     const glm::dmat3 Rh = rot(rng.uniform(0.0, 3.0), {rng.normal(), rng.normal(), rng.normal()});
     const glm::dmat3 S = closest_symmetry(R, Rh, s);
-    CHECK(rotation_angle(glm::transpose(R * S) * Rh) == Approx(angular_error(R, Rh, s)).margin(1e-7));
-    CHECK(rotation_angle(glm::transpose(S) * S) < 1e-9);  // a rotation
+    CHECK(so3::angle_sincos(glm::transpose(R * S) * Rh) == Approx(angular_error(R, Rh, s)).margin(1e-7));
+    CHECK(so3::angle_sincos(glm::transpose(S) * S) < 1e-9);  // a rotation
   }
 }
 

@@ -11,6 +11,7 @@
 #include <numbers>
 #include <set>
 
+#include "core/so3.hpp"
 #include "eval/metrics.hpp"
 
 using namespace sva;
@@ -68,7 +69,7 @@ TEST_CASE("uniform SO(3) sampling: rotations, zero mean matrix, Haar angle distr
     for (int c = 0; c < 3; ++c)
       for (int r = 0; r < 3; ++r) REQUIRE(E[c][r] == Approx(c == r ? 1.0 : 0.0).margin(1e-9));
     sum += R;
-    below_half_pi += rotation_angle(R) < std::numbers::pi / 2;
+    below_half_pi += so3::angle_sincos(R) < std::numbers::pi / 2;
   }
   // E[R] = 0 under the Haar measure; each entry has variance 1/3.
   for (int c = 0; c < 3; ++c)

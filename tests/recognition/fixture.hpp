@@ -134,18 +134,18 @@ inline RigidPose random_pose(std::uint64_t seed, double t_range, bool planar = f
   util::Rng rng(seed, 99);
   RigidPose p;
   if (planar) {
-    p.R = rotation::about_z(rng.uniform(-3.0, 3.0));
+    p.R = so3::about_z(rng.uniform(-3.0, 3.0));
     p.T = {rng.uniform(-t_range, t_range), rng.uniform(-t_range, t_range), 0.0};
   } else {
     glm::dvec3 axis(rng.normal(), rng.normal(), rng.normal());
     axis = glm::normalize(axis);
-    p.R = rotation::exp(axis * rng.uniform(0.2, 3.0));
+    p.R = so3::exp(axis * rng.uniform(0.2, 3.0));
     p.T = {rng.uniform(-t_range, t_range), rng.uniform(-t_range, t_range), rng.uniform(-t_range, t_range)};
   }
   return p;
 }
 
-inline double angle_between(const glm::dmat3& a, const glm::dmat3& b) { return rotation::angle(glm::transpose(a) * b); }
+inline double angle_between(const glm::dmat3& a, const glm::dmat3& b) { return so3::angle(glm::transpose(a) * b); }
 
 // Translation width of one bin of a space.
 inline double bin_width(const PoseSpaceSpec& s) {

@@ -117,7 +117,7 @@ TEST_CASE("hypotheses: planar modes wrap the angle and fix z and the out-of-plan
   const double rw = 2.0 * std::numbers::pi / rb;
   CHECK(cov[35] > rw * rw / 12.0);  // the wrapped neighbour spreads the angle
   // The parabola pulls the peak towards the wrapped neighbour (below a's centre angle).
-  CHECK(rotation::log(h.modes[0].pose.R).z < space.rotation_centre(a).z);
+  CHECK(so3::log(h.modes[0].pose.R).z < space.rotation_centre(a).z);
 }
 
 TEST_CASE("hypotheses: an untouched belief has none, and the covariance turns with the workspace") {
@@ -129,7 +129,7 @@ TEST_CASE("hypotheses: an untouched belief has none, and the covariance turns wi
   std::array<double, 36> c{};
   c[0] = 4.0;   // x
   c[21] = 0.5;  // rotation about X
-  const std::array<double, 36> r = covariance_to_robot(c, rotation::about_z(std::numbers::pi / 2));
+  const std::array<double, 36> r = covariance_to_robot(c, so3::about_z(std::numbers::pi / 2));
   CHECK(r[7] == Approx(4.0));  // x of the grid is y of the robot
   CHECK(r[0] == Approx(0.0).margin(1e-12));
   CHECK(r[28] == Approx(0.5));  // so is the rotation about it

@@ -86,7 +86,7 @@ std::vector<ObservedReading> readings_of(const Sampler& sample, const RigidPose&
 // The truth moved by a bin-sized error: `shift` mm and `angle` rad about a fixed oblique axis.
 RigidPose offset(const RigidPose& truth, const glm::dvec3& shift, double angle) {
   RigidPose p = truth;
-  p.R = rotation::exp(angle * glm::normalize(glm::dvec3(1.0, -2.0, 0.5))) * truth.R;
+  p.R = so3::exp(angle * glm::normalize(glm::dvec3(1.0, -2.0, 0.5))) * truth.R;
   p.T = truth.T + shift;
   return p;
 }
@@ -210,7 +210,7 @@ TEST_CASE("fine pose: a body of revolution keeps its spin at the start's value a
   const auto obs = readings_of(cylinder_sample, truth, 30, 22);
   // Start: spun by 25 degrees about the cylinder's own axis, then tilted and shifted.
   RigidPose spun = truth;
-  spun.R = truth.R * rotation::about_z(25.0 * std::numbers::pi / 180.0);
+  spun.R = truth.R * so3::about_z(25.0 * std::numbers::pi / 180.0);
   const RigidPose start = offset(spun, glm::dvec3(3.0, -3.0, 2.0), 0.12);
   const RefinedPose r = refine_pose(index, 0, obs, std::span(&start, 1), paper_settings());
   REQUIRE(finite_pose(r.pose));
@@ -263,7 +263,7 @@ TEST_CASE("fine pose: a planar space moves x, y and the angle only") {
   const RigidPose truth = test::random_pose(12, 8.0, true);
   const auto obs = readings_of(wall, truth, 20, 13, 0.01, 0.01);
   RigidPose start = truth;
-  start.R = rotation::about_z(0.15) * truth.R;
+  start.R = so3::about_z(0.15) * truth.R;
   start.T += glm::dvec3(0.6, -0.5, 0.0);
   const RefinedPose r = refine_pose(index, 0, obs, std::span(&start, 1), refine_settings(space));
   CHECK(r.refined);

@@ -202,7 +202,7 @@ TEST_CASE("Recognizer: a workspace frame recognises the object where the box is 
   const Trained& t = trained();
   const RigidPose truth = random_pose(610, 60.0);
   RigidPose workspace;
-  workspace.R = rotation::exp(glm::dvec3(0.3, -0.2, 0.5));
+  workspace.R = so3::exp(glm::dvec3(0.3, -0.2, 0.5));
   workspace.T = {700.0, -350.0, 420.0};
   Recognizer at_origin(t.map, paper_space());
   Recognizer placed(t.map, placed_pose_space(paper_space(), workspace.T, 200.0, workspace.R));

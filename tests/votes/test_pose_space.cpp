@@ -30,7 +30,7 @@ TEST_CASE("pose space refuses specs that do not fit the bin key") {
 }
 
 TEST_CASE("pose space refuses a workspace frame that is not rigid, or that tilts a planar space") {
-  PoseSpaceSpec s = placed_pose_space(paper_space(), {500.0, 0.0, 0.0}, 100.0, rotation::exp({0.0, 0.4, 0.0}));
+  PoseSpaceSpec s = placed_pose_space(paper_space(), {500.0, 0.0, 0.0}, 100.0, so3::exp({0.0, 0.4, 0.0}));
   CHECK_NOTHROW(PoseSpace(s, 3));
   CHECK(PoseSpace(s, 3).to_robot(RigidPose{}).T.x == 500.0);
   s.workspace.R = 2.0 * s.workspace.R;  // a scale
@@ -41,9 +41,9 @@ TEST_CASE("pose space refuses a workspace frame that is not rigid, or that tilts
   s.workspace.R = glm::dmat3(1.0);
   s.workspace.T.y = std::numeric_limits<double>::infinity();
   CHECK_THROWS_WITH(PoseSpace(s, 3), Catch::Contains("workspace centre"));
-  PoseSpaceSpec planar = placed_pose_space(letters_space(), {30.0, 40.0, 5.0}, 10.0, rotation::about_z(0.7));
+  PoseSpaceSpec planar = placed_pose_space(letters_space(), {30.0, 40.0, 5.0}, 10.0, so3::about_z(0.7));
   CHECK_NOTHROW(PoseSpace(planar, 3));
-  planar.workspace.R = rotation::exp({0.2, 0.0, 0.0});
+  planar.workspace.R = so3::exp({0.2, 0.0, 0.0});
   CHECK_THROWS_WITH(PoseSpace(planar, 3), Catch::Contains("planar"));
 }
 
@@ -80,13 +80,13 @@ TEST_CASE("bin keys pack and unpack, and bin centres fall in their own bins") {
   PoseSpace space(paper_space(), 1);
   std::uint64_t key = 0;
   RigidPose p;
-  p.R = rotation::exp(glm::dvec3(0.3, -0.2, 0.1));
+  p.R = so3::exp(glm::dvec3(0.3, -0.2, 0.1));
   REQUIRE(space.bin_of(0, p, &key));
   int n = 0;
   space.for_each_neighbour(key, [&](std::uint64_t) { ++n; });
   CHECK(n == 729);
   PoseSpace planar(letters_space(), 1);
-  REQUIRE(planar.bin_of(0, RigidPose{rotation::about_z(0.2), glm::dvec3(-9.9, 0.0, 0.0)}, &key));
+  REQUIRE(planar.bin_of(0, RigidPose{so3::about_z(0.2), glm::dvec3(-9.9, 0.0, 0.0)}, &key));
   n = 0;
   planar.for_each_neighbour(key, [&](std::uint64_t) { ++n; });
   CHECK(n == 18);

@@ -8,10 +8,19 @@
 #include <cmath>
 #include <numbers>
 
-namespace sva::rotation {
+namespace sva::so3 {
 
 namespace {
-glm::dmat3 skew(const glm::dvec3& v) {
+glm::dvec3 canonical_at_pi(glm::dvec3 r) {
+  glm::dvec3 a = glm::abs(r);
+  double lead = r.x;
+  if (a.y > a.x && a.y >= a.z) lead = r.y;
+  if (a.z > a.x && a.z > a.y) lead = r.z;
+  return lead < 0.0 ? -r : r;
+}
+}  // namespace
+
+glm::dmat3 hat(const glm::dvec3& v) {
   // glm is column-major: m[col][row].
   glm::dmat3 m(0.0);
   m[1][0] = -v.z;
@@ -23,18 +32,13 @@ glm::dmat3 skew(const glm::dvec3& v) {
   return m;
 }
 
-glm::dvec3 canonical_at_pi(glm::dvec3 r) {
-  glm::dvec3 a = glm::abs(r);
-  double lead = r.x;
-  if (a.y > a.x && a.y >= a.z) lead = r.y;
-  if (a.z > a.x && a.z > a.y) lead = r.z;
-  return lead < 0.0 ? -r : r;
+glm::dvec3 vee(const glm::dmat3& M) {
+  return 0.5 * glm::dvec3(M[1][2] - M[2][1], M[2][0] - M[0][2], M[0][1] - M[1][0]);
 }
-}  // namespace
 
 glm::dmat3 exp(const glm::dvec3& r) {
   const double theta = glm::length(r);
-  const glm::dmat3 K = skew(r);
+  const glm::dmat3 K = hat(r);
   double a, b;
   if (theta < 1e-6) {  // Taylor: sin(t)/t and (1-cos t)/t^2
     a = 1.0 - theta * theta / 6.0;
@@ -92,7 +96,36 @@ glm::dvec3 log(const glm::dmat3& R) {
 
 double angle(const glm::dmat3& R) { return glm::length(log(R)); }
 
+double angle_sincos(const glm::dmat3& R) {
+  const double s = glm::length(vee(R));                        // sin(theta)
+  const double c = (R[0][0] + R[1][1] + R[2][2] - 1.0) / 2.0;  // cos(theta)
+  return pmath::atan2(s, c);
+}
+
+glm::dvec3 log_sincos(const glm::dmat3& R) {
+  const double theta = angle_sincos(R);
+  if (theta < 1e-12) return glm::dvec3(0.0);
+  const glm::dvec3 s = vee(R);  // sin(theta) * axis
+  if (pmath::sin(theta) > 1e-6) return theta / glm::length(s) * s;
+  // Near pi the skew part vanishes: the axis is the dominant column of
+  // (R + I) / 2 = u u^T (+ O(pi - theta)), its sign taken from the skew part.
+  const glm::dmat3 B = 0.5 * (R + glm::dmat3(1.0));
+  int k = 0;
+  for (int i = 1; i < 3; ++i)
+    if (B[i][i] > B[k][k]) k = i;
+  glm::dvec3 u = glm::normalize(B[k]);
+  if (glm::dot(u, s) < 0.0) u = -u;
+  return theta * u;
+}
+
+double angle_from_trace(double trace) { return pmath::acos(std::clamp((trace - 1.0) / 2.0, -1.0, 1.0)); }
+
 glm::dmat3 about_z(double a) { return exp(glm::dvec3(0.0, 0.0, a)); }
+
+glm::dmat3 about_axis(const glm::dvec3& axis, double a) {
+  return pmath::cos(a) * glm::dmat3(1.0) + pmath::sin(a) * hat(axis) +
+         (1.0 - pmath::cos(a)) * glm::outerProduct(axis, axis);
+}
 
 glm::dmat3 orthonormalize(const glm::dmat3& M) {
   // Gram-Schmidt on the columns; enough for matrices that are rotations up to rounding.
@@ -112,4 +145,4 @@ bool is_rotation(const glm::dmat3& R) {
   return glm::determinant(R) > 0.0;
 }
 
-}  // namespace sva::rotation
+}  // namespace sva::so3

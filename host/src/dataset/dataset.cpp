@@ -8,6 +8,8 @@
 
 #include <sva/io/binary_file.hpp>
 
+#include "core/finite.hpp"
+
 namespace sva {
 
 namespace {
@@ -17,7 +19,6 @@ constexpr char kMagic[] = "SVADATA1";
 constexpr std::uint32_t kVersion = 2;
 constexpr std::uint32_t kOldestVersion = 1;
 
-bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 void put3(io::BinaryWriter& w, const glm::dvec3& v) { w.put_array(&v.x, 3); }
 glm::dvec3 get3(io::BinaryReader& r) {
   glm::dvec3 v;
@@ -109,8 +110,7 @@ Dataset load_dataset(const std::filesystem::path& file) {
       bad("non-finite sensor or object pose");
     if (std::abs(glm::length(rd.normal) - 1.0) > 1e-6 || std::abs(glm::length(rd.x_axis) - 1.0) > 1e-6)
       bad("sensor normal and x axis must be unit vectors");
-    for (int c = 0; c < 3; ++c)
-      if (!finite(s.object_pose.R[c])) bad("non-finite object rotation");
+    if (!finite(s.object_pose.R)) bad("non-finite object rotation");
     rd.pressure.resize(elements);
     r.get_array(rd.pressure.data(), elements);
     rd.rows = d.scene.sensor.rows;

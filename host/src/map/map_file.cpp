@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "appearance/descriptor.hpp"
+#include "core/finite.hpp"
 
 namespace sva {
 
@@ -259,10 +260,8 @@ void validate_pair_map(const PairMap& m, const std::string& origin) {
   for (const auto& o : m.objects) {
     if (!std::isfinite(o.inertial_radius_mm) || o.inertial_radius_mm < 0)
       fail("object \"" + o.name + "\": invalid inertial radius");
-    if (!std::isfinite(o.symmetry.axis.x) || !std::isfinite(o.symmetry.axis.y) || !std::isfinite(o.symmetry.axis.z))
-      fail("object \"" + o.name + "\": invalid symmetry axis");
-    if (!std::isfinite(o.symmetry.point.x) || !std::isfinite(o.symmetry.point.y) || !std::isfinite(o.symmetry.point.z))
-      fail("object \"" + o.name + "\": invalid symmetry point");
+    if (!finite(o.symmetry.axis)) fail("object \"" + o.name + "\": invalid symmetry axis");
+    if (!finite(o.symmetry.point)) fail("object \"" + o.name + "\": invalid symmetry point");
     for (const auto& R : o.symmetry.rotations)
       for (int c = 0; c < 3; ++c)
         for (int rr = 0; rr < 3; ++rr)

@@ -24,16 +24,16 @@ namespace {
 glm::dmat3 rotation_onto(const glm::dvec3& from, const glm::dvec3& to) {
   const glm::dvec3 axis = glm::cross(from, to);
   const double s = glm::length(axis), c = glm::dot(from, to);
-  if (s > 1e-12) return rotation::exp(axis / s * pmath::atan2(s, c));
+  if (s > 1e-12) return so3::exp(axis / s * pmath::atan2(s, c));
   if (c > 0.0) return glm::dmat3(1.0);
   const glm::dvec3 any = std::abs(from.x) < 0.9 ? glm::dvec3(1.0, 0.0, 0.0) : glm::dvec3(0.0, 1.0, 0.0);
-  return rotation::exp(glm::normalize(glm::cross(from, any)) * std::numbers::pi);
+  return so3::exp(glm::normalize(glm::cross(from, any)) * std::numbers::pi);
 }
 
 // The pose that puts training contact `p` (object frame) at the touch, its normal along the touch's, turned by
 // `beta` about that normal.
 RigidPose aligned_pose(const SurfacePoint& p, const ObservedReading& touch, double beta) {
-  const glm::dmat3 R = rotation::exp(touch.normal * beta) * rotation_onto(glm::normalize(p.normal), touch.normal);
+  const glm::dmat3 R = so3::exp(touch.normal * beta) * rotation_onto(glm::normalize(p.normal), touch.normal);
   return {R, touch.position - R * p.position};
 }
 

@@ -14,6 +14,7 @@
 
 #include <sva/base/portable_math.hpp>
 #include <sva/base/rng.hpp>
+#include "core/finite.hpp"
 #include "map/map_access.hpp"
 #include "planning/contact_classes.hpp"
 #include "planning/planner_state.hpp"
@@ -51,9 +52,7 @@ namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-bool finite_pose(const RigidPose& p) { return finite(p.T) && finite(p.R[0]) && finite(p.R[1]) && finite(p.R[2]); }
+bool finite_pose(const RigidPose& p) { return finite(p.T) && finite(p.R); }
 
 // A hypothesis as the planner weighs it.
 struct Weighed {

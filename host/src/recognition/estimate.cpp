@@ -99,7 +99,7 @@ RigidPose refine(const BeliefState& belief, const PoseSpace& space, std::uint64_
   }
   RigidPose pose;
   pose.T = t;
-  pose.R = rotation::exp(r);
+  pose.R = so3::exp(r);
   return pose;
 }
 
@@ -192,7 +192,7 @@ double PoseWeighting::log2_weight(std::uint32_t object, const RigidPose& grid_po
   const glm::dvec3 d = pose.T - p.position;
   double nats = 0.5 * glm::dot(d, d) / (p.position_sigma_mm * p.position_sigma_mm);
   if (p.has_rotation) {
-    const double a = rotation::angle(glm::transpose(p.rotation) * pose.R);
+    const double a = so3::angle(glm::transpose(p.rotation) * pose.R);
     nats += 0.5 * a * a / (p.rotation_sigma_rad * p.rotation_sigma_rad);
   }
   return -nats / std::numbers::ln2;

@@ -117,7 +117,7 @@ RigidPose parabolic_peak(const PoseSpace& space, const BinIndex& c, const Hood& 
   }
   RigidPose pose;
   pose.T = t;
-  pose.R = rotation::exp(r);
+  pose.R = so3::exp(r);
   return pose;
 }
 
@@ -131,7 +131,7 @@ void moments(const PoseSpace& space, const Hood& hood, std::uint64_t max_offset,
   const PoseSpaceSpec& spec = space.spec();
   const std::vector<BinIndex>& bins = hood.bins;
   const glm::dvec3 t0 = space.translation_centre(bins.front());
-  const glm::dmat3 r0t = glm::transpose(rotation::exp(space.rotation_centre(bins.front())));
+  const glm::dmat3 r0t = glm::transpose(so3::exp(space.rotation_centre(bins.front())));
   std::vector<std::array<double, 6>> x(bins.size());
   std::vector<double> w(bins.size());
   std::map<std::array<int, 3>, glm::dvec3> small_rotation;
@@ -150,7 +150,7 @@ void moments(const PoseSpace& space, const Hood& hood, std::uint64_t max_offset,
     const std::array<int, 3> rkey{bins[i].r[0], bins[i].r[1], bins[i].r[2]};
     auto it = small_rotation.find(rkey);
     if (it == small_rotation.end())
-      it = small_rotation.emplace(rkey, rotation::log(rotation::exp(space.rotation_centre(bins[i])) * r0t)).first;
+      it = small_rotation.emplace(rkey, so3::log(so3::exp(space.rotation_centre(bins[i])) * r0t)).first;
     const glm::dvec3 dr = it->second;
     x[i] = {dt.x, dt.y, dt.z, dr.x, dr.y, dr.z};
     w[i] = pmath::exp2(belief_math::units_to_bits(offset) + hood.prior_of(i) - centre_bits);

@@ -272,9 +272,9 @@ RigidPose Problem::apply(const RigidPose& pose, const Vec& delta, double t) cons
   Vec full{};
   for (int k = 0; k < dim_; ++k) full[full_index(k)] = t * delta[k];
   const glm::dvec3 w = glm::dvec3(full[0], full[1], full[2]) / spread_, v(full[3], full[4], full[5]);
-  const glm::dmat3 turn = rotation::exp(w);
+  const glm::dmat3 turn = so3::exp(w);
   RigidPose out;
-  out.R = rotation::orthonormalize(turn * pose.R);
+  out.R = so3::orthonormalize(turn * pose.R);
   out.T = turn * (pose.T - centre_) + centre_ + v;
   if (s_.planar) out.T.z = pose.T.z;
   return out;

@@ -44,7 +44,7 @@ void check_pose_priors(const Prior& prior, std::size_t objects) {
       throw Error(what + "position_sigma_mm = " + std::to_string(p[o]->position_sigma_mm) + " must be > 0");
     if (!p[o]->has_rotation) continue;
     // Finite, orthonormal to 1e-6 and proper.
-    if (!rotation::is_rotation(p[o]->rotation)) throw Error(what + "the rotation is not a rotation matrix");
+    if (!so3::is_rotation(p[o]->rotation)) throw Error(what + "the rotation is not a rotation matrix");
     if (!(p[o]->rotation_sigma_rad > 0.0) || !std::isfinite(p[o]->rotation_sigma_rad))
       throw Error(what + "rotation_sigma_rad = " + std::to_string(p[o]->rotation_sigma_rad) + " must be > 0");
   }

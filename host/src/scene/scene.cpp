@@ -117,8 +117,7 @@ Symmetry parse_symmetry(const Ctx& c, const json& j, const std::string& path) {
     int order = c.integer(j["order"], path + ".order", 1, 360);
     s.kind = Symmetry::Kind::discrete;
     s.axis = axis;
-    for (int k = 0; k < order; ++k)
-      s.rotations.push_back(rotation::exp(glm::normalize(axis) * (2.0 * M_PI * k / order)));
+    for (int k = 0; k < order; ++k) s.rotations.push_back(so3::exp(glm::normalize(axis) * (2.0 * M_PI * k / order)));
   } else {
     c.fail(path + ".type", "unknown symmetry type \"" + type + "\" (none, axis, cyclic)");
   }

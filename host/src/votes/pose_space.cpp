@@ -98,7 +98,7 @@ RigidPose PoseSpace::centre(std::uint64_t key) const {
   const BinIndex b = unpack(key);
   RigidPose p;
   p.T = translation_centre(b);
-  p.R = rotation::exp(rotation_centre(b));
+  p.R = so3::exp(rotation_centre(b));
   return p;
 }
 
@@ -114,7 +114,7 @@ bool PoseSpace::bin_of(std::uint32_t object, const RigidPose& pose, std::uint64_
     if (!(f >= 0.0 && f < spec_.translation_bins)) return false;
     b.t[k] = static_cast<int>(f);
   }
-  glm::dvec3 r = rotation::log(pose.R);
+  glm::dvec3 r = so3::log(pose.R);
   if (planar()) r = glm::dvec3(0.0, 0.0, r.z);
   for (int k = planar() ? 2 : 0; k < 3; ++k)
     b.r[k] = std::min(static_cast<int>(std::floor((r[k] + std::numbers::pi) / rw)), spec_.rotation_bins - 1);

@@ -108,7 +108,7 @@ json result_json(const BatchSession& s, const Estimate& e, std::span<const std::
 json pose_json(const RigidPose& p) {
   json R = json::array();
   for (int r = 0; r < 3; ++r) R.push_back(json::array({p.R[0][r], p.R[1][r], p.R[2][r]}));  // row-major rows
-  return {{"R", R}, {"T", vec3_json(p.T)}, {"rodrigues", vec3_json(rotation::log(p.R))}};
+  return {{"R", R}, {"T", vec3_json(p.T)}, {"rodrigues", vec3_json(so3::log(p.R))}};
 }
 
 std::vector<BatchSession> parse_batch_sessions(std::string_view text, const std::string& file, std::size_t first_line,

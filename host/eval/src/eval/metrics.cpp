@@ -1,5 +1,7 @@
 #include "eval/metrics.hpp"
 
+#include "core/so3.hpp"
+
 #include <sva/base/portable_math.hpp>
 
 #include <algorithm>
@@ -10,45 +12,9 @@ namespace sva::eval {
 
 namespace {
 
-// The vector v with sk(v) = (M - M^T) / 2; glm is column-major (M[col][row]).
-glm::dvec3 unskew_antisymmetric(const glm::dmat3& M) {
-  return 0.5 * glm::dvec3(M[1][2] - M[2][1], M[2][0] - M[0][2], M[0][1] - M[1][0]);
-}
-
 double trace(const glm::dmat3& M) { return M[0][0] + M[1][1] + M[2][2]; }
 
-glm::dmat3 skew(const glm::dvec3& a) {
-  // Columns of [a]x.
-  return glm::dmat3(glm::dvec3(0.0, a.z, -a.y), glm::dvec3(-a.z, 0.0, a.x), glm::dvec3(a.y, -a.x, 0.0));
-}
-
-// The angle whose cosine is (trace - 1) / 2 when only the best trace is known
-// (the axis case below), clamped against rounding.
-double angle_from_trace(double tr) { return pmath::acos(std::clamp((tr - 1.0) / 2.0, -1.0, 1.0)); }
-
 }  // namespace
-
-double rotation_angle(const glm::dmat3& R) {
-  const double s = glm::length(unskew_antisymmetric(R));  // sin(theta)
-  const double c = (trace(R) - 1.0) / 2.0;                // cos(theta)
-  return pmath::atan2(s, c);
-}
-
-glm::dvec3 rotation_vector(const glm::dmat3& R) {
-  const double theta = rotation_angle(R);
-  if (theta < 1e-12) return glm::dvec3(0.0);
-  const glm::dvec3 s = unskew_antisymmetric(R);  // sin(theta) * axis
-  if (pmath::sin(theta) > 1e-6) return theta / glm::length(s) * s;
-  // Near pi the skew part vanishes: the axis is the dominant column of
-  // (R + I) / 2 = u u^T (+ O(pi - theta)), its sign taken from the skew part.
-  const glm::dmat3 B = 0.5 * (R + glm::dmat3(1.0));
-  int k = 0;
-  for (int i = 1; i < 3; ++i)
-    if (B[i][i] > B[k][k]) k = i;
-  glm::dvec3 u = glm::normalize(B[k]);
-  if (glm::dot(u, s) < 0.0) u = -u;
-  return theta * u;
-}
 
 double angular_error(const glm::dmat3& R_true, const glm::dmat3& R_est, const Symmetry& symmetry) {
   // The estimate is as good as the truth composed with any symmetry S of the
@@ -57,10 +23,10 @@ double angular_error(const glm::dmat3& R_true, const glm::dmat3& R_est, const Sy
   const glm::dmat3 Q = glm::transpose(R_est) * R_true;
   switch (symmetry.kind) {
     case Symmetry::Kind::none:
-      return rotation_angle(Q);
+      return so3::angle_sincos(Q);
     case Symmetry::Kind::discrete: {
-      double best = rotation_angle(Q);  // the identity is always a symmetry
-      for (const auto& S : symmetry.rotations) best = std::min(best, rotation_angle(Q * S));
+      double best = so3::angle_sincos(Q);  // the identity is always a symmetry
+      for (const auto& S : symmetry.rotations) best = std::min(best, so3::angle_sincos(Q * S));
       return best;
     }
     case Symmetry::Kind::axis: {
@@ -70,13 +36,13 @@ double angular_error(const glm::dmat3& R_true, const glm::dmat3& R_est, const Sy
       const glm::dvec3 a = glm::normalize(symmetry.axis);
       const double aQa = glm::dot(a, Q * a);
       const double A = trace(Q) - aQa;
-      const double B = trace(Q * skew(a));
+      const double B = trace(Q * so3::hat(a));
       const double best_trace = std::sqrt(A * A + B * B) + aQa;
-      return std::min(angle_from_trace(best_trace), rotation_angle(Q));
+      return std::min(so3::angle_from_trace(best_trace), so3::angle_sincos(Q));
     }
   }
   assert(false);
-  return rotation_angle(Q);
+  return so3::angle_sincos(Q);
 }
 
 glm::dmat3 closest_symmetry(const glm::dmat3& R_true, const glm::dmat3& R_est, const Symmetry& symmetry) {
@@ -86,9 +52,9 @@ glm::dmat3 closest_symmetry(const glm::dmat3& R_true, const glm::dmat3& R_est, c
       return glm::dmat3(1.0);
     case Symmetry::Kind::discrete: {
       glm::dmat3 best(1.0);
-      double best_angle = rotation_angle(Q);
+      double best_angle = so3::angle_sincos(Q);
       for (const auto& S : symmetry.rotations) {
-        const double a = rotation_angle(Q * S);
+        const double a = so3::angle_sincos(Q * S);
         if (a < best_angle) {
           best_angle = a;
           best = S;
@@ -100,10 +66,8 @@ glm::dmat3 closest_symmetry(const glm::dmat3& R_true, const glm::dmat3& R_est, c
       // trace(Q R_a(g)) = A cos g + B sin g + C (angular_error) is largest at g = atan2(B, A).
       const glm::dvec3 a = glm::normalize(symmetry.axis);
       const double A = trace(Q) - glm::dot(a, Q * a);
-      const double B = trace(Q * skew(a));
-      const double g = pmath::atan2(B, A);
-      return pmath::cos(g) * glm::dmat3(1.0) + pmath::sin(g) * skew(a) +
-             (1.0 - pmath::cos(g)) * glm::outerProduct(a, a);
+      const double B = trace(Q * so3::hat(a));
+      return so3::about_axis(a, pmath::atan2(B, A));
     }
   }
   assert(false);

@@ -9,13 +9,7 @@
 
 namespace sva::eval {
 
-// The angle of a rotation matrix, in [0, pi]. Uses atan2 of the skew and
-// symmetric parts so it stays accurate near 0 and near pi, where acos of the
-// trace loses half the digits.
-double rotation_angle(const glm::dmat3& R);
-
-// The rotation vector (axis times angle, radians) of R; stable near 0 and pi.
-glm::dvec3 rotation_vector(const glm::dmat3& R);
+// Rotation angles and vectors: so3::angle_sincos and so3::log_sincos (core/so3.hpp).
 
 // Angle of the rotation that aligns the estimate with the truth, taking the
 // object's symmetry into account (Eq 22): for an axis of revolution the

@@ -1,6 +1,7 @@
 #include <sva/eval/report.hpp>
 #include "eval/table_cell.hpp"
 
+#include "core/so3.hpp"
 #include "eval/metrics.hpp"
 
 #include <sva/error.hpp>
@@ -30,7 +31,7 @@ std::string num(double v) {
 
 // Translation (mm) and rotation vector (rad): six CSV cells.
 std::string pose_cells(const RigidPose& p) {
-  const glm::dvec3 r = rotation_vector(p.R);
+  const glm::dvec3 r = so3::log_sincos(p.R);
   return num(p.T.x) + ',' + num(p.T.y) + ',' + num(p.T.z) + ',' + num(r.x) + ',' + num(r.y) + ',' + num(r.z);
 }
 

@@ -13,6 +13,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "core/finite.hpp"
 #include "eval/metrics.hpp"
 #include "eval/session_pool.hpp"
 
@@ -27,8 +28,7 @@ void record_step(StepResult& s, const Estimate& est, const Trial& trial, const S
   s.correct = est.object == trial.object;
   s.true_object_probability = trial.object < est.object_probability.size() ? est.object_probability[trial.object] : 0.0;
   s.pose_valid = est.pose_valid;
-  if (s.pose_valid && !(std::isfinite(est.pose.T.x) && std::isfinite(est.pose.T.y) && std::isfinite(est.pose.T.z) &&
-                        std::isfinite(est.pose.R[0][0] + est.pose.R[1][1] + est.pose.R[2][2])))
+  if (s.pose_valid && !(finite(est.pose.T) && std::isfinite(est.pose.R[0][0] + est.pose.R[1][1] + est.pose.R[2][2])))
     throw std::logic_error("eval: the recognizer returned a non-finite pose in trial " + std::to_string(trial.index));
   if (s.pose_valid) s.estimate = est.pose;
   if (s.has_pose_error()) {

@@ -1,5 +1,8 @@
 #include <sva/eval/trials.hpp>
 
+#include "core/finite.hpp"
+#include "core/so3.hpp"
+
 #include <sva/base/portable_math.hpp>
 #include <sva/error.hpp>
 
@@ -7,22 +10,6 @@
 #include <numbers>
 
 namespace sva::eval {
-
-namespace {
-
-bool finite(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-bool is_rotation(const glm::dmat3& R) {
-  for (int c = 0; c < 3; ++c)
-    if (!finite(R[c])) return false;
-  const glm::dmat3 E = glm::transpose(R) * R - glm::dmat3(1.0);
-  for (int c = 0; c < 3; ++c)
-    for (int r = 0; r < 3; ++r)
-      if (std::abs(E[c][r]) > 1e-6) return false;
-  return glm::determinant(R) > 0.0;
-}
-
-}  // namespace
 
 glm::dmat3 uniform_rotation(util::Rng& rng) {
   // Shoemake's subgroup algorithm: uniform on S^3, hence Haar on SO(3).
@@ -76,7 +63,7 @@ TrialGenerator::TrialGenerator(const Dataset& test, const PoseSpaceSpec& space, 
     if (s.object >= n_objects) bad("object id " + std::to_string(s.object) + " out of range");
     if (!finite(r.position) || !finite(r.normal) || !finite(r.x_axis) || !finite(s.object_pose.T))
       bad("sensor or object pose holds a NaN or infinite value");
-    if (!is_rotation(s.object_pose.R)) bad("object pose rotation is not a rotation matrix");
+    if (!so3::is_rotation(s.object_pose.R)) bad("object pose rotation is not a rotation matrix");
     if (r.pressure.size() != elements)
       bad("pressure image has " + std::to_string(r.pressure.size()) + " values, the sensor has " +
           std::to_string(elements));

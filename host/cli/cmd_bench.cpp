@@ -3,9 +3,8 @@
 // second, zero-mass votes and host and device memory, for the CPU reference and
 // the Vulkan backend (one session, and a batch of sessions per update), and the
 // bare fixed-point atomic scatter on the same device (the roofline of the vote
-// scatter), with the ratios between them. The runs are bench/speed's; this file
-// parses the options and prints.
-#include <sva/base/parallel.hpp>
+// scatter), with the ratios between them. The runs and the report are the tools'
+// library's (sva/eval/speed_run.hpp); this file parses the options and prints.
 #include <sva/dataset.hpp>
 #include <sva/error.hpp>
 #include <sva/eval/evaluation.hpp>
@@ -40,69 +39,6 @@ std::vector<std::size_t> parse_checkpoints(const std::string& text) {
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
-}
-
-// What to run: the backends, and per backend one session and (batch > 1) a
-// batch of sessions per update.
-struct BenchPlan {
-  std::vector<BackendKind> backends;
-  std::size_t trials = 3, batch = 64, roofline_votes = 1 << 22;
-  std::vector<std::size_t> checkpoints;
-  std::uint64_t seed = 1;
-  std::string device;
-  bool refine_pose = true;
-};
-
-json run_all(const Map& map, const Dataset& test, const BenchPlan& plan, bench::MemoryMeter& meter) {
-  json runs = json::array();
-  for (BackendKind backend : plan.backends) {
-    bench::SpeedRunSpec spec;
-    spec.backend = backend;
-    spec.trials = plan.trials;
-    spec.checkpoints = plan.checkpoints;
-    spec.seed = plan.seed;
-    spec.vulkan_device = plan.device;
-    spec.refine_pose = plan.refine_pose;
-    spec.label = eval::backend_name(backend);
-    runs.push_back(bench::run_speed(map, test, spec, meter));
-    if (plan.batch <= 1) continue;
-    // At least `batch` trials, so the first group fills the batch.
-    spec.trials = std::max(plan.trials, plan.batch);
-    spec.sessions = plan.batch;
-    spec.label += " batch";
-    runs.push_back(bench::run_speed(map, test, spec, meter));
-  }
-  return runs;
-}
-
-const json* find_run(const json& runs, const std::string& backend, std::size_t sessions) {
-  for (const auto& r : runs)
-    if (r["backend"] == backend && r["sessions_per_submission"].get<std::size_t>() == sessions) return &r;
-  return nullptr;
-}
-
-// Per reading count, a run's time per update against another run's: the CPU
-// reference's single session (speedup_vs_cpu, every non-CPU run) and the CPU
-// batch of the same size (speedup_vs_cpu_batch, batched non-CPU runs).
-void add_speedups(json& runs) {
-  const json cpu = runs;  // the references, unchanged while the runs get their ratios
-  for (auto& r : runs) {
-    if (r["backend"] == "cpu") continue;
-    const std::size_t sessions = r["sessions_per_submission"].get<std::size_t>();
-    const json* single = find_run(cpu, "cpu", 1);
-    const json* batch = sessions > 1 ? find_run(cpu, "cpu", sessions) : nullptr;
-    for (std::size_t i = 0; i < r["curve"].size(); ++i) {
-      auto& p = r["curve"][i];
-      if (p["update_ms"].is_null() || p["update_ms"].get<double>() <= 0) continue;
-      const double ms = p["update_ms"].get<double>();
-      auto ratio_to = [&](const json* ref, const char* key) {
-        if (ref && i < (*ref)["curve"].size() && !(*ref)["curve"][i]["update_ms"].is_null())
-          p[key] = (*ref)["curve"][i]["update_ms"].get<double>() / ms;
-      };
-      ratio_to(single, "speedup_vs_cpu");
-      ratio_to(batch, "speedup_vs_cpu_batch");
-    }
-  }
 }
 
 std::string run_name(const json& r) {
@@ -175,8 +111,8 @@ void print_roofline(const json& out) {
   }
 }
 
-BenchPlan parse_plan(const Args& a) {
-  BenchPlan plan;
+bench::BenchPlan parse_plan(const Args& a) {
+  bench::BenchPlan plan;
   // A choice of runs, not of a backend: each run names its backend (no auto, which would hide which one ran).
   const std::string which = a.get_or("--backend", "both");
   if (which != "cpu" && which != "vulkan" && which != "both")
@@ -215,27 +151,14 @@ int cmd_bench(const std::vector<std::string>& argv) {
       .option("--roofline-votes", "N", "votes in the bare-scatter measurement (default 4194304)");
   if (!a.parse()) return 0;
   const std::string map_file = a.required("--map"), data_file = a.required("--data");
-  const BenchPlan plan = parse_plan(a);
+  const bench::BenchPlan plan = parse_plan(a);
   const Map map = Map::load(map_file);
   const Dataset test = load_dataset(data_file);
   eval::check_compatible(map, test, map_file, data_file);
 
-  json out = {{"map", map_file},
-              {"data", data_file},
-              {"scene", map.scene_name()},
-              {"map_entries", map.entries()},
-              {"threads", util::default_threads()}};
-  bench::MemoryMeter meter;  // one for the process: it keeps the peak across the runs' resets
-  out["runs"] = run_all(map, test, plan, meter);
-  if (std::find(plan.backends.begin(), plan.backends.end(), BackendKind::vulkan) != plan.backends.end())
-    out["roofline"] = bench::roofline_json(plan.roofline_votes, 1 << 20, plan.device);
-  out["peak_rss_bytes"] = meter.process_peak_bytes();
-  add_speedups(out["runs"]);
-  if (out.contains("roofline")) {
-    const double roof = out["roofline"]["votes_per_second"].get<double>();
-    for (auto& r : out["runs"])
-      if (r["backend"] == "vulkan") r["fraction_of_roofline"] = r["votes_per_second"].get<double>() / roof;
-  }
+  json out = bench::run_bench(map, test, plan);
+  out["map"] = map_file;
+  out["data"] = data_file;
 
   print_table(out["runs"]);
   print_run_summaries(out["runs"]);

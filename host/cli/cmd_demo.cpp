@@ -2,16 +2,16 @@
 // a cache (reused when the scene and seed match), draw previews, train the map
 // (cached with the data), evaluate SVA and the appearance-only baseline, print
 // the table and write the figure.
-#include <sva/recognizer.hpp>
 #include <sva/dataset.hpp>
 #include <sva/map.hpp>
+#include <sva/recognizer.hpp>
 #include <sva/scene.hpp>
 
 #include <sva/eval/dataset_export.hpp>
+#include <sva/eval/demo_cache.hpp>
 #include <sva/eval/evaluation.hpp>
 #include <sva/eval/figure.hpp>
 #include <sva/eval/report.hpp>
-#include <sva/io/binary_file.hpp>
 #include <sva/io/text_file.hpp>
 
 #include <array>
@@ -47,35 +47,22 @@ struct DemoData {
   bool reused = false;
 };
 
-// A cached dataset is reused only when it was made from the same scene (same
-// JSON, mesh paths included), the same seed and the same reading counts.
-bool cache_matches(const Dataset& d, const Scene& scene, std::uint64_t seed, int per_object) {
-  if (d.seed != seed || scene_to_json(d.scene) != scene_to_json(scene)) return false;
-  if (per_object < 0) return true;
-  return d.samples.size() == static_cast<std::size_t>(per_object) * scene.objects.size();
-}
-
 DemoData stage_simulate(const DemoConfig& cfg, const Scene& scene) {
+  const eval::DemoCache cache(cfg.work, scene);
   DemoData out;
-  const auto dir = cfg.work / "data" / scene.name;
-  out.train_file = dir / "train.svad";
-  out.test_file = dir / "test.svad";
-  std::error_code ec;
-  if (std::filesystem::exists(out.train_file, ec) && std::filesystem::exists(out.test_file, ec)) {
-    try {
-      Dataset tr = load_dataset(out.train_file), te = load_dataset(out.test_file);
-      if (cache_matches(tr, scene, cfg.seed, cfg.train) && cache_matches(te, scene, cfg.seed, cfg.test)) {
-        std::printf("[simulate] reusing cached datasets in %s\n", dir.c_str());
-        out.train = std::move(tr);
-        out.test = std::move(te);
-        out.reused = true;
-        return out;
-      }
-      std::printf("[simulate] cache in %s is for another scene or seed: simulating again\n", dir.c_str());
-    } catch (const Error& e) {
-      std::printf("[simulate] cache in %s is unusable (%s): simulating again\n", dir.c_str(), e.what());
-    }
+  out.train_file = cache.train_file;
+  out.test_file = cache.test_file;
+  eval::CachedDatasets cached = eval::find_cached_datasets(cache, scene, cfg.seed, cfg.train, cfg.test);
+  if (cached.train) {
+    std::printf("[simulate] reusing cached datasets in %s\n", cache.dir.c_str());
+    out.train = std::move(*cached.train);
+    out.test = std::move(*cached.test);
+    out.reused = true;
+    return out;
   }
+  if (!cached.why_not.empty())
+    std::printf("[simulate] not reusing the cache in %s (%s): simulating again\n", cache.dir.c_str(),
+                cached.why_not.c_str());
 #ifdef SVA_HAVE_SIM
   sim::SimulateOptions opt;
   opt.seed = cfg.seed;
@@ -85,18 +72,19 @@ DemoData stage_simulate(const DemoConfig& cfg, const Scene& scene) {
   auto t0 = std::chrono::steady_clock::now();
   sim::SimulatedData data = sim::simulate(scene, opt);
   double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-  std::filesystem::create_directories(dir, ec);
-  if (ec) throw Error(dir.string() + ": cannot create directory: " + ec.message());
+  std::error_code ec;
+  std::filesystem::create_directories(cache.dir, ec);
+  if (ec) throw Error(cache.dir.string() + ": cannot create directory: " + ec.message());
   save_dataset(data.train, out.train_file);
   save_dataset(data.test, out.test_file);
   const std::size_t n = data.train.samples.size() + data.test.samples.size();
   std::printf("[simulate] %zu readings in %.1f s (%.0f readings/s) -> %s\n", n, secs,
-              secs > 0 ? static_cast<double>(n) / secs : 0.0, dir.c_str());
+              secs > 0 ? static_cast<double>(n) / secs : 0.0, cache.dir.c_str());
   out.train = std::move(data.train);
   out.test = std::move(data.test);
   return out;
 #else
-  throw Error("sva demo: no cached datasets in " + dir.string() + " and this build has no simulator");
+  throw Error("sva demo: no cached datasets in " + cache.dir.string() + " and this build has no simulator");
 #endif
 }
 
@@ -113,23 +101,18 @@ void stage_preview(const DemoConfig& cfg, const DemoData& data) {
 #endif
 }
 
-// The map is cached beside the data it was trained on: reused only when the
-// datasets were reused and the map was trained from this scene.
+// The map is cached beside the data it was trained on: reused only when the datasets were reused and the map was
+// trained from their scene.
 Map stage_train(const DemoConfig& cfg, const DemoData& data) {
-  const auto file = cfg.work / "data" / data.train.scene.name / "map.svam";
-  const std::string scene_json = scene_to_json(data.train.scene);
-  const std::uint64_t hash = io::fnv1a64(reinterpret_cast<const std::uint8_t*>(scene_json.data()), scene_json.size());
-  std::error_code ec;
-  if (data.reused && std::filesystem::exists(file, ec)) {
-    try {
-      Map m = Map::load(file);
-      if (m.scene_hash() == hash) {
-        std::printf("[train]    reusing cached map %s (%zu entries)\n", file.c_str(), m.entries());
-        return m;
-      }
-    } catch (const Error& e) {
-      std::printf("[train]    cached map is unusable (%s): training again\n", e.what());
+  const eval::DemoCache cache(cfg.work, data.train.scene);
+  const auto& file = cache.map_file;
+  if (data.reused) {
+    std::string why_not;
+    if (std::optional<Map> m = eval::find_cached_map(cache, data.train.scene, &why_not)) {
+      std::printf("[train]    reusing cached map %s (%zu entries)\n", file.c_str(), m->entries());
+      return *m;
     }
+    if (!why_not.empty()) std::printf("[train]    not reusing the cached map (%s): training again\n", why_not.c_str());
   }
   TrainOptions o;
   o.threads = cfg.threads;

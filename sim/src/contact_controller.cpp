@@ -15,16 +15,13 @@
 
 #include <sva/base/portable_math.hpp>
 #include <sva/base/rng.hpp>
+#include <sva/base/so3.hpp>
 
 namespace sva::sim {
 
 namespace {
 
 // Rodrigues' rotation of v by angle a about the unit axis k.
-glm::dvec3 rotate(const glm::dvec3& v, double a, const glm::dvec3& k) {
-  return v * pmath::cos(a) + glm::cross(k, v) * pmath::sin(a) + k * glm::dot(k, v) * (1.0 - pmath::cos(a));
-}
-
 double angle_between(const glm::dvec3& a, const glm::dvec3& b) {
   return pmath::atan2(glm::length(glm::cross(a, b)), glm::dot(a, b));
 }
@@ -105,9 +102,9 @@ bool control_step(const TactileSensor& sensor, const TactileImage& img, const Co
     if (len > 1e-12) {
       axis /= len;
       const double a = std::min(cs.turn_gain * turn, cs.max_turn_deg * M_PI / 180.0);
-      pose.position = contact + rotate(pose.position - contact, a, axis);
-      pose.normal = rotate(pose.normal, a, axis);
-      pose.x_axis = rotate(pose.x_axis, a, axis);
+      pose.position = contact + so3::rotate(pose.position - contact, a, axis);
+      pose.normal = so3::rotate(pose.normal, a, axis);
+      pose.x_axis = so3::rotate(pose.x_axis, a, axis);
       orthonormalise(pose);
     }
   }

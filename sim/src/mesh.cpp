@@ -17,6 +17,7 @@
 
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
+#include <sva/base/finite.hpp>
 #include <sva/io/json_limits.hpp>
 
 #include <sva/io/text_file.hpp>
@@ -35,8 +36,6 @@ constexpr std::size_t kMaxVertices = std::size_t{1} << 22;  // 4 M vertices, 100
 constexpr std::size_t kMaxNodeVisits = 1 << 16;
 // External buffers (a .gltf naming a .bin) are read only when they are regular files of at most this size.
 constexpr std::uintmax_t kMaxExternalBytes = std::uintmax_t{1} << 31;
-
-bool finite3(const glm::dvec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 // A validated window onto one accessor's bytes.
 struct AccessorView {
@@ -175,12 +174,12 @@ class Loader {
       fail(file_, where + ": the node graph instances more than " + std::to_string(kMaxVertices) + " vertices");
     for (std::size_t i = 0; i < pos.size(); ++i) {
       glm::dvec3 w = glm::dvec3(xf * glm::dvec4(pos[i], 1.0));
-      if (!finite3(pos[i]) || !finite3(w))
+      if (!finite(pos[i]) || !finite(w))
         fail(file_, where + ": vertex " + std::to_string(i) + " has a non-finite (NaN or infinite) coordinate");
       mesh.positions.emplace_back(w);
       glm::dvec3 n(0.0);
       bool ok = false;
-      if (!nrm.empty() && finite3(nrm[i])) {
+      if (!nrm.empty() && finite(nrm[i])) {
         n = nxf * nrm[i];
         double len = glm::length(n);
         ok = len > 1e-12 && std::isfinite(len);
@@ -249,7 +248,7 @@ class Loader {
     std::string where = "node " + std::to_string(node);
     glm::dmat4 xf = parent * local_transform(n, where);
     for (int c = 0; c < 4; ++c)
-      if (!finite3(glm::dvec3(xf[c])) || !std::isfinite(xf[c][3])) fail(file_, where + ": non-finite transform");
+      if (!finite(glm::dvec3(xf[c])) || !std::isfinite(xf[c][3])) fail(file_, where + ": non-finite transform");
     if (n.mesh >= 0) {
       if (static_cast<std::size_t>(n.mesh) >= m_.meshes.size())
         fail(file_, where + ": mesh " + std::to_string(n.mesh) + " does not exist");

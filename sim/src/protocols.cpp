@@ -16,16 +16,13 @@
 #include <sva/base/portable_math.hpp>
 #include <sva/base/progress.hpp>
 #include <sva/base/rng.hpp>
+#include <sva/base/so3.hpp>
 
 namespace sva::sim {
 
 namespace {
 
 constexpr std::uint64_t kTrainStream = 1, kTestStream = 2;
-
-glm::dvec3 rotate(const glm::dvec3& v, double a, const glm::dvec3& k) {
-  return v * pmath::cos(a) + glm::cross(k, v) * pmath::sin(a) + k * glm::dot(k, v) * (1.0 - pmath::cos(a));
-}
 
 void basis(const glm::dvec3& n, glm::dvec3& t1, glm::dvec3& t2) {
   glm::dvec3 h = std::abs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0);
@@ -85,7 +82,7 @@ Sample paper3d_reading(const TactileSensor& sensor, const Scene& scene, std::uin
   const double tilt = pr.tilt_deg * M_PI / 180.0 * rng.uniform();
   const double phi = 2.0 * M_PI * rng.uniform();
   SensorPose start;
-  start.normal = glm::normalize(rotate(n, tilt, pmath::cos(phi) * t1 + pmath::sin(phi) * t2));
+  start.normal = glm::normalize(so3::rotate(n, tilt, pmath::cos(phi) * t1 + pmath::sin(phi) * t2));
   basis(start.normal, t1, t2);
   const double psi = 2.0 * M_PI * rng.uniform();  // rotation about the normal is not controlled
   start.x_axis = pmath::cos(psi) * t1 + pmath::sin(psi) * t2;

@@ -10,6 +10,7 @@
 
 #include <sva/base/portable_math.hpp>
 #include <sva/base/rng.hpp>
+#include <sva/base/so3.hpp>
 
 namespace sva::sim {
 
@@ -27,7 +28,7 @@ glm::dvec3 rotate(const glm::dvec3& v, const glm::dvec3& rotation_vector) {
   const double a = glm::length(rotation_vector);
   if (a == 0.0) return v;
   const glm::dvec3 k = rotation_vector / a;
-  return v * pmath::cos(a) + glm::cross(k, v) * pmath::sin(a) + k * glm::dot(k, v) * (1.0 - pmath::cos(a));
+  return so3::rotate(v, a, k);
 }
 
 }  // namespace

@@ -14,9 +14,9 @@
 #include <sva/scene.hpp>
 #include <sva/sim/simulate.hpp>
 
-#include "core/so3.hpp"
-#include "map/map_access.hpp"
+#include <sva/base/so3.hpp>
 #include "eval/metrics.hpp"
+#include "map/map_access.hpp"
 #include "map/map_file.hpp"
 #include "map/pair_map.hpp"
 #include "test_support.hpp"

@@ -11,7 +11,7 @@
 #include <numbers>
 #include <set>
 
-#include "core/so3.hpp"
+#include <sva/base/so3.hpp>
 #include "eval/metrics.hpp"
 
 using namespace sva;

@@ -4,6 +4,7 @@
 // appearance class depends on where they lie (spatially-varying appearance);
 // the pair map is built by the map builder's own pair index.
 #include <sva/base/rng.hpp>
+#include <sva/base/so3.hpp>
 
 #include <glm/glm.hpp>
 
@@ -14,7 +15,6 @@
 #include <vector>
 
 #include "backends/vote_backend.hpp"
-#include "core/so3.hpp"
 #include "map/map_builder.hpp"
 #include "map/pair_map.hpp"
 #include "recognition/bayes_filter.hpp"

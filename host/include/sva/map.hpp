@@ -18,6 +18,7 @@ namespace sva {
 
 struct PairMap;
 struct Dataset;  // sva/dataset.hpp
+struct Scene;    // sva/scene.hpp
 
 struct TrainOptions {
   // Unset values come from the dataset's scene (Scene::appearance).
@@ -92,6 +93,8 @@ class Map {
   const std::string& scene_name() const;
   const PoseSpaceSpec& pose_space() const;
   std::uint64_t scene_hash() const;  // FNV-1a of the dataset's scene JSON, mesh paths reduced to file names
+  // Whether the map was trained on readings of `scene` (the same scene hash): a cached map is reused only then.
+  bool made_from(const Scene& scene) const;
   std::vector<std::string> object_names() const;
   // The tactile array the map was trained with: readings must have its rows x cols image.
   const SensorSpec& sensor() const;

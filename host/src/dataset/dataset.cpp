@@ -8,7 +8,7 @@
 
 #include <sva/io/binary_file.hpp>
 
-#include "core/finite.hpp"
+#include <sva/base/finite.hpp>
 
 namespace sva {
 

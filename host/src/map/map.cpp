@@ -1,6 +1,7 @@
 // sva::Map: the public handle over a shared, immutable PairMap.
 #include <sva/error.hpp>
 #include <sva/map.hpp>
+#include <sva/scene.hpp>
 
 #include <algorithm>
 
@@ -48,6 +49,7 @@ const std::string& Map::scene_name() const { return require(map_).scene_name; }
 const SensorSpec& Map::sensor() const { return require(map_).appearance.calibration.sensor; }
 const PoseSpaceSpec& Map::pose_space() const { return require(map_).pose_space; }
 std::uint64_t Map::scene_hash() const { return require(map_).scene_hash; }
+bool Map::made_from(const Scene& scene) const { return require(map_).scene_hash == location_free_scene_hash(scene); }
 std::vector<std::string> Map::object_names() const {
   std::vector<std::string> names;
   for (const auto& o : require(map_).objects) names.push_back(o.name);

@@ -304,16 +304,13 @@ std::uint32_t cluster_appearance(const std::vector<float>& descriptors, const Tr
   return k;
 }
 
-// The scene's identity for matching maps, datasets and saved sessions: its JSON with each mesh named by its file name,
-// not by the folder it lay in, so that the same scene trained in two checkouts (or on two machines) gives the same
-// map bytes (docs/reliability.md, "Same answers on every machine").
+}  // namespace
+
 std::uint64_t location_free_scene_hash(Scene scene) {
   for (auto& o : scene.objects) o.mesh = o.mesh.filename();
   const std::string json = scene_to_json(scene);
   return io::fnv1a64(reinterpret_cast<const std::uint8_t*>(json.data()), json.size());
 }
-
-}  // namespace
 
 std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParameters& p, TrainReport* report) {
   TrainReport rep;

@@ -20,6 +20,11 @@ struct TrainParameters {
 };
 TrainParameters resolve_train_parameters(const Scene& scene, const TrainOptions& options);
 
+// The scene's identity for matching maps, datasets and saved sessions: FNV-1a of its JSON with each mesh named by its
+// file name, not by the folder it lay in, so that the same scene trained in two checkouts (or on two machines) gives
+// the same map bytes (docs/reliability.md, "Same answers on every machine").
+std::uint64_t location_free_scene_hash(Scene scene);
+
 // The pair entries and CSR index for readings whose appearance classes are
 // known (`classes[i]` for reading i of map.readings); fills map.keys, offsets
 // and entries. Deterministic for any thread count.

@@ -1,5 +1,6 @@
 #include "map/map_file.hpp"
 
+#include <sva/base/finite.hpp>
 #include <sva/error.hpp>
 #include <sva/io/binary_file.hpp>
 
@@ -8,7 +9,6 @@
 #include <string_view>
 
 #include "appearance/descriptor.hpp"
-#include "core/finite.hpp"
 
 namespace sva {
 

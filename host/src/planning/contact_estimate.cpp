@@ -10,7 +10,7 @@
 
 #include <sva/base/portable_math.hpp>
 #include <sva/base/rng.hpp>
-#include "core/so3.hpp"
+#include <sva/base/so3.hpp>
 #include "planning/contact_classes.hpp"
 #include "planning/planner_state.hpp"
 #include "recognition/describe_reading.hpp"

@@ -12,9 +12,9 @@
 #include <numeric>
 #include <string>
 
+#include <sva/base/finite.hpp>
 #include <sva/base/portable_math.hpp>
 #include <sva/base/rng.hpp>
-#include "core/finite.hpp"
 #include "map/map_access.hpp"
 #include "planning/contact_classes.hpp"
 #include "planning/planner_state.hpp"

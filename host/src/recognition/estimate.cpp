@@ -1,6 +1,7 @@
 #include "recognition/estimate.hpp"
 
 #include <sva/base/portable_math.hpp>
+#include <sva/base/so3.hpp>
 
 #include <algorithm>
 #include <cassert>
@@ -10,7 +11,6 @@
 
 #include "appearance/appearance_baseline.hpp"
 #include "belief/belief_math.hpp"
-#include "core/so3.hpp"
 #include "recognition/bayes_filter.hpp"
 #include "recognition/hypotheses.hpp"
 

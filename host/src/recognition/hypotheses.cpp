@@ -1,6 +1,7 @@
 #include "recognition/hypotheses.hpp"
 
 #include <sva/base/portable_math.hpp>
+#include <sva/base/so3.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +10,6 @@
 #include <unordered_set>
 
 #include "belief/belief_math.hpp"
-#include "core/so3.hpp"
 #include "recognition/estimate.hpp"
 
 namespace sva {

@@ -1,11 +1,10 @@
 #include "recognition/observed_reading.hpp"
 
+#include <sva/base/finite.hpp>
 #include <sva/error.hpp>
 
 #include <cmath>
 #include <string>
-
-#include "core/finite.hpp"
 
 namespace sva {
 

@@ -1,11 +1,11 @@
 #include "recognition/pose_refinement.hpp"
 
+#include <sva/base/so3.hpp>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <vector>
-
-#include "core/so3.hpp"
 
 namespace sva {
 

@@ -1,13 +1,12 @@
 #include "recognition/prior_checks.hpp"
 
+#include <sva/base/finite.hpp>
+#include <sva/base/so3.hpp>
 #include <sva/error.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <string>
-
-#include "core/finite.hpp"
-#include "core/so3.hpp"
 
 namespace sva {
 

@@ -13,8 +13,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <sva/base/so3.hpp>
 #include <sva/io/json_limits.hpp>
-#include "core/so3.hpp"
 
 #ifndef SVA_SOURCE_ASSETS_DIR
 #define SVA_SOURCE_ASSETS_DIR ""

@@ -1,13 +1,12 @@
 #include "votes/pose_space.hpp"
 
+#include <sva/base/so3.hpp>
 #include <sva/error.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <string>
-
-#include "core/so3.hpp"
 
 namespace sva {
 

@@ -9,7 +9,7 @@
 #include <iterator>
 #include <stdexcept>
 
-#include "core/so3.hpp"
+#include <sva/base/so3.hpp>
 
 namespace sva::io {
 

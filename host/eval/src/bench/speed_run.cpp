@@ -6,6 +6,7 @@
 #include <chrono>
 #include <map>
 
+#include <sva/base/parallel.hpp>
 #include <sva/base/progress.hpp>
 #include <sva/eval/evaluation.hpp>
 #include <sva/eval/trials.hpp>
@@ -195,6 +196,78 @@ json roofline_json(std::size_t votes, std::size_t bins, const std::string& devic
     j["hash_votes_per_second"] = r.hash_votes_per_second;
   }
   return j;
+}
+
+namespace {
+
+nlohmann::json run_all(const Map& map, const Dataset& test, const BenchPlan& plan, MemoryMeter& meter) {
+  nlohmann::json runs = nlohmann::json::array();
+  for (BackendKind backend : plan.backends) {
+    SpeedRunSpec spec;
+    spec.backend = backend;
+    spec.trials = plan.trials;
+    spec.checkpoints = plan.checkpoints;
+    spec.seed = plan.seed;
+    spec.vulkan_device = plan.device;
+    spec.refine_pose = plan.refine_pose;
+    spec.label = eval::backend_name(backend);
+    runs.push_back(run_speed(map, test, spec, meter));
+    if (plan.batch <= 1) continue;
+    // At least `batch` trials, so the first group fills the batch.
+    spec.trials = std::max(plan.trials, plan.batch);
+    spec.sessions = plan.batch;
+    spec.label += " batch";
+    runs.push_back(run_speed(map, test, spec, meter));
+  }
+  return runs;
+}
+
+const nlohmann::json* find_run(const nlohmann::json& runs, const std::string& backend, std::size_t sessions) {
+  for (const auto& r : runs)
+    if (r["backend"] == backend && r["sessions_per_submission"].get<std::size_t>() == sessions) return &r;
+  return nullptr;
+}
+
+// Per reading count, a run's time per update against another run's: the CPU reference's single session
+// (speedup_vs_cpu, every non-CPU run) and the CPU batch of the same size (speedup_vs_cpu_batch, batched runs).
+void add_speedups(nlohmann::json& runs) {
+  const nlohmann::json cpu = runs;  // the references, unchanged while the runs get their ratios
+  for (auto& r : runs) {
+    if (r["backend"] == "cpu") continue;
+    const std::size_t sessions = r["sessions_per_submission"].get<std::size_t>();
+    const nlohmann::json* single = find_run(cpu, "cpu", 1);
+    const nlohmann::json* batch = sessions > 1 ? find_run(cpu, "cpu", sessions) : nullptr;
+    for (std::size_t i = 0; i < r["curve"].size(); ++i) {
+      auto& p = r["curve"][i];
+      if (p["update_ms"].is_null() || p["update_ms"].get<double>() <= 0) continue;
+      const double ms = p["update_ms"].get<double>();
+      auto ratio_to = [&](const nlohmann::json* ref, const char* key) {
+        if (ref && i < (*ref)["curve"].size() && !(*ref)["curve"][i]["update_ms"].is_null())
+          p[key] = (*ref)["curve"][i]["update_ms"].get<double>() / ms;
+      };
+      ratio_to(single, "speedup_vs_cpu");
+      ratio_to(batch, "speedup_vs_cpu_batch");
+    }
+  }
+}
+
+}  // namespace
+
+nlohmann::json run_bench(const Map& map, const Dataset& test, const BenchPlan& plan) {
+  nlohmann::json out = {
+      {"scene", map.scene_name()}, {"map_entries", map.entries()}, {"threads", util::default_threads()}};
+  MemoryMeter meter;  // one for the process: it keeps the peak across the runs' resets
+  out["runs"] = run_all(map, test, plan, meter);
+  if (std::find(plan.backends.begin(), plan.backends.end(), BackendKind::vulkan) != plan.backends.end())
+    out["roofline"] = roofline_json(plan.roofline_votes, 1 << 20, plan.device);
+  out["peak_rss_bytes"] = meter.process_peak_bytes();
+  add_speedups(out["runs"]);
+  if (out.contains("roofline")) {
+    const double roof = out["roofline"]["votes_per_second"].get<double>();
+    for (auto& r : out["runs"])
+      if (r["backend"] == "vulkan") r["fraction_of_roofline"] = r["votes_per_second"].get<double>() / roof;
+  }
+  return out;
 }
 
 }  // namespace sva::bench

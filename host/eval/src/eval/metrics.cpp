@@ -1,8 +1,7 @@
 #include "eval/metrics.hpp"
 
-#include "core/so3.hpp"
-
 #include <sva/base/portable_math.hpp>
+#include <sva/base/so3.hpp>
 
 #include <algorithm>
 #include <cassert>

@@ -9,7 +9,7 @@
 
 namespace sva::eval {
 
-// Rotation angles and vectors: so3::angle_sincos and so3::log_sincos (core/so3.hpp).
+// Rotation angles and vectors: so3::angle_sincos and so3::log_sincos (<sva/base/so3.hpp>).
 
 // Angle of the rotation that aligns the estimate with the truth, taking the
 // object's symmetry into account (Eq 22): for an axis of revolution the

@@ -1,9 +1,9 @@
 #include <sva/eval/report.hpp>
 #include "eval/table_cell.hpp"
 
-#include "core/so3.hpp"
 #include "eval/metrics.hpp"
 
+#include <sva/base/so3.hpp>
 #include <sva/error.hpp>
 
 #include <cmath>

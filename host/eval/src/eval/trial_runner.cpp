@@ -1,5 +1,6 @@
 #include "eval/trial_runner.hpp"
 
+#include <sva/base/finite.hpp>
 #include <sva/base/interrupt.hpp>
 #include <sva/base/parallel.hpp>
 #include <sva/base/progress.hpp>
@@ -13,7 +14,6 @@
 #include <stdexcept>
 #include <vector>
 
-#include "core/finite.hpp"
 #include "eval/metrics.hpp"
 #include "eval/session_pool.hpp"
 

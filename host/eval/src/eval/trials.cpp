@@ -1,7 +1,7 @@
 #include <sva/eval/trials.hpp>
 
-#include "core/finite.hpp"
-#include "core/so3.hpp"
+#include <sva/base/finite.hpp>
+#include <sva/base/so3.hpp>
 
 #include <sva/base/portable_math.hpp>
 #include <sva/error.hpp>

@@ -37,4 +37,20 @@ nlohmann::json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec
 // The bare-scatter roofline of the device (roofline/roofline.hpp), as the JSON report gives it.
 nlohmann::json roofline_json(std::size_t votes, std::size_t bins, const std::string& device);
 
+// What `sva bench` runs: the backends, and per backend one session and (batch > 1) a batch of sessions per update.
+struct BenchPlan {
+  std::vector<BackendKind> backends;
+  std::size_t trials = 3, batch = 64, roofline_votes = 1 << 22;
+  std::vector<std::size_t> checkpoints;
+  std::uint64_t seed = 1;
+  std::string device;
+  bool refine_pose = true;
+};
+
+// The whole report of `sva bench` (docs/evaluation.md, "sva bench"): the scene, the map's size and the threads;
+// every run of the plan, each non-CPU run with its speed-up over the CPU reference's single session
+// (speedup_vs_cpu) and over the CPU batch of the same size (speedup_vs_cpu_batch) per reading count; the
+// roofline and each Vulkan run's fraction of it when Vulkan runs; the process's peak RSS.
+nlohmann::json run_bench(const Map& map, const Dataset& test, const BenchPlan& plan);
+
 }  // namespace sva::bench

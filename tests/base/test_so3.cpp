@@ -1,4 +1,4 @@
-// SO(3) in double (core/so3.hpp): exp/log and the evaluation's log_sincos round trips near 0, in the middle
+// SO(3) in double (sva/base/so3.hpp): exp/log and the evaluation's log_sincos round trips near 0, in the middle
 // and near pi, hat/vee, the closed-form axis rotation, and is_rotation as the input checks use it.
 #include <catch2/catch.hpp>
 
@@ -10,7 +10,7 @@
 
 #include <glm/gtc/matrix_transform.hpp>
 
-#include "core/so3.hpp"
+#include <sva/base/so3.hpp>
 
 using namespace sva;
 

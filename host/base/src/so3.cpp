@@ -1,8 +1,8 @@
-#include "core/so3.hpp"
+#include <sva/base/so3.hpp>
 
 #include <sva/base/portable_math.hpp>
 
-#include "core/finite.hpp"
+#include <sva/base/finite.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -143,6 +143,10 @@ bool is_rotation(const glm::dmat3& R) {
     for (int r = 0; r < 3; ++r)
       if (!(std::abs(E[c][r]) < 1e-6)) return false;
   return glm::determinant(R) > 0.0;
+}
+
+glm::dvec3 rotate(const glm::dvec3& v, double angle, const glm::dvec3& k) {
+  return v * pmath::cos(angle) + glm::cross(k, v) * pmath::sin(angle) + k * glm::dot(k, v) * (1.0 - pmath::cos(angle));
 }
 
 }  // namespace sva::so3

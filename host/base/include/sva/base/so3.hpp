@@ -56,6 +56,9 @@ double angle_from_trace(double trace);
 
 // Rotation by `angle` about z (exp of (0, 0, angle)).
 glm::dmat3 about_z(double angle);
+// A vector turned by `angle` about `unit_axis` (Rodrigues' rotation formula on the vector itself, as the simulator
+// turns the sensor and its errors): v cos a + (k x v) sin a + k (k . v)(1 - cos a).
+glm::dvec3 rotate(const glm::dvec3& v, double angle, const glm::dvec3& unit_axis);
 // Rotation by `angle` about the unit vector `axis` in closed form:
 // cos(a) I + sin(a) hat(axis) + (1 - cos(a)) axis axis^T.
 glm::dmat3 about_axis(const glm::dvec3& axis, double angle);

@@ -23,8 +23,8 @@
 #include <string>
 #include <vector>
 
+#include <sva/base/so3.hpp>
 #include <sva/eval/process_memory.hpp>
-#include "core/so3.hpp"
 
 namespace {
 

@@ -43,7 +43,7 @@ subgroups() {
 # `pip install .` as a user runs it, into a fresh virtual environment, then the pytest suite against the installed
 # package (not the build tree's module). The fresh environment gets the pinned tools of .venv (python/requirements.txt:
 # NumPy, pytest, nanobind, scikit-build-core, ...) through a .pth file instead of a second download, so the step works
-# offline; sva itself is in none of them. pip builds in its persistent folder (pyproject.toml: build-py/) with the
+# offline; sva itself is in none of them. pip builds in its persistent folder (pyproject.toml: build-pip/) with the
 # presets' flags, so the compiler cache has the objects of the ci build: only the extension's link is new work.
 pip_install() {
   local venv="$repo/build-py/venv"

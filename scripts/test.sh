@@ -12,6 +12,10 @@ repo="$PWD"
 # default preset's share objects. -Werror (the ci preset's) is left out of the hash too, so that the default preset's
 # objects are the ci build's; the ci stage therefore fails on any warning a cached object replays (see ci_build).
 export CCACHE_BASEDIR="$repo" CCACHE_NOHASHDIR=1 CCACHE_IGNOREOPTIONS="-Werror"
+# The compiler by the name CMake gives the presets: pip's build (scikit-build-core) would otherwise take Python's
+# recorded compiler, x86_64-linux-gnu-g++, the same GCC under another name, and ccache hashes the name: every object
+# of pip's build was a miss.
+export CXX="${CXX:-c++}"
 
 all_stages=(build suite subgroups pip first-command sanitizers fuzz)
 stages=("${@:-${all_stages[@]}}")

@@ -16,6 +16,9 @@ export CCACHE_BASEDIR="$repo" CCACHE_NOHASHDIR=1 CCACHE_IGNOREOPTIONS="-Werror"
 # recorded compiler, x86_64-linux-gnu-g++, the same GCC under another name, and ccache hashes the name: every object
 # of pip's build was a miss.
 export CXX="${CXX:-c++}"
+# Tests and fuzz harnesses run one per core: each test is its own process with its own scratch folder, and no test
+# times itself (speed goals are the benchmarks'), so the cores only shorten the wait.
+cores="$(nproc)"
 
 all_stages=(build suite subgroups pip first-command sanitizers fuzz)
 stages=("${@:-${all_stages[@]}}")
@@ -40,8 +43,8 @@ ci_build() {
 # kernel that assumes one subgroup size fails here without a GPU. The presets set LP_NATIVE_VECTOR_WIDTH and the
 # size the suite must see (tests/backends/vulkan/test_subgroup_size.cpp checks it).
 subgroups() {
-  ctest --preset ci-subgroup-4
-  ctest --preset ci-subgroup-32
+  ctest --preset ci-subgroup-4 --parallel "$cores"
+  ctest --preset ci-subgroup-32 --parallel "$cores"
 }
 
 # `pip install .` as a user runs it, into a fresh virtual environment, then the pytest suite against the installed
@@ -94,7 +97,7 @@ first_command() {
 # AddressSanitizer and UBSan (the asan preset, leak detection on) over the suites that run in seconds; the slow
 # suites under the sanitizers take far longer than the test command's budget (docs/reliability.md, Sanitizers).
 sanitizers() {
-  cmake --preset asan && cmake --build --preset asan-fast && ctest --preset asan-fast
+  cmake --preset asan && cmake --build --preset asan-fast && ctest --preset asan-fast --parallel "$cores"
 }
 
 declare -A took
@@ -115,12 +118,12 @@ start=$SECONDS
 for s in "${stages[@]}"; do
   case "$s" in
     build) run_stage build ci_build ;;
-    suite) run_stage suite ctest --preset ci ;;
+    suite) run_stage suite ctest --preset ci --parallel "$cores" ;;
     subgroups) run_stage subgroups subgroups ;;
     pip) run_stage pip pip_install ;;
     first-command) run_stage first-command first_command ;;
     sanitizers) run_stage sanitizers sanitizers ;;
-    fuzz) run_stage fuzz scripts/fuzz.sh 5 ;;
+    fuzz) run_stage fuzz env FUZZ_PARALLEL="$cores" scripts/fuzz.sh 5 ;;
   esac
 done
 echo

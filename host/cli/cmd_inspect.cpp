@@ -2,7 +2,6 @@
 #include <sva/io/binary_file.hpp>
 #include <sva/map.hpp>
 
-#include <algorithm>
 #include <cstdio>
 #include <map>
 #include <vector>

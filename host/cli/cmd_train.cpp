@@ -2,7 +2,6 @@
 #include <sva/dataset.hpp>
 #include <sva/map.hpp>
 
-#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <limits>

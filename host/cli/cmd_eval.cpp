@@ -113,6 +113,10 @@ eval::EvalOptions eval_options(const Args& a) {
   o.recognizer.refine_pose = a.on_off("--refine", o.recognizer.refine_pose);
   o.recognizer.belief_budget_bins = static_cast<std::size_t>(
       a.integer("--belief-budget", static_cast<long long>(o.recognizer.belief_budget_bins), 0, 1ll << 40));
+  o.recognizer.calibrate = a.on_off("--calibration", o.recognizer.calibrate);
+  o.recognizer.unknown_prior = a.number("--unknown-prior", o.recognizer.unknown_prior, 1e-9, 1.0 - 1e-9);
+  o.unknown_objects = a.has("--unknown-objects");
+  if (a.has("--stop-at")) o.stop_at = a.number("--stop-at", 0.95, 0.5, 1.0 - 1e-12);
   o.policy = eval::parse_policy(a.get_or("--policy", "random"), "sva eval: --policy");
   if (o.policy == eval::Policy::random)
     for (const char* opt : {"--candidates", "--candidates-from", "--plan-hypotheses", "--plan-second"})
@@ -161,6 +165,17 @@ void declare_eval_options(Args& a) {
   a.option("--json", "OUT.json", "write the summary curve as JSON");
   a.option("--csv", "OUT.csv", "write one row per (trial, readings)");
   a.option("--plot", "OUT.png", "write the figure (accuracy and errors against readings, like the paper's Fig. 4/5)");
+  a.option("--reliability", "OUT.png",
+           "write the reliability diagram: accuracy against the top object's probability (docs/evaluation.md)");
+  a.option("--calibration", "on|off",
+           "calibrated probabilities and \"none of these\" (default on; off: Eq 5's product as it stands)");
+  a.option("--unknown-prior", "P", "prior probability that a touched object is none of the map's (default 0.1)");
+  a.flag("--unknown-objects",
+         "the test set may hold objects the map does not (a map trained with sva train --exclude-objects): their "
+         "trials are right only when they say \"none of these\"; prints the ROC of p_unknown");
+  a.option("--stop-at", "P",
+           "report deciding at probability P: the first reading where the top object or \"none of these\" "
+           "reaches P, the readings used and the decisions' accuracy");
   a.option("--compare", "OTHER.json", "add another run's curve (e.g. the other method) to the figure", true);
   a.option("--threads", "N", "trials run in parallel (default: SVA_THREADS or all cores); results do not depend on it");
   a.option("--eps", "E", "floor of every pair factor (default 1e-6; docs/recognition.md)");
@@ -209,6 +224,8 @@ int cmd_eval(const std::vector<std::string>& argv) {
   const std::string data_file = a.required("--data");
   eval::EvalOptions o = eval_options(a);
   const auto json_file = a.get("--json"), csv_file = a.get("--csv"), plot_file = a.get("--plot");
+  const auto reliability_file = a.get("--reliability");
+  if (reliability_file) check_writable("--reliability", *reliability_file);
   if (json_file) check_writable("--json", *json_file);
   if (csv_file) check_writable("--csv", *csv_file);
   if (plot_file) check_writable("--plot", *plot_file);
@@ -222,7 +239,7 @@ int cmd_eval(const std::vector<std::string>& argv) {
   o.map_name = map_file;
   const Dataset test = load_dataset(data_file);
   const Map map = Map::load(map_file);
-  eval::check_compatible(map, test, map_file, data_file);
+  eval::check_compatible(map, test, map_file, data_file, o.unknown_objects);
   o.trials = trials_arg > 0 ? static_cast<std::size_t>(trials_arg) : 3 * test.scene.objects.size();
   if (o.policy == eval::Policy::active_sim) o.active.simulate = touch_simulator(test.scene, data_file);
   const std::vector<eval::Curve> others = compared_curves(compare_files, map, o);
@@ -231,7 +248,7 @@ int cmd_eval(const std::vector<std::string>& argv) {
   if (!result.backend_fallback_reason.empty())
     std::fprintf(stderr, "sva eval: backend auto chose the CPU reference: %s\n",
                  result.backend_fallback_reason.c_str());
-  const eval::Curve curve = eval::summarize(result);
+  const eval::Curve curve = eval::summarize(result, o.stop_at);
   std::fputs(eval::format_table(curve).c_str(), stdout);
   if (json_file) io::write_text_file(*json_file, eval::to_json(result, curve));
   if (csv_file) io::write_text_file(*csv_file, eval::to_csv(result));
@@ -240,6 +257,7 @@ int cmd_eval(const std::vector<std::string>& argv) {
     curves.insert(curves.end(), others.begin(), others.end());
     eval::write_figure(curves, *plot_file);
   }
+  if (reliability_file) eval::write_reliability_figure(curve, *reliability_file);
   return 0;
 }
 

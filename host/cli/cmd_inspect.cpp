@@ -1,5 +1,6 @@
 #include <sva/dataset.hpp>
 #include <sva/io/binary_file.hpp>
+#include <sva/eval/report.hpp>
 #include <sva/map.hpp>
 
 #include <cstdio>
@@ -52,6 +53,7 @@ void inspect_map(const std::string& file) {
   std::printf("  objects        %zu\n", m.objects.size());
   std::printf("  classes        %u\n", m.classes);
   std::printf("  ambiguity A    %.3f classes per reading\n", m.ambiguity);
+  std::printf("  calibration    %s\n", eval::describe_calibration(m).c_str());
   std::printf("  distance bins  %u over %g-%g mm\n", m.distance_bins, m.distance_min_mm, m.distance_max_mm);
   std::printf("  readings       %zu\n", m.readings);
   std::printf("  entries        %zu under %zu keys (of %llu possible)\n", m.entries, m.keys,

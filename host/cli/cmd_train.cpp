@@ -1,11 +1,13 @@
 // sva train: build the SVA pair map from a training dataset.
 #include <sva/dataset.hpp>
+#include <sva/eval/report.hpp>
 #include <sva/map.hpp>
 
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
 #include <string>
+#include <vector>
 
 #include "args.hpp"
 
@@ -41,6 +43,12 @@ int cmd_train(const std::vector<std::string>& argv) {
   a.option("--dist-range", "MIN:MAX", "distance range in mm (default: the scene's)");
   a.option("--seed", "S", "seed of the clustering's candidate order (default 1)");
   a.option("--threads", "N", "worker threads (default: SVA_THREADS or all cores); results do not depend on it");
+  a.option("--exclude-objects", "NAME,...",
+           "leave these objects out of the map (to evaluate \"none of these\" with sva eval --unknown-objects)");
+  a.flag("--no-calibration", "skip the calibration (the default temperature, no \"none of these\"; docs/recognition.md)");
+  a.option("--calibration-sessions", "N", "held-out sessions on known objects that learn the calibration (default 120)");
+  a.option("--calibration-readings", "N", "readings per calibration session (default 20)");
+  a.option("--calibration-held-out", "F", "share of each object's readings held out for the calibration (default 0.1)");
   if (!a.parse()) return 0;
   const std::string data_file = a.required("--data");
   const std::string out_file = a.required("--out");
@@ -58,9 +66,21 @@ int cmd_train(const std::vector<std::string>& argv) {
   o.seed = static_cast<std::uint64_t>(a.integer("--seed", 1, 0, std::numeric_limits<long long>::max()));
   o.threads = static_cast<unsigned>(a.integer("--threads", 0, 0, kInt));
   o.progress = true;
+  o.calibrate = !a.has("--no-calibration");
+  o.calibration_sessions = static_cast<std::size_t>(a.integer("--calibration-sessions", 120, -kInt, kInt));
+  o.calibration_readings = static_cast<std::size_t>(a.integer("--calibration-readings", 20, -kInt, kInt));
+  o.calibration_held_out = a.number("--calibration-held-out", 0.1, -1e9, 1e9);
   o.validate("sva train");  // before the dataset loads
 
-  const Dataset data = load_dataset(data_file);
+  Dataset data = load_dataset(data_file);
+  if (auto names = a.get("--exclude-objects")) {
+    std::vector<std::string> list;
+    std::size_t start = 0;
+    for (std::size_t comma; (comma = names->find(',', start)) != std::string::npos; start = comma + 1)
+      list.push_back(names->substr(start, comma - start));
+    list.push_back(names->substr(start));
+    data = without_objects(data, list);
+  }
   TrainReport rep;
   const Map map = Map::train(data, o, &rep);
   map.save(out_file);
@@ -78,6 +98,8 @@ int cmd_train(const std::vector<std::string>& argv) {
               m.entries, m.keys, static_cast<double>(m.bytes) / 1e6,
               m.entries ? static_cast<double>(m.bytes) / static_cast<double>(m.entries) : 0.0,
               rep.map_build_seconds, rep.map_build_cpu_seconds);
+  std::printf("  calibration    %s (%.1f s)\n", eval::describe_calibration(m).c_str(), rep.calibration_seconds);
+  if (!rep.calibration_note.empty()) std::printf("                 %s\n", rep.calibration_note.c_str());
   return 0;
 }
 

@@ -15,6 +15,7 @@
 #include <sva/sim/simulate.hpp>
 
 #include <sva/base/so3.hpp>
+#include "calibration/session_sampling.hpp"
 #include "eval/metrics.hpp"
 #include "map/map_access.hpp"
 #include "map/map_file.hpp"

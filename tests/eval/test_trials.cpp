@@ -12,6 +12,7 @@
 #include <set>
 
 #include <sva/base/so3.hpp>
+#include "calibration/session_sampling.hpp"
 #include "eval/metrics.hpp"
 
 using namespace sva;

@@ -38,6 +38,11 @@ struct Dataset {
   std::size_t count_converged() const;
 };
 
+// The dataset without the named objects (their readings dropped, the others renumbered in order): a map trained on
+// it meets the dropped objects as objects "none of these" (`sva train --exclude-objects`, docs/evaluation.md).
+// sva::Error for a name the scene does not hold, or when no object would be left.
+Dataset without_objects(const Dataset& data, const std::vector<std::string>& names);
+
 void save_dataset(const Dataset& data, const std::filesystem::path& file);
 Dataset load_dataset(const std::filesystem::path& file);
 

@@ -30,6 +30,15 @@ struct TrainOptions {
   std::uint64_t seed = 1;  // PAM initialisation
   unsigned threads = 0;    // 0 = all cores (env SVA_THREADS); results do not depend on it
   bool progress = false;   // show progress on stderr
+  // Calibration (docs/recognition.md, "Calibration"): learn how far to trust the evidence, and when to say "none
+  // of these", from training readings the map never sees. A fifth of the objects (three or more objects) and
+  // `calibration_held_out` of every other object's readings are held out, a calibration map is trained on the
+  // rest, and sessions on the held-out readings are run on it. The map itself is then trained on every reading.
+  // Off (or fewer than two objects): the documented default temperature, no "none of these".
+  bool calibrate = true;
+  double calibration_held_out = 0.1;       // in (0, 0.5]
+  std::size_t calibration_sessions = 120;  // on known objects (half as many on held-out objects), 10 to 100000
+  std::size_t calibration_readings = 20;   // per session, 2 to 1000
 
   // The options as given, before the scene's defaults fill the unset ones: throws sva::Error naming the option,
   // its value and the fault, after `context` (the caller: "sva train", "sva.train"). Map::train checks them too
@@ -47,6 +56,8 @@ struct TrainReport {
   double clustering_cpu_seconds = 0.0;  // process CPU time, all threads (meaningful on a loaded machine)
   double map_build_cpu_seconds = 0.0;
   double clustering_loss = 0.0;  // PAM loss: sum of (1 - affinity) to the medoid
+  double calibration_seconds = 0.0;  // wall clock: the calibration map and its sessions
+  std::string calibration_note;      // why the map holds the default calibration ("" when it was learned)
 };
 
 // What a map holds, as `sva inspect` and `sva train` print it.
@@ -71,6 +82,14 @@ struct MapSummary {
     std::size_t readings = 0, entries = 0;  // entries: pairs whose first reading is this object's
   };
   std::vector<Object> objects;
+  // The calibration (docs/recognition.md, "Calibration"): learned, or the default of older maps and of training
+  // without it. tau(n) = temperature_scale (n - 1)^-temperature_power.
+  struct Calibration {
+    bool learned = false;
+    double temperature_scale = 0.0, temperature_power = 0.0;
+    bool unknown_model = false;  // the map can say "none of these"
+    std::uint32_t known_sessions = 0, unknown_sessions = 0, session_readings = 0;
+  } calibration;
 };
 
 class Map {

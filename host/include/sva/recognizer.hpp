@@ -47,6 +47,13 @@ struct RecognizerOptions {
   // Distinct hypotheses (Estimate::hypotheses): bins within this many grid steps of a stronger mode of the same
   // object on every axis are the same hypothesis; a mode's mass and covariance sum the bins within it. 0 to 4.
   int hypothesis_radius_bins = 1;
+  // Calibrated probabilities (docs/recognition.md, "Calibration"): temper each object's evidence by the map's
+  // learned temperature, which falls with the reading count (Eq 5 counts each reading's evidence n-1 times), and
+  // say how likely the object is none of the map's (Estimate::p_unknown). Off: Eq 5's product as it stands.
+  bool calibrate = true;
+  // The prior probability that a touched object is none of the map's, in (0, 1): p_unknown starts there and moves
+  // with the evidence (maps that cannot say "none of these" keep it).
+  double unknown_prior = 0.1;
 };
 
 struct Hypothesis {
@@ -88,7 +95,12 @@ struct Estimate {
   std::size_t readings = 0;  // readings seen so far
   std::uint32_t object = 0;  // the object with the most mass summed over poses
   std::string object_name;
-  std::vector<double> object_probability;  // per object, sums to 1
+  std::vector<double> object_probability;  // per object, sums to 1: the posterior given that the object is one of
+                                           // the map's (calibrated unless RecognizerOptions::calibrate is off)
+  // The probability that the touched object is none of the map's objects (docs/recognition.md, "None of these"):
+  // the probability of object o is then (1 - p_unknown) object_probability[o]. The prior before the second reading
+  // and on maps that cannot say it; 0 with calibration off.
+  double p_unknown = 0.0;
   RigidPose pose;                          // continuous pose of `object`: the fine pose when refined, else
                                            // `parabolic_pose`
   RigidPose parabolic_pose;                // the histogram's: parabolic peak of the log-belief at the best bin

@@ -41,6 +41,33 @@ void read_truth(io::BinaryReader& r, SensorTruth& t, const Bad& bad) {
 
 }  // namespace
 
+Dataset without_objects(const Dataset& data, const std::vector<std::string>& names) {
+  std::vector<bool> drop(data.scene.objects.size(), false);
+  for (const std::string& n : names) {
+    std::size_t o = 0;
+    while (o < data.scene.objects.size() && data.scene.objects[o].name != n) ++o;
+    if (o == data.scene.objects.size())
+      throw Error("exclude objects: scene \"" + data.scene.name + "\" has no object \"" + n + "\"");
+    drop[o] = true;
+  }
+  Dataset out = data;
+  out.scene.objects.clear();
+  out.samples.clear();
+  std::vector<std::uint32_t> id(drop.size(), 0);
+  for (std::size_t o = 0; o < drop.size(); ++o) {
+    id[o] = static_cast<std::uint32_t>(out.scene.objects.size());
+    if (!drop[o]) out.scene.objects.push_back(data.scene.objects[o]);
+  }
+  if (out.scene.objects.empty()) throw Error("exclude objects: no object of scene \"" + data.scene.name + "\" is left");
+  for (const Sample& s : data.samples) {
+    if (s.object >= drop.size() || drop[s.object]) continue;
+    Sample kept = s;
+    kept.object = id[s.object];
+    out.samples.push_back(std::move(kept));
+  }
+  return out;
+}
+
 std::size_t Dataset::count_converged() const {
   std::size_t n = 0;
   for (const auto& s : samples) n += s.reading.status == ControllerStatus::converged;

@@ -61,6 +61,12 @@ void TrainOptions::validate(const std::string& context) const {
     fail("distance range " + std::to_string(*dist_min_mm) + ":" + std::to_string(*dist_max_mm) +
          " mm: expected 0 <= min < max, both finite");
   if (threads > 1024) fail("threads " + std::to_string(threads) + ": expected 0 (all cores) to 1024");
+  if (!(calibration_held_out > 0.0 && calibration_held_out <= 0.5))
+    fail("calibration held-out share " + std::to_string(calibration_held_out) + ": expected a share in (0, 0.5]");
+  if (calibration_sessions < 10 || calibration_sessions > 100000)
+    fail("calibration sessions " + std::to_string(calibration_sessions) + ": expected 10 to 100000");
+  if (calibration_readings < 2 || calibration_readings > 1000)
+    fail("calibration readings " + std::to_string(calibration_readings) + ": expected 2 to 1000");
 }
 
 TrainParameters resolve_train_parameters(const Scene& scene, const TrainOptions& o) {

@@ -42,6 +42,43 @@ Symmetry get_symmetry(io::BinaryReader& r) {
   return s;
 }
 
+// Version 4: the calibration (calibration/calibration.hpp), after the entries.
+void put_calibration(io::BinaryWriter& w, const Calibration& c) {
+  w.put<std::uint8_t>(c.learned ? 1 : 0);
+  w.put<double>(c.temperature_scale);
+  w.put<double>(c.temperature_power);
+  w.put<std::uint32_t>(c.known_sessions);
+  w.put<std::uint32_t>(c.unknown_sessions);
+  w.put<std::uint32_t>(c.session_readings);
+  w.put<std::uint64_t>(c.unknown.per_readings.size());
+  for (const UnknownCoefficients& k : c.unknown.per_readings) w.put_array(k.data(), k.size());
+}
+
+Calibration get_calibration(io::BinaryReader& r) {
+  Calibration c;
+  const auto learned = r.get<std::uint8_t>();
+  if (learned > 1) r.fail("calibration: invalid learned flag " + std::to_string(learned));
+  c.learned = learned == 1;
+  c.temperature_scale = r.get<double>();
+  c.temperature_power = r.get<double>();
+  if (!(std::isfinite(c.temperature_scale) && c.temperature_scale > 0.0 && c.temperature_scale <= 1e6))
+    r.fail("calibration: temperature scale " + std::to_string(c.temperature_scale) + " is not in (0, 1e6]");
+  if (!(std::isfinite(c.temperature_power) && c.temperature_power >= 0.0 && c.temperature_power <= 10.0))
+    r.fail("calibration: temperature power " + std::to_string(c.temperature_power) + " is not in [0, 10]");
+  c.known_sessions = r.get<std::uint32_t>();
+  c.unknown_sessions = r.get<std::uint32_t>();
+  c.session_readings = r.get<std::uint32_t>();
+  const auto n = r.get<std::uint64_t>();
+  if (n > 1000) r.fail("calibration: " + std::to_string(n) + " unknown models (at most 1000)");
+  c.unknown.per_readings.resize(n);
+  for (UnknownCoefficients& k : c.unknown.per_readings) {
+    r.get_array(k.data(), k.size());
+    for (double v : k)
+      if (!std::isfinite(v)) r.fail("calibration: an unknown-model coefficient is not finite");
+  }
+  return c;
+}
+
 template <class T>
 bool all_finite(const std::vector<T>& v) {
   for (const auto& x : v)
@@ -108,6 +145,7 @@ void write_pair_map(const PairMap& m, const std::filesystem::path& file, std::ui
   w.put_vector(m.entry_a);
   w.put_vector(m.entry_b);
   w.put_vector(m.entry_weight);
+  if (version >= 4) put_calibration(w, m.calibration);
   w.write_file(file, std::string_view(kMapMagic, 8), version);
 }
 
@@ -173,6 +211,7 @@ std::shared_ptr<PairMap> load_pair_map(const std::filesystem::path& file) {
   m.entry_a = r.get_vector<std::uint32_t>();
   m.entry_b = r.get_vector<std::uint32_t>();
   m.entry_weight = r.get_vector<float>();
+  if (r.version() >= 4) m.calibration = get_calibration(r);  // older maps: the documented default
   r.expect_end();
   if (r.version() == 1) {
     if (m.entry_b.size() != m.entry_a.size() || m.entry_weight.size() != m.entry_a.size() ||

@@ -18,6 +18,7 @@
 
 #include "appearance/appearance_baseline.hpp"
 #include "appearance/appearance_model.hpp"
+#include "calibration/calibration.hpp"
 #include "map/pair_keys.hpp"
 
 namespace sva {
@@ -61,6 +62,7 @@ struct PairMap {
   std::vector<MapObject> objects;
   MapReadings readings;
   AppearanceBaseline baseline;  // appearance-only recognition of [15] (the paper's comparison)
+  Calibration calibration;      // how far to trust the evidence; "none of these" (calibration/calibration.hpp)
 
   // CSR over sorted keys: entries of keys[i] are [offsets[i], offsets[i+1]).
   std::vector<std::uint32_t> keys;     // strictly increasing

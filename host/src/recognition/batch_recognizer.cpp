@@ -94,6 +94,8 @@ BatchRecognizer::BatchRecognizer(const Engine& engine, const PoseSpaceSpec& pose
   if (options.hypothesis_radius_bins < 0 || options.hypothesis_radius_bins > 4)
     throw Error("recognizer option hypothesis_radius_bins = " + std::to_string(options.hypothesis_radius_bins) +
                 " must be in [0, 4]");
+  if (!(options.unknown_prior > 0.0 && options.unknown_prior < 1.0))
+    throw Error("recognizer option unknown_prior = " + std::to_string(options.unknown_prior) + " must be in (0, 1)");
   if (!(options.likelihood_cutoff >= 0.0f) || !std::isfinite(options.likelihood_cutoff))
     throw Error("recognizer option likelihood_cutoff = " + std::to_string(options.likelihood_cutoff) +
                 " must be a finite number >= 0");
@@ -114,7 +116,8 @@ BatchRecognizer::BatchRecognizer(const Engine& engine, const PoseSpaceSpec& pose
     fo.belief_budget_bins = options.belief_budget_bins;
     for (auto& s : impl_->sessions)
       s.filter = std::make_unique<BayesFilter>(*impl_->pair_map, impl_->space, fo, *impl_->backend);
-    if (options.refine_pose) {
+    // The fine pose's fit also tells p_unknown how well the best object's surface explains the contacts.
+    if (options.refine_pose || (options.calibrate && !impl_->pair_map->calibration.unknown.empty())) {
       impl_->surface = &EngineAccess::impl(engine)->surface();
       impl_->refine = refine_settings(impl_->space);
     }
@@ -168,7 +171,13 @@ Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const
   const std::lock_guard lock(impl_->mutex);
   const Impl::Session& s = impl_->at(session);
   const auto& objects = impl_->pair_map->objects;
-  if (s.readings == 0) return not_ready_estimate(objects.size(), s.prior_weight);
+  // Without evidence (no reading yet, or the appearance-only method) "none of these" stays at its prior.
+  const double no_evidence_unknown = impl_->options.calibrate ? impl_->options.unknown_prior : 0.0;
+  if (s.readings == 0) {
+    Estimate e = not_ready_estimate(objects.size(), s.prior_weight);
+    e.p_unknown = no_evidence_unknown;
+    return e;
+  }
   Estimate e;
   if (s.filter) {
     const EstimateRequest r{.top_k = top_k,
@@ -176,10 +185,14 @@ Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const
                             .object_weight = s.prior_weight,
                             .pose_weighting = s.pose_prior,
                             .surface = impl_->surface,
-                            .refine = impl_->refine};
+                            .refine = impl_->refine,
+                            .refine_pose = impl_->options.refine_pose,
+                            .calibration = impl_->options.calibrate ? &impl_->pair_map->calibration : nullptr,
+                            .unknown_prior = impl_->options.unknown_prior};
     e = filter_estimate(*s.filter, objects, r);
   } else {
     e = appearance_estimate(s.appearance_log_posterior, objects, s.prior_weight);
+    e.p_unknown = no_evidence_unknown;
   }
   e.readings = s.readings;
   e.votes = s.last_votes;

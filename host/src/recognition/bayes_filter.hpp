@@ -53,9 +53,9 @@ class BayesFilter {
   // `modes`: distinct modes of the best object to report (the fine pose's starts).
   // `object_weight`: a prior over objects; `pose_weighting`: a pose prior (sva::estimate).
   BeliefEstimate estimate(std::size_t top_k, std::size_t modes = 1, std::span<const double> object_weight = {},
-                          const PoseWeighting& pose_weighting = {}) const {
+                          const PoseWeighting& pose_weighting = {}, double temperature = 1.0) const {
     require_complete();
-    return sva::estimate(*belief_, *space_, top_k, modes, object_weight, pose_weighting);
+    return sva::estimate(*belief_, *space_, top_k, modes, object_weight, pose_weighting, temperature);
   }
   void reset();
 

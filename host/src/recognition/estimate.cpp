@@ -141,6 +141,52 @@ std::vector<RigidPose> next_modes(const BeliefState& belief, const PoseSpace& sp
 
 }  // namespace
 
+std::vector<double> object_log2_mass(const BeliefSummary& s, const PoseSpace& space) {
+  const std::uint32_t bits = belief_math::mass_bits(space.bins_per_object());
+  const double max_bits = belief_math::units_to_bits(s.max_offset);
+  std::vector<double> out(space.objects());
+  for (std::uint32_t o = 0; o < space.objects(); ++o) {
+    // The mass in bits relative to a bin at the maximum, as a sum of up to two terms in the log domain: the
+    // touched bins (their band sum, or below the band the best bin alone) and the untouched bins at offset 0.
+    double terms[2] = {0.0, 0.0};  // at least one is set: an object has touched or untouched bins
+    int n = 0;
+    if (s.touched_mass[o] > 0)
+      terms[n++] = pmath::log2(static_cast<double>(s.touched_mass[o])) - bits;
+    else if (s.touched[o] > 0)
+      terms[n++] = belief_math::units_to_bits(s.best_offset[o]) - max_bits;
+    const std::uint64_t untouched = space.bins_per_object() - s.touched[o];
+    if (untouched > 0) terms[n++] = pmath::log2(static_cast<double>(untouched)) - max_bits;
+    double top = terms[0];
+    for (int i = 1; i < n; ++i) top = std::max(top, terms[i]);
+    double sum = 0.0;
+    for (int i = 0; i < n; ++i) sum += pmath::exp2(terms[i] - top);
+    out[o] = top + pmath::log2(sum);
+  }
+  return out;
+}
+
+EvidenceLevel evidence_level(const BeliefState& belief, const PoseSpace& space, std::size_t readings) {
+  return evidence_level(belief.summarise(), belief.pairs_folded(), space, readings);
+}
+
+EvidenceLevel evidence_level(const BeliefSummary& summary, std::size_t pairs_folded, const PoseSpace& space,
+                             std::size_t readings) {
+  EvidenceLevel e;
+  e.readings = readings;
+  e.object_log2_mass = object_log2_mass(summary, space);
+  if (pairs_folded > 0)
+    e.best_bits_per_pair = belief_math::units_to_bits(summary.max_offset) / static_cast<double>(pairs_folded);
+  return e;
+}
+
+void set_surface_fit(const RefinedPose& fine, std::size_t readings, const RefineSettings& settings,
+                     EvidenceLevel* level) {
+  if (readings < settings.min_readings || readings == 0) return;
+  const double outlier_cost = settings.scale_final_mm * settings.scale_final_mm / 6.0;
+  level->fit_inlier_share = static_cast<double>(fine.inliers) / static_cast<double>(readings);
+  level->fit_cost_share = fine.cost / (outlier_cost * static_cast<double>(readings));
+}
+
 double total_mass(const BeliefSummary& summary, const PoseSpace& space, std::span<const double> object_weight) {
   double z = 0.0;
   for (double m : object_mass(summary, space, object_weight)) z += m;
@@ -204,17 +250,24 @@ double PoseWeighting::log2_weight(std::uint64_t key) const {
 }
 
 BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::size_t top_k, std::size_t modes,
-                        std::span<const double> object_weight, const PoseWeighting& pose_weighting) {
+                        std::span<const double> object_weight, const PoseWeighting& pose_weighting,
+                        double temperature) {
   BeliefEstimate e;
   const BeliefSummary s = belief.summarise();
   const std::vector<double> mass = object_mass(s, space, object_weight);
   double z = 0.0;
   for (double m : mass) z += m;
-  e.object_probability.resize(mass.size());
-  for (std::size_t o = 0; o < mass.size(); ++o) e.object_probability[o] = mass[o] / z;
+  e.raw_object_probability.resize(mass.size());
+  for (std::size_t o = 0; o < mass.size(); ++o) e.raw_object_probability[o] = mass[o] / z;
+  e.level = evidence_level(s, belief.pairs_folded(), space, 0);
+  // Untempered, the integer masses decide (ties to the smaller id), as Eq 5 does.
+  const bool tempered = temperature != 1.0;
+  e.object_probability =
+      tempered ? tempered_posterior(e.level.object_log2_mass, temperature, object_weight) : e.raw_object_probability;
+  const std::vector<double>& score = tempered ? e.object_probability : mass;
   e.object = 0;
   for (std::uint32_t o = 1; o < mass.size(); ++o)
-    if (mass[o] > mass[e.object]) e.object = o;
+    if (score[o] > score[e.object]) e.object = o;
   if (s.touched[e.object] > 0) {
     e.pose_valid = true;
     e.best_key = pose_weighting.applies_to(e.object) ? best_bin_under_prior(belief, s, e.object, pose_weighting)
@@ -303,6 +356,24 @@ void poses_to_robot(const PoseSpace& space, const std::vector<MapObject>& object
   }
 }
 
+// The bins and modes carry shares of their object's untempered mass; tempering moves each object's total, so each
+// share is scaled to its object's tempered probability. An object whose untempered mass underflowed has lost its
+// shares: its best mode takes the whole of its tempered probability, its other modes none.
+void temper_hypotheses(const BeliefEstimate& b, Estimate* e) {
+  auto scaled = [&](std::uint32_t o, double p, bool best_of_object) {
+    const double raw = b.raw_object_probability[o], cal = b.object_probability[o];
+    if (raw > 0.0) return std::min(p * (cal / raw), 1.0);
+    return best_of_object ? cal : 0.0;
+  };
+  std::vector<bool> seen(b.object_probability.size(), false);
+  for (PoseHypothesis& h : e->hypotheses) {
+    h.probability = scaled(h.object, h.probability, !seen[h.object]);
+    seen[h.object] = true;
+  }
+  for (PoseHypothesis& h : e->object_hypotheses) h.probability = h.valid ? scaled(h.object, h.probability, true) : 0.0;
+  for (Hypothesis& h : e->top) h.probability = scaled(h.object, h.probability, false);
+}
+
 }  // namespace
 
 ObservedReading to_grid(const PoseSpace& space, ObservedReading r) {
@@ -332,7 +403,9 @@ Estimate appearance_estimate(const std::vector<double>& log_posterior, const std
 }
 
 Estimate filter_estimate(const BayesFilter& filter, const std::vector<MapObject>& objects, const EstimateRequest& r) {
-  const BeliefEstimate b = filter.estimate(r.top_k, r.surface ? kRefineStarts : 1, r.object_weight, r.pose_weighting);
+  const double temperature = r.calibration ? r.calibration->temperature(filter.readings()) : 1.0;
+  const BeliefEstimate b = filter.estimate(r.top_k, r.surface ? kRefineStarts : 1, r.object_weight, r.pose_weighting,
+                                           temperature);
   Estimate e;
   e.ready = true;
   e.object = b.object;
@@ -342,13 +415,20 @@ Estimate filter_estimate(const BayesFilter& filter, const std::vector<MapObject>
   e.pose = b.pose;
   e.parabolic_pose = b.parabolic_pose;
   e.bin_pose = b.bin_pose;
+  EvidenceLevel level = b.level;
+  level.readings = filter.readings();
   if (r.surface && b.pose_valid) {
     const RefinedPose fine = refine_pose(*r.surface, b.object, filter.observed(), b.modes, r.refine);
-    e.pose = fine.pose;
-    e.pose_refined = fine.refined;
+    if (r.refine_pose) {
+      e.pose = fine.pose;
+      e.pose_refined = fine.refined;
+    }
+    set_surface_fit(fine, filter.readings(), r.refine, &level);
   }
   poses_to_robot(filter.space(), objects, b, &e);
   if (r.top_k > 0) add_hypotheses(filter, objects, r, b, &e);
+  if (temperature != 1.0) temper_hypotheses(b, &e);
+  e.p_unknown = r.calibration ? r.calibration->p_unknown(level, r.unknown_prior) : 0.0;
   e.votes_outside = filter.last_update().votes_outside;
   e.votes_zero = filter.last_update().votes_zero;
   return e;

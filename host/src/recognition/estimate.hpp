@@ -16,6 +16,7 @@
 #include <sva/recognizer.hpp>
 
 #include "belief/belief_state.hpp"
+#include "calibration/calibration.hpp"
 #include "map/pair_map.hpp"
 #include "map/surface_index.hpp"
 #include "recognition/observed_reading.hpp"
@@ -52,7 +53,9 @@ struct BinHypothesis {
 
 struct BeliefEstimate {
   std::uint32_t object = 0;
-  std::vector<double> object_probability;  // sums to 1
+  std::vector<double> object_probability;  // sums to 1 (tempered by the estimate's temperature)
+  std::vector<double> raw_object_probability;  // the untempered posterior the bins' probabilities are shares of
+  EvidenceLevel level;                         // what the calibration reads (its `readings` left 0)
   bool pose_valid = false;                 // the best object has a touched bin
   std::uint64_t best_key = 0;
   RigidPose pose;            // the histogram's estimate, `parabolic_pose` (the recognizer then refines it against
@@ -65,6 +68,18 @@ struct BeliefEstimate {
   std::vector<RigidPose> modes;
   std::vector<BinHypothesis> top;
 };
+
+// Each object's log-evidence (calibration/calibration.hpp, EvidenceLevel::object_log2_mass): log2 of its mass over
+// poses relative to one bin at the maximum, untouched bins at the baseline; never -inf.
+std::vector<double> object_log2_mass(const BeliefSummary& summary, const PoseSpace& space);
+// What the calibration reads of a belief after `readings` readings.
+EvidenceLevel evidence_level(const BeliefState& belief, const PoseSpace& space, std::size_t readings);
+EvidenceLevel evidence_level(const BeliefSummary& summary, std::size_t pairs_folded, const PoseSpace& space,
+                             std::size_t readings);
+
+// The fine pose's fit (its inliers and robust cost over `readings` readings) as the calibration reads it.
+void set_surface_fit(const RefinedPose& fine, std::size_t readings, const RefineSettings& settings,
+                     EvidenceLevel* level);
 
 // The belief's total mass in the units of object_probability's (a bin at the maximum weighs 2^mass_bits).
 // `object_weight`: the prior per object (largest 1; empty: flat), as in estimate().
@@ -80,8 +95,11 @@ std::vector<double> object_probability(const BeliefSummary& summary, const PoseS
 // prior (candidates: the object's best bin and its bins among the best bins read for the modes), adds the prior to
 // the log-belief of the parabola's bins and orders the modes by it; it leaves the object posterior and `top`
 // (the evidence's best bins) as they are.
+// `temperature` (calibration/calibration.hpp) tempers each object's log-evidence before the prior weighs it: 1 is
+// Eq 5's product as it stands; the best object is the one of most tempered posterior.
 BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::size_t top_k, std::size_t modes = 1,
-                        std::span<const double> object_weight = {}, const PoseWeighting& pose_weighting = {});
+                        std::span<const double> object_weight = {}, const PoseWeighting& pose_weighting = {},
+                        double temperature = 1.0);
 // The candidates a pose prior chooses an object's best bin among: how many of the best bins (over all objects)
 // are read.
 constexpr std::size_t kPosePriorCandidates = 64;
@@ -119,6 +137,9 @@ struct EstimateRequest {
   const PoseWeighting& pose_weighting;    // the pose priors (none: empty)
   const SurfaceIndex* surface = nullptr;  // the fine pose's training contacts; none: the parabolic pose
   RefineSettings refine;                  // the fine pose's settings (with `surface`)
+  bool refine_pose = true;                // Estimate::pose is the fine pose (else the fit only feeds p_unknown)
+  const Calibration* calibration = nullptr;  // none: Eq 5's raw posterior and p_unknown = unknown_prior
+  double unknown_prior = 0.1;
 };
 
 // Method::sva: the estimate of the filter's belief, refined against the surface when there is one, in the robot

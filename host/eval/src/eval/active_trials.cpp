@@ -1,5 +1,7 @@
 #include "eval/active_trials.hpp"
 
+#include "calibration/session_sampling.hpp"
+
 #include <sva/base/interrupt.hpp>
 #include <sva/base/parallel.hpp>
 #include <sva/base/progress.hpp>
@@ -143,7 +145,7 @@ void run_active_trial(const Trial& trial, const TrialGenerator& gen, const Choos
       throw Error(setup.source + ": trial " + std::to_string(trial.index) + ", reading " + std::to_string(k + 1) +
                   " (" + what + "): " + e.what());
     }
-    record_step(out.steps[k], est, trial, object, ms_since(start));
+    record_step(out.steps[k], est, trial, object, ms_since(start), map_object_of(setup, trial.object));
     out.steps[k].plan_ms = c.plan_ms;
     out.samples[k] = c.sample;
     if (c.sample != kSimulated) tr.show(c.sample);
@@ -189,7 +191,7 @@ EvalResult run_trials_active(const Dataset& test, const TrialSetup& setup, const
       setup.trials,
       [&](std::size_t t) {
         const Trial trial = generator.make(t);
-        start_trial(result.trials[t], trial);
+        start_trial(result.trials[t], trial, setup);
         auto session = pool.take();
         run_active_trial(trial, generator, chooser, *session, test, setup, result.trials[t]);
         pool.give_back(std::move(session));

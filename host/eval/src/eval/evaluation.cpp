@@ -93,15 +93,36 @@ EvalResult run_active(const Map& map, const Dataset& test, TrialSetup setup, con
 const char* backend_name(BackendKind backend) { return backend_kind_name(backend); }
 const char* method_name(Method method) { return method == Method::appearance ? "appearance" : "sva"; }
 
-void check_compatible(const Map& map, const Dataset& test, const std::string& map_name, const std::string& data_name) {
+std::vector<std::int32_t> map_objects_of(const Map& map, const Dataset& test) {
+  const auto names = map.object_names();
+  std::vector<std::int32_t> out;
+  for (const auto& o : test.scene.objects) {
+    const auto it = std::find(names.begin(), names.end(), o.name);
+    out.push_back(it == names.end() ? -1 : static_cast<std::int32_t>(it - names.begin()));
+  }
+  return out;
+}
+
+void check_compatible(const Map& map, const Dataset& test, const std::string& map_name, const std::string& data_name,
+                      bool unknown_objects) {
   const std::string both = "the map " + map_name + " and the test set " + data_name;
   if (map.scene_name() != test.scene.name)
     throw Error(both + " come from different scenes (\"" + map.scene_name() + "\" and \"" + test.scene.name + "\")");
   const auto names = map.object_names();
   std::vector<std::string> test_names;
   for (const auto& o : test.scene.objects) test_names.push_back(o.name);
-  if (names != test_names)
-    throw Error(both + " have different objects ([" + join(names) + "] and [" + join(test_names) + "])");
+  if (unknown_objects) {
+    const std::vector<std::int32_t> in_map = map_objects_of(map, test);
+    std::vector<std::string> missing;
+    for (const auto& n : names)
+      if (std::find(test_names.begin(), test_names.end(), n) == test_names.end()) missing.push_back(n);
+    if (!missing.empty())
+      throw Error(both + ": the map's objects [" + join(missing) + "] are not in the test set (--unknown-objects " +
+                  "needs the map's objects among the test set's)");
+  } else if (names != test_names) {
+    throw Error(both + " have different objects ([" + join(names) + "] and [" + join(test_names) +
+                "]); with objects the map does not hold, give --unknown-objects");
+  }
   const auto& cal = MapAccess::pair_map(map).appearance.calibration;
   const SensorSpec& s = test.scene.sensor;
   if (cal.sensor.rows != s.rows || cal.sensor.cols != s.cols || std::abs(cal.sensor.pitch_mm - s.pitch_mm) > 1e-9)
@@ -117,8 +138,9 @@ void check_compatible(const Map& map, const Dataset& test, const std::string& ma
 }
 
 EvalResult run_evaluation(const Map& map, const Dataset& test, const EvalOptions& options) {
-  check_compatible(map, test, options.map_name, options.data_name);
+  check_compatible(map, test, options.map_name, options.data_name, options.unknown_objects);
   TrialSetup setup;
+  if (options.unknown_objects) setup.map_object = map_objects_of(map, test);
   setup.trials = options.trials;
   setup.max_readings = options.max_readings;
   setup.seed = options.seed;

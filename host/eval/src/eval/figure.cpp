@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "plot/canvas.hpp"
@@ -93,6 +94,38 @@ void write_figure(const std::vector<Curve>& curves, const std::filesystem::path&
         return series;
       },
       file);
+}
+
+void write_reliability_figure(const Curve& curve, const std::filesystem::path& file) {
+  const CalibrationSummary& c = curve.calibration;
+  if (c.trial_readings == 0) throw Error(file.string() + ": no trial-readings from 2 on to draw a reliability diagram");
+  plot::Series ideal, measured;
+  ideal.label = "perfectly calibrated";
+  ideal.color = plot::kBlack;
+  ideal.markers = false;
+  ideal.x = {0.0, 1.0};
+  ideal.y = {0.0, 1.0};
+  measured.label = curve.label + ": accuracy per bin of the top object's probability";
+  measured.color = plot::palette(0);
+  for (const ReliabilityBin& b : c.bins) {
+    if (b.count == 0) continue;
+    measured.x.push_back(b.confidence);
+    measured.y.push_back(b.accuracy);
+  }
+  char title[200];
+  std::snprintf(title, sizeof title, "%s: reliability (ECE %.3f, confidently wrong %.2f%%, %zu trial-readings)",
+                curve.scene.c_str(), c.ece, 100.0 * c.confidently_wrong, c.trial_readings);
+  plot::Canvas canvas(720, 620);
+  plot::ChartOptions o;
+  o.title = title;
+  o.x_label = "top object's probability";
+  o.y_label = "share right";
+  o.x_min = 0.0;
+  o.x_max = 1.0;
+  o.y_min = 0.0;
+  o.y_max = 1.0;
+  line_chart(canvas, 0, 0, canvas.width(), canvas.height(), {ideal, measured}, o);
+  canvas.write_png(file);
 }
 
 }  // namespace sva::eval

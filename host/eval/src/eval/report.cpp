@@ -102,6 +102,63 @@ json confidence_json(const Confidence& c) {
           {"median", opt(c.median)}};
 }
 
+json calibration_json(const CalibrationSummary& c) {
+  json bins = json::array();
+  for (const ReliabilityBin& b : c.bins)
+    bins.push_back({{"count", b.count}, {"confidence", b.confidence}, {"accuracy", b.accuracy}});
+  return {{"trial_readings", c.trial_readings},
+          {"ece", c.ece},
+          {"confidently_wrong", c.confidently_wrong},
+          {"reliability", std::move(bins)}};
+}
+
+json stop_json(const StopSummary& s) {
+  return {{"threshold", s.threshold},       {"trials", s.trials},     {"decided", s.decided},
+          {"right", s.right},               {"accuracy", opt(s.accuracy)}, {"mean_readings", opt(s.mean_readings)}};
+}
+
+json unknown_json(const UnknownSummary& u) {
+  json roc = json::array();
+  for (const auto& [fpr, tpr] : u.roc) roc.push_back({fpr, tpr});
+  return {{"readings", u.readings},        {"known_trials", u.known_trials}, {"unknown_trials", u.unknown_trials},
+          {"auc", u.auc},                  {"caught_at_5", u.caught_at_5},   {"threshold_at_5", u.threshold_at_5},
+          {"rejected_at_5", u.rejected_at_5}, {"roc", std::move(roc)}};
+}
+
+// The probability lines under the table: calibration, stopping, objects outside the map.
+std::string probability_lines(const Curve& curve) {
+  char line[320];
+  const CalibrationSummary& c = curve.calibration;
+  std::string out;
+  if (c.trial_readings > 0) {
+    std::snprintf(line, sizeof line,
+                  "calibration: ECE %.4f, confidently wrong (top >= 0.99, wrong) %.2f%% of %zu trial-readings from 2 "
+                  "readings on\n",
+                  c.ece, 100.0 * c.confidently_wrong, c.trial_readings);
+    out += line;
+  }
+  if (curve.stop) {
+    const StopSummary& s = *curve.stop;
+    if (s.accuracy && s.mean_readings)
+      std::snprintf(line, sizeof line,
+                    "stop at %.3g: %zu of %zu trials decided, %.1f%% of them right, after %.2f readings on average\n",
+                    s.threshold, s.decided, s.trials, 100.0 * *s.accuracy, *s.mean_readings);
+    else
+      std::snprintf(line, sizeof line, "stop at %.3g: none of %zu trials decided\n", s.threshold, s.trials);
+    out += line;
+  }
+  if (curve.unknown) {
+    const UnknownSummary& u = *curve.unknown;
+    std::snprintf(line, sizeof line,
+                  "none of these at %zu readings: ROC area %.3f; %.1f%% of %zu unseen-object trials caught at p_unknown "
+                  ">= %.3g, which rejects %.1f%% of %zu known-object trials\n",
+                  u.readings, u.auc, 100.0 * u.caught_at_5, u.unknown_trials, u.threshold_at_5,
+                  100.0 * u.rejected_at_5, u.known_trials);
+    out += line;
+  }
+  return out;
+}
+
 }  // namespace
 
 std::string to_json(const EvalResult& result, const Curve& curve) {
@@ -129,6 +186,9 @@ std::string to_json(const EvalResult& result, const Curve& curve) {
   j["curve"] = std::move(points);
   j["readings_to_95"] = confidence_json(curve.to_95);
   j["plan_ms_median"] = opt(curve.plan_ms);
+  j["calibration"] = calibration_json(curve.calibration);
+  if (curve.stop) j["stop"] = stop_json(*curve.stop);
+  if (curve.unknown) j["unknown_objects"] = unknown_json(*curve.unknown);
   return j.dump(2) + "\n";
 }
 
@@ -186,7 +246,7 @@ std::string format_table(const Curve& curve) {
     std::snprintf(line, sizeof line, " %8s\n", cell(p.update_ms_p95, "%.3f").c_str());
     s << line;
   }
-  s << zero_votes_line(curve) << confidence_line(curve);
+  s << zero_votes_line(curve) << confidence_line(curve) << probability_lines(curve);
   return s.str();
 }
 
@@ -264,6 +324,21 @@ Curve read_curve_json(const std::filesystem::path& file) {
     c.points.push_back(pt);
   }
   return c;
+}
+
+std::string describe_calibration(const MapSummary& map) {
+  const MapSummary::Calibration& c = map.calibration;
+  char buf[256];
+  std::snprintf(buf, sizeof buf, "%s: temperature %.3g (n-1)^-%.2f", c.learned ? "learned" : "the default",
+                c.temperature_scale, c.temperature_power);
+  std::string s = buf;
+  if (c.learned) {
+    std::snprintf(buf, sizeof buf, ", from %u + %u held-out sessions of %u readings", c.known_sessions,
+                  c.unknown_sessions, c.session_readings);
+    s += buf;
+  }
+  s += c.unknown_model ? "; says \"none of these\"" : "; cannot say \"none of these\"";
+  return s;
 }
 
 }  // namespace sva::eval

@@ -12,9 +12,10 @@ Spread spread_of(const std::vector<double>& values) { return {median(values), me
 Confidence readings_to_confidence(const EvalResult& result, double threshold) {
   Confidence c;
   c.threshold = threshold;
-  c.trials = result.trials.size();
   std::vector<double> n;
   for (const auto& trial : result.trials) {
+    if (!trial.known) continue;  // no true object in the map to reach
+    ++c.trials;
     std::size_t first = result.max_readings + 1;
     for (std::size_t k = 0; k < trial.steps.size(); ++k)
       if (trial.steps[k].true_object_probability >= threshold) {
@@ -29,8 +30,11 @@ Confidence readings_to_confidence(const EvalResult& result, double threshold) {
   return c;
 }
 
-Curve summarize(const EvalResult& result) {
+Curve summarize(const EvalResult& result, std::optional<double> stop_at) {
   Curve c;
+  c.calibration = calibration_summary(result);
+  if (stop_at) c.stop = stop_summary(result, *stop_at);
+  c.unknown = unknown_summary(result, std::min<std::size_t>(15, result.max_readings));
   c.label = result.method == "sva" && result.policy != "random" ? "sva " + result.policy : result.method;
   c.policy = result.policy;
   c.to_95 = readings_to_confidence(result, 0.95);
@@ -46,12 +50,13 @@ Curve summarize(const EvalResult& result) {
   for (std::size_t n = 1; n <= result.max_readings; ++n) {
     CurvePoint p;
     p.readings = n;
-    std::size_t correct = 0;
+    std::size_t correct = 0, known = 0;
     std::vector<double> t_err, a_err, i_err, ms;
     for (const auto& trial : result.trials) {
       assert(trial.steps.size() == result.max_readings);
       const StepResult& s = trial.steps[n - 1];
       correct += s.correct;
+      known += trial.known;
       ms.push_back(s.update_ms);
       p.votes += s.votes;
       p.votes_zero += s.votes_zero;
@@ -60,7 +65,8 @@ Curve summarize(const EvalResult& result) {
       a_err.push_back(s.angular_error_rad * 180.0 / std::numbers::pi);
       i_err.push_back(s.inertial_error_mm);
     }
-    p.accuracy = result.trials.empty() ? 0.0 : static_cast<double>(correct) / static_cast<double>(result.trials.size());
+    // Over the trials whose object the map holds (all of them unless --unknown-objects).
+    p.accuracy = known == 0 ? 0.0 : static_cast<double>(correct) / static_cast<double>(known);
     p.pose_trials = t_err.size();
     p.translation_mm = spread_of(t_err);
     p.angular_deg = spread_of(a_err);

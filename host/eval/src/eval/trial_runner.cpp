@@ -20,13 +20,18 @@
 namespace sva::eval {
 
 // What one step of a trial shows: the estimate against the truth.
-void record_step(StepResult& s, const Estimate& est, const Trial& trial, const SceneObject& object, double update_ms) {
+void record_step(StepResult& s, const Estimate& est, const Trial& trial, const SceneObject& object, double update_ms,
+                 std::int32_t map_object) {
   s.update_ms = update_ms;
   s.votes = est.votes;
   s.votes_zero = est.votes_zero;
   s.estimated_object = est.object;
-  s.correct = est.object == trial.object;
-  s.true_object_probability = trial.object < est.object_probability.size() ? est.object_probability[trial.object] : 0.0;
+  const bool known = map_object >= 0;
+  const auto truth = static_cast<std::uint32_t>(map_object);
+  s.correct = known && est.object == truth;
+  s.true_object_probability = known && truth < est.object_probability.size() ? est.object_probability[truth] : 0.0;
+  s.top_probability = est.object < est.object_probability.size() ? est.object_probability[est.object] : 0.0;
+  s.p_unknown = est.p_unknown;
   s.pose_valid = est.pose_valid;
   if (s.pose_valid && !(finite(est.pose.T) && std::isfinite(est.pose.R[0][0] + est.pose.R[1][1] + est.pose.R[2][2])))
     throw std::logic_error("eval: the recognizer returned a non-finite pose in trial " + std::to_string(trial.index));
@@ -53,9 +58,14 @@ EvalResult empty_result(const Dataset& test, const TrialSetup& setup) {
   return result;
 }
 
-void start_trial(TrialResult& out, const Trial& trial) {
+std::int32_t map_object_of(const TrialSetup& setup, std::uint32_t object) {
+  return setup.map_object.empty() ? static_cast<std::int32_t>(object) : setup.map_object[object];
+}
+
+void start_trial(TrialResult& out, const Trial& trial, const TrialSetup& setup) {
   out.index = trial.index;
   out.object = trial.object;
+  out.known = map_object_of(setup, trial.object) >= 0;
   out.pose = trial.pose;
   out.samples = trial.samples;
   out.steps.resize(trial.readings.size());
@@ -75,7 +85,7 @@ EvalResult run_trials(const Dataset& test, const TrialSetup& setup, const Sessio
         const Trial trial = generator.make(t);
         const SceneObject& object = test.scene.objects[trial.object];
         TrialResult& out = result.trials[t];
-        start_trial(out, trial);
+        start_trial(out, trial, setup);
 
         auto session = pool.take();
         session->reset();
@@ -94,7 +104,8 @@ EvalResult run_trials(const Dataset& test, const TrialSetup& setup, const Sessio
           }
           const auto stop = std::chrono::steady_clock::now();
           record_step(out.steps[k], est, trial, object,
-                      std::chrono::duration<double, std::milli>(stop - start).count());
+                      std::chrono::duration<double, std::milli>(stop - start).count(),
+                      map_object_of(setup, trial.object));
         }
         pool.give_back(std::move(session));
         if (progress) progress->advance();
@@ -120,7 +131,7 @@ EvalResult run_trials_batched(const Dataset& test, const TrialSetup& setup, Sess
     std::vector<std::span<const Reading>> readings;
     for (std::size_t i = 0; i < count; ++i) {
       trials.push_back(generator.make(first + i));
-      start_trial(result.trials[first + i], trials.back());
+      start_trial(result.trials[first + i], trials.back(), setup);
     }
     for (const Trial& t : trials) readings.emplace_back(t.readings);
     return readings;
@@ -130,7 +141,7 @@ EvalResult run_trials_batched(const Dataset& test, const TrialSetup& setup, Sess
     for (std::size_t i : s.sessions) {
       const Trial& trial = trials[i];
       record_step(result.trials[s.first + i].steps[s.step], batch.estimate(i), trial, test.scene.objects[trial.object],
-                  s.update_ms / static_cast<double>(s.sessions.size()));
+                  s.update_ms / static_cast<double>(s.sessions.size()), map_object_of(setup, trial.object));
     }
   };
   hooks.on_error = [&](const Error& e, const LockstepStep& s) {

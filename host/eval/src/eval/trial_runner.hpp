@@ -50,6 +50,9 @@ struct TrialSetup {
   bool progress = true;
   std::string source = "test set";     // names the test set in errors
   std::string scene, backend, method;  // copied into the result
+  // Per object of the test set: its id in the map, or -1 when the map does not hold it (--unknown-objects);
+  // empty: the same objects in the same order.
+  std::vector<std::int32_t> map_object;
 };
 
 // Runs setup.trials trials on the test set. Each trial's randomness comes from
@@ -67,9 +70,13 @@ EvalResult run_trials_batched(const Dataset& test, const TrialSetup& setup, Sess
 struct Trial;
 // The result with its trials sized, the setup's names copied; sva::Error for 0 trials or readings.
 EvalResult empty_result(const Dataset& test, const TrialSetup& setup);
+// The map's id of a test-set object (TrialSetup::map_object), or -1 when the map does not hold it.
+std::int32_t map_object_of(const TrialSetup& setup, std::uint32_t object);
 // Copies the trial's object, pose and samples into its result and sizes its steps.
-void start_trial(TrialResult& out, const Trial& trial);
-// Records the estimate after one more reading against the trial's truth.
-void record_step(StepResult& s, const Estimate& est, const Trial& trial, const SceneObject& object, double update_ms);
+void start_trial(TrialResult& out, const Trial& trial, const TrialSetup& setup);
+// Records the estimate after one more reading against the trial's truth (`map_object`: the true object's id in
+// the map, -1 when the map does not hold it).
+void record_step(StepResult& s, const Estimate& est, const Trial& trial, const SceneObject& object, double update_ms,
+                 std::int32_t map_object);
 
 }  // namespace sva::eval

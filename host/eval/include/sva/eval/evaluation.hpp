@@ -31,13 +31,21 @@ struct EvalOptions {
   // How each next reading is chosen (host/eval/src/eval/active_trials.hpp): random (the paper's protocol, the default)
   // or planned; the adaptive policies step every trial on its own (no lock-step batches), on the resolved backend.
   Policy policy = Policy::random;
+  // The test set may hold objects the map does not (matched by name): their trials count as right only when
+  // they say "none of these" (the stop summary), and the curve reports p_unknown's ROC.
+  bool unknown_objects = false;
+  std::optional<double> stop_at;  // the stop summary's threshold (summarize)
   ActiveSetup active;  // its policy is set from `policy`
 };
 
 // Throws sva::Error naming both files when the test set cannot be evaluated
 // against the map: another scene, other objects (names or order), another
 // sensor geometry or skin calibration (the descriptors would not compare).
-void check_compatible(const Map& map, const Dataset& test, const std::string& map_name, const std::string& data_name);
+// `unknown_objects`: the map's objects need only be among the test set's (by name; at least one shared).
+void check_compatible(const Map& map, const Dataset& test, const std::string& map_name, const std::string& data_name,
+                      bool unknown_objects = false);
+// Per object of the test set: its id in the map, or -1 when the map does not hold it.
+std::vector<std::int32_t> map_objects_of(const Map& map, const Dataset& test);
 
 // Runs the trials; poses are drawn from the map's pose space.
 EvalResult run_evaluation(const Map& map, const Dataset& test, const EvalOptions& options);

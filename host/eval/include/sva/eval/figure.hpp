@@ -14,5 +14,8 @@ namespace sva::eval {
 // Writes a PNG (atomically). Throws sva::Error when `curves` is empty or the
 // file cannot be written.
 void write_figure(const std::vector<Curve>& curves, const std::filesystem::path& file);
+// The reliability diagram of a run (Curve::calibration): the share right against the top object's probability,
+// per bin, beside the diagonal of perfect calibration.
+void write_reliability_figure(const Curve& curve, const std::filesystem::path& file);
 
 }  // namespace sva::eval

@@ -6,6 +6,7 @@
 #include <string>
 
 #include <sva/eval/results.hpp>
+#include <sva/map.hpp>
 
 namespace sva::eval {
 
@@ -19,6 +20,10 @@ std::string to_json(const EvalResult& result, const Curve& curve);
 std::string to_csv(const EvalResult& result);
 // The curve as a fixed-width table (readings, accuracy, errors, ms/update).
 std::string format_table(const Curve& curve);
+
+// One line on a map's calibration (sva train, sva inspect): learned or the default, the temperature's law and
+// whether it can say "none of these".
+std::string describe_calibration(const MapSummary& map);
 
 // Reads a JSON summary written by to_json; errors name the file and field.
 Curve read_curve_json(const std::filesystem::path& file);

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace sva::eval {
@@ -16,6 +17,8 @@ struct StepResult {
   std::uint32_t estimated_object = 0;
   bool correct = false;
   double true_object_probability = 0.0;
+  double top_probability = 0.0;  // the estimated object's probability (calibrated: RecognizerOptions::calibrate)
+  double p_unknown = 0.0;        // the estimate's probability that the object is none of the map's
   bool pose_valid = false;            // the recognizer had a pose estimate (never for the appearance-only method)
   double translation_error_mm = 0.0;  // meaningful when correct && pose_valid
   double angular_error_rad = 0.0;
@@ -30,11 +33,14 @@ struct StepResult {
 
 struct TrialResult {
   std::size_t index = 0;
-  std::uint32_t object = 0;
+  std::uint32_t object = 0;          // in the test set's scene
+  bool known = true;                 // the map holds the object (`sva eval --unknown-objects`: not always)
   RigidPose pose;                    // true pose
   std::vector<std::size_t> samples;  // test sample presented at each step
   std::vector<StepResult> steps;     // steps[n - 1]: after n readings
 };
+
+struct EvalResult;
 
 // Median, mean and 90th percentile of a set (empty when the set is).
 struct Spread {
@@ -63,6 +69,43 @@ struct Confidence {
   std::optional<double> mean, median;
 };
 
+// How far the probabilities can be trusted (docs/evaluation.md, "Calibration"), over every trial-reading from 2
+// readings on of trials whose object the map knows: the expected calibration error over 10 equal-width bins of
+// the top object's probability, and the share that is confidently wrong (top >= 0.99 and wrong).
+struct ReliabilityBin {
+  std::size_t count = 0;
+  double confidence = 0.0, accuracy = 0.0;  // means over the bin (0 when empty)
+};
+struct CalibrationSummary {
+  std::size_t trial_readings = 0;
+  double ece = 0.0;
+  double confidently_wrong = 0.0;  // share of trial_readings
+  std::vector<ReliabilityBin> bins;  // 10: [0, 0.1), ..., [0.9, 1]
+};
+CalibrationSummary calibration_summary(const EvalResult& result);
+
+// Deciding when to stop (`sva eval --stop-at P`): a trial decides at its first reading where "none of these"
+// (p_unknown) or the top object ((1 - p_unknown) top_probability) reaches P; it is right when it names its object,
+// or "none of these" for an object the map does not hold. Trials that never decide are counted apart.
+struct StopSummary {
+  double threshold = 0.95;
+  std::size_t trials = 0, decided = 0, right = 0;
+  std::optional<double> mean_readings;  // over decided trials
+  std::optional<double> accuracy;       // right / decided
+};
+StopSummary stop_summary(const EvalResult& result, double threshold);
+
+// Objects outside the map (`--unknown-objects`): p_unknown as a detector at `readings` readings, trials on
+// unknown objects the positives. ROC points from the highest threshold down; the area under the curve; the share
+// of unknown trials caught at the threshold that rejects at most 5% of known trials.
+struct UnknownSummary {
+  std::size_t readings = 0, known_trials = 0, unknown_trials = 0;
+  double auc = 0.0;
+  double caught_at_5 = 0.0, threshold_at_5 = 1.0, rejected_at_5 = 0.0;
+  std::vector<std::pair<double, double>> roc;  // (false positive rate, true positive rate)
+};
+std::optional<UnknownSummary> unknown_summary(const EvalResult& result, std::size_t readings);
+
 struct Curve {
   std::string label;  // legend text (the method, or a file name)
   std::string scene, backend, method;
@@ -71,6 +114,9 @@ struct Curve {
   std::optional<double> plan_ms;  // median time per plan (active policies)
   std::size_t trials = 0;
   std::vector<CurvePoint> points;
+  CalibrationSummary calibration;
+  std::optional<StopSummary> stop;        // with a --stop-at threshold
+  std::optional<UnknownSummary> unknown;  // when some trials' objects are not in the map
 };
 
 struct EvalResult {
@@ -88,8 +134,9 @@ struct EvalResult {
   std::string backend_fallback_reason;
 };
 
-// The curve of a result: one point per reading count 1..max_readings.
-Curve summarize(const EvalResult& result);
+// The curve of a result: one point per reading count 1..max_readings, the calibration summary, and the unknown
+// objects' summary at min(15, max_readings) readings when the result has some; `stop_at` adds the stop summary.
+Curve summarize(const EvalResult& result, std::optional<double> stop_at = std::nullopt);
 
 Confidence readings_to_confidence(const EvalResult& result, double threshold);
 

@@ -18,17 +18,8 @@
 
 namespace sva::eval {
 
-// A rotation uniform on SO(3) (Haar measure), from a uniform unit quaternion.
-glm::dmat3 uniform_rotation(util::Rng& rng);
-
-// A pose uniform over the pose space: spatial -> any rotation and a
-// translation uniform in [min, max] per axis; planar -> a rotation about z
-// uniform in [-pi, pi) and a translation uniform in [min, max] in x and y.
-RigidPose random_pose(util::Rng& rng, const PoseSpaceSpec& space);
-
-// The reading as seen when the object moves by `pose`: position, normal and x
-// axis transformed; the pressure image is unchanged.
-Reading transform_reading(const Reading& reading, const RigidPose& pose);
+// Poses and moved readings are drawn as the core draws them for the calibration's sessions
+// (host/src/calibration/session_sampling.hpp: sva::random_pose, sva::transform_reading).
 
 struct Trial {
   std::size_t index = 0;

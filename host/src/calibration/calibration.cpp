@@ -1,0 +1,64 @@
+#include "calibration/calibration.hpp"
+
+#include <sva/base/portable_math.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace sva {
+
+double Calibration::temperature(std::size_t readings) const {
+  if (readings < 2) return 1.0;
+  const double t = temperature_scale * pmath::exp2(-temperature_power * pmath::log2(static_cast<double>(readings - 1)));
+  return std::min(t, kMaxTemperature);
+}
+
+std::vector<double> tempered_posterior(std::span<const double> log2_mass, double temperature,
+                                       std::span<const double> object_weight) {
+  const std::size_t n = log2_mass.size();
+  std::vector<double> q(n);
+  double top = -INFINITY;
+  for (std::size_t o = 0; o < n; ++o) {
+    q[o] = temperature * log2_mass[o];
+    if (!object_weight.empty()) q[o] = object_weight[o] > 0.0 ? q[o] + pmath::log2(object_weight[o]) : -INFINITY;
+    top = std::max(top, q[o]);
+  }
+  double z = 0.0;
+  for (double& v : q) z += v = std::isinf(v) ? 0.0 : pmath::exp2(v - top);
+  for (double& v : q) v /= z;
+  return q;
+}
+
+std::vector<double> Calibration::object_probability(const EvidenceLevel& level,
+                                                    std::span<const double> object_weight) const {
+  return tempered_posterior(level.object_log2_mass, temperature(level.readings), object_weight);
+}
+
+std::array<double, kUnknownFeatures> Calibration::unknown_features(const EvidenceLevel& level) {
+  double first = -INFINITY, second = -INFINITY;
+  for (double l : level.object_log2_mass) {
+    if (l > first) {
+      second = first;
+      first = l;
+    } else if (l > second) {
+      second = l;
+    }
+  }
+  const double gap = std::isfinite(second) ? first - second : 0.0;
+  return {pmath::log2(1.0 + std::max(level.best_bits_per_pair, 0.0)), pmath::log2(1.0 + std::max(gap, 0.0)),
+          std::max(level.fit_cost_share, 0.0)};
+}
+
+double Calibration::p_unknown(const EvidenceLevel& level, double unknown_prior) const {
+  if (unknown.empty() || level.readings < 2 || !(unknown_prior > 0.0 && unknown_prior < 1.0)) return unknown_prior;
+  const UnknownCoefficients& c = unknown.per_readings[std::min(level.readings - 2, unknown.per_readings.size() - 1)];
+  const std::array<double, kUnknownFeatures> f = unknown_features(level);
+  // The model was fitted with known and unknown sessions weighted equally (even odds); the prior moves the odds.
+  double logit = c[0] + pmath::log(unknown_prior / (1.0 - unknown_prior));
+  for (std::size_t i = 0; i < kUnknownFeatures; ++i) logit += c[i + 1] * f[i];
+  if (logit > 700.0) return 1.0;
+  if (logit < -700.0) return 0.0;
+  return 1.0 / (1.0 + pmath::exp(-logit));
+}
+
+}  // namespace sva

@@ -1,0 +1,85 @@
+#pragma once
+// Calibrated object probabilities and "none of these" (docs/recognition.md, "Calibration").
+//
+// Eq 5 multiplies the evidence of every pair as if the pairs were independent. n readings make n(n-1)/2 pairs and
+// each reading enters n-1 of them, so the same evidence is counted many times over and the raw posterior saturates
+// long before the answer is safe. The estimate therefore tempers each object's log-evidence L_o (log2 of its
+// posterior mass summed over poses) by a temperature that falls with the reading count,
+//
+//   p(o | n readings) = w_o 2^(tau(n) L_o) / sum_k w_k 2^(tau(n) L_k),   tau(n) = scale (n - 1)^-power,
+//
+// with w the caller's prior: temperature scaling (Guo et al. 2017) on the object log-marginals, its temperature a
+// function of the reading count because the over-counting grows with it (about (n-1)/2-fold). scale and power are
+// learned when the map is trained, from sessions on training readings the map never saw (held_out_sessions.hpp).
+//
+// "None of these" asks how well the map explains the readings, against what known and unknown objects gave at the
+// same reading count on those held-out sessions: the evidence the best pose gathered per pair, how far the best
+// object stands above the next, and above all how well the best object's surface fits the contacts at the fine
+// pose (an unseen object's contacts do not lie on a known surface). A logistic model per reading count, fitted
+// with the two kinds weighted equally, then moved to the caller's prior odds.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+namespace sva {
+
+// What one step of a session shows the calibration.
+struct EvidenceLevel {
+  std::size_t readings = 0;
+  // Per object: log2 of its posterior mass over poses, relative to one bin at the belief's maximum (so <= log2 of
+  // the bins per object). Exact for objects with bins near the maximum; below them, from the object's best bin and
+  // its untouched bins (a lower bound that never underflows).
+  std::vector<double> object_log2_mass;
+  // The best bin's evidence in bits over the ordered pairs folded so far (0 before any pair).
+  double best_bits_per_pair = 0.0;
+  // How well the best object's surface explains the contacts at the fine pose (recognition/pose_refinement.hpp):
+  // the share of readings inside the final robust scale, and the robust cost per reading over that scale^2/6 (an
+  // unmatched reading's cost: 1). Negative when the fine pose was not computed (too few readings).
+  double fit_inlier_share = -1.0;
+  double fit_cost_share = -1.0;
+};
+
+// The features "none of these" reads (Calibration::unknown_features): the best bin's evidence per pair, the gap
+// between the two best objects' log-evidence (both log2(1 + x)), and the fine pose's cost share (0 before it).
+inline constexpr std::size_t kUnknownFeatures = 3;
+using UnknownCoefficients = std::array<double, kUnknownFeatures + 1>;  // bias first
+
+// One logistic model of "none of these" per reading count: logit = c[0] + sum_i c[i + 1] f_i(level).
+struct UnknownModel {
+  std::vector<UnknownCoefficients> per_readings;  // index n - 2 for n readings; past the last, the last
+  bool empty() const { return per_readings.empty(); }
+};
+
+// The posterior of objects whose log-evidence (bits) is tempered by `temperature` and weighed by `object_weight`
+// (largest 1; empty: flat; a weight of 0 gives 0).
+std::vector<double> tempered_posterior(std::span<const double> log2_mass, double temperature,
+                                       std::span<const double> object_weight);
+
+struct Calibration {
+  // The temperature of maps trained without held-out readings (map format versions 1-3, or training with
+  // calibration off): fitted on paper3d and household50 (docs/recognition.md, "Calibration").
+  static constexpr double kDefaultScale = 0.25;
+  static constexpr double kDefaultPower = 0.8;
+  static constexpr double kMaxTemperature = 4.0;
+
+  bool learned = false;  // false: the defaults above
+  double temperature_scale = kDefaultScale;
+  double temperature_power = kDefaultPower;
+  UnknownModel unknown;  // empty: the map cannot say "none of these" (p_unknown is then the prior)
+  // How the fit was made (sva inspect): held-out sessions on known and unknown objects, readings per session.
+  std::uint32_t known_sessions = 0, unknown_sessions = 0, session_readings = 0;
+
+  // tau(n); 1 for n < 2 (no pair, nothing counted twice).
+  double temperature(std::size_t readings) const;
+  // The calibrated object posterior; `object_weight`: the prior per object (largest 1; empty: flat).
+  std::vector<double> object_probability(const EvidenceLevel& level, std::span<const double> object_weight) const;
+  // The probability that the touched object is none of the map's, at prior probability `unknown_prior` of that.
+  // The prior itself before any pair or without a model.
+  double p_unknown(const EvidenceLevel& level, double unknown_prior) const;
+  // The features the unknown model reads.
+  static std::array<double, kUnknownFeatures> unknown_features(const EvidenceLevel& level);
+};
+
+}  // namespace sva

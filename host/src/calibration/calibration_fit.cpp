@@ -1,0 +1,164 @@
+#include "calibration/calibration_fit.hpp"
+
+#include <sva/base/portable_math.hpp>
+#include <sva/error.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace sva {
+
+namespace {
+
+// Negative log-likelihood (nats) of the true objects under temperature scale and power.
+double temperature_nll(const std::vector<CalibrationSession>& sessions, double scale, double power) {
+  Calibration c;
+  c.temperature_scale = scale;
+  c.temperature_power = power;
+  double nll = 0.0;
+  for (const CalibrationSession& s : sessions) {
+    if (!s.known) continue;
+    for (const EvidenceLevel& level : s.steps) {
+      if (level.readings < 2) continue;
+      const std::vector<double> p = c.object_probability(level, {});
+      nll -= pmath::log(std::max(p[s.object], 1e-300));
+    }
+  }
+  return nll;
+}
+
+// Solves the small symmetric system a x = b (Gaussian elimination with partial pivoting); false when singular.
+template <std::size_t N>
+bool solve(std::array<std::array<double, N>, N> a, std::array<double, N> b, std::array<double, N>* x) {
+  for (std::size_t c = 0; c < N; ++c) {
+    std::size_t p = c;
+    for (std::size_t r = c + 1; r < N; ++r)
+      if (std::abs(a[r][c]) > std::abs(a[p][c])) p = r;
+    if (!(std::abs(a[p][c]) > 1e-300)) return false;
+    std::swap(a[p], a[c]);
+    std::swap(b[p], b[c]);
+    for (std::size_t r = c + 1; r < N; ++r) {
+      const double f = a[r][c] / a[c][c];
+      for (std::size_t k = c; k < N; ++k) a[r][k] -= f * a[c][k];
+      b[r] -= f * b[c];
+    }
+  }
+  for (std::size_t c = N; c-- > 0;) {
+    double v = b[c];
+    for (std::size_t k = c + 1; k < N; ++k) v -= a[c][k] * (*x)[k];
+    (*x)[c] = v / a[c][c];
+  }
+  return true;
+}
+
+// Logistic regression with the two classes weighted equally and a ridge on the slopes.
+UnknownCoefficients fit_logistic(const std::vector<std::array<double, kUnknownFeatures>>& x,
+                                 const std::vector<bool>& unknown) {
+  constexpr std::size_t K = kUnknownFeatures + 1;
+  constexpr double kRidge = 1e-2;
+  double n1 = 0.0, n0 = 0.0;
+  for (bool u : unknown) (u ? n1 : n0) += 1.0;
+  UnknownCoefficients w{};
+  for (int it = 0; it < 50; ++it) {
+    std::array<std::array<double, K>, K> h{};
+    std::array<double, K> g{};
+    for (std::size_t i = 0; i < x.size(); ++i) {
+      std::array<double, K> f{1.0};
+      for (std::size_t k = 0; k < kUnknownFeatures; ++k) f[k + 1] = x[i][k];
+      double z = 0.0;
+      for (std::size_t k = 0; k < K; ++k) z += w[k] * f[k];
+      const double p = 1.0 / (1.0 + pmath::exp(-std::clamp(z, -700.0, 700.0)));
+      const double weight = unknown[i] ? 0.5 / n1 : 0.5 / n0;
+      const double y = unknown[i] ? 1.0 : 0.0;
+      for (std::size_t a = 0; a < K; ++a) {
+        g[a] += weight * (p - y) * f[a];
+        for (std::size_t b = 0; b < K; ++b) h[a][b] += weight * p * (1.0 - p) * f[a] * f[b];
+      }
+    }
+    for (std::size_t k = 1; k < K; ++k) {
+      g[k] += kRidge * w[k];
+      h[k][k] += kRidge;
+    }
+    h[0][0] += 1e-9;
+    std::array<double, K> step{};
+    if (!solve(h, g, &step)) break;
+    double size = 0.0;
+    for (std::size_t k = 0; k < K; ++k) {
+      w[k] -= step[k];
+      size = std::max(size, std::abs(step[k]));
+    }
+    if (size < 1e-10) break;
+  }
+  return w;
+}
+
+}  // namespace
+
+void fit_temperature(const std::vector<CalibrationSession>& sessions, Calibration* calibration) {
+  constexpr double kPhi = 0.6180339887498949;
+  double best_nll = INFINITY, best_scale = Calibration::kDefaultScale, best_power = Calibration::kDefaultPower;
+  for (int step = 0; step <= 50; ++step) {
+    const double power = 0.05 * step;
+    // log2 scale in [-12, 3]: golden-section search (the likelihood is unimodal in the scale at a fixed power).
+    double lo = -12.0, hi = 3.0;
+    double m1 = hi - kPhi * (hi - lo), m2 = lo + kPhi * (hi - lo);
+    double f1 = temperature_nll(sessions, pmath::exp2(m1), power), f2 = temperature_nll(sessions, pmath::exp2(m2), power);
+    for (int it = 0; it < 40; ++it) {
+      if (f1 < f2) {
+        hi = m2, m2 = m1, f2 = f1;
+        m1 = hi - kPhi * (hi - lo);
+        f1 = temperature_nll(sessions, pmath::exp2(m1), power);
+      } else {
+        lo = m1, m1 = m2, f1 = f2;
+        m2 = lo + kPhi * (hi - lo);
+        f2 = temperature_nll(sessions, pmath::exp2(m2), power);
+      }
+    }
+    const double log2_scale = f1 < f2 ? m1 : m2, nll = std::min(f1, f2);
+    if (nll < best_nll) best_nll = nll, best_scale = pmath::exp2(log2_scale), best_power = power;
+  }
+  calibration->temperature_scale = best_scale;
+  calibration->temperature_power = best_power;
+}
+
+void fit_unknown(const std::vector<CalibrationSession>& sessions, Calibration* calibration) {
+  calibration->unknown = {};
+  std::size_t readings = 0;
+  bool any_unknown = false, any_known = false;
+  for (const CalibrationSession& s : sessions) {
+    readings = std::max(readings, s.steps.size());
+    (s.known ? any_known : any_unknown) = true;
+  }
+  if (!any_unknown || !any_known) return;
+  for (std::size_t n = 2; n <= readings; ++n) {
+    std::vector<std::array<double, kUnknownFeatures>> x;
+    std::vector<bool> unknown;
+    for (const CalibrationSession& s : sessions) {
+      if (s.steps.size() < n) continue;
+      x.push_back(Calibration::unknown_features(s.steps[n - 1]));
+      unknown.push_back(!s.known);
+    }
+    calibration->unknown.per_readings.push_back(fit_logistic(x, unknown));
+  }
+}
+
+Calibration learn_calibration(const Dataset& data, const TrainParameters& params, const CalibrationOptions& options) {
+  const CalibrationSplit split = split_for_calibration(data, options.held_out_share, params.seed);
+  TrainParameters p = params;
+  p.progress = false;  // one bar for the calibration, its sessions'
+  const std::shared_ptr<PairMap> map = train_pair_map(split.map_part, p, nullptr);
+  HeldOutSessionOptions so = options.sessions;
+  so.seed = params.seed;
+  so.threads = params.threads;
+  so.progress = params.progress;
+  const std::vector<CalibrationSession> sessions = run_held_out_sessions(*map, split, so);
+  Calibration c;
+  fit_temperature(sessions, &c);
+  fit_unknown(sessions, &c);
+  c.learned = true;
+  for (const CalibrationSession& s : sessions) ++(s.known ? c.known_sessions : c.unknown_sessions);
+  c.session_readings = static_cast<std::uint32_t>(so.readings);
+  return c;
+}
+
+}  // namespace sva

@@ -1,0 +1,31 @@
+#pragma once
+// Learning the calibration (calibration.hpp) when a map is trained: the held-out split, the calibration map and
+// its sessions (held_out_sessions.hpp), then the fits. Deterministic: the same dataset and seed give the same
+// calibration whatever the thread count.
+#include <sva/dataset.hpp>
+
+#include <vector>
+
+#include "calibration/calibration.hpp"
+#include "calibration/held_out_sessions.hpp"
+#include "map/map_builder.hpp"
+
+namespace sva {
+
+struct CalibrationOptions {
+  double held_out_share = 0.1;  // of each known object's readings
+  HeldOutSessionOptions sessions;
+};
+
+// Temperature: scale and power minimising the negative log-likelihood of the true object over every step from 2
+// readings on of the known sessions (a grid over the power, golden-section search over log2 scale).
+void fit_temperature(const std::vector<CalibrationSession>& sessions, Calibration* calibration);
+// "None of these": per reading count from 2, logistic regression of unknown against known sessions on
+// Calibration::unknown_features, the two kinds weighted equally, with a small ridge (Newton's method). Leaves the
+// model empty without unknown sessions.
+void fit_unknown(const std::vector<CalibrationSession>& sessions, Calibration* calibration);
+
+// The whole learning: split `data`, train a calibration map with `params` on the kept part, run the sessions, fit.
+Calibration learn_calibration(const Dataset& data, const TrainParameters& params, const CalibrationOptions& options);
+
+}  // namespace sva

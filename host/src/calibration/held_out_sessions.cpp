@@ -1,0 +1,159 @@
+#include "calibration/held_out_sessions.hpp"
+
+#include <sva/base/progress.hpp>
+#include <sva/base/rng.hpp>
+#include <sva/error.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "backends/vote_backend_factory.hpp"
+#include "calibration/session_sampling.hpp"
+#include "recognition/bayes_filter.hpp"
+#include "recognition/describe_reading.hpp"
+#include "recognition/estimate.hpp"
+#include "recognition/pose_refinement.hpp"
+#include "votes/pose_space.hpp"
+
+namespace sva {
+
+namespace {
+
+// The objects held out whole: a fifth of them (at least one) once there are three or more, so that the calibration
+// map still tells two objects apart.
+std::vector<bool> objects_held_out(std::size_t objects, util::Rng& rng) {
+  std::vector<bool> out(objects, false);
+  if (objects < 3) return out;
+  const std::size_t count = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(0.2 * double(objects))));
+  std::vector<std::size_t> order(objects);
+  for (std::size_t i = 0; i < objects; ++i) order[i] = i;
+  for (std::size_t k = 0; k < count; ++k) std::swap(order[k], order[k + rng.below(objects - k)]);
+  for (std::size_t k = 0; k < count; ++k) out[order[k]] = true;
+  return out;
+}
+
+// The converged readings of each object that the map can describe, as the filter sees them after moving with the
+// session's pose: the reading in its object's own frame (the pose is applied per session).
+std::vector<std::vector<Reading>> readings_by_object(const Dataset& data, const PairMap& map) {
+  std::vector<std::vector<Reading>> by(data.scene.objects.size());
+  for (const Sample& s : data.samples) {
+    if (s.reading.status != ControllerStatus::converged || s.object >= by.size()) continue;
+    try {
+      (void)describe_reading(map, s.reading, "calibration reading");
+    } catch (const Error&) {
+      continue;  // nothing above the contact threshold: training skips such readings too
+    }
+    by[s.object].push_back(transform_reading(s.reading, s.object_pose.inverse()));
+  }
+  return by;
+}
+
+// A session's readings, as the evaluation's trials show them: distinct while they last, then drawn again.
+std::vector<std::size_t> presentation_order(std::size_t pool, std::size_t count, util::Rng& rng) {
+  std::vector<std::size_t> order(pool);
+  for (std::size_t i = 0; i < pool; ++i) order[i] = i;
+  const std::size_t distinct = std::min(count, pool);
+  for (std::size_t k = 0; k < distinct; ++k) std::swap(order[k], order[k + rng.below(pool - k)]);
+  order.resize(distinct);
+  while (order.size() < count) order.push_back(rng.below(pool));
+  return order;
+}
+
+// The fine pose of the best object from its best modes, as the estimate computes it, and how well it fits.
+void add_surface_fit(const BayesFilter& filter, const SurfaceIndex& surface, const RefineSettings& settings,
+                     EvidenceLevel* level) {
+  if (filter.readings() < settings.min_readings) return;
+  const BeliefEstimate b = filter.estimate(0, 4);
+  if (!b.pose_valid) return;
+  const RefinedPose fine = refine_pose(surface, b.object, filter.observed(), b.modes, settings);
+  set_surface_fit(fine, filter.readings(), settings, level);
+}
+
+}  // namespace
+
+std::size_t CalibrationSplit::known_objects() const {
+  return static_cast<std::size_t>(std::count_if(map_object.begin(), map_object.end(), [](auto m) { return m >= 0; }));
+}
+std::size_t CalibrationSplit::unknown_objects() const { return map_object.size() - known_objects(); }
+
+CalibrationSplit split_for_calibration(const Dataset& data, double fraction, std::uint64_t seed) {
+  if (!(fraction > 0.0 && fraction < 1.0))
+    throw Error("calibration: the held-out share of readings is " + std::to_string(fraction) + "; it must be in (0, 1)");
+  util::Rng rng(seed, 0xca11b7a7e);
+  const std::vector<bool> unknown = objects_held_out(data.scene.objects.size(), rng);
+  CalibrationSplit split;
+  split.map_part.scene = data.scene;
+  split.map_part.scene.objects.clear();
+  split.map_part.split = "calibration map";
+  split.map_part.seed = data.seed;
+  split.held_out.scene = data.scene;
+  split.held_out.split = "calibration held out";
+  split.held_out.seed = data.seed;
+  for (std::size_t o = 0; o < data.scene.objects.size(); ++o) {
+    split.map_object.push_back(unknown[o] ? -1 : static_cast<std::int32_t>(split.map_part.scene.objects.size()));
+    if (!unknown[o]) split.map_part.scene.objects.push_back(data.scene.objects[o]);
+  }
+  for (std::size_t i = 0; i < data.samples.size(); ++i) {
+    const Sample& s = data.samples[i];
+    if (s.object >= split.map_object.size()) continue;  // training refuses such a dataset itself
+    const std::int32_t m = split.map_object[s.object];
+    // A reading is held out by its own draw, so the split does not depend on the order of other objects' readings.
+    if (m < 0 || util::Rng(seed, 0x4e1d, i).uniform() < fraction) {
+      split.held_out.samples.push_back(s);
+    } else {
+      Sample kept = s;
+      kept.object = static_cast<std::uint32_t>(m);
+      split.map_part.samples.push_back(kept);
+    }
+  }
+  return split;
+}
+
+std::vector<CalibrationSession> run_held_out_sessions(const PairMap& map, const CalibrationSplit& split,
+                                                      const HeldOutSessionOptions& options) {
+  const std::vector<std::vector<Reading>> pool = readings_by_object(split.held_out, map);
+  std::vector<std::uint32_t> known, unknown;  // full-scene ids with held-out readings
+  for (std::uint32_t o = 0; o < pool.size(); ++o) {
+    if (pool[o].empty()) continue;
+    (split.map_object[o] >= 0 ? known : unknown).push_back(o);
+  }
+  if (known.empty()) throw Error("calibration: no known object has held-out readings");
+  const PoseSpace space(map.pose_space, static_cast<std::uint32_t>(map.objects.size()));
+  VoteSettings vs;
+  vs.threads = options.threads;
+  const std::unique_ptr<VoteBackend> backend = make_vote_backend(BackendKind::cpu, map, space, vs).backend;
+  BayesFilter filter(map, space, FilterOptions{}, *backend);
+  const SurfaceIndex surface(map.readings, map.objects.size());
+  const RefineSettings refine = refine_settings(space);
+  const std::size_t total = options.known_sessions + (unknown.empty() ? 0 : options.unknown_sessions);
+  std::unique_ptr<util::Progress> progress;
+  if (options.progress) progress = std::make_unique<util::Progress>("calibration: held-out sessions", total);
+  std::vector<CalibrationSession> sessions;
+  for (std::size_t t = 0; t < total; ++t) {
+    const bool is_known = t < options.known_sessions;
+    const std::vector<std::uint32_t>& objects = is_known ? known : unknown;
+    const std::uint32_t object = objects[t % objects.size()];
+    util::Rng rng(options.seed, 0x5e55, t);
+    const RigidPose pose = random_pose(rng, map.pose_space);
+    const std::vector<Reading>& readings = pool[object];
+    CalibrationSession s;
+    s.known = is_known;
+    s.object = is_known ? static_cast<std::uint32_t>(split.map_object[object]) : object;
+    filter.reset();
+    for (std::size_t i : presentation_order(readings.size(), options.readings, rng)) {
+      const Reading r = transform_reading(readings[i], pose);
+      filter.add(to_grid(space, describe_reading(map, r, "calibration reading")));
+      EvidenceLevel level = evidence_level(filter.belief(), space, filter.readings());
+      add_surface_fit(filter, surface, refine, &level);
+      s.steps.push_back(std::move(level));
+    }
+    sessions.push_back(std::move(s));
+    if (progress) progress->advance();
+  }
+  if (progress) progress->finish();
+  return sessions;
+}
+
+}  // namespace sva

@@ -45,9 +45,10 @@ int cmd_train(const std::vector<std::string>& argv) {
   a.option("--threads", "N", "worker threads (default: SVA_THREADS or all cores); results do not depend on it");
   a.option("--exclude-objects", "NAME,...",
            "leave these objects out of the map (to evaluate \"none of these\" with sva eval --unknown-objects)");
-  a.flag("--no-calibration", "skip the calibration (the default temperature, no \"none of these\"; docs/recognition.md)");
-  a.option("--calibration-sessions", "N", "held-out sessions on known objects that learn the calibration (default 120)");
-  a.option("--calibration-readings", "N", "readings per calibration session (default 20)");
+  a.flag("--no-calibration",
+         "skip the calibration (the default temperature, no \"none of these\"; docs/recognition.md)");
+  a.option("--calibration-sessions", "N", "held-out sessions on known objects that learn the calibration (default 60)");
+  a.option("--calibration-readings", "N", "readings per calibration session (default 12)");
   a.option("--calibration-held-out", "F", "share of each object's readings held out for the calibration (default 0.1)");
   if (!a.parse()) return 0;
   const std::string data_file = a.required("--data");
@@ -67,8 +68,8 @@ int cmd_train(const std::vector<std::string>& argv) {
   o.threads = static_cast<unsigned>(a.integer("--threads", 0, 0, kInt));
   o.progress = true;
   o.calibrate = !a.has("--no-calibration");
-  o.calibration_sessions = static_cast<std::size_t>(a.integer("--calibration-sessions", 120, -kInt, kInt));
-  o.calibration_readings = static_cast<std::size_t>(a.integer("--calibration-readings", 20, -kInt, kInt));
+  o.calibration_sessions = static_cast<std::size_t>(a.integer("--calibration-sessions", 60, -kInt, kInt));
+  o.calibration_readings = static_cast<std::size_t>(a.integer("--calibration-readings", 12, -kInt, kInt));
   o.calibration_held_out = a.number("--calibration-held-out", 0.1, -1e9, 1e9);
   o.validate("sva train");  // before the dataset loads
 
@@ -96,8 +97,8 @@ int cmd_train(const std::vector<std::string>& argv) {
   std::printf("  distance bins  %u over %g-%g mm\n", m.distance_bins, m.distance_min_mm, m.distance_max_mm);
   std::printf("  map            %zu entries under %zu keys, %.1f MB (%.2f bytes/entry), built in %.2f s (%.2f s CPU)\n",
               m.entries, m.keys, static_cast<double>(m.bytes) / 1e6,
-              m.entries ? static_cast<double>(m.bytes) / static_cast<double>(m.entries) : 0.0,
-              rep.map_build_seconds, rep.map_build_cpu_seconds);
+              m.entries ? static_cast<double>(m.bytes) / static_cast<double>(m.entries) : 0.0, rep.map_build_seconds,
+              rep.map_build_cpu_seconds);
   std::printf("  calibration    %s (%.1f s)\n", eval::describe_calibration(m).c_str(), rep.calibration_seconds);
   if (!rep.calibration_note.empty()) std::printf("                 %s\n", rep.calibration_note.c_str());
   return 0;

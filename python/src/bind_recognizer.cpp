@@ -105,7 +105,12 @@ void bind_estimate(nb::module_& m) {
           nb::sig("def object_name(self) -> str | None"), "that object's name (None before the first reading)")
       .def_prop_ro(
           "object_probability", [](const Estimate& e) { return doubles_copy(e.object_probability); },
-          nb::rv_policy::automatic, "per object, sums to 1 (a NumPy array)")
+          nb::rv_policy::automatic,
+          "per object, sums to 1: the posterior given that the object is one of the map's (calibrated unless "
+          "calibrate=False; a NumPy array)")
+      .def_ro("p_unknown", &Estimate::p_unknown,
+              "the probability that the touched object is none of the map's: object o has (1 - p_unknown) * "
+              "object_probability[o] (docs/recognition.md, \"None of these\")")
       .def_rw("pose", &Estimate::pose, "continuous pose of `object` (the fine pose when refined)")
       .def_rw("parabolic_pose", &Estimate::parabolic_pose,
               "the histogram's pose of `object`: the parabolic peak of the log-belief at its best bin")

@@ -122,15 +122,16 @@ std::pair<Dataset, Dataset> simulate(nb::handle scene_arg, std::optional<int> tr
 
 Map train(nb::handle data_arg, const std::optional<std::string>& descriptor, std::optional<int> clusters,
           std::optional<int> dist_bins, std::optional<std::pair<double, double>> dist_range, std::uint64_t seed,
-          unsigned threads, const std::optional<std::filesystem::path>& out, TrainReport* report) {
+          unsigned threads, const std::optional<std::filesystem::path>& out, TrainReport* report, bool calibrate) {
   TrainOptions o;
+  o.calibrate = calibrate;
   o.descriptor = descriptor;
   o.clusters = clusters;
   o.dist_bins = dist_bins;
   if (dist_range) std::tie(o.dist_min_mm, o.dist_max_mm) = *dist_range;
   o.seed = seed;
   o.threads = threads;
-  o.progress = true;  // shown when sva.show_progress(True)
+  o.progress = true;        // shown when sva.show_progress(True)
   o.validate("sva.train");  // before the dataset loads
   const DatasetArg data = dataset_arg(data_arg, "sva.train: data");
   EngineScope scope(true);
@@ -194,10 +195,11 @@ void bind_workflow(nb::module_& m) {
         "out/test.svad, as `sva simulate` does. Same seed, same data, whatever `threads`.");
   m.def("train", &train, "data"_a, nb::kw_only(), "descriptor"_a = nb::none(), "clusters"_a = nb::none(),
         "dist_bins"_a = nb::none(), "dist_range"_a = nb::none(), "seed"_a = 1, "threads"_a = 0, "out"_a = nb::none(),
-        "report"_a = nb::none(),
+        "report"_a = nb::none(), "calibrate"_a = true,
         nb::sig("def train(data: Dataset | str | os.PathLike, *, descriptor: str | None = None, clusters: int | None = "
                 "None, dist_bins: int | None = None, dist_range: tuple[float, float] | None = None, seed: int = 1, "
-                "threads: int = 0, out: str | os.PathLike | None = None, report: TrainReport | None = None) -> Map"),
+                "threads: int = 0, out: str | os.PathLike | None = None, report: TrainReport | None = None, "
+                "calibrate: bool = True) -> Map"),
         "The SVA map of a training dataset, as `sva train` builds it (defaults from the dataset's scene); with `out`, "
         "also saved there; `report` (a TrainReport) is filled in.");
   m.def(

@@ -1,7 +1,7 @@
 // NumPy conversions and the engine scope shared by the bindings (bindings.hpp).
-#include <sva/recognizer.hpp>
 #include <sva/base/interrupt.hpp>
 #include <sva/error.hpp>
+#include <sva/recognizer.hpp>
 
 #include <algorithm>
 #include <string>

@@ -36,9 +36,9 @@ struct TrainOptions {
   // rest, and sessions on the held-out readings are run on it. The map itself is then trained on every reading.
   // Off (or fewer than two objects): the documented default temperature, no "none of these".
   bool calibrate = true;
-  double calibration_held_out = 0.1;       // in (0, 0.5]
-  std::size_t calibration_sessions = 120;  // on known objects (half as many on held-out objects), 10 to 100000
-  std::size_t calibration_readings = 20;   // per session, 2 to 1000
+  double calibration_held_out = 0.1;      // in (0, 0.5]
+  std::size_t calibration_sessions = 60;  // on known objects (half as many on held-out objects), 10 to 100000
+  std::size_t calibration_readings = 12;  // per session, 2 to 1000
 
   // The options as given, before the scene's defaults fill the unset ones: throws sva::Error naming the option,
   // its value and the fault, after `context` (the caller: "sva train", "sva.train"). Map::train checks them too
@@ -55,7 +55,7 @@ struct TrainReport {
   double map_build_seconds = 0.0;
   double clustering_cpu_seconds = 0.0;  // process CPU time, all threads (meaningful on a loaded machine)
   double map_build_cpu_seconds = 0.0;
-  double clustering_loss = 0.0;  // PAM loss: sum of (1 - affinity) to the medoid
+  double clustering_loss = 0.0;      // PAM loss: sum of (1 - affinity) to the medoid
   double calibration_seconds = 0.0;  // wall clock: the calibration map and its sessions
   std::string calibration_note;      // why the map holds the default calibration ("" when it was learned)
 };

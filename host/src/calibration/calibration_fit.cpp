@@ -19,7 +19,7 @@ double temperature_nll(const std::vector<CalibrationSession>& sessions, double s
   for (const CalibrationSession& s : sessions) {
     if (!s.known) continue;
     for (const EvidenceLevel& level : s.steps) {
-      if (level.readings < 2) continue;
+      if (level.readings < 2 || s.object >= level.object_log2_mass.size()) continue;
       const std::vector<double> p = c.object_probability(level, {});
       nll -= pmath::log(std::max(p[s.object], 1e-300));
     }
@@ -102,7 +102,8 @@ void fit_temperature(const std::vector<CalibrationSession>& sessions, Calibratio
     // log2 scale in [-12, 3]: golden-section search (the likelihood is unimodal in the scale at a fixed power).
     double lo = -12.0, hi = 3.0;
     double m1 = hi - kPhi * (hi - lo), m2 = lo + kPhi * (hi - lo);
-    double f1 = temperature_nll(sessions, pmath::exp2(m1), power), f2 = temperature_nll(sessions, pmath::exp2(m2), power);
+    double f1 = temperature_nll(sessions, pmath::exp2(m1), power),
+           f2 = temperature_nll(sessions, pmath::exp2(m2), power);
     for (int it = 0; it < 40; ++it) {
       if (f1 < f2) {
         hi = m2, m2 = m1, f2 = f1;

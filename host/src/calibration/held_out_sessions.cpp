@@ -80,7 +80,8 @@ std::size_t CalibrationSplit::unknown_objects() const { return map_object.size()
 
 CalibrationSplit split_for_calibration(const Dataset& data, double fraction, std::uint64_t seed) {
   if (!(fraction > 0.0 && fraction < 1.0))
-    throw Error("calibration: the held-out share of readings is " + std::to_string(fraction) + "; it must be in (0, 1)");
+    throw Error("calibration: the held-out share of readings is " + std::to_string(fraction) +
+                "; it must be in (0, 1)");
   util::Rng rng(seed, 0xca11b7a7e);
   const std::vector<bool> unknown = objects_held_out(data.scene.objects.size(), rng);
   CalibrationSplit split;

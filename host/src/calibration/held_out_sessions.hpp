@@ -29,14 +29,14 @@ struct CalibrationSplit {
 CalibrationSplit split_for_calibration(const Dataset& data, double fraction, std::uint64_t seed);
 
 struct CalibrationSession {
-  bool known = true;       // the touched object is in the map
-  std::uint32_t object = 0;  // its id in the map (known) or in the full scene (unknown)
+  bool known = true;                 // the touched object is in the map
+  std::uint32_t object = 0;          // its id in the map (known) or in the full scene (unknown)
   std::vector<EvidenceLevel> steps;  // steps[n - 1]: after n readings
 };
 
 struct HeldOutSessionOptions {
-  std::size_t known_sessions = 120, unknown_sessions = 60;
-  std::size_t readings = 20;  // per session
+  std::size_t known_sessions = 60, unknown_sessions = 30;
+  std::size_t readings = 12;  // per session
   std::uint64_t seed = 1;
   unsigned threads = 0;
   bool progress = false;

@@ -10,9 +10,9 @@
 #include <set>
 #include <string>
 
-#include "map/map_access.hpp"
 #include "backends/vote_backend.hpp"
 #include "backends/vote_backend_factory.hpp"
+#include "map/map_access.hpp"
 #include "map/pair_map.hpp"
 #include "map/surface_index.hpp"
 #include "recognition/bayes_filter.hpp"

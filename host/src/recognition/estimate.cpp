@@ -404,8 +404,8 @@ Estimate appearance_estimate(const std::vector<double>& log_posterior, const std
 
 Estimate filter_estimate(const BayesFilter& filter, const std::vector<MapObject>& objects, const EstimateRequest& r) {
   const double temperature = r.calibration ? r.calibration->temperature(filter.readings()) : 1.0;
-  const BeliefEstimate b = filter.estimate(r.top_k, r.surface ? kRefineStarts : 1, r.object_weight, r.pose_weighting,
-                                           temperature);
+  const BeliefEstimate b =
+      filter.estimate(r.top_k, r.surface ? kRefineStarts : 1, r.object_weight, r.pose_weighting, temperature);
   Estimate e;
   e.ready = true;
   e.object = b.object;

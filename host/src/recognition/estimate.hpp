@@ -53,10 +53,10 @@ struct BinHypothesis {
 
 struct BeliefEstimate {
   std::uint32_t object = 0;
-  std::vector<double> object_probability;  // sums to 1 (tempered by the estimate's temperature)
+  std::vector<double> object_probability;      // sums to 1 (tempered by the estimate's temperature)
   std::vector<double> raw_object_probability;  // the untempered posterior the bins' probabilities are shares of
   EvidenceLevel level;                         // what the calibration reads (its `readings` left 0)
-  bool pose_valid = false;                 // the best object has a touched bin
+  bool pose_valid = false;                     // the best object has a touched bin
   std::uint64_t best_key = 0;
   RigidPose pose;            // the histogram's estimate, `parabolic_pose` (the recognizer then refines it against
                              // the surface: recognition/pose_refinement.hpp, sva::Estimate::pose)
@@ -133,11 +133,11 @@ class BayesFilter;  // recognition/bayes_filter.hpp
 struct EstimateRequest {
   std::size_t top_k = 5;  // best bins and distinct hypotheses (0: neither)
   int hypothesis_radius_bins = 1;
-  std::span<const double> object_weight;  // the prior over objects (largest 1; empty: flat)
-  const PoseWeighting& pose_weighting;    // the pose priors (none: empty)
-  const SurfaceIndex* surface = nullptr;  // the fine pose's training contacts; none: the parabolic pose
-  RefineSettings refine;                  // the fine pose's settings (with `surface`)
-  bool refine_pose = true;                // Estimate::pose is the fine pose (else the fit only feeds p_unknown)
+  std::span<const double> object_weight;     // the prior over objects (largest 1; empty: flat)
+  const PoseWeighting& pose_weighting;       // the pose priors (none: empty)
+  const SurfaceIndex* surface = nullptr;     // the fine pose's training contacts; none: the parabolic pose
+  RefineSettings refine;                     // the fine pose's settings (with `surface`)
+  bool refine_pose = true;                   // Estimate::pose is the fine pose (else the fit only feeds p_unknown)
   const Calibration* calibration = nullptr;  // none: Eq 5's raw posterior and p_unknown = unknown_prior
   double unknown_prior = 0.1;
 };

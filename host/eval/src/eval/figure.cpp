@@ -7,8 +7,8 @@
 #include <cstdio>
 #include <limits>
 
-#include "plot/canvas.hpp"
 #include "eval/panel_figure.hpp"
+#include "plot/canvas.hpp"
 
 namespace sva::eval {
 

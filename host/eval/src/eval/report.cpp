@@ -113,16 +113,21 @@ json calibration_json(const CalibrationSummary& c) {
 }
 
 json stop_json(const StopSummary& s) {
-  return {{"threshold", s.threshold},       {"trials", s.trials},     {"decided", s.decided},
-          {"right", s.right},               {"accuracy", opt(s.accuracy)}, {"mean_readings", opt(s.mean_readings)}};
+  return {{"threshold", s.threshold}, {"trials", s.trials},          {"decided", s.decided},
+          {"right", s.right},         {"accuracy", opt(s.accuracy)}, {"mean_readings", opt(s.mean_readings)}};
 }
 
 json unknown_json(const UnknownSummary& u) {
   json roc = json::array();
   for (const auto& [fpr, tpr] : u.roc) roc.push_back({fpr, tpr});
-  return {{"readings", u.readings},        {"known_trials", u.known_trials}, {"unknown_trials", u.unknown_trials},
-          {"auc", u.auc},                  {"caught_at_5", u.caught_at_5},   {"threshold_at_5", u.threshold_at_5},
-          {"rejected_at_5", u.rejected_at_5}, {"roc", std::move(roc)}};
+  return {{"readings", u.readings},
+          {"known_trials", u.known_trials},
+          {"unknown_trials", u.unknown_trials},
+          {"auc", u.auc},
+          {"caught_at_5", u.caught_at_5},
+          {"threshold_at_5", u.threshold_at_5},
+          {"rejected_at_5", u.rejected_at_5},
+          {"roc", std::move(roc)}};
 }
 
 // The probability lines under the table: calibration, stopping, objects outside the map.
@@ -149,11 +154,12 @@ std::string probability_lines(const Curve& curve) {
   }
   if (curve.unknown) {
     const UnknownSummary& u = *curve.unknown;
-    std::snprintf(line, sizeof line,
-                  "none of these at %zu readings: ROC area %.3f; %.1f%% of %zu unseen-object trials caught at p_unknown "
-                  ">= %.3g, which rejects %.1f%% of %zu known-object trials\n",
-                  u.readings, u.auc, 100.0 * u.caught_at_5, u.unknown_trials, u.threshold_at_5,
-                  100.0 * u.rejected_at_5, u.known_trials);
+    std::snprintf(
+        line, sizeof line,
+        "none of these at %zu readings: ROC area %.3f; %.1f%% of %zu unseen-object trials caught at p_unknown "
+        ">= %.3g, which rejects %.1f%% of %zu known-object trials\n",
+        u.readings, u.auc, 100.0 * u.caught_at_5, u.unknown_trials, u.threshold_at_5, 100.0 * u.rejected_at_5,
+        u.known_trials);
     out += line;
   }
   return out;

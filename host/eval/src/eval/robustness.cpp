@@ -11,8 +11,8 @@
 #include <cstdlib>
 #include <limits>
 
-#include "plot/canvas.hpp"
 #include "eval/panel_figure.hpp"
+#include "plot/canvas.hpp"
 
 namespace sva::eval {
 

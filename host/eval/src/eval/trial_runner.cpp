@@ -103,8 +103,7 @@ EvalResult run_trials(const Dataset& test, const TrialSetup& setup, const Sessio
                         " (sample " + std::to_string(trial.samples[k]) + "): " + e.what());
           }
           const auto stop = std::chrono::steady_clock::now();
-          record_step(out.steps[k], est, trial, object,
-                      std::chrono::duration<double, std::milli>(stop - start).count(),
+          record_step(out.steps[k], est, trial, object, std::chrono::duration<double, std::milli>(stop - start).count(),
                       map_object_of(setup, trial.object));
         }
         pool.give_back(std::move(session));

@@ -35,7 +35,7 @@ struct EvalOptions {
   // they say "none of these" (the stop summary), and the curve reports p_unknown's ROC.
   bool unknown_objects = false;
   std::optional<double> stop_at;  // the stop summary's threshold (summarize)
-  ActiveSetup active;  // its policy is set from `policy`
+  ActiveSetup active;             // its policy is set from `policy`
 };
 
 // Throws sva::Error naming both files when the test set cannot be evaluated

@@ -17,8 +17,8 @@ struct StepResult {
   std::uint32_t estimated_object = 0;
   bool correct = false;
   double true_object_probability = 0.0;
-  double top_probability = 0.0;  // the estimated object's probability (calibrated: RecognizerOptions::calibrate)
-  double p_unknown = 0.0;        // the estimate's probability that the object is none of the map's
+  double top_probability = 0.0;       // the estimated object's probability (calibrated: RecognizerOptions::calibrate)
+  double p_unknown = 0.0;             // the estimate's probability that the object is none of the map's
   bool pose_valid = false;            // the recognizer had a pose estimate (never for the appearance-only method)
   double translation_error_mm = 0.0;  // meaningful when correct && pose_valid
   double angular_error_rad = 0.0;
@@ -79,7 +79,7 @@ struct ReliabilityBin {
 struct CalibrationSummary {
   std::size_t trial_readings = 0;
   double ece = 0.0;
-  double confidently_wrong = 0.0;  // share of trial_readings
+  double confidently_wrong = 0.0;    // share of trial_readings
   std::vector<ReliabilityBin> bins;  // 10: [0, 0.1), ..., [0.9, 1]
 };
 CalibrationSummary calibration_summary(const EvalResult& result);

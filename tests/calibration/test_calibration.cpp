@@ -1,0 +1,236 @@
+// The calibration (host/src/calibration): the tempered posterior, the fits, the map file, and on simulated data
+// that it makes the probabilities more trustworthy and catches objects the map does not hold.
+#include <catch2/catch.hpp>
+
+#include <sva/base/rng.hpp>
+#include <sva/dataset.hpp>
+#include <sva/eval/evaluation.hpp>
+#include <sva/eval/results.hpp>
+#include <sva/map.hpp>
+#include <sva/scene.hpp>
+#include <sva/sim/simulate.hpp>
+
+#include <cmath>
+#include <filesystem>
+
+#include "calibration/calibration.hpp"
+#include "calibration/calibration_fit.hpp"
+#include "map/map_access.hpp"
+#include "map/map_file.hpp"
+#include "test_support.hpp"
+
+using namespace sva;
+
+namespace {
+
+// Sessions whose objects' log-evidence is exactly `true_tau`^-1 times a calibrated log-likelihood: the true object
+// is drawn from the tempered posterior, so the fit should find tau(n) = true_tau.
+std::vector<CalibrationSession> synthetic_sessions(double true_tau, std::size_t count) {
+  std::vector<CalibrationSession> out;
+  for (std::size_t t = 0; t < count; ++t) {
+    util::Rng rng(42, t);
+    std::vector<double> logit(4);
+    for (std::size_t n = 2; n <= 8; ++n) {
+      for (double& l : logit) l = 3.0 * rng.normal();
+      EvidenceLevel level;
+      level.readings = n;
+      for (double l : logit) level.object_log2_mass.push_back(l / true_tau);
+      const std::vector<double> p = tempered_posterior(level.object_log2_mass, true_tau, {});
+      double u = rng.uniform(), acc = 0.0;
+      std::uint32_t truth = 3;
+      for (std::uint32_t o = 0; o < 4; ++o)
+        if (u < (acc += p[o])) {
+          truth = o;
+          break;
+        }
+      // One session per step keeps each step's truth its own draw.
+      CalibrationSession one;
+      one.object = truth;
+      one.steps.push_back(level);
+      out.push_back(std::move(one));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("the tempered posterior: temperature 1 is the plain posterior, a prior weighs it, a weight of 0 drops") {
+  const std::vector<double> l{0.0, -1.0, -3.0};
+  const std::vector<double> p = tempered_posterior(l, 1.0, {});
+  CHECK(p[0] == Approx(1.0 / (1.0 + 0.5 + 0.125)));
+  const std::vector<double> half = tempered_posterior(l, 0.5, {});
+  CHECK(half[0] < p[0]);  // a lower temperature is less sure
+  CHECK(half[0] + half[1] + half[2] == Approx(1.0));
+  const std::vector<double> w = tempered_posterior(l, 1.0, std::vector<double>{0.0, 1.0, 1.0});
+  CHECK(w[0] == 0.0);
+  CHECK(w[1] == Approx(0.8));
+  // Far below the best, an object keeps a finite share under a low temperature (no underflow to 0 first).
+  const std::vector<double> far = tempered_posterior(std::vector<double>{0.0, -2000.0}, 0.01, {});
+  CHECK(far[1] > 1e-7);
+  CHECK(std::isfinite(far[1]));
+}
+
+TEST_CASE("the temperature falls with the reading count and is 1 without pairs") {
+  Calibration c;
+  c.temperature_scale = 0.8;
+  c.temperature_power = 1.0;
+  CHECK(c.temperature(1) == 1.0);
+  CHECK(c.temperature(2) == Approx(0.8));
+  CHECK(c.temperature(11) == Approx(0.08));
+  c.temperature_scale = 100.0;
+  CHECK(c.temperature(2) == Calibration::kMaxTemperature);
+}
+
+TEST_CASE("fit_temperature recovers the temperature of sessions drawn from a tempered posterior") {
+  for (double tau : {0.2, 0.6}) {
+    Calibration c;
+    fit_temperature(synthetic_sessions(tau, 400), &c);
+    // tau(n) = scale (n-1)^-power with the same temperature at every n: power near 0, scale near tau.
+    for (std::size_t n : {2, 4, 8}) CHECK(c.temperature(n) == Approx(tau).epsilon(0.2));
+  }
+}
+
+TEST_CASE("p_unknown starts at the prior, follows the model, and moves with the prior's odds") {
+  Calibration c;
+  EvidenceLevel level;
+  level.readings = 5;
+  level.object_log2_mass = {0.0, -10.0};
+  level.best_bits_per_pair = 3.0;
+  level.fit_cost_share = 0.5;
+  CHECK(c.p_unknown(level, 0.1) == 0.1);                   // no model: the prior
+  c.unknown.per_readings.push_back({0.0, 0.0, 0.0, 8.0});  // logit rises with the fit's cost
+  const double at_even = c.p_unknown(level, 0.5);
+  CHECK(at_even == Approx(1.0 / (1.0 + std::exp(-4.0))));
+  CHECK(c.p_unknown(level, 0.1) < at_even);
+  level.fit_cost_share = 0.0;
+  CHECK(c.p_unknown(level, 0.5) == Approx(0.5));
+  level.readings = 1;
+  CHECK(c.p_unknown(level, 0.3) == 0.3);  // one reading: no pair, no evidence
+}
+
+TEST_CASE("the map file keeps the calibration (version 4), older maps load with the default") {
+  sim::SimulateOptions so;
+  so.train_per_object = 12;
+  so.test_per_object = 1;
+  TrainOptions to;
+  to.clusters = 3;
+  to.calibrate = false;
+  PairMap m = MapAccess::pair_map(Map::train(sim::simulate(load_scene("tiny"), so).train, to));
+  CHECK_FALSE(m.calibration.learned);
+  m.calibration.learned = true;
+  m.calibration.temperature_scale = 0.7;
+  m.calibration.temperature_power = 1.1;
+  m.calibration.unknown.per_readings = {{1.0, 2.0, 3.0, 4.0}, {-1.0, 0.5, 0.25, 8.0}};
+  const auto dir = test::temp_dir("map-calibration");
+  save_pair_map(m, dir / "v4.svam");
+  const auto back = load_pair_map(dir / "v4.svam");
+  CHECK(back->calibration.learned);
+  CHECK(back->calibration.temperature_power == 1.1);
+  CHECK(back->calibration.unknown.per_readings == m.calibration.unknown.per_readings);
+  write_pair_map(m, dir / "v3.svam", 3);
+  const auto old = load_pair_map(dir / "v3.svam");
+  CHECK_FALSE(old->calibration.learned);
+  CHECK(old->calibration.temperature_scale == Calibration::kDefaultScale);
+  CHECK(old->calibration.unknown.empty());
+  m.calibration.unknown.per_readings[1][2] = std::nan("");
+  write_pair_map(m, dir / "nan.svam", 4);
+  CHECK_THROWS_WITH(load_pair_map(dir / "nan.svam"), Catch::Contains("nan.svam") && Catch::Contains("calibration"));
+  m.calibration.unknown.per_readings[1][2] = 0.0;
+  m.calibration.temperature_scale = -1.0;
+  write_pair_map(m, dir / "neg.svam", 4);
+  CHECK_THROWS_WITH(load_pair_map(dir / "neg.svam"), Catch::Contains("temperature scale"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("bad calibration options are refused with the option and value named") {
+  TrainOptions o;
+  o.calibration_held_out = 0.9;
+  CHECK_THROWS_WITH(o.validate("sva train"), Catch::Contains("sva train") && Catch::Contains("held-out share"));
+  o = {};
+  o.calibration_sessions = 3;
+  CHECK_THROWS_WITH(o.validate("sva train"), Catch::Contains("calibration sessions 3"));
+  o = {};
+  o.calibration_readings = 1;
+  CHECK_THROWS_WITH(o.validate("sva train"), Catch::Contains("calibration readings 1"));
+}
+
+namespace {
+
+// A small paper3d: ten objects, few readings; the calibration learned from short sessions.
+struct SmallScene {
+  sim::SimulatedData data;
+  TrainOptions train;
+};
+
+const SmallScene& small_scene() {
+  static const SmallScene s = [] {
+    SmallScene out;
+    sim::SimulateOptions so;
+    so.train_per_object = 60;
+    so.test_per_object = 15;
+    so.seed = 7;
+    out.data = sim::simulate(load_scene("paper3d"), so);
+    out.train.calibration_sessions = 40;
+    out.train.calibration_readings = 10;
+    out.train.calibration_held_out = 0.2;
+    return out;
+  }();
+  return s;
+}
+
+eval::EvalResult run(const Map& map, const Dataset& test, bool calibrate, bool unknown_objects) {
+  eval::EvalOptions o;
+  o.trials = 30;
+  o.max_readings = 10;
+  o.progress = false;
+  o.recognizer.backend = BackendKind::cpu;
+  o.recognizer.calibrate = calibrate;
+  o.unknown_objects = unknown_objects;
+  return eval::run_evaluation(map, test, o);
+}
+
+// Mean negative log-likelihood (nats) of the true object over trial-readings from 2 on.
+double mean_nll(const eval::EvalResult& r) {
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (const auto& t : r.trials)
+    for (std::size_t k = 1; k < t.steps.size(); ++k, ++n)
+      sum -= std::log(std::max(t.steps[k].true_object_probability, 1e-12));
+  return sum / static_cast<double>(n);
+}
+
+}  // namespace
+
+TEST_CASE("on simulated readings the learned calibration makes the probabilities more trustworthy") {
+  const SmallScene& s = small_scene();
+  TrainReport report;
+  const Map map = Map::train(s.data.train, s.train, &report);
+  INFO(report.calibration_note);
+  REQUIRE(map.summary().calibration.learned);
+  REQUIRE(map.summary().calibration.unknown_model);
+  const eval::EvalResult raw = run(map, s.data.test, false, false);
+  const eval::EvalResult cal = run(map, s.data.test, true, false);
+  const eval::CalibrationSummary raw_c = eval::calibration_summary(raw), cal_c = eval::calibration_summary(cal);
+  test::margin("calibrated NLL / raw NLL", mean_nll(cal) / mean_nll(raw), "<", 0.8);
+  CHECK(cal_c.confidently_wrong <= raw_c.confidently_wrong);
+  // The decisions do not change: tempering keeps every object's order.
+  for (std::size_t t = 0; t < raw.trials.size(); ++t)
+    for (std::size_t k = 0; k < raw.trials[t].steps.size(); ++k)
+      CHECK(raw.trials[t].steps[k].estimated_object == cal.trials[t].steps[k].estimated_object);
+}
+
+TEST_CASE("objects held out of the map are caught as \"none of these\"") {
+  const SmallScene& s = small_scene();
+  const Dataset known = without_objects(s.data.train, {"knight", "mug"});
+  const Map map = Map::train(known, s.train);
+  REQUIRE(map.objects() == 8);
+  CHECK_THROWS_WITH(run(map, s.data.test, true, false), Catch::Contains("--unknown-objects"));
+  const eval::EvalResult r = run(map, s.data.test, true, true);
+  const auto u = eval::unknown_summary(r, 10);
+  REQUIRE(u.has_value());
+  CHECK(u->unknown_trials == 6);
+  test::margin("ROC area of p_unknown at 10 readings", u->auc, ">", 0.85);
+  const eval::StopSummary stop = eval::stop_summary(r, 0.9);
+  CHECK(stop.decided > 0);
+}

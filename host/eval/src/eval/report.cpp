@@ -78,7 +78,7 @@ std::string spread_cells(const Spread& s, const char* fmt) {
 std::string confidence_line(const Curve& curve) {
   const Confidence& c = curve.to_95;
   if (c.trials == 0) return "";
-  char line[320];
+  char line[512];
   std::snprintf(line, sizeof line,
                 "policy %s: readings until the true object holds >= %.0f%%: mean %s, median %s (%zu of %zu trials "
                 "got there",
@@ -132,7 +132,7 @@ json unknown_json(const UnknownSummary& u) {
 
 // The probability lines under the table: calibration, stopping, objects outside the map.
 std::string probability_lines(const Curve& curve) {
-  char line[320];
+  char line[512];
   const CalibrationSummary& c = curve.calibration;
   std::string out;
   if (c.trial_readings > 0) {
@@ -233,7 +233,7 @@ std::string format_table(const Curve& curve) {
   std::ostringstream s;
   s << "scene " << curve.scene << ", method " << curve.method << ", backend " << curve.backend << ", " << curve.trials
     << " trials (errors: median, mean and 90th percentile over trials with the right object)\n";
-  char line[320];
+  char line[512];
   std::snprintf(line, sizeof line, "%25s %-26s %-26s %-26s %s\n", "", " translation (mm)", " angle (deg)",
                 " inertial (mm)", " ms/update (all trials)");
   s << line;

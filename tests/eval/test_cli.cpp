@@ -145,7 +145,7 @@ TEST_CASE(
 
   const std::string csv = read_file(f.path("a.csv"));
   CHECK(std::count(csv.begin(), csv.end(), '\n') == 1 + 4 * 5);
-  CHECK(csv.substr(0, csv.find('\n')).ends_with(",votes,votes_zero"));
+  CHECK(csv.substr(0, csv.find('\n')).ends_with(",votes,votes_zero,top_probability,p_unknown,known"));
   const std::string png = read_file(f.path("a.png"));
   REQUIRE(png.size() > 8);
   CHECK(png.substr(1, 3) == "PNG");

@@ -202,7 +202,8 @@ std::string to_csv(const EvalResult& result) {
   std::ostringstream s;
   s << "trial,object,object_name,readings,sample,estimated_object,correct,true_object_probability,pose_valid,"
        "translation_error_mm,angular_error_deg,inertial_error_mm,update_ms,"
-       "true_tx,true_ty,true_tz,true_rx,true_ry,true_rz,est_tx,est_ty,est_tz,est_rx,est_ry,est_rz,votes,votes_zero\n";
+       "true_tx,true_ty,true_tz,true_rx,true_ry,true_rz,est_tx,est_ty,est_tz,est_rx,est_ry,est_rz,votes,votes_zero,"
+       "top_probability,p_unknown,known\n";
   for (const auto& t : result.trials) {
     const std::string name = t.object < result.objects.size() ? result.objects[t.object] : "";
     for (std::size_t k = 0; k < t.steps.size(); ++k) {
@@ -223,7 +224,8 @@ std::string to_csv(const EvalResult& result) {
         s << pose_cells(st.estimate);
       else
         s << ",,,,,";
-      s << ',' << st.votes << ',' << st.votes_zero << '\n';
+      s << ',' << st.votes << ',' << st.votes_zero << ',' << num(st.top_probability) << ',' << num(st.p_unknown) << ','
+        << (t.known ? 1 : 0) << '\n';
     }
   }
   return s.str();

@@ -37,24 +37,31 @@ TEST_CASE("cli: sva train and sva inspect on a map") {
   const auto dir = test::temp_dir("cli-train");
   save_dataset(test::synthetic_dataset(3, 40), dir / "train.svad");
   const std::string base = "train --data " + (dir / "train.svad").string() + " --out ";
+  const std::string small_calibration = " --calibration-sessions 10 --calibration-readings 4";
   std::string out;
-  REQUIRE(run(base + (dir / "a.svamap").string() + " --threads 1", &out) == 0);
-  CHECK_THAT(out, Contains("entries") && Contains("classes"));
-  REQUIRE(run(base + (dir / "b.svamap").string() + " --threads 2", &out) == 0);
+  REQUIRE(run(base + (dir / "a.svamap").string() + " --threads 1" + small_calibration, &out) == 0);
+  CHECK_THAT(out, Contains("entries") && Contains("classes") && Contains("calibration    learned"));
+  REQUIRE(run(base + (dir / "b.svamap").string() + " --threads 2" + small_calibration, &out) == 0);
   CHECK(bytes_of(dir / "a.svamap") == bytes_of(dir / "b.svamap"));
   REQUIRE(run("inspect " + (dir / "a.svamap").string(), &out) == 0);
-  CHECK_THAT(out, Contains("sva map") && Contains("ambiguity A") && Contains("entries/key") && Contains("obj2"));
-  REQUIRE(run(base + (dir / "c.svamap").string() + " --descriptor mn --clusters 4 --dist-bins 7 --dist-range 10:60",
+  CHECK_THAT(out, Contains("sva map") && Contains("ambiguity A") && Contains("entries/key") && Contains("obj2") &&
+                      Contains("learned: temperature") && Contains("from 10 + 5 held-out sessions of 4 readings"));
+  REQUIRE(run(base + (dir / "c.svamap").string() +
+                  " --descriptor mn --clusters 4 --dist-bins 7 --dist-range 10:60 --no-calibration",
               &out) == 0);
+  CHECK_THAT(out, Contains("calibration off"));
   REQUIRE(run("inspect " + (dir / "c.svamap").string(), &out) == 0);
-  CHECK_THAT(out, Contains("MN (64 values)") && Contains("7 over 10-60 mm"));
+  CHECK_THAT(out, Contains("MN (64 values)") && Contains("7 over 10-60 mm") && Contains("calibration    the default"));
+  CHECK(run(base + (dir / "d.svamap").string() + " --calibration-readings 1", &out) != 0);
+  CHECK_THAT(out, Contains("calibration readings 1"));
   std::filesystem::remove_all(dir);
 }
 
 TEST_CASE("cli: bad maps and bad options exit non-zero with a message") {
   const auto dir = test::temp_dir("cli-bad");
   save_dataset(test::synthetic_dataset(2, 20), dir / "train.svad");
-  const std::string base = "train --data " + (dir / "train.svad").string() + " --out " + (dir / "m.svamap").string();
+  const std::string base =
+      "train --data " + (dir / "train.svad").string() + " --out " + (dir / "m.svamap").string() + " --no-calibration";
   std::string out;
   REQUIRE(run(base, &out) == 0);
   auto bytes = bytes_of(dir / "m.svamap");

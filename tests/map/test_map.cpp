@@ -9,9 +9,9 @@
 #include <iterator>
 #include <tuple>
 
-#include "map/map_access.hpp"
 #include "appearance/appearance_baseline.hpp"
 #include "appearance/synthetic.hpp"
+#include "map/map_access.hpp"
 #include "map/map_builder.hpp"
 #include "map/map_file.hpp"
 #include "map/pair_map.hpp"
@@ -36,8 +36,15 @@ const Dataset& data() {
   return d;
 }
 
+// The map's tests read the pair index; the calibration is tests/calibration's (and thread independence's, below).
+TrainOptions no_calibration() {
+  TrainOptions o;
+  o.calibrate = false;
+  return o;
+}
+
 const Map& trained() {
-  static const Map m = Map::train(data(), {});
+  static const Map m = Map::train(data(), no_calibration());
   return m;
 }
 
@@ -45,7 +52,7 @@ const Map& trained() {
 
 TEST_CASE("map: training on a synthetic dataset gives a valid, consistent map") {
   TrainReport rep;
-  const Map map = Map::train(data(), {}, &rep);
+  const Map map = Map::train(data(), no_calibration(), &rep);
   const PairMap& m = MapAccess::pair_map(map);
   CHECK(map.objects() == 3);
   CHECK(map.classes() == 6);
@@ -131,6 +138,8 @@ TEST_CASE("map: save/load round trip is bit-exact, and training is thread-indepe
   const auto dir = test::temp_dir("map-roundtrip");
   TrainOptions o;
   o.threads = 1;
+  o.calibration_sessions = 10;  // the calibration's sessions too: the same bytes for 1 and 2 threads
+  o.calibration_readings = 4;
   Map::train(data(), o).save(dir / "t1.svamap");
   o.threads = 2;
   Map::train(data(), o).save(dir / "t2.svamap");

@@ -40,18 +40,23 @@ StopSummary stop_summary(const EvalResult& result, double threshold) {
   StopSummary s;
   s.threshold = threshold;
   s.trials = result.trials.size();
-  double readings = 0.0;
+  double readings = 0.0, to_right = 0.0;
   for (const TrialResult& t : result.trials) {
+    double trial_to_right = static_cast<double>(result.max_readings + 1);
     for (std::size_t k = 0; k < t.steps.size(); ++k) {
       const StepResult& st = t.steps[k];
       const bool unknown = st.p_unknown >= threshold;
       if (!unknown && (1.0 - st.p_unknown) * st.top_probability < threshold) continue;
       ++s.decided;
       readings += static_cast<double>(k + 1);
-      s.right += unknown ? !t.known : st.correct;
+      const bool right = unknown ? !t.known : st.correct;
+      s.right += right;
+      if (right) trial_to_right = static_cast<double>(k + 1);
       break;
     }
+    to_right += trial_to_right;
   }
+  if (s.trials > 0) s.mean_readings_to_right = to_right / static_cast<double>(s.trials);
   if (s.decided > 0) {
     s.mean_readings = readings / static_cast<double>(s.decided);
     s.accuracy = static_cast<double>(s.right) / static_cast<double>(s.decided);
@@ -80,7 +85,7 @@ std::optional<UnknownSummary> unknown_summary(const EvalResult& result, std::siz
     const double fpr = static_cast<double>(fp) / nk, tpr = static_cast<double>(tp) / nu;
     u.auc += 0.5 * (fpr - u.roc.back().first) * (tpr + u.roc.back().second);
     u.roc.push_back({fpr, tpr});
-    if (fpr <= 0.05 && tpr >= u.caught_at_5) {
+    if (fpr <= 0.05 && tpr > u.caught_at_5) {  // the strictest threshold of the best catch
       u.caught_at_5 = tpr;
       u.threshold_at_5 = score;
       u.rejected_at_5 = fpr;

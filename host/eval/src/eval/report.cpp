@@ -146,8 +146,10 @@ std::string probability_lines(const Curve& curve) {
     const StopSummary& s = *curve.stop;
     if (s.accuracy && s.mean_readings)
       std::snprintf(line, sizeof line,
-                    "stop at %.3g: %zu of %zu trials decided, %.1f%% of them right, after %.2f readings on average\n",
-                    s.threshold, s.decided, s.trials, 100.0 * *s.accuracy, *s.mean_readings);
+                    "stop at %.3g: %zu of %zu trials decided, %.1f%% of them right, after %.2f readings on average; "
+                    "%.2f readings to a right decision (a wrong or no decision counts %zu)\n",
+                    s.threshold, s.decided, s.trials, 100.0 * *s.accuracy, *s.mean_readings, s.mean_readings_to_right,
+                    curve.points.size() + 1);
     else
       std::snprintf(line, sizeof line, "stop at %.3g: none of %zu trials decided\n", s.threshold, s.trials);
     out += line;

@@ -92,6 +92,8 @@ struct StopSummary {
   std::size_t trials = 0, decided = 0, right = 0;
   std::optional<double> mean_readings;  // over decided trials
   std::optional<double> accuracy;       // right / decided
+  // Readings to a right decision, per trial: a wrong or no decision counts max_readings + 1 (a lower bound then).
+  double mean_readings_to_right = 0.0;
 };
 StopSummary stop_summary(const EvalResult& result, double threshold);
 

@@ -1,0 +1,83 @@
+// The probability metrics of an evaluation (host/eval/src/eval/calibration_metrics.cpp) on results made by hand.
+#include <catch2/catch.hpp>
+
+#include <sva/eval/results.hpp>
+
+using namespace sva::eval;
+
+namespace {
+
+// A trial whose steps have the given top probabilities, right or wrong, and p_unknown.
+TrialResult trial(bool known, const std::vector<std::tuple<double, bool, double>>& steps) {
+  TrialResult t;
+  t.known = known;
+  for (const auto& [top, correct, unknown] : steps) {
+    StepResult s;
+    s.top_probability = top;
+    s.correct = correct;
+    s.p_unknown = unknown;
+    t.steps.push_back(s);
+  }
+  return t;
+}
+
+}  // namespace
+
+TEST_CASE("ECE and confidently wrong: from 2 readings on, over known objects, in 10 bins") {
+  EvalResult r;
+  r.max_readings = 3;
+  // Step 1 never counts; a 0.95 bin all right (gap 0.05), a 0.995 wrong step (confidently wrong, gap 0.995).
+  r.trials.push_back(trial(true, {{0.2, false, 0.0}, {0.95, true, 0.0}, {0.95, true, 0.0}}));
+  r.trials.push_back(trial(true, {{0.9, true, 0.0}, {0.55, true, 0.0}, {0.995, false, 0.0}}));
+  r.trials.push_back(trial(false, {{0.9, false, 0.9}, {0.999, false, 0.9}, {0.999, false, 0.9}}));  // unknown: out
+  const CalibrationSummary c = calibration_summary(r);
+  CHECK(c.trial_readings == 4);
+  CHECK(c.confidently_wrong == Approx(0.25));
+  REQUIRE(c.bins.size() == 10);
+  CHECK(c.bins[5].count == 1);
+  CHECK(c.bins[9].count == 3);
+  CHECK(c.bins[9].confidence == Approx((0.95 + 0.95 + 0.995) / 3));
+  CHECK(c.bins[9].accuracy == Approx(2.0 / 3));
+  // |0.55 - 1| + |2.895 - 2| over 4.
+  CHECK(c.ece == Approx((0.45 + 0.895) / 4));
+}
+
+TEST_CASE("stop summary: the first reading that decides, right or wrong, unknown objects right only as unknown") {
+  EvalResult r;
+  r.max_readings = 3;
+  r.trials.push_back(trial(true, {{0.5, true, 0.0}, {0.97, true, 0.0}, {0.99, true, 0.0}}));      // right at 2
+  r.trials.push_back(trial(true, {{0.96, false, 0.0}, {0.99, true, 0.0}, {0.99, true, 0.0}}));    // wrong at 1
+  r.trials.push_back(trial(true, {{0.96, true, 0.2}, {0.5, true, 0.2}, {0.6, true, 0.2}}));       // never
+  r.trials.push_back(trial(false, {{0.9, false, 0.5}, {0.9, false, 0.96}, {0.9, false, 0.99}}));  // unknown at 2
+  const StopSummary s = stop_summary(r, 0.95);
+  CHECK(s.trials == 4);
+  CHECK(s.decided == 3);
+  CHECK(s.right == 2);
+  CHECK(*s.accuracy == Approx(2.0 / 3));
+  CHECK(*s.mean_readings == Approx((2 + 1 + 2) / 3.0));
+  CHECK(s.mean_readings_to_right == Approx((2 + 4 + 4 + 2) / 4.0));
+}
+
+TEST_CASE("unknown summary: ROC of p_unknown, its area, and the catch at 5% false rejection") {
+  EvalResult r;
+  r.max_readings = 2;
+  for (int i = 0; i < 20; ++i) r.trials.push_back(trial(true, {{0.9, true, 0.0}, {0.9, true, 0.01 * i}}));
+  for (int i = 0; i < 4; ++i) r.trials.push_back(trial(false, {{0.9, false, 0.0}, {0.9, false, 0.5 + 0.1 * i}}));
+  CHECK_FALSE(unknown_summary(r, 3).has_value());  // no trial has 3 readings
+  auto u = unknown_summary(r, 2);
+  REQUIRE(u.has_value());
+  CHECK(u->known_trials == 20);
+  CHECK(u->unknown_trials == 4);
+  CHECK(u->auc == Approx(1.0));
+  CHECK(u->caught_at_5 == 1.0);
+  CHECK(u->rejected_at_5 == 0.0);
+  CHECK(u->threshold_at_5 == Approx(0.5));
+  // One unknown trial scored below every known one: the area loses a quarter.
+  r.trials.back().steps[1].p_unknown = 0.0;
+  u = unknown_summary(r, 2);
+  CHECK(u->auc == Approx(0.75 + 0.25 * 0.5 / 20).epsilon(1e-9));  // a tie with the 0.0 known trial counts half
+  CHECK(u->caught_at_5 == Approx(0.75));
+  // Only known trials: no summary.
+  r.trials.resize(20);
+  CHECK_FALSE(unknown_summary(r, 2).has_value());
+}

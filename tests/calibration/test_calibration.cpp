@@ -171,7 +171,7 @@ const SmallScene& small_scene() {
     so.test_per_object = 15;
     so.seed = 7;
     out.data = sim::simulate(load_scene("paper3d"), so);
-    out.train.calibration_sessions = 40;
+    out.train.calibration_sessions = 60;
     out.train.calibration_readings = 10;
     out.train.calibration_held_out = 0.2;
     return out;
@@ -213,6 +213,7 @@ TEST_CASE("on simulated readings the learned calibration makes the probabilities
   const eval::EvalResult cal = run(map, s.data.test, true, false);
   const eval::CalibrationSummary raw_c = eval::calibration_summary(raw), cal_c = eval::calibration_summary(cal);
   test::margin("calibrated NLL / raw NLL", mean_nll(cal) / mean_nll(raw), "<", 0.8);
+  CHECK(mean_nll(cal) / mean_nll(raw) < 0.8);
   CHECK(cal_c.confidently_wrong <= raw_c.confidently_wrong);
   // The decisions do not change: tempering keeps every object's order.
   for (std::size_t t = 0; t < raw.trials.size(); ++t)
@@ -231,6 +232,7 @@ TEST_CASE("objects held out of the map are caught as \"none of these\"") {
   REQUIRE(u.has_value());
   CHECK(u->unknown_trials == 6);
   test::margin("ROC area of p_unknown at 10 readings", u->auc, ">", 0.85);
+  CHECK(u->auc > 0.85);
   const eval::StopSummary stop = eval::stop_summary(r, 0.9);
   CHECK(stop.decided > 0);
 }

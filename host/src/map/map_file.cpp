@@ -50,6 +50,7 @@ void put_calibration(io::BinaryWriter& w, const Calibration& c) {
   w.put<std::uint32_t>(c.known_sessions);
   w.put<std::uint32_t>(c.unknown_sessions);
   w.put<std::uint32_t>(c.session_readings);
+  w.put<std::uint32_t>(static_cast<std::uint32_t>(kUnknownFeatures));
   w.put<std::uint64_t>(c.unknown.per_readings.size());
   for (const UnknownCoefficients& k : c.unknown.per_readings) w.put_array(k.data(), k.size());
 }
@@ -68,6 +69,10 @@ Calibration get_calibration(io::BinaryReader& r) {
   c.known_sessions = r.get<std::uint32_t>();
   c.unknown_sessions = r.get<std::uint32_t>();
   c.session_readings = r.get<std::uint32_t>();
+  const auto features = r.get<std::uint32_t>();
+  if (features != kUnknownFeatures)
+    r.fail("calibration: the unknown model reads " + std::to_string(features) + " features, this build " +
+           std::to_string(kUnknownFeatures) + " (retrain the map with this build)");
   const auto n = r.get<std::uint64_t>();
   if (n > 1000) r.fail("calibration: " + std::to_string(n) + " unknown models (at most 1000)");
   c.unknown.per_readings.resize(n);

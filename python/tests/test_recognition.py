@@ -21,6 +21,7 @@ def assert_estimate_is(est: sva.Estimate, want: dict, names: list[str]) -> None:
     assert est.object_name == want["object"]
     assert est.pose_valid == want["pose_valid"]
     assert est.object_probability.tolist() == [want["object_probability"][n] for n in names]
+    assert est.p_unknown == want["p_unknown"]
     if est.pose_valid:
         R, T = pose_of(want["pose"])
         assert np.array_equal(est.pose.R, R) and np.array_equal(est.pose.T, T)

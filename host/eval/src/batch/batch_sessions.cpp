@@ -96,6 +96,7 @@ json result_json(const BatchSession& s, const Estimate& e, std::span<const std::
                {"readings", e.readings},
                {"object", e.object_name},
                {"object_probability", probs},
+               {"p_unknown", e.p_unknown},
                {"pose_valid", e.pose_valid}};
   if (e.pose_valid) line["pose"] = pose_json(e.pose);
   line["top"] = top;

@@ -113,8 +113,13 @@ json calibration_json(const CalibrationSummary& c) {
 }
 
 json stop_json(const StopSummary& s) {
-  return {{"threshold", s.threshold}, {"trials", s.trials},          {"decided", s.decided},
-          {"right", s.right},         {"accuracy", opt(s.accuracy)}, {"mean_readings", opt(s.mean_readings)}};
+  return {{"threshold", s.threshold},
+          {"trials", s.trials},
+          {"decided", s.decided},
+          {"right", s.right},
+          {"accuracy", opt(s.accuracy)},
+          {"mean_readings", opt(s.mean_readings)},
+          {"mean_readings_to_right", s.mean_readings_to_right}};
 }
 
 json unknown_json(const UnknownSummary& u) {

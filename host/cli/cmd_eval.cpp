@@ -166,7 +166,8 @@ void declare_eval_options(Args& a) {
   a.option("--csv", "OUT.csv", "write one row per (trial, readings)");
   a.option("--plot", "OUT.png", "write the figure (accuracy and errors against readings, like the paper's Fig. 4/5)");
   a.option("--reliability", "OUT.png",
-           "write the reliability diagram: accuracy against the top object's probability (docs/evaluation.md)");
+           "write the reliability diagram: accuracy against the top object's probability (docs/evaluation.md; "
+           "default with --plot FIG.png: FIG_reliability.png beside it)");
   a.option("--calibration", "on|off",
            "calibrated probabilities and \"none of these\" (default on; off: Eq 5's product as it stands)");
   a.option("--unknown-prior", "P", "prior probability that a touched object is none of the map's (default 0.1)");
@@ -224,8 +225,9 @@ int cmd_eval(const std::vector<std::string>& argv) {
   const std::string data_file = a.required("--data");
   eval::EvalOptions o = eval_options(a);
   const auto json_file = a.get("--json"), csv_file = a.get("--csv"), plot_file = a.get("--plot");
-  const auto reliability_file = a.get("--reliability");
+  auto reliability_file = a.get("--reliability");
   if (reliability_file) check_writable("--reliability", *reliability_file);
+  const bool reliability_beside_plot = !reliability_file && plot_file;
   if (json_file) check_writable("--json", *json_file);
   if (csv_file) check_writable("--csv", *csv_file);
   if (plot_file) check_writable("--plot", *plot_file);
@@ -256,6 +258,11 @@ int cmd_eval(const std::vector<std::string>& argv) {
     std::vector<eval::Curve> curves{curve};
     curves.insert(curves.end(), others.begin(), others.end());
     eval::write_figure(curves, *plot_file);
+  }
+  // The reliability diagram goes beside the accuracy figure (FIG_reliability.png) when it has trial-readings to show.
+  if (reliability_beside_plot && curve.calibration.trial_readings > 0) {
+    const std::filesystem::path p(*plot_file);
+    reliability_file = (p.parent_path() / (p.stem().string() + "_reliability" + p.extension().string())).string();
   }
   if (reliability_file) eval::write_reliability_figure(curve, *reliability_file);
   return 0;

@@ -149,6 +149,8 @@ TEST_CASE(
   const std::string png = read_file(f.path("a.png"));
   REQUIRE(png.size() > 8);
   CHECK(png.substr(1, 3) == "PNG");
+  // The reliability diagram beside the figure, and the calibration in the JSON.
+  CHECK(read_file(f.path("a_reliability.png")).substr(1, 3) == "PNG");
 
   // Another seed gives other trials.
   REQUIRE(sva::test::run_sva(f.base() + "--trials 4 --max-readings 5 --seed 8 --json " + f.path("c.json"), &out) == 0);
@@ -426,4 +428,33 @@ TEST_CASE("sva eval --policy refuses what it cannot run, naming it") {
   CHECK(out.find("active-sim") != std::string::npos);
   CHECK(out.find("ball") != std::string::npos);
   CHECK(out.find("internal error") == std::string::npos);
+}
+
+TEST_CASE("sva eval reports the calibration and the decisions at --stop-at, and names bad values") {
+  Fixture f;
+  std::string out;
+  const std::string common = f.base() + "--trials 4 --max-readings 5 --seed 7 ";
+  REQUIRE(sva::test::run_sva(
+              common + "--stop-at 0.9 --reliability " + f.path("rel.png") + " --json " + f.path("s.json"), &out) == 0);
+  CHECK(out.find("calibration: ECE") != std::string::npos);
+  CHECK(out.find("stop at 0.9:") != std::string::npos);
+  CHECK(read_file(f.path("rel.png")).substr(1, 3) == "PNG");
+  const auto j = nlohmann::json::parse(read_file(f.path("s.json")));
+  CHECK(j["calibration"]["trial_readings"] == 4 * 4);
+  CHECK(j["calibration"]["reliability"].size() == 10);
+  CHECK(j["stop"]["threshold"] == 0.9);
+  CHECK(j["stop"]["trials"] == 4);
+  CHECK_FALSE(j.contains("unknown_objects"));  // every test object is the map's
+  // Raw Eq 5: p_unknown is 0 and the decisions come no later than calibrated ones.
+  REQUIRE(sva::test::run_sva(common + "--calibration off --stop-at 0.9 --json " + f.path("raw.json"), &out) == 0);
+  const auto raw = nlohmann::json::parse(read_file(f.path("raw.json")));
+  CHECK(raw["stop"]["decided"].get<int>() >= j["stop"]["decided"].get<int>());
+  // Bad values are named.
+  CHECK(sva::test::run_sva(common + "--stop-at 0.2", &out) != 0);
+  CHECK(out.find("--stop-at") != std::string::npos);
+  CHECK(sva::test::run_sva(common + "--unknown-prior 1", &out) != 0);
+  CHECK(out.find("--unknown-prior") != std::string::npos);
+  // One reading per trial has no trial-reading from 2 on to draw.
+  CHECK(sva::test::run_sva(f.base() + "--trials 2 --max-readings 1 --reliability " + f.path("none.png"), &out) != 0);
+  CHECK(out.find("none.png") != std::string::npos);
 }

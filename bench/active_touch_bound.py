@@ -38,6 +38,25 @@ def placed(sample, R, T):
                        R @ np.array(r.x_axis))
 
 
+def random_trials(random_csv, count, test):
+    """The random run's trials, first `count` (0: all): (rows by reading, object, R, T, the object's converged test
+    readings)."""
+    trials = defaultdict(list)
+    with open(random_csv) as f:
+        for row in csv.DictReader(f):
+            trials[int(row["trial"])].append(row)
+    out = []
+    for t in sorted(trials)[: count or None]:
+        rows = sorted(trials[t], key=lambda r: int(r["readings"]))
+        obj = int(rows[0]["object"])
+        R = rotation(np.array([float(rows[0][k]) for k in ("true_rx", "true_ry", "true_rz")]))
+        T = np.array([float(rows[0][k]) for k in ("true_tx", "true_ty", "true_tz")])
+        pool = [i for i in range(len(test)) if test[i].object == obj
+                and test[i].reading.status == sva.ControllerStatus.converged]
+        out.append((t, rows, obj, R, T, pool))
+    return out
+
+
 def best_next(rec, shown, pool, test, obj, R, T):
     """The highest true-object probability over every unused reading of the pool, after `shown`."""
     best = 0.0
@@ -61,22 +80,12 @@ def main():
     ap.add_argument("--threshold", type=float, default=0.95)
     a = ap.parse_args()
     m, test = sva.Map.load(a.map), sva.Dataset.load(a.data)
-    trials = defaultdict(list)
-    with open(a.random_csv) as f:
-        for row in csv.DictReader(f):
-            trials[int(row["trial"])].append(row)
-    keys = sorted(trials)[: a.trials or None]
+    trials = random_trials(a.random_csv, a.trials, test)
     rec = sva.Recognizer(m, backend="cpu")
     at2 = at3 = 0
     random_first = []
     print("trial object        random-first  best-2nd  best-3rd (after random 2)")
-    for t in keys:
-        rows = sorted(trials[t], key=lambda r: int(r["readings"]))
-        obj = int(rows[0]["object"])
-        R = rotation(np.array([float(rows[0][k]) for k in ("true_rx", "true_ry", "true_rz")]))
-        T = np.array([float(rows[0][k]) for k in ("true_tx", "true_ty", "true_tz")])
-        pool = [i for i in range(len(test)) if test[i].object == obj
-                and test[i].reading.status == sva.ControllerStatus.converged]
+    for t, rows, obj, R, T, pool in trials:
         reached = [int(r["readings"]) for r in rows if float(r["true_object_probability"]) >= a.threshold]
         random_first.append(min(reached) if reached else len(rows) + 1)
         s1, s2 = int(rows[0]["sample"]), int(rows[1]["sample"])
@@ -85,7 +94,7 @@ def main():
         at2 += b2 >= a.threshold
         at3 += b3 >= a.threshold
         print(f"{t:5d} {rows[0]['object_name']:12s} {random_first[-1]:12d}  {b2:8.3f}  {b3:8.3f}", flush=True)
-    n = len(keys)
+    n = len(trials)
     bound = (2 * at2 + 3 * (n - at2)) / n
     rnd = sum(random_first) / n
     print(f"trials {n}: a second reading can decide {at2} of them; a third (after the random two) {at3}")

@@ -13,14 +13,12 @@ against: active closes (random - active) / (random - oracle) of the gap.
 RANDOM.csv is `sva eval --policy random --csv` of the same map, data and seed (its first readings and poses).
 """
 import argparse
-import csv
 import sys
-from collections import defaultdict
 
 import numpy as np
 
 import sva
-from active_touch_bound import placed, rotation
+from active_touch_bound import placed, random_trials
 
 
 def decision(est, threshold):
@@ -75,25 +73,15 @@ def main():
     ap.add_argument("--max-readings", type=int, default=20)
     a = ap.parse_args()
     m, test = sva.Map.load(a.map), sva.Dataset.load(a.data)
-    trials = defaultdict(list)
-    with open(a.random_csv) as f:
-        for row in csv.DictReader(f):
-            trials[int(row["trial"])].append(row)
-    keys = sorted(trials)[: a.trials or None]
+    trials = random_trials(a.random_csv, a.trials, test)
     rec = sva.Recognizer(m, backend="cpu")
     rng = np.random.default_rng(1)
     readings = []
     print("trial object        oracle readings to a right decision")
-    for t in keys:
-        rows = sorted(trials[t], key=lambda r: int(r["readings"]))
-        obj = int(rows[0]["object"])
-        R = rotation(np.array([float(rows[0][k]) for k in ("true_rx", "true_ry", "true_rz")]))
-        T = np.array([float(rows[0][k]) for k in ("true_tx", "true_ty", "true_tz")])
-        pool = [i for i in range(len(test)) if test[i].object == obj
-                and test[i].reading.status == sva.ControllerStatus.converged]
+    for t, rows, obj, R, T, pool in trials:
         readings.append(run_trial(rec, test, pool, int(rows[0]["sample"]), obj, R, T, a, rng))
         print(f"{t:5d} {rows[0]['object_name']:12s} {readings[-1]:5d}", flush=True)
-    print(f"trials {len(keys)}: oracle mean readings to a right decision at {a.threshold}: "
+    print(f"trials {len(trials)}: oracle mean readings to a right decision at {a.threshold}: "
           f"{sum(readings) / len(readings):.2f} (no decision within {a.max_readings} counts {a.max_readings + 1})")
 
 

@@ -57,17 +57,21 @@ def random_trials(random_csv, count, test):
     return out
 
 
+def replay(rec, samples, test, R, T):
+    """A fresh session of the test readings `samples`, placed at (R, T); its estimate."""
+    rec.reset()
+    for s in samples:
+        rec.add_reading(placed(test[s], R, T))
+    return rec.estimate(1)
+
+
 def best_next(rec, shown, pool, test, obj, R, T):
     """The highest true-object probability over every unused reading of the pool, after `shown`."""
     best = 0.0
     for i in pool:
         if i in shown:
             continue
-        rec.reset()
-        for s in shown:
-            rec.add_reading(placed(test[s], R, T))
-        rec.add_reading(placed(test[i], R, T))
-        best = max(best, float(rec.estimate(1).object_probability[obj]))
+        best = max(best, float(replay(rec, shown + [i], test, R, T).object_probability[obj]))
     return best
 
 

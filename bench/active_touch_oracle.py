@@ -18,7 +18,7 @@ import sys
 import numpy as np
 
 import sva
-from active_touch_bound import placed, random_trials
+from active_touch_bound import random_trials, replay
 
 
 def decision(est, threshold):
@@ -37,9 +37,7 @@ def score(est, obj):
 
 def run_trial(rec, test, pool, first, obj, R, T, a, rng):
     shown = [first]
-    rec.reset()
-    rec.add_reading(placed(test[first], R, T))
-    est = rec.estimate(1)
+    est = replay(rec, shown, test, R, T)
     for n in range(1, a.max_readings + 1):
         d = decision(est, a.threshold)
         if d is not None:
@@ -51,10 +49,7 @@ def run_trial(rec, test, pool, first, obj, R, T, a, rng):
             unused = list(rng.choice(unused, size=a.candidates, replace=False))
         best, best_est = None, None
         for i in unused:
-            rec.reset()
-            for s in shown + [i]:
-                rec.add_reading(placed(test[s], R, T))
-            e = rec.estimate(1)
+            e = replay(rec, shown + [i], test, R, T)
             if best is None or score(e, obj) > score(best_est, obj):
                 best, best_est = i, e
         shown.append(best)

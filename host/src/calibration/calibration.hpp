@@ -35,9 +35,8 @@ struct EvidenceLevel {
   // The best bin's evidence in bits over the ordered pairs folded so far (0 before any pair).
   double best_bits_per_pair = 0.0;
   // How well the best object's surface explains the contacts at the fine pose (recognition/pose_refinement.hpp):
-  // the share of readings inside the final robust scale, and the robust cost per reading over that scale^2/6 (an
-  // unmatched reading's cost: 1). Negative when the fine pose was not computed (too few readings).
-  double fit_inlier_share = -1.0;
+  // the robust cost per reading over the final scale^2/6 (an unmatched reading's cost: 1). Negative when the fine
+  // pose was not computed (too few readings).
   double fit_cost_share = -1.0;
 };
 

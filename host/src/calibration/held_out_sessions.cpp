@@ -14,7 +14,6 @@
 #include "recognition/bayes_filter.hpp"
 #include "recognition/describe_reading.hpp"
 #include "recognition/estimate.hpp"
-#include "recognition/pose_refinement.hpp"
 #include "votes/pose_space.hpp"
 
 namespace sva {
@@ -61,22 +60,7 @@ std::vector<std::size_t> presentation_order(std::size_t pool, std::size_t count,
   return order;
 }
 
-// The fine pose of the best object from its best modes, as the estimate computes it, and how well it fits.
-void add_surface_fit(const BayesFilter& filter, const SurfaceIndex& surface, const RefineSettings& settings,
-                     EvidenceLevel* level) {
-  if (filter.readings() < settings.min_readings) return;
-  const BeliefEstimate b = filter.estimate(0, 4);
-  if (!b.pose_valid) return;
-  const RefinedPose fine = refine_pose(surface, b.object, filter.observed(), b.modes, settings);
-  set_surface_fit(fine, filter.readings(), settings, level);
-}
-
 }  // namespace
-
-std::size_t CalibrationSplit::known_objects() const {
-  return static_cast<std::size_t>(std::count_if(map_object.begin(), map_object.end(), [](auto m) { return m >= 0; }));
-}
-std::size_t CalibrationSplit::unknown_objects() const { return map_object.size() - known_objects(); }
 
 CalibrationSplit split_for_calibration(const Dataset& data, double fraction, std::uint64_t seed) {
   if (!(fraction > 0.0 && fraction < 1.0))
@@ -146,9 +130,7 @@ std::vector<CalibrationSession> run_held_out_sessions(const PairMap& map, const 
     for (std::size_t i : presentation_order(readings.size(), options.readings, rng)) {
       const Reading r = transform_reading(readings[i], pose);
       filter.add(to_grid(space, describe_reading(map, r, "calibration reading")));
-      EvidenceLevel level = evidence_level(filter.belief(), space, filter.readings());
-      add_surface_fit(filter, surface, refine, &level);
-      s.steps.push_back(std::move(level));
+      s.steps.push_back(calibration_evidence(filter, surface, refine));
     }
     sessions.push_back(std::move(s));
     if (progress) progress->advance();

@@ -21,8 +21,6 @@ struct CalibrationSplit {
   Dataset held_out;  // the held-out readings, in the full scene's object ids
   // Per object of the full scene: its id in map_part, or -1 when it is held out whole.
   std::vector<std::int32_t> map_object;
-  std::size_t known_objects() const;
-  std::size_t unknown_objects() const;
 };
 
 // `fraction`: the share of each known object's converged readings held out, in (0, 1). Deterministic in `seed`.

@@ -165,10 +165,6 @@ std::vector<double> object_log2_mass(const BeliefSummary& s, const PoseSpace& sp
   return out;
 }
 
-EvidenceLevel evidence_level(const BeliefState& belief, const PoseSpace& space, std::size_t readings) {
-  return evidence_level(belief.summarise(), belief.pairs_folded(), space, readings);
-}
-
 EvidenceLevel evidence_level(const BeliefSummary& summary, std::size_t pairs_folded, const PoseSpace& space,
                              std::size_t readings) {
   EvidenceLevel e;
@@ -183,7 +179,6 @@ void set_surface_fit(const RefinedPose& fine, std::size_t readings, const Refine
                      EvidenceLevel* level) {
   if (readings < settings.min_readings || readings == 0) return;
   const double outlier_cost = settings.scale_final_mm * settings.scale_final_mm / 6.0;
-  level->fit_inlier_share = static_cast<double>(fine.inliers) / static_cast<double>(readings);
   level->fit_cost_share = fine.cost / (outlier_cost * static_cast<double>(readings));
 }
 
@@ -432,6 +427,18 @@ Estimate filter_estimate(const BayesFilter& filter, const std::vector<MapObject>
   e.votes_outside = filter.last_update().votes_outside;
   e.votes_zero = filter.last_update().votes_zero;
   return e;
+}
+
+EvidenceLevel calibration_evidence(const BayesFilter& filter, const SurfaceIndex& surface,
+                                   const RefineSettings& settings) {
+  const bool fit = filter.readings() >= settings.min_readings;
+  const BeliefEstimate b = filter.estimate(0, fit ? kRefineStarts : 1);
+  EvidenceLevel level = b.level;
+  level.readings = filter.readings();
+  if (fit && b.pose_valid)
+    set_surface_fit(refine_pose(surface, b.object, filter.observed(), b.modes, settings), filter.readings(), settings,
+                    &level);
+  return level;
 }
 
 }  // namespace sva

@@ -72,8 +72,7 @@ struct BeliefEstimate {
 // Each object's log-evidence (calibration/calibration.hpp, EvidenceLevel::object_log2_mass): log2 of its mass over
 // poses relative to one bin at the maximum, untouched bins at the baseline; never -inf.
 std::vector<double> object_log2_mass(const BeliefSummary& summary, const PoseSpace& space);
-// What the calibration reads of a belief after `readings` readings.
-EvidenceLevel evidence_level(const BeliefState& belief, const PoseSpace& space, std::size_t readings);
+// What the calibration reads of a belief's reductions after `readings` readings.
 EvidenceLevel evidence_level(const BeliefSummary& summary, std::size_t pairs_folded, const PoseSpace& space,
                              std::size_t readings);
 
@@ -145,5 +144,10 @@ struct EstimateRequest {
 // Method::sva: the estimate of the filter's belief, refined against the surface when there is one, in the robot
 // frame, with the distinct hypotheses (hypotheses[0] carries Estimate::pose).
 Estimate filter_estimate(const BayesFilter& filter, const std::vector<MapObject>& objects, const EstimateRequest& r);
+
+// What filter_estimate's calibration reads of the filter (the evidence level, with the fine pose's fit from the same
+// starts), without the rest of the estimate: the calibration's held-out sessions.
+EvidenceLevel calibration_evidence(const BayesFilter& filter, const SurfaceIndex& surface,
+                                   const RefineSettings& settings);
 
 }  // namespace sva

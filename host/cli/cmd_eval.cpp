@@ -4,6 +4,7 @@
 #include <sva/map.hpp>
 #include <sva/recognizer.hpp>
 
+#include <sva/eval/confusion.hpp>
 #include <sva/eval/evaluation.hpp>
 #include <sva/eval/figure.hpp>
 #include <sva/eval/report.hpp>
@@ -41,7 +42,7 @@ void check_writable(const std::string& option, const std::string& file) {
     throw Error("sva eval: " + option + " " + file + ": directory " + dir.string() + " does not exist");
 }
 
-std::vector<std::size_t> parse_reading_counts(const std::string& text) {
+std::vector<std::size_t> parse_reading_counts(const std::string& text, const char* option = "--sweep-readings") {
   std::vector<std::size_t> out;
   std::stringstream ss(text);
   std::string item;
@@ -49,7 +50,7 @@ std::vector<std::size_t> parse_reading_counts(const std::string& text) {
     char* end = nullptr;
     const long v = std::strtol(item.c_str(), &end, 10);
     if (item.empty() || *end != '\0' || v < 1 || v > 100000)
-      throw Error("sva eval: --sweep-readings expects a list like 5,10,20,30, got \"" + text + "\"");
+      throw Error(std::string("sva eval: ") + option + " expects a list like 5,10,20,30, got \"" + text + "\"");
     out.push_back(static_cast<std::size_t>(v));
   }
   return out;
@@ -72,6 +73,35 @@ int sweep_report(const Args& a) {
   if (table_file) io::write_text_file(*table_file, table);
   if (plot_file) eval::write_sweep_figure(levels, readings, *plot_file);
   return 0;
+}
+
+// --confusion's reading counts: the ones asked for (each within the run), by default 15 and 30 where the run has
+// them, else its last reading.
+std::vector<std::size_t> confusion_counts(const Args& a, std::size_t max_readings) {
+  if (a.has("--confusion-at")) {
+    const auto counts = parse_reading_counts(*a.get("--confusion-at"), "--confusion-at");
+    for (std::size_t n : counts)
+      if (n > max_readings)
+        throw Error("sva eval: --confusion-at " + std::to_string(n) + " is beyond --max-readings " +
+                    std::to_string(max_readings));
+    return counts;
+  }
+  std::vector<std::size_t> counts;
+  for (std::size_t n : {15u, 30u})
+    if (n <= max_readings) counts.push_back(n);
+  if (counts.empty()) counts.push_back(max_readings);
+  return counts;
+}
+
+// The confusion tables on stdout, the matrices as JSON and the last one as FILE.png beside it.
+void write_confusions(const eval::EvalResult& result, const std::vector<std::size_t>& counts,
+                      const std::string& json_file) {
+  std::vector<eval::Confusion> confusions;
+  for (std::size_t n : counts) confusions.push_back(eval::confusion_at(result, n));
+  std::fputs(eval::format_confusion_tables(confusions).c_str(), stdout);
+  io::write_text_file(json_file, eval::confusion_json(confusions));
+  const std::filesystem::path p(json_file);
+  eval::write_confusion_figure(confusions.back(), result.scene, p.parent_path() / (p.stem().string() + ".png"));
 }
 
 // --policy active-sim: the scene's meshes loaded once, every planned touch pressed on its trial's object.
@@ -174,6 +204,10 @@ void declare_eval_options(Args& a) {
   a.flag("--unknown-objects",
          "the test set may hold objects the map does not (a map trained with sva train --exclude-objects): their "
          "trials are right only when they say \"none of these\"; prints the ROC of p_unknown");
+  a.option("--confusion", "OUT.json",
+           "write the confusion matrices (and OUT.png, the last one ordered by look-alike family) and print the "
+           "accuracy per object and per family (docs/evaluation.md, \"Look-alikes\")");
+  a.option("--confusion-at", "LIST", "with --confusion: the reading counts (default 15,30 within --max-readings)");
   a.option("--stop-at", "P",
            "report deciding at probability P: the first reading where the top object or \"none of these\" "
            "reaches P, the readings used and the decisions' accuracy");
@@ -231,6 +265,10 @@ int cmd_eval(const std::vector<std::string>& argv) {
   if (json_file) check_writable("--json", *json_file);
   if (csv_file) check_writable("--csv", *csv_file);
   if (plot_file) check_writable("--plot", *plot_file);
+  const auto confusion_file = a.get("--confusion");
+  if (confusion_file) check_writable("--confusion", *confusion_file);
+  if (a.has("--confusion-at") && !confusion_file) throw Error("sva eval: --confusion-at needs --confusion");
+  const std::vector<std::size_t> confusion_at = confusion_counts(a, o.max_readings);
   const auto compare_files = a.all("--compare");
   if (!compare_files.empty() && !plot_file)
     throw Error("sva eval: --compare adds curves to the figure; give --plot too");
@@ -265,6 +303,7 @@ int cmd_eval(const std::vector<std::string>& argv) {
     reliability_file = (p.parent_path() / (p.stem().string() + "_reliability" + p.extension().string())).string();
   }
   if (reliability_file) eval::write_reliability_figure(curve, *reliability_file);
+  if (confusion_file) write_confusions(result, confusion_at, *confusion_file);
   return 0;
 }
 

@@ -458,3 +458,29 @@ TEST_CASE("sva eval reports the calibration and the decisions at --stop-at, and 
   CHECK(sva::test::run_sva(f.base() + "--trials 2 --max-readings 1 --reliability " + f.path("none.png"), &out) != 0);
   CHECK(out.find("none.png") != std::string::npos);
 }
+
+TEST_CASE("sva eval --confusion writes the matrices and the figure, prints the per-object table, names bad counts") {
+  Fixture f;
+  std::string out;
+  const std::string common = f.base() + "--trials 4 --max-readings 5 --seed 7 ";
+  REQUIRE(sva::test::run_sva(common + "--confusion " + f.path("c.json") + " --confusion-at 2,5", &out) == 0);
+  CHECK(out.find("acc@2") != std::string::npos);
+  CHECK(out.find("acc@5") != std::string::npos);
+  CHECK(read_file(f.path("c.png")).substr(1, 3) == "PNG");
+  const auto j = nlohmann::json::parse(read_file(f.path("c.json")));
+  REQUIRE(j["confusion"].size() == 2);
+  CHECK(j["confusion"][1]["readings"] == 5);
+  std::size_t trials = 0;
+  for (const auto& row : j["confusion"][1]["counts"])
+    for (const auto& n : row) trials += n.get<std::size_t>();
+  CHECK(trials == 4);
+  // The default counts are 15 and 30 within the run: here its last reading only.
+  REQUIRE(sva::test::run_sva(common + "--confusion " + f.path("d.json"), &out) == 0);
+  CHECK(nlohmann::json::parse(read_file(f.path("d.json")))["confusion"][0]["readings"] == 5);
+  CHECK(sva::test::run_sva(common + "--confusion " + f.path("e.json") + " --confusion-at 9", &out) != 0);
+  CHECK(out.find("--confusion-at 9") != std::string::npos);
+  CHECK(sva::test::run_sva(common + "--confusion-at 2", &out) != 0);
+  CHECK(out.find("needs --confusion") != std::string::npos);
+  CHECK(sva::test::run_sva(common + "--confusion " + f.path("no/dir/c.json"), &out) != 0);
+  CHECK(out.find("does not exist") != std::string::npos);
+}

@@ -29,6 +29,22 @@ TEST_CASE("scene JSON: defaults, paths and round trip") {
   CHECK(planar.objects[0].symmetry.rotations.size() == 2);
 }
 
+TEST_CASE("scene JSON: an object's family survives the round trip, and no family writes no key") {
+  auto s = parse(R"({"objects": [{"mesh": "clamp_s.glb", "family": "clamps"}, {"mesh": "cup.glb"}]})");
+  CHECK(s.objects[0].family == "clamps");
+  CHECK(s.objects[1].family.empty());
+  const std::string text = sva::scene_to_json(s);
+  CHECK(text.find("\"family\"") != std::string::npos);
+  CHECK(text.find("\"family\"") == text.rfind("\"family\""));  // once: the object without one writes none
+  auto again = sva::parse_scene(text, "/tmp/x/again.json");
+  CHECK(again.objects[0].family == "clamps");
+  CHECK(again.objects[1].family.empty());
+  CHECK_THROWS_WITH(parse(R"({"objects": [{"mesh": "a.glb", "family": ""}]})"),
+                    Contains("objects[0].family") && Contains("empty family"));
+  CHECK_THROWS_WITH(parse(R"({"objects": [{"mesh": "a.glb", "family": 3}]})"),
+                    Contains("objects[0].family") && Contains("expected a string"));
+}
+
 TEST_CASE("scene JSON: every fault names the field") {
   CHECK_THROWS_WITH(parse("{"), Contains("scene.json") && Contains("invalid JSON"));
   CHECK_THROWS_WITH(parse("[]"), Contains("expected a JSON object"));

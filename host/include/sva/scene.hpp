@@ -19,6 +19,7 @@ struct SceneObject {
   double size_mm = 80.0;       // largest bounding-box dimension after scaling; <= 0 keeps the mesh's units (mm)
   bool center = true;          // move the bounding-box centre to the origin
   Symmetry symmetry;
+  std::string family;  // a family of look-alikes it belongs to (eval orders its confusions by it); "" none
   double inertial_radius_mm = 40.0;  // sphere radius of the inertial distance metric
 };
 

@@ -197,7 +197,8 @@ json errors_to_json(const ErrorModel& e) {
 
 const std::vector<std::string>& builtin_scene_names() {
   static const std::vector<std::string> names = {"paper3d",         "letters2d",   "tiny",        "paper3d-ideal",
-                                                 "letters2d-ideal", "household10", "household25", "household50"};
+                                                 "letters2d-ideal", "household10", "household25", "household50",
+                                                 "household100",    "lookalikes"};
   return names;
 }
 
@@ -250,7 +251,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
   for (std::size_t i = 0; i < objs.size(); ++i) {
     std::string p = "objects[" + std::to_string(i) + "]";
     const json& o = c.object(objs[i], p);
-    c.known_keys(o, p, {"name", "mesh", "size_mm", "center", "symmetry", "inertial_radius_mm"});
+    c.known_keys(o, p, {"name", "mesh", "size_mm", "center", "symmetry", "family", "inertial_radius_mm"});
     SceneObject so;
     if (!o.contains("mesh")) c.fail(p, "missing \"mesh\"");
     std::filesystem::path mesh = c.string(o["mesh"], p + ".mesh");
@@ -263,6 +264,10 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
     opt(o, "size_mm", [&](const json& v) { so.size_mm = c.number(v, p + ".size_mm", 0.0, 1e5); });
     opt(o, "center", [&](const json& v) { so.center = c.boolean(v, p + ".center"); });
     opt(o, "symmetry", [&](const json& v) { so.symmetry = parse_symmetry(c, v, p + ".symmetry"); });
+    opt(o, "family", [&](const json& v) {
+      so.family = c.string(v, p + ".family");
+      if (so.family.empty()) c.fail(p + ".family", "empty family name (leave the key out for none)");
+    });
     so.inertial_radius_mm = so.size_mm > 0 ? so.size_mm / 2 : 40.0;
     opt(o, "inertial_radius_mm",
         [&](const json& v) { so.inertial_radius_mm = c.number(v, p + ".inertial_radius_mm", 1e-3, 1e5); });
@@ -396,13 +401,17 @@ Scene load_scene(const std::string& name_or_file) {
 
 std::string scene_to_json(const Scene& s) {
   json objs = json::array();
-  for (const auto& o : s.objects)
-    objs.push_back({{"name", o.name},
-                    {"mesh", o.mesh.string()},
-                    {"size_mm", o.size_mm},
-                    {"center", o.center},
-                    {"symmetry", symmetry_to_json(o.symmetry)},
-                    {"inertial_radius_mm", o.inertial_radius_mm}});
+  for (const auto& o : s.objects) {
+    json jo = {{"name", o.name},
+               {"mesh", o.mesh.string()},
+               {"size_mm", o.size_mm},
+               {"center", o.center},
+               {"symmetry", symmetry_to_json(o.symmetry)},
+               {"inertial_radius_mm", o.inertial_radius_mm}};
+    // Only when set, so that the datasets of scenes without families keep their bytes.
+    if (!o.family.empty()) jo["family"] = o.family;
+    objs.push_back(std::move(jo));
+  }
   json j = {
       {"name", s.name},
       {"objects", objs},

@@ -137,8 +137,9 @@ void check_compatible(const Map& map, const Dataset& test, const std::string& ma
                 fmt(cal.stiffness_kpa_per_mm) + " and " + fmt(test.scene.skin.stiffness_kpa_per_mm) + " kPa/mm)");
 }
 
-EvalResult run_evaluation(const Map& map, const Dataset& test, const EvalOptions& options) {
-  check_compatible(map, test, options.map_name, options.data_name, options.unknown_objects);
+namespace {
+
+EvalResult run_checked_evaluation(const Map& map, const Dataset& test, const EvalOptions& options) {
   TrialSetup setup;
   if (options.unknown_objects) setup.map_object = map_objects_of(map, test);
   setup.trials = options.trials;
@@ -177,6 +178,15 @@ EvalResult run_evaluation(const Map& map, const Dataset& test, const EvalOptions
   const unsigned threads = options.threads ? options.threads : util::default_threads();
   r.device = "CPU reference (" + std::to_string(std::min<std::size_t>(threads, options.trials)) + " threads)";
   r.backend_fallback_reason = fallback;
+  return r;
+}
+
+}  // namespace
+
+EvalResult run_evaluation(const Map& map, const Dataset& test, const EvalOptions& options) {
+  check_compatible(map, test, options.map_name, options.data_name, options.unknown_objects);
+  EvalResult r = run_checked_evaluation(map, test, options);
+  r.map_objects = map.object_names();
   return r;
 }
 

@@ -53,7 +53,11 @@ EvalResult empty_result(const Dataset& test, const TrialSetup& setup) {
   result.method = setup.method;
   result.seed = setup.seed;
   result.max_readings = setup.max_readings;
-  for (const auto& o : test.scene.objects) result.objects.push_back(o.name);
+  for (const auto& o : test.scene.objects) {
+    result.objects.push_back(o.name);
+    result.families.push_back(o.family);
+  }
+  result.map_objects = result.objects;  // run_evaluation names the map's when they differ
   result.trials.resize(setup.trials);
   return result;
 }

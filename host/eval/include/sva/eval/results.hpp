@@ -128,7 +128,10 @@ struct EvalResult {
   std::string policy = "random";  // "random" | "active" | "active-sim"
   std::uint64_t seed = 0;
   std::size_t max_readings = 0;
-  std::vector<std::string> objects;
+  std::vector<std::string> objects;   // the test set's, by TrialResult::object
+  std::vector<std::string> families;  // their look-alike families (SceneObject::family; "" none)
+  std::vector<std::string>
+      map_objects;  // the map's, by StepResult::estimated_object (= objects unless some are unknown)
   std::vector<TrialResult> trials;
   // Not in the reports' files: what ran the votes ("vulkan: GPU name (type)",
   // "CPU reference (N threads)") and, when auto found no usable Vulkan device, why.

@@ -14,67 +14,6 @@ namespace sva::assets {
 
 namespace {
 
-using Profile = std::vector<ProfilePoint>;
-
-// Appends n points of the curve f(s), s in (0, 1], one segment each.
-void curve(Profile& p, int n, const std::function<dvec2(double)>& f) {
-  for (int k = 1; k <= n; ++k) {
-    dvec2 q = f(static_cast<double>(k) / n);
-    p.push_back({q.x, q.y, 1});
-  }
-}
-
-// A closed lathe profile from the bottom pole to the top pole of the polar
-// curve rho(a) about (0, cz), a in [0, pi] from the bottom: fruit and eggs.
-Profile polar_profile(double cz, int n, const std::function<double(double)>& rho) {
-  Profile p{{0, cz - rho(0), 0}};
-  curve(p, n, [&](double s) {
-    double a = kPi * s;
-    return dvec2(s < 1 ? rho(a) * std::sin(a) : 0.0, cz - rho(a) * std::cos(a));
-  });
-  return p;
-}
-
-// A D-shaped handle in the xz plane from `top` to `bottom` (both just inside
-// the wall they join, which they leave at right angles), reaching `reach` mm
-// out along x (negative: towards -x); its section is 2 radius across in the
-// plane and 2 radius x flatten across it.
-void add_handle(Mesh& m, dvec3 top, dvec3 bottom, double reach, double radius, double flatten) {
-  Sweep s;
-  s.path = [=](double t) {
-    double w = 0.5 * (1 - std::cos(kPi * t));
-    return dvec3(top.x + (bottom.x - top.x) * w + reach * std::sin(kPi * t), 0.0,
-                 0.5 * (top.z + bottom.z) + 0.5 * (top.z - bottom.z) * std::cos(kPi * t));
-  };
-  s.up = {0, 1, 0};
-  s.radius = [=](double) { return radius; };
-  s.flatten = flatten;
-  s.n_t = 28;
-  s.n_phi = 14;
-  add_sweep(m, s);
-}
-
-// An open vessel: the outer profile (bottom pole outwards and up to the rim),
-// then a rounded lip of the given wall, then the same wall inside down to a
-// floor of thickness `floor` above the outer bottom.
-Profile vessel(const Profile& outside, double wall, double floor) {
-  Profile p = outside;
-  const ProfilePoint rim = outside.back();
-  p.push_back({rim.r - wall, rim.z, 2});
-  for (std::size_t k = outside.size() - 1; k-- > 0;) {
-    const ProfilePoint &q = outside[k], &above = outside[k + 1];
-    if (q.z > floor) {
-      p.push_back({q.r - wall, q.z, above.segments});
-      continue;
-    }
-    double t = (floor - q.z) / (above.z - q.z);  // where the outside crosses the floor's height
-    p.push_back({q.r + t * (above.r - q.r) - wall, floor, above.segments});
-    break;
-  }
-  p.push_back({0, floor, 6});
-  return p;
-}
-
 // ---- cups, glasses and bottles --------------------------------------------
 
 Mesh mug_straight() {  // a straight mug with a D handle

@@ -1,10 +1,10 @@
-// Generates the built-in objects (assets/objects/*.glb) and the household
-// scenes (assets/scenes/household{10,25,50}.json) from code, so that every
-// asset can be remade and reviewed:
+// Generates the built-in objects (assets/objects/*.glb) and the scenes of
+// objects at their real sizes (assets/scenes/household{10,25,50,100}.json and
+// lookalikes.json) from code, so that every asset can be remade and reviewed:
 //   usage: sva_make_assets OBJECTS_DIR [SCENES_DIR]
 // Units are millimetres. The paper's objects are rescaled by their scenes; the
-// household objects are written at their real sizes and their scenes keep them
-// (size_mm is each mesh's largest dimension).
+// household objects and the look-alikes are written at their real sizes and
+// their scenes keep them (size_mm is each mesh's largest dimension).
 #include <sva/error.hpp>
 #include <sva/io/text_file.hpp>
 
@@ -12,16 +12,19 @@
 #include <cstdio>
 #include <sstream>
 #include <string>
+#include <string_view>
 
 #include "objects.hpp"
 
 namespace {
 
+using sva::assets::LookalikeFamily;
 using sva::assets::ObjectSpec;
 
 struct Written {
   const ObjectSpec* spec;
-  double size_mm;  // largest bounding-box dimension
+  double size_mm;                // largest bounding-box dimension
+  const char* family = nullptr;  // its look-alike family, if it has one
 };
 
 Written write_object(const ObjectSpec& o, const std::filesystem::path& dir) {
@@ -35,23 +38,23 @@ Written write_object(const ObjectSpec& o, const std::filesystem::path& dir) {
   return {&o, std::max({e.x, e.y, e.z})};
 }
 
-// The household scenes share everything but their objects. Pair distances
-// reach from the smallest objects' 10 mm to the largest's 250 mm; see
-// docs/evaluation.md ("Many objects") for the protocol's sizes.
-std::string household_scene(const std::vector<Written>& objects, std::size_t count) {
+// The scenes of objects at their real sizes (the household scenes and the
+// look-alikes') share everything but their name, comment and objects. Pair
+// distances reach from the smallest objects' 10 mm to the largest's 250 mm;
+// see docs/evaluation.md ("Many objects") for the protocol's sizes.
+std::string household_scene(const std::string& name, const std::string& comment, const std::vector<Written>& objects) {
   std::ostringstream s;
-  s << "{\n  \"name\": \"household" << count << "\",\n"
-    << "  \"comment\": \"" << (count == objects.size() ? "The" : "The first " + std::to_string(count) + " of the")
-    << " 50 everyday objects of the household set at their real sizes (sva_make_assets; docs/evaluation.md, Many "
-       "objects).\",\n  \"objects\": [\n";
-  for (std::size_t i = 0; i < count; ++i) {
+  s << "{\n  \"name\": \"" << name << "\",\n"
+    << "  \"comment\": \"" << comment << "\",\n  \"objects\": [\n";
+  for (std::size_t i = 0; i < objects.size(); ++i) {
     const Written& w = objects[i];
     char size[32], radius[32];
     std::snprintf(size, sizeof size, "%.1f", w.size_mm);
     std::snprintf(radius, sizeof radius, "%.1f", std::round(w.size_mm * 5) / 10);  // half the size
     s << "    {\"name\": \"" << w.spec->name << "\", \"mesh\": \"../objects/" << w.spec->name
-      << ".glb\", \"size_mm\": " << size << ", \"symmetry\": " << w.spec->symmetry
-      << ", \"inertial_radius_mm\": " << radius << "}" << (i + 1 < count ? ",\n" : "\n");
+      << ".glb\", \"size_mm\": " << size << ", \"symmetry\": " << w.spec->symmetry;
+    if (w.family) s << ", \"family\": \"" << w.family << "\"";
+    s << ", \"inertial_radius_mm\": " << radius << "}" << (i + 1 < objects.size() ? ",\n" : "\n");
   }
   s << "  ],\n"
     << R"(  "sensor": {"rows": 6, "cols": 6, "pitch_mm": 2.0},
@@ -63,6 +66,36 @@ std::string household_scene(const std::vector<Written>& objects, std::size_t cou
 }
 )";
   return s.str();
+}
+
+// household10, 25 and 50 (the household set and its first objects), lookalikes
+// (the families' objects) and household100: the household set followed by
+// whole families, in order, up to 100 objects.
+void write_scenes(const std::filesystem::path& dir, const std::vector<Written>& household,
+                  const std::vector<Written>& lookalikes) {
+  auto write = [&](const std::string& name, const std::string& comment, const std::vector<Written>& objects) {
+    auto file = dir / (name + ".json");
+    sva::io::write_text_file(file, household_scene(name, comment, objects));
+    std::printf("%s\n", file.string().c_str());
+  };
+  const std::string real = " at their real sizes (sva_make_assets; docs/evaluation.md, Many objects).";
+  for (std::size_t count : {10u, 25u, 50u}) {
+    std::string first = count == household.size() ? "The" : "The first " + std::to_string(count) + " of the";
+    write("household" + std::to_string(count), first + " 50 everyday objects of the household set" + real,
+          {household.begin(), household.begin() + static_cast<std::ptrdiff_t>(count)});
+  }
+  write("lookalikes",
+        "Look-alike families, near-twins that differ by a scale, a detail, a handedness or one region," + real,
+        lookalikes);
+  std::vector<Written> all = household;
+  for (std::size_t i = 0, end = 0; i < lookalikes.size() && all.size() < 100; i = end) {
+    for (end = i; end < lookalikes.size() && std::string_view(lookalikes[end].family) == lookalikes[i].family;) ++end;
+    if (all.size() + (end - i) > 100) break;  // whole families only
+    all.insert(all.end(), lookalikes.begin() + static_cast<std::ptrdiff_t>(i),
+               lookalikes.begin() + static_cast<std::ptrdiff_t>(end));
+  }
+  if (all.size() != 100) throw sva::Error("household100: whole look-alike families do not make 100 objects");
+  write("household100", "The 50 everyday objects of the household set and the look-alike families" + real, all);
 }
 
 }  // namespace
@@ -79,14 +112,14 @@ int main(int argc, char** argv) {
     const std::vector<ObjectSpec> household = sva::assets::household_objects();
     std::vector<Written> written;
     for (const ObjectSpec& o : household) written.push_back(write_object(o, objects_dir));
-    if (argc == 3) {
-      const std::filesystem::path scenes_dir = argv[2];
-      for (std::size_t count : {10u, 25u, 50u}) {
-        auto file = scenes_dir / ("household" + std::to_string(count) + ".json");
-        sva::io::write_text_file(file, household_scene(written, count));
-        std::printf("%s\n", file.string().c_str());
+    const std::vector<LookalikeFamily> families = sva::assets::lookalike_families();
+    std::vector<Written> lookalikes;
+    for (const LookalikeFamily& f : families)
+      for (const ObjectSpec& o : f.members) {
+        lookalikes.push_back(write_object(o, objects_dir));
+        lookalikes.back().family = f.name;
       }
-    }
+    if (argc == 3) write_scenes(argv[2], written, lookalikes);
   } catch (const std::exception& e) {
     std::fprintf(stderr, "sva_make_assets: %s\n", e.what());
     return 1;

@@ -76,6 +76,40 @@ void add_revolution(Mesh& m, const std::vector<ProfilePoint>& profile, int n_the
   });
 }
 
+void curve(Profile& p, int n, const std::function<dvec2(double)>& f) {
+  for (int k = 1; k <= n; ++k) {
+    dvec2 q = f(static_cast<double>(k) / n);
+    p.push_back({q.x, q.y, 1});
+  }
+}
+
+Profile polar_profile(double cz, int n, const std::function<double(double)>& rho) {
+  Profile p{{0, cz - rho(0), 0}};
+  curve(p, n, [&](double s) {
+    double a = kPi * s;
+    return dvec2(s < 1 ? rho(a) * std::sin(a) : 0.0, cz - rho(a) * std::cos(a));
+  });
+  return p;
+}
+
+Profile vessel(const Profile& outside, double wall, double floor) {
+  Profile p = outside;
+  const ProfilePoint rim = outside.back();
+  p.push_back({rim.r - wall, rim.z, 2});
+  for (std::size_t k = outside.size() - 1; k-- > 0;) {
+    const ProfilePoint &q = outside[k], &above = outside[k + 1];
+    if (q.z > floor) {
+      p.push_back({q.r - wall, q.z, above.segments});
+      continue;
+    }
+    double t = (floor - q.z) / (above.z - q.z);  // where the outside crosses the floor's height
+    p.push_back({q.r + t * (above.r - q.r) - wall, floor, above.segments});
+    break;
+  }
+  p.push_back({0, floor, 6});
+  return p;
+}
+
 namespace {
 struct BoxFace {
   dvec3 n, a, b;
@@ -169,6 +203,21 @@ void add_sweep(Mesh& m, const Sweep& s) {
     double phi = 2 * kPi * u, rad = row.scale * s.radius(row.t);
     return s.path(row.t) + rad * (std::cos(phi) * side + s.flatten * std::sin(phi) * up);
   });
+}
+
+void add_handle(Mesh& m, dvec3 top, dvec3 bottom, double reach, double radius, double flatten) {
+  Sweep s;
+  s.path = [=](double t) {
+    double w = 0.5 * (1 - std::cos(kPi * t));
+    return dvec3(top.x + (bottom.x - top.x) * w + reach * std::sin(kPi * t), 0.0,
+                 0.5 * (top.z + bottom.z) + 0.5 * (top.z - bottom.z) * std::cos(kPi * t));
+  };
+  s.up = {0, 1, 0};
+  s.radius = [=](double) { return radius; };
+  s.flatten = flatten;
+  s.n_t = 28;
+  s.n_phi = 14;
+  add_sweep(m, s);
 }
 
 namespace {

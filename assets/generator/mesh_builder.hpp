@@ -49,6 +49,21 @@ struct ProfilePoint {
 void add_revolution(Mesh& m, const std::vector<ProfilePoint>& profile, int n_theta, bool closed_loop, dvec3 centre,
                     const std::function<double(double theta, double r, double z)>& dr = nullptr);
 
+// Lathe profiles: a profile is built from fixed points and sampled curves.
+using Profile = std::vector<ProfilePoint>;
+
+// Appends n points of the curve f(s), s in (0, 1], one segment each.
+void curve(Profile& p, int n, const std::function<dvec2(double)>& f);
+
+// A closed lathe profile from the bottom pole to the top pole of the polar
+// curve rho(a) about (0, cz), a in [0, pi] from the bottom: fruit and eggs.
+Profile polar_profile(double cz, int n, const std::function<double(double)>& rho);
+
+// An open vessel: the outer profile (bottom pole outwards and up to the rim),
+// then a rounded lip of the given wall, then the same wall inside down to a
+// floor of thickness `floor` above the outer bottom.
+Profile vessel(const Profile& outside, double wall, double floor);
+
 // A box centred at `c` with half sizes `h`, each face a grid of about `cell`
 // mm displaced along its normal by disp(face, s, t) (s, t: mm from the face
 // centre along the face axes a, b with a x b = outward normal).
@@ -77,6 +92,12 @@ struct Sweep {
   bool flat_caps = true;
 };
 void add_sweep(Mesh& m, const Sweep& s);
+
+// A D-shaped handle in the xz plane from `top` to `bottom` (both just inside
+// the wall they join, which they leave at right angles), reaching `reach` mm
+// out along x (negative: towards -x); its section is 2 radius across in the
+// plane and 2 radius x flatten across it.
+void add_handle(Mesh& m, dvec3 top, dvec3 bottom, double reach, double radius, double flatten);
 
 // A prism: the simple polygon `outline` (counter-clockwise in xy, any shape)
 // from z0 to z1, caps triangulated by ear clipping, sides cut into `rows`.

@@ -1,6 +1,6 @@
 #pragma once
 // The generated objects: what each is called, how it is made, and (for the
-// household set) the symmetry its scene declares.
+// household set and the look-alikes) the symmetry its scene declares.
 #include <string>
 #include <vector>
 
@@ -25,5 +25,16 @@ std::vector<ObjectSpec> paper_objects();
 // The 50 everyday objects at their real sizes, in the order of
 // household50.json; household10 and household25 are its first 10 and 25.
 std::vector<ObjectSpec> household_objects();
+
+// A family of look-alikes: near-twins that differ by one thing a touch could
+// feel (a scale, a local detail, a handedness, one region), nothing else.
+struct LookalikeFamily {
+  const char* name;
+  std::vector<ObjectSpec> members;
+};
+
+// The look-alike families at their real sizes, 50 objects in all, in the
+// order of lookalikes.json (household100 is household50 followed by them).
+std::vector<LookalikeFamily> lookalike_families();
 
 }  // namespace sva::assets

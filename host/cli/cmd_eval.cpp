@@ -141,6 +141,7 @@ eval::EvalOptions eval_options(const Args& a) {
   o.recognizer.eps = a.number("--eps", o.recognizer.eps, 1e-300, 1.0);
   if (a.has("--eps") && !(o.recognizer.eps > 0)) throw Error("sva eval: --eps must be positive");
   o.recognizer.refine_pose = a.on_off("--refine", o.recognizer.refine_pose);
+  o.recognizer.surface_check = a.on_off("--surface-check", o.recognizer.surface_check);
   o.recognizer.belief_budget_bins = static_cast<std::size_t>(
       a.integer("--belief-budget", static_cast<long long>(o.recognizer.belief_budget_bins), 0, 1ll << 40));
   o.recognizer.calibrate = a.on_off("--calibration", o.recognizer.calibrate);
@@ -214,6 +215,9 @@ void declare_eval_options(Args& a) {
   a.option("--compare", "OTHER.json", "add another run's curve (e.g. the other method) to the figure", true);
   a.option("--threads", "N", "trials run in parallel (default: SVA_THREADS or all cores); results do not depend on it");
   a.option("--eps", "E", "floor of every pair factor (default 1e-6; docs/recognition.md)");
+  a.option("--surface-check", "on|off",
+           "weigh the three leading objects by how well their surfaces explain the readings, from 6 readings on "
+           "(default on; docs/recognition.md, \"Surface check\")");
   a.option("--refine", "on|off",
            "fine pose: align the readings to the object's surface (default on; docs/recognition.md)");
   a.option("--belief-budget", "BINS",

@@ -1,6 +1,6 @@
 #include <sva/dataset.hpp>
-#include <sva/io/binary_file.hpp>
 #include <sva/eval/report.hpp>
+#include <sva/io/binary_file.hpp>
 #include <sva/map.hpp>
 
 #include <cstdio>

@@ -1,7 +1,6 @@
 // sva recognize: batch recognition of many independent sessions (docs/batch-format.md).
 // Sessions are stepped together, so each update of the backend (one GPU
 // submission with --backend vulkan) carries one reading of every session.
-#include <sva/recognizer.hpp>
 #include <sva/base/progress.hpp>
 #include <sva/batch_recognizer.hpp>
 #include <sva/dataset.hpp>
@@ -12,6 +11,7 @@
 #include <sva/eval/trial_sessions.hpp>
 #include <sva/io/text_file.hpp>
 #include <sva/map.hpp>
+#include <sva/recognizer.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -52,6 +52,8 @@ int cmd_recognize(const std::vector<std::string>& argv) {
       .option("--device", "NAME|INDEX", "Vulkan device (default: prefer a discrete GPU; env SVA_VK_DEVICE)")
       .option("--top", "K", "hypotheses reported per session (default 3)")
       .option("--refine", "on|off", "fine pose: align the readings to the object's surface (default on)")
+      .option("--surface-check", "on|off",
+              "weigh the leading objects by how well their surfaces explain the readings (default on)")
       .option("--write-sessions", "FILE.jsonl", "write trials as a sessions file instead (needs --map, --data)")
       .option("--data", "TEST", "test dataset for --write-sessions")
       .option("--trials", "N", "sessions to write (default: one per object)")
@@ -62,14 +64,14 @@ int cmd_recognize(const std::vector<std::string>& argv) {
   const std::string map_file = a.required("--map"), batch_file = a.required("--batch"), out_file = a.required("--out");
   const Map map = Map::load(map_file);
   // Checked whole first (a bad line anywhere stops it before any recognition), then streamed a group at a time.
-  const io::BatchSessionsSummary summary =
-      io::scan_batch_sessions(batch_file, map.sensor().elements());
+  const io::BatchSessionsSummary summary = io::scan_batch_sessions(batch_file, map.sensor().elements());
   const auto per = static_cast<std::size_t>(a.integer("--sessions-per-submission", 64, 1, 1 << 20));
   const auto top_k = static_cast<std::size_t>(a.integer("--top", 3, 0, 1000));
   RecognizerOptions ro;
   ro.backend = parse_backend_kind(a.get_or("--backend", "auto"), "sva recognize: --backend");
   ro.vulkan_device = a.get_or("--device", "");
   ro.refine_pose = a.on_off("--refine", ro.refine_pose);
+  ro.surface_check = a.on_off("--surface-check", ro.surface_check);
 
   util::Progress progress("recognize", summary.readings);
   BatchRecognizer rec(map, map.pose_space(), std::min(per, summary.sessions), ro);

@@ -3,10 +3,10 @@
 // and, with a map, recognising while touching (the estimate after each).
 // Ctrl-C ends the recording; the file is valid up to its last record whatever
 // happens.
-#include <sva/recognizer.hpp>
 #include <sva/base/interrupt.hpp>
 #include <sva/drivers/session.hpp>
 #include <sva/drivers/usb_transport.hpp>
+#include <sva/recognizer.hpp>
 
 #include <cstdio>
 #include <cstdlib>

@@ -42,15 +42,18 @@ RecognizerOptions recognizer_options(const nb::kwargs& kwargs, const std::string
       o.vulkan_device = keyword_value<std::string>(v, what, "vulkan_device", "a string");
     } else if (key == "refine_pose") {
       o.refine_pose = keyword_value<bool>(v, what, "refine_pose", "a bool");
+    } else if (key == "surface_check") {
+      o.surface_check = keyword_value<bool>(v, what, "surface_check", "a bool");
     } else if (key == "calibrate") {
       o.calibrate = keyword_value<bool>(v, what, "calibrate", "a bool");
     } else if (key == "unknown_prior") {
       o.unknown_prior = keyword_value<double>(v, what, "unknown_prior", "a number in (0, 1)");
     } else {
-      throw nb::type_error((what + ": unknown option \"" + key +
-                            "\" (options: backend, method, eps, likelihood_cutoff, object_prune_probability, "
-                            "max_pairs_per_update, threads, vulkan_device, refine_pose, calibrate, unknown_prior)")
-                               .c_str());
+      throw nb::type_error(
+          (what + ": unknown option \"" + key +
+           "\" (options: backend, method, eps, likelihood_cutoff, object_prune_probability, "
+           "max_pairs_per_update, threads, vulkan_device, refine_pose, surface_check, calibrate, unknown_prior)")
+              .c_str());
     }
   }
   return o;

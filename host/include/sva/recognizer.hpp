@@ -40,6 +40,10 @@ struct RecognizerOptions {
   // The fine pose (docs/recognition.md): after the histogram, align the readings to the object's training
   // contacts (robust point-to-plane, on the host, the same for every backend). Off: the parabolic sub-bin pose.
   bool refine_pose = true;
+  // The surface check (docs/recognition.md, "Surface check"): from 6 readings on (3 planar), the three leading
+  // objects are each fitted to the readings and weighed by how well their surface explains every reading, which
+  // tells near-twins apart (a shape at two scales, a mirror image). Costs up to two more fine poses per estimate.
+  bool surface_check = true;
   // Bounded memory on long sessions (docs/recognition.md, "Bounded memory"): past this many touched pose bins a
   // session forgets the bins more than 256 bits of evidence below its best (never those the estimate reads).
   // 0 = no bound.

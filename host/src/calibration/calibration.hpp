@@ -38,6 +38,10 @@ struct EvidenceLevel {
   // the robust cost per reading over the final scale^2/6 (an unmatched reading's cost: 1). Negative when the fine
   // pose was not computed (too few readings).
   double fit_cost_share = -1.0;
+  // The surface check (recognition/surface_check.hpp), per object: log2 of how well its surface explains the
+  // readings at its own fine pose, added untempered to the tempered log-evidence (each reading counts once there).
+  // Empty when it was not run (too few readings, no surface, switched off).
+  std::vector<double> surface_log2_fit;
 };
 
 // The features "none of these" reads (Calibration::unknown_features): the best bin's evidence per pair, the gap
@@ -54,10 +58,11 @@ struct UnknownModel {
   bool empty() const { return per_readings.empty(); }
 };
 
-// The posterior of objects whose log-evidence (bits) is tempered by `temperature` and weighed by `object_weight`
-// (largest 1; empty: flat; a weight of 0 gives 0).
+// The posterior of objects whose log-evidence (bits) is tempered by `temperature`, plus `surface_log2_fit` (bits,
+// untempered; empty: none), and weighed by `object_weight` (largest 1; empty: flat; a weight of 0 gives 0).
 std::vector<double> tempered_posterior(std::span<const double> log2_mass, double temperature,
-                                       std::span<const double> object_weight);
+                                       std::span<const double> object_weight,
+                                       std::span<const double> surface_log2_fit = {});
 
 struct Calibration {
   // The temperature of maps trained without held-out readings (map format versions 1-3, or training with

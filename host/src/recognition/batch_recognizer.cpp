@@ -117,7 +117,8 @@ BatchRecognizer::BatchRecognizer(const Engine& engine, const PoseSpaceSpec& pose
     for (auto& s : impl_->sessions)
       s.filter = std::make_unique<BayesFilter>(*impl_->pair_map, impl_->space, fo, *impl_->backend);
     // The fine pose's fit also tells p_unknown how well the best object's surface explains the contacts.
-    if (options.refine_pose || (options.calibrate && !impl_->pair_map->calibration.unknown.empty())) {
+    if (options.refine_pose || options.surface_check ||
+        (options.calibrate && !impl_->pair_map->calibration.unknown.empty())) {
       impl_->surface = &EngineAccess::impl(engine)->surface();
       impl_->refine = refine_settings(impl_->space);
     }
@@ -187,6 +188,7 @@ Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const
                             .surface = impl_->surface,
                             .refine = impl_->refine,
                             .refine_pose = impl_->options.refine_pose,
+                            .surface_check = impl_->options.surface_check,
                             .calibration = impl_->options.calibrate ? &impl_->pair_map->calibration : nullptr,
                             .unknown_prior = impl_->options.unknown_prior};
     e = filter_estimate(*s.filter, objects, r);

@@ -2,8 +2,8 @@
 
 #include <sva/error.hpp>
 
-#include "map/pair_map.hpp"
 #include "map/map_access.hpp"
+#include "map/pair_map.hpp"
 
 namespace sva {
 

@@ -13,6 +13,7 @@
 #include "belief/belief_math.hpp"
 #include "recognition/bayes_filter.hpp"
 #include "recognition/hypotheses.hpp"
+#include "recognition/surface_check.hpp"
 
 namespace sva {
 
@@ -140,6 +141,15 @@ std::vector<RigidPose> next_modes(const BeliefState& belief, const PoseSpace& sp
 }
 
 }  // namespace
+
+std::vector<RigidPose> object_modes(const BeliefState& belief, const PoseSpace& space, std::uint64_t best,
+                                    std::size_t count) {
+  std::vector<RigidPose> modes;
+  if (count == 0) return modes;
+  modes.push_back(refine(belief, space, best, {}));
+  for (const RigidPose& m : next_modes(belief, space, best, count - 1, {})) modes.push_back(m);
+  return modes;
+}
 
 std::vector<double> object_log2_mass(const BeliefSummary& s, const PoseSpace& space) {
   const std::uint32_t bits = belief_math::mass_bits(space.bins_per_object());
@@ -397,10 +407,46 @@ Estimate appearance_estimate(const std::vector<double>& log_posterior, const std
   return e;
 }
 
+namespace {
+
+// The surface check's posterior (tempered log-evidence plus the surfaces' fits) and, when it names another object
+// than the belief's best, that object's best bin and poses in `b`.
+void follow_surface_check(const SurfaceCheck& check, const EvidenceLevel& level, double temperature,
+                          std::span<const double> object_weight, const PoseSpace& space, BeliefEstimate* b) {
+  b->object_probability = tempered_posterior(level.object_log2_mass, temperature, object_weight, check.log2_fit);
+  std::uint32_t best = b->object;
+  for (std::uint32_t o = 0; o < b->object_probability.size(); ++o)
+    if (b->object_probability[o] > b->object_probability[best]) best = o;
+  const CheckedObject* c = check.find(best);
+  if (best == b->object || !c) return;  // an object the check did not fit rises only through its prior: kept as is
+  b->object = best;
+  b->best_key = c->best_key;
+  b->bin_pose = space.centre(c->best_key);
+  b->parabolic_pose = c->parabolic_pose;
+  b->pose = c->parabolic_pose;
+  b->modes = {c->parabolic_pose};
+}
+
+}  // namespace
+
 Estimate filter_estimate(const BayesFilter& filter, const std::vector<MapObject>& objects, const EstimateRequest& r) {
   const double temperature = r.calibration ? r.calibration->temperature(filter.readings()) : 1.0;
-  const BeliefEstimate b =
+  BeliefEstimate b =
       filter.estimate(r.top_k, r.surface ? kRefineStarts : 1, r.object_weight, r.pose_weighting, temperature);
+  EvidenceLevel level = b.level;
+  level.readings = filter.readings();
+  SurfaceCheck check;
+  if (r.surface && b.pose_valid) {
+    // "None of these" reads the fit of the belief's own best object, as the calibration's sessions do.
+    if (r.surface_check) check = check_surfaces(filter, b, *r.surface, r.refine);
+    const CheckedObject* own = check.find(b.object);
+    set_surface_fit(own ? own->fine : refine_pose(*r.surface, b.object, filter.observed(), b.modes, r.refine),
+                    filter.readings(), r.refine, &level);
+  }
+  if (!check.log2_fit.empty()) {
+    level.surface_log2_fit = check.log2_fit;
+    follow_surface_check(check, level, temperature, r.object_weight, filter.space(), &b);
+  }
   Estimate e;
   e.ready = true;
   e.object = b.object;
@@ -410,19 +456,15 @@ Estimate filter_estimate(const BayesFilter& filter, const std::vector<MapObject>
   e.pose = b.pose;
   e.parabolic_pose = b.parabolic_pose;
   e.bin_pose = b.bin_pose;
-  EvidenceLevel level = b.level;
-  level.readings = filter.readings();
-  if (r.surface && b.pose_valid) {
-    const RefinedPose fine = refine_pose(*r.surface, b.object, filter.observed(), b.modes, r.refine);
-    if (r.refine_pose) {
-      e.pose = fine.pose;
-      e.pose_refined = fine.refined;
-    }
-    set_surface_fit(fine, filter.readings(), r.refine, &level);
+  if (r.surface && b.pose_valid && r.refine_pose) {
+    const CheckedObject* c = check.find(b.object);
+    const RefinedPose fine = c ? c->fine : refine_pose(*r.surface, b.object, filter.observed(), b.modes, r.refine);
+    e.pose = fine.pose;
+    e.pose_refined = fine.refined;
   }
   poses_to_robot(filter.space(), objects, b, &e);
   if (r.top_k > 0) add_hypotheses(filter, objects, r, b, &e);
-  if (temperature != 1.0) temper_hypotheses(b, &e);
+  if (temperature != 1.0 || !check.log2_fit.empty()) temper_hypotheses(b, &e);
   e.p_unknown = r.calibration ? r.calibration->p_unknown(level, r.unknown_prior) : 0.0;
   e.votes_outside = filter.last_update().votes_outside;
   e.votes_zero = filter.last_update().votes_zero;
@@ -430,14 +472,17 @@ Estimate filter_estimate(const BayesFilter& filter, const std::vector<MapObject>
 }
 
 EvidenceLevel calibration_evidence(const BayesFilter& filter, const SurfaceIndex& surface,
-                                   const RefineSettings& settings) {
+                                   const RefineSettings& settings, bool surface_check) {
   const bool fit = filter.readings() >= settings.min_readings;
   const BeliefEstimate b = filter.estimate(0, fit ? kRefineStarts : 1);
   EvidenceLevel level = b.level;
   level.readings = filter.readings();
-  if (fit && b.pose_valid)
-    set_surface_fit(refine_pose(surface, b.object, filter.observed(), b.modes, settings), filter.readings(), settings,
-                    &level);
+  if (!fit || !b.pose_valid) return level;
+  const SurfaceCheck check = surface_check ? check_surfaces(filter, b, surface, settings) : SurfaceCheck{};
+  const CheckedObject* own = check.find(b.object);
+  set_surface_fit(own ? own->fine : refine_pose(surface, b.object, filter.observed(), b.modes, settings),
+                  filter.readings(), settings, &level);
+  level.surface_log2_fit = check.log2_fit;
   return level;
 }
 

@@ -69,6 +69,11 @@ struct BeliefEstimate {
   std::vector<BinHypothesis> top;
 };
 
+// Up to `count` distinct modes of the object of bin `best` (its best bin), best first, as BeliefEstimate::modes
+// (without a pose prior): the fine pose's starts for an object other than the best one.
+std::vector<RigidPose> object_modes(const BeliefState& belief, const PoseSpace& space, std::uint64_t best,
+                                    std::size_t count);
+
 // Each object's log-evidence (calibration/calibration.hpp, EvidenceLevel::object_log2_mass): log2 of its mass over
 // poses relative to one bin at the maximum, untouched bins at the baseline; never -inf.
 std::vector<double> object_log2_mass(const BeliefSummary& summary, const PoseSpace& space);
@@ -137,6 +142,7 @@ struct EstimateRequest {
   const SurfaceIndex* surface = nullptr;     // the fine pose's training contacts; none: the parabolic pose
   RefineSettings refine;                     // the fine pose's settings (with `surface`)
   bool refine_pose = true;                   // Estimate::pose is the fine pose (else the fit only feeds p_unknown)
+  bool surface_check = true;                 // with `surface`: weigh the leading objects by their surfaces' fits
   const Calibration* calibration = nullptr;  // none: Eq 5's raw posterior and p_unknown = unknown_prior
   double unknown_prior = 0.1;
 };
@@ -148,6 +154,6 @@ Estimate filter_estimate(const BayesFilter& filter, const std::vector<MapObject>
 // What filter_estimate's calibration reads of the filter (the evidence level, with the fine pose's fit from the same
 // starts), without the rest of the estimate: the calibration's held-out sessions.
 EvidenceLevel calibration_evidence(const BayesFilter& filter, const SurfaceIndex& surface,
-                                   const RefineSettings& settings);
+                                   const RefineSettings& settings, bool surface_check = true);
 
 }  // namespace sva

@@ -55,4 +55,10 @@ struct RefinedPose {
 RefinedPose refine_pose(const SurfaceIndex& surface, std::uint32_t object, std::span<const ObservedReading> readings,
                         std::span<const RigidPose> starts, const RefineSettings& settings);
 
+// How well `object`'s surface explains the readings at `pose`: per reading, log2(exp(-s2 / (2 sigma^2)) + floor)
+// with s2 the squared joint residual to its matched training contact (point-to-plane and normal tilt, as the fit
+// weighs them) and sigma `sigma_mm`; an unmatched reading scores log2(floor). Summed over the readings.
+double surface_log2_fit(const SurfaceIndex& surface, std::uint32_t object, std::span<const ObservedReading> readings,
+                        const RigidPose& pose, const RefineSettings& settings, double sigma_mm, double floor);
+
 }  // namespace sva

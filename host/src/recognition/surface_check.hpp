@@ -1,0 +1,48 @@
+#pragma once
+// The surface check (docs/recognition.md, "Surface check"): the leading objects of the belief, each fitted to the
+// readings at its own fine pose, weighed by how well its surface explains every reading. Eq 5 votes with pairs of
+// readings whose keys (appearance classes and a distance bin) near-twins share: a clamp and its larger copy, a
+// brick of 2x2 and of 2x4 studs agree on most pairs, and the belief may settle on the wrong one. The surface knows
+// more: the larger clamp's readings lie off the smaller one's surface wherever the pose puts it. Each reading
+// counts once here, so the check's bits enter the posterior untempered (calibration/calibration.hpp).
+#include <cstdint>
+#include <vector>
+
+#include "map/surface_index.hpp"
+#include "recognition/bayes_filter.hpp"
+#include "recognition/estimate.hpp"
+#include "recognition/pose_refinement.hpp"
+
+namespace sva {
+
+// Objects checked: the leading ones by log-evidence. Beyond the third the tempered posterior leaves too little
+// for a fit to matter (household50: 2 and 3 checked objects give the same decisions), and each costs a fine pose.
+inline constexpr std::size_t kSurfaceCheckObjects = 3;
+// A reading's fit: a Gaussian of the residual's joint scale (point-to-plane and normal tilt, as the fine pose
+// weighs them) with sigma half the fine pose's final scale (1 mm in 8 mm bins: the arm's 0.5 mm and the gaps
+// between training contacts), and a floor for readings the surface does not explain (2^-6.6: an outlier costs
+// 6.6 bits, so that one odd reading cannot overrule the pairs' evidence, a few can).
+inline constexpr double kSurfaceSigmaOfScale = 0.5;
+inline constexpr double kSurfaceFloor = 0.01;
+
+struct CheckedObject {
+  std::uint32_t object = 0;
+  std::uint64_t best_key = 0;  // its best bin
+  RigidPose parabolic_pose;    // its best bin's parabolic peak (the first start)
+  RefinedPose fine;            // its fine pose
+};
+
+struct SurfaceCheck {
+  // Per object (empty when not run): the fit in bits for the checked objects, the worst of theirs for the others
+  // (not checked because the evidence already ranks them lower; never favoured by the check).
+  std::vector<double> log2_fit;
+  std::vector<CheckedObject> checked;  // by log-evidence, best first
+  const CheckedObject* find(std::uint32_t object) const;
+};
+
+// Runs with at least `settings.min_readings` readings and two touched objects; else empty. The best object's
+// starts are `b.modes` when it is b.object (the estimate's own), else its own modes.
+SurfaceCheck check_surfaces(const BayesFilter& filter, const BeliefEstimate& b, const SurfaceIndex& surface,
+                            const RefineSettings& settings);
+
+}  // namespace sva

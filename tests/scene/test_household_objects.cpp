@@ -183,3 +183,40 @@ TEST_CASE("household objects: the closure check finds holes and inside-out shell
   split.positions[4] = split.positions[3] + glm::vec3(0, 0, 0.01f);
   CHECK(closure(split).unmatched_edges > 0);
 }
+
+TEST_CASE("look-alikes: families of 3-5 near-twins, closed outward shells at real sizes, and household100 holds them") {
+  const sva::Scene scene = sva::load_scene("lookalikes");
+  std::map<std::string, int> members;
+  for (const sva::SceneObject& o : scene.objects) {
+    INFO(o.name << " (" << o.mesh.string() << ")");
+    REQUIRE_FALSE(o.family.empty());
+    ++members[o.family];
+    const Mesh m = sva::sim::load_mesh(o.mesh);
+    const Closure c = closure(m);
+    CHECK(c.unmatched_edges == 0);
+    CHECK(c.inside_out_shells == 0);
+    CHECK(m.triangles.size() <= 16000);
+    CHECK(largest(m.extent()) == Approx(o.size_mm).margin(0.06));
+    CHECK(o.size_mm >= 40);
+    CHECK(o.size_mm <= 250);
+  }
+  CHECK(members.size() >= 10);
+  for (const auto& [family, n] : members) {
+    INFO(family);
+    CHECK(n >= 3);
+    CHECK(n <= 5);
+  }
+  // household100: the 50 household objects (no family), then the look-alikes, everything else as household50.
+  const sva::Scene all = sva::load_scene("household100"), h50 = sva::load_scene("household50");
+  REQUIRE(all.objects.size() == 100);
+  for (std::size_t i = 0; i < all.objects.size(); ++i) {
+    const sva::SceneObject& o = all.objects[i];
+    const sva::SceneObject& want = i < 50 ? h50.objects[i] : scene.objects[i - 50];
+    CHECK(o.name == want.name);
+    CHECK(o.family == want.family);
+  }
+  sva::Scene same = h50;
+  same.objects = all.objects;
+  same.name = all.name;
+  CHECK(sva::scene_to_json(same) == sva::scene_to_json(all));
+}

@@ -116,6 +116,10 @@ def test_pose_space_and_options(tiny_map):
         sva.Recognizer(tiny_map, backnd="cpu")
     with pytest.raises(sva.Error, match="likelihood_cutoff"):
         sva.Recognizer(tiny_map, backend="cpu", likelihood_cutoff=-1.0)
+    # The surface check (docs/recognition.md) is on by default and can be turned off; a wrong type is named.
+    assert sva.Recognizer(tiny_map, backend="cpu", surface_check=False).reading_count() == 0
+    with pytest.raises(TypeError, match="surface_check"):
+        sva.Recognizer(tiny_map, backend="cpu", surface_check="yes")
 
 
 

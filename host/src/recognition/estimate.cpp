@@ -438,11 +438,13 @@ Estimate filter_estimate(const BayesFilter& filter, const std::vector<MapObject>
   SurfaceCheck check;
   if (r.surface && b.pose_valid) {
     // "None of these" reads the fit of the belief's own best object, as the calibration's sessions do.
-    if (r.surface_check) check = check_surfaces(filter, b, *r.surface, r.refine);
-    const CheckedObject* own = check.find(b.object);
+    if (r.surface_check) check = check_surfaces(filter, b, *r.surface, r.refine, r.pose_weighting.empty());
+    // With a pose prior the estimate's modes are ordered by it, and the check fitted its own.
+    const CheckedObject* own = r.pose_weighting.empty() ? check.find(b.object) : nullptr;
     set_surface_fit(own ? own->fine : refine_pose(*r.surface, b.object, filter.observed(), b.modes, r.refine),
                     filter.readings(), r.refine, &level);
   }
+  const std::uint32_t belief_best = b.object;
   if (!check.log2_fit.empty()) {
     level.surface_log2_fit = check.log2_fit;
     follow_surface_check(check, level, temperature, r.object_weight, filter.space(), &b);
@@ -457,7 +459,9 @@ Estimate filter_estimate(const BayesFilter& filter, const std::vector<MapObject>
   e.parabolic_pose = b.parabolic_pose;
   e.bin_pose = b.bin_pose;
   if (r.surface && b.pose_valid && r.refine_pose) {
-    const CheckedObject* c = check.find(b.object);
+    // The check's fit is the estimate's when the modes were the same, or when the check named the object.
+    const bool same = r.pose_weighting.empty() || b.object != belief_best;
+    const CheckedObject* c = same ? check.find(b.object) : nullptr;
     const RefinedPose fine = c ? c->fine : refine_pose(*r.surface, b.object, filter.observed(), b.modes, r.refine);
     e.pose = fine.pose;
     e.pose_refined = fine.refined;
@@ -478,7 +482,7 @@ EvidenceLevel calibration_evidence(const BayesFilter& filter, const SurfaceIndex
   EvidenceLevel level = b.level;
   level.readings = filter.readings();
   if (!fit || !b.pose_valid) return level;
-  const SurfaceCheck check = surface_check ? check_surfaces(filter, b, surface, settings) : SurfaceCheck{};
+  const SurfaceCheck check = surface_check ? check_surfaces(filter, b, surface, settings, true) : SurfaceCheck{};
   const CheckedObject* own = check.find(b.object);
   set_surface_fit(own ? own->fine : refine_pose(surface, b.object, filter.observed(), b.modes, settings),
                   filter.readings(), settings, &level);

@@ -30,7 +30,7 @@ std::vector<std::uint32_t> leading_objects(const BeliefEstimate& b, const Belief
 }  // namespace
 
 SurfaceCheck check_surfaces(const BayesFilter& filter, const BeliefEstimate& b, const SurfaceIndex& surface,
-                            const RefineSettings& settings) {
+                            const RefineSettings& settings, bool estimate_modes_are_own) {
   SurfaceCheck check;
   if (filter.readings() < settings.min_readings) return check;
   const BeliefSummary s = filter.belief().summarise();
@@ -43,10 +43,9 @@ SurfaceCheck check_surfaces(const BayesFilter& filter, const BeliefEstimate& b, 
     CheckedObject c;
     c.object = o;
     c.best_key = s.best_key[o];
-    const bool own = o == b.object && b.pose_valid && !b.modes.empty();
+    const bool own = estimate_modes_are_own && o == b.object && b.pose_valid && !b.modes.empty();
     const std::vector<RigidPose> starts =
         own ? b.modes : object_modes(filter.belief(), filter.space(), c.best_key, b.modes.empty() ? 1 : b.modes.size());
-    if (own) c.best_key = b.best_key;
     c.parabolic_pose = starts.front();
     c.fine = refine_pose(surface, o, filter.observed(), starts, settings);
     const double fit = surface_log2_fit(surface, o, filter.observed(), c.fine.pose, settings, sigma, kSurfaceFloor);

@@ -40,9 +40,10 @@ struct SurfaceCheck {
   const CheckedObject* find(std::uint32_t object) const;
 };
 
-// Runs with at least `settings.min_readings` readings and two touched objects; else empty. The best object's
-// starts are `b.modes` when it is b.object (the estimate's own), else its own modes.
+// Runs with at least `settings.min_readings` readings and two touched objects; else empty. Every object starts
+// from its own modes without a pose prior, so that a pose prior moves the pose and never the object posterior;
+// `estimate_modes_are_own` (no pose prior) lets b.object reuse b.modes, which are then the same.
 SurfaceCheck check_surfaces(const BayesFilter& filter, const BeliefEstimate& b, const SurfaceIndex& surface,
-                            const RefineSettings& settings);
+                            const RefineSettings& settings, bool estimate_modes_are_own);
 
 }  // namespace sva

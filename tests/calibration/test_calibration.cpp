@@ -12,6 +12,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 
 #include "calibration/calibration.hpp"
 #include "calibration/calibration_fit.hpp"
@@ -24,8 +25,10 @@ using namespace sva;
 namespace {
 
 // Sessions whose objects' log-evidence is exactly `true_tau`^-1 times a calibrated log-likelihood: the true object
-// is drawn from the tempered posterior, so the fit should find tau(n) = true_tau.
-std::vector<CalibrationSession> synthetic_sessions(double true_tau, std::size_t count) {
+// is drawn from the tempered posterior, so the fit should find tau(n) = true_tau. With a surface weight, each level
+// also carries surface-check bits that count `surface_weight` times in the true posterior.
+std::vector<CalibrationSession> synthetic_sessions(double true_tau, std::size_t count,
+                                                   std::optional<double> surface_weight = std::nullopt) {
   std::vector<CalibrationSession> out;
   for (std::size_t t = 0; t < count; ++t) {
     util::Rng rng(42, t);
@@ -35,7 +38,10 @@ std::vector<CalibrationSession> synthetic_sessions(double true_tau, std::size_t 
       EvidenceLevel level;
       level.readings = n;
       for (double l : logit) level.object_log2_mass.push_back(l / true_tau);
-      const std::vector<double> p = tempered_posterior(level.object_log2_mass, true_tau, {});
+      if (surface_weight)
+        for (std::size_t o = 0; o < logit.size(); ++o) level.surface_log2_fit.push_back(6.0 * rng.normal());
+      const std::vector<double> p = tempered_posterior(level.object_log2_mass, true_tau, {}, level.surface_log2_fit,
+                                                       surface_weight.value_or(0.0));
       double u = rng.uniform(), acc = 0.0;
       std::uint32_t truth = 3;
       for (std::uint32_t o = 0; o < 4; ++o)
@@ -88,6 +94,17 @@ TEST_CASE("fit_temperature recovers the temperature of sessions drawn from a tem
     fit_temperature(synthetic_sessions(tau, 400), &c);
     // tau(n) = scale (n-1)^-power with the same temperature at every n: power near 0, scale near tau.
     for (std::size_t n : {2, 4, 8}) CHECK(c.temperature(n) == Approx(tau).epsilon(0.2));
+    CHECK(c.surface_weight == Calibration::kDefaultSurfaceWeight);  // no surface check in these sessions
+  }
+}
+
+TEST_CASE("fit_temperature recovers the surface check's weight beside the temperature") {
+  for (double weight : {0.0, 0.25}) {
+    INFO("true surface weight " << weight);
+    Calibration c;
+    fit_temperature(synthetic_sessions(0.4, 400, weight), &c);
+    CHECK(c.surface_weight == weight);
+    for (std::size_t n : {2, 4, 8}) CHECK(c.temperature(n) == Approx(0.4).epsilon(0.2));
   }
 }
 
@@ -109,7 +126,7 @@ TEST_CASE("p_unknown starts at the prior, follows the model, and moves with the 
   CHECK(c.p_unknown(level, 0.3) == 0.3);  // one reading: no pair, no evidence
 }
 
-TEST_CASE("the map file keeps the calibration (version 4), older maps load with the default") {
+TEST_CASE("the map file keeps the calibration (version 5), older maps load with the defaults") {
   sim::SimulateOptions so;
   so.train_per_object = 12;
   so.test_per_object = 1;
@@ -121,13 +138,19 @@ TEST_CASE("the map file keeps the calibration (version 4), older maps load with 
   m.calibration.learned = true;
   m.calibration.temperature_scale = 0.7;
   m.calibration.temperature_power = 1.1;
+  m.calibration.surface_weight = 0.125;
   m.calibration.unknown.per_readings = {{1.0, 2.0, 3.0, 4.0}, {-1.0, 0.5, 0.25, 8.0}};
   const auto dir = test::temp_dir("map-calibration");
-  save_pair_map(m, dir / "v4.svam");
-  const auto back = load_pair_map(dir / "v4.svam");
+  save_pair_map(m, dir / "v5.svam");
+  const auto back = load_pair_map(dir / "v5.svam");
   CHECK(back->calibration.learned);
   CHECK(back->calibration.temperature_power == 1.1);
+  CHECK(back->calibration.surface_weight == 0.125);
   CHECK(back->calibration.unknown.per_readings == m.calibration.unknown.per_readings);
+  write_pair_map(m, dir / "v4.svam", 4);  // the temperature, without the surface check's weight
+  const auto v4 = load_pair_map(dir / "v4.svam");
+  CHECK(v4->calibration.temperature_power == 1.1);
+  CHECK(v4->calibration.surface_weight == Calibration::kDefaultSurfaceWeight);
   write_pair_map(m, dir / "v3.svam", 3);
   const auto old = load_pair_map(dir / "v3.svam");
   CHECK_FALSE(old->calibration.learned);
@@ -140,6 +163,11 @@ TEST_CASE("the map file keeps the calibration (version 4), older maps load with 
   m.calibration.temperature_scale = -1.0;
   write_pair_map(m, dir / "neg.svam", 4);
   CHECK_THROWS_WITH(load_pair_map(dir / "neg.svam"), Catch::Contains("temperature scale"));
+  m.calibration.temperature_scale = 0.7;
+  m.calibration.surface_weight = std::nan("");
+  write_pair_map(m, dir / "weight.svam", 5);
+  CHECK_THROWS_WITH(load_pair_map(dir / "weight.svam"),
+                    Catch::Contains("weight.svam") && Catch::Contains("surface weight"));
   std::filesystem::remove_all(dir);
 }
 

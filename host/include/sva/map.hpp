@@ -87,7 +87,8 @@ struct MapSummary {
   struct Calibration {
     bool learned = false;
     double temperature_scale = 0.0, temperature_power = 0.0;
-    bool unknown_model = false;  // the map can say "none of these"
+    double surface_weight = 0.0;  // the surface check's bits per bit of the posterior (docs/recognition.md)
+    bool unknown_model = false;   // the map can say "none of these"
     std::uint32_t known_sessions = 0, unknown_sessions = 0, session_readings = 0;
   } calibration;
 };

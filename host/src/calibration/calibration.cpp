@@ -14,13 +14,13 @@ double Calibration::temperature(std::size_t readings) const {
 }
 
 std::vector<double> tempered_posterior(std::span<const double> log2_mass, double temperature,
-                                       std::span<const double> object_weight,
-                                       std::span<const double> surface_log2_fit) {
+                                       std::span<const double> object_weight, std::span<const double> surface_log2_fit,
+                                       double surface_weight) {
   const std::size_t n = log2_mass.size();
   std::vector<double> q(n);
   double top = -INFINITY;
   for (std::size_t o = 0; o < n; ++o) {
-    q[o] = temperature * log2_mass[o] + (surface_log2_fit.empty() ? 0.0 : surface_log2_fit[o]);
+    q[o] = temperature * log2_mass[o] + (surface_log2_fit.empty() ? 0.0 : surface_weight * surface_log2_fit[o]);
     if (!object_weight.empty()) q[o] = object_weight[o] > 0.0 ? q[o] + pmath::log2(object_weight[o]) : -INFINITY;
     top = std::max(top, q[o]);
   }
@@ -32,7 +32,8 @@ std::vector<double> tempered_posterior(std::span<const double> log2_mass, double
 
 std::vector<double> Calibration::object_probability(const EvidenceLevel& level,
                                                     std::span<const double> object_weight) const {
-  return tempered_posterior(level.object_log2_mass, temperature(level.readings), object_weight, level.surface_log2_fit);
+  return tempered_posterior(level.object_log2_mass, temperature(level.readings), object_weight, level.surface_log2_fit,
+                            surface_weight);
 }
 
 std::array<double, kUnknownFeatures> Calibration::unknown_features(const EvidenceLevel& level) {

@@ -39,7 +39,7 @@ struct EvidenceLevel {
   // pose was not computed (too few readings).
   double fit_cost_share = -1.0;
   // The surface check (recognition/surface_check.hpp), per object: log2 of how well its surface explains the
-  // readings at its own fine pose, added untempered to the tempered log-evidence (each reading counts once there).
+  // readings at its own fine pose, added to the tempered log-evidence with the calibration's surface weight.
   // Empty when it was not run (too few readings, no surface, switched off).
   std::vector<double> surface_log2_fit;
 };
@@ -58,11 +58,12 @@ struct UnknownModel {
   bool empty() const { return per_readings.empty(); }
 };
 
-// The posterior of objects whose log-evidence (bits) is tempered by `temperature`, plus `surface_log2_fit` (bits,
-// untempered; empty: none), and weighed by `object_weight` (largest 1; empty: flat; a weight of 0 gives 0).
+// The posterior of objects whose log-evidence (bits) is tempered by `temperature`, plus `surface_weight` times
+// `surface_log2_fit` (bits; empty: none), and weighed by `object_weight` (largest 1; empty: flat; a weight of 0
+// gives 0).
 std::vector<double> tempered_posterior(std::span<const double> log2_mass, double temperature,
                                        std::span<const double> object_weight,
-                                       std::span<const double> surface_log2_fit = {});
+                                       std::span<const double> surface_log2_fit = {}, double surface_weight = 1.0);
 
 struct Calibration {
   // The temperature of maps trained without held-out readings (map format versions 1-3, or training with
@@ -70,10 +71,15 @@ struct Calibration {
   static constexpr double kDefaultScale = 0.25;
   static constexpr double kDefaultPower = 0.8;
   static constexpr double kMaxTemperature = 4.0;
+  // The surface check's weight in maps without a learned one (format versions 1-4, or calibration off): its bits
+  // come from one sparse sample of training contacts per object, whose gaps differ between twins even where their
+  // surfaces agree, so they are discounted too (fitted on household50 and lookalikes: docs/recognition.md).
+  static constexpr double kDefaultSurfaceWeight = 0.25;
 
   bool learned = false;  // false: the defaults above
   double temperature_scale = kDefaultScale;
   double temperature_power = kDefaultPower;
+  double surface_weight = kDefaultSurfaceWeight;  // lambda: bits of the surface check per bit of the posterior
   UnknownModel unknown;  // empty: the map cannot say "none of these" (p_unknown is then the prior)
   // How the fit was made (sva inspect): held-out sessions on known and unknown objects, readings per session.
   std::uint32_t known_sessions = 0, unknown_sessions = 0, session_readings = 0;

@@ -11,10 +11,12 @@ namespace sva {
 namespace {
 
 // Negative log-likelihood (nats) of the true objects under temperature scale and power.
-double temperature_nll(const std::vector<CalibrationSession>& sessions, double scale, double power) {
+double temperature_nll(const std::vector<CalibrationSession>& sessions, double scale, double power,
+                       double surface_weight) {
   Calibration c;
   c.temperature_scale = scale;
   c.temperature_power = power;
+  c.surface_weight = surface_weight;
   double nll = 0.0;
   for (const CalibrationSession& s : sessions) {
     if (!s.known) continue;
@@ -94,32 +96,64 @@ UnknownCoefficients fit_logistic(const std::vector<std::array<double, kUnknownFe
 
 }  // namespace
 
-void fit_temperature(const std::vector<CalibrationSession>& sessions, Calibration* calibration) {
+namespace {
+
+// The temperature of least NLL at one surface weight: a grid over the power, golden-section over log2 scale (the
+// likelihood is unimodal in the scale at a fixed power). Returns the NLL.
+double fit_temperature_at(const std::vector<CalibrationSession>& sessions, double surface_weight, double* scale,
+                          double* power) {
   constexpr double kPhi = 0.6180339887498949;
-  double best_nll = INFINITY, best_scale = Calibration::kDefaultScale, best_power = Calibration::kDefaultPower;
+  double best_nll = INFINITY;
+  *scale = Calibration::kDefaultScale;
+  *power = Calibration::kDefaultPower;
   for (int step = 0; step <= 50; ++step) {
-    const double power = 0.05 * step;
-    // log2 scale in [-12, 3]: golden-section search (the likelihood is unimodal in the scale at a fixed power).
-    double lo = -12.0, hi = 3.0;
+    const double p = 0.05 * step;
+    double lo = -12.0, hi = 3.0;  // log2 scale
     double m1 = hi - kPhi * (hi - lo), m2 = lo + kPhi * (hi - lo);
-    double f1 = temperature_nll(sessions, pmath::exp2(m1), power),
-           f2 = temperature_nll(sessions, pmath::exp2(m2), power);
+    auto nll = [&](double log2_scale) { return temperature_nll(sessions, pmath::exp2(log2_scale), p, surface_weight); };
+    double f1 = nll(m1), f2 = nll(m2);
     for (int it = 0; it < 40; ++it) {
       if (f1 < f2) {
         hi = m2, m2 = m1, f2 = f1;
         m1 = hi - kPhi * (hi - lo);
-        f1 = temperature_nll(sessions, pmath::exp2(m1), power);
+        f1 = nll(m1);
       } else {
         lo = m1, m1 = m2, f1 = f2;
         m2 = lo + kPhi * (hi - lo);
-        f2 = temperature_nll(sessions, pmath::exp2(m2), power);
+        f2 = nll(m2);
       }
     }
-    const double log2_scale = f1 < f2 ? m1 : m2, nll = std::min(f1, f2);
-    if (nll < best_nll) best_nll = nll, best_scale = pmath::exp2(log2_scale), best_power = power;
+    const double f = std::min(f1, f2);
+    if (f < best_nll) best_nll = f, *scale = pmath::exp2(f1 < f2 ? m1 : m2), *power = p;
   }
-  calibration->temperature_scale = best_scale;
-  calibration->temperature_power = best_power;
+  return best_nll;
+}
+
+bool any_surface_fit(const std::vector<CalibrationSession>& sessions) {
+  for (const CalibrationSession& s : sessions)
+    for (const EvidenceLevel& level : s.steps)
+      if (!level.surface_log2_fit.empty()) return true;
+  return false;
+}
+
+}  // namespace
+
+void fit_temperature(const std::vector<CalibrationSession>& sessions, Calibration* calibration) {
+  // The surface weight on a grid of halvings (the NLL is flat near its best; a coarse grid is enough), each with its
+  // own temperature. Sessions without a surface check keep the default weight.
+  std::vector<double> weights{Calibration::kDefaultSurfaceWeight};
+  if (any_surface_fit(sessions)) weights = {0.0, 1.0 / 32, 1.0 / 16, 1.0 / 8, 1.0 / 4, 1.0 / 2, 1.0};
+  double best_nll = INFINITY;
+  for (double w : weights) {
+    double scale = 0.0, power = 0.0;
+    const double nll = fit_temperature_at(sessions, w, &scale, &power);
+    if (nll < best_nll) {
+      best_nll = nll;
+      calibration->temperature_scale = scale;
+      calibration->temperature_power = power;
+      calibration->surface_weight = w;
+    }
+  }
 }
 
 void fit_unknown(const std::vector<CalibrationSession>& sessions, Calibration* calibration) {

@@ -129,6 +129,7 @@ MapSummary Map::summary() const {
   s.calibration.learned = m.calibration.learned;
   s.calibration.temperature_scale = m.calibration.temperature_scale;
   s.calibration.temperature_power = m.calibration.temperature_power;
+  s.calibration.surface_weight = m.calibration.surface_weight;
   s.calibration.unknown_model = !m.calibration.unknown.empty();
   s.calibration.known_sessions = m.calibration.known_sessions;
   s.calibration.unknown_sessions = m.calibration.unknown_sessions;

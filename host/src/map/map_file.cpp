@@ -43,10 +43,12 @@ Symmetry get_symmetry(io::BinaryReader& r) {
 }
 
 // Version 4: the calibration (calibration/calibration.hpp), after the entries.
-void put_calibration(io::BinaryWriter& w, const Calibration& c) {
+// Version 5: the surface check's weight after the temperature.
+void put_calibration(io::BinaryWriter& w, const Calibration& c, std::uint32_t version) {
   w.put<std::uint8_t>(c.learned ? 1 : 0);
   w.put<double>(c.temperature_scale);
   w.put<double>(c.temperature_power);
+  if (version >= 5) w.put<double>(c.surface_weight);
   w.put<std::uint32_t>(c.known_sessions);
   w.put<std::uint32_t>(c.unknown_sessions);
   w.put<std::uint32_t>(c.session_readings);
@@ -66,6 +68,11 @@ Calibration get_calibration(io::BinaryReader& r) {
     r.fail("calibration: temperature scale " + std::to_string(c.temperature_scale) + " is not in (0, 1e6]");
   if (!(std::isfinite(c.temperature_power) && c.temperature_power >= 0.0 && c.temperature_power <= 10.0))
     r.fail("calibration: temperature power " + std::to_string(c.temperature_power) + " is not in [0, 10]");
+  if (r.version() >= 5) {  // older maps: the documented default
+    c.surface_weight = r.get<double>();
+    if (!(std::isfinite(c.surface_weight) && c.surface_weight >= 0.0 && c.surface_weight <= 16.0))
+      r.fail("calibration: surface weight " + std::to_string(c.surface_weight) + " is not in [0, 16]");
+  }
   c.known_sessions = r.get<std::uint32_t>();
   c.unknown_sessions = r.get<std::uint32_t>();
   c.session_readings = r.get<std::uint32_t>();
@@ -150,7 +157,7 @@ void write_pair_map(const PairMap& m, const std::filesystem::path& file, std::ui
   w.put_vector(m.entry_a);
   w.put_vector(m.entry_b);
   w.put_vector(m.entry_weight);
-  if (version >= 4) put_calibration(w, m.calibration);
+  if (version >= 4) put_calibration(w, m.calibration, version);
   w.write_file(file, std::string_view(kMapMagic, 8), version);
 }
 

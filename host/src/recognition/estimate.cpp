@@ -412,8 +412,10 @@ namespace {
 // The surface check's posterior (tempered log-evidence plus the surfaces' fits) and, when it names another object
 // than the belief's best, that object's best bin and poses in `b`.
 void follow_surface_check(const SurfaceCheck& check, const EvidenceLevel& level, double temperature,
-                          std::span<const double> object_weight, const PoseSpace& space, BeliefEstimate* b) {
-  b->object_probability = tempered_posterior(level.object_log2_mass, temperature, object_weight, check.log2_fit);
+                          double surface_weight, std::span<const double> object_weight, const PoseSpace& space,
+                          BeliefEstimate* b) {
+  b->object_probability =
+      tempered_posterior(level.object_log2_mass, temperature, object_weight, check.log2_fit, surface_weight);
   std::uint32_t best = b->object;
   for (std::uint32_t o = 0; o < b->object_probability.size(); ++o)
     if (b->object_probability[o] > b->object_probability[best]) best = o;
@@ -447,7 +449,9 @@ Estimate filter_estimate(const BayesFilter& filter, const std::vector<MapObject>
   const std::uint32_t belief_best = b.object;
   if (!check.log2_fit.empty()) {
     level.surface_log2_fit = check.log2_fit;
-    follow_surface_check(check, level, temperature, r.object_weight, filter.space(), &b);
+    // Uncalibrated, the check's bits count as they are, each reading once.
+    const double weight = r.calibration ? r.calibration->surface_weight : 1.0;
+    follow_surface_check(check, level, temperature, weight, r.object_weight, filter.space(), &b);
   }
   Estimate e;
   e.ready = true;

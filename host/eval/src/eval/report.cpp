@@ -344,8 +344,8 @@ Curve read_curve_json(const std::filesystem::path& file) {
 std::string describe_calibration(const MapSummary& map) {
   const MapSummary::Calibration& c = map.calibration;
   char buf[256];
-  std::snprintf(buf, sizeof buf, "%s: temperature %.3g (n-1)^-%.2f", c.learned ? "learned" : "the default",
-                c.temperature_scale, c.temperature_power);
+  std::snprintf(buf, sizeof buf, "%s: temperature %.3g (n-1)^-%.2f, surface check weight %.3g",
+                c.learned ? "learned" : "the default", c.temperature_scale, c.temperature_power, c.surface_weight);
   std::string s = buf;
   if (c.learned) {
     std::snprintf(buf, sizeof buf, ", from %u + %u held-out sessions of %u readings", c.known_sessions,

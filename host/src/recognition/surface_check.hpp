@@ -4,7 +4,8 @@
 // readings whose keys (appearance classes and a distance bin) near-twins share: a clamp and its larger copy, a
 // brick of 2x2 and of 2x4 studs agree on most pairs, and the belief may settle on the wrong one. The surface knows
 // more: the larger clamp's readings lie off the smaller one's surface wherever the pose puts it. Each reading
-// counts once here, so the check's bits enter the posterior untempered (calibration/calibration.hpp).
+// counts once here, unlike Eq 5's pairs; its bits enter the posterior with the calibration's learned surface weight,
+// which discounts the sampling noise of the training contacts (calibration/calibration.hpp).
 #include <cstdint>
 #include <vector>
 
@@ -15,8 +16,8 @@
 
 namespace sva {
 
-// Objects checked: the leading ones by log-evidence. Beyond the third the tempered posterior leaves too little
-// for a fit to matter (household50: 2 and 3 checked objects give the same decisions), and each costs a fine pose.
+// Objects checked: the leading ones by log-evidence. Each costs a fine pose per estimate; three is the only count
+// measured (docs/evaluation.md, "Look-alikes"), and a family's wrong answers there were the second or third object.
 inline constexpr std::size_t kSurfaceCheckObjects = 3;
 // A reading's fit: a Gaussian of the residual's joint scale (point-to-plane and normal tilt, as the fine pose
 // weighs them) with sigma half the fine pose's final scale (1 mm in 8 mm bins: the arm's 0.5 mm and the gaps

@@ -7,6 +7,7 @@
 #include <cassert>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <span>
 
 #include "appearance/appearance_baseline.hpp"
@@ -438,13 +439,14 @@ Estimate filter_estimate(const BayesFilter& filter, const std::vector<MapObject>
   EvidenceLevel level = b.level;
   level.readings = filter.readings();
   SurfaceCheck check;
+  std::optional<RefinedPose> belief_fine;  // the fine pose of the belief's own best object, from its own modes
   if (r.surface && b.pose_valid) {
-    // "None of these" reads the fit of the belief's own best object, as the calibration's sessions do.
     if (r.surface_check) check = check_surfaces(filter, b, *r.surface, r.refine, r.pose_weighting.empty());
-    // With a pose prior the estimate's modes are ordered by it, and the check fitted its own.
+    // With a pose prior the estimate's modes are ordered by it, and the check fitted the object from its own.
     const CheckedObject* own = r.pose_weighting.empty() ? check.find(b.object) : nullptr;
-    set_surface_fit(own ? own->fine : refine_pose(*r.surface, b.object, filter.observed(), b.modes, r.refine),
-                    filter.readings(), r.refine, &level);
+    belief_fine = own ? own->fine : refine_pose(*r.surface, b.object, filter.observed(), b.modes, r.refine);
+    // "None of these" reads the fit of the belief's own best object, as the calibration's sessions do.
+    set_surface_fit(*belief_fine, filter.readings(), r.refine, &level);
   }
   const std::uint32_t belief_best = b.object;
   if (!check.log2_fit.empty()) {
@@ -462,11 +464,10 @@ Estimate filter_estimate(const BayesFilter& filter, const std::vector<MapObject>
   e.pose = b.pose;
   e.parabolic_pose = b.parabolic_pose;
   e.bin_pose = b.bin_pose;
-  if (r.surface && b.pose_valid && r.refine_pose) {
-    // The check's fit is the estimate's when the modes were the same, or when the check named the object.
-    const bool same = r.pose_weighting.empty() || b.object != belief_best;
-    const CheckedObject* c = same ? check.find(b.object) : nullptr;
-    const RefinedPose fine = c ? c->fine : refine_pose(*r.surface, b.object, filter.observed(), b.modes, r.refine);
+  if (belief_fine && r.refine_pose) {
+    // The belief's own best keeps its fine pose; an object the check named brings the check's.
+    const CheckedObject* named = b.object != belief_best ? check.find(b.object) : nullptr;
+    const RefinedPose& fine = named ? named->fine : *belief_fine;
     e.pose = fine.pose;
     e.pose_refined = fine.refined;
   }

@@ -57,8 +57,8 @@ void draw_families(plot::Canvas& canvas, const Confusion& c, const Layout& l) {
   for (const auto& [a, b] : family_runs(c.truth_families)) {
     const int y0 = l.top + static_cast<int>(a) * l.cell, y1 = l.top + static_cast<int>(b) * l.cell;
     canvas.line(l.left - 4, y0, l.left + w, y0, plot::kBlack);
-    if (!l.names && !c.truth_families[a].empty()) {
-      const std::string& name = c.truth_families[a];
+    if (!l.names) {
+      const std::string name = c.truth_families[a].empty() ? "(no family)" : c.truth_families[a];
       canvas.text(l.left - 8 - plot::Canvas::text_width(name), (y0 + y1) / 2 - 4, name, plot::kBlack);
     }
   }
@@ -86,7 +86,7 @@ void write_confusion_figure(const Confusion& c, const std::string& scene, const 
   l.names = l.cell >= 10;
   int label_w = 0;
   for (const std::string& s : l.names ? c.truths : c.truth_families)
-    label_w = std::max(label_w, plot::Canvas::text_width(s));
+    label_w = std::max(label_w, plot::Canvas::text_width(s.empty() ? "(no family)" : s));
   l.left = label_w + 24;
   l.top = 70;
   std::size_t trials = 0, right = 0;

@@ -483,4 +483,9 @@ TEST_CASE("sva eval --confusion writes the matrices and the figure, prints the p
   CHECK(out.find("needs --confusion") != std::string::npos);
   CHECK(sva::test::run_sva(common + "--confusion " + f.path("no/dir/c.json"), &out) != 0);
   CHECK(out.find("does not exist") != std::string::npos);
+  // The pairs alone (the surface check off) on the same trials, and a bad value named.
+  REQUIRE(sva::test::run_sva(common + "--surface-check off --confusion " + f.path("off.json"), &out) == 0);
+  CHECK(nlohmann::json::parse(read_file(f.path("off.json")))["confusion"][0]["readings"] == 5);
+  CHECK(sva::test::run_sva(common + "--surface-check maybe", &out) != 0);
+  CHECK(out.find("--surface-check") != std::string::npos);
 }

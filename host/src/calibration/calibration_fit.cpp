@@ -94,10 +94,6 @@ UnknownCoefficients fit_logistic(const std::vector<std::array<double, kUnknownFe
   return w;
 }
 
-}  // namespace
-
-namespace {
-
 // The temperature of least NLL at one surface weight: a grid over the power, golden-section over log2 scale (the
 // likelihood is unimodal in the scale at a fixed power). Returns the NLL.
 double fit_temperature_at(const std::vector<CalibrationSession>& sessions, double surface_weight, double* scale,

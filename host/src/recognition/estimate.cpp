@@ -259,7 +259,8 @@ BeliefEstimate estimate(const BeliefState& belief, const PoseSpace& space, std::
                         std::span<const double> object_weight, const PoseWeighting& pose_weighting,
                         double temperature) {
   BeliefEstimate e;
-  const BeliefSummary s = belief.summarise();
+  e.summary = belief.summarise();
+  const BeliefSummary& s = e.summary;
   const std::vector<double> mass = object_mass(s, space, object_weight);
   double z = 0.0;
   for (double m : mass) z += m;
@@ -330,8 +331,8 @@ PoseHypothesis public_hypothesis(const ModeHypothesis& m, const PoseSpace& space
 void add_hypotheses(const BayesFilter& filter, const std::vector<MapObject>& objects, const EstimateRequest& r,
                     const BeliefEstimate& b, Estimate* e) {
   const PoseSpace& space = filter.space();
-  const HypothesisSet set = hypotheses(filter.belief(), space, filter.belief().summarise(), r.top_k,
-                                       r.hypothesis_radius_bins, r.object_weight, r.pose_weighting);
+  const HypothesisSet set = hypotheses(filter.belief(), space, b.summary, r.top_k, r.hypothesis_radius_bins,
+                                       r.object_weight, r.pose_weighting);
   for (const ModeHypothesis& m : set.modes) {
     e->hypotheses.push_back(public_hypothesis(m, space, objects));
     if (b.pose_valid && m.key == b.best_key) e->hypotheses.back().pose = e->pose;

@@ -67,6 +67,8 @@ struct BeliefEstimate {
   // bins that are not neighbours of an earlier mode (at most `modes` in all).
   std::vector<RigidPose> modes;
   std::vector<BinHypothesis> top;
+  // The reductions it was read from, read once per estimate (the CPU belief sums its band of bins for them).
+  BeliefSummary summary;
 };
 
 // Up to `count` distinct modes of the object of bin `best` (its best bin), best first, as BeliefEstimate::modes

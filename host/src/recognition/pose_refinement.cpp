@@ -1,5 +1,6 @@
 #include "recognition/pose_refinement.hpp"
 
+#include <sva/base/portable_math.hpp>
 #include <sva/base/so3.hpp>
 
 #include <algorithm>
@@ -368,12 +369,12 @@ RefinedPose refine_pose(const SurfaceIndex& surface, std::uint32_t object, std::
 double surface_log2_fit(const SurfaceIndex& surface, std::uint32_t object, std::span<const ObservedReading> readings,
                         const RigidPose& pose, const RefineSettings& settings, double sigma_mm, double floor) {
   if (readings.empty() || object >= surface.objects() || surface.points(object).empty())
-    return static_cast<double>(readings.size()) * std::log2(floor);
+    return static_cast<double>(readings.size()) * pmath::log2(floor);
   const Problem problem(surface, object, readings, settings);
   const Fit f = problem.fit(pose, settings.scale_final_mm);
   double bits = 0.0;
   for (const Match& m : f.matches)
-    bits += std::log2((m.found ? std::exp(-0.5 * m.s2 / (sigma_mm * sigma_mm)) : 0.0) + floor);
+    bits += pmath::log2((m.found ? pmath::exp(-0.5 * m.s2 / (sigma_mm * sigma_mm)) : 0.0) + floor);
   return bits;
 }
 

@@ -33,7 +33,7 @@ SurfaceCheck check_surfaces(const BayesFilter& filter, const BeliefEstimate& b, 
                             const RefineSettings& settings, bool estimate_modes_are_own) {
   SurfaceCheck check;
   if (filter.readings() < settings.min_readings) return check;
-  const BeliefSummary s = filter.belief().summarise();
+  const BeliefSummary& s = b.summary;
   const std::vector<std::uint32_t> leading = leading_objects(b, s);
   if (leading.size() < 2) return check;
   const double sigma = kSurfaceSigmaOfScale * settings.scale_final_mm;

@@ -129,6 +129,22 @@ SVA_FN vec3 sva_cross(vec3 a, vec3 b) {
 
 SVA_FN float sva_length(vec3 a) { return sva_sqrt(sva_dot(a, a)); }
 
+// The polynomials of exp and atan below, apart from their range reductions, so that the CPU's lane-parallel vote
+// (host/src/backends/cpu/sample_votes.cpp) evaluates the same text without the branches around it.
+// exp(r) for |r| <= ln2/2: Taylor to degree 8.
+SVA_FN float sva_exp_series(float r) {
+  SVA_PRECISE float e =
+      1.0f + r * (1.0f + r * (0.5f + r * (1.0f / 6.0f + r * (1.0f / 24.0f + r * (1.0f / 120.0f + r * (1.0f / 720.0f + r * (1.0f / 5040.0f + r * (1.0f / 40320.0f))))))));
+  return e;
+}
+
+// atan(u) for |u| <= 0.4143: the alternating Taylor series to u^15.
+SVA_FN float sva_atan_series(float u) {
+  SVA_PRECISE float u2 = u * u;
+  SVA_PRECISE float s = u * (1.0f + u2 * (-1.0f / 3.0f + u2 * (1.0f / 5.0f + u2 * (-1.0f / 7.0f + u2 * (1.0f / 9.0f + u2 * (-1.0f / 11.0f + u2 * (1.0f / 13.0f + u2 * (-1.0f / 15.0f))))))));
+  return s;
+}
+
 // exp(x) for x <= 0 (Gaussian weights); x below -80 gives 0. Range reduction
 // x = k ln2 + r, |r| <= ln2/2, Taylor to degree 8 (error < 1e-8 relative),
 // then an exact scaling by 2^-k.
@@ -137,8 +153,7 @@ SVA_FN float sva_exp_neg(float x) {
   if (x > 0.0f) x = 0.0f;
   SVA_PRECISE float kf = floor(x * SVA_INV_LN2 + 0.5f);
   SVA_PRECISE float r = x - kf * SVA_LN2;
-  SVA_PRECISE float e =
-      1.0f + r * (1.0f + r * (0.5f + r * (1.0f / 6.0f + r * (1.0f / 24.0f + r * (1.0f / 120.0f + r * (1.0f / 720.0f + r * (1.0f / 5040.0f + r * (1.0f / 40320.0f))))))));
+  SVA_PRECISE float e = sva_exp_series(r);
   // e 2^-k: e lies in [0.7, 1.5] and k <= 116, so the product is a normal float
   // and exact, the same as k exact halvings, without their loop.
   int k = int(-kf);
@@ -156,9 +171,7 @@ SVA_FN float sva_atan01(float t) {
     base = SVA_QUARTER_PI;
     u = sva_div(t - 1.0f, t + 1.0f);
   }
-  SVA_PRECISE float u2 = u * u;
-  SVA_PRECISE float s = u * (1.0f + u2 * (-1.0f / 3.0f + u2 * (1.0f / 5.0f + u2 * (-1.0f / 7.0f + u2 * (1.0f / 9.0f + u2 * (-1.0f / 11.0f + u2 * (1.0f / 13.0f + u2 * (-1.0f / 15.0f))))))));
-  return base + s;
+  return base + sva_atan_series(u);
 }
 
 // atan2(y, x) in [-pi, pi]; atan2(0, 0) = 0.

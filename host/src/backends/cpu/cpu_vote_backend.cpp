@@ -15,6 +15,7 @@
 
 #include "backends/cpu/belief.hpp"
 #include "backends/cpu/bin_accumulator.hpp"
+#include "backends/cpu/sample_votes.hpp"
 #include "backends/vote_backend.hpp"
 #include "util/hot_path.hpp"
 #include "votes/vote_math.hpp"
@@ -174,41 +175,36 @@ class CpuVoteBackend final : public VoteBackend {
       }
   }
 
-  // Aligns the observed pair to map pair (ra, rb) and scatters its beta samples.
+  // Aligns the observed pair to map pair (ra, rb) and scatters its beta samples (computed lane by lane,
+  // sample_votes.hpp: sva_vote's bits).
   SVA_HOT_PATH void vote_match(const SvaPatch& a1, const SvaPatch& b1, std::uint32_t ra, std::uint32_t rb,
                                std::uint32_t object, float likelihood, BinAccumulator& acc, PairStats* out) const {
     const vote_math::SvaAlignment al = vote_math::sva_align(a1, b1, patches_[ra], patches_[rb]);
     const vote_math::SvaBetaPlan plan = vote_math::sva_beta_plan(al, grid_);
     if (plan.n == 0) return;
     ++out->matches;
-    // The weights once (sva_beta_weights, the GPU's text for the sum), then the
-    // samples' votes in a loop of independent iterations, which the CPU
-    // overlaps (the polynomials are latency-bound), then their insertion.
-    float weight[SVA_MAX_BETA_SAMPLES];
-    const float scale = vote_math::sva_vote_scale(likelihood, vote_math::sva_beta_weights(plan, weight));
-    vote_math::SvaVote votes[SVA_MAX_BETA_SAMPLES];
-    for (int s = 0; s < plan.n; ++s) votes[s] = vote_math::sva_vote(al, plan, grid_, object, weight[s] * scale, s);
+    cpu::SampleVotes votes;
+    cpu::sample_votes(al, plan, grid_, object, likelihood, &votes);
     // Neighbouring samples often share a bin (they are half a bin apart): a
     // run of one key goes into the table as one sum (integers: same result).
     std::uint64_t run_key = 0;
     std::int64_t run_mass = 0;
     for (int s = 0; s < plan.n; ++s) {
-      const vote_math::SvaVote& v = votes[s];
-      if (!v.inside) {
+      if (!votes.inside[s]) {
         ++out->votes_outside;
         continue;
       }
       ++out->votes;
-      if (v.mass <= 0) {
+      if (votes.mass[s] <= 0) {
         ++out->votes_zero;
         continue;
       }
-      if (run_mass > 0 && v.key != run_key) {
+      if (run_mass > 0 && votes.key[s] != run_key) {
         acc.add(run_key, run_mass);
         run_mass = 0;
       }
-      run_key = v.key;
-      run_mass += v.mass;
+      run_key = votes.key[s];
+      run_mass += votes.mass[s];
     }
     if (run_mass > 0) acc.add(run_key, run_mass);
   }

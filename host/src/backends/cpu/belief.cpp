@@ -1,5 +1,7 @@
 #include "backends/cpu/belief.hpp"
 
+#include "backends/cpu/fold_lanes.hpp"
+
 #include <sva/error.hpp>
 
 #include <algorithm>
@@ -8,7 +10,6 @@
 
 #include "backends/vote_backend.hpp"
 #include "belief/belief_math.hpp"
-#include "util/hot_path.hpp"
 
 namespace sva {
 
@@ -39,19 +40,24 @@ bool Belief::fold(const PairVotes& votes, std::uint32_t count) {
   return add(terms(acc), count);
 }
 
-SVA_HOT_PATH std::vector<BinOffset> Belief::terms(const BinAccumulator& votes) const {
-  std::uint64_t total = 0;
-  votes.for_each(
-      [&](std::uint64_t, std::int64_t m) { total += static_cast<std::uint64_t>(std::max<std::int64_t>(m, 0)); });
-  std::vector<BinOffset> out;
-  if (total == 0) return out;  // < 2^63: votes are clamped (SVA_FIXED_MAX_VOTE_UNITS)
-  const std::uint64_t floor_log = belief_math::sva_floor_log(total, eps_units_);
-  out.reserve(votes.size());
+std::vector<BinOffset> Belief::terms(const BinAccumulator& votes) const {
+  std::vector<std::uint64_t> keys, mass;
+  keys.reserve(votes.size());
+  mass.reserve(votes.size());
+  std::uint64_t total = 0;  // < 2^63: votes are clamped (SVA_FIXED_MAX_VOTE_UNITS)
   votes.for_each([&](std::uint64_t key, std::int64_t m) {
-    if (m > 0)
-      out.push_back(
-          {key, belief_math::sva_fold_units_given(static_cast<std::uint64_t>(m), total, eps_units_, floor_log)});
+    if (m <= 0) return;
+    keys.push_back(key);
+    mass.push_back(static_cast<std::uint64_t>(m));
+    total += static_cast<std::uint64_t>(m);
   });
+  std::vector<BinOffset> out;
+  if (total == 0) return out;
+  std::vector<std::uint64_t> units(mass.size());
+  cpu::fold_units(mass.data(), mass.size(), total, eps_units_, belief_math::sva_floor_log(total, eps_units_),
+                  units.data());
+  out.resize(keys.size());
+  for (std::size_t i = 0; i < keys.size(); ++i) out[i] = {keys[i], units[i]};
   return out;
 }
 

@@ -15,6 +15,7 @@
 
 #include "backends/cpu/belief.hpp"
 #include "backends/cpu/bin_accumulator.hpp"
+#include "backends/cpu/key_ranges.hpp"
 #include "backends/cpu/sample_votes.hpp"
 #include "backends/vote_backend.hpp"
 #include "util/hot_path.hpp"
@@ -36,37 +37,7 @@ SvaPatch patch_of(const ObservedPatch& o) {
   return p;
 }
 
-// The map entries stored under one of an observed pair's keys.
-struct KeyRange {
-  std::uint32_t begin, end;
-  float weight;   // w_obs of the key
-  bool reversed;  // the entries' ends are swapped to match the observed pair (PairKeyWeight::reversed)
-};
-
-// The owner rule of sva_match_likelihood.h over one observed pair's key
-// ranges: the text of sva_match_owner.h, which match_votes.glsl runs too,
-// compiled as members over the map and the ranges.
-class OwnerRule {
- public:
-  OwnerRule(const PairMap& map, const std::vector<KeyRange>& ranges) : map_(map), ranges_(ranges) {}
-  using uint = std::uint32_t;
-  using uint64_t = std::uint64_t;
-
-#include "sva_match_owner.h"
-
- private:
-  uint sva_item_begin(uint k) const { return ranges_[k].begin; }
-  uint sva_item_end(uint k) const { return ranges_[k].end; }
-  uint sva_item_reversed(uint k) const { return ranges_[k].reversed ? 1u : 0u; }
-  float sva_item_weight(uint k) const { return ranges_[k].weight; }
-  uint sva_entry_a(uint e) const { return map_.entry_a[e]; }
-  uint sva_entry_b(uint e) const { return map_.entry_b[e]; }
-  float sva_entry_weight(uint e) const { return map_.entry_weight[e]; }
-  static uint64_t sva_likelihood_units(float w) { return vote_math::sva_likelihood_units(w); }
-
-  const PairMap& map_;
-  const std::vector<KeyRange>& ranges_;
-};
+using cpu::KeyRange;
 
 class CpuVoteBackend final : public VoteBackend {
  public:
@@ -89,7 +60,7 @@ class CpuVoteBackend final : public VoteBackend {
     util::parallel_for(
         batch.pairs.size(),
         [&](std::size_t i) {
-          BinAccumulator acc(4096);
+          BinAccumulator& acc = pair_accumulator();
           vote_pair(batch, batch.pairs[i], acc, &out[i]);
           acc.sorted(&out[i].keys, &out[i].mass);
         },
@@ -121,7 +92,7 @@ class CpuVoteBackend final : public VoteBackend {
     util::parallel_for(
         batch.pairs.size(),
         [&](std::size_t i) {
-          BinAccumulator acc(4096);
+          BinAccumulator& acc = pair_accumulator();
           vote_pair(batch, batch.pairs[i], acc, &out[i]);
           const std::vector<BinOffset> terms = target[i]->terms(acc);
           std::lock_guard lock(locks[batch.pairs[i].session]);
@@ -142,6 +113,18 @@ class CpuVoteBackend final : public VoteBackend {
   }
 
  private:
+  // The worker thread's accumulator for one pair's votes, emptied: a pair at 100 paper3d readings touches tens of
+  // thousands of bins, and a fresh table per pair cost its growth, a large allocation (the system's pages, zeroed)
+  // and its release every time. One that grew past 2^20 slots (16 MiB) starts small again.
+  static BinAccumulator& pair_accumulator() {
+    thread_local BinAccumulator acc(4096);
+    if (acc.capacity() > (std::size_t{1} << 20))
+      acc.clear();
+    else
+      acc.clear_keeping_capacity();
+    return acc;
+  }
+
   // The ranges of the pair's keys that the map holds, in the pair's key order.
   std::vector<KeyRange> key_ranges(const VoteBatch& batch, const PairQuery& q) const {
     std::vector<KeyRange> ranges;
@@ -159,20 +142,16 @@ class CpuVoteBackend final : public VoteBackend {
     const SvaPatch a1 = patch_of(q.a), b1 = patch_of(q.b);
     const std::uint8_t* active =
         batch.object_active.empty() ? nullptr : batch.object_active.data() + std::size_t{q.session} * objects_;
-    const std::vector<KeyRange> ranges = key_ranges(batch, q);
-    OwnerRule owner(map_, ranges);  // the shared text's functions are not const members
-    for (std::size_t j = 0; j < ranges.size(); ++j)
-      for (std::uint32_t e = ranges[j].begin; e < ranges[j].end; ++e) {
-        if ((e & 1023u) == 0) util::throw_if_interrupted();
-        const std::uint32_t object = map_.readings.object[map_.entry_a[e]];
-        if (active && !active[object]) continue;
-        const std::uint32_t ra = ranges[j].reversed ? map_.entry_b[e] : map_.entry_a[e];
-        const std::uint32_t rb = ranges[j].reversed ? map_.entry_a[e] : map_.entry_b[e];
-        const float likelihood = vote_math::sva_likelihood_of_units(owner.sva_owned_likelihood(
-            0, static_cast<std::uint32_t>(j), static_cast<std::uint32_t>(ranges.size()), ra, rb, map_.entry_weight[e]));
-        if (!(likelihood > 0.0f) || likelihood < settings_.likelihood_cutoff) continue;
-        vote_match(a1, b1, ra, rb, object, likelihood, acc, out);
-      }
+    std::uint32_t seen = 0;
+    cpu::for_each_match(map_, key_ranges(batch, q),
+                        [&](std::uint32_t entry, std::uint32_t ra, std::uint32_t rb, std::uint64_t units) {
+                          if ((++seen & 1023u) == 0) util::throw_if_interrupted();
+                          const std::uint32_t object = map_.readings.object[map_.entry_a[entry]];
+                          if (active && !active[object]) return;
+                          const float likelihood = vote_math::sva_likelihood_of_units(units);
+                          if (!(likelihood > 0.0f) || likelihood < settings_.likelihood_cutoff) return;
+                          vote_match(a1, b1, ra, rb, object, likelihood, acc, out);
+                        });
   }
 
   // Aligns the observed pair to map pair (ra, rb) and scatters its beta samples (computed lane by lane,

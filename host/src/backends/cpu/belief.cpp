@@ -23,6 +23,7 @@ Belief::Belief(const PoseSpace& space, double eps)
 }
 
 void Belief::reset() {
+  forget_best();
   offset_.clear_keeping_capacity();
   band_.clear_keeping_capacity();
   band_pruned_size_ = 0;
@@ -41,28 +42,34 @@ bool Belief::fold(const PairVotes& votes, std::uint32_t count) {
 }
 
 std::vector<BinOffset> Belief::terms(const BinAccumulator& votes) const {
-  std::vector<std::uint64_t> keys, mass;
-  keys.reserve(votes.size());
-  mass.reserve(votes.size());
+  std::vector<BinOffset> out;
+  terms(votes, &out);
+  return out;
+}
+
+void Belief::terms(const BinAccumulator& votes, std::vector<BinOffset>* out) const {
+  // The worker thread's scratch, kept between pairs: a pair's bins run to tens of thousands, and buffers that size
+  // allocated and freed per pair went back to the system and came back as fresh (zeroed, faulted-in) pages.
+  thread_local std::vector<std::uint64_t> mass, units;
+  out->clear();
+  mass.clear();
   std::uint64_t total = 0;  // < 2^63: votes are clamped (SVA_FIXED_MAX_VOTE_UNITS)
   votes.for_each([&](std::uint64_t key, std::int64_t m) {
     if (m <= 0) return;
-    keys.push_back(key);
+    out->push_back({key, 0});
     mass.push_back(static_cast<std::uint64_t>(m));
     total += static_cast<std::uint64_t>(m);
   });
-  std::vector<BinOffset> out;
-  if (total == 0) return out;
-  std::vector<std::uint64_t> units(mass.size());
+  if (total == 0) return;
+  units.resize(mass.size());
   cpu::fold_units(mass.data(), mass.size(), total, eps_units_, belief_math::sva_floor_log(total, eps_units_),
                   units.data());
-  out.resize(keys.size());
-  for (std::size_t i = 0; i < keys.size(); ++i) out[i] = {keys[i], units[i]};
-  return out;
+  for (std::size_t i = 0; i < units.size(); ++i) (*out)[i].offset = units[i];
 }
 
 bool Belief::add(const std::vector<BinOffset>& terms, std::uint32_t count) {
   if (terms.empty() || count == 0) return false;
+  forget_best();
   for (const BinOffset& t : terms) {
     bool inserted = false;
     const std::uint64_t off = offset_.add_get(t.key, t.offset * count, &inserted);
@@ -82,19 +89,20 @@ void Belief::note(std::uint64_t key, std::uint64_t offset, bool inserted) {
     best_key_[o] = key;
   }
   max_ = std::max(max_, offset);
-  if (in_band(offset)) band_.add(key, 0);
+  if (in_band(offset)) band_.set(key, offset);
 }
 
 void Belief::prune_band() {
-  BinTable<std::uint8_t> kept(band_.size() / 2);
-  band_.for_each([&](std::uint64_t key, std::uint8_t) {
-    if (in_band(offset_.get(key))) kept.add(key, 0);
+  BinTable<std::uint64_t> kept(band_.size() / 2);
+  band_.for_each([&](std::uint64_t key, std::uint64_t off) {
+    if (in_band(off)) kept.set(key, off);
   });
   band_ = std::move(kept);
   band_pruned_size_ = band_.size();
 }
 
 std::size_t Belief::forget_below(std::uint64_t below, std::span<const std::uint64_t> keep) {
+  forget_best();
   BinTable<std::uint64_t> kept(offset_.size());
   std::fill(touched_.begin(), touched_.end(), 0);
   offset_.for_each([&](std::uint64_t key, std::uint64_t off) {
@@ -110,6 +118,12 @@ std::size_t Belief::forget_below(std::uint64_t below, std::span<const std::uint6
   return forgotten;
 }
 
+void Belief::forget_best() {
+  std::lock_guard lock(best_.mutex);
+  best_.bins.clear();
+  best_.asked = 0;
+}
+
 BeliefSummary Belief::summarise() const {
   BeliefSummary s;
   s.max_offset = max_;
@@ -117,8 +131,7 @@ BeliefSummary Belief::summarise() const {
   s.best_offset = best_offset_;
   s.best_key = best_key_;
   s.touched_mass.assign(space_->objects(), 0);
-  band_.for_each([&](std::uint64_t key, std::uint8_t) {
-    const std::uint64_t off = offset_.get(key);
+  band_.for_each([&](std::uint64_t key, std::uint64_t off) {
     if (in_band(off))
       s.touched_mass[PoseSpace::object_of(key)] += belief_math::sva_exp2_neg_units(max_ - off, mass_bits_);
   });
@@ -126,24 +139,35 @@ BeliefSummary Belief::summarise() const {
 }
 
 std::vector<BinOffset> Belief::best_bins(std::size_t k) const {
+  // One estimate asks for the best bins several times (the estimate's top bins, each object's modes, the
+  // hypotheses, the surface check's three objects), each a pass over the band: the answer is kept until the next
+  // fold, and a pass keeps at least kKeptBins, so that the later, larger requests are prefixes of it.
+  constexpr std::size_t kKeptBins = 256;
+  std::lock_guard lock(best_.mutex);
+  if (best_.asked >= k)
+    return {best_.bins.begin(), best_.bins.begin() + static_cast<std::ptrdiff_t>(std::min(k, best_.bins.size()))};
   const auto better = [](const BinOffset& a, const BinOffset& b) {
     return a.offset != b.offset ? a.offset > b.offset : a.key < b.key;
   };
   std::vector<BinOffset> all;  // slot order: partial_sort needs no sorted read-out
-  band_.for_each([&](std::uint64_t key, std::uint8_t) {
-    const std::uint64_t off = offset_.get(key);
+  band_.for_each([&](std::uint64_t key, std::uint64_t off) {
     if (in_band(off)) all.push_back({key, off});
   });
   // Every bin outside the band lies below every bin in it: the band holds
   // the top k unless it has fewer than k bins.
+  std::size_t keep = std::max(k, std::min(kKeptBins, all.size()));
   if (all.size() < k && all.size() < offset_.size()) {
     all.clear();
     all.reserve(offset_.size());
     offset_.for_each([&](std::uint64_t key, std::uint64_t off) { all.push_back({key, off}); });
+    keep = k;
   }
-  k = std::min(k, all.size());
-  std::partial_sort(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(k), all.end(), better);
-  all.resize(k);
+  const std::size_t sorted = std::min(keep, all.size());
+  std::partial_sort(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(sorted), all.end(), better);
+  all.resize(sorted);
+  best_.bins = all;
+  best_.asked = keep;
+  all.resize(std::min(k, all.size()));
   return all;
 }
 

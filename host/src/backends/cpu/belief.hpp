@@ -2,6 +2,7 @@
 // The CPU reference belief (belief/belief_state.hpp says what a belief is): the offsets in an open-addressing table
 // in host memory, folded pair by pair.
 #include <cstdint>
+#include <mutex>
 #include <span>
 #include <vector>
 
@@ -28,6 +29,7 @@ class Belief final : public BeliefState {
   // read the belief's eps (pairs compute theirs in parallel), then their
   // addition (integers: the order of pairs does not matter).
   std::vector<BinOffset> terms(const BinAccumulator& votes) const;
+  void terms(const BinAccumulator& votes, std::vector<BinOffset>* out) const;  // into *out, its capacity reused
   bool add(const std::vector<BinOffset>& terms, std::uint32_t count);
 
   void reset() override;
@@ -49,9 +51,12 @@ class Belief final : public BeliefState {
   // top-k through the *band*: the bins within band_width_ of the maximum, the
   // only ones whose weight 2^(offset - M) at mass_bits is not 0. A bin leaves
   // the band only as the maximum grows, so the band set holds every bin in
-  // the band (and some stale ones, skipped when read, pruned as it grows).
+  // the band (and some stale ones, skipped when read, pruned as it grows),
+  // each with its offset, so that reading the band never looks a bin up in
+  // the (much larger) offset table.
   bool in_band(std::uint64_t offset) const { return max_ - offset < band_width_; }
   void note(std::uint64_t key, std::uint64_t offset, bool inserted);
+  void forget_best();  // the belief changed: best_bins' kept answer is stale
   void prune_band();
 
   const PoseSpace* space_;
@@ -63,8 +68,23 @@ class Belief final : public BeliefState {
   std::size_t pairs_ = 0;
   std::uint64_t max_ = 0;
   std::vector<std::uint64_t> touched_, best_offset_, best_key_;
-  BinTable<std::uint8_t> band_;
+  BinTable<std::uint64_t> band_;  // each band bin's offset as of its last fold (current while it is in the band)
   std::size_t band_pruned_size_ = 0;
+  // best_bins' last answer: the best `asked` bins (or all, if fewer), until the belief changes. A moved belief
+  // starts without one (it is only a cache).
+  struct KeptBest {
+    std::mutex mutex;
+    std::vector<BinOffset> bins;
+    std::size_t asked = 0;
+    KeptBest() = default;
+    KeptBest(KeptBest&&) noexcept {}
+    KeptBest& operator=(KeptBest&&) noexcept {
+      bins.clear();
+      asked = 0;
+      return *this;
+    }
+  };
+  mutable KeptBest best_;
 };
 
 }  // namespace sva

@@ -18,6 +18,7 @@ class BinTable {
   explicit BinTable(std::size_t expected = 1024) { init(expected); }
 
   void add(std::uint64_t key, Value v) { slot(key) += v; }
+  void set(std::uint64_t key, Value v) { slot(key) = v; }
   // Adds v and returns the key's new value; *inserted tells whether the key was new.
   Value add_get(std::uint64_t key, Value v, bool* inserted) {
     const std::size_t before = size_;

@@ -94,7 +94,8 @@ class CpuVoteBackend final : public VoteBackend {
         [&](std::size_t i) {
           BinAccumulator& acc = pair_accumulator();
           vote_pair(batch, batch.pairs[i], acc, &out[i]);
-          const std::vector<BinOffset> terms = target[i]->terms(acc);
+          thread_local std::vector<BinOffset> terms;  // reused: see Belief::terms
+          target[i]->terms(acc, &terms);
           std::lock_guard lock(locks[batch.pairs[i].session]);
           out[i].folded = target[i]->add(terms, batch.pairs[i].fold_count);
         },

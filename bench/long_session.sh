@@ -8,7 +8,8 @@
 # Env: SVA (binary), MAP and DATA (default paper3d: /work/p3d/map2.svam, /work/p3d/test.svad; a tiny scene's map
 # and test set make it quick), READINGS (default 1000), BUDGET (--belief-budget, default the library's 4194304
 # bins; 0 = unbounded), BACKEND (default cpu), THREADS (default 2), SEED (default 1), CHECKPOINTS (default
-# "10 100 300"), OUT (default /tmp/sva-bench/long_session).
+# "10 100 300"), MAX_PAIRS (--max-pairs: pairs per update, both orders counted; default 0, the exact filter; 58 pairs
+# the new reading with the 29 most recent ones), OUT (default /tmp/sva-bench/long_session).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/find_sva.sh"
 
@@ -20,12 +21,13 @@ BACKEND="${BACKEND:-cpu}"
 THREADS="${THREADS:-2}"
 SEED="${SEED:-1}"
 CHECKPOINTS="${CHECKPOINTS:-10 100 300}"
+MAX_PAIRS="${MAX_PAIRS:-0}"
 OUT="${OUT:-/tmp/sva-bench/long_session}"
 mkdir -p "$OUT"
-echo "== long session: sva=$SVA map=$MAP data=$DATA readings=$READINGS budget=$BUDGET backend=$BACKEND threads=$THREADS seed=$SEED"
+echo "== long session: sva=$SVA map=$MAP data=$DATA readings=$READINGS budget=$BUDGET max_pairs=$MAX_PAIRS backend=$BACKEND threads=$THREADS seed=$SEED"
 
 "$SVA" --quiet eval --map "$MAP" --data "$DATA" --trials 1 --max-readings "$READINGS" --seed "$SEED" \
-  --belief-budget "$BUDGET" --backend "$BACKEND" --threads "$THREADS" --json "$OUT/eval.json" > "$OUT/eval.txt" &
+  --belief-budget "$BUDGET" --max-pairs "$MAX_PAIRS" --backend "$BACKEND" --threads "$THREADS" --json "$OUT/eval.json" > "$OUT/eval.txt" &
 pid=$!
 start=$(date +%s.%N)
 : > "$OUT/rss.tsv"
@@ -38,8 +40,9 @@ done
 wait "$pid"
 wall=$(awk -v a="$(date +%s.%N)" -v b="$start" 'BEGIN { printf "%.1f", a - b }')
 
-python3 - "$OUT/eval.json" "$OUT/rss.tsv" "$READINGS" "$CHECKPOINTS" "$wall" << 'PY'
+python3 - "$OUT/eval.json" "$OUT/rss.tsv" "$READINGS" "$CHECKPOINTS" "$wall" "$MAX_PAIRS" << 'PY'
 import json, sys
+max_pairs = int(sys.argv[6])
 curve = json.load(open(sys.argv[1]))["curve"]
 samples = [tuple(map(float, l.split())) for l in open(sys.argv[2]) if l.strip()]
 n = int(sys.argv[3])
@@ -59,7 +62,7 @@ print(f"{'readings':>8} {'ms/update':>10} {'pairs':>6} {'us/pair':>8} {'votes/up
 for m in marks:
     if m > len(curve): continue
     p = curve[m - 1]
-    pairs = 2 * (m - 1)
+    pairs = min(2 * (m - 1), max_pairs) if max_pairs > 0 else 2 * (m - 1)
     per_pair = p["update_ms"] * 1000.0 / pairs if pairs else float("nan")
     print(f"{m:>8} {p['update_ms']:>10.1f} {pairs:>6} {per_pair:>8.1f} {p['votes']:>13} {rss_at(elapsed[m - 1]):>8.0f}")
 peak = max((s[2] for s in samples), default=float("nan")) / 1024

@@ -126,6 +126,7 @@ bench::BenchPlan parse_plan(const Args& a) {
   plan.roofline_votes = static_cast<std::size_t>(a.integer("--roofline-votes", 1 << 22, 1024, 1 << 26));
   plan.device = a.get_or("--device", "");
   plan.refine_pose = a.on_off("--refine", true);
+  plan.max_pairs_per_update = static_cast<int>(a.integer("--max-pairs", 0, 0, 1 << 20));
   return plan;
 }
 
@@ -147,6 +148,9 @@ int cmd_bench(const std::vector<std::string>& argv) {
       .option("--batch", "N", "sessions per update in each backend's batched run (default 64; 0 = none)")
       .option("--seed", "S", "trial seed (default 1)")
       .option("--refine", "on|off", "fine pose after every update, timed in estimate_ms (default on)")
+      .option("--max-pairs", "N",
+              "bounded cost per update: pairs per update, both orders counted (58: the new reading with the 29 most "
+              "recent ones; default 0, every earlier reading: the exact filter; docs/recognition.md)")
       .option("--device", "NAME|INDEX", "Vulkan device (default: prefer a discrete GPU; env SVA_VK_DEVICE)")
       .option("--roofline-votes", "N", "votes in the bare-scatter measurement (default 4194304)");
   if (!a.parse()) return 0;

@@ -58,9 +58,9 @@ int cmd_simulate(const std::vector<std::string>& argv) {
          "Simulate tactile readings of a scene's objects (Embree ray casting, compliant skin, contact controller)\n"
          "and write DIR/train.svad and DIR/test.svad. Same seed, same bytes, whatever --threads.",
          argv);
-  a.option("--scene", "NAME|FILE",
-           "a built-in scene (paper3d, letters2d, tiny, paper3d-ideal, letters2d-ideal, household10|25|50) or a scene "
-           "JSON file")
+  std::string builtin;  // from the list itself, so that the help never leaves a scene out
+  for (const std::string& name : builtin_scene_names()) builtin += (builtin.empty() ? "" : ", ") + name;
+  a.option("--scene", "NAME|FILE", "a built-in scene (" + builtin + ") or a scene JSON file")
       .option("--mesh", "FILE", "a glTF mesh (.gltf/.glb): an ad-hoc scene with the paper3d defaults", true)
       .option("--out", "DIR", "output directory (created if needed)")
       .option("--train", "N", "training readings per object (default: the scene's protocol)")

@@ -183,7 +183,8 @@ TEST_CASE("sva eval refuses bad options with the value named") {
   for (const Case& c :
        {Case{"--trials 0", "--trials 0"}, Case{"--max-readings 0", "--max-readings 0"},
         Case{"--trials -3", "--trials -3"}, Case{"--max-readings x", "--max-readings"}, Case{"--backend cuda", "cuda"},
-        Case{"--method geometry", "geometry"}, Case{"--json /nonexistent-dir/a.json", "/nonexistent-dir"}}) {
+        Case{"--method geometry", "geometry"}, Case{"--json /nonexistent-dir/a.json", "/nonexistent-dir"},
+        Case{"--max-pairs -2", "--max-pairs"}}) {
     INFO(c.args);
     CHECK(sva::test::run_sva(f.base() + c.args, &out) != 0);
     CHECK(out.find(c.expect) != std::string::npos);
@@ -333,7 +334,18 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
 
   REQUIRE(sva::test::run_sva(bench + "--backend cpu --batch 0 --json " + f.path("single.json"), &out) == 0);
   CHECK(nlohmann::json::parse(read_file(f.path("single.json")))["runs"].size() == 1);
-  for (const std::string bad : {"--batch -1", "--batch x", "--backend gpu", "--readings 0"}) {
+  // --max-pairs bounds the pairs per update: the new reading with the most recent one only (2 pairs, both orders)
+  // casts fewer votes at 6 readings than with all 5 earlier ones, and the report says which ran.
+  const std::string six = base + "--readings 2,6 --backend cpu --batch 0 ";
+  REQUIRE(sva::test::run_sva(six + "--json " + f.path("exact.json"), &out) == 0);
+  REQUIRE(sva::test::run_sva(six + "--max-pairs 2 --json " + f.path("bounded.json"), &out) == 0);
+  const auto exact = nlohmann::json::parse(read_file(f.path("exact.json")))["runs"][0];
+  const auto bounded = nlohmann::json::parse(read_file(f.path("bounded.json")))["runs"][0];
+  CHECK(exact["max_pairs_per_update"] == 0);
+  CHECK(bounded["max_pairs_per_update"] == 2);
+  CHECK(bounded["curve"][0]["votes_per_update"] == exact["curve"][0]["votes_per_update"]);  // 2 readings: 1 pair
+  CHECK(bounded["curve"][1]["votes_per_update"].get<double>() < exact["curve"][1]["votes_per_update"].get<double>());
+  for (const std::string bad : {"--batch -1", "--batch x", "--backend gpu", "--readings 0", "--max-pairs -1"}) {
     INFO(bad);
     CHECK(sva::test::run_sva(base + bad, &out) != 0);
     CHECK(out.find(bad.substr(bad.find(' ') + 1)) != std::string::npos);

@@ -157,6 +157,7 @@ json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, Me
   ro.backend = spec.backend;
   ro.vulkan_device = spec.vulkan_device;
   ro.refine_pose = spec.refine_pose;
+  ro.max_pairs_per_update = spec.max_pairs_per_update;
   meter.start();
   util::Progress progress(spec.label, spec.trials * max_readings);
   BatchRecognizer rec(map, map.pose_space(), std::min(spec.sessions, spec.trials), ro);
@@ -178,7 +179,8 @@ json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, Me
   json j = {{"backend", eval::backend_name(spec.backend)},
             {"device", rec.backend_description()},
             {"sessions_per_submission", spec.sessions},
-            {"trials", spec.trials}};
+            {"trials", spec.trials},
+            {"max_pairs_per_update", spec.max_pairs_per_update}};
   j.update(recorder.figures());
   j["memory"] = memory_json(memory, rec);
   return j;
@@ -210,6 +212,7 @@ nlohmann::json run_all(const Map& map, const Dataset& test, const BenchPlan& pla
     spec.seed = plan.seed;
     spec.vulkan_device = plan.device;
     spec.refine_pose = plan.refine_pose;
+    spec.max_pairs_per_update = plan.max_pairs_per_update;
     spec.label = eval::backend_name(backend);
     runs.push_back(run_speed(map, test, spec, meter));
     if (plan.batch <= 1) continue;

@@ -27,6 +27,7 @@ struct SpeedRunSpec {
   std::string label;          // progress text
   std::string vulkan_device;  // "" = the default choice
   bool refine_pose = true;    // RecognizerOptions::refine_pose (its cost shows in estimate_ms)
+  int max_pairs_per_update = 0;  // RecognizerOptions::max_pairs_per_update (0: the exact filter)
 };
 
 // One run, as the JSON report gives it (docs/evaluation.md, "sva bench").
@@ -45,6 +46,7 @@ struct BenchPlan {
   std::uint64_t seed = 1;
   std::string device;
   bool refine_pose = true;
+  int max_pairs_per_update = 0;
 };
 
 // The whole report of `sva bench` (docs/evaluation.md, "sva bench"): the scene, the map's size and the threads;

@@ -24,9 +24,9 @@ struct SpeedRunSpec {
   std::size_t sessions = 1;              // per update; 1 measures the single-session latency
   std::vector<std::size_t> checkpoints;  // reading counts to report, increasing
   std::uint64_t seed = 1;
-  std::string label;          // progress text
-  std::string vulkan_device;  // "" = the default choice
-  bool refine_pose = true;    // RecognizerOptions::refine_pose (its cost shows in estimate_ms)
+  std::string label;             // progress text
+  std::string vulkan_device;     // "" = the default choice
+  bool refine_pose = true;       // RecognizerOptions::refine_pose (its cost shows in estimate_ms)
   int max_pairs_per_update = 0;  // RecognizerOptions::max_pairs_per_update (0: the exact filter)
 };
 

@@ -57,8 +57,7 @@ SVA_FN SvaBetaPlan sva_beta_plan(SvaAlignment al, SvaPoseGrid grid) {
 // bit the votes of the forward pair: Eq 5's two orders are folded from one
 // vote (BayesFilter::queue_pairs).
 SVA_FN float sva_beta_offset(SvaBetaPlan p, int i) {
-  if (p.circle != 0) return p.unit * float(2 * i + 1 - p.n);
-  return p.unit * float(i - (p.n - 1) / 2);
+  return p.unit * float(p.circle != 0 ? 2 * i + 1 - p.n : i - (p.n - 1) / 2);
 }
 
 // Unnormalised Gaussian weight of sample i.

@@ -145,32 +145,34 @@ SVA_FN float sva_atan_series(float u) {
   return s;
 }
 
-// exp(x) for x <= 0 (Gaussian weights); x below -80 gives 0. Range reduction
-// x = k ln2 + r, |r| <= ln2/2, Taylor to degree 8 (error < 1e-8 relative),
-// then an exact scaling by 2^-k.
+// The branching functions below are written as selects (every side computed, one kept): the same operations and
+// roundings as branches, and the CPU evaluates them across SIMD lanes (host/src/backends/cpu/sample_votes.cpp).
+
+// exp(x) for x <= 0 (Gaussian weights); x below -80 gives 0, x > 0 counts as 0.
+// Range reduction x = k ln2 + r, |r| <= ln2/2, Taylor to degree 8 (error < 1e-8
+// relative), then an exact scaling by 2^-k.
 SVA_FN float sva_exp_neg(float x) {
-  if (!(x > -80.0f)) return 0.0f;
-  if (x > 0.0f) x = 0.0f;
-  SVA_PRECISE float kf = floor(x * SVA_INV_LN2 + 0.5f);
-  SVA_PRECISE float r = x - kf * SVA_LN2;
+  bool below = !(x > -80.0f);
+  SVA_PRECISE float xc = x > 0.0f ? 0.0f : x;
+  xc = below ? 0.0f : xc;
+  SVA_PRECISE float kf = floor(xc * SVA_INV_LN2 + 0.5f);
+  SVA_PRECISE float r = xc - kf * SVA_LN2;
   SVA_PRECISE float e = sva_exp_series(r);
   // e 2^-k: e lies in [0.7, 1.5] and k <= 116, so the product is a normal float
   // and exact, the same as k exact halvings, without their loop.
   int k = int(-kf);
   SVA_PRECISE float scale = uintBitsToFloat(uint(127 - k) << 23);
-  return e * scale;
+  SVA_PRECISE float v = e * scale;
+  return below ? 0.0f : v;
 }
 
 // atan(t) for 0 <= t <= 1: above tan(pi/8) use atan(t) = pi/4 + atan((t-1)/(t+1)),
 // so the alternating Taylor series runs on |u| <= 0.4143; terms to u^15 leave
 // an error below 1e-7.
 SVA_FN float sva_atan01(float t) {
-  SVA_PRECISE float base = 0.0f;
-  SVA_PRECISE float u = t;
-  if (t > 0.41421356f) {
-    base = SVA_QUARTER_PI;
-    u = sva_div(t - 1.0f, t + 1.0f);
-  }
+  bool reduce = t > 0.41421356f;
+  SVA_PRECISE float base = reduce ? SVA_QUARTER_PI : 0.0f;
+  SVA_PRECISE float u = reduce ? sva_div(t - 1.0f, t + 1.0f) : t;
   return base + sva_atan_series(u);
 }
 
@@ -179,13 +181,13 @@ SVA_FN float sva_atan2(float y, float x) {
   SVA_PRECISE float ax = abs(x);
   SVA_PRECISE float ay = abs(y);
   SVA_PRECISE float hi = max(ax, ay);
-  if (!(hi > 0.0f)) return 0.0f;
+  bool none = !(hi > 0.0f);
   SVA_PRECISE float lo = min(ax, ay);
-  SVA_PRECISE float a = sva_atan01(sva_div(lo, hi));
-  if (ay > ax) a = SVA_HALF_PI - a;
-  if (x < 0.0f) a = SVA_PI - a;
-  if (y < 0.0f) a = -a;
-  return a;
+  SVA_PRECISE float a = sva_atan01(sva_div(lo, none ? 1.0f : hi));
+  a = ay > ax ? SVA_HALF_PI - a : a;
+  a = x < 0.0f ? SVA_PI - a : a;
+  a = y < 0.0f ? -a : a;
+  return none ? 0.0f : a;
 }
 
 // vec2(sin x, cos x). |x| is reduced to [-pi, pi), halved (|h| <= pi/2, where
@@ -202,7 +204,7 @@ SVA_FN vec2 sva_sincos(float x) {
   SVA_PRECISE float ch = 1.0f + h2 * (-0.5f + h2 * (1.0f / 24.0f + h2 * (-1.0f / 720.0f + h2 * (1.0f / 40320.0f + h2 * (-1.0f / 3628800.0f + h2 * (1.0f / 479001600.0f + h2 * (-1.0f / 87178291200.0f)))))));
   SVA_PRECISE float s = 2.0f * sh * ch;
   SVA_PRECISE float c = 1.0f - 2.0f * sh * sh;
-  if (x < 0.0f) s = -s;
+  s = x < 0.0f ? -s : s;
   return vec2(s, c);
 }
 

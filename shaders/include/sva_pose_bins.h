@@ -57,15 +57,24 @@ SVA_FN SvaPoseGrid sva_pose_grid(int kind, int translation_bins, float translati
 // Translation bin of one coordinate, or -1 outside the grid (NaN too).
 SVA_FN int sva_translation_bin(float t, SvaPoseGrid grid) {
   SVA_PRECISE float f = (t - grid.translation_min) * grid.translation_scale;
-  if (!(f >= 0.0f) || !(f < float(grid.translation_bins))) return -1;
-  return min(int(floor(f)), grid.translation_bins - 1);
+  bool inside = f >= 0.0f && f < float(grid.translation_bins);
+  int b = min(int(floor(inside ? f : 0.0f)), grid.translation_bins - 1);  // converts only a value inside the grid
+  return inside ? b : -1;
 }
 
-// Rotation bin of one Rodrigues coordinate (or the planar angle) in [-pi, pi].
+// Rotation bin of one Rodrigues coordinate (or the planar angle) in [-pi, pi]; 0 below it (NaN too).
 SVA_FN int sva_rotation_bin(float r, SvaPoseGrid grid) {
   SVA_PRECISE float f = (r + SVA_PI) * grid.rotation_scale;
-  if (!(f >= 0.0f)) return 0;  // also NaN; callers never pass NaN
-  return min(int(floor(f)), grid.rotation_bins - 1);
+  return min(int(floor(f >= 0.0f ? f : 0.0f)), grid.rotation_bins - 1);
+}
+
+// The planar pose space's rotation of a sample: the angle of q about z, and whether q tilts the z axis too far
+// to be a planar pose at all (SVA_PLANAR_MAX_TILT_SIN2).
+SVA_FN bool sva_planar_tilted(vec4 q) { return q.x * q.x + q.y * q.y > SVA_PLANAR_MAX_TILT_SIN2; }
+SVA_FN int sva_planar_rotation_bin(vec4 q, SvaPoseGrid grid) {
+  SVA_PRECISE float w = abs(q.w);
+  SVA_PRECISE float sz = q.w < 0.0f ? -q.z : q.z;
+  return sva_rotation_bin(2.0f * sva_atan2(sz, w), grid);
 }
 
 SVA_FN uint64_t sva_pack_bin_key(uint object, int tx, int ty, int tz, int rx, int ry, int rz) {

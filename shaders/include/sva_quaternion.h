@@ -16,10 +16,9 @@
 SVA_FN vec3 sva_lead_positive(vec3 v) {
   SVA_PRECISE vec3 a = abs(v);
   float lead = v.x;
-  if (a.y > a.x && a.y >= a.z) lead = v.y;
-  if (a.z > a.x && a.z > a.y) lead = v.z;
-  if (lead < 0.0f) return -v;
-  return v;
+  lead = a.y > a.x && a.y >= a.z ? v.y : lead;
+  lead = a.z > a.x && a.z > a.y ? v.z : lead;
+  return lead < 0.0f ? -v : v;
 }
 
 SVA_FN vec4 sva_quat_mul(vec4 a, vec4 b) {
@@ -70,17 +69,15 @@ SVA_FN vec4 sva_quat_between(vec3 from, vec3 to) {
 // the same rotation: take w >= 0. At an angle of pi (w ~ 0), r and -r are the
 // same rotation too: make the largest-magnitude component positive.
 SVA_FN vec3 sva_quat_to_rodrigues(vec4 q) {
-  SVA_PRECISE vec3 v = vec3(q.x, q.y, q.z);
-  SVA_PRECISE float w = q.w;
-  if (w < 0.0f) {
-    v = -v;
-    w = -w;
-  }
-  if (w < SVA_NEAR_PI_W) v = sva_lead_positive(v);
+  bool flip = q.w < 0.0f;
+  SVA_PRECISE vec3 v = flip ? -vec3(q.x, q.y, q.z) : vec3(q.x, q.y, q.z);
+  SVA_PRECISE float w = flip ? -q.w : q.w;
+  v = w < SVA_NEAR_PI_W ? sva_lead_positive(v) : v;
   SVA_PRECISE float s = sva_length(v);
-  if (!(s > 0.0f)) return vec3(0.0f, 0.0f, 0.0f);
+  bool zero = !(s > 0.0f);
   SVA_PRECISE float angle = 2.0f * sva_atan2(s, w);
-  return v * sva_div(angle, s);
+  SVA_PRECISE vec3 r = v * sva_div(angle, zero ? 1.0f : s);
+  return zero ? vec3(0.0f, 0.0f, 0.0f) : r;
 }
 
 #endif

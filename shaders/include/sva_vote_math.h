@@ -58,10 +58,8 @@ SVA_FN SvaVote sva_vote(SvaAlignment al, SvaBetaPlan plan, SvaPoseGrid grid, uin
   int ry = 0;
   int rz = 0;
   if (grid.kind == SVA_POSE_PLANAR) {
-    SVA_PRECISE float w = abs(q.w);
-    SVA_PRECISE float sz = q.w < 0.0f ? -q.z : q.z;
-    if (q.x * q.x + q.y * q.y > SVA_PLANAR_MAX_TILT_SIN2) return vote;
-    rz = sva_rotation_bin(2.0f * sva_atan2(sz, w), grid);
+    if (sva_planar_tilted(q)) return vote;
+    rz = sva_planar_rotation_bin(q, grid);
   } else {
     SVA_PRECISE vec3 r = sva_quat_to_rodrigues(q);
     rx = sva_rotation_bin(r.x, grid);

@@ -1,12 +1,11 @@
 #pragma once
 // The beta samples of one match, evaluated several at a time (the CPU reference's vote math at the machine's
-// width). sva_vote_math.h is the one text of the vote; it is written for one sample at a time, with branches, as a
-// GPU thread runs it. Here the same operations, in the same order and with the same roundings, run over the
-// match's samples in structure-of-arrays loops without branches (every side of a branch is computed, then one is
-// selected), which the compiler turns into SIMD lanes: 8 in the x86-64-v3 clone (AVX2), 4 in the baseline one.
-// Nothing is reassociated or fused (-ffp-contract=off), division and square root are the IEEE ones, so every
-// sample's pose bin and fixed-point mass are sva_vote's bit for bit (tests/backends/cpu/test_sample_votes.cpp
-// compares them on simulated data and on the hard cases).
+// width). sva_vote_math.h is the one text of the vote, a function per sample as a GPU thread runs it; its functions
+// are written as selects, not branches, so here the same functions run over the match's samples in
+// structure-of-arrays loops that the compiler turns into SIMD lanes (8 in the x86-64-v3 clone, AVX2). Nothing is
+// reassociated or fused (-ffp-contract=off), division and square root are the IEEE ones, so every sample's pose bin
+// and fixed-point mass are sva_vote's bit for bit (tests/backends/cpu/test_sample_votes.cpp compares them on
+// simulated data and on the hard cases).
 #include <cstdint>
 
 #include "votes/vote_math.hpp"

@@ -62,6 +62,29 @@ void print_table(const json& runs) {
     }
 }
 
+// The work per update where the backend counts it (the CPU reference), and the bytes it implies.
+void print_work(const json& runs) {
+  bool header = false;
+  for (const auto& r : runs)
+    for (const auto& p : r["curve"]) {
+      const json& w = p["work_per_update"];
+      if (w.is_null()) continue;
+      if (!header)
+        std::printf(
+            "\nwork per update (docs/recognition.md, \"Work counted\"):\n%-14s %-9s %7s %12s %10s %11s %13s %10s "
+            "%13s %9s %11s %9s\n",
+            "run", "readings", "pairs", "map entries", "matches", "votes", "table probes", "bins", "belief probes",
+            "map MB", "tables MB", "fold MB");
+      header = true;
+      const json& b = w["bytes"];
+      std::printf("%-14s %-9zu %7.0f %12.0f %10.0f %11.0f %13.0f %10.0f %13.0f %9.2f %11.2f %9.2f\n",
+                  run_name(r).c_str(), p["readings"].get<std::size_t>(), w["pairs"].get<double>(),
+                  w["map_entries"].get<double>(), w["matches"].get<double>(), w["votes"].get<double>(),
+                  w["vote_table_probes"].get<double>(), w["bins"].get<double>(), w["belief_probes"].get<double>(),
+                  b["map"].get<double>() / 1e6, b["vote_tables"].get<double>() / 1e6, b["fold"].get<double>() / 1e6);
+    }
+}
+
 std::string mib(const json& bytes, const char* format = "%.1f MiB") {
   if (bytes.is_null()) return "n/a";
   char buf[32];
@@ -165,6 +188,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
   out["data"] = data_file;
 
   print_table(out["runs"]);
+  print_work(out["runs"]);
   print_run_summaries(out["runs"]);
   print_roofline(out);
   std::printf("peak RSS of the process: %s\n", mib(out["peak_rss_bytes"]).c_str());

@@ -345,6 +345,21 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
   CHECK(bounded["max_pairs_per_update"] == 2);
   CHECK(bounded["curve"][0]["votes_per_update"] == exact["curve"][0]["votes_per_update"]);  // 2 readings: 1 pair
   CHECK(bounded["curve"][1]["votes_per_update"].get<double>() < exact["curve"][1]["votes_per_update"].get<double>());
+  // The CPU reference counts its work: every bin was probed for at least once in the pair's table and in the
+  // belief, every match came from a map entry, and the votes are the curve's.
+  for (const auto& point : exact["curve"]) {
+    const auto& w = point["work_per_update"];
+    REQUIRE(w.is_object());
+    CHECK(w["votes"].get<double>() == point["votes_per_update"].get<double>());
+    CHECK(w["pairs"].get<double>() >= 1.0);
+    CHECK(w["map_entries"].get<double>() >= w["matches"].get<double>());
+    CHECK(w["bins"].get<double>() > 0.0);
+    CHECK(w["vote_table_probes"].get<double>() >= w["bins"].get<double>());
+    CHECK(w["belief_probes"].get<double>() >= w["bins"].get<double>());
+    CHECK(w["bytes"]["map"].get<double>() > 0.0);
+  }
+  CHECK(bounded["curve"][1]["work_per_update"]["pairs"].get<double>() ==
+        1.0);  // 2 pairs: one order voted, folded twice
   for (const std::string bad : {"--batch -1", "--batch x", "--backend gpu", "--readings 0", "--max-pairs -1"}) {
     INFO(bad);
     CHECK(sva::test::run_sva(base + bad, &out) != 0);

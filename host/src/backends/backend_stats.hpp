@@ -7,6 +7,8 @@
 #include <cstdint>
 #include <string>
 
+#include <sva/batch_recognizer.hpp>
+
 namespace sva {
 
 struct BackendStats {
@@ -24,7 +26,8 @@ struct BackendStats {
   // it (reports print "n/a" then, not "0 bytes").
   std::uint64_t device_bytes = 0;
   std::uint64_t map_device_bytes = 0;
-  unsigned band_rebuilds = 0;  // GPU band lists rebuilt from whole belief tables (after a growth or a full list)
+  unsigned band_rebuilds = 0;       // GPU band lists rebuilt from whole belief tables (after a growth or a full list)
+  BatchRecognizer::Work last_work;  // what the last vote or vote_and_fold did (the backend's counts; 0 elsewhere)
 };
 
 }  // namespace sva

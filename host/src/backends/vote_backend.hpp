@@ -49,6 +49,9 @@ struct PairStats {
   std::uint64_t votes_outside = 0;  // beta samples outside it (or not planar)
   std::uint64_t votes_zero = 0;     // samples inside whose mass rounds to 0 units (counted, never silently lost)
   bool folded = false;              // vote_and_fold: the pair had vote mass and was folded
+  // The work, where the backend counts it (0 where not): map entries under the pair's keys, slots probed in the
+  // pair's vote table, bins of the pair (its fold terms) and slots probed in the session's belief to add them.
+  std::uint64_t entries = 0, table_probes = 0, bins = 0, belief_probes = 0;
 };
 
 struct PairVotes : PairStats {

@@ -280,6 +280,11 @@ BatchRecognizer::Timing BatchRecognizer::last_backend_timing() const {
   return t;
 }
 
+BatchRecognizer::Work BatchRecognizer::last_update_work() const {
+  const std::lock_guard lock(impl_->mutex);
+  return impl_->backend ? impl_->backend->statistics().last_work : Work{};
+}
+
 BatchRecognizer::DeviceMemory BatchRecognizer::device_memory() const {
   const std::lock_guard lock(impl_->mutex);
   DeviceMemory m;

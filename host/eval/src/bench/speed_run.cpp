@@ -38,10 +38,32 @@ struct Checkpoint {
   std::vector<double> translation_mm;
   std::vector<double> kernel_ms, backend_host_ms, fold_ms;
   std::vector<double> estimate_ms;  // per session: object, refined pose and top-1 after the update
+  BatchRecognizer::Work work;       // summed over the checkpoint's updates (all sessions of each)
 };
 
 double ratio(double a, double b) { return b > 0 ? a / b : 0.0; }
 double ratio(std::uint64_t a, std::uint64_t b) { return ratio(static_cast<double>(a), static_cast<double>(b)); }
+
+// Bytes a unit of counted work moves (docs/recognition.md, "Work counted"): a map entry (reading a, reading b,
+// weight), an aligned match's two training contacts (position, normal, normConf), a hash slot (key and value).
+constexpr double kEntryBytes = 12.0, kMatchBytes = 2 * 28.0, kSlotBytes = 16.0;
+
+// The work per session-update at a checkpoint, and the bytes it implies; null where the backend counts nothing.
+json work_json(const BatchRecognizer::Work& w, std::size_t updates) {
+  if (w.entries == 0 && w.table_probes == 0) return nullptr;
+  const auto per = [&](std::uint64_t v) { return ratio(static_cast<double>(v), static_cast<double>(updates)); };
+  return {{"pairs", per(w.pairs)},
+          {"map_entries", per(w.entries)},
+          {"matches", per(w.matches)},
+          {"votes", per(w.votes)},
+          {"vote_table_probes", per(w.table_probes)},
+          {"bins", per(w.bins)},
+          {"belief_probes", per(w.belief_probes)},
+          {"bytes",
+           {{"map", per(w.entries) * kEntryBytes + per(w.matches) * kMatchBytes},
+            {"vote_tables", per(w.table_probes) * kSlotBytes},
+            {"fold", (per(w.bins) + per(w.belief_probes)) * kSlotBytes}}}};
+}
 
 json median_or_null(const std::vector<double>& v) {
   const auto m = eval::median(v);
@@ -61,6 +83,15 @@ void record_checkpoint(Checkpoint& c, const BatchRecognizer& rec, const std::vec
   c.kernel_ms.push_back(t.kernel_ms);
   c.backend_host_ms.push_back(t.host_ms);
   c.fold_ms.push_back(t.fold_ms);
+  const BatchRecognizer::Work w = rec.last_update_work();
+  for (auto [sum, v] : {std::pair{&c.work.pairs, w.pairs},
+                        {&c.work.entries, w.entries},
+                        {&c.work.matches, w.matches},
+                        {&c.work.votes, w.votes},
+                        {&c.work.table_probes, w.table_probes},
+                        {&c.work.bins, w.bins},
+                        {&c.work.belief_probes, w.belief_probes}})
+    *sum += v;
   for (std::size_t i = 0; i < est.size(); ++i) {
     ++c.trials;
     if (est[i].object != tr[i].object) continue;
@@ -82,7 +113,8 @@ json checkpoint_json(std::size_t readings, const Checkpoint& c) {
           {"gpu_fold_ms", median_or_null(c.fold_ms)},
           {"estimate_ms", median_or_null(c.estimate_ms)},
           {"accuracy", ratio(static_cast<double>(c.correct), static_cast<double>(c.trials))},
-          {"translation_error_mm", median_or_null(c.translation_mm)}};
+          {"translation_error_mm", median_or_null(c.translation_mm)},
+          {"work_per_update", work_json(c.work, c.session_updates)}};
 }
 
 // Host memory of the run and the device memory its backend holds. A device

@@ -43,6 +43,8 @@ class Belief final : public BeliefState {
   std::size_t forget_below(std::uint64_t below, std::span<const std::uint64_t> keep) override;
 
   std::uint64_t offset(std::uint64_t key) const { return offset_.get(key); }
+  // Slots of the offset table probed by additions since it was last made or emptied (the work `sva bench` counts).
+  std::uint64_t table_probes() const { return offset_.probes(); }
 
  private:
   // Offsets only grow, so the fold keeps the estimate's reductions up to date

@@ -17,12 +17,12 @@ class BinTable {
  public:
   explicit BinTable(std::size_t expected = 1024) { init(expected); }
 
-  void add(std::uint64_t key, Value v) { slot(key) += v; }
-  void set(std::uint64_t key, Value v) { slot(key) = v; }
+  void add(std::uint64_t key, Value v) { slot(key).value += v; }
+  void set(std::uint64_t key, Value v) { slot(key).value = v; }
   // Adds v and returns the key's new value; *inserted tells whether the key was new.
   Value add_get(std::uint64_t key, Value v, bool* inserted) {
     const std::size_t before = size_;
-    Value& x = slot(key);
+    Value& x = slot(key).value;
     x += v;
     *inserted = size_ != before;
     return x;
@@ -31,8 +31,8 @@ class BinTable {
   Value get(std::uint64_t key) const {
     std::size_t i = mix(key) & mask_;
     for (;;) {
-      if (keys_[i] == key) return values_[i];
-      if (keys_[i] == kEmpty) return Value{};
+      if (slots_[i].key == key) return slots_[i].value;
+      if (slots_[i].key == kEmpty) return Value{};
       i = (i + 1) & mask_;
     }
   }
@@ -40,78 +40,88 @@ class BinTable {
   void clear() { init(1024); }
   // Empties the table but keeps its slots (a belief's reset: the next session reuses the allocation).
   void clear_keeping_capacity() {
-    std::fill(keys_.begin(), keys_.end(), kEmpty);
-    std::fill(values_.begin(), values_.end(), Value{});
+    std::fill(slots_.begin(), slots_.end(), Slot{});
     size_ = 0;
+    probes_ = 0;
   }
-  std::size_t capacity() const { return keys_.size(); }
+  std::size_t capacity() const { return slots_.size(); }
+  // Slots read by additions since the last clear (the first one each, and every step of a collision): the work
+  // `sva bench` counts.
+  std::uint64_t probes() const { return probes_; }
   // Slot arrays allocated by this table: at construction, clear() and every growth.
   std::size_t allocations() const { return allocations_; }
   // Visits every touched key in slot order (for order-independent reductions).
   template <class Fn>
   void for_each(Fn&& fn) const {
-    for (std::size_t i = 0; i < keys_.size(); ++i)
-      if (keys_[i] != kEmpty) fn(keys_[i], values_[i]);
+    for (const Slot& s : slots_)
+      if (s.key != kEmpty) fn(s.key, s.value);
   }
   // Touched keys in increasing order with their values.
   void sorted(std::vector<std::uint64_t>* keys, std::vector<Value>* values) const {
-    std::vector<std::uint64_t> k;
-    k.reserve(size_);
-    for (std::uint64_t key : keys_)
-      if (key != kEmpty) k.push_back(key);
-    std::sort(k.begin(), k.end());
-    values->resize(k.size());
-    for (std::size_t j = 0; j < k.size(); ++j) (*values)[j] = get(k[j]);
-    *keys = std::move(k);
+    std::vector<Slot> touched;
+    touched.reserve(size_);
+    for (const Slot& s : slots_)
+      if (s.key != kEmpty) touched.push_back(s);
+    std::sort(touched.begin(), touched.end(), [](const Slot& a, const Slot& b) { return a.key < b.key; });
+    keys->resize(touched.size());
+    values->resize(touched.size());
+    for (std::size_t j = 0; j < touched.size(); ++j) {
+      (*keys)[j] = touched[j].key;
+      (*values)[j] = touched[j].value;
+    }
   }
 
  private:
   static constexpr std::uint64_t kEmpty = hash::kEmptyKey;
+  // A key beside its value: a probe that finds its key has the value in the same cache line (the tables of a
+  // pair's votes and of a belief outgrow the caches, and each lookup is a miss; two arrays made it two).
+  struct Slot {
+    std::uint64_t key = kEmpty;
+    Value value{};
+  };
   // The GPU tables' hash: one mixing function for every pose-bin table.
   static std::uint64_t mix(std::uint64_t x) { return hash::sva_hash64(x); }
   void init(std::size_t expected) {
     std::size_t cap = 16;
     while (cap < 2 * expected) cap *= 2;
-    keys_.assign(cap, kEmpty);
-    values_.assign(cap, Value{});
+    slots_.assign(cap, Slot{});
     mask_ = cap - 1;
     size_ = 0;
+    probes_ = 0;
     ++allocations_;
   }
-  Value& slot(std::uint64_t key) {
+  Slot& slot(std::uint64_t key) {
     assert(key != kEmpty);
-    if ((size_ + 1) * 2 > keys_.size()) grow();
+    if ((size_ + 1) * 2 > slots_.size()) grow();
     std::size_t i = mix(key) & mask_;
     for (;;) {
-      if (keys_[i] == key) return values_[i];
-      if (keys_[i] == kEmpty) {
-        keys_[i] = key;
+      ++probes_;
+      if (slots_[i].key == key) return slots_[i];
+      if (slots_[i].key == kEmpty) {
+        slots_[i].key = key;
         ++size_;
-        return values_[i];
+        return slots_[i];
       }
       i = (i + 1) & mask_;
     }
   }
   void grow() {
-    std::vector<std::uint64_t> old_keys(keys_.size() * 2, kEmpty);
-    std::vector<Value> old_values(keys_.size() * 2, Value{});
-    old_keys.swap(keys_);
-    old_values.swap(values_);
-    mask_ = keys_.size() - 1;
+    std::vector<Slot> old(slots_.size() * 2);
+    old.swap(slots_);
+    mask_ = slots_.size() - 1;
     ++allocations_;
-    for (std::size_t j = 0; j < old_keys.size(); ++j) {
-      if (old_keys[j] == kEmpty) continue;
-      std::size_t i = mix(old_keys[j]) & mask_;
-      while (keys_[i] != kEmpty) i = (i + 1) & mask_;
-      keys_[i] = old_keys[j];
-      values_[i] = old_values[j];
+    for (const Slot& s : old) {
+      if (s.key == kEmpty) continue;
+      std::size_t i = mix(s.key) & mask_;
+      while (slots_[i].key != kEmpty) i = (i + 1) & mask_;
+      slots_[i] = s;
     }
   }
-  std::vector<std::uint64_t> keys_;
-  std::vector<Value> values_;
+  std::vector<Slot> slots_;
   std::size_t size_ = 0;
   std::size_t mask_ = 0;
   std::size_t allocations_ = 0;
+  std::uint64_t probes_ = 0;
 };
 
 // Fixed-point vote mass per bin.

@@ -62,10 +62,13 @@ class CpuVoteBackend final : public VoteBackend {
         [&](std::size_t i) {
           BinAccumulator& acc = pair_accumulator();
           vote_pair(batch, batch.pairs[i], acc, &out[i]);
+          out[i].table_probes = acc.probes();
+          out[i].bins = acc.size();
           acc.sorted(&out[i].keys, &out[i].mass);
         },
         settings_.threads);
     last_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    last_work_ = work_of(out);
     return out;
   }
 
@@ -94,13 +97,18 @@ class CpuVoteBackend final : public VoteBackend {
         [&](std::size_t i) {
           BinAccumulator& acc = pair_accumulator();
           vote_pair(batch, batch.pairs[i], acc, &out[i]);
+          out[i].table_probes = acc.probes();
           thread_local std::vector<BinOffset> terms;  // reused: see Belief::terms
           target[i]->terms(acc, &terms);
+          out[i].bins = terms.size();
           std::lock_guard lock(locks[batch.pairs[i].session]);
+          const std::uint64_t probes = target[i]->table_probes();
           out[i].folded = target[i]->add(terms, batch.pairs[i].fold_count);
+          out[i].belief_probes = target[i]->table_probes() - probes;
         },
         settings_.threads);
     last_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+    last_work_ = work_of(out);
     return out;
   }
 
@@ -110,10 +118,27 @@ class CpuVoteBackend final : public VoteBackend {
     const unsigned threads = settings_.threads ? settings_.threads : util::default_threads();
     s.device = "CPU reference (" + std::to_string(threads) + " threads)";
     s.last_host_ms = last_ms_;
+    s.last_work = last_work_;
     return s;
   }
 
  private:
+  // The update's work: its pairs' counts, summed.
+  template <class Stats>
+  static BatchRecognizer::Work work_of(const std::vector<Stats>& pairs) {
+    BatchRecognizer::Work w;
+    w.pairs = pairs.size();
+    for (const PairStats& p : pairs) {
+      w.entries += p.entries;
+      w.matches += p.matches;
+      w.votes += p.votes;
+      w.table_probes += p.table_probes;
+      w.bins += p.bins;
+      w.belief_probes += p.belief_probes;
+    }
+    return w;
+  }
+
   // The worker thread's accumulator for one pair's votes, emptied: a pair at 100 paper3d readings touches tens of
   // thousands of bins, and a fresh table per pair cost its growth, a large allocation (the system's pages, zeroed)
   // and its release every time. One that grew past 2^20 slots (16 MiB) starts small again.
@@ -144,7 +169,9 @@ class CpuVoteBackend final : public VoteBackend {
     const std::uint8_t* active =
         batch.object_active.empty() ? nullptr : batch.object_active.data() + std::size_t{q.session} * objects_;
     std::uint32_t seen = 0;
-    cpu::for_each_match(map_, key_ranges(batch, q),
+    const std::vector<KeyRange> ranges = key_ranges(batch, q);
+    for (const KeyRange& r : ranges) out->entries += r.end - r.begin;
+    cpu::for_each_match(map_, ranges,
                         [&](std::uint32_t entry, std::uint32_t ra, std::uint32_t rb, std::uint64_t units) {
                           if ((++seen & 1023u) == 0) util::throw_if_interrupted();
                           const std::uint32_t object = map_.readings.object[map_.entry_a[entry]];
@@ -194,7 +221,8 @@ class CpuVoteBackend final : public VoteBackend {
   std::uint32_t objects_;
   VoteSettings settings_;
   std::vector<SvaPatch> patches_;
-  double last_ms_ = 0.0;  // host time of the last vote or vote_and_fold
+  double last_ms_ = 0.0;             // host time of the last vote or vote_and_fold
+  BatchRecognizer::Work last_work_;  // and what it did
 };
 
 }  // namespace

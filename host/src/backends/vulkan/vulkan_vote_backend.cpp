@@ -93,6 +93,7 @@ class VulkanVoteBackend final : public VoteBackend {
       c.finish = [&](std::size_t first, std::size_t last) { read_back(first, last, out); };
       vote_pairs(batch, 0, batch.pairs.size(), c);
     });
+    note_work(out);
     return out;
   }
 
@@ -120,6 +121,7 @@ class VulkanVoteBackend final : public VoteBackend {
       vote_pairs(batch, 0, batch.pairs.size(), c);
       for (GpuBelief* g : gb) g->keep_half_empty();
     });
+    note_work(out);
     return out;
   }
 
@@ -132,10 +134,24 @@ class VulkanVoteBackend final : public VoteBackend {
     s.device_bytes = ctx_.device().device_bytes();
     s.map_device_bytes = engine_->map_bytes;
     s.band_rebuilds = beliefs_.band_rebuilds;
+    s.last_work = last_work_;
     return s;
   }
 
  private:
+  // The last update's work as far as the device reports it: pairs, matches and votes (entries, probes and bins
+  // are not counted on the device: 0).
+  template <class Stats>
+  void note_work(const std::vector<Stats>& pairs) {
+    last_work_ = {};
+    last_work_.pairs = pairs.size();
+    for (const PairStats& p : pairs) {
+      last_work_.matches += p.matches;
+      last_work_.votes += p.votes;
+    }
+  }
+  BatchRecognizer::Work last_work_;
+
   // Per map chunk: the scan of a batch's matches and its indirect dispatch.
   struct ChunkWork {
     vk::Buffer offsets, scan;

@@ -50,7 +50,10 @@ void check(const std::string& what) {
 // The device configuration: SVA_EMBREE_ISA forces Embree's kernels (sse2, sse4.2, avx, avx2, avx512), so that one
 // machine can show that the simulation does not depend on them (tests/determinism).
 std::string device_config() {
-  std::string config = "threads=1,set_affinity=0";  // builds are small; our own threads do the ray work
+  // No "threads=N": with TBB tasking, Embree turns a thread count into a process-wide TBB limit
+  // (global_control), which capped every parallel loop of the process, the simulator's included, at that many
+  // threads. Builds may use the pool; hits do not depend on the BVH (the filter collects every candidate).
+  std::string config = "set_affinity=0";
   const char* isa = std::getenv("SVA_EMBREE_ISA");
   if (!isa || !*isa) return config;
   static const std::array<std::string, 5> known{"sse2", "sse4.2", "avx", "avx2", "avx512"};

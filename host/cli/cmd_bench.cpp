@@ -150,6 +150,8 @@ bench::BenchPlan parse_plan(const Args& a) {
   plan.device = a.get_or("--device", "");
   plan.refine_pose = a.on_off("--refine", true);
   plan.max_pairs_per_update = static_cast<int>(a.integer("--max-pairs", 0, 0, 1 << 20));
+  plan.belief_budget_bins = static_cast<std::size_t>(
+      a.integer("--belief-budget", static_cast<long long>(plan.belief_budget_bins), 0, 1ll << 40));
   return plan;
 }
 
@@ -174,6 +176,9 @@ int cmd_bench(const std::vector<std::string>& argv) {
       .option("--max-pairs", "N",
               "bounded cost per update: pairs per update, both orders counted (58: the new reading with the 29 most "
               "recent ones; default 0, every earlier reading: the exact filter; docs/recognition.md)")
+      .option("--belief-budget", "BINS",
+              "touched pose bins per session before hopeless ones are forgotten (default 4194304; 0 = no bound; "
+              "docs/recognition.md, \"Bounded memory\")")
       .option("--device", "NAME|INDEX", "Vulkan device (default: prefer a discrete GPU; env SVA_VK_DEVICE)")
       .option("--roofline-votes", "N", "votes in the bare-scatter measurement (default 4194304)");
   if (!a.parse()) return 0;

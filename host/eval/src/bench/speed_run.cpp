@@ -190,6 +190,7 @@ json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, Me
   ro.vulkan_device = spec.vulkan_device;
   ro.refine_pose = spec.refine_pose;
   ro.max_pairs_per_update = spec.max_pairs_per_update;
+  ro.belief_budget_bins = spec.belief_budget_bins;
   meter.start();
   util::Progress progress(spec.label, spec.trials * max_readings);
   BatchRecognizer rec(map, map.pose_space(), std::min(spec.sessions, spec.trials), ro);
@@ -208,11 +209,9 @@ json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, Me
   run_lockstep(rec, spec.trials, hooks);
   progress.finish();
   const RunMemory memory = meter.stop();
-  json j = {{"backend", eval::backend_name(spec.backend)},
-            {"device", rec.backend_description()},
-            {"sessions_per_submission", spec.sessions},
-            {"trials", spec.trials},
-            {"max_pairs_per_update", spec.max_pairs_per_update}};
+  json j = {{"backend", eval::backend_name(spec.backend)},       {"device", rec.backend_description()},
+            {"sessions_per_submission", spec.sessions},          {"trials", spec.trials},
+            {"max_pairs_per_update", spec.max_pairs_per_update}, {"belief_budget_bins", spec.belief_budget_bins}};
   j.update(recorder.figures());
   j["memory"] = memory_json(memory, rec);
   return j;
@@ -245,6 +244,7 @@ nlohmann::json run_all(const Map& map, const Dataset& test, const BenchPlan& pla
     spec.vulkan_device = plan.device;
     spec.refine_pose = plan.refine_pose;
     spec.max_pairs_per_update = plan.max_pairs_per_update;
+    spec.belief_budget_bins = plan.belief_budget_bins;
     spec.label = eval::backend_name(backend);
     runs.push_back(run_speed(map, test, spec, meter));
     if (plan.batch <= 1) continue;

@@ -28,6 +28,7 @@ struct SpeedRunSpec {
   std::string vulkan_device;     // "" = the default choice
   bool refine_pose = true;       // RecognizerOptions::refine_pose (its cost shows in estimate_ms)
   int max_pairs_per_update = 0;  // RecognizerOptions::max_pairs_per_update (0: the exact filter)
+  std::size_t belief_budget_bins = RecognizerOptions{}.belief_budget_bins;  // RecognizerOptions::belief_budget_bins
 };
 
 // One run, as the JSON report gives it (docs/evaluation.md, "sva bench").
@@ -47,6 +48,7 @@ struct BenchPlan {
   std::string device;
   bool refine_pose = true;
   int max_pairs_per_update = 0;
+  std::size_t belief_budget_bins = RecognizerOptions{}.belief_budget_bins;
 };
 
 // The whole report of `sva bench` (docs/evaluation.md, "sva bench"): the scene, the map's size and the threads;

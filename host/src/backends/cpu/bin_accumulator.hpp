@@ -93,17 +93,15 @@ class BinTable {
   Slot& slot(std::uint64_t key) {
     assert(key != kEmpty);
     if ((size_ + 1) * 2 > slots_.size()) grow();
-    std::size_t i = mix(key) & mask_;
-    for (;;) {
-      ++probes_;
-      if (slots_[i].key == key) return slots_[i];
-      if (slots_[i].key == kEmpty) {
-        slots_[i].key = key;
-        ++size_;
-        return slots_[i];
-      }
-      i = (i + 1) & mask_;
+    const std::size_t home = mix(key) & mask_;
+    std::size_t i = home;
+    while (slots_[i].key != key && slots_[i].key != kEmpty) i = (i + 1) & mask_;
+    probes_ += ((i - home) & mask_) + 1;  // counted once, not per step: the loop stays free of a memory counter
+    if (slots_[i].key == kEmpty) {
+      slots_[i].key = key;
+      ++size_;
     }
+    return slots_[i];
   }
   void grow() {
     std::vector<Slot> old(slots_.size() * 2);

@@ -16,7 +16,9 @@
 // and shader produce the same integer for the same float. In C++ it needs `min`
 // and `floor` in scope (sva::to_fixed provides them).
 #define SVA_ROUND_UNITS(v) ((v) < 8388608.0f ? floor((v) + 0.5f) : (v))
-#define SVA_TO_FIXED(w) int64_t(SVA_ROUND_UNITS(((w) > 0.0f ? min((w), 1.0f) : 0.0f) * float(SVA_FIXED_ONE)))
+// The whole units as a float (at most 2^24, exact in a 32-bit integer too: the CPU's lanes convert it so).
+#define SVA_FIXED_UNITS(w) SVA_ROUND_UNITS(((w) > 0.0f ? min((w), 1.0f) : 0.0f) * float(SVA_FIXED_ONE))
+#define SVA_TO_FIXED(w) int64_t(SVA_FIXED_UNITS(w))
 // A single vote is clamped to this many units so that even 2^32 votes into one
 // bin cannot overflow a signed 64-bit sum: 2^24 * 2^32 = 2^56 < 2^63.
 #define SVA_FIXED_MAX_VOTE_UNITS SVA_FIXED_ONE

@@ -62,11 +62,9 @@ inline void bins_and_masses_of(const SvaAlignment& al, const SvaBetaPlan& plan, 
     bins->tx[i] = tx;
     bins->ty[i] = ty;
     bins->tz[i] = tz;
-    // SVA_TO_FIXED: at most 2^24 units, so the 32-bit conversion is the 64-bit one.
+    // SVA_TO_FIXED, converted to 32 bits (exact: at most 2^24 units), which the lanes have.
     const float m = weight[i] * scale;
-    const float v = (m > 0.0f ? std::min(m, 1.0f) : 0.0f) * static_cast<float>(SVA_FIXED_ONE);
-    const float units = v < 8388608.0f ? std::floor(v + 0.5f) : v;
-    out->mass[i] = static_cast<std::int32_t>(units) * in;
+    out->mass[i] = static_cast<std::int32_t>(SVA_FIXED_UNITS(m)) * in;
     out->inside[i] = in;
   }
 }

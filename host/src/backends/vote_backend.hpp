@@ -54,6 +54,22 @@ struct PairStats {
   std::uint64_t entries = 0, table_probes = 0, bins = 0, belief_probes = 0;
 };
 
+// An update's work (BackendStats::last_work): its pairs' counts, summed (PairStats or PairVotes).
+template <class Stats>
+BatchRecognizer::Work work_of(const std::vector<Stats>& pairs) {
+  BatchRecognizer::Work w;
+  w.pairs = pairs.size();
+  for (const PairStats& p : pairs) {
+    w.entries += p.entries;
+    w.matches += p.matches;
+    w.votes += p.votes;
+    w.table_probes += p.table_probes;
+    w.bins += p.bins;
+    w.belief_probes += p.belief_probes;
+  }
+  return w;
+}
+
 struct PairVotes : PairStats {
   std::vector<std::uint64_t> keys;  // strictly increasing pose-bin keys
   std::vector<std::int64_t> mass;   // fixed point (SVA_FIXED_ONE = 1)

@@ -123,22 +123,6 @@ class CpuVoteBackend final : public VoteBackend {
   }
 
  private:
-  // The update's work: its pairs' counts, summed.
-  template <class Stats>
-  static BatchRecognizer::Work work_of(const std::vector<Stats>& pairs) {
-    BatchRecognizer::Work w;
-    w.pairs = pairs.size();
-    for (const PairStats& p : pairs) {
-      w.entries += p.entries;
-      w.matches += p.matches;
-      w.votes += p.votes;
-      w.table_probes += p.table_probes;
-      w.bins += p.bins;
-      w.belief_probes += p.belief_probes;
-    }
-    return w;
-  }
-
   // The worker thread's accumulator for one pair's votes, emptied: a pair at 100 paper3d readings touches tens of
   // thousands of bins, and a fresh table per pair cost its growth, a large allocation (the system's pages, zeroed)
   // and its release every time. One that grew past 2^20 slots (16 MiB) starts small again.

@@ -93,7 +93,7 @@ class VulkanVoteBackend final : public VoteBackend {
       c.finish = [&](std::size_t first, std::size_t last) { read_back(first, last, out); };
       vote_pairs(batch, 0, batch.pairs.size(), c);
     });
-    note_work(out);
+    last_work_ = work_of(out);
     return out;
   }
 
@@ -121,7 +121,7 @@ class VulkanVoteBackend final : public VoteBackend {
       vote_pairs(batch, 0, batch.pairs.size(), c);
       for (GpuBelief* g : gb) g->keep_half_empty();
     });
-    note_work(out);
+    last_work_ = work_of(out);
     return out;
   }
 
@@ -141,15 +141,6 @@ class VulkanVoteBackend final : public VoteBackend {
  private:
   // The last update's work as far as the device reports it: pairs, matches and votes (entries, probes and bins
   // are not counted on the device: 0).
-  template <class Stats>
-  void note_work(const std::vector<Stats>& pairs) {
-    last_work_ = {};
-    last_work_.pairs = pairs.size();
-    for (const PairStats& p : pairs) {
-      last_work_.matches += p.matches;
-      last_work_.votes += p.votes;
-    }
-  }
   BatchRecognizer::Work last_work_;
 
   // Per map chunk: the scan of a batch's matches and its indirect dispatch.

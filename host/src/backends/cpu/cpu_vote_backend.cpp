@@ -125,11 +125,13 @@ class CpuVoteBackend final : public VoteBackend {
  private:
   // The worker thread's accumulator for one pair's votes, emptied: a pair at 100 paper3d readings touches tens of
   // thousands of bins, and a fresh table per pair cost its growth, a large allocation (the system's pages, zeroed)
-  // and its release every time. One that grew past 2^20 slots (16 MiB) starts small again.
+  // and its release every time. Emptying costs the table's size, so a table far larger than the last pair needed
+  // (a session of 100 readings, then a new one's first readings) is made again at that pair's size.
   static BinAccumulator& pair_accumulator() {
     thread_local BinAccumulator acc(4096);
-    if (acc.capacity() > (std::size_t{1} << 20))
-      acc.clear();
+    const std::size_t used = std::max<std::size_t>(acc.size(), 4096);
+    if (acc.capacity() > 8 * used)
+      acc = BinAccumulator(used);
     else
       acc.clear_keeping_capacity();
     return acc;

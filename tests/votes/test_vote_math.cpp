@@ -12,29 +12,19 @@
 #include "recognition/fixture.hpp"
 #include "test_support.hpp"
 #include "votes/vote_math.hpp"
+#include "votes/vote_patches.hpp"
 
 using namespace sva;
 using namespace sva::test;
 namespace vm = sva::vote_math;
 
 namespace {
-vm::vec3 f3(const glm::dvec3& v) {
-  return vm::vec3(static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z));
-}
 glm::dvec3 d3(const vm::vec3& v) { return glm::dvec3(v.x, v.y, v.z); }
 glm::dmat3 mat_of(const vm::vec4& q) {
   // Rotation of each basis vector through the header's quaternion rotate.
   return glm::dmat3(d3(vm::sva_quat_rotate(q, vm::vec3(1, 0, 0))), d3(vm::sva_quat_rotate(q, vm::vec3(0, 1, 0))),
                     d3(vm::sva_quat_rotate(q, vm::vec3(0, 0, 1))));
 }
-vm::SvaPatch patch(const glm::dvec3& p, const glm::dvec3& n, float conf = 1.0f) {
-  vm::SvaPatch s;
-  s.p = f3(p);
-  s.n = f3(n);
-  s.conf = conf;
-  return s;
-}
-vm::SvaPoseGrid grid_of(const PoseSpaceSpec& spec) { return PoseSpace(spec, 1).grid(); }
 }  // namespace
 
 TEST_CASE("own exp, sincos and atan2 match libm to about 1e-6") {

@@ -13,26 +13,13 @@
 #include "backends/cpu/sample_votes.hpp"
 #include "recognition/fixture.hpp"
 #include "votes/vote_math.hpp"
+#include "votes/vote_patches.hpp"
 
 using namespace sva;
 using namespace sva::test;
 namespace vm = sva::vote_math;
 
 namespace {
-
-vm::vec3 f3(const glm::dvec3& v) {
-  return vm::vec3(static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z));
-}
-
-vm::SvaPatch patch(const glm::dvec3& p, const glm::dvec3& n, float conf = 1.0f) {
-  vm::SvaPatch s;
-  s.p = f3(p);
-  s.n = f3(n);
-  s.conf = conf;
-  return s;
-}
-
-vm::SvaPoseGrid grid_of(const PoseSpaceSpec& spec) { return PoseSpace(spec, 1).grid(); }
 
 // What the comparisons covered, so that a test cannot pass by comparing nothing.
 struct Tally {

@@ -92,6 +92,15 @@ void bind_batch_recognizer(nb::module_& m) {
             return b.rec.readings(session);
           },
           "session"_a)
+      .def(
+          "belief_bytes",
+          [](const PyBatchRecognizer& b, std::size_t session) {
+            std::lock_guard lock(b.mutex);
+            return b.rec.belief_bytes(session);
+          },
+          "session"_a,
+          "Bytes the session's belief holds now (host memory on the CPU, device memory on Vulkan): most of a live "
+          "session's memory; RecognizerOptions.belief_budget_bins bounds it.")
       .def("sessions", [](const PyBatchRecognizer& b) { return b.rec.sessions(); })
       .def_prop_ro(
           "backend", [](const PyBatchRecognizer& b) { return std::string(backend_name(b.rec.backend())); },

@@ -74,6 +74,8 @@ def test_batch_recognizer_checks_its_arguments(tiny_map):
         b.add_readings([0, 1], [sva.Reading(**good())])
     with pytest.raises(sva.Error, match="out of range"):
         b.add_readings([5], [sva.Reading(**good())])
+    with pytest.raises(sva.Error, match="session 2 out of range"):
+        b.belief_bytes(2)
     with pytest.raises(sva.Error, match="need at least one session"):
         sva.BatchRecognizer(tiny_map, 0)
 

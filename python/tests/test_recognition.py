@@ -77,6 +77,10 @@ def test_batch_recognizer_gives_the_cli_estimates(tiny, tiny_map):
     for i, want in enumerate(results):
         assert b.readings(i) == len(sessions[i]["readings"])
         assert_estimate_is(b.estimate(i, top_k=3), want, tiny_map.object_names)
+        assert b.belief_bytes(i) > 0  # a live session's memory: its belief's tables
+    kept = b.belief_bytes(0)
+    b.reset(0)
+    assert b.belief_bytes(0) == kept  # a reset keeps the table's allocation for the next session
 
 
 @pytest.mark.parametrize("per_submission", [64, 4])

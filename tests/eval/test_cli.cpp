@@ -357,7 +357,12 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
     CHECK(w["vote_table_probes"].get<double>() >= w["bins"].get<double>());
     CHECK(w["belief_probes"].get<double>() >= w["bins"].get<double>());
     CHECK(w["bytes"]["map"].get<double>() > 0.0);
+    // A live session's memory: its belief's tables, which only grow without a budget.
+    CHECK(point["belief_bytes_per_session"].get<double>() > 0.0);
+    CHECK(point["belief_bytes_per_session_max"].get<double>() >= point["belief_bytes_per_session"].get<double>());
   }
+  CHECK(exact["curve"][1]["belief_bytes_per_session"].get<double>() >=
+        exact["curve"][0]["belief_bytes_per_session"].get<double>());
   CHECK(bounded["curve"][1]["work_per_update"]["pairs"].get<double>() ==
         1.0);  // 2 pairs: one order voted, folded twice
   for (const std::string bad : {"--batch -1", "--batch x", "--backend gpu", "--readings 0", "--max-pairs -1"}) {

@@ -41,6 +41,10 @@ class BatchRecognizer {
   void save_session(std::size_t session, const std::filesystem::path& file) const;
   void restore_session(std::size_t session, const std::filesystem::path& file);
   std::size_t readings(std::size_t session) const;
+  // Bytes the session's belief holds now (host memory on the CPU, device memory on Vulkan; 0 for the appearance
+  // method): most of a live session's memory. RecognizerOptions::belief_budget_bins bounds it (docs/recognition.md,
+  // "Bounded memory").
+  std::uint64_t belief_bytes(std::size_t session) const;
   // The backend in use ("cpu" or "vulkan") and, for Vulkan, the device.
   std::string backend_description() const;
   // The backend in use: cpu or vulkan (BackendKind::automatic has been resolved).

@@ -44,6 +44,9 @@ class BeliefState {
   virtual std::size_t table_allocations() const = 0;
   virtual std::size_t pairs_folded() const = 0;
   virtual std::size_t touched() const = 0;
+  // Bytes its tables hold now (host memory for the CPU reference, device memory for Vulkan): a live session's
+  // memory in a batch is mostly this.
+  virtual std::size_t table_bytes() const = 0;
   virtual BeliefSummary summarise() const = 0;
   // The k bins with the largest offsets, ties to the smaller key, best first.
   virtual std::vector<BinOffset> best_bins(std::size_t k) const = 0;

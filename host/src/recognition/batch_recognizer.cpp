@@ -258,6 +258,12 @@ std::size_t BatchRecognizer::readings(std::size_t session) const {
   return impl_->at(session).readings;
 }
 
+std::uint64_t BatchRecognizer::belief_bytes(std::size_t session) const {
+  const std::lock_guard lock(impl_->mutex);
+  const Impl::Session& s = impl_->at(session);
+  return s.filter ? s.filter->belief().table_bytes() : 0;
+}
+
 std::string BatchRecognizer::backend_description() const {
   const std::lock_guard lock(impl_->mutex);
   if (!impl_->backend) return "appearance";

@@ -82,3 +82,34 @@ TEST_CASE("the belief's incremental reductions equal a full pass, through folds 
   CHECK(belief.summarise() == full_pass(belief, space));
   CHECK(belief.best_bins(3).empty());
 }
+
+TEST_CASE("forgetting gives the memory back: the table is sized for the bins it keeps") {
+  const sva::PoseSpace space(sva::test::paper_space(), 2);
+  sva::Belief belief(space, 1e-6);
+  sva::util::Rng rng(11, 1);
+  for (int pair = 0; pair < 40; ++pair) {
+    sva::BinAccumulator acc(4096);
+    for (int v = 0; v < 3000; ++v) {  // a wide spread, and one region voted by every pair
+      sva::BinIndex i;
+      i.object = static_cast<std::uint32_t>(rng.below(2));
+      const bool peak = v < 50;
+      for (int a = 0; a < 3; ++a) {
+        i.t[a] = peak ? 25 : static_cast<int>(rng.below(50));
+        i.r[a] = peak ? 4 : static_cast<int>(rng.below(9));
+      }
+      acc.add(space.pack(i), static_cast<std::int64_t>(1 + rng.below(1u << 20)));
+    }
+    REQUIRE(belief.add(belief.terms(acc), 1));
+  }
+  const std::size_t before_bins = belief.touched(), before_bytes = belief.table_bytes();
+  const std::uint64_t max = belief.summarise().max_offset;
+  const std::uint64_t below = max - (std::uint64_t{64} << 32);
+  const std::size_t forgotten = belief.forget_below(below, {});
+  const std::size_t kept = belief.touched();
+  INFO("bins " << before_bins << " -> " << kept << ", bytes " << before_bytes << " -> " << belief.table_bytes());
+  REQUIRE(forgotten + kept == before_bins);
+  REQUIRE(kept * 16 < before_bins);  // not vacuous: most bins were hopeless
+  // Half load at most, and a power of two: under 4 slots of 16 bytes per kept bin (and the band's table).
+  CHECK(belief.table_bytes() < 4 * 16 * std::max<std::size_t>(kept, 512) + 64 * 1024);
+  CHECK(belief.table_bytes() * 4 < before_bytes);
+}

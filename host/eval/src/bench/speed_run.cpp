@@ -26,6 +26,7 @@ struct StepFigures {
   std::size_t sessions = 0;
   std::uint64_t votes = 0, votes_zero = 0;
   double seconds = 0.0, estimate_seconds = 0.0;
+  std::vector<double> belief_bytes;  // per session of the update, after it
 };
 
 // The figures at one reading count, over all groups.
@@ -37,8 +38,9 @@ struct Checkpoint {
   std::size_t correct = 0, trials = 0;
   std::vector<double> translation_mm;
   std::vector<double> kernel_ms, backend_host_ms, fold_ms;
-  std::vector<double> estimate_ms;  // per session: object, refined pose and top-1 after the update
-  BatchRecognizer::Work work;       // summed over the checkpoint's updates (all sessions of each)
+  std::vector<double> estimate_ms;   // per session: object, refined pose and top-1 after the update
+  BatchRecognizer::Work work;        // summed over the checkpoint's updates (all sessions of each)
+  std::vector<double> belief_bytes;  // per session after its update: a live session's memory
 };
 
 double ratio(double a, double b) { return b > 0 ? a / b : 0.0; }
@@ -77,6 +79,7 @@ void record_checkpoint(Checkpoint& c, const BatchRecognizer& rec, const std::vec
   c.estimate_ms.push_back(1e3 * f.estimate_seconds / n);
   c.votes += f.votes;
   c.votes_zero += f.votes_zero;
+  c.belief_bytes.insert(c.belief_bytes.end(), f.belief_bytes.begin(), f.belief_bytes.end());
   c.session_updates += f.sessions;
   c.seconds += f.seconds;
   const auto t = rec.last_backend_timing();
@@ -101,20 +104,24 @@ void record_checkpoint(Checkpoint& c, const BatchRecognizer& rec, const std::vec
 }
 
 json checkpoint_json(std::size_t readings, const Checkpoint& c) {
-  return {{"readings", readings},
-          {"update_ms", median_or_null(c.update_ms)},
-          {"votes_per_update", ratio(static_cast<double>(c.votes), static_cast<double>(c.trials))},
-          {"votes_per_second", ratio(static_cast<double>(c.votes), c.seconds)},
-          {"session_updates_per_second", ratio(static_cast<double>(c.session_updates), c.seconds)},
-          {"votes_zero_per_update", ratio(static_cast<double>(c.votes_zero), static_cast<double>(c.trials))},
-          {"votes_zero_fraction", ratio(c.votes_zero, c.votes)},
-          {"gpu_kernel_ms", median_or_null(c.kernel_ms)},
-          {"backend_host_ms", median_or_null(c.backend_host_ms)},
-          {"gpu_fold_ms", median_or_null(c.fold_ms)},
-          {"estimate_ms", median_or_null(c.estimate_ms)},
-          {"accuracy", ratio(static_cast<double>(c.correct), static_cast<double>(c.trials))},
-          {"translation_error_mm", median_or_null(c.translation_mm)},
-          {"work_per_update", work_json(c.work, c.session_updates)}};
+  return {
+      {"readings", readings},
+      {"update_ms", median_or_null(c.update_ms)},
+      {"votes_per_update", ratio(static_cast<double>(c.votes), static_cast<double>(c.trials))},
+      {"votes_per_second", ratio(static_cast<double>(c.votes), c.seconds)},
+      {"session_updates_per_second", ratio(static_cast<double>(c.session_updates), c.seconds)},
+      {"votes_zero_per_update", ratio(static_cast<double>(c.votes_zero), static_cast<double>(c.trials))},
+      {"votes_zero_fraction", ratio(c.votes_zero, c.votes)},
+      {"gpu_kernel_ms", median_or_null(c.kernel_ms)},
+      {"backend_host_ms", median_or_null(c.backend_host_ms)},
+      {"gpu_fold_ms", median_or_null(c.fold_ms)},
+      {"estimate_ms", median_or_null(c.estimate_ms)},
+      {"accuracy", ratio(static_cast<double>(c.correct), static_cast<double>(c.trials))},
+      {"translation_error_mm", median_or_null(c.translation_mm)},
+      {"work_per_update", work_json(c.work, c.session_updates)},
+      {"belief_bytes_per_session", median_or_null(c.belief_bytes)},
+      {"belief_bytes_per_session_max",
+       c.belief_bytes.empty() ? json(nullptr) : json(*std::max_element(c.belief_bytes.begin(), c.belief_bytes.end()))}};
 }
 
 // Host memory of the run and the device memory its backend holds. A device
@@ -156,8 +163,9 @@ class SpeedRecorder {
     all_.sessions += f.sessions;
     all_.seconds += f.seconds;
     const std::size_t readings = s.step + 1;
-    if (std::binary_search(checkpoints_.begin(), checkpoints_.end(), readings))
-      record_checkpoint(cp_[readings], rec_, tr, est, f);
+    if (!std::binary_search(checkpoints_.begin(), checkpoints_.end(), readings)) return;
+    for (std::size_t i : s.sessions) f.belief_bytes.push_back(static_cast<double>(rec_.belief_bytes(i)));
+    record_checkpoint(cp_[readings], rec_, tr, est, f);
   }
 
   // The run's totals and its curve (without backend, device and memory).

@@ -93,7 +93,9 @@ void Belief::note(std::uint64_t key, std::uint64_t offset, bool inserted) {
 }
 
 void Belief::prune_band() {
-  BinTable<std::uint64_t> kept(band_.size() / 2);
+  std::size_t keeping = 0;  // sized for what it keeps, as forget_below's table
+  band_.for_each([&](std::uint64_t, std::uint64_t off) { keeping += in_band(off); });
+  BinTable<std::uint64_t> kept(keeping);
   band_.for_each([&](std::uint64_t key, std::uint64_t off) {
     if (in_band(off)) kept.set(key, off);
   });
@@ -103,13 +105,19 @@ void Belief::prune_band() {
 
 std::size_t Belief::forget_below(std::uint64_t below, std::span<const std::uint64_t> keep) {
   forget_best();
-  BinTable<std::uint64_t> kept(offset_.size());
+  const auto keeps = [&](std::uint64_t key, std::uint64_t off) {
+    return off >= below || std::binary_search(keep.begin(), keep.end(), key);
+  };
+  // Sized for what it keeps (a half load), not for what it held: a session's table between updates is the larger
+  // part of its memory in a batch, and the bins it forgot were most of it.
+  std::size_t keeping = 0;
+  offset_.for_each([&](std::uint64_t key, std::uint64_t off) { keeping += keeps(key, off); });
+  BinTable<std::uint64_t> kept(keeping);
   std::fill(touched_.begin(), touched_.end(), 0);
   offset_.for_each([&](std::uint64_t key, std::uint64_t off) {
-    const std::uint32_t o = PoseSpace::object_of(key);
-    if (off < below && !std::binary_search(keep.begin(), keep.end(), key)) return;
+    if (!keeps(key, off)) return;
     kept.add(key, off);
-    ++touched_[o];
+    ++touched_[PoseSpace::object_of(key)];
   });
   const std::size_t forgotten = offset_.size() - kept.size();
   retired_allocations_ += offset_.allocations();

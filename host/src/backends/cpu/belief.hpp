@@ -36,6 +36,7 @@ class Belief final : public BeliefState {
   std::size_t table_allocations() const override { return retired_allocations_ + offset_.allocations(); }
   std::size_t pairs_folded() const override { return pairs_; }
   std::size_t touched() const override { return offset_.size(); }
+  std::size_t table_bytes() const override { return offset_.bytes() + band_.bytes(); }
   BeliefSummary summarise() const override;
   std::vector<BinOffset> best_bins(std::size_t k) const override;
   std::vector<std::uint64_t> offsets(std::span<const std::uint64_t> keys) const override;

@@ -45,6 +45,7 @@ class BinTable {
     probes_ = 0;
   }
   std::size_t capacity() const { return slots_.size(); }
+  std::size_t bytes() const { return slots_.size() * sizeof(Slot); }
   // Slots read by additions since the last clear (the first one each, and every step of a collision): the work
   // `sva bench` counts.
   std::uint64_t probes() const { return probes_; }

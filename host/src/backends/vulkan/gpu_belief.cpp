@@ -49,6 +49,10 @@ GpuBelief::GpuBelief(GpuBeliefKernels& kernels, double eps)
   reset();
 }
 
+std::size_t GpuBelief::table_bytes() const {
+  return static_cast<std::size_t>(table_.size() + band_.size() + state_.size());
+}
+
 void GpuBelief::allocate(vk::Buffer& b, std::uint32_t capacity) const {
   // The device's own memory: only kernels touch a belief.
   const std::size_t keys = std::size_t{capacity} * sizeof(std::uint64_t);

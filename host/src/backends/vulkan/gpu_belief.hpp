@@ -43,6 +43,7 @@ class GpuBelief final : public BeliefState {
   std::size_t table_allocations() const override { return table_allocations_; }
   std::size_t pairs_folded() const override { return pairs_; }
   std::size_t touched() const override { return count_; }
+  std::size_t table_bytes() const override;
   BeliefSummary summarise() const override;
   std::vector<BinOffset> best_bins(std::size_t k) const override;
   std::vector<std::uint64_t> offsets(std::span<const std::uint64_t> keys) const override;

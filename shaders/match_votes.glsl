@@ -59,6 +59,8 @@ shared uint s_first[SVA_WORKGROUP_SIZE + 1];  // first sample of each plan among
 shared uint s_inside[SVA_WORKGROUP_SIZE];
 shared uint s_outside[SVA_WORKGROUP_SIZE];
 shared uint s_zero[SVA_WORKGROUP_SIZE];
+shared uint s_adds[SVA_WORKGROUP_SIZE];    // the vote table's atomic adds of each plan's votes
+shared uint s_probes[SVA_WORKGROUP_SIZE];  // and its compare-and-swaps
 
 SvaPatch patch_of_reading(uint r) {
   SvaPatch p;
@@ -116,6 +118,8 @@ void plan_item(uint w, uint lid) {
   s_inside[lid] = 0u;
   s_outside[lid] = 0u;
   s_zero[lid] = 0u;
+  s_adds[lid] = 0u;
+  s_probes[lid] = 0u;
   if (w >= scan.total) return;
   // The key item holding match w: the last k with work_offset[k] <= w (items
   // with no match in this chunk share their offset with the next one).
@@ -155,7 +159,13 @@ void plan_item(uint w, uint lid) {
 // bin, in neighbouring lanes. Every lane's mass is added exactly once whatever
 // the device's reconvergence: a lane leaves only in the round whose sum it
 // joined. A vote is at most 2^24 units, so a subgroup's sum fits 32 bits.
-void scatter_vote(bool has_vote, uint64_t key, int64_t mass) {
+// The atomics are counted against plan `lo` of the lane that scatters.
+void count_scatter(uint lo, uint probes) {
+  atomicAdd(s_adds[lo], 1u);
+  atomicAdd(s_probes[lo], probes);
+}
+
+void scatter_vote(bool has_vote, uint64_t key, int64_t mass, uint lo) {
 #ifdef SVA_SUBGROUP_AGGREGATION
   bool pending = has_vote;
   uint key_lo = uint(key & 0xffffffffUL), key_hi = uint(key >> 32);
@@ -166,13 +176,13 @@ void scatter_vote(bool has_vote, uint64_t key, int64_t mass) {
       uint lead_hi = subgroupBroadcastFirst(key_hi);
       if (lead_lo == key_lo && lead_hi == key_hi) {
         uint sum = subgroupAdd(uint(mass));
-        if (subgroupElect()) sva_hash_scatter(key, int64_t(sum), pc.capacity);
+        if (subgroupElect()) count_scatter(lo, sva_hash_scatter(key, int64_t(sum), pc.capacity));
         pending = false;
       }
     }
   }
 #else
-  if (has_vote) sva_hash_scatter(key, mass, pc.capacity);
+  if (has_vote) count_scatter(lo, sva_hash_scatter(key, mass, pc.capacity));
 #endif
 }
 
@@ -181,8 +191,9 @@ void vote_sample(uint t, SvaPoseGrid grid) {
   bool has_vote = false;
   uint64_t key = 0ul;
   int64_t mass = 0l;
+  uint lo = 0u;
   if (t < s_first[SVA_WORKGROUP_SIZE]) {
-    uint lo = 0u, hi = SVA_WORKGROUP_SIZE;  // invariant: s_first[lo] <= t < s_first[hi]
+    uint hi = SVA_WORKGROUP_SIZE;  // invariant: s_first[lo] <= t < s_first[hi]
     for (uint step = 0u; step < 8u; ++step) {
       if (hi - lo <= 1u) break;
       uint mid = (lo + hi) >> 1;
@@ -205,7 +216,7 @@ void vote_sample(uint t, SvaPoseGrid grid) {
       atomicAdd(s_zero[lo], 1u);
     }
   }
-  scatter_vote(has_vote, key, mass);
+  scatter_vote(has_vote, key, mass, lo);
 }
 
 void main() {
@@ -237,5 +248,7 @@ void main() {
     if (s_inside[lid] != 0u) atomicAdd(counters[c + 1u], uint64_t(s_inside[lid]));
     if (s_outside[lid] != 0u) atomicAdd(counters[c + 2u], uint64_t(s_outside[lid]));
     if (s_zero[lid] != 0u) atomicAdd(counters[c + 3u], uint64_t(s_zero[lid]));
+    if (s_adds[lid] != 0u) atomicAdd(counters[c + 4u], uint64_t(s_adds[lid]));
+    if (s_probes[lid] != 0u) atomicAdd(counters[c + 5u], uint64_t(s_probes[lid]));
   }
 }

@@ -63,7 +63,15 @@ void print_table(const json& runs) {
     }
 }
 
-// The work per update where the backend counts it (the CPU reference), and the bytes it implies.
+std::string count_or_na(const json& v) {
+  if (v.is_null()) return "n/a";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.0f", v.get<double>());
+  return buf;
+}
+
+// The work per update as the backend counts it (the CPU reference: all but device atomics; Vulkan: all but the
+// belief probes), and the bytes it implies.
 void print_work(const json& runs) {
   bool header = false;
   for (const auto& r : runs)
@@ -72,18 +80,47 @@ void print_work(const json& runs) {
       if (w.is_null()) continue;
       if (!header)
         std::printf(
-            "\nwork per update (docs/recognition.md, \"Work counted\"):\n%-14s %-9s %7s %12s %10s %11s %13s %10s "
-            "%13s %9s %11s %9s\n",
-            "run", "readings", "pairs", "map entries", "matches", "votes", "table probes", "bins", "belief probes",
-            "map MB", "tables MB", "fold MB");
+            "\nwork per update (docs/recognition.md, \"Work counted\"):\n%-14s %-9s %7s %12s %10s %11s %13s %11s "
+            "%10s %13s %9s %11s %9s\n",
+            "run", "readings", "pairs", "map entries", "matches", "votes", "table probes", "atomics", "bins",
+            "belief probes", "map MB", "tables MB", "fold MB");
       header = true;
       const json& b = w["bytes"];
-      std::printf("%-14s %-9zu %7.0f %12.0f %10.0f %11.0f %13.0f %10.0f %13.0f %9.2f %11.2f %9.2f\n",
+      std::printf("%-14s %-9zu %7.0f %12.0f %10.0f %11.0f %13.0f %11s %10.0f %13s %9.2f %11.2f %9.2f\n",
                   run_name(r).c_str(), p["readings"].get<std::size_t>(), w["pairs"].get<double>(),
                   w["map_entries"].get<double>(), w["matches"].get<double>(), w["votes"].get<double>(),
-                  w["vote_table_probes"].get<double>(), w["bins"].get<double>(), w["belief_probes"].get<double>(),
-                  b["map"].get<double>() / 1e6, b["vote_tables"].get<double>() / 1e6, b["fold"].get<double>() / 1e6);
+                  w["vote_table_probes"].get<double>(), count_or_na(w["vote_table_atomics"]).c_str(),
+                  w["bins"].get<double>(), count_or_na(w["belief_probes"]).c_str(), b["map"].get<double>() / 1e6,
+                  b["vote_tables"].get<double>() / 1e6, b["fold"].get<double>() / 1e6);
     }
+}
+
+// The modelled GPU time per session-update of an H100 beside the measured one (docs/vulkan-backend.md, "Work and an
+// estimate for an H100"): an estimate from the counted work, which the first run on the device checks.
+void print_model(const json& runs) {
+  bool header = false;
+  for (const auto& r : runs)
+    for (const auto& p : r["curve"]) {
+      const json& m = p["gpu_model"];
+      if (m.is_null()) continue;
+      if (!header)
+        std::printf(
+            "\nmodel of the GPU time per session-update on an %s (%s; an estimate, not a measurement; "
+            "docs/vulkan-backend.md):\n%-14s %-9s %12s %12s %16s %18s\n",
+            m["device"].get<std::string>().c_str(), m["figures"].get<std::string>().c_str(), "run", "readings",
+            "atomics", "bytes MB", "model ms", "measured ms/update");
+      header = true;
+      const bool measured = r["backend"] == "vulkan" && !p["update_ms"].is_null();
+      std::printf("%-14s %-9zu %11.0f%s %12.2f %7.3f - %6.3f %18s\n", run_name(r).c_str(),
+                  p["readings"].get<std::size_t>(), m["atomics"].get<double>(),
+                  m["atomics_counted"].get<bool>() ? " " : "*", m["bytes"].get<double>() / 1e6,
+                  m["low_ms"].get<double>(), m["high_ms"].get<double>(),
+                  measured ? std::to_string(p["update_ms"].get<double>()).substr(0, 8).c_str() : "-");
+    }
+  if (header)
+    std::printf(
+        "(* atomics modelled from the CPU's counts: two per vote, no subgroup pre-aggregation; the measured "
+        "time is this machine's device, which may not be the model's)\n");
 }
 
 std::string mib(const json& bytes, const char* format = "%.1f MiB") {
@@ -195,6 +232,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
 
   print_table(out["runs"]);
   print_work(out["runs"]);
+  print_model(out["runs"]);
   print_run_summaries(out["runs"]);
   print_roofline(out);
   std::printf("peak RSS of the process: %s\n", mib(out["peak_rss_bytes"]).c_str());

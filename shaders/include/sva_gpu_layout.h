@@ -89,7 +89,9 @@ struct SvaMatchParams {
   uint chunk_entries;    // entries per map chunk (the last may hold fewer)
 };
 // Counters per pair written by match_votes.comp.
-#define SVA_PAIR_COUNTERS 4u  // matches, votes inside, votes outside, votes inside of zero mass
+// Per pair: matches, votes inside, votes outside, votes inside of zero mass, and the vote table's atomics (the
+// work `sva bench` counts): adds (one per vote after subgroup pre-aggregation) and key compare-and-swaps (probes).
+#define SVA_PAIR_COUNTERS 6u
 
 // One session of a fold: its belief table (device address of `capacity` keys
 // followed by `capacity` offsets and capacity / 32 band marks, capacity a

@@ -4,16 +4,18 @@
 // `table_sum[]` (int64_t) and `overflow` (uint), and includes sva_hash.h.
 // Linear probing is bounded by SVA_HASH_MAX_PROBE; a key that finds no slot
 // raises `overflow` so that the host grows the table and runs again.
-void sva_hash_scatter(uint64_t key, int64_t units, uint capacity) {
+// Returns the slots probed (compare-and-swaps), for the work counted.
+uint sva_hash_scatter(uint64_t key, int64_t units, uint capacity) {
   uint mask = capacity - 1u;
   uint slot = uint(sva_hash64(key)) & mask;
   for (uint probe = 0u; probe < SVA_HASH_MAX_PROBE; ++probe) {
     uint64_t prev = atomicCompSwap(table_key[slot], SVA_HASH_EMPTY_KEY, key);
     if (prev == SVA_HASH_EMPTY_KEY || prev == key) {
       atomicAdd(table_sum[slot], units);
-      return;
+      return probe + 1u;
     }
     slot = (slot + 1u) & mask;
   }
   atomicOr(overflow, 1u);
+  return SVA_HASH_MAX_PROBE;
 }

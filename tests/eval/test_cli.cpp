@@ -360,6 +360,9 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
     // A live session's memory: its belief's tables, which only grow without a budget.
     CHECK(point["belief_bytes_per_session"].get<double>() > 0.0);
     CHECK(point["belief_bytes_per_session_max"].get<double>() >= point["belief_bytes_per_session"].get<double>());
+    CHECK(w["vote_table_atomics"].is_null());  // the CPU has none: the model assumes two per vote
+    CHECK(point["gpu_model"]["atomics_counted"] == false);
+    CHECK(point["gpu_model"]["atomics"].get<double>() >= 2 * w["votes"].get<double>());
   }
   CHECK(exact["curve"][1]["belief_bytes_per_session"].get<double>() >=
         exact["curve"][0]["belief_bytes_per_session"].get<double>());
@@ -394,6 +397,23 @@ TEST_CASE("sva bench on the Vulkan backend reports device memory (n/a until the 
   }
   if (batch["memory"]["device_bytes"].is_null()) CHECK(out.find("device: n/a") != std::string::npos);
   CHECK(j["roofline"]["votes_per_second"].get<double>() > 0);
+  // The device counts its work: the vote tables' atomics (a compare-and-swap per probe, an add per pre-aggregated
+  // vote), not its belief probes; the model of an H100 reads the device's count.
+  for (const auto& point : batch["curve"]) {
+    const auto& w = point["work_per_update"];
+    REQUIRE(w.is_object());
+    CHECK(w["votes"].get<double>() == point["votes_per_update"].get<double>());
+    CHECK(w["map_entries"].get<double>() >= w["matches"].get<double>());
+    CHECK(w["vote_table_probes"].get<double>() >= w["bins"].get<double>());
+    CHECK(w["vote_table_atomics"].get<double>() >= w["vote_table_probes"].get<double>() + w["bins"].get<double>());
+    CHECK(w["belief_probes"].is_null());
+    const auto& m = point["gpu_model"];
+    REQUIRE(m.is_object());
+    CHECK(m["atomics_counted"] == true);
+    CHECK(m["low_ms"].get<double>() > 0.0);
+    CHECK(m["high_ms"].get<double>() >= m["low_ms"].get<double>());
+  }
+  CHECK(out.find("model of the GPU time per session-update") != std::string::npos);
 }
 
 TEST_CASE("sva eval --policy: random is the default bit for bit, active plans each touch, the same on 1 or 2 threads") {

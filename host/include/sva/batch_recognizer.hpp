@@ -60,7 +60,8 @@ class BatchRecognizer {
   };
   Timing last_backend_timing() const;
   // What the last update did, summed over its sessions' pairs (`sva bench` reports it per stage; docs/recognition.md,
-  // "Work counted"). The CPU reference counts all of it; the Vulkan backend its pairs, matches and votes, the rest 0.
+  // "Work counted"). The CPU reference counts all but the atomics; the Vulkan backend all but the belief probes
+  // (0 where not counted).
   struct Work {
     std::uint64_t pairs = 0;          // observed pairs voted (one order of each; the fold counts it twice)
     std::uint64_t entries = 0;        // map entries under the pairs' keys (read to find the matches)
@@ -69,6 +70,7 @@ class BatchRecognizer {
     std::uint64_t table_probes = 0;   // slots probed in the pairs' vote tables
     std::uint64_t bins = 0;           // pose bins the pairs voted for (the fold terms)
     std::uint64_t belief_probes = 0;  // slots probed in the sessions' beliefs to add the terms
+    std::uint64_t atomics = 0;        // device atomics on the vote tables: key compare-and-swaps and adds
   };
   Work last_update_work() const;
   // Device memory the backend holds (Vulkan: map, vote table, beliefs). 0 on the CPU, and 0 where the

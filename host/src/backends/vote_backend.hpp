@@ -52,6 +52,8 @@ struct PairStats {
   // The work, where the backend counts it (0 where not): map entries under the pair's keys, slots probed in the
   // pair's vote table, bins of the pair (its fold terms) and slots probed in the session's belief to add them.
   std::uint64_t entries = 0, table_probes = 0, bins = 0, belief_probes = 0;
+  // Atomic operations on the pair's vote table (a device's: key compare-and-swaps and adds; 0 on the CPU).
+  std::uint64_t atomics = 0;
 };
 
 // An update's work (BackendStats::last_work): its pairs' counts, summed (PairStats or PairVotes).
@@ -66,6 +68,7 @@ BatchRecognizer::Work work_of(const std::vector<Stats>& pairs) {
     w.table_probes += p.table_probes;
     w.bins += p.bins;
     w.belief_probes += p.belief_probes;
+    w.atomics += p.atomics;
   }
   return w;
 }

@@ -37,6 +37,15 @@ struct Twin {
       CHECK(a[s].votes == b[s].votes);
       CHECK(a[s].matches == b[s].matches);
     }
+    // The update's work as each backend counts it: the same pairs, entries, matches, votes and fold terms.
+    const BatchRecognizer::Work wc = cpu->statistics().last_work, wg = gpu->statistics().last_work;
+    CHECK(wc.pairs == wg.pairs);
+    CHECK(wc.entries == wg.entries);
+    CHECK(wc.matches == wg.matches);
+    CHECK(wc.votes == wg.votes);
+    CHECK(wc.bins == wg.bins);
+    CHECK(wg.atomics >= wg.table_probes + wg.bins);
+    CHECK(wg.belief_probes == 0);  // not counted on the device
   }
   void require_same(std::size_t s) const {
     INFO("session " << s);

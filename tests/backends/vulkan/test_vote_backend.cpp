@@ -41,6 +41,15 @@ void require_identical(const std::vector<PairVotes>& cpu, const std::vector<Pair
     CHECK(cpu[i].votes_outside == gpu[i].votes_outside);
     CHECK(cpu[i].keys == gpu[i].keys);
     CHECK(cpu[i].mass == gpu[i].mass);
+    // The work counted: the same map entries and bins; every bin's key was scattered at least once on the
+    // device, with a compare-and-swap per probe and one add per (pre-aggregated) vote.
+    CHECK(cpu[i].entries == gpu[i].entries);
+    CHECK(cpu[i].bins == gpu[i].bins);
+    CHECK(gpu[i].bins == gpu[i].keys.size());
+    CHECK(gpu[i].table_probes >= gpu[i].bins);
+    CHECK(gpu[i].atomics >= gpu[i].table_probes + gpu[i].bins);
+    CHECK(gpu[i].atomics <= 2 * gpu[i].table_probes);  // an add follows each successful probe, at most one per probe
+    CHECK(cpu[i].atomics == 0);
     votes += cpu[i].votes;
   }
   CHECK(votes > 1000);  // the comparison covered real work

@@ -10,6 +10,7 @@
 #include <sva/base/progress.hpp>
 #include <sva/eval/evaluation.hpp>
 #include <sva/eval/trials.hpp>
+#include "bench/gpu_model.hpp"
 #include "eval/metrics.hpp"
 #include "recognition/lockstep.hpp"
 #include "roofline/roofline.hpp"
@@ -51,7 +52,8 @@ double ratio(std::uint64_t a, std::uint64_t b) { return ratio(static_cast<double
 constexpr double kEntryBytes = 12.0, kMatchBytes = 2 * 28.0, kSlotBytes = 16.0;
 
 // The work per session-update at a checkpoint, and the bytes it implies; null where the backend counts nothing.
-json work_json(const BatchRecognizer::Work& w, std::size_t updates) {
+// A device counts its vote tables' atomics, not its belief probes (null).
+json work_json(const BatchRecognizer::Work& w, std::size_t updates, bool device) {
   if (w.entries == 0 && w.table_probes == 0) return nullptr;
   const auto per = [&](std::uint64_t v) { return ratio(static_cast<double>(v), static_cast<double>(updates)); };
   return {{"pairs", per(w.pairs)},
@@ -60,11 +62,13 @@ json work_json(const BatchRecognizer::Work& w, std::size_t updates) {
           {"votes", per(w.votes)},
           {"vote_table_probes", per(w.table_probes)},
           {"bins", per(w.bins)},
-          {"belief_probes", per(w.belief_probes)},
+          {"belief_probes", device ? json(nullptr) : json(per(w.belief_probes))},
+          {"vote_table_atomics", device ? json(per(w.atomics)) : json(nullptr)},
           {"bytes",
            {{"map", per(w.entries) * kEntryBytes + per(w.matches) * kMatchBytes},
             {"vote_tables", per(w.table_probes) * kSlotBytes},
-            {"fold", (per(w.bins) + per(w.belief_probes)) * kSlotBytes}}}};
+            // A device does not count its belief probes: at least one per bin.
+            {"fold", (per(w.bins) + std::max(per(w.belief_probes), device ? per(w.bins) : 0.0)) * kSlotBytes}}}};
 }
 
 json median_or_null(const std::vector<double>& v) {
@@ -93,7 +97,8 @@ void record_checkpoint(Checkpoint& c, const BatchRecognizer& rec, const std::vec
                         {&c.work.votes, w.votes},
                         {&c.work.table_probes, w.table_probes},
                         {&c.work.bins, w.bins},
-                        {&c.work.belief_probes, w.belief_probes}})
+                        {&c.work.belief_probes, w.belief_probes},
+                        {&c.work.atomics, w.atomics}})
     *sum += v;
   for (std::size_t i = 0; i < est.size(); ++i) {
     ++c.trials;
@@ -103,7 +108,8 @@ void record_checkpoint(Checkpoint& c, const BatchRecognizer& rec, const std::vec
   }
 }
 
-json checkpoint_json(std::size_t readings, const Checkpoint& c) {
+json checkpoint_json(std::size_t readings, const Checkpoint& c, bool device, std::size_t sessions) {
+  const json work = work_json(c.work, c.session_updates, device);
   return {
       {"readings", readings},
       {"update_ms", median_or_null(c.update_ms)},
@@ -118,7 +124,8 @@ json checkpoint_json(std::size_t readings, const Checkpoint& c) {
       {"estimate_ms", median_or_null(c.estimate_ms)},
       {"accuracy", ratio(static_cast<double>(c.correct), static_cast<double>(c.trials))},
       {"translation_error_mm", median_or_null(c.translation_mm)},
-      {"work_per_update", work_json(c.work, c.session_updates)},
+      {"work_per_update", work},
+      {"gpu_model", bench::model_update(work, bench::h100_sxm(), sessions)},
       {"belief_bytes_per_session", median_or_null(c.belief_bytes)},
       {"belief_bytes_per_session_max",
        c.belief_bytes.empty() ? json(nullptr) : json(*std::max_element(c.belief_bytes.begin(), c.belief_bytes.end()))}};
@@ -144,7 +151,7 @@ json memory_json(const RunMemory& m, const BatchRecognizer& rec) {
 class SpeedRecorder {
  public:
   SpeedRecorder(BatchRecognizer& rec, const std::vector<std::size_t>& checkpoints)
-      : rec_(rec), checkpoints_(checkpoints) {}
+      : rec_(rec), checkpoints_(checkpoints), sessions_(rec.sessions()) {}
 
   void on_step(const LockstepStep& s, const std::vector<eval::Trial>& tr) {
     StepFigures f;
@@ -176,7 +183,8 @@ class SpeedRecorder {
               {"votes_zero", all_.votes_zero},
               {"votes_zero_fraction", ratio(all_.votes_zero, all_.votes)}};
     json points = json::array();
-    for (const auto& [readings, c] : cp_) points.push_back(checkpoint_json(readings, c));
+    const bool device = rec_.backend() != BackendKind::cpu;
+    for (const auto& [readings, c] : cp_) points.push_back(checkpoint_json(readings, c, device, sessions_));
     j["curve"] = points;
     return j;
   }
@@ -185,7 +193,8 @@ class SpeedRecorder {
   BatchRecognizer& rec_;
   const std::vector<std::size_t>& checkpoints_;
   std::map<std::size_t, Checkpoint> cp_;
-  StepFigures all_;  // every update of the run; sessions = session-updates
+  std::size_t sessions_;  // per submission
+  StepFigures all_;       // every update of the run; sessions = session-updates
 };
 
 }  // namespace

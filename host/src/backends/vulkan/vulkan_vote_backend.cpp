@@ -118,10 +118,12 @@ class VulkanVoteBackend final : public VoteBackend {
       Consumer c;
       c.prepare = [&](std::size_t first, std::size_t last) { return start_fold(batch, first, last, gb, fold); };
       c.finish = [&](std::size_t first, std::size_t last) { finish_fold(batch, first, last, gb, fold, out); };
+      fold_bins_ = 0;
       vote_pairs(batch, 0, batch.pairs.size(), c);
       for (GpuBelief* g : gb) g->keep_half_empty();
     });
     last_work_ = work_of(out);
+    last_work_.bins = fold_bins_;  // counted per session by the fold's RESERVE pass
     return out;
   }
 
@@ -139,9 +141,11 @@ class VulkanVoteBackend final : public VoteBackend {
   }
 
  private:
-  // The last update's work as far as the device reports it: pairs, matches and votes (entries, probes and bins
-  // are not counted on the device: 0).
+  // The last update's work: the device's counters, the ranges of map entries it found, the fold's vote-table entries
+  // (the belief probes are not counted on the device: 0).
   BatchRecognizer::Work last_work_;
+  std::size_t key_items_count_ = 0;  // of the sub-batch last uploaded
+  std::uint64_t fold_bins_ = 0;      // of the update so far
 
   // Per map chunk: the scan of a batch's matches and its indirect dispatch.
   struct ChunkWork {
@@ -190,6 +194,7 @@ class VulkanVoteBackend final : public VoteBackend {
             {static_cast<std::uint32_t>(q - first), batch.keys[k].key, batch.keys[k].weight, batch.keys[k].reversed});
     }
     *key_items = items.size();
+    key_items_count_ = items.size();
     if ((items.size() > SVA_MAX_KEY_ITEMS || P > bins_.max_pairs()) && P > 1) return false;
     if (items.size() > SVA_MAX_KEY_ITEMS)
       throw Error("one observed pair has more map keys than the GPU backend handles");
@@ -350,7 +355,14 @@ class VulkanVoteBackend final : public VoteBackend {
       out[first + q].votes = c[1];
       out[first + q].votes_outside = c[2];
       out[first + q].votes_zero = c[3];
+      out[first + q].table_probes = c[5];
+      out[first + q].atomics = c[4] + c[5];
     }
+    // The map entries under each pair's keys: the ranges expand_pair_keys found.
+    const auto* items = key_items_.as<gpu::SvaGpuKeyItem>();
+    const auto* ranges = ranges_.as<gpu::SvaGpuRange>();
+    for (std::size_t k = 0; k < key_items_count_; ++k)
+      out[first + items[k].pair].entries += ranges[k].end - ranges[k].begin;
   }
 
   // vote(): the table's sums, sorted by (pair, pose bin), as the CPU reference returns them.
@@ -368,6 +380,7 @@ class VulkanVoteBackend final : public VoteBackend {
       const std::uint64_t q = bins_.pair_of(key);
       out[first + q].keys.push_back(bins_.key(bins_.bin_of(key)));
       out[first + q].mass.push_back(mass);
+      ++out[first + q].bins;
     }
     keep_vote_table_half_empty(all.size());
   }
@@ -477,6 +490,7 @@ class VulkanVoteBackend final : public VoteBackend {
     std::size_t entries = 0;  // vote-table entries, counted by the first RESERVE pass
     for (std::size_t s = 0; s < S; ++s)
       if (fold.pending[s]) entries += st[s].vote_entries;
+    fold_bins_ += entries;
     for (;;) {
       bool again = false;
       for (std::size_t s = 0; s < S; ++s) {

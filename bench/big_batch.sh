@@ -6,8 +6,8 @@
 # per session stay flat when the sessions stream through in groups, whatever their number.
 # Env: SVA (binary), MAP and DATA (default the tiny scene in /work/mem: map.svam, test.svad; make them with
 # `sva simulate --scene tiny --out DIR` and `sva train`), SESSIONS, READINGS (default 5), GROUP (default 64),
-# BACKEND (default cpu), THREADS (SVA_THREADS, default 2), REFINE (on|off, default on), OUT
-# (default /tmp/sva-bench/big_batch).
+# BACKEND (default cpu), THREADS (SVA_THREADS, default 2), REFINE (on|off, default on), BUDGET (--belief-budget,
+# default the library's), OUT (default /tmp/sva-bench/big_batch).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/find_sva.sh"
 
@@ -19,9 +19,10 @@ GROUP="${GROUP:-64}"
 BACKEND="${BACKEND:-cpu}"
 export SVA_THREADS="${THREADS:-2}"
 REFINE="${REFINE:-on}"
+BUDGET="${BUDGET:-}"
 OUT="${OUT:-/tmp/sva-bench/big_batch}"
 mkdir -p "$OUT"
-echo "== big batch: sva=$SVA map=$MAP data=$DATA sessions=\"$SESSIONS\" readings=$READINGS group=$GROUP backend=$BACKEND threads=$SVA_THREADS refine=$REFINE"
+echo "== big batch: sva=$SVA map=$MAP data=$DATA sessions=\"$SESSIONS\" readings=$READINGS group=$GROUP backend=$BACKEND threads=$SVA_THREADS refine=$REFINE budget=${BUDGET:-default}"
 printf '%9s %9s %8s %12s %10s %9s\n' sessions wall_s ms/sess us/pair peak_MiB results
 for n in $SESSIONS; do
   sessions="$OUT/sessions_${n}x${READINGS}.jsonl"
@@ -29,7 +30,7 @@ for n in $SESSIONS; do
     --trials "$n" --max-readings "$READINGS" --seed 1
   /usr/bin/time -f '%e %M' -o "$OUT/time_$n.txt" "$SVA" --quiet recognize --map "$MAP" --batch "$sessions" \
     --out "$OUT/results_$n.jsonl" --backend "$BACKEND" --sessions-per-submission "$GROUP" --refine "$REFINE" \
-    > "$OUT/recognize_$n.txt"
+    ${BUDGET:+--belief-budget "$BUDGET"} > "$OUT/recognize_$n.txt"
   read -r wall kib < "$OUT/time_$n.txt"
   lines=$(wc -l < "$OUT/results_$n.jsonl")
   awk -v n="$n" -v m="$READINGS" -v w="$wall" -v k="$kib" -v l="$lines" 'BEGIN {

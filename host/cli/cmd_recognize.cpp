@@ -54,6 +54,12 @@ int cmd_recognize(const std::vector<std::string>& argv) {
       .option("--refine", "on|off", "fine pose: align the readings to the object's surface (default on)")
       .option("--surface-check", "on|off",
               "weigh the leading objects by how well their surfaces explain the readings (default on)")
+      .option("--belief-budget", "BINS",
+              "touched pose bins per session before hopeless ones are forgotten (default 4194304; 0 = no bound; "
+              "32768 keeps a paper3d session of 30 readings near 7 MB; docs/recognition.md, \"Bounded memory\")")
+      .option("--max-pairs", "N",
+              "bounded cost per update: pairs per update, both orders counted (default 0: the exact filter; "
+              "docs/recognition.md)")
       .option("--write-sessions", "FILE.jsonl", "write trials as a sessions file instead (needs --map, --data)")
       .option("--data", "TEST", "test dataset for --write-sessions")
       .option("--trials", "N", "sessions to write (default: one per object)")
@@ -72,6 +78,9 @@ int cmd_recognize(const std::vector<std::string>& argv) {
   ro.vulkan_device = a.get_or("--device", "");
   ro.refine_pose = a.on_off("--refine", ro.refine_pose);
   ro.surface_check = a.on_off("--surface-check", ro.surface_check);
+  ro.belief_budget_bins = static_cast<std::size_t>(
+      a.integer("--belief-budget", static_cast<long long>(ro.belief_budget_bins), 0, 1ll << 40));
+  ro.max_pairs_per_update = static_cast<int>(a.integer("--max-pairs", 0, 0, 1 << 20));
 
   util::Progress progress("recognize", summary.readings);
   BatchRecognizer rec(map, map.pose_space(), std::min(per, summary.sessions), ro);

@@ -78,3 +78,26 @@ TEST_CASE("sva recognize: a malformed sessions file names the line and the fault
   CHECK_THAT(out, Contains("no sessions"));
   CHECK_FALSE(std::filesystem::exists(d / "x.jsonl"));
 }
+
+TEST_CASE("sva recognize: --max-pairs and --belief-budget reach the sessions, bad values are refused") {
+  const auto d = tiny_world();
+  const std::string map = (d / "map.svam").string();
+  std::string out;
+  REQUIRE(run_sva("recognize --write-sessions " + (d / "b.jsonl").string() + " --map " + map + " --data " +
+                      (d / "test.svad").string() + " --trials 3 --max-readings 6",
+                  &out) == 0);
+  const std::string base = "recognize --map " + map + " --batch " + (d / "b.jsonl").string() + " --backend cpu ";
+  REQUIRE(run_sva(base + "--out " + (d / "exact.jsonl").string(), &out) == 0);
+  REQUIRE(run_sva(base + "--belief-budget 0 --out " + (d / "unbounded.jsonl").string(), &out) == 0);
+  REQUIRE(run_sva(base + "--max-pairs 2 --out " + (d / "bounded.jsonl").string(), &out) == 0);
+  // A tiny scene's six readings stay far below the default budget: no bound changes nothing; two pairs per update
+  // (the new reading with the last one) cast other votes.
+  CHECK(slurp(d / "exact.jsonl") == slurp(d / "unbounded.jsonl"));
+  CHECK(slurp(d / "exact.jsonl") != slurp(d / "bounded.jsonl"));
+  for (const std::string bad : {"--belief-budget -1", "--belief-budget x", "--max-pairs -2"}) {
+    INFO(bad);
+    CHECK(run_sva(base + bad + " --out " + (d / "bad.jsonl").string(), &out) != 0);
+    CHECK_THAT(out, Contains(bad.substr(0, bad.find(' '))));
+    CHECK_FALSE(std::filesystem::exists(d / "bad.jsonl"));
+  }
+}

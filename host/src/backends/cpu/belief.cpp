@@ -70,11 +70,7 @@ void Belief::terms(const BinAccumulator& votes, std::vector<BinOffset>* out) con
 bool Belief::add(const std::vector<BinOffset>& terms, std::uint32_t count) {
   if (terms.empty() || count == 0) return false;
   forget_best();
-  constexpr std::size_t kAhead = 16;  // terms whose slots are fetched while one is added
-  for (std::size_t i = 0; i < std::min(kAhead, terms.size()); ++i) offset_.prefetch(terms[i].key);
-  for (std::size_t i = 0; i < terms.size(); ++i) {
-    if (i + kAhead < terms.size()) offset_.prefetch(terms[i + kAhead].key);
-    const BinOffset& t = terms[i];
+  for (const BinOffset& t : terms) {
     bool inserted = false;
     const std::uint64_t off = offset_.add_get(t.key, t.offset * count, &inserted);
     note(t.key, off, inserted);

@@ -27,9 +27,6 @@ class BinTable {
     *inserted = size_ != before;
     return x;
   }
-  // Asks for the cache line of the key's home slot ahead of an add: a table larger than the caches misses on
-  // nearly every add, and the adds of a match's runs or a pair's terms are independent, so their misses can overlap.
-  void prefetch(std::uint64_t key) const { __builtin_prefetch(&slots_[mix(key) & mask_], 1); }
   // The value of a key, or Value{} when absent.
   Value get(std::uint64_t key) const {
     std::size_t i = mix(key) & mask_;

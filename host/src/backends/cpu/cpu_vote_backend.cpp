@@ -180,11 +180,8 @@ class CpuVoteBackend final : public VoteBackend {
     cpu::sample_votes(al, plan, grid_, object, likelihood, &votes);
     // Neighbouring samples often share a bin (they are half a bin apart): a
     // run of one key goes into the table as one sum (integers: same result).
-    // The runs are found first and their slots fetched, then added: the adds'
-    // cache misses overlap instead of following one another.
-    std::uint64_t run_key[cpu::SampleVotes::kCapacity];
-    std::int64_t run_mass[cpu::SampleVotes::kCapacity];
-    int runs = 0;
+    std::uint64_t run_key = 0;
+    std::int64_t run_mass = 0;
     for (int s = 0; s < plan.n; ++s) {
       if (!votes.inside[s]) {
         ++out->votes_outside;
@@ -195,14 +192,14 @@ class CpuVoteBackend final : public VoteBackend {
         ++out->votes_zero;
         continue;
       }
-      if (runs == 0 || votes.key[s] != run_key[runs - 1]) {
-        run_key[runs] = votes.key[s];
-        run_mass[runs++] = 0;
+      if (run_mass > 0 && votes.key[s] != run_key) {
+        acc.add(run_key, run_mass);
+        run_mass = 0;
       }
-      run_mass[runs - 1] += votes.mass[s];
+      run_key = votes.key[s];
+      run_mass += votes.mass[s];
     }
-    for (int r = 0; r < runs; ++r) acc.prefetch(run_key[r]);
-    for (int r = 0; r < runs; ++r) acc.add(run_key[r], run_mass[r]);
+    if (run_mass > 0) acc.add(run_key, run_mass);
   }
 
   const PairMap& map_;

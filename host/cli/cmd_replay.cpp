@@ -2,11 +2,16 @@
 // (parser, settle rule, pose matching) and prints each reading as it forms;
 // with a map, recognises as the readings arrive and prints the estimate.
 #include <sva/drivers/session.hpp>
+#include <sva/error.hpp>
+#include <sva/eval/batch_sessions.hpp>
 #include <sva/map.hpp>
 #include <sva/recognizer.hpp>
 
 #include <cstdio>
+#include <filesystem>
+#include <nlohmann/json.hpp>
 #include <optional>
+#include <span>
 
 #include "args.hpp"
 #include "sensor_output.hpp"
@@ -30,7 +35,10 @@ int cmd_replay(const std::vector<std::string>& argv_in) {
       .option("--speed", "X", "1: the recorded pace (default), 2: twice as fast, 0: as fast as possible")
       .option("--backend", "cpu|vulkan|auto", "vote backend with --map (default cpu)")
       .option("--pose-clock-offset", "S",
-              "seconds added to the recorded poses' times before matching, in place of the recording's own offset");
+              "seconds added to the recorded poses' times before matching, in place of the recording's own offset")
+      .option("--write-session", "FILE.jsonl",
+              "also write the converged readings as a one-session sessions file (docs/batch-format.md; their times "
+              "in seconds under truth.stamps_s), for sva recognize and python -m sva.ros export");
   if (!a.parse()) return 0;
   const std::string file = positional ? *positional : a.required("--session");
   const double speed = a.number("--speed", 1.0, 0.0, 1e6);
@@ -46,9 +54,16 @@ int cmd_replay(const std::vector<std::string>& argv_in) {
   ReadingPrinter printer("sva replay", a.get_or("--map", ""),
                          parse_backend_kind(a.get_or("--backend", "cpu"), "sva replay: --backend"));
   double worst_latency_ms = 0;
+  // --write-session: the recognizer's readings (only converged ones are used) and their times.
+  io::BatchSession kept{std::filesystem::path(file).stem().string(), {}, {{"recording", file}}};
+  nlohmann::json stamps = nlohmann::json::array();
   drivers::PipelineEvents events;
   events.on_reading = [&](const drivers::FormedReading& f, std::int64_t delivered_ns) {
     printer(f);
+    if (f.reading.status == ControllerStatus::converged) {
+      kept.readings.push_back(f.reading);
+      stamps.push_back(f.time);
+    }
     worst_latency_ms = std::max(worst_latency_ms, static_cast<double>(drivers::monotonic_ns() - delivered_ns) * 1e-6);
   };
   events.on_note = [](const drivers::ContactNote& n) { std::fprintf(stderr, "sva replay: %s\n", n.text.c_str()); };
@@ -57,6 +72,13 @@ int cmd_replay(const std::vector<std::string>& argv_in) {
       std::fprintf(stderr, "sva replay: link %s: %s\n", drivers::to_string(e.status), e.message.c_str());
   };
   const auto stats = drivers::replay_session(session, speed, events);
+  if (auto out = a.get("--write-session")) {
+    if (kept.readings.empty())
+      throw Error("sva replay: " + file + " formed no converged reading: nothing to write to " + *out);
+    kept.truth["stamps_s"] = std::move(stamps);
+    io::write_batch_sessions(*out, std::span<const io::BatchSession>(&kept, 1));
+    std::fprintf(stderr, "sva replay: wrote %zu converged readings to %s\n", kept.readings.size(), out->c_str());
+  }
   std::fprintf(stderr,
                "sva replay: %zu readings (%zu recognised); %llu frames, %llu bytes skipped, %llu CRC errors, %llu "
                "frames missing in %llu gaps, %llu disconnects; worst latency last frame -> output %.2f ms (worst "

@@ -8,9 +8,49 @@
 
 #include "bindings.hpp"
 
+#if __has_include(<sva/sim/mesh.hpp>)
+#include <sva/sim/mesh.hpp>
+#define SVA_HAVE_SIM_MESH 1
+#endif
+
+#include <nanobind/stl/tuple.h>
+
 namespace sva::python {
 
 using namespace nb::literals;
+
+namespace {
+
+#ifdef SVA_HAVE_SIM_MESH
+// A new NumPy (n, 3) array of `values` (3 per row), owning its copy.
+template <class T>
+nb::ndarray<nb::numpy, T, nb::shape<-1, 3>> rows3(std::vector<T> values) {
+  auto* data = new std::vector<T>(std::move(values));
+  nb::capsule owner(data, [](void* p) noexcept { delete static_cast<std::vector<T>*>(p); });
+  return nb::ndarray<nb::numpy, T, nb::shape<-1, 3>>(data->data(), {data->size() / 3, 3}, owner);
+}
+
+// Object `i`'s mesh as the simulator sees it: fitted to the scene's size and centre (mm, object frame).
+std::tuple<nb::ndarray<nb::numpy, float, nb::shape<-1, 3>>, nb::ndarray<nb::numpy, std::uint32_t, nb::shape<-1, 3>>>
+object_mesh(const Scene& s, std::size_t i) {
+  if (i >= s.objects.size())
+    throw nb::index_error(("Scene.object_mesh: object " + std::to_string(i) + " out of range (" +
+                           std::to_string(s.objects.size()) + " objects)")
+                              .c_str());
+  sim::Mesh mesh;
+  {
+    nb::gil_scoped_release release;
+    mesh = sim::load_object_mesh(s.objects[i]);
+  }
+  std::vector<float> v;
+  for (const glm::vec3& p : mesh.positions) v.insert(v.end(), {p.x, p.y, p.z});
+  std::vector<std::uint32_t> t;
+  for (const glm::uvec3& f : mesh.triangles) t.insert(t.end(), {f.x, f.y, f.z});
+  return {rows3(std::move(v)), rows3(std::move(t))};
+}
+#endif
+
+}  // namespace
 
 void bind_scene(nb::module_& m) {
   nb::class_<SensorSpec>(m, "SensorSpec", "Geometry of the tactile array (square elements, row-major image).")
@@ -38,6 +78,12 @@ void bind_scene(nb::module_& m) {
             return meshes;
           },
           "mesh file of each object, in id order")
+#ifdef SVA_HAVE_SIM_MESH
+      .def("object_mesh", &object_mesh, "object"_a,
+           "(vertices, triangles) of object `object` as the simulator places it: vertices (n, 3) float32 in mm in "
+           "the object's frame (scaled and centred as the scene says), triangles (m, 3) uint32, counter-clockwise "
+           "seen from outside.")
+#endif
       .def_rw("sensor", &Scene::sensor)
       .def_rw("pose_space", &Scene::pose_space)
       .def("to_json", &scene_to_json, "The scene as JSON text (mesh paths absolute).")

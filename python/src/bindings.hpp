@@ -31,6 +31,7 @@ void bind_recognizer(nb::module_& m);
 void bind_batch_recognizer(nb::module_& m);
 void bind_workflow(nb::module_& m);
 void bind_touch_planner(nb::module_& m);
+void bind_sessions(nb::module_& m);
 
 // Read-only NumPy views of engine memory owned by a Python object (rv_policy::reference_internal).
 using Vec3View = nb::ndarray<nb::numpy, double, nb::shape<3>>;

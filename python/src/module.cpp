@@ -18,4 +18,5 @@ NB_MODULE(_sva_core, m) {
   bind_batch_recognizer(m);
   bind_workflow(m);
   bind_touch_planner(m);
+  bind_sessions(m);
 }

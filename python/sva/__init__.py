@@ -57,7 +57,7 @@ from ._sva_core import (
     train,
 )
 from ._sva_core import __version__, _set_assets_dir
-from .batch import recognize_batch
+from .batch import Session, read_sessions, recognize_batch
 
 __all__ = [
     "BatchRecognizer",
@@ -91,6 +91,8 @@ __all__ = [
     "placed_pose_space",
     "plan_next_touch",
     "pose_space_around",
+    "Session",
+    "read_sessions",
     "recognize_batch",
     "show_progress",
     "simulate",

@@ -123,3 +123,24 @@ def recognize_batch(
     if out is not None:
         write_atomically(out, iter([results]))
     return results.decode("utf-8").splitlines()
+
+
+@dataclass(frozen=True)
+class Session:
+    """One session of a sessions file: its id (the file's, else its number from 0), its readings and its truth
+    (any JSON, None when absent)."""
+
+    id: str
+    readings: list
+    truth: object
+
+
+def read_sessions(path: PathLike, map: Map) -> list:
+    """The sessions of a sessions file (docs/batch-format.md) for ``map``'s sensor, read by the engine's own reader:
+    what ``sva recognize`` accepts; :class:`sva.Error` names the line and the field of a bad one."""
+    import json
+
+    from ._sva_core import _read_sessions
+
+    return [Session(id_, readings, json.loads(truth) if truth else None)
+            for id_, readings, truth in _read_sessions(os.fspath(path), map.sensor.elements)]

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <fstream>
 
+#include <sva/eval/batch_sessions.hpp>
 #include <sva/io/recording_file.hpp>
 #include "test_support.hpp"
 
@@ -148,6 +149,17 @@ TEST_CASE("sva export --recording and sva replay: readings and estimates on stdo
                              &out) == 0);
   REQUIRE(sva::test::run_sva("replay " + rec + " --speed 0 --map " + (d / "map.svam").string(), &out) == 0);
   CHECK_THAT(out, Contains("\"type\":\"reading\"") && Contains("\"type\":\"estimate\"") && Contains("worst latency"));
+  // --write-session: the converged readings as a sessions file, with their times, for sva recognize and sva.ros.
+  const auto written = (d / "replayed.jsonl").string();
+  REQUIRE(sva::test::run_sva("replay " + rec + " --speed 0 --write-session " + written, &out) == 0);
+  const auto sessions = sva::io::read_batch_sessions(written, 36);
+  REQUIRE(sessions.size() == 1);
+  CHECK(sessions[0].readings.size() >= 3);
+  CHECK(sessions[0].truth["stamps_s"].size() == sessions[0].readings.size());
+  CHECK(sessions[0].truth["recording"] == rec);
+  REQUIRE(sva::test::run_sva("recognize --map " + (d / "map.svam").string() + " --batch " + written + " --out " +
+                                 (d / "replayed_results.jsonl").string() + " --backend cpu",
+                             &out) == 0);
   // The export's touches start unloaded (zero at 1000 counts): a tare from its first frames finds that zero.
   const auto cal = (d / "cal.json").string();
   REQUIRE(sva::test::run_sva("calibrate --session " + rec + " --frames 3 --gain 0.01 --out " + cal, &out) == 0);

@@ -76,6 +76,15 @@ if [[ -n ${libs[libtbb.so.12]:-} && -f $(dirname "${libs[libtbb.so.12]}")/libtbb
 fi
 for name in "${!libs[@]}"; do cp -L "${libs[$name]}" "$out/lib/$name"; done
 chmod u+w "$out"/lib/*
+# The figures' font (cairo through fontconfig): a GPU machine may have no fonts at all, and a figure without
+# glyphs fails its test. env.sh points fontconfig at this folder's configuration.
+mkdir -p "$out/fonts"
+cp -L /usr/share/fonts/truetype/dejavu/DejaVuSans.ttf "$out/fonts/"
+cat >"$out/fonts/fonts.conf" <<'CONF'
+<?xml version="1.0"?>
+<!DOCTYPE fontconfig SYSTEM "fonts.dtd">
+<fontconfig><dir prefix="relative">.</dir><cachedir prefix="relative">cache</cachedir></fontconfig>
+CONF
 
 # Debug information stays in the build tree; the bundle is for running.
 if command -v strip >/dev/null && [[ ${STRIP:-1} != 0 ]]; then

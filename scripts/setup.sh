@@ -11,6 +11,7 @@ packages=(
   patchelf  # scripts/bundle.sh: $ORIGIN run paths in the relocatable bundle for a GPU machine
   clang-14 libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer (libclang_rt.fuzzer) and the sanitizer runtimes
   python3 python3-venv python3-dev python3-pip  # the Python package (python/, docs/python.md)
+  libcairo2-dev fonts-dejavu-core  # the figures (host/eval/src/plot: cairo, PNG and SVG, DejaVu Sans)
 )
 missing=()
 for p in "${packages[@]}"; do

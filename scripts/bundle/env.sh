@@ -39,6 +39,9 @@ if [[ -f $BUNDLE/lib/libstdc++.so.6 && -z ${SVA_BUNDLE_NO_PRELOAD:-} ]]; then
   unset sys_cxx sys_gcc mine theirs
 fi
 
+# The figures' font: the bundle's own fontconfig configuration and DejaVu Sans (scripts/bundle.sh).
+export FONTCONFIG_FILE="$BUNDLE/fonts/fonts.conf"
+
 # All cores for the thread pools (sva simulate/train/bench, CPU backend).
 SVA_NPROC=$(nproc 2>/dev/null || getconf _NPROCESSORS_ONLN 2>/dev/null || echo 1)
 export SVA_THREADS="${SVA_THREADS:-$SVA_NPROC}"

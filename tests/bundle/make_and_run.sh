@@ -17,4 +17,4 @@ head -n 3 help.txt
 # Plain C++, the Vulkan loader with the embedded shaders, and the sva CLI
 # simulating a built-in scene (Embree, TBB; the bundled sva and assets).
 LOG_DIR="$tmp/logs" env -u LD_LIBRARY_PATH "$tmp/bundle/run-tests.sh" io 'vulkan:*sva_div*' 'bench:*hash scatter*' \
-  'sim:simulate: same seed*'
+  'sim:simulate: same seed*' 'eval:canvas*'

@@ -108,7 +108,7 @@ void write_confusion_figure(const Confusion& c, const std::string& scene, const 
   draw_cells(canvas, c, l);
   draw_families(canvas, c, l);
   draw_names(canvas, c, l);
-  canvas.write_png(file);
+  canvas.write_figure(file);
 }
 
 }  // namespace sva::eval

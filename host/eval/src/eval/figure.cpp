@@ -62,7 +62,7 @@ void write_panel_figure(const std::string& title, const std::string& x_label, do
     const int col = static_cast<int>(k % 2), row = static_cast<int>(k / 2);
     line_chart(canvas, col * kPanelW, kHeader + row * kPanelH, kPanelW, kPanelH, series, o);
   }
-  canvas.write_png(file);
+  canvas.write_figure(file);
 }
 
 void write_figure(const std::vector<Curve>& curves, const std::filesystem::path& file) {
@@ -125,7 +125,7 @@ void write_reliability_figure(const Curve& curve, const std::filesystem::path& f
   o.y_min = 0.0;
   o.y_max = 1.0;
   line_chart(canvas, 0, 0, canvas.width(), canvas.height(), {ideal, measured}, o);
-  canvas.write_png(file);
+  canvas.write_figure(file);
 }
 
 }  // namespace sva::eval

@@ -9,10 +9,12 @@
 #include <limits>
 #include <ostream>
 
-#define STB_IMAGE_WRITE_STATIC
-#define STB_IMAGE_WRITE_IMPLEMENTATION
-#include <stb_easy_font.h>
-#include <stb_image_write.h>
+#include <cairo-svg.h>
+#include <cairo.h>
+
+#include <cstring>
+#include <string>
+#include <utility>
 
 namespace sva::plot {
 
@@ -38,32 +40,115 @@ Rgb palette(std::size_t i) {
 }
 
 Canvas::Canvas(int width, int height, Rgb bg) : w_(std::max(width, 1)), h_(std::max(height, 1)) {
-  px_.resize(static_cast<std::size_t>(w_) * h_ * 3);
-  for (std::size_t i = 0; i < px_.size(); i += 3) {
-    px_[i] = bg.r;
-    px_[i + 1] = bg.g;
-    px_[i + 2] = bg.b;
+  const cairo_rectangle_t extents{0, 0, static_cast<double>(w_), static_cast<double>(h_)};
+  record_ = cairo_recording_surface_create(CAIRO_CONTENT_COLOR, &extents);
+  cr_ = cairo_create(record_);
+  if (cairo_status(cr_) != CAIRO_STATUS_SUCCESS)
+    throw Error("canvas " + std::to_string(w_) + " x " + std::to_string(h_) + ": " +
+                cairo_status_to_string(cairo_status(cr_)));
+  fill_rect(0, 0, w_, h_, bg);
+}
+
+Canvas::~Canvas() {
+  if (cr_) cairo_destroy(cr_);
+  if (record_) cairo_surface_destroy(record_);
+}
+
+Canvas::Canvas(Canvas&& o) noexcept
+    : w_(o.w_),
+      h_(o.h_),
+      record_(std::exchange(o.record_, nullptr)),
+      cr_(std::exchange(o.cr_, nullptr)),
+      px_(std::move(o.px_)),
+      stale_(o.stale_) {}
+
+Canvas& Canvas::operator=(Canvas&& o) noexcept {
+  if (this != &o) {
+    this->~Canvas();
+    new (this) Canvas(std::move(o));
   }
+  return *this;
+}
+
+namespace {
+void source(cairo_t* cr, Rgb c) { cairo_set_source_rgb(cr, c.r / 255.0, c.g / 255.0, c.b / 255.0); }
+
+// The sizes of text as Canvas::text draws it: a context of its own per thread (figures are drawn in parallel).
+cairo_t* measuring_context() {
+  thread_local std::unique_ptr<cairo_t, void (*)(cairo_t*)> cr = [] {
+    cairo_surface_t* s = cairo_image_surface_create(CAIRO_FORMAT_RGB24, 1, 1);
+    cairo_t* c = cairo_create(s);
+    cairo_surface_destroy(s);  // the context holds it
+    return std::unique_ptr<cairo_t, void (*)(cairo_t*)>(c, cairo_destroy);
+  }();
+  return cr.get();
+}
+
+void select_font(cairo_t* cr, int scale) {
+  cairo_select_font_face(cr, "DejaVu Sans", CAIRO_FONT_SLANT_NORMAL, CAIRO_FONT_WEIGHT_NORMAL);
+  cairo_set_font_size(cr, 10.0 * std::max(scale, 1));
+}
+
+// Appends what cairo writes to a byte string (PNG and SVG streams).
+cairo_status_t append(void* closure, const unsigned char* data, unsigned int length) {
+  static_cast<std::string*>(closure)->append(reinterpret_cast<const char*>(data), length);
+  return CAIRO_STATUS_SUCCESS;
+}
+
+// A finite coordinate, clamped far outside the canvas (cairo's fixed point overflows past 2^23).
+double bounded(double v, double lim) { return std::clamp(v, -lim, lim); }
+}  // namespace
+
+void Canvas::render() const {
+  if (!stale_) return;
+  cairo_surface_t* image = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w_, h_);
+  cairo_t* cr = cairo_create(image);
+  cairo_set_source_surface(cr, record_, 0, 0);
+  cairo_paint(cr);
+  cairo_destroy(cr);
+  cairo_surface_flush(image);
+  const unsigned char* data = cairo_image_surface_get_data(image);
+  const int stride = cairo_image_surface_get_stride(image);
+  px_.resize(static_cast<std::size_t>(w_) * h_ * 3);
+  for (int y = 0; y < h_; ++y)
+    for (int x = 0; x < w_; ++x) {
+      std::uint32_t v;  // RGB24: 0x00RRGGBB in the machine's byte order
+      std::memcpy(&v, data + static_cast<std::size_t>(y) * stride + 4 * x, 4);
+      std::uint8_t* p = px_.data() + (static_cast<std::size_t>(y) * w_ + x) * 3;
+      p[0] = static_cast<std::uint8_t>(v >> 16), p[1] = static_cast<std::uint8_t>(v >> 8);
+      p[2] = static_cast<std::uint8_t>(v);
+    }
+  cairo_surface_destroy(image);
+  stale_ = false;
+}
+
+const std::vector<std::uint8_t>& Canvas::pixels() const {
+  render();
+  return px_;
 }
 
 Rgb Canvas::get(int x, int y) const {
   if (x < 0 || y < 0 || x >= w_ || y >= h_) return {};
+  render();
   std::size_t i = (static_cast<std::size_t>(y) * w_ + x) * 3;
   return {px_[i], px_[i + 1], px_[i + 2]};
 }
 
 void Canvas::set(int x, int y, Rgb c) {
   if (x < 0 || y < 0 || x >= w_ || y >= h_) return;
-  std::size_t i = (static_cast<std::size_t>(y) * w_ + x) * 3;
-  px_[i] = c.r;
-  px_[i + 1] = c.g;
-  px_[i + 2] = c.b;
+  fill_rect(x, y, 1, 1, c);
 }
 
 void Canvas::fill_rect(int x, int y, int w, int h, Rgb c) {
-  int x0 = std::max(x, 0), y0 = std::max(y, 0), x1 = std::min(x + w, w_), y1 = std::min(y + h, h_);
-  for (int yy = y0; yy < y1; ++yy)
-    for (int xx = x0; xx < x1; ++xx) set(xx, yy, c);
+  const int x0 = std::max(x, 0), y0 = std::max(y, 0), x1 = std::min(x + w, w_), y1 = std::min(y + h, h_);
+  if (x1 <= x0 || y1 <= y0) return;
+  // Whole pixels, without antialiasing: the cells of heat maps and contact sheets keep their exact colours.
+  cairo_set_antialias(cr_, CAIRO_ANTIALIAS_NONE);
+  source(cr_, c);
+  cairo_rectangle(cr_, x0, y0, x1 - x0, y1 - y0);
+  cairo_fill(cr_);
+  cairo_set_antialias(cr_, CAIRO_ANTIALIAS_DEFAULT);
+  stale_ = true;
 }
 
 void Canvas::rect(int x, int y, int w, int h, Rgb c) {
@@ -75,64 +160,83 @@ void Canvas::rect(int x, int y, int w, int h, Rgb c) {
 
 void Canvas::line(double x0, double y0, double x1, double y1, Rgb c, int thickness) {
   if (!std::isfinite(x0) || !std::isfinite(y0) || !std::isfinite(x1) || !std::isfinite(y1)) return;
-  // Clip absurdly long lines so that the loop stays bounded.
   const double lim = 4.0 * (w_ + h_);
-  x0 = std::clamp(x0, -lim, lim), x1 = std::clamp(x1, -lim, lim), y0 = std::clamp(y0, -lim, lim),
-  y1 = std::clamp(y1, -lim, lim);
-  double len = std::max(std::abs(x1 - x0), std::abs(y1 - y0));
-  int steps = std::max(1, static_cast<int>(std::ceil(len)));
-  int r = std::max(thickness, 1) / 2;
-  int extra = std::max(thickness, 1) - 1 - 2 * r;
-  for (int i = 0; i <= steps; ++i) {
-    double t = static_cast<double>(i) / steps;
-    int x = static_cast<int>(std::lround(x0 + t * (x1 - x0))), y = static_cast<int>(std::lround(y0 + t * (y1 - y0)));
-    for (int dy = -r; dy <= r + extra; ++dy)
-      for (int dx = -r; dx <= r + extra; ++dx) set(x + dx, y + dy, c);
-  }
+  // Through the pixels' centres: a line from (x, y) covers pixel (x, y).
+  cairo_move_to(cr_, bounded(x0, lim) + 0.5, bounded(y0, lim) + 0.5);
+  cairo_line_to(cr_, bounded(x1, lim) + 0.5, bounded(y1, lim) + 0.5);
+  cairo_set_line_width(cr_, std::max(thickness, 1));
+  cairo_set_line_cap(cr_, CAIRO_LINE_CAP_SQUARE);
+  source(cr_, c);
+  cairo_stroke(cr_);
+  stale_ = true;
 }
 
 void Canvas::fill_circle(double cx, double cy, double r, Rgb c) {
-  if (!std::isfinite(cx) || !std::isfinite(cy) || !(r > 0)) return;
-  int x0 = static_cast<int>(std::floor(cx - r)), x1 = static_cast<int>(std::ceil(cx + r));
-  int y0 = static_cast<int>(std::floor(cy - r)), y1 = static_cast<int>(std::ceil(cy + r));
-  x0 = std::max(x0, 0), y0 = std::max(y0, 0), x1 = std::min(x1, w_ - 1), y1 = std::min(y1, h_ - 1);
-  for (int y = y0; y <= y1; ++y)
-    for (int x = x0; x <= x1; ++x)
-      if ((x + 0.5 - cx) * (x + 0.5 - cx) + (y + 0.5 - cy) * (y + 0.5 - cy) <= r * r) set(x, y, c);
+  if (!std::isfinite(cx) || !std::isfinite(cy) || !(r > 0) || !std::isfinite(r)) return;
+  const double lim = 4.0 * (w_ + h_);
+  cairo_arc(cr_, bounded(cx, lim), bounded(cy, lim), std::min(r, lim), 0.0, 2.0 * M_PI);
+  source(cr_, c);
+  cairo_fill(cr_);
+  stale_ = true;
 }
 
 void Canvas::text(int x, int y, const std::string& s, Rgb c, int scale) {
   if (s.empty()) return;
-  scale = std::max(scale, 1);
-  std::string copy = s;
-  // stb_easy_font emits axis-aligned quads (4 vertices of 16 bytes each).
-  std::vector<char> buf(copy.size() * 300 + 1024);
-  unsigned char col[4] = {c.r, c.g, c.b, 255};
-  int quads = stb_easy_font_print(0, 0, copy.data(), col, buf.data(), static_cast<int>(buf.size()));
-  for (int q = 0; q < quads; ++q) {
-    const float* v = reinterpret_cast<const float*>(buf.data() + q * 64);
-    float qx0 = v[0], qy0 = v[1], qx1 = v[8], qy1 = v[9];  // vertices 0 and 2 are opposite corners
-    int ax = x + static_cast<int>(std::lround(std::min(qx0, qx1) * scale));
-    int ay = y + static_cast<int>(std::lround(std::min(qy0, qy1) * scale));
-    int bw = static_cast<int>(std::lround(std::abs(qx1 - qx0) * scale));
-    int bh = static_cast<int>(std::lround(std::abs(qy1 - qy0) * scale));
-    fill_rect(ax, ay, std::max(bw, 1), std::max(bh, 1), c);
-  }
+  select_font(cr_, scale);
+  cairo_font_extents_t fe;
+  cairo_font_extents(cr_, &fe);
+  // The 10 px font's capitals are about 7 px tall, as the text heights the figures are laid out for: the top of
+  // the capitals at y.
+  cairo_text_extents_t te;
+  cairo_text_extents(cr_, "H", &te);
+  source(cr_, c);
+  cairo_move_to(cr_, x, y - te.y_bearing);
+  cairo_show_text(cr_, s.c_str());
+  cairo_new_path(cr_);
+  stale_ = true;
 }
 
 int Canvas::text_width(const std::string& s, int scale) {
-  std::string copy = s;
-  return stb_easy_font_width(copy.data()) * std::max(scale, 1);
+  if (s.empty()) return 0;
+  cairo_t* cr = measuring_context();
+  select_font(cr, scale);
+  cairo_text_extents_t te;
+  cairo_text_extents(cr, s.c_str(), &te);
+  return static_cast<int>(std::ceil(te.x_advance));
 }
 
 void Canvas::write_png(const std::filesystem::path& file) const {
-  io::write_file_atomically(file, [&](std::ostream& out) {
-    const auto to_stream = [](void* context, void* data, int size) {
-      static_cast<std::ostream*>(context)->write(static_cast<const char*>(data), size);
-    };
-    if (!stbi_write_png_to_func(to_stream, &out, w_, h_, 3, px_.data(), w_ * 3))
-      throw Error(file.string() + ": cannot encode PNG");
-  });
+  cairo_surface_t* image = cairo_image_surface_create(CAIRO_FORMAT_RGB24, w_, h_);
+  cairo_t* cr = cairo_create(image);
+  cairo_set_source_surface(cr, record_, 0, 0);
+  cairo_paint(cr);
+  cairo_destroy(cr);
+  std::string bytes;
+  const cairo_status_t st = cairo_surface_write_to_png_stream(image, append, &bytes);
+  cairo_surface_destroy(image);
+  if (st != CAIRO_STATUS_SUCCESS) throw Error(file.string() + ": cannot encode PNG: " + cairo_status_to_string(st));
+  io::write_file_atomically(
+      file, [&](std::ostream& out) { out.write(bytes.data(), static_cast<std::streamsize>(bytes.size())); });
+}
+
+void Canvas::write_svg(const std::filesystem::path& file) const {
+  std::string bytes;
+  cairo_surface_t* svg = cairo_svg_surface_create_for_stream(append, &bytes, w_, h_);
+  cairo_t* cr = cairo_create(svg);
+  cairo_set_source_surface(cr, record_, 0, 0);
+  cairo_paint(cr);
+  cairo_destroy(cr);
+  cairo_surface_finish(svg);
+  const cairo_status_t st = cairo_surface_status(svg);
+  cairo_surface_destroy(svg);
+  if (st != CAIRO_STATUS_SUCCESS) throw Error(file.string() + ": cannot encode SVG: " + cairo_status_to_string(st));
+  io::write_file_atomically(
+      file, [&](std::ostream& out) { out.write(bytes.data(), static_cast<std::streamsize>(bytes.size())); });
+}
+
+void Canvas::write_figure(const std::filesystem::path& file) const {
+  write_png(file);
+  write_svg(std::filesystem::path(file).replace_extension(".svg"));
 }
 
 namespace {

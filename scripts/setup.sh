@@ -12,6 +12,7 @@ packages=(
   clang-14 libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer (libclang_rt.fuzzer) and the sanitizer runtimes
   python3 python3-venv python3-dev python3-pip  # the Python package (python/, docs/python.md)
   libcairo2-dev fonts-dejavu-core  # the figures (host/eval/src/plot: cairo, PNG and SVG, DejaVu Sans)
+  libjs-three chromium  # sva view's pages (three.js inlined) and their browser test (tests/view, headless)
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -55,5 +55,6 @@ int cmd_record(const std::vector<std::string>& args);
 int cmd_live(const std::vector<std::string>& args);
 int cmd_calibrate(const std::vector<std::string>& args);
 int cmd_replay(const std::vector<std::string>& args);
+int cmd_view(const std::vector<std::string>& args);
 
 }  // namespace sva::cli

@@ -1,6 +1,7 @@
 // sva eval: recognition trials on test readings (paper Sec 5); prints the
 // curve and writes the JSON summary, the per-step CSV and the figure.
 #include <sva/dataset.hpp>
+#include <sva/eval/session_view.hpp>
 #include <sva/map.hpp>
 #include <sva/recognizer.hpp>
 
@@ -196,6 +197,9 @@ void declare_eval_options(Args& a) {
   a.option("--method", "sva|appearance", "sva, or the appearance-only baseline of [15] (default sva)");
   a.option("--json", "OUT.json", "write the summary curve as JSON");
   a.option("--csv", "OUT.csv", "write one row per (trial, readings)");
+  a.option("--html", "DIR",
+           "write a page per trial (sva view's: the touches and hypotheses in 3-D, reading by reading), "
+           "the accuracy figure and an index with the worst trials first (random policy; docs/view.md)");
   a.option("--plot", "OUT.png", "write the figure (accuracy and errors against readings, like the paper's Fig. 4/5)");
   a.option("--reliability", "OUT.png",
            "write the reliability diagram: accuracy against the top object's probability (docs/evaluation.md; "
@@ -276,6 +280,8 @@ int cmd_eval(const std::vector<std::string>& argv) {
   const auto confusion_file = a.get("--confusion");
   if (confusion_file) check_writable("--confusion", *confusion_file);
   if (a.has("--confusion-at") && !confusion_file) throw Error("sva eval: --confusion-at needs --confusion");
+  if (a.has("--html") && o.policy != eval::Policy::random)
+    throw Error("sva eval: --html makes pages of the random policy's trials; drop --policy or --html");
   const std::vector<std::size_t> confusion_at = confusion_counts(a, o.max_readings);
   const auto compare_files = a.all("--compare");
   if (!compare_files.empty() && !plot_file)
@@ -312,6 +318,10 @@ int cmd_eval(const std::vector<std::string>& argv) {
   }
   if (reliability_file) eval::write_reliability_figure(curve, *reliability_file);
   if (confusion_file) write_confusions(result, confusion_at, *confusion_file);
+  if (const auto html = a.get("--html")) {
+    const std::size_t pages = view::write_trial_pages(*html, map, test, o, result, curve);
+    std::fprintf(stderr, "sva eval: wrote %zu trial pages and %s/index.html\n", pages, html->c_str());
+  }
   return 0;
 }
 

@@ -35,6 +35,8 @@ const Command kCommands[] = {
     {"live", "recognise while touching with a real tactile sensor and the arm's poses", sva::cli::cmd_live},
     {"calibrate", "record a tactile array's zero counts (tare) into a calibration file", sva::cli::cmd_calibrate},
     {"replay", "play a session recording: the readings it forms and, with a map, the estimates", sva::cli::cmd_replay},
+    {"view", "write one session as an HTML page: a 3-D view of the touches and hypotheses, reading by reading",
+     sva::cli::cmd_view},
 };
 
 void usage() {

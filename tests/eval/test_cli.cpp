@@ -541,3 +541,47 @@ TEST_CASE("sva eval --confusion writes the matrices and the figure, prints the p
   CHECK(sva::test::run_sva(common + "--surface-check maybe", &out) != 0);
   CHECK(out.find("--surface-check") != std::string::npos);
 }
+
+TEST_CASE("sva view writes a trial's page with its data; sva eval --html a page per trial; bad input is named") {
+  Fixture f;  // its scene's meshes do not exist: the pages say so and show the session without them
+  std::string out;
+  const std::string view = "view --map " + f.map + " --data " + f.test + " --max-readings 4 --backend cpu ";
+  REQUIRE(sva::test::run_sva(view + "--trial 1 --out " + f.path("t1.html"), &out) == 0);
+  CHECK(out.find("no mesh for") != std::string::npos);
+  const std::string page = read_file(f.path("t1.html"));
+  const auto at = page.find("<script id=\"sva-data\" type=\"application/json\">");
+  REQUIRE(at != std::string::npos);
+  const auto start = page.find('\n', at) + 1, end = page.find("\n</script>", start);
+  const auto data = nlohmann::json::parse(page.substr(start, end - start));
+  CHECK(data["readings"].size() == 4);
+  CHECK(data["steps"].size() == 4);
+  CHECK(data["truth"].is_object());
+  CHECK(data["objects"].size() == 2);
+  CHECK(page.find("THREE") != std::string::npos);  // three.js inlined: the page needs nothing else
+  // Four scripts (three.js, its orbit controls, the data, the viewer), each ended once: no "</" inside them ends one
+  // early.
+  const auto count = [&](const std::string& s) {
+    std::size_t n = 0;
+    for (auto p = page.find(s); p != std::string::npos; p = page.find(s, p + 1)) ++n;
+    return n;
+  };
+  CHECK(count("</script>") == 4);
+  REQUIRE(sva::test::run_sva(f.base() + "--trials 2 --max-readings 4 --backend cpu --html " + f.path("pages"), &out) ==
+          0);
+  for (const char* file : {"index.html", "trial-0.html", "trial-1.html", "accuracy.png", "accuracy.svg"}) {
+    INFO(file);
+    CHECK(std::filesystem::exists(f.dir / "pages" / file));
+  }
+  for (const auto& [bad, says] : std::vector<std::pair<std::string, std::string>>{
+           {"view --map " + f.map + " --out " + f.path("x.html"), "exactly one of --data"},
+           {view + "--sessions s.jsonl --out " + f.path("x.html"), "exactly one of --data"},
+           {view + "--trial 1", "--out"},
+           {view + "--trial -1 --out " + f.path("x.html"), "--trial"},
+           {f.base() + "--trials 2 --max-readings 4 --policy active --html " + f.path("p2"), "--html"}}) {
+    INFO(bad);
+    CHECK(sva::test::run_sva(bad, &out) != 0);
+    CHECK(out.find(says) != std::string::npos);
+    CHECK(out.find("internal error") == std::string::npos);
+  }
+  CHECK_FALSE(std::filesystem::exists(f.dir / "x.html"));
+}

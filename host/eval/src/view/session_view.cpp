@@ -1,0 +1,212 @@
+#include <sva/eval/session_view.hpp>
+
+#include <sva/base/finite.hpp>
+#include <sva/batch_recognizer.hpp>
+#include <sva/error.hpp>
+#include <sva/io/text_file.hpp>
+#ifdef SVA_HAVE_SIM
+#include <sva/sim/mesh.hpp>
+#endif
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <map>
+#include <ostream>
+#include <sstream>
+
+#include "eval/metrics.hpp"
+
+namespace sva::view {
+
+namespace {
+
+using nlohmann::json;
+
+// Base64 (RFC 4648) of raw bytes: the meshes' float32 and uint32 arrays, which the page decodes into typed arrays
+// (smaller and faster to parse than JSON numbers for meshes of 100,000 triangles).
+std::string base64(const void* data, std::size_t size) {
+  static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  const auto* b = static_cast<const unsigned char*>(data);
+  std::string out;
+  out.reserve((size + 2) / 3 * 4);
+  for (std::size_t i = 0; i < size; i += 3) {
+    const std::uint32_t v = (std::uint32_t{b[i]} << 16) | (i + 1 < size ? std::uint32_t{b[i + 1]} << 8 : 0u) |
+                            (i + 2 < size ? std::uint32_t{b[i + 2]} : 0u);
+    out += kAlphabet[(v >> 18) & 63];
+    out += kAlphabet[(v >> 12) & 63];
+    out += i + 1 < size ? kAlphabet[(v >> 6) & 63] : '=';
+    out += i + 2 < size ? kAlphabet[v & 63] : '=';
+  }
+  return out;
+}
+
+json pose_json(const RigidPose& p) {
+  json R = json::array();
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) R.push_back(p.R[c][r]);  // glm is column-major: row r, column c
+  return {{"R", R}, {"T", {p.T.x, p.T.y, p.T.z}}};
+}
+
+json reading_json(const Reading& r) {
+  return {{"p", {r.position.x, r.position.y, r.position.z}},
+          {"n", {r.normal.x, r.normal.y, r.normal.z}},
+          {"rows", r.rows},
+          {"cols", r.cols},
+          {"pressure", r.pressure}};
+}
+
+// One step: the estimate after a reading, and its errors where the truth and a pose of the right object are known.
+json step_json(const Estimate& est, double update_ms, const std::optional<SessionTruth>& truth, const Scene* scene) {
+  json hypotheses = json::array();
+  for (const PoseHypothesis& h : est.hypotheses) {
+    json j = pose_json(h.pose);
+    j["object"] = h.object;
+    j["probability"] = h.probability;
+    hypotheses.push_back(j);
+  }
+  json error = nullptr;
+  if (truth && est.ready && est.pose_valid && est.object == truth->object && scene &&
+      truth->object < scene->objects.size()) {
+    const SceneObject& o = scene->objects[truth->object];
+    const eval::PoseError e = eval::pose_error(truth->pose, est.pose, o.symmetry, o.inertial_radius_mm);
+    error = {{"translation_mm", e.translation_mm}, {"angle_deg", e.angular_rad * 180.0 / M_PI}};
+  }
+  return {{"update_ms", update_ms},
+          {"object", est.ready ? json(est.object) : json(nullptr)},
+          {"probabilities", est.object_probability},
+          {"p_unknown", est.p_unknown},
+          {"hypotheses", hypotheses},
+          {"error", error}};
+}
+
+// The meshes of the objects the page shows (the truth's and every hypothesis'), each loaded once. A mesh that cannot
+// be loaded (a dataset made on another machine) leaves its object out of the 3-D view, with a warning: the rest of
+// the page still shows the session.
+json meshes_json(const Scene& scene, const json& steps, const std::optional<SessionTruth>& truth, json& warnings) {
+  std::vector<std::uint32_t> wanted;
+  if (truth) wanted.push_back(truth->object);
+  for (const json& s : steps)
+    for (const json& h : s["hypotheses"]) wanted.push_back(h["object"].get<std::uint32_t>());
+  std::sort(wanted.begin(), wanted.end());
+  wanted.erase(std::unique(wanted.begin(), wanted.end()), wanted.end());
+  json out = json::object();
+#ifdef SVA_HAVE_SIM
+  for (std::uint32_t o : wanted) {
+    if (o >= scene.objects.size()) continue;
+    sim::Mesh mesh;
+    try {
+      mesh = sim::load_object_mesh(scene.objects[o]);
+    } catch (const Error& e) {
+      warnings.push_back("no mesh for " + scene.objects[o].name + ": " + e.what());
+      continue;
+    }
+    out[std::to_string(o)] = {{"name", scene.objects[o].name},
+                              {"triangles", mesh.triangles.size()},
+                              {"positions", base64(mesh.positions.data(), mesh.positions.size() * sizeof(glm::vec3))},
+                              {"indices", base64(mesh.triangles.data(), mesh.triangles.size() * sizeof(glm::uvec3))}};
+  }
+#else
+  if (!wanted.empty()) warnings.push_back("no meshes: this build has no simulator (SVA_BUILD_SIM off)");
+#endif
+  return out;
+}
+
+std::string read_file(const std::filesystem::path& file, const std::string& what) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw Error(file.string() + ": cannot read " + what);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// three.js and its orbit controls: SVA_THREE_JS (a folder laid out as Debian's), else libjs-three's.
+std::filesystem::path three_dir() {
+  if (const char* env = std::getenv("SVA_THREE_JS"); env && *env) return env;
+  return "/usr/share/javascript/three";
+}
+
+void replace_once(std::string& page, const std::string& token, const std::string& with) {
+  const auto at = page.find(token);
+  if (at == std::string::npos) throw Error("assets/view/viewer.html: no " + token + " in the page template");
+  page.replace(at, token.size(), with);
+}
+
+// A script's text inside <script>: "</script" would end it early.
+std::string script(const std::string& text, const std::string& attributes = "") {
+  std::string safe;
+  safe.reserve(text.size());
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '<' && i + 1 < text.size() && text[i + 1] == '/') {
+      safe += "<\\/";
+      ++i;
+    } else {
+      safe += text[i];
+    }
+  }
+  return "<script" + attributes + ">\n" + safe + "\n</script>";
+}
+
+}  // namespace
+
+json session_view_data(const Map& map, const Scene* scene, std::span<const Reading> readings,
+                       const std::optional<SessionTruth>& truth, const SessionViewSpec& spec) {
+  if (readings.empty()) throw Error("sva view: the session has no readings");
+  if (truth && truth->object >= map.objects())
+    throw Error("sva view: the true object " + std::to_string(truth->object) + " is not one of the map's " +
+                std::to_string(map.objects()));
+  // A batch of one (sva::Recognizer's estimates, and the backend's description for the page).
+  BatchRecognizer rec(map, map.pose_space(), 1, spec.options);
+  const std::size_t session = 0;
+  json steps = json::array(), shown = json::array();
+  std::vector<double> times;
+  for (const Reading& r : readings) {
+    const auto start = std::chrono::steady_clock::now();
+    rec.add_readings(std::span<const std::size_t>(&session, 1), std::span<const Reading>(&r, 1));
+    const Estimate est = rec.estimate(session, spec.top_k);
+    times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    steps.push_back(step_json(est, times.back(), truth, scene));
+    shown.push_back(reading_json(r));
+  }
+  std::vector<double> sorted = times;
+  std::sort(sorted.begin(), sorted.end());
+  const double median =
+      sorted.size() % 2 ? sorted[sorted.size() / 2] : 0.5 * (sorted[sorted.size() / 2 - 1] + sorted[sorted.size() / 2]);
+  json j = {{"title", spec.title},
+            {"source", spec.source},
+            {"map", spec.map_name},
+            {"scene", map.scene_name()},
+            {"backend", rec.backend_description()},
+            {"update_ms_median", median},
+            {"objects", map.object_names()},
+            {"readings", shown},
+            {"steps", steps},
+            {"truth", nullptr},
+            {"meshes", json::object()},
+            {"warnings", json::array()}};
+  if (truth) {
+    j["truth"] = pose_json(truth->pose);
+    j["truth"]["object"] = truth->object;
+  }
+  if (scene) j["meshes"] = meshes_json(*scene, steps, truth, j["warnings"]);
+  return j;
+}
+
+void write_session_page(const std::filesystem::path& out, const json& data) {
+  const std::filesystem::path assets = assets_dir() / "view";
+  std::string page = read_file(assets / "viewer.html", "the viewer's page template (SVA_ASSETS)");
+  const std::filesystem::path three = three_dir();
+  const std::string missing = " (install Debian's libjs-three: scripts/setup.sh does; or set SVA_THREE_JS)";
+  replace_once(
+      page, "<!--SVA_THREE-->",
+      script(read_file(three / "three.min.js", "three.js" + missing)) + "\n" +
+          script(read_file(three / "examples/js/controls/OrbitControls.js", "three.js' OrbitControls" + missing)));
+  replace_once(page, "<!--SVA_DATA-->", script(data.dump(), " id=\"sva-data\" type=\"application/json\""));
+  replace_once(page, "<!--SVA_VIEWER-->", script(read_file(assets / "viewer.js", "the viewer (SVA_ASSETS)")));
+  io::write_text_file(out, page);
+}
+
+}  // namespace sva::view

@@ -542,7 +542,7 @@ TEST_CASE("sva eval --confusion writes the matrices and the figure, prints the p
   CHECK(out.find("--surface-check") != std::string::npos);
 }
 
-TEST_CASE("sva view writes a trial's page with its data; sva eval --html a page per trial; bad input is named") {
+TEST_CASE("sva view writes a trial's page with its data, sva eval --html a page per trial, bad input is named") {
   Fixture f;  // its scene's meshes do not exist: the pages say so and show the session without them
   std::string out;
   const std::string view = "view --map " + f.map + " --data " + f.test + " --max-readings 4 --backend cpu ";

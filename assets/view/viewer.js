@@ -84,7 +84,9 @@
   // The markers' scale: the touched region or the objects, whichever is larger (mm).
   const size = Math.max(extent.getSize(new THREE.Vector3()).length(), objectSize, 20);
   const touches = [];
-  const sphere = new THREE.SphereGeometry(size * 0.015, 16, 12);
+  // Markers shrink as touches crowd (1 up to 30 touches, a fifth at 1,000).
+  const crowd = Math.min(1, Math.max(0.2, Math.sqrt(30 / data.readings.length)));
+  const sphere = new THREE.SphereGeometry(size * 0.015 * crowd, 16, 12);
   function label(text) {
     const c = document.createElement("canvas");
     c.width = 64; c.height = 32;
@@ -92,31 +94,55 @@
     g.font = "bold 22px sans-serif"; g.fillStyle = "#222"; g.textAlign = "center"; g.textBaseline = "middle";
     g.fillText(text, 32, 16);
     const s = new THREE.Sprite(new THREE.SpriteMaterial({ map: new THREE.CanvasTexture(c), depthTest: false }));
-    s.scale.set(size * 0.06, size * 0.03, 1);
+    const k = Math.max(crowd, 0.5);
+    s.scale.set(size * 0.06 * k, size * 0.03 * k, 1);
     return s;
   }
+  // One grey material for every touch and an orange sphere on the latest; the normals one line list; the numbers
+  // made as they are first shown (a long session shows the latest kLabels): a page of 1,000 touches loads fast.
+  const kLabels = 60;
+  const dotMaterial = new THREE.MeshBasicMaterial({ color: 0x404040, depthTest: false, transparent: true });
+  const normalPoints = new Float32Array(6 * data.readings.length);
   data.readings.forEach((r, i) => {
     const p = new THREE.Vector3(...r.p), n = new THREE.Vector3(...r.n).normalize();
-    // Drawn over the objects: a touch inside a wrong hypothesis stays visible.
-    // (In the transparent pass, after the hypotheses: renderOrder orders it there.)
-    const dot = new THREE.Mesh(sphere, new THREE.MeshBasicMaterial({ color: 0xdddddd, depthTest: false,
-                                                                     transparent: true }));
-    dot.renderOrder = 2;
+    // Drawn over the objects (in the transparent pass, after the hypotheses): a touch inside a wrong hypothesis
+    // stays visible.
+    const dot = new THREE.Mesh(sphere, dotMaterial);
     dot.position.copy(p);
+    dot.renderOrder = 2;
     dot.userData.reading = i;
-    const arrow = new THREE.ArrowHelper(n, p, size * 0.08, 0x3399ff, size * 0.02, size * 0.012);
-    arrow.traverse((o) => {
-      if (o.material) Object.assign(o.material, { depthTest: false, transparent: true });
-      o.renderOrder = 2;
-    });
-    const number = label(String(i + 1));
-    number.renderOrder = 3;
-    number.position.copy(p.clone().addScaledVector(n, size * 0.11));
-    const group = new THREE.Group();
-    group.add(dot, arrow, number);
-    scene.add(group);
-    touches.push({ group, dot });
+    scene.add(dot);
+    p.toArray(normalPoints, 6 * i);
+    p.clone().addScaledVector(n, size * 0.08 * crowd).toArray(normalPoints, 6 * i + 3);
+    touches.push({ dot, label: null, at: p.clone().addScaledVector(n, size * 0.11) });
   });
+  const normalGeometry = new THREE.BufferGeometry();
+  normalGeometry.setAttribute("position", new THREE.BufferAttribute(normalPoints, 3));
+  const normals = new THREE.LineSegments(normalGeometry, new THREE.LineBasicMaterial({ color: 0x3399ff,
+                                                                                      depthTest: false,
+                                                                                      transparent: true }));
+  normals.renderOrder = 2;
+  scene.add(normals);
+  const latest = new THREE.Mesh(sphere, new THREE.MeshBasicMaterial({ color: 0xff8000, depthTest: false,
+                                                                      transparent: true }));
+  latest.scale.setScalar(1.25);
+  latest.renderOrder = 3;
+  scene.add(latest);
+  function showTouches(current) {
+    touches.forEach((t, k) => {
+      t.dot.visible = k < current;
+      const labelled = k < current && k >= current - kLabels;
+      if (labelled && !t.label) {
+        t.label = label(String(k + 1));
+        t.label.position.copy(t.at);
+        t.label.renderOrder = 3;
+        scene.add(t.label);
+      }
+      if (t.label) t.label.visible = labelled;
+    });
+    normalGeometry.setDrawRange(0, 2 * current);
+    latest.position.copy(touches[current - 1].dot.position);
+  }
 
   // The hypotheses of the step shown (rebuilt when the slider moves).
   let hypothesisMeshes = [];
@@ -164,10 +190,7 @@
   function setReading(i) {
     current = Math.min(Math.max(1, Math.round(i)), data.readings.length);
     $("slider").value = String(current);
-    touches.forEach((t, k) => {
-      t.group.visible = k < current;
-      t.dot.material.color.set(k === current - 1 ? 0xff8000 : 0x404040);
-    });
+    showTouches(current);
     const step = data.steps[current - 1];
     showHypotheses(step);
     showPanel(current, step);
@@ -180,7 +203,7 @@
     const rect = renderer.domElement.getBoundingClientRect();
     mouse.set(((ev.clientX - rect.left) / rect.width) * 2 - 1, -((ev.clientY - rect.top) / rect.height) * 2 + 1);
     ray.setFromCamera(mouse, camera);
-    const hit = ray.intersectObjects(touches.filter((t) => t.group.visible).map((t) => t.dot))[0];
+    const hit = ray.intersectObjects(touches.filter((t) => t.dot.visible).map((t) => t.dot))[0];
     const tip = $("tip");
     if (!hit) { tip.style.display = "none"; return; }
     const r = data.readings[hit.object.userData.reading];
@@ -202,12 +225,12 @@
 
   // ----- layout and drawing
   function render() { renderer.render(scene, camera); }
-  function resize() {
+  function resize(draw = true) {
     const w = Math.max(view.clientWidth, 100), h = Math.max(view.clientHeight, 100);
     renderer.setSize(w, h);
     camera.aspect = w / h;
     camera.updateProjectionMatrix();
-    render();
+    if (draw) render();
   }
   // The view takes in the touches and the objects (the truth, else the last step's best hypothesis).
   function expandByObject(box, object, R, T) {
@@ -237,16 +260,16 @@
   const slider = $("slider");
   slider.max = String(data.readings.length);
   slider.addEventListener("input", () => setReading(Number(slider.value)));
-  window.addEventListener("resize", resize);
+  window.addEventListener("resize", () => resize());
   frame();
-  resize();
+  resize(false);  // setReading below draws the first frame (one drawing on load: software WebGL is slow)
   setReading(data.readings.length);
 
   // ----- the test hook
   window.svaView = {
     setReading,
     reading: () => current,
-    counts: () => ({ meshes: meshCount + hypothesisMeshes.length, contacts: touches.filter((t) => t.group.visible).length,
+    counts: () => ({ meshes: meshCount + hypothesisMeshes.length, contacts: touches.filter((t) => t.dot.visible).length,
                      hypotheses: hypothesisMeshes.length }),
     probabilities: () => data.steps[current - 1].probabilities.slice(),
     topProbability: () => {

@@ -124,6 +124,7 @@ int cmd_view(const std::vector<std::string>& argv) {
   spec.source = p.source;
   spec.map_name = map_file;
   spec.top_k = static_cast<std::size_t>(a.integer("--top", 5, 1, 100));
+  spec.progress = true;
   spec.options.backend = parse_backend_kind(a.get_or("--backend", "auto"), "sva view: --backend");
   spec.options.refine_pose = a.on_off("--refine", true);
   spec.options.max_pairs_per_update = static_cast<int>(a.integer("--max-pairs", 0, 0, 1 << 20));

@@ -1,6 +1,7 @@
 #include <sva/eval/session_view.hpp>
 
 #include <sva/base/finite.hpp>
+#include <sva/base/progress.hpp>
 #include <sva/batch_recognizer.hpp>
 #include <sva/error.hpp>
 #include <sva/io/text_file.hpp>
@@ -163,6 +164,8 @@ json session_view_data(const Map& map, const Scene* scene, std::span<const Readi
   const std::size_t session = 0;
   json steps = json::array(), shown = json::array();
   std::vector<double> times;
+  std::optional<util::Progress> progress;
+  if (spec.progress) progress.emplace("view", readings.size());
   for (const Reading& r : readings) {
     const auto start = std::chrono::steady_clock::now();
     rec.add_readings(std::span<const std::size_t>(&session, 1), std::span<const Reading>(&r, 1));
@@ -170,7 +173,9 @@ json session_view_data(const Map& map, const Scene* scene, std::span<const Readi
     times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     steps.push_back(step_json(est, times.back(), truth, scene));
     shown.push_back(reading_json(r));
+    if (progress) progress->advance();
   }
+  if (progress) progress->finish();
   std::vector<double> sorted = times;
   std::sort(sorted.begin(), sorted.end());
   const double median =

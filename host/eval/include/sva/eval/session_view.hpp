@@ -29,6 +29,7 @@ struct SessionViewSpec {
   std::string map_name;
   RecognizerOptions options;  // the recognizer's (backend, fine pose, ...), as the run being looked at used them
   std::size_t top_k = 5;      // hypotheses per step
+  bool progress = false;      // report the replay's progress on stderr (a long session takes minutes)
 };
 
 // Replays `readings` and returns the page's data (docs/view.md, "The data"). `scene` gives the meshes of the truth

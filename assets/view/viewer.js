@@ -204,15 +204,17 @@
     mouse.set(((ev.clientX - rect.left) / rect.width) * 2 - 1, -((ev.clientY - rect.top) / rect.height) * 2 + 1);
     ray.setFromCamera(mouse, camera);
     const hit = ray.intersectObjects(touches.filter((t) => t.dot.visible).map((t) => t.dot))[0];
-    const tip = $("tip");
-    if (!hit) { tip.style.display = "none"; return; }
-    const r = data.readings[hit.object.userData.reading];
-    drawPressure($("tip-image"), r);
-    $("tip-text").textContent = `touch ${hit.object.userData.reading + 1}: max ${fmt(Math.max(...r.pressure), 1)} kPa`;
-    tip.style.left = `${ev.clientX - rect.left + 12}px`;
-    tip.style.top = `${ev.clientY - rect.top + 12}px`;
-    tip.style.display = "block";
+    if (!hit) { $("tip").style.display = "none"; return; }
+    showTip(hit.object.userData.reading, ev.clientX - rect.left + 12, ev.clientY - rect.top + 12);
   });
+  function showTip(i, x, y) {
+    const r = data.readings[i], tip = $("tip");
+    drawPressure($("tip-image"), r);
+    $("tip-text").textContent = `touch ${i + 1}: max ${fmt(Math.max(...r.pressure), 1)} kPa`;
+    tip.style.left = `${x}px`;
+    tip.style.top = `${y}px`;
+    tip.style.display = "block";
+  }
   function drawPressure(canvas, r) {
     const g = canvas.getContext("2d"), top = Math.max(...r.pressure, 1e-9);
     const w = canvas.width / r.cols, h = canvas.height / r.rows;
@@ -277,6 +279,14 @@
       return s.object === null ? 0 : s.probabilities[s.object];
     },
     errors: () => errors.slice(),
+    // What hovering over touch i shows: its text, and how many of its image's pixels are coloured.
+    hover: (i) => {
+      showTip(i, 20, 20);
+      const c = $("tip-image"), px = c.getContext("2d").getImageData(0, 0, c.width, c.height).data;
+      let coloured = 0;
+      for (let k = 0; k < px.length; k += 4) coloured += px[k + 3] > 0 && !(px[k] === px[k + 1] && px[k] === px[k + 2]);
+      return { text: $("tip-text").textContent, coloured };
+    },
   };
   // "#load": how long the page took from navigation to its first full drawing (docs/view.md, "Size and speed").
   if (location.hash === "#load") {
@@ -292,6 +302,7 @@
                        p_unknown: data.steps[i - 1].p_unknown, bars: document.querySelectorAll("#bars .bar").length });
     }
     setReading(data.readings.length);
+    out.hover = window.svaView.hover(data.readings.length - 1);
     out.errors = errors.slice();
     $("sva-selftest").textContent = JSON.stringify(out);
   }

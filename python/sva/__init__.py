@@ -57,7 +57,7 @@ from ._sva_core import (
     train,
 )
 from ._sva_core import __version__, _set_assets_dir
-from .batch import Session, read_sessions, recognize_batch
+from .batch import Session, read_sessions, recognize_batch, trial_session
 
 __all__ = [
     "BatchRecognizer",
@@ -94,6 +94,7 @@ __all__ = [
     "Session",
     "read_sessions",
     "recognize_batch",
+    "trial_session",
     "show_progress",
     "simulate",
     "train",

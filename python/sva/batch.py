@@ -144,3 +144,20 @@ def read_sessions(path: PathLike, map: Map) -> list:
 
     return [Session(id_, readings, json.loads(truth) if truth else None)
             for id_, readings, truth in _read_sessions(os.fspath(path), map.sensor.elements)]
+
+
+def trial_session(data, map: Map, trial: int, *, seed: int = 1, max_readings: int = 30) -> Session:
+    """Evaluation trial ``trial`` of the test set ``data`` (a :class:`sva.Dataset` or a ``.svad`` path) as a session:
+    exactly the readings ``sva eval --seed SEED --max-readings M`` presents in that trial, with the truth as
+    ``sva recognize --write-sessions`` writes it (``object``, ``R`` row by row, ``T`` in mm)."""
+    import numpy as np
+
+    from ._sva_core import Dataset, _eval_trial
+
+    if trial < 0 or max_readings < 1 or seed < 0:
+        raise Error(f"trial_session: trial {trial}, seed {seed} and max_readings {max_readings} must be >= 0, >= 0, >= 1")
+    source = os.fspath(data) if not isinstance(data, Dataset) else "test set"
+    test = data if isinstance(data, Dataset) else Dataset.load(source)
+    readings, name, pose = _eval_trial(test, map, trial, seed, max_readings, source)
+    truth = {"object": name, "R": np.asarray(pose.R).tolist(), "T": np.asarray(pose.T).tolist()}
+    return Session(f"trial-{trial}", readings, truth)

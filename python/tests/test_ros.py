@@ -153,3 +153,23 @@ def test_a_replayed_recording_becomes_a_bag_on_its_recorded_stamps(tiny, tmp_pat
     assert got == [round(s * 1e9) for s in stamps]
     assert main(["export", "--map", str(tiny.map), "--sessions", str(tiny.sessions), "--out", str(out),
                  "--stamps", "recorded"]) == 1  # trials have no recorded times
+
+
+def test_an_evaluation_trial_is_the_trial_sva_writes(tiny, tiny_map, tmp_path):
+    """sva.trial_session makes trial K as sva eval and sva recognize --write-sessions do (the same generator)."""
+    from sva.ros.__main__ import main
+
+    written = sva.read_sessions(tiny.sessions, tiny_map)[1]  # --trials 6 --max-readings 6 --seed 5
+    made = sva.trial_session(tiny.test, tiny_map, 1, seed=5, max_readings=6)
+    assert made.id == written.id == "trial-1"
+    assert made.truth["object"] == written.truth["object"]
+    assert np.allclose(made.truth["T"], written.truth["T"], atol=1e-9)
+    assert len(made.readings) == len(written.readings) == 6
+    for a, b in zip(made.readings, written.readings):  # the file holds them as printed JSON numbers
+        assert np.allclose(a.position, b.position, atol=1e-9) and np.allclose(np.ravel(a.pressure), np.ravel(b.pressure))
+    out = tmp_path / "trial.mcap"
+    assert main(["export", "--map", str(tiny.map), "--data", str(tiny.test), "--trial", "1", "--seed", "5",
+                 "--max-readings", "6", "--out", str(out), "--mesh", "off", "--backend", "cpu"]) == 0
+    assert [t for t, _, _ in sva.ros.read_bag(out)].count("/sva/detections") == 6
+    with pytest.raises(sva.Error, match="must be"):
+        sva.trial_session(tiny.test, tiny_map, -1)

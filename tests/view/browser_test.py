@@ -79,6 +79,9 @@ def main():
     assert 'href="trial-0.html"' in index and 'href="trial-1.html"' in index and "accuracy.png" in index
     assert (work / "html" / "accuracy.png").stat().st_size > 1000 and (work / "html" / "accuracy.svg").is_file()
     assert report["errors"] == [], f"console or script errors: {report['errors']}"
+    # Hovering over a touch shows its pressure image.
+    assert report["hover"]["text"].startswith("touch 6:"), report["hover"]
+    assert report["hover"]["coloured"] > 1000, report["hover"]
     rows = [r for r in csv.DictReader(open(work / "eval.csv")) if r["trial"] == "1"]
     assert len(report["steps"]) == len(rows) == 6, (len(report["steps"]), len(rows))
     for step, row in zip(report["steps"], rows):

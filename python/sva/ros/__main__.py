@@ -9,7 +9,7 @@ import argparse
 import sys
 from typing import Optional, Sequence
 
-from .. import Error, Map, Recognizer, load_scene, read_sessions
+from .. import Error, Map, Recognizer, load_scene, read_sessions, trial_session
 from . import export_session, scene_meshes
 
 
@@ -22,7 +22,12 @@ def _parser() -> argparse.ArgumentParser:
                        "PoseWithCovarianceStamped (/sva/pose), visualization_msgs/MarkerArray of the touches "
                        "(/sva/touches) and of the best object's mesh at its pose (/sva/object). docs/ros.md.")
     e.add_argument("--map", required=True, help="map file (sva train)")
-    e.add_argument("--sessions", required=True, help="sessions file (JSON Lines, docs/batch-format.md)")
+    source = e.add_mutually_exclusive_group(required=True)
+    source.add_argument("--sessions", help="sessions file (JSON Lines, docs/batch-format.md)")
+    source.add_argument("--data", help="test dataset: the session is evaluation trial --trial, as sva eval runs it")
+    e.add_argument("--trial", type=int, default=0, help="with --data: which trial, from 0 (default 0)")
+    e.add_argument("--seed", type=int, default=1, help="with --data: the trials' seed (default 1, as sva eval)")
+    e.add_argument("--max-readings", type=int, default=30, help="with --data: readings per trial (default 30)")
     e.add_argument("--out", required=True, help="the MCAP file to write")
     which = e.add_mutually_exclusive_group()
     which.add_argument("--session", type=int, default=0, help="which session, from 0 in file order (default 0)")
@@ -63,18 +68,21 @@ def _stamps(args: argparse.Namespace, session) -> Optional[list]:
     if args.stamps == "period" or (args.stamps == "auto" and recorded is None):
         return None
     if not isinstance(recorded, list) or len(recorded) != len(session.readings):
-        raise Error(f"{args.sessions}: session {session.id!r} has no truth.stamps_s with one time per reading "
+        raise Error(f"{args.sessions or args.data}: session {session.id!r} has no truth.stamps_s with one time per reading "
                     "(sva replay --write-session writes them); use --stamps period")
     try:
         return [round(float(t) * 1e9) + round(args.start * 1e9) for t in recorded]
     except (TypeError, ValueError):
-        raise Error(f"{args.sessions}: session {session.id!r}: truth.stamps_s holds a non-number") from None
+        raise Error(f"{args.sessions or args.data}: session {session.id!r}: truth.stamps_s holds a non-number") from None
 
 
 def _export(args: argparse.Namespace) -> int:
     if args.period <= 0 or args.start < 0 or args.top < 1:
         raise Error("sva.ros export: --period must be > 0, --start >= 0 and --top >= 1")
     m = Map.load(args.map)
+    if args.data is not None:
+        session = trial_session(args.data, m, args.trial, seed=args.seed, max_readings=args.max_readings)
+        return _write(args, m, session)
     sessions = read_sessions(args.sessions, m)
     if args.id is not None:
         picked = [s for s in sessions if s.id == args.id]
@@ -85,6 +93,10 @@ def _export(args: argparse.Namespace) -> int:
         raise Error(f"{args.sessions}: session {args.session} out of range ({len(sessions)} sessions)")
     else:
         session = sessions[args.session]
+    return _write(args, m, session)
+
+
+def _write(args: argparse.Namespace, m: Map, session) -> int:
     stamps = _stamps(args, session)
     rec = Recognizer(m, backend=args.backend)
     summary = export_session(rec, session.readings, args.out, frame_id=args.frame,

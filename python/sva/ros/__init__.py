@@ -29,7 +29,12 @@ TOPICS = {
     "/sva/pose": "geometry_msgs/msg/PoseWithCovarianceStamped",
     "/sva/touches": "visualization_msgs/msg/MarkerArray",
     "/sva/object": "visualization_msgs/msg/MarkerArray",
+    "/tf": "tf2_msgs/msg/TFMessage",
 }
+
+# The best hypothesis' frame: /tf places it at the best pose after every reading, and the object's mesh marker lives
+# in it (frame-locked), so the mesh is sent only when the best object changes, not with every reading.
+OBJECT_FRAME = "sva_object"
 
 _MM = 1e-3  # sva works in millimetres, ROS in metres
 
@@ -161,16 +166,28 @@ class ObjectMesh:
         self.box = ObjectBox(vertices_mm)
 
 
-def object_marker(estimate: "_core.Estimate", mesh: Optional[ObjectMesh], stamp_ns: int, frame_id: str) -> dict:
-    """visualization_msgs/MarkerArray with the best object's mesh at the best pose, coloured by its probability
-    (grey to green), or a DELETEALL before the estimate has a pose or without a mesh."""
+def object_transform(estimate: "_core.Estimate", stamp_ns: int, frame_id: str) -> Optional[dict]:
+    """tf2_msgs/TFMessage placing OBJECT_FRAME at the best hypothesis' pose in ``frame_id`` (None before a pose)."""
+    if not (estimate.ready and estimate.hypotheses):
+        return None
+    position, q, _ = estimate.hypotheses[0].to_ros()
+    return {"transforms": [{"header": header(stamp_ns, frame_id), "child_frame_id": OBJECT_FRAME,
+                            "transform": {"translation": _point(position),
+                                          "rotation": {"x": float(q[0]), "y": float(q[1]), "z": float(q[2]),
+                                                       "w": float(q[3])}}}]}
+
+
+def object_marker(estimate: "_core.Estimate", mesh: Optional[ObjectMesh], stamp_ns: int) -> dict:
+    """visualization_msgs/MarkerArray with the best object's mesh in OBJECT_FRAME (frame-locked: /tf moves it),
+    coloured by the object's probability when sent (grey to green), or a DELETEALL before the estimate has a pose or
+    without a mesh."""
     if mesh is None or not (estimate.ready and estimate.hypotheses):
-        clear = _marker(stamp_ns, frame_id, "sva_object", 0, TRIANGLE_LIST)
+        clear = _marker(stamp_ns, OBJECT_FRAME, "sva_object", 0, TRIANGLE_LIST)
         clear["action"] = 3
         return {"markers": [clear]}
     best = estimate.hypotheses[0]
-    m = _marker(stamp_ns, frame_id, "sva_object", 0, TRIANGLE_LIST)
-    m["pose"] = pose_with_covariance(best)["pose"]
+    m = _marker(stamp_ns, OBJECT_FRAME, "sva_object", 0, TRIANGLE_LIST)
+    m["frame_locked"] = True
     p = float(estimate.object_probability[best.object]) * (1.0 - float(estimate.p_unknown))
     m["color"] = _color(0.6 - 0.4 * p, 0.6 + 0.3 * p, 0.6 - 0.4 * p, 0.7)
     m["points"] = mesh.points
@@ -183,7 +200,8 @@ def session_messages(recognizer: "_core.Recognizer", readings: Iterable["_core.R
                      meshes: Optional[Sequence[Optional[ObjectMesh]]] = None,
                      stamps_ns: Optional[Sequence[int]] = None) -> Iterator[tuple[str, int, dict]]:
     """Adds the readings to ``recognizer`` one by one and yields ``(topic, stamp_ns, message)`` after each: the
-    detections, the best pose (once there is one), the touches and the best object's mesh, reading i at
+    detections, the best pose and its /tf frame (once there is one), the touches, and the best object's mesh
+    (when the best object changes: /tf moves it), reading i at
     ``stamps_ns[i]`` when given (a recording's times: non-decreasing, one per reading), else at
     ``start_ns + i * period_ns``."""
     if period_ns <= 0:
@@ -196,6 +214,7 @@ def session_messages(recognizer: "_core.Recognizer", readings: Iterable["_core.R
             raise ValueError("sva.ros: the stamps must be non-negative and in order")
     boxes = [m.box if m is not None else None for m in meshes] if meshes is not None else None
     taken: list = []
+    shown = None  # the object whose mesh was sent last (-1: a DELETEALL)
     for i, reading in enumerate(readings):
         recognizer.add_reading(reading)
         taken.append(reading)
@@ -205,10 +224,14 @@ def session_messages(recognizer: "_core.Recognizer", readings: Iterable["_core.R
         pose = best_pose(est, stamp, frame_id)
         if pose is not None:
             yield "/sva/pose", stamp, pose
+            yield "/tf", stamp, object_transform(est, stamp, frame_id)
         yield "/sva/touches", stamp, touch_markers(taken, stamp, frame_id)
         if meshes is not None:
-            mesh = meshes[est.object] if est.ready and est.object < len(meshes) else None
-            yield "/sva/object", stamp, object_marker(est, mesh, stamp, frame_id)
+            best = est.hypotheses[0].object if est.ready and est.hypotheses else -1
+            mesh = meshes[best] if 0 <= best < len(meshes) else None
+            if (best if mesh is not None else -1) != shown:
+                yield "/sva/object", stamp, object_marker(est, mesh, stamp)
+                shown = best if mesh is not None else -1
 
 
 def scene_meshes(scene: "_core.Scene") -> list[ObjectMesh]:
@@ -219,7 +242,7 @@ def scene_meshes(scene: "_core.Scene") -> list[ObjectMesh]:
 from .bag import export_session, read_bag  # noqa: E402  (the writer needs the converters above)
 
 __all__ = [
-    "TOPICS", "ObjectBox", "ObjectMesh", "best_pose", "detection_array", "export_session", "header",
-    "object_marker", "pose_with_covariance", "read_bag", "scene_meshes", "session_messages", "time_msg",
+    "OBJECT_FRAME", "TOPICS", "ObjectBox", "ObjectMesh", "best_pose", "detection_array", "export_session", "header",
+    "object_marker", "object_transform", "pose_with_covariance", "read_bag", "scene_meshes", "session_messages", "time_msg",
     "touch_markers",
 ]

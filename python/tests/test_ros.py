@@ -187,6 +187,33 @@ def test_an_evaluation_trial_is_the_trial_sva_writes(tiny, tiny_map, tmp_path):
     out = tmp_path / "trial.mcap"
     assert main(["export", "--map", str(tiny.map), "--data", str(tiny.test), "--trial", "1", "--seed", "5",
                  "--max-readings", "6", "--out", str(out), "--mesh", "off", "--backend", "cpu"]) == 0
-    assert [t for t, _, _ in sva.ros.read_bag(out)].count("/sva/detections") == 6
+    msgs = sva.ros.read_bag(out)
+    assert [t for t, _, _ in msgs].count("/sva/detections") == 6
+    # Against the evaluation of the same trials: at every reading with a pose, the bag's pose and the top object's
+    # score are what `sva eval --csv` wrote (mm and rotation vector there; metres and a quaternion here).
+    import csv
+
+    from conftest import run_sva
+
+    run_sva("eval", "--map", str(tiny.map), "--data", str(tiny.test), "--trials", "2", "--max-readings", "6",
+            "--seed", "5", "--backend", "cpu", "--csv", str(tmp_path / "e.csv"))
+    rows = [r for r in csv.DictReader(open(tmp_path / "e.csv")) if r["trial"] == "1"]
+    poses = {t: m for topic, t, m in msgs if topic == "/sva/pose"}
+    stamps = sorted({t for topic, t, _ in msgs if topic == "/sva/detections"})
+    checked = 0
+    for row, t in zip(rows, stamps):
+        assert (row["pose_valid"] == "1") == (t in poses), row
+        if t not in poses:
+            continue
+        p = poses[t].pose.pose
+        assert [p.position.x, p.position.y, p.position.z] == pytest.approx(
+            [float(row[k]) / 1000 for k in ("est_tx", "est_ty", "est_tz")], abs=1e-8)
+        r = np.array([float(row[k]) for k in ("est_rx", "est_ry", "est_rz")])
+        angle = np.linalg.norm(r)
+        want = np.concatenate([np.sin(angle / 2) * r / angle, [np.cos(angle / 2)]]) if angle > 0 else [0, 0, 0, 1]
+        got = np.array([p.orientation.x, p.orientation.y, p.orientation.z, p.orientation.w])
+        assert min(np.abs(got - want).max(), np.abs(got + want).max()) < 1e-6, (got, want)
+        checked += 1
+    assert checked >= 1
     with pytest.raises(sva.Error, match="must be"):
         sva.trial_session(tiny.test, tiny_map, -1)

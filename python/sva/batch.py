@@ -155,7 +155,7 @@ def trial_session(data, map: Map, trial: int, *, seed: int = 1, max_readings: in
     from ._sva_core import Dataset, _eval_trial
 
     if trial < 0 or max_readings < 1 or seed < 0:
-        raise Error(f"trial_session: trial {trial}, seed {seed} and max_readings {max_readings} must be >= 0, >= 0, >= 1")
+        raise Error(f"trial_session: trial {trial} and seed {seed} must be >= 0, max_readings {max_readings} >= 1")
     source = os.fspath(data) if not isinstance(data, Dataset) else "test set"
     test = data if isinstance(data, Dataset) else Dataset.load(source)
     readings, name, pose = _eval_trial(test, map, trial, seed, max_readings, source)

@@ -183,7 +183,8 @@ def test_an_evaluation_trial_is_the_trial_sva_writes(tiny, tiny_map, tmp_path):
     assert np.allclose(made.truth["T"], written.truth["T"], atol=1e-9)
     assert len(made.readings) == len(written.readings) == 6
     for a, b in zip(made.readings, written.readings):  # the file holds them as printed JSON numbers
-        assert np.allclose(a.position, b.position, atol=1e-9) and np.allclose(np.ravel(a.pressure), np.ravel(b.pressure))
+        assert np.allclose(a.position, b.position, atol=1e-9)
+        assert np.allclose(np.ravel(a.pressure), np.ravel(b.pressure))
     out = tmp_path / "trial.mcap"
     assert main(["export", "--map", str(tiny.map), "--data", str(tiny.test), "--trial", "1", "--seed", "5",
                  "--max-readings", "6", "--out", str(out), "--mesh", "off", "--backend", "cpu"]) == 0

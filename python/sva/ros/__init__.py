@@ -243,6 +243,7 @@ from .bag import export_session, read_bag  # noqa: E402  (the writer needs the c
 
 __all__ = [
     "OBJECT_FRAME", "TOPICS", "ObjectBox", "ObjectMesh", "best_pose", "detection_array", "export_session", "header",
-    "object_marker", "object_transform", "pose_with_covariance", "read_bag", "scene_meshes", "session_messages", "time_msg",
+    "object_marker", "object_transform", "pose_with_covariance", "read_bag", "scene_meshes", "session_messages",
+    "time_msg",
     "touch_markers",
 ]

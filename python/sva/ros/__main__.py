@@ -68,12 +68,13 @@ def _stamps(args: argparse.Namespace, session) -> Optional[list]:
     if args.stamps == "period" or (args.stamps == "auto" and recorded is None):
         return None
     if not isinstance(recorded, list) or len(recorded) != len(session.readings):
-        raise Error(f"{args.sessions or args.data}: session {session.id!r} has no truth.stamps_s with one time per reading "
-                    "(sva replay --write-session writes them); use --stamps period")
+        raise Error(f"{args.sessions or args.data}: session {session.id!r} has no truth.stamps_s with one time per "
+                    "reading (sva replay --write-session writes them); use --stamps period")
     try:
         return [round(float(t) * 1e9) + round(args.start * 1e9) for t in recorded]
     except (TypeError, ValueError):
-        raise Error(f"{args.sessions or args.data}: session {session.id!r}: truth.stamps_s holds a non-number") from None
+        where = args.sessions or args.data
+        raise Error(f"{where}: session {session.id!r}: truth.stamps_s holds a non-number") from None
 
 
 def _export(args: argparse.Namespace) -> int:

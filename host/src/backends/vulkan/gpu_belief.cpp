@@ -90,13 +90,13 @@ void GpuBelief::reset() {
   band_stale_ = false;
   count_ = 0;
   pairs_ = 0;
-  summary_cache_.reset();
+  forget_cache();
 }
 
 void GpuBelief::record(std::uint64_t inserted, std::size_t folded) {
   count_ += inserted;
   pairs_ += folded;
-  summary_cache_.reset();
+  forget_cache();
 }
 
 void GpuBelief::grow(std::uint64_t slots) {
@@ -139,7 +139,7 @@ void GpuBelief::move_to(std::uint64_t slots, bool forget, std::uint64_t below) {
       // The band list names slots of the old table; later folds append to it
       // harmlessly (the rebuild starts it afresh).
       band_stale_ = true;
-      summary_cache_.reset();
+      forget_cache();
       return;
     }
     cap *= 2;  // a probe run too long even at this load: spread further
@@ -258,10 +258,27 @@ BeliefSummary GpuBelief::summarise() const {
   return *summary_cache_;
 }
 
+void GpuBelief::forget_cache() const {
+  summary_cache_.reset();
+  kept_best_.clear();
+  kept_asked_ = 0;
+}
+
 std::vector<BinOffset> GpuBelief::best_bins(std::size_t k) const {
   k = std::min(k, count_);
   if (k == 0) return {};
   if (!summary_cache_) reduce();
+  // An estimate asks for the best bins several times (top bins, modes, hypotheses, the surface check's objects),
+  // each a selection pass and a round trip: the best `kept_asked_` stay until the belief changes, and a smaller k
+  // is their prefix (best first, ties to the smaller key: the same order for any k).
+  if (k <= kept_asked_) return {kept_best_.begin(), kept_best_.begin() + static_cast<std::ptrdiff_t>(k)};
+  std::vector<BinOffset> out = select_best(k);
+  kept_best_ = out;
+  kept_asked_ = k;
+  return out;
+}
+
+std::vector<BinOffset> GpuBelief::select_best(std::size_t k) const {
   if (k == 1) {
     // The best bin overall is the best of the objects' best bins (largest
     // offset, then smaller key): the state already holds it.
@@ -346,7 +363,7 @@ std::vector<BinOffset> GpuBelief::table() const {
 }
 
 std::vector<std::uint64_t> GpuBelief::band_keys() const {
-  summary_cache_.reset();
+  forget_cache();
   reduce();
   std::uint64_t words[2];  // BAND_COUNT, BAND_SIDE
   k_->ctx->download(state_, words, sizeof words, SVA_STATE_BAND_COUNT * sizeof(std::uint64_t));

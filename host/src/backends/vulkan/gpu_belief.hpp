@@ -86,6 +86,10 @@ class GpuBelief final : public BeliefState {
   void rebuild_band(std::uint64_t entries) const;
   // The MASS and FLIP passes, then the state's words to the host.
   void reduce() const;
+  // The belief changed: its summary and best bins are to be read again.
+  void forget_cache() const;
+  // best_bins without the kept answer: the k best bins from the device.
+  std::vector<BinOffset> select_best(std::size_t k) const;
 
   GpuBeliefKernels* k_;
   std::uint64_t eps_units_;
@@ -104,6 +108,9 @@ class GpuBelief final : public BeliefState {
   vk::Buffer keep_;  // forget_below's kept keys
   std::uint32_t keep_count_ = 0;
   mutable std::optional<BeliefSummary> summary_cache_;
+  // best_bins' last answer (the best kept_asked_ bins), until the belief changes.
+  mutable std::vector<BinOffset> kept_best_;
+  mutable std::size_t kept_asked_ = 0;
   mutable std::vector<std::uint64_t> histogram_;
 };
 

@@ -60,8 +60,17 @@ json reading_json(const Reading& r) {
           {"pressure", r.pressure}};
 }
 
+// The scene's object of a map object's name (the map and the scene may hold other objects, or in another order).
+const SceneObject* scene_object(const Scene* scene, const std::string& name) {
+  if (!scene) return nullptr;
+  for (const SceneObject& o : scene->objects)
+    if (o.name == name) return &o;
+  return nullptr;
+}
+
 // One step: the estimate after a reading, and its errors where the truth and a pose of the right object are known.
-json step_json(const Estimate& est, double update_ms, const std::optional<SessionTruth>& truth, const Scene* scene) {
+json step_json(const Estimate& est, double update_ms, const std::optional<SessionTruth>& truth,
+               const SceneObject* truth_object) {
   json hypotheses = json::array();
   for (const PoseHypothesis& h : est.hypotheses) {
     json j = pose_json(h.pose);
@@ -70,9 +79,8 @@ json step_json(const Estimate& est, double update_ms, const std::optional<Sessio
     hypotheses.push_back(j);
   }
   json error = nullptr;
-  if (truth && est.ready && est.pose_valid && est.object == truth->object && scene &&
-      truth->object < scene->objects.size()) {
-    const SceneObject& o = scene->objects[truth->object];
+  if (truth && truth_object && est.ready && est.pose_valid && est.object == truth->object) {
+    const SceneObject& o = *truth_object;
     const eval::PoseError e = eval::pose_error(truth->pose, est.pose, o.symmetry, o.inertial_radius_mm);
     error = {{"translation_mm", e.translation_mm}, {"angle_deg", e.angular_rad * 180.0 / M_PI}};
   }
@@ -87,7 +95,8 @@ json step_json(const Estimate& est, double update_ms, const std::optional<Sessio
 // The meshes of the objects the page shows (the truth's and every hypothesis'), each loaded once. A mesh that cannot
 // be loaded (a dataset made on another machine) leaves its object out of the 3-D view, with a warning: the rest of
 // the page still shows the session.
-json meshes_json(const Scene& scene, const json& steps, const std::optional<SessionTruth>& truth, json& warnings) {
+json meshes_json(const Scene& scene, const std::vector<std::string>& names, const json& steps,
+                 const std::optional<SessionTruth>& truth, json& warnings) {
   std::vector<std::uint32_t> wanted;
   if (truth) wanted.push_back(truth->object);
   for (const json& s : steps)
@@ -97,15 +106,20 @@ json meshes_json(const Scene& scene, const json& steps, const std::optional<Sess
   json out = json::object();
 #ifdef SVA_HAVE_SIM
   for (std::uint32_t o : wanted) {
-    if (o >= scene.objects.size()) continue;
-    sim::Mesh mesh;
-    try {
-      mesh = sim::load_object_mesh(scene.objects[o]);
-    } catch (const Error& e) {
-      warnings.push_back("no mesh for " + scene.objects[o].name + ": " + e.what());
+    const SceneObject* object = o < names.size() ? scene_object(&scene, names[o]) : nullptr;
+    if (!object) {
+      warnings.push_back("no mesh for " + (o < names.size() ? names[o] : std::to_string(o)) + ": not in scene " +
+                         scene.name);
       continue;
     }
-    out[std::to_string(o)] = {{"name", scene.objects[o].name},
+    sim::Mesh mesh;
+    try {
+      mesh = sim::load_object_mesh(*object);
+    } catch (const Error& e) {
+      warnings.push_back("no mesh for " + object->name + ": " + e.what());
+      continue;
+    }
+    out[std::to_string(o)] = {{"name", object->name},
                               {"triangles", mesh.triangles.size()},
                               {"positions", base64(mesh.positions.data(), mesh.positions.size() * sizeof(glm::vec3))},
                               {"indices", base64(mesh.triangles.data(), mesh.triangles.size() * sizeof(glm::uvec3))}};
@@ -161,6 +175,8 @@ json session_view_data(const Map& map, const Scene* scene, std::span<const Readi
                 std::to_string(map.objects()));
   // A batch of one (sva::Recognizer's estimates, and the backend's description for the page).
   BatchRecognizer rec(map, map.pose_space(), 1, spec.options);
+  const std::vector<std::string> names = map.object_names();
+  const SceneObject* truth_object = truth ? scene_object(scene, names[truth->object]) : nullptr;
   const std::size_t session = 0;
   json steps = json::array(), shown = json::array();
   std::vector<double> times;
@@ -171,7 +187,7 @@ json session_view_data(const Map& map, const Scene* scene, std::span<const Readi
     rec.add_readings(std::span<const std::size_t>(&session, 1), std::span<const Reading>(&r, 1));
     const Estimate est = rec.estimate(session, spec.top_k);
     times.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
-    steps.push_back(step_json(est, times.back(), truth, scene));
+    steps.push_back(step_json(est, times.back(), truth, truth_object));
     shown.push_back(reading_json(r));
     if (progress) progress->advance();
   }
@@ -186,7 +202,7 @@ json session_view_data(const Map& map, const Scene* scene, std::span<const Readi
             {"scene", map.scene_name()},
             {"backend", rec.backend_description()},
             {"update_ms_median", median},
-            {"objects", map.object_names()},
+            {"objects", names},
             {"readings", shown},
             {"steps", steps},
             {"truth", nullptr},
@@ -196,7 +212,7 @@ json session_view_data(const Map& map, const Scene* scene, std::span<const Readi
     j["truth"] = pose_json(truth->pose);
     j["truth"]["object"] = truth->object;
   }
-  if (scene) j["meshes"] = meshes_json(*scene, steps, truth, j["warnings"]);
+  if (scene) j["meshes"] = meshes_json(*scene, names, steps, truth, j["warnings"]);
   return j;
 }
 

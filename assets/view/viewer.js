@@ -114,7 +114,7 @@
     scene.add(dot);
     p.toArray(normalPoints, 6 * i);
     p.clone().addScaledVector(n, size * 0.08 * crowd).toArray(normalPoints, 6 * i + 3);
-    touches.push({ dot, label: null, at: p.clone().addScaledVector(n, size * 0.11) });
+    touches.push({ dot, label: null, at: p.clone().addScaledVector(n, size * (0.08 * crowd + 0.03)) });
   });
   const normalGeometry = new THREE.BufferGeometry();
   normalGeometry.setAttribute("position", new THREE.BufferAttribute(normalPoints, 3));

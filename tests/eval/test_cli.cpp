@@ -566,6 +566,22 @@ TEST_CASE("sva view writes a trial's page with its data, sva eval --html a page 
     return n;
   };
   CHECK(count("</script>") == 4);
+  // A session of a sessions file: --session or --id picks it; bad picks and scene files are named.
+  REQUIRE(sva::test::run_sva("recognize --write-sessions " + f.path("s.jsonl") + " --map " + f.map + " --data " +
+                                 f.test + " --trials 3 --max-readings 4",
+                             &out) == 0);
+  const std::string from_sessions = "view --map " + f.map + " --sessions " + f.path("s.jsonl") + " --backend cpu ";
+  CHECK(sva::test::run_sva(from_sessions + "--id trial-2 --scene " + f.path("none.json") + " --out " + f.path("x.html"),
+                           &out) != 0);
+  CHECK(out.find("none.json") != std::string::npos);
+  REQUIRE(sva::test::run_sva(from_sessions + "--id trial-2 --out " + f.path("s2.html"), &out) == 0);
+  const std::string s2 = read_file(f.path("s2.html"));
+  CHECK(s2.find("\"title\":\"session trial-2\"") != std::string::npos);
+  CHECK(s2.find("\"truth\":{") != std::string::npos);  // the file's truth: the ghost
+  CHECK(sva::test::run_sva(from_sessions + "--session 7 --out " + f.path("x.html"), &out) != 0);
+  CHECK(out.find("session 7 out of range (3 sessions)") != std::string::npos);
+  CHECK(sva::test::run_sva(from_sessions + "--id nope --out " + f.path("x.html"), &out) != 0);
+  CHECK(out.find("no session with id \"nope\"") != std::string::npos);
   REQUIRE(sva::test::run_sva(f.base() + "--trials 2 --max-readings 4 --backend cpu --html " + f.path("pages"), &out) ==
           0);
   for (const char* file : {"index.html", "trial-0.html", "trial-1.html", "accuracy.png", "accuracy.svg"}) {

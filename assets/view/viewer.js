@@ -20,10 +20,10 @@
     return new Type(bytes.buffer);
   }
 
-  // Row-major R (3 x 3) and T (mm): the pose that takes object coordinates to the robot frame.
+  // R (rows) and T (mm), as the batch files write a pose: the pose that takes object coordinates to the robot frame.
   function poseMatrix(R, T) {
     const m = new THREE.Matrix4();
-    m.set(R[0], R[1], R[2], T[0], R[3], R[4], R[5], T[1], R[6], R[7], R[8], T[2], 0, 0, 0, 1);
+    m.set(...R[0], T[0], ...R[1], T[1], ...R[2], T[2], 0, 0, 0, 1);
     return m;
   }
 

@@ -4,6 +4,7 @@
 #include <sva/base/progress.hpp>
 #include <sva/batch_recognizer.hpp>
 #include <sva/error.hpp>
+#include <sva/eval/batch_sessions.hpp>
 #include <sva/io/text_file.hpp>
 #ifdef SVA_HAVE_SIM
 #include <sva/sim/mesh.hpp>
@@ -45,13 +46,6 @@ std::string base64(const void* data, std::size_t size) {
   return out;
 }
 
-json pose_json(const RigidPose& p) {
-  json R = json::array();
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) R.push_back(p.R[c][r]);  // glm is column-major: row r, column c
-  return {{"R", R}, {"T", {p.T.x, p.T.y, p.T.z}}};
-}
-
 json reading_json(const Reading& r) {
   return {{"p", {r.position.x, r.position.y, r.position.z}},
           {"n", {r.normal.x, r.normal.y, r.normal.z}},
@@ -73,7 +67,7 @@ json step_json(const Estimate& est, double update_ms, const std::optional<Sessio
                const SceneObject* truth_object) {
   json hypotheses = json::array();
   for (const PoseHypothesis& h : est.hypotheses) {
-    json j = pose_json(h.pose);
+    json j = io::pose_json(h.pose);
     j["object"] = h.object;
     j["probability"] = h.probability;
     hypotheses.push_back(j);
@@ -209,7 +203,7 @@ json session_view_data(const Map& map, const Scene* scene, std::span<const Readi
             {"meshes", json::object()},
             {"warnings", json::array()}};
   if (truth) {
-    j["truth"] = pose_json(truth->pose);
+    j["truth"] = io::pose_json(truth->pose);
     j["truth"]["object"] = truth->object;
   }
   if (scene) j["meshes"] = meshes_json(*scene, names, steps, truth, j["warnings"]);

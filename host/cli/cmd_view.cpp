@@ -55,14 +55,8 @@ Picked from_trial(const Args& a, const Map& map, const std::string& map_file) {
   const auto max_readings = static_cast<std::size_t>(a.integer("--max-readings", 30, 1, 100000));
   const auto k = static_cast<std::size_t>(a.integer("--trial", 0, 0, 100000000));
   const eval::TrialGenerator generator(test, map.pose_space(), seed, max_readings, data_file);
-  const eval::Trial trial = generator.make(k);
-  Picked p;
-  p.readings = trial.readings;
-  if (auto o = map_object(map, test.scene.objects[trial.object].name)) p.truth = view::SessionTruth{*o, trial.pose};
-  p.title = test.scene.name + " trial " + std::to_string(k) + ": " + test.scene.objects[trial.object].name;
-  p.source = data_file + ", trial " + std::to_string(k) + " (seed " + std::to_string(seed) + ")";
-  p.scene = test.scene;
-  return p;
+  view::TrialView trial = view::trial_view(map, test, generator, k, seed, data_file);
+  return {std::move(trial.readings), trial.truth, trial.title, trial.source, test.scene};
 }
 
 Picked from_sessions(const Args& a, const Map& map) {

@@ -7,6 +7,7 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <sstream>
 
 namespace sva::io {
 
@@ -59,6 +60,14 @@ void write_file_atomically(const std::filesystem::path& file, const std::functio
 void write_text_file(const std::filesystem::path& file, std::string_view text) {
   write_file_atomically(file,
                         [&](std::ostream& out) { out.write(text.data(), static_cast<std::streamsize>(text.size())); });
+}
+
+std::string read_text_file(const std::filesystem::path& file, std::string_view failure) {
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw Error(file.string() + ": " + std::string(failure));
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
 }
 
 }  // namespace sva::io

@@ -2,6 +2,7 @@
 // field that is present must have the right type and a sensible value; unknown
 // keys are refused so that typos do not silently fall back to defaults.
 #include <sva/error.hpp>
+#include <sva/io/text_file.hpp>
 #include <sva/scene.hpp>
 
 #include <cmath>
@@ -391,12 +392,10 @@ Scene load_scene(const std::string& name_or_file) {
     }
     file = builtin;
   }
-  std::ifstream in(file);
-  if (!in || std::filesystem::is_directory(file, ec)) throw Error(file.string() + ": cannot read scene file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  if (ss.str().empty()) throw Error(file.string() + ": empty scene file");
-  return parse_scene(ss.str(), std::filesystem::absolute(file));
+  if (std::filesystem::is_directory(file, ec)) throw Error(file.string() + ": cannot read scene file");
+  const std::string text = io::read_text_file(file, "cannot read scene file");
+  if (text.empty()) throw Error(file.string() + ": empty scene file");
+  return parse_scene(text, std::filesystem::absolute(file));
 }
 
 std::string scene_to_json(const Scene& s) {

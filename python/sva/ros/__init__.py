@@ -170,11 +170,9 @@ def object_transform(estimate: "_core.Estimate", stamp_ns: int, frame_id: str) -
     """tf2_msgs/TFMessage placing OBJECT_FRAME at the best hypothesis' pose in ``frame_id`` (None before a pose)."""
     if not (estimate.ready and estimate.hypotheses):
         return None
-    position, q, _ = estimate.hypotheses[0].to_ros()
+    pose = pose_with_covariance(estimate.hypotheses[0])["pose"]
     return {"transforms": [{"header": header(stamp_ns, frame_id), "child_frame_id": OBJECT_FRAME,
-                            "transform": {"translation": _point(position),
-                                          "rotation": {"x": float(q[0]), "y": float(q[1]), "z": float(q[2]),
-                                                       "w": float(q[3])}}}]}
+                            "transform": {"translation": pose["position"], "rotation": pose["orientation"]}}]}
 
 
 def object_marker(estimate: "_core.Estimate", mesh: Optional[ObjectMesh], stamp_ns: int) -> dict:

@@ -5,6 +5,7 @@
 
 #include <sva/base/so3.hpp>
 #include <sva/error.hpp>
+#include <sva/io/text_file.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -267,13 +268,10 @@ std::string format_table(const Curve& curve) {
 
 Curve read_curve_json(const std::filesystem::path& file) {
   const std::string name = file.string();
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw Error(name + ": cannot open the evaluation summary");
-  std::stringstream buf;
-  buf << in.rdbuf();
+  const std::string text = io::read_text_file(file, "cannot open the evaluation summary");
   json j;
   try {
-    j = json::parse(buf.str());
+    j = json::parse(text);
   } catch (const json::parse_error& e) {
     throw Error(name + ": invalid JSON: " + e.what());
   }

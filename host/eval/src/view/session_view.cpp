@@ -14,11 +14,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
-#include <fstream>
-#include <map>
 #include <ostream>
-#include <sstream>
 
 #include "eval/metrics.hpp"
 
@@ -124,14 +120,6 @@ json meshes_json(const Scene& scene, const std::vector<std::string>& names, cons
   return out;
 }
 
-std::string read_file(const std::filesystem::path& file, const std::string& what) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw Error(file.string() + ": cannot read " + what);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
 // three.js and its orbit controls: SVA_THREE_JS (a folder laid out as Debian's), else libjs-three's.
 std::filesystem::path three_dir() {
   if (const char* env = std::getenv("SVA_THREE_JS"); env && *env) return env;
@@ -212,15 +200,16 @@ json session_view_data(const Map& map, const Scene* scene, std::span<const Readi
 
 void write_session_page(const std::filesystem::path& out, const json& data) {
   const std::filesystem::path assets = assets_dir() / "view";
-  std::string page = read_file(assets / "viewer.html", "the viewer's page template (SVA_ASSETS)");
+  std::string page = io::read_text_file(assets / "viewer.html", "cannot read the viewer's page template (SVA_ASSETS)");
   const std::filesystem::path three = three_dir();
   const std::string missing = " (install Debian's libjs-three: scripts/setup.sh does; or set SVA_THREE_JS)";
-  replace_once(
-      page, "<!--SVA_THREE-->",
-      script(read_file(three / "three.min.js", "three.js" + missing)) + "\n" +
-          script(read_file(three / "examples/js/controls/OrbitControls.js", "three.js' OrbitControls" + missing)));
+  replace_once(page, "<!--SVA_THREE-->",
+               script(io::read_text_file(three / "three.min.js", "cannot read three.js" + missing)) + "\n" +
+                   script(io::read_text_file(three / "examples/js/controls/OrbitControls.js",
+                                             "cannot read three.js' OrbitControls" + missing)));
   replace_once(page, "<!--SVA_DATA-->", script(data.dump(), " id=\"sva-data\" type=\"application/json\""));
-  replace_once(page, "<!--SVA_VIEWER-->", script(read_file(assets / "viewer.js", "the viewer (SVA_ASSETS)")));
+  replace_once(page, "<!--SVA_VIEWER-->",
+               script(io::read_text_file(assets / "viewer.js", "cannot read the viewer (SVA_ASSETS)")));
   io::write_text_file(out, page);
 }
 

@@ -87,6 +87,18 @@ std::string index_page(const eval::EvalResult& r, const std::vector<std::size_t>
 
 }  // namespace
 
+TrialView trial_view(const Map& map, const Dataset& test, const eval::TrialGenerator& generator, std::size_t t,
+                     std::uint64_t seed, const std::string& data_name) {
+  eval::Trial trial = generator.make(t);
+  TrialView v;
+  v.readings = std::move(trial.readings);
+  const std::int32_t object = eval::map_objects_of(map, test)[trial.object];
+  if (object >= 0) v.truth = SessionTruth{static_cast<std::uint32_t>(object), trial.pose};
+  v.title = test.scene.name + " trial " + std::to_string(t) + ": " + test.scene.objects[trial.object].name;
+  v.source = data_name + ", trial " + std::to_string(t) + " (seed " + std::to_string(seed) + ")";
+  return v;
+}
+
 std::size_t write_trial_pages(const std::filesystem::path& dir, const Map& map, const Dataset& test,
                               const eval::EvalOptions& options, const eval::EvalResult& result,
                               const eval::Curve& curve) {
@@ -99,19 +111,15 @@ std::size_t write_trial_pages(const std::filesystem::path& dir, const Map& map, 
   if (ec) throw Error(dir.string() + ": cannot create the folder: " + ec.message());
   eval::write_figure({curve}, dir / "accuracy.png");
   const eval::TrialGenerator generator(test, map.pose_space(), options.seed, options.max_readings, options.data_name);
-  const std::vector<std::int32_t> map_object = eval::map_objects_of(map, test);
   util::Progress progress("eval pages", result.trials.size());
   for (std::size_t t = 0; t < result.trials.size(); ++t) {
-    const eval::Trial trial = generator.make(t);
-    std::optional<SessionTruth> truth;
-    if (map_object[trial.object] >= 0)
-      truth = SessionTruth{static_cast<std::uint32_t>(map_object[trial.object]), trial.pose};
+    const TrialView trial = trial_view(map, test, generator, t, options.seed, options.data_name);
     SessionViewSpec spec;
-    spec.title = test.scene.name + " trial " + std::to_string(t) + ": " + test.scene.objects[trial.object].name;
-    spec.source = options.data_name + ", trial " + std::to_string(t) + " (seed " + std::to_string(options.seed) + ")";
+    spec.title = trial.title;
+    spec.source = trial.source;
     spec.map_name = options.map_name;
     spec.options = options.recognizer;
-    const nlohmann::json data = session_view_data(map, &test.scene, trial.readings, truth, spec);
+    const nlohmann::json data = session_view_data(map, &test.scene, trial.readings, trial.truth, spec);
     if (t == 0)  // the same scene for every trial: say it once
       for (const auto& w : data["warnings"])
         std::fprintf(stderr, "sva eval --html: %s\n", w.get<std::string>().c_str());

@@ -52,7 +52,21 @@ namespace sva {
 struct Dataset;
 }
 
+namespace sva::eval {
+class TrialGenerator;
+}
+
 namespace sva::view {
+
+// Evaluation trial `t` as a session to show, as `sva eval` makes it (`generator` from `data_name` with `seed`):
+// its readings, its truth where the map holds the object, and the page's title and source.
+struct TrialView {
+  std::vector<Reading> readings;
+  std::optional<SessionTruth> truth;
+  std::string title, source;
+};
+TrialView trial_view(const Map& map, const Dataset& test, const eval::TrialGenerator& generator, std::size_t t,
+                     std::uint64_t seed, const std::string& data_name);
 
 // `sva eval --html DIR`: one page per trial of a random-policy evaluation (its trials made again from the same seed:
 // each trial is replayed once more), the accuracy figure, and an index page with the worst trials first (wrong at

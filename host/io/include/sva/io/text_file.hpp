@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <functional>
 #include <iosfwd>
+#include <string>
 #include <string_view>
 
 namespace sva::io {
@@ -18,5 +19,7 @@ namespace sva::io {
 // exception propagates.
 void write_file_atomically(const std::filesystem::path& file, const std::function<void(std::ostream&)>& body);
 void write_text_file(const std::filesystem::path& file, std::string_view text);
+// A whole file's bytes; sva::Error "<file>: <failure>" when it cannot be opened (e.g. "cannot read scene file").
+std::string read_text_file(const std::filesystem::path& file, std::string_view failure);
 
 }  // namespace sva::io

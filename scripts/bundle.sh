@@ -52,7 +52,17 @@ cp "$build/sva" "$out/sva"
 cp "${tests[@]}" "$out/tests/"
 # The built-in scenes and objects, loaded at run time through SVA_ASSETS (the
 # generator's source stays behind).
-cp -r "$root/assets/scenes" "$root/assets/objects" "$out/assets/"
+cp -r "$root/assets/scenes" "$root/assets/objects" "$root/assets/view" "$out/assets/"
+# The parsers' fuzz corpus (the io tests read it beside the assets: assets/../tests/fuzz/corpus).
+mkdir -p "$out/tests/fuzz"
+cp -r "$root/tests/fuzz/corpus" "$out/tests/fuzz/"
+# three.js for `sva view` (Debian's libjs-three, laid out as Debian's; env.sh sets SVA_THREE_JS).
+three=${SVA_THREE_JS:-/usr/share/javascript/three}
+[[ -f $three/three.min.js && -f $three/examples/js/controls/OrbitControls.js ]] ||
+  { echo "bundle: three.js not found in $three (scripts/setup.sh installs libjs-three)" >&2; exit 1; }
+mkdir -p "$out/three/examples/js/controls"
+cp -L "$three/three.min.js" "$out/three/"
+cp -L "$three/examples/js/controls/OrbitControls.js" "$out/three/examples/js/controls/"
 for f in env.sh run-tests.sh run-bench.sh README.txt; do cp "$root/scripts/bundle/$f" "$out/$f"; done
 chmod +x "$out/run-tests.sh" "$out/run-bench.sh"
 
@@ -62,7 +72,7 @@ chmod +x "$out/run-tests.sh" "$out/run-bench.sh"
 # loader is bundled; the drivers (ICDs) it opens at run time are the machine's.
 glibc_re='^(linux-vdso|ld-linux|libc|libm|libmvec|libpthread|libdl|librt|libresolv|libutil|libanl|libnsl|libBrokenLocale|libthread_db)\.so'
 declare -A libs=()
-for bin in "$out/sva" "$out"/tests/*; do
+for bin in "$out/sva" "$out"/tests/sva_tests_*; do
   while read -r name _ path _; do
     [[ $name =~ $glibc_re ]] && continue
     [[ $path == /* ]] || { echo "bundle: $bin needs $name, which is not found" >&2; exit 1; }
@@ -88,16 +98,16 @@ CONF
 
 # Debug information stays in the build tree; the bundle is for running.
 if command -v strip >/dev/null && [[ ${STRIP:-1} != 0 ]]; then
-  strip --strip-debug "$out/sva" "$out"/tests/* "$out"/lib/*
+  strip --strip-debug "$out/sva" "$out"/tests/sva_tests_* "$out"/lib/*
 fi
 patchelf --set-rpath '$ORIGIN/lib' "$out/sva"
-for t in "$out"/tests/*; do patchelf --set-rpath '$ORIGIN/../lib' "$t"; done
+for t in "$out"/tests/sva_tests_*; do patchelf --set-rpath '$ORIGIN/../lib' "$t"; done
 for l in "$out"/lib/*; do patchelf --set-rpath '$ORIGIN' "$l"; done
 
 # Check: every library resolves inside the bundle or to the C library, with no
 # help from LD_LIBRARY_PATH.
 bad=0
-for bin in "$out/sva" "$out"/tests/* "$out"/lib/*; do
+for bin in "$out/sva" "$out"/tests/sva_tests_* "$out"/lib/*; do
   while read -r name _ path _; do
     [[ $name =~ $glibc_re || $(realpath -m "$path") == "$out/lib/"* ]] && continue
     echo "bundle: $bin loads $name from $path, outside the bundle" >&2; bad=1
@@ -109,9 +119,9 @@ env -u LD_LIBRARY_PATH SVA_ASSETS="$out/assets" "$out/sva" --version >/dev/null
 {
   "$out/sva" --version 2>/dev/null | head -n 1
   # The oldest C library it runs on: the newest glibc symbol version anything here asks for.
-  echo "needs glibc >= $(cat "$out/sva" "$out"/tests/* "$out"/lib/* | grep -aoE 'GLIBC_2\.[0-9]+' | sort -uV | tail -n 1 | cut -c7-)"
+  echo "needs glibc >= $(cat "$out/sva" "$out"/tests/sva_tests_* "$out"/lib/* | grep -aoE 'GLIBC_2\.[0-9]+' | sort -uV | tail -n 1 | cut -c7-)"
   echo "built from $(git -C "$root" describe --always --dirty 2>/dev/null || echo unknown) on $(uname -n), $(date -u +%Y-%m-%dT%H:%M:%SZ)"
-  echo "tests: $(cd "$out/tests" && ls | tr '\n' ' ')"
+  echo "tests: $(cd "$out/tests" && ls -d sva_tests_* | tr '\n' ' ')"
   echo "libraries: $(cd "$out/lib" && ls | tr '\n' ' ')"
 } >"$out/BUILD-INFO.txt"
 echo "== bundle ready: $out ($(du -sh "$out" | cut -f1)); see $out/README.txt"

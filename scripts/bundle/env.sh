@@ -39,6 +39,9 @@ if [[ -f $BUNDLE/lib/libstdc++.so.6 && -z ${SVA_BUNDLE_NO_PRELOAD:-} ]]; then
   unset sys_cxx sys_gcc mine theirs
 fi
 
+# three.js for `sva view`'s pages (scripts/bundle.sh copies Debian's libjs-three).
+export SVA_THREE_JS="${SVA_THREE_JS:-$BUNDLE/three}"
+
 # The figures' font: the bundle's own fontconfig configuration and DejaVu Sans (scripts/bundle.sh).
 export FONTCONFIG_FILE="$BUNDLE/fonts/fonts.conf"
 

@@ -16,5 +16,7 @@ SVA_ASSETS="$tmp/bundle/assets" env -u LD_LIBRARY_PATH "$tmp/bundle/sva" --help 
 head -n 3 help.txt
 # Plain C++, the Vulkan loader with the embedded shaders, and the sva CLI
 # simulating a built-in scene (Embree, TBB; the bundled sva and assets).
+# The io area reads the bundled fuzz corpus, `sva view` the bundled viewer and three.js: none may be skipped.
 LOG_DIR="$tmp/logs" env -u LD_LIBRARY_PATH "$tmp/bundle/run-tests.sh" io 'vulkan:*sva_div*' 'bench:*hash scatter*' \
-  'sim:simulate: same seed*' 'eval:canvas*'
+  'sim:simulate: same seed*' 'eval:canvas*' 'eval:sva view writes*' | tee run.txt
+tail -n 1 run.txt | grep -q ', 0 skipped$' || { echo "bundle: tests were skipped (something the bundle should carry)" >&2; exit 1; }

@@ -116,7 +116,8 @@ TEST_CASE(
     "sva eval writes the JSON curve, CSV and figure with non-timing fields the same run to run and on 1 or 2 threads") {
   Fixture f;
   std::string out;
-  const std::string common = f.base() + "--trials 4 --max-readings 5 --seed 7 ";
+  // The CPU reference named: the default (auto) takes a GPU where there is one.
+  const std::string common = f.base() + "--backend cpu --trials 4 --max-readings 5 --seed 7 ";
   REQUIRE(sva::test::run_sva(common + "--threads 1 --json " + f.path("a.json") + " --csv " + f.path("a.csv") +
                                  " --plot " + f.path("a.png"),
                              &out) == 0);

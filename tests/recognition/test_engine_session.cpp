@@ -63,8 +63,10 @@ TEST_CASE("Engine: recognizers of one engine run on two threads at once, and one
   const Engine engine(t.map, eo);
   RecognizerOptions ro;
   ro.threads = 1;
-  Recognizer a(engine, paper_space(), ro), b(engine, paper_space(), ro), ref_a(t.map, paper_space(), ro),
-      ref_b(t.map, paper_space(), ro);
+  // The references have engines of their own, on the same backend (auto would take a GPU where there is one).
+  const Engine own_a(t.map, eo), own_b(t.map, eo);
+  Recognizer a(engine, paper_space(), ro), b(engine, paper_space(), ro), ref_a(own_a, paper_space(), ro),
+      ref_b(own_b, paper_space(), ro);
   const std::vector<Reading> ra = readings_of(1, 650, 8), rb = readings_of(2, 651, 8);
   for (const Reading& r : ra) ref_a.add_reading(r);
   for (const Reading& r : rb) ref_b.add_reading(r);

@@ -10,7 +10,9 @@
 // per update on an AVX2 machine; the tests compare the CPU with lavapipe bit
 // for bit on whichever clone the machine runs). Elsewhere, and under
 // AddressSanitizer (no ifuncs), it is empty.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__)
+// SVA_NO_TARGET_CLONES (a compile definition) builds the baseline alone, to test it on an AVX2 machine.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(__SANITIZE_ADDRESS__) && \
+    !defined(SVA_NO_TARGET_CLONES)
 #define SVA_HOT_PATH __attribute__((target_clones("arch=x86-64-v3", "default"), flatten))
 #else
 #define SVA_HOT_PATH

@@ -50,3 +50,23 @@ TEST_CASE("buffers have device addresses and fills clear exactly their range") {
   CHECK_THROWS_AS(ctx->run({}, nullptr, {{&b, 0u, 2, 8}}), std::logic_error);  // misaligned
   CHECK(ctx->validation_messages() == 0);
 }
+
+TEST_CASE("memory types: a discrete GPU keeps device buffers out of the host's mapped window, mapped ones cached") {
+  // An NVIDIA board's memory types (a resizable BAR: its device memory is host-visible too).
+  VkPhysicalDeviceMemoryProperties m{};
+  const VkMemoryPropertyFlags dl = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, hv = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
+                              hc = VK_MEMORY_PROPERTY_HOST_COHERENT_BIT, cached = VK_MEMORY_PROPERTY_HOST_CACHED_BIT;
+  const VkMemoryPropertyFlags types[] = {0, dl, hv | hc, hv | hc | cached, dl | hv | hc};
+  m.memoryTypeCount = 5;
+  for (std::uint32_t i = 0; i < 5; ++i) m.memoryTypes[i].propertyFlags = types[i];
+  using sva::vk::Memory;
+  CHECK(sva::vk::memory_types(m, 0x1f, Memory::device, true) == std::vector<std::uint32_t>{1, 4});
+  CHECK(sva::vk::memory_types(m, 0x1f, Memory::mapped, true) == std::vector<std::uint32_t>{3, 2, 4});
+  // Not discrete (integrated, lavapipe): the device's host-visible memory first, mapped, no staging.
+  CHECK(sva::vk::memory_types(m, 0x1f, Memory::device, false) == std::vector<std::uint32_t>{4, 1, 2, 3});
+  CHECK(sva::vk::memory_types(m, 0x1f, Memory::mapped, false) == std::vector<std::uint32_t>{4, 2, 3});
+  // Only what the buffer allows, and a clear error when nothing fits.
+  CHECK(sva::vk::memory_types(m, 0x0c, Memory::mapped, true) == std::vector<std::uint32_t>{3, 2});
+  CHECK_THROWS_WITH(sva::vk::memory_types(m, 0x0c, Memory::device, true), Catch::Contains("no usable memory type"));
+  CHECK_THROWS_WITH(sva::vk::memory_types(m, 0x03, Memory::mapped, true), Catch::Contains("no usable memory type"));
+}

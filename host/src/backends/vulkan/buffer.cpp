@@ -15,28 +15,46 @@
 
 namespace sva::vk {
 
-namespace {
-
-// The memory types to try, best first. Mapped buffers: host-visible coherent
-// memory, the device's own where it has such (lavapipe, integrated GPUs,
-// discrete GPUs with a large BAR), else host memory. Device buffers: the
-// device's own memory, host-visible first (no staging), then any; host memory
-// last, when the device's heaps are full.
+// The memory types to try, best first. Integrated GPUs and lavapipe: one memory
+// serves both sides, so buffers live in host-visible coherent memory, the
+// device's own first, and are mapped (no staging). Discrete GPUs: the device's
+// memory that the host can map (the PCI BAR) is read by the CPU uncached, at a
+// small fraction of memory speed (an H200 ran 20x slower per update for it), and
+// is a small heap on many boards; so there device buffers take memory the host
+// cannot map and move through staging copies, and mapped buffers (inputs,
+// counters, staging) take host-cached system memory, which the host reads at
+// full speed. A discrete GPU's device buffer never falls back to host memory:
+// the map or a vote table read across the bus would be slower than the CPU
+// reference, so a full device is an out-of-memory error (the map: a clear
+// error, and the CPU reference under auto; a batch: split further).
 std::vector<std::uint32_t> memory_types(const VkPhysicalDeviceMemoryProperties& memory, std::uint32_t allowed,
-                                        Memory kind) {
+                                        Memory kind, bool discrete) {
   const VkMemoryPropertyFlags mapped = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
   const VkMemoryPropertyFlags local = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT;
-  std::vector<VkMemoryPropertyFlags> wants{mapped | local, mapped};
-  if (kind == Memory::device) wants = {mapped | local, local, mapped};
+  const VkMemoryPropertyFlags cached = VK_MEMORY_PROPERTY_HOST_CACHED_BIT;
+  struct Want {
+    VkMemoryPropertyFlags has, lacks;
+  };
+  std::vector<Want> wants;
+  if (!discrete)
+    wants = kind == Memory::device ? std::vector<Want>{{mapped | local, 0}, {local, 0}, {mapped, 0}}
+                                   : std::vector<Want>{{mapped | local, 0}, {mapped, 0}};
+  else
+    wants = kind == Memory::device ? std::vector<Want>{{local, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT}, {local, 0}}
+                                   : std::vector<Want>{{mapped | cached, local}, {mapped, local}, {mapped, 0}};
   std::vector<std::uint32_t> types;
-  for (VkMemoryPropertyFlags want : wants)
-    for (std::uint32_t i = 0; i < memory.memoryTypeCount; ++i)
-      if ((allowed & (1u << i)) && (memory.memoryTypes[i].propertyFlags & want) == want &&
+  for (const Want& want : wants)
+    for (std::uint32_t i = 0; i < memory.memoryTypeCount; ++i) {
+      const VkMemoryPropertyFlags f = memory.memoryTypes[i].propertyFlags;
+      if ((allowed & (1u << i)) && (f & want.has) == want.has && (f & want.lacks) == 0 &&
           std::find(types.begin(), types.end(), i) == types.end())
         types.push_back(i);
+    }
   if (types.empty()) throw Error("Vulkan: no usable memory type for a storage buffer");
   return types;
 }
+
+namespace {
 
 // The injected budget (backends/vulkan/faults.hpp): the device's own memory past it
 // fails as the driver's would.
@@ -93,7 +111,8 @@ void Buffer::allocate(const Device& device, Memory kind, bool never_map) {
   mai.allocationSize = req.size;
   VkResult r = VK_ERROR_OUT_OF_DEVICE_MEMORY;
   bool host_visible = false;
-  for (std::uint32_t type : memory_types(device.memory(), req.memoryTypeBits, kind)) {
+  const bool discrete = device.info().type == "discrete";
+  for (std::uint32_t type : memory_types(device.memory(), req.memoryTypeBits, kind, discrete)) {
     mai.memoryTypeIndex = type;
     const VkMemoryPropertyFlags f = device.memory().memoryTypes[type].propertyFlags;
     const bool local = (f & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT) != 0;
@@ -114,7 +133,8 @@ void Buffer::allocate(const Device& device, Memory kind, bool never_map) {
   if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY) throw out_of_memory(device, r, size_);
   check(r, "vkAllocateMemory");
   check(vkBindBufferMemory(device_, buffer_, memory_, 0), "vkBindBufferMemory");
-  if (host_visible && !(kind == Memory::device && never_map)) {
+  // A discrete GPU's device buffers are never mapped (memory_types says why).
+  if (host_visible && !(kind == Memory::device && (never_map || discrete))) {
     check(vkMapMemory(device_, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
     std::memset(mapped_, 0, size_);
   }

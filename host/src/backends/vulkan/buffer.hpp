@@ -12,12 +12,18 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <vector>
 
 namespace sva::vk {
 
 class Device;
 
 enum class Memory { mapped, device };
+
+// The memory types a buffer of `kind` tries, best first, among `allowed` (buffer.cpp says why; a test checks
+// the choice on the memory types of a discrete GPU without one).
+std::vector<std::uint32_t> memory_types(const VkPhysicalDeviceMemoryProperties& memory, std::uint32_t allowed,
+                                        Memory kind, bool discrete);
 
 class Buffer {
  public:

@@ -27,7 +27,7 @@ namespace {
 namespace vm = sva::vote_math;
 
 constexpr std::uint32_t kCaseFloats = 29;
-constexpr std::uint32_t kHead = 23;
+constexpr std::uint32_t kHead = 26;
 constexpr std::uint32_t kWords = kHead + 5 * SVA_MAX_BETA_SAMPLES;
 
 struct GridPush {
@@ -54,7 +54,10 @@ std::array<std::uint32_t, kWords> cpu_words(const float* in, const GridPush& g) 
                                                  g.rotation_bins, g.rotation_width);
   const vm::SvaBetaPlan plan = vm::sva_beta_plan(al, grid);
   const float sum = vm::sva_beta_weight_sum(plan);
-  const float scale = vm::sva_vote_scale(in[28], sum);
+  std::uint64_t units = vm::sva_likelihood_units(in[28]);
+  units += vm::sva_likelihood_units(in[6] * in[20] * in[28]);
+  const float likelihood = vm::sva_likelihood_of_units(units);
+  const float scale = vm::sva_vote_scale(likelihood, sum);
   std::size_t o = 0;
   const auto put = [&](float x) { w[o++] = std::bit_cast<std::uint32_t>(x); };
   const auto put_u = [&](std::uint32_t x) { w[o++] = x; };
@@ -68,6 +71,9 @@ std::array<std::uint32_t, kWords> cpu_words(const float* in, const GridPush& g) 
   put(plan.inv_sigma);
   put(sum);
   put(scale);
+  put_u(static_cast<std::uint32_t>(units & 0xffffffffu));
+  put_u(static_cast<std::uint32_t>(units >> 32));
+  put(likelihood);
   for (int i = 0; i < plan.n && i < SVA_MAX_BETA_SAMPLES; ++i) {
     const float weight = vm::sva_beta_weight(plan, i) * scale;
     const vm::SvaVote v = vm::sva_vote(al, plan, grid, 1u, weight, i);
@@ -88,6 +94,8 @@ const char* stage_of(std::uint32_t word) {
   if (word < 21) return "beta plan";
   if (word == 21) return "weight sum";
   if (word == 22) return "vote scale";
+  if (word < 25) return "likelihood units (two key terms)";
+  if (word == 25) return "likelihood from its units";
   switch ((word - kHead) % 5) {
     case 0:
       return "sample weight";

@@ -7,6 +7,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "sva_shared.h"
 #include "sva_vote_math.h"
+#include "sva_match_likelihood.h"
 layout(local_size_x = 64) in;
 // Per case: four patches (p, n, conf: 7 floats each: a1 b1 a2 b2), then the likelihood.
 layout(std430, binding = 0) readonly buffer In { float inp[]; };
@@ -22,7 +23,7 @@ layout(push_constant) uniform Push {
   float rotation_width;
 };
 #define SVA_CASE_FLOATS 29u
-#define SVA_STAGE_HEAD 23u
+#define SVA_STAGE_HEAD 26u
 #define SVA_STAGE_WORDS (SVA_STAGE_HEAD + 5u * uint(SVA_MAX_BETA_SAMPLES))
 
 SvaPatch patch_at(uint base) {
@@ -41,7 +42,9 @@ void main() {
   if (c >= n) return;
   uint b = c * SVA_CASE_FLOATS;
   SvaAlignment al = sva_align(patch_at(b), patch_at(b + 7u), patch_at(b + 14u), patch_at(b + 21u));
-  float likelihood = inp[b + 28u];
+  uint64_t units = sva_likelihood_units(inp[b + 28u]);
+  units += sva_likelihood_units(inp[b + 6u] * inp[b + 20u] * inp[b + 28u]);
+  float likelihood = sva_likelihood_of_units(units);
   SvaPoseGrid grid =
       sva_pose_grid(kind, translation_bins, translation_min, translation_width, rotation_bins, rotation_width);
   SvaBetaPlan plan = sva_beta_plan(al, grid);
@@ -55,6 +58,7 @@ void main() {
   put(o, al.beta_hat); put(o, al.align_conf); put(o, al.sigma); put_u(o, uint(al.valid));
   put_u(o, uint(plan.n)); put_u(o, uint(plan.circle)); put(o, plan.unit); put(o, plan.inv_sigma);
   put(o, sum); put(o, scale);
+  put_u(o, uint(units & 0xffffffffUL)); put_u(o, uint(units >> 32)); put(o, likelihood);
   for (int i = 0; i < SVA_MAX_BETA_SAMPLES; ++i) {
     if (i >= plan.n) break;
     precise float weight = sva_beta_weight(plan, i) * scale;

@@ -51,7 +51,7 @@ TEST_CASE("buffers have device addresses and fills clear exactly their range") {
   CHECK(ctx->validation_messages() == 0);
 }
 
-TEST_CASE("memory types: a discrete GPU keeps device buffers out of the host's mapped window, mapped ones cached") {
+TEST_CASE("memory types: a discrete GPU keeps device buffers out of the host's mapped window, downloads cached") {
   // An NVIDIA board's memory types (a resizable BAR: its device memory is host-visible too).
   VkPhysicalDeviceMemoryProperties m{};
   const VkMemoryPropertyFlags dl = VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT, hv = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT,
@@ -60,13 +60,17 @@ TEST_CASE("memory types: a discrete GPU keeps device buffers out of the host's m
   m.memoryTypeCount = 5;
   for (std::uint32_t i = 0; i < 5; ++i) m.memoryTypes[i].propertyFlags = types[i];
   using sva::vk::Memory;
+  // Discrete: device buffers in memory the host cannot map, then the BAR; never host memory.
   CHECK(sva::vk::memory_types(m, 0x1f, Memory::device, true) == std::vector<std::uint32_t>{1, 4});
-  CHECK(sva::vk::memory_types(m, 0x1f, Memory::mapped, true) == std::vector<std::uint32_t>{3, 2, 4});
   // Not discrete (integrated, lavapipe): the device's host-visible memory first, mapped, no staging.
   CHECK(sva::vk::memory_types(m, 0x1f, Memory::device, false) == std::vector<std::uint32_t>{4, 1, 2, 3});
+  // Mapped buffers, kernels' inputs: the device's own host-visible memory first, on either.
+  CHECK(sva::vk::memory_types(m, 0x1f, Memory::mapped, true) == std::vector<std::uint32_t>{4, 2, 3});
   CHECK(sva::vk::memory_types(m, 0x1f, Memory::mapped, false) == std::vector<std::uint32_t>{4, 2, 3});
+  // Downloads: host-cached memory first, on either.
+  CHECK(sva::vk::memory_types(m, 0x1f, Memory::readback, true) == std::vector<std::uint32_t>{3, 2, 4});
   // Only what the buffer allows, and a clear error when nothing fits.
-  CHECK(sva::vk::memory_types(m, 0x0c, Memory::mapped, true) == std::vector<std::uint32_t>{3, 2});
+  CHECK(sva::vk::memory_types(m, 0x0c, Memory::readback, true) == std::vector<std::uint32_t>{3, 2});
   CHECK_THROWS_WITH(sva::vk::memory_types(m, 0x0c, Memory::device, true), Catch::Contains("no usable memory type"));
   CHECK_THROWS_WITH(sva::vk::memory_types(m, 0x03, Memory::mapped, true), Catch::Contains("no usable memory type"));
 }

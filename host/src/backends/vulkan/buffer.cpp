@@ -15,18 +15,19 @@
 
 namespace sva::vk {
 
-// The memory types to try, best first. Integrated GPUs and lavapipe: one memory
-// serves both sides, so buffers live in host-visible coherent memory, the
-// device's own first, and are mapped (no staging). Discrete GPUs: the device's
-// memory that the host can map (the PCI BAR) is read by the CPU uncached, at a
-// small fraction of memory speed (an H200 ran 20x slower per update for it), and
-// is a small heap on many boards; so there device buffers take memory the host
-// cannot map and move through staging copies, and mapped buffers (inputs,
-// counters, staging) take host-cached system memory, which the host reads at
-// full speed. A discrete GPU's device buffer never falls back to host memory:
-// the map or a vote table read across the bus would be slower than the CPU
-// reference, so a full device is an out-of-memory error (the map: a clear
-// error, and the CPU reference under auto; a batch: split further).
+// The memory types to try, best first. Mapped buffers (inputs the host writes and
+// kernels read, small results): host-visible coherent memory, the device's own
+// first (lavapipe, integrated GPUs, a discrete GPU's PCI BAR), else host memory.
+// Readback buffers (staging for downloads): host-cached memory first, since the
+// host reads a discrete GPU's BAR uncached, at a small fraction of memory speed.
+// Device buffers: on integrated GPUs and lavapipe the device's own memory,
+// host-visible first (mapped: no staging), then any, host memory last. On a
+// discrete GPU device memory the host cannot map (uploads and downloads staged):
+// the BAR is a small heap on many boards and slow for the host to read (the
+// suspected cause of the H200's seconds-long updates, docs/vulkan-backend.md); and
+// no fallback to host memory, since the map or a vote table read across the bus
+// would be slower than the CPU reference: a full device is an out-of-memory error
+// (the map: a clear error, and the CPU reference under auto; a batch: split further).
 std::vector<std::uint32_t> memory_types(const VkPhysicalDeviceMemoryProperties& memory, std::uint32_t allowed,
                                         Memory kind, bool discrete) {
   const VkMemoryPropertyFlags mapped = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
@@ -36,12 +37,14 @@ std::vector<std::uint32_t> memory_types(const VkPhysicalDeviceMemoryProperties& 
     VkMemoryPropertyFlags has, lacks;
   };
   std::vector<Want> wants;
-  if (!discrete)
-    wants = kind == Memory::device ? std::vector<Want>{{mapped | local, 0}, {local, 0}, {mapped, 0}}
-                                   : std::vector<Want>{{mapped | local, 0}, {mapped, 0}};
+  if (kind == Memory::readback)
+    wants = {{mapped | cached, 0}, {mapped, 0}};
+  else if (kind == Memory::mapped)
+    wants = {{mapped | local, 0}, {mapped, 0}};
+  else if (!discrete)
+    wants = {{mapped | local, 0}, {local, 0}, {mapped, 0}};
   else
-    wants = kind == Memory::device ? std::vector<Want>{{local, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT}, {local, 0}}
-                                   : std::vector<Want>{{mapped | cached, local}, {mapped, local}, {mapped, 0}};
+    wants = {{local, VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT}, {local, 0}};
   std::vector<std::uint32_t> types;
   for (const Want& want : wants)
     for (std::uint32_t i = 0; i < memory.memoryTypeCount; ++i) {

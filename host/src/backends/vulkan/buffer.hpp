@@ -18,7 +18,7 @@ namespace sva::vk {
 
 class Device;
 
-enum class Memory { mapped, device };
+enum class Memory { mapped, device, readback };
 
 // The memory types a buffer of `kind` tries, best first, among `allowed` (buffer.cpp says why; a test checks
 // the choice on the memory types of a discrete GPU without one).

@@ -54,7 +54,7 @@ void Context::download(const Buffer& src, void* dst, std::size_t bytes, std::siz
     std::memcpy(dst, static_cast<const std::uint8_t*>(src.data()) + offset, bytes);
     return;
   }
-  Buffer staging = create_buffer(std::min(bytes, kStagingBytes));
+  Buffer staging(device_, std::min(bytes, kStagingBytes), Memory::readback);
   for (std::size_t done = 0; done < bytes; done += staging.size()) {
     const std::size_t n = std::min(staging.size(), bytes - done);
     {

@@ -1,8 +1,11 @@
 // The shared per-match math (sva_vote_math.h) against libm and double-precision
 // geometry: its own exp / sincos / atan2, quaternion helpers, the two-point
 // alignment with beta-hat, and the beta sampling.
+#include <sva/base/rng.hpp>
+
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -243,6 +246,29 @@ TEST_CASE("a Gaussian narrower than a bin puts its mass in at least one bin") {
   std::int64_t total = 0;
   for (int s = 0; s < plan.n; ++s) total += vm::sva_vote(al, plan, g, 0, vm::sva_beta_weight(plan, s) * scale, s).mass;
   CHECK(std::fabs(static_cast<double>(total) / SVA_FIXED_ONE - 1.0) < 1e-3);
+}
+
+TEST_CASE("likelihood units: each key term rounds to the nearest unit, and the sum converts to the nearest float") {
+  // Exact references in double: a term below 2^24 units rounds half up, above it the float is already whole;
+  // the sum (under 2^47 units) is exact in double, so its float is the correctly rounded one.
+  sva::util::Rng rng(5, 1);
+  for (int i = 0; i < 20000; ++i) {
+    const float w = i < 4 ? std::array<float, 4>{0.0f, 1.0f, 0x1p-40f, 0x1p-17f}[i]
+                          : static_cast<float>(std::pow(10.0, -14.0 * rng.uniform()));
+    const double v = static_cast<double>(w) * 0x1p40;
+    const auto want = static_cast<std::uint64_t>(v < 0x1p23 ? std::floor(v + 0.5) : v);
+    REQUIRE(vm::sva_likelihood_units(w) == want);
+  }
+  CHECK(vm::sva_likelihood_units(-1.0f) == 0);
+  CHECK(vm::sva_likelihood_units(std::nanf("")) == 0);
+  CHECK(vm::sva_likelihood_units(3.0f) == (std::uint64_t{1} << 40));
+  for (int i = 0; i < 20000; ++i) {
+    std::uint64_t units =
+        (static_cast<std::uint64_t>(rng.uniform() * 0x1p32) << 15) ^ static_cast<std::uint64_t>(rng.uniform() * 0x1p32);
+    units &= (std::uint64_t{1} << (1 + i % 47)) - 1;  // every magnitude up to 2^47
+    if (i < 3) units = std::array<std::uint64_t, 3>{0, (std::uint64_t{1} << 24) - 1, (std::uint64_t{1} << 47) - 1}[i];
+    REQUIRE(vm::sva_likelihood_of_units(units) == static_cast<float>(static_cast<double>(units) * 0x1p-40));
+  }
 }
 
 TEST_CASE("the vote math header compiles as GLSL") {

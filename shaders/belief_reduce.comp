@@ -12,6 +12,10 @@
 //  SELECT:  the band's bins whose distance bucket is at most select_bucket,
 //           appended to the candidate list (the host sorts the few it gets);
 //  REBUILD: per table slot: every bin in the band joins an empty list.
+//  TABLE_HISTOGRAM, TABLE_SELECT: the histogram and the selection over every
+//           slot, for a top-k that reaches past the band (an estimate's
+//           next modes on a sharp belief): two passes and a few hundred
+//           words back, where the whole table would cross the bus.
 // Integer sums, so the results equal the CPU reference's
 // (host/src/backends/cpu/belief.cpp) whatever the order.
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -60,9 +64,9 @@ void mass_entry(uint i) {
   band().w[other * pc.band_capacity + n] = slot;
 }
 
-void select_entry(uint i) {
-  uint slot = band_entry(i);
-  if (slot == pc.capacity) return;
+void select_slot(uint slot) {
+  if (slot >= pc.capacity) return;
+  if (sva_table_keys(pc.table_lo, pc.table_hi).w[slot] == SVA_HASH_EMPTY_KEY) return;
   SvaWords st = state();
   uint64_t offset = sva_table_offsets(pc.table_lo, pc.table_hi, pc.capacity).w[slot];
   if (sva_distance_bucket(st.w[SVA_STATE_MAX] - offset) > pc.select_bucket) return;
@@ -71,6 +75,14 @@ void select_entry(uint i) {
     candidate[2u * uint(n)] = sva_table_keys(pc.table_lo, pc.table_hi).w[slot];
     candidate[2u * uint(n) + 1u] = offset;
   }
+}
+
+void histogram_slot(uint slot) {
+  if (slot >= pc.capacity) return;
+  if (sva_table_keys(pc.table_lo, pc.table_hi).w[slot] == SVA_HASH_EMPTY_KEY) return;
+  SvaWords st = state();
+  uint64_t d = st.w[SVA_STATE_MAX] - sva_table_offsets(pc.table_lo, pc.table_hi, pc.capacity).w[slot];
+  atomicAdd(st.w[sva_state_bucket(pc.objects, sva_distance_bucket(d))], 1ul);
 }
 
 void rebuild_slot(uint slot) {
@@ -92,7 +104,9 @@ void main() {
   for (uint k = 0u; k < SVA_SLOTS_PER_INVOCATION; ++k) {
     uint i = sva_table_slot(k);
     if (pc.pass == SVA_REDUCE_MASS) mass_entry(i);
-    else if (pc.pass == SVA_REDUCE_SELECT) select_entry(i);
+    else if (pc.pass == SVA_REDUCE_SELECT) select_slot(band_entry(i));
+    else if (pc.pass == SVA_REDUCE_TABLE_HISTOGRAM) histogram_slot(i);
+    else if (pc.pass == SVA_REDUCE_TABLE_SELECT) select_slot(i);
     else rebuild_slot(i);
   }
 }

@@ -185,6 +185,8 @@ struct SvaReduceParams {
 #define SVA_REDUCE_FLIP 1u     // one invocation: the compacted side becomes the current one
 #define SVA_REDUCE_SELECT 2u   // the band's bins up to select_bucket into the candidate list
 #define SVA_REDUCE_REBUILD 3u  // per table slot: the band list from scratch (after a growth or a lost append)
+#define SVA_REDUCE_TABLE_HISTOGRAM 4u  // per table slot: the distance histogram of every bin (top-k past the band)
+#define SVA_REDUCE_TABLE_SELECT 5u     // per table slot: the bins up to select_bucket into the candidate list
 
 // Push constants of belief_lookup.comp.
 struct SvaLookupParams {

@@ -167,7 +167,10 @@ TEST_CASE("GPU beliefs: the band list kept by the fold gives the CPU reference's
   // 64: the tables grow often (each growth rebuilds the list); 2^16: they
   // never grow, and the list lives on through compactions and lost appends.
   vo.initial_belief_slots = GENERATE(std::size_t{64}, std::size_t{1} << 16);
-  INFO("initial belief slots " << vo.initial_belief_slots);
+  // Staged, as on a discrete GPU: a top-k past the band (the estimate's next modes, best_bins beyond the band's
+  // count) takes the passes over every slot instead of reading the table on the host.
+  vo.force_staging = GENERATE(false, true);
+  INFO("initial belief slots " << vo.initial_belief_slots << ", staged " << vo.force_staging);
   Twin t(w, space, 2, {}, {}, vo);
   const RigidPose p0 = test::random_pose(41, 150.0), p1 = test::random_pose(42, 150.0);
   std::uint64_t last_max = 0;

@@ -7,6 +7,7 @@
 #include <cassert>
 #include <cstring>
 #include <string>
+#include <tuple>
 
 #include "backends/vulkan/gpu_layout.hpp"
 #include "belief/belief_math.hpp"
@@ -296,26 +297,62 @@ std::vector<BinOffset> GpuBelief::select_best(std::size_t k) const {
   const auto best_first = [](const BinOffset& a, const BinOffset& b) {
     return a.offset != b.offset ? a.offset > b.offset : a.key < b.key;
   };
-  // The smallest bucket bound that holds at least k of the band's bins: those bins contain the top k.
-  std::uint32_t bucket = 0;
-  std::uint64_t n = 0;
-  for (; bucket < SVA_BELIEF_BUCKETS; ++bucket)
-    if ((n += histogram_[bucket]) >= k) break;
-  if (bucket == SVA_BELIEF_BUCKETS || n * 2 * sizeof(std::uint64_t) > k_->ctx->info().max_storage_buffer_range) {
-    // Fewer than k bins in the band (every bin outside it lies below), or so
-    // many tie near the maximum that their list would not fit one binding:
-    // sort the whole table on the host instead (same answer).
-    std::vector<BinOffset> all = table();
-    k = std::min(k, all.size());
-    std::partial_sort(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(k), all.end(), best_first);
-    all.resize(k);
-    return all;
+  // The smallest bucket bound that holds at least k bins: those bins contain the top k. The band's histogram
+  // first; when the band holds fewer than k bins (a sharp belief asked for its next modes), every slot's.
+  // On a GPU two passes over the slots cost microseconds where the table would cross the bus; a CPU device
+  // (lavapipe) runs the passes on the host's own cores, slower than reading its memory directly.
+  std::uint32_t pass = SVA_REDUCE_SELECT;
+  std::uint64_t entries = band_capacity_;
+  auto [bucket, n] = bucket_holding(histogram_, k);
+  if (bucket == SVA_BELIEF_BUCKETS && (k_->ctx->info().type != "cpu" || k_->ctx->force_staging())) {
+    std::tie(bucket, n) = bucket_holding(table_histogram(), k);
+    pass = SVA_REDUCE_TABLE_SELECT;
+    entries = capacity_;
   }
+  std::vector<BinOffset> out;
+  if (bucket == SVA_BELIEF_BUCKETS || n * 2 * sizeof(std::uint64_t) > k_->ctx->info().max_storage_buffer_range) {
+    // The whole table on the host: a CPU device, or so many bins tied near the k-th that their list would not
+    // fit one binding (same answer).
+    out = unsorted_table();
+    if (out.size() > k) {
+      std::nth_element(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(k), out.end(), best_first);
+      out.resize(k);
+    }
+  } else {
+    out = select_candidates(pass, bucket, n, entries);
+  }
+  k = std::min(k, out.size());
+  std::partial_sort(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(k), out.end(), best_first);
+  out.resize(k);
+  return out;
+}
+
+std::pair<std::uint32_t, std::uint64_t> GpuBelief::bucket_holding(std::span<const std::uint64_t> histogram,
+                                                                  std::size_t k) {
+  std::uint64_t n = 0;
+  for (std::uint32_t bucket = 0; bucket < histogram.size(); ++bucket)
+    if ((n += histogram[bucket]) >= k) return {bucket, n};
+  return {SVA_BELIEF_BUCKETS, n};
+}
+
+std::vector<std::uint64_t> GpuBelief::table_histogram() const {
+  const std::uint32_t objects = k_->space->objects();
+  const std::size_t at = object_word(SVA_STATE_ARRAYS, objects) * sizeof(std::uint64_t);
+  const std::size_t bytes = SVA_BELIEF_BUCKETS * sizeof(std::uint64_t);
+  // The band's histogram words are reused: reduce() clears them before its next pass, and histogram_ keeps the band's.
+  run_reduce({SVA_REDUCE_TABLE_HISTOGRAM}, capacity_, {{&state_, 0u, at, bytes}});
+  std::vector<std::uint64_t> h(SVA_BELIEF_BUCKETS);
+  k_->ctx->download(state_, h.data(), bytes, at);
+  return h;
+}
+
+std::vector<BinOffset> GpuBelief::select_candidates(std::uint32_t pass, std::uint32_t bucket, std::uint64_t n,
+                                                    std::uint64_t entries) const {
   ensure(*k_->ctx, candidates_, n * 2 * sizeof(std::uint64_t));
-  gpu::SvaReduceParams p = reduce_params(SVA_REDUCE_SELECT);
+  gpu::SvaReduceParams p = reduce_params(pass);
   p.select_bucket = bucket;
   p.select_capacity = static_cast<std::uint32_t>(n);
-  const vk::Grid g = k_->ctx->grid(slot_invocations(band_capacity_));
+  const vk::Grid g = k_->ctx->grid(slot_invocations(entries));
   vk::Dispatch d{k_->reduce, {&candidates_}, push_bytes(p), g.x};
   d.groups_y = g.y;
   std::vector<double> ms;
@@ -328,8 +365,6 @@ std::vector<BinOffset> GpuBelief::select_best(std::size_t k) const {
   const auto* c = candidates_.as<std::uint64_t>();
   std::vector<BinOffset> out(n);
   for (std::size_t i = 0; i < n; ++i) out[i] = {k_->bins.key(c[2 * i]), c[2 * i + 1]};
-  std::partial_sort(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(k), out.end(), best_first);
-  out.resize(k);
   return out;
 }
 
@@ -349,7 +384,7 @@ std::vector<std::uint64_t> GpuBelief::offsets(std::span<const std::uint64_t> key
   return std::vector<std::uint64_t>(q, q + keys.size());
 }
 
-std::vector<BinOffset> GpuBelief::table() const {
+std::vector<BinOffset> GpuBelief::unsorted_table() const {
   std::vector<std::uint64_t> words(std::size_t{capacity_} * 2);
   k_->ctx->download(table_, words.data(), words.size() * sizeof(std::uint64_t));
   const std::uint64_t* keys = words.data();
@@ -358,6 +393,11 @@ std::vector<BinOffset> GpuBelief::table() const {
   out.reserve(count_);
   for (std::uint32_t i = 0; i < capacity_; ++i)
     if (keys[i] != ~std::uint64_t{0}) out.push_back({k_->bins.key(keys[i]), offsets[i]});
+  return out;
+}
+
+std::vector<BinOffset> GpuBelief::table() const {
+  std::vector<BinOffset> out = unsorted_table();
   std::sort(out.begin(), out.end(), [](const BinOffset& a, const BinOffset& b) { return a.key < b.key; });
   return out;
 }

@@ -10,6 +10,8 @@
 // the CPU reference.
 #include <cstdint>
 #include <optional>
+#include <span>
+#include <utility>
 #include <vector>
 
 #include "backends/vulkan/context.hpp"
@@ -90,6 +92,16 @@ class GpuBelief final : public BeliefState {
   void forget_cache() const;
   // best_bins without the kept answer: the k best bins from the device.
   std::vector<BinOffset> select_best(std::size_t k) const;
+  // The first bucket whose cumulative count reaches k, and that count (SVA_BELIEF_BUCKETS when none does).
+  static std::pair<std::uint32_t, std::uint64_t> bucket_holding(std::span<const std::uint64_t> histogram,
+                                                                std::size_t k);
+  // Every bin of the table, in slot order (table() sorts them by key).
+  std::vector<BinOffset> unsorted_table() const;
+  // The distance histogram of every bin of the table (a pass over every slot).
+  std::vector<std::uint64_t> table_histogram() const;
+  // The bins up to `bucket` (n of them, from the histogram) of the band list or of the whole table.
+  std::vector<BinOffset> select_candidates(std::uint32_t pass, std::uint32_t bucket, std::uint64_t n,
+                                           std::uint64_t entries) const;
 
   GpuBeliefKernels* k_;
   std::uint64_t eps_units_;

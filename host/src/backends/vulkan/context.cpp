@@ -38,13 +38,21 @@ void Context::upload(Buffer& dst, const void* src, std::size_t bytes, std::size_
     std::memcpy(static_cast<std::uint8_t*>(dst.data()) + offset, src, bytes);
     return;
   }
-  Buffer staging = create_buffer(std::min(bytes, kStagingBytes));
+  std::lock_guard lock(mutex_);
+  Buffer& staging = staging_for(upload_staging_, Memory::mapped, bytes);
   for (std::size_t done = 0; done < bytes; done += staging.size()) {
     const std::size_t n = std::min(staging.size(), bytes - done);
     std::memcpy(staging.data(), static_cast<const std::uint8_t*>(src) + done, n);
-    std::lock_guard lock(mutex_);
     commands_.copy({{&staging, &dst, 0, offset + done, n}});
   }
+}
+
+Buffer& Context::staging_for(Buffer& kept, Memory kind, std::size_t bytes) {
+  // Kept between calls: an allocation per transfer costs more than a small transfer on a discrete GPU. It grows
+  // to the largest transfer seen, at most kStagingBytes.
+  const std::size_t want = std::min(bytes, kStagingBytes);
+  if (kept.size() < want) kept = Buffer(device_, std::max(want, std::size_t{1} << 16), kind);
+  return kept;
 }
 
 void Context::download(const Buffer& src, void* dst, std::size_t bytes, std::size_t offset) {
@@ -54,13 +62,11 @@ void Context::download(const Buffer& src, void* dst, std::size_t bytes, std::siz
     std::memcpy(dst, static_cast<const std::uint8_t*>(src.data()) + offset, bytes);
     return;
   }
-  Buffer staging(device_, std::min(bytes, kStagingBytes), Memory::readback);
+  std::lock_guard lock(mutex_);
+  Buffer& staging = staging_for(readback_staging_, Memory::readback, bytes);
   for (std::size_t done = 0; done < bytes; done += staging.size()) {
     const std::size_t n = std::min(staging.size(), bytes - done);
-    {
-      std::lock_guard lock(mutex_);
-      commands_.copy({{&src, &staging, offset + done, 0, n}});
-    }
+    commands_.copy({{&src, &staging, offset + done, 0, n}});
     std::memcpy(static_cast<std::uint8_t*>(dst) + done, staging.data(), n);
   }
 }

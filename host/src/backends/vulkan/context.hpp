@@ -78,6 +78,9 @@ class Context {
   Instance instance_;
   Device device_;
   CommandRunner commands_;
+  // The staging buffers of upload() and download() (unmapped destinations), kept between transfers.
+  Buffer& staging_for(Buffer& kept, Memory kind, std::size_t bytes);
+  Buffer upload_staging_, readback_staging_;
   bool force_staging_ = false;
   std::mutex mutex_;
 };

@@ -63,8 +63,8 @@ three=${SVA_THREE_JS:-/usr/share/javascript/three}
 mkdir -p "$out/three/examples/js/controls"
 cp -L "$three/three.min.js" "$out/three/"
 cp -L "$three/examples/js/controls/OrbitControls.js" "$out/three/examples/js/controls/"
-for f in env.sh run-tests.sh run-bench.sh README.txt; do cp "$root/scripts/bundle/$f" "$out/$f"; done
-chmod +x "$out/run-tests.sh" "$out/run-bench.sh"
+for f in env.sh run-tests.sh run-bench.sh run-device-check.sh README.txt; do cp "$root/scripts/bundle/$f" "$out/$f"; done
+chmod +x "$out/run-tests.sh" "$out/run-bench.sh" "$out/run-device-check.sh"
 
 # The shared-library closure (ldd is recursive), but the C library: glibc's parts
 # must match the target's ld.so, which a newer machine provides. libstdc++ and

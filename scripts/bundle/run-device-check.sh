@@ -1,0 +1,83 @@
+#!/usr/bin/env bash
+# The whole device check of a GPU loan in one call, from a bundle (scripts/bundle.sh), inside a time budget:
+#   1. the device and the machine (device.txt);
+#   2. the agreement tests first, whose printed lines locate a disagreement with the CPU reference (agreement.txt);
+#   3. the whole test suite, areas in parallel, while paper3d is simulated and its map trained (suite.txt);
+#   4. sva bench on paper3d: the Vulkan backend one session at a time (10, 30, 100 readings), then 64 sessions per
+#      submission, then the CPU reference on the same machine (bench-*.txt), each cut at the budget's end.
+# The per-test logs and the benchmarks' JSON go into details.tgz: 7 files in all.
+#
+#   run-device-check.sh OUT_DIR [SECONDS]    SECONDS: the budget for all of it (default 480)
+# Environment: VK_DRIVER_FILES (the caller's ICD, kept), WORK (paper3d's data and map, default OUT_DIR/paper3d:
+#   kept, so a second call skips the simulation), SIM_ARGS (extra `sva simulate` options, e.g. "--train 100
+#   --test 20" for a quick small dataset), AREAS (the suite's areas, default all: tests/sva_tests_<area>).
+# Prints a summary; exits 1 when a test failed or no benchmark could run, 2 on bad usage.
+set -uo pipefail
+source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
+[[ $# -ge 1 && $# -le 2 && -n $1 ]] || { echo "usage: run-device-check.sh OUT_DIR [SECONDS]" >&2; exit 2; }
+out=$1 budget=${2:-480}
+[[ $budget =~ ^[0-9]+$ && $budget -ge 60 ]] || { echo "run-device-check: SECONDS must be a whole number >= 60, not '$budget'" >&2; exit 2; }
+mkdir -p "$out" || exit 2
+out=$(cd "$out" && pwd)
+work=${WORK:-$out/paper3d}
+t0=$SECONDS
+left() { echo $((budget - (SECONDS - t0))); }
+say() { echo "== $* ($((SECONDS - t0)) s)"; }
+
+say "device"
+{
+  date -u
+  command -v nvidia-smi >/dev/null && nvidia-smi --query-gpu=name,driver_version,memory.total --format=csv
+  echo "cores: $(nproc)"; grep -m1 'model name' /proc/cpuinfo
+  echo "VK_DRIVER_FILES=${VK_DRIVER_FILES:-(loader default)}"
+  "$BUNDLE/sva" --version
+} >"$out/device.txt" 2>&1
+cat "$out/device.txt"
+
+say "agreement with the CPU reference"
+LOG_DIR=$out/.agreement timeout $(($(left) / 4)) "$BUNDLE/run-tests.sh" 'vulkan:*bin by bin*' \
+  'vulkan:*each key alone*' 'vulkan:the vote math*' >"$out/agreement.txt" 2>&1
+grep -h -A4 'warning' "$out"/.agreement/*.log >>"$out/agreement.txt" 2>/dev/null
+grep -E 'passed,|FAILED|warning' -A3 "$out/agreement.txt" | head -40
+
+say "the whole suite, areas in parallel; paper3d simulated and trained meanwhile"
+mkdir -p "$out/.suite"
+export TEST_TIMEOUT=$(($(left) / 2))
+read -r -a areas <<<"${AREAS:-}"
+if [[ ${#areas[@]} -eq 0 ]]; then
+  for exe in "$BUNDLE"/tests/sva_tests_*; do areas+=("${exe##*/sva_tests_}"); done
+fi
+for a in "${areas[@]}"; do
+  (LOG_DIR=$out/.suite/$a timeout $(($(left) / 2)) "$BUNDLE/run-tests.sh" "$a" >"$out/.suite/$a.out" 2>&1) &
+done
+mkdir -p "$work"
+if [[ ! -f $work/map.svam ]]; then
+  # shellcheck disable=SC2086  # SIM_ARGS is a list of options
+  "$BUNDLE/sva" --quiet simulate --scene paper3d --out "$work" --threads "$SVA_THREADS" ${SIM_ARGS:-} &&
+    "$BUNDLE/sva" --quiet train --data "$work/train.svad" --out "$work/map.svam" --threads "$SVA_THREADS"
+fi
+wait
+cat "$out"/.suite/*.out >"$out/suite.txt"
+grep -hE '^[a-z_]+: [0-9]+ passed|FAILED' "$out/suite.txt"
+suite_failed=$(grep -cE '^  FAILED' "$out/suite.txt")
+
+bench() {  # NAME SHARE-OF-WHAT-IS-LEFT sva-bench-options...
+  local name=$1 share=$2 t
+  shift 2
+  t=$(($(left) * share / 100))
+  if ((t < 20)); then echo "bench $name: no time left" | tee "$out/bench-$name.txt"; return; fi
+  say "sva bench $name ($t s at most)"
+  timeout "$t" "$BUNDLE/sva" --quiet bench --map "$work/map.svam" --data "$work/test.svad" --json "$out/.suite/bench-$name.json" \
+    "$@" >"$out/bench-$name.txt" 2>&1 || echo "(stopped or failed: exit $?)" >>"$out/bench-$name.txt"
+  grep -vE '^(cpu|vulkan)( batch)?: [0-9]+/' "$out/bench-$name.txt" | head -30
+}
+[[ -f $work/map.svam ]] || { echo "no paper3d map in $work: no benchmark" >&2; suite_failed=$((suite_failed + 1)); }
+if [[ -f $work/map.svam ]]; then
+  bench vulkan 40 --backend vulkan --trials 1 --batch 0 --readings 10,30,100
+  bench vulkan-batch 50 --backend vulkan --trials 64 --batch 64 --readings 10
+  bench cpu 95 --backend cpu --trials 1 --batch 0 --readings 10,30,100
+fi
+tar -czf "$out/details.tgz" -C "$out" .suite .agreement 2>/dev/null
+rm -rf "$out/.suite" "$out/.agreement"
+say "done: $suite_failed failed test(s); files in $out"
+((suite_failed == 0))

@@ -39,9 +39,53 @@ SVA_FN float sva_sqrt(float x) { return sqrt(x); }
 #define SVA_F32_INF 0x7f800000u
 #define SVA_F32_NAN 0x7fc00000u
 
-// a / b correctly rounded (to nearest, ties to even): the 24-bit significands
-// are divided bit by bit (restoring division, 25 quotient bits: 24 and a round
-// bit), the remainder is the sticky bit.
+// Test hook: added to the fast paths' first estimates below, so that a test
+// kernel can check the corrections and the fallbacks on a device whose own
+// division and square root happen to be exact (lavapipe).
+#ifndef SVA_EXACT_ESTIMATE_SKEW
+#define SVA_EXACT_ESTIMATE_SKEW 0
+#endif
+
+// The 25 quotient bits of ma / mb (ma in [mb, 2 mb), both below 2^25): q =
+// floor(ma 2^24 / mb), and whether a remainder is left (the sticky bit). The
+// device's own division estimates q to a few units (Vulkan allows 2.5 ULP);
+// the remainder, exact in 64-bit integers, corrects it. An estimate that a
+// few steps do not settle (a device far off its promise) takes the restoring
+// division, bit by bit: the answer never depends on the estimate.
+uint sva_div_significands(uint ma, uint mb, out bool sticky) {
+  precise float qf = float(ma) / float(mb);  // sva-exact: an estimate, corrected exactly below
+  int64_t q = int64_t(qf * 16777216.0f) + int64_t(SVA_EXACT_ESTIMATE_SKEW);
+  int64_t r = (int64_t(ma) << 24) - q * int64_t(mb);
+  for (int i = 0; i < 8; ++i) {
+    if (r < 0l) {
+      q -= 1l;
+      r += int64_t(mb);
+    } else if (r >= int64_t(mb)) {
+      q += 1l;
+      r -= int64_t(mb);
+    } else {
+      break;
+    }
+  }
+  if (r >= 0l && r < int64_t(mb)) {
+    sticky = r != 0l;
+    return uint(q);
+  }
+  uint qs = 0u, rs = ma;  // restoring division: rs < 2 mb < 2^25
+  for (int i = 0; i < 25; ++i) {
+    qs <<= 1;
+    if (rs >= mb) {
+      rs -= mb;
+      qs |= 1u;
+    }
+    rs <<= 1;
+  }
+  sticky = rs != 0u;
+  return qs;
+}
+
+// a / b correctly rounded (to nearest, ties to even): the 25 quotient bits of
+// the significands (24 and a round bit) and the sticky bit.
 float sva_div(float a, float b) {
   uint ua = floatBitsToUint(a), ub = floatBitsToUint(b);
   uint sign = (ua ^ ub) & 0x80000000u;
@@ -58,17 +102,10 @@ float sva_div(float a, float b) {
     ma <<= 1;
     e -= 1;
   }
-  uint q = 0u, r = ma;  // r < 2 mb < 2^25
-  for (int i = 0; i < 25; ++i) {
-    q <<= 1;
-    if (r >= mb) {
-      r -= mb;
-      q |= 1u;
-    }
-    r <<= 1;
-  }
+  bool sticky;
+  uint q = sva_div_significands(ma, mb, sticky);
   uint mant = q >> 1;
-  if ((q & 1u) != 0u && (r != 0u || (mant & 1u) != 0u)) mant += 1u;
+  if ((q & 1u) != 0u && (sticky || (mant & 1u) != 0u)) mant += 1u;
   if (mant == 0x1000000u) {
     mant >>= 1;
     e += 1;
@@ -78,9 +115,47 @@ float sva_div(float a, float b) {
   return uintBitsToFloat(sign | (uint(e) << 23) | (mant & 0x7fffffu));
 }
 
-// sqrt(x) correctly rounded: the digit-by-digit integer square root of the
-// significand scaled to 50 bits gives 25 result bits (24 and a round bit); the
-// remainder is the sticky bit. sqrt(-0) = -0; negatives give NaN.
+// The 25-bit integer square root of m 2^25 (m in [2^23, 2^25)): s =
+// floor(sqrt(m 2^25)) and whether a remainder is left. As for the division:
+// the device's square root estimates s, the exact remainder m 2^25 - s^2
+// corrects it (s is right when 0 <= remainder <= 2 s), and an estimate a few
+// steps do not settle takes the digit-by-digit root.
+uint sva_sqrt_significand(uint64_t m, out bool sticky) {
+  precise float sf = sqrt(float(m) * 33554432.0f);  // sva-exact: an estimate, corrected exactly below
+  int64_t s = int64_t(sf) + int64_t(SVA_EXACT_ESTIMATE_SKEW);
+  int64_t r = int64_t(m << 25) - s * s;
+  for (int i = 0; i < 8; ++i) {
+    if (r < 0l) {
+      r += 2l * s - 1l;
+      s -= 1l;
+    } else if (r > 2l * s) {
+      r -= 2l * s + 1l;
+      s += 1l;
+    } else {
+      break;
+    }
+  }
+  if (r >= 0l && r <= 2l * s) {
+    sticky = r != 0l;
+    return uint(s);
+  }
+  uint64_t rem = m << 25;  // in [2^48, 2^50): its root has 25 bits
+  uint64_t res = 0ul, bit = 1ul << 48;
+  for (int i = 0; i < 25; ++i) {
+    if (rem >= res + bit) {
+      rem -= res + bit;
+      res = (res >> 1) + bit;
+    } else {
+      res >>= 1;
+    }
+    bit >>= 2;
+  }
+  sticky = rem != 0ul;
+  return uint(res);
+}
+
+// sqrt(x) correctly rounded: 25 result bits of the significand's root (24 and
+// a round bit) and the sticky bit. sqrt(-0) = -0; negatives give NaN.
 float sva_sqrt(float x) {
   uint ux = floatBitsToUint(x);
   uint ex = (ux >> 23) & 0xffu, fx = ux & 0x7fffffu;
@@ -94,20 +169,10 @@ float sva_sqrt(float x) {
     m <<= 1;
     e -= 1;
   }
-  uint64_t rem = m << 25;  // in [2^48, 2^50): its root has 25 bits
-  uint64_t res = 0ul, bit = 1ul << 48;
-  for (int i = 0; i < 25; ++i) {
-    if (rem >= res + bit) {
-      rem -= res + bit;
-      res = (res >> 1) + bit;
-    } else {
-      res >>= 1;
-    }
-    bit >>= 2;
-  }
-  uint q = uint(res);
+  bool sticky;
+  uint q = sva_sqrt_significand(m, sticky);
   uint mant = q >> 1;
-  if ((q & 1u) != 0u && (rem != 0ul || (mant & 1u) != 0u)) mant += 1u;
+  if ((q & 1u) != 0u && (sticky || (mant & 1u) != 0u)) mant += 1u;
   int be = (e >> 1) + 127;  // e is even
   if (mant == 0x1000000u) {
     mant >>= 1;

@@ -105,8 +105,9 @@ void print_model(const json& runs) {
       if (m.is_null()) continue;
       if (!header)
         std::printf(
-            "\nmodel of the GPU time per session-update on an %s (%s; an estimate, not a measurement; "
-            "docs/vulkan-backend.md):\n%-14s %-9s %12s %12s %16s %18s\n",
+            "\nmodel of the GPU time per session-update on an %s (%s; an estimate, not a measurement: "
+            "atomics and bytes only, a floor; an H200 took 6-110x longer, docs/vulkan-backend.md):\n%-14s %-9s %12s "
+            "%12s %16s %18s\n",
             m["device"].get<std::string>().c_str(), m["figures"].get<std::string>().c_str(), "run", "readings",
             "atomics", "bytes MB", "model ms", "measured ms/update");
       header = true;

@@ -36,7 +36,7 @@ cat "$out/device.txt"
 
 say "agreement with the CPU reference"
 LOG_DIR=$out/.agreement timeout $(($(left) / 4)) "$BUNDLE/run-tests.sh" 'vulkan:*bin by bin*' \
-  'vulkan:*each key alone*' 'vulkan:the vote math*' >"$out/agreement.txt" 2>&1
+  'vulkan:*each key alone*' 'vulkan:the vote math*' "vulkan:the belief's integer math*" >"$out/agreement.txt" 2>&1
 grep -h -A4 'warning' "$out"/.agreement/*.log >>"$out/agreement.txt" 2>/dev/null
 grep -E 'passed,|FAILED|warning' -A3 "$out/agreement.txt" | head -40
 

@@ -39,7 +39,7 @@ spec_of() {
 }
 
 echo "sva bundle $BUNDLE: VK_DRIVER_FILES=${VK_DRIVER_FILES:-(loader default)} SVA_VK_VALIDATION=$SVA_VK_VALIDATION, logs in $LOG_DIR"
-total_pass=0 total_fail=0 total_skip=0
+total_pass=0 total_fail=0 total_skip=0 logs=0
 failed_names=()
 for arg in "${areas[@]}"; do
   area=${arg%%:*} filter=""
@@ -73,7 +73,7 @@ for arg in "${areas[@]}"; do
       echo "  excluded: $full — ${excluded[$full]}"
       continue
     fi
-    log="$LOG_DIR/$area.$((pass + fail + skip)).log"
+    logs=$((logs + 1)) log="$LOG_DIR/$area.$logs.log"  # numbered across arguments: two specs of an area keep both
     timeout -k 10 "$timeout_s" "$exe" "$(spec_of "$name")" --reporter compact >"$log" 2>&1
     rc=$?
     # A spec that matched other than this one test case would hide a test.

@@ -165,14 +165,28 @@ std::vector<BinOffset> Belief::best_bins(std::size_t k) const {
   // the top k unless it has fewer than k bins.
   std::size_t keep = std::max(k, std::min(kKeptBins, all.size()));
   if (all.size() < k && all.size() < offset_.size()) {
+    // A sharp belief asked past its band (an estimate's next modes): the k best of the whole table through a
+    // bounded heap, worst on top, rather than a copy of a table of millions of bins (page faults, a sort).
     all.clear();
-    all.reserve(offset_.size());
-    offset_.for_each([&](std::uint64_t key, std::uint64_t off) { all.push_back({key, off}); });
+    all.reserve(k);
+    offset_.for_each([&](std::uint64_t key, std::uint64_t off) {
+      const BinOffset b{key, off};
+      if (all.size() < k) {
+        all.push_back(b);
+        std::push_heap(all.begin(), all.end(), better);
+      } else if (better(b, all.front())) {
+        std::pop_heap(all.begin(), all.end(), better);
+        all.back() = b;
+        std::push_heap(all.begin(), all.end(), better);
+      }
+    });
+    std::sort_heap(all.begin(), all.end(), better);
     keep = k;
+  } else {
+    const std::size_t sorted = std::min(keep, all.size());
+    std::partial_sort(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(sorted), all.end(), better);
+    all.resize(sorted);
   }
-  const std::size_t sorted = std::min(keep, all.size());
-  std::partial_sort(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(sorted), all.end(), better);
-  all.resize(sorted);
   best_.bins = all;
   best_.asked = keep;
   all.resize(std::min(k, all.size()));

@@ -22,51 +22,11 @@
 #include <string>
 #include <vector>
 
+#include "spirv_contraction.hpp"
+
 namespace {
 
-constexpr std::uint32_t kMagic = 0x07230203u;
-constexpr std::uint32_t kHeaderWords = 5;
-constexpr std::uint32_t kOpDecorate = 71;
-constexpr std::uint32_t kNoContraction = 42;
-
-// Instructions whose result is a rounded floating-point operation that a
-// compiler could contract (OpFAdd .. OpDot, the OpFMul family).
-bool is_float_arithmetic(std::uint32_t op) {
-  switch (op) {
-    case 127:  // OpFNegate
-    case 129:  // OpFAdd
-    case 131:  // OpFSub
-    case 133:  // OpFMul
-    case 136:  // OpFDiv
-    case 140:  // OpFRem
-    case 141:  // OpFMod
-    case 142:  // OpVectorTimesScalar
-    case 143:  // OpMatrixTimesScalar
-    case 144:  // OpVectorTimesMatrix
-    case 145:  // OpMatrixTimesVector
-    case 146:  // OpMatrixTimesMatrix
-    case 147:  // OpOuterProduct
-    case 148:  // OpDot
-      return true;
-    default:
-      return false;
-  }
-}
-
-// The module's layout puts annotations before the first type declaration:
-// everything up to there is capabilities, entry points, debug names and
-// decorations (logical layout, SPIR-V spec 2.4).
-bool is_preamble(std::uint32_t op) {
-  switch (op) {
-    case 2: case 3: case 4: case 5: case 6: case 7: case 8:  // source, names, OpString, OpLine
-    case 10: case 11: case 14: case 15: case 16: case 17:   // extensions, memory model, entry points, capabilities
-    case 71: case 72: case 73: case 74: case 75:            // decorations
-    case 317: case 330: case 331: case 332: case 5632: case 5633:
-      return true;
-    default:
-      return false;
-  }
-}
+using namespace sva::spirv;
 
 std::vector<std::uint32_t> read_words(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -83,26 +43,15 @@ std::vector<std::uint32_t> read_words(const std::string& path) {
 // Returns the module with OpDecorate %id NoContraction for every float
 // arithmetic result not already so decorated, inserted before the first type.
 std::vector<std::uint32_t> decorate_no_contraction(const std::vector<std::uint32_t>& in, const std::string& path) {
-  std::set<std::uint32_t> decorated, results;
-  std::size_t insert_at = 0;
-  for (std::size_t i = kHeaderWords; i < in.size();) {
-    const std::uint32_t op = in[i] & 0xffffu, count = in[i] >> 16;
-    if (count == 0 || i + count > in.size())
-      throw std::runtime_error(path + ": malformed instruction at word " + std::to_string(i));
-    if (op == kOpDecorate && count >= 3 && in[i + 2] == kNoContraction) decorated.insert(in[i + 1]);
-    if (is_float_arithmetic(op) && count >= 3) results.insert(in[i + 2]);
-    if (insert_at == 0 && !is_preamble(op)) insert_at = i;
-    i += count;
+  const Census c = census(in);
+  if (!c.well_formed) throw std::runtime_error(path + ": malformed module (no type declarations, or a bad instruction)");
+  const auto at = in.begin() + static_cast<std::ptrdiff_t>(c.first_type_word);
+  std::vector<std::uint32_t> out(in.begin(), at);
+  for (std::uint32_t id : std::set<std::uint32_t>(c.float_results.begin(), c.float_results.end())) {
+    if (c.decorated.count(id)) continue;
+    out.insert(out.end(), {(3u << 16) | kOpDecorate, id, kNoContraction});
   }
-  if (insert_at == 0) throw std::runtime_error(path + ": no type declarations");
-  std::vector<std::uint32_t> out(in.begin(), in.begin() + static_cast<std::ptrdiff_t>(insert_at));
-  for (std::uint32_t id : results) {
-    if (decorated.count(id)) continue;
-    out.push_back((3u << 16) | kOpDecorate);
-    out.push_back(id);
-    out.push_back(kNoContraction);
-  }
-  out.insert(out.end(), in.begin() + static_cast<std::ptrdiff_t>(insert_at), in.end());
+  out.insert(out.end(), at, in.end());
   return out;
 }
 

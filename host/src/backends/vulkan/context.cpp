@@ -1,6 +1,7 @@
 #include "backends/vulkan/context.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cstdlib>
 #include <cstring>
 #include <stdexcept>
@@ -39,7 +40,8 @@ void Context::upload(Buffer& dst, const void* src, std::size_t bytes, std::size_
     return;
   }
   std::lock_guard lock(mutex_);
-  Buffer& staging = staging_for(upload_staging_, Memory::mapped, bytes);
+  Buffer temporary;
+  Buffer& staging = staging_for(upload_staging_, temporary, Memory::mapped, bytes);
   for (std::size_t done = 0; done < bytes; done += staging.size()) {
     const std::size_t n = std::min(staging.size(), bytes - done);
     std::memcpy(staging.data(), static_cast<const std::uint8_t*>(src) + done, n);
@@ -47,11 +49,18 @@ void Context::upload(Buffer& dst, const void* src, std::size_t bytes, std::size_
   }
 }
 
-Buffer& Context::staging_for(Buffer& kept, Memory kind, std::size_t bytes) {
-  // Kept between calls: an allocation per transfer costs more than a small transfer on a discrete GPU. It grows
-  // to the largest transfer seen, at most kStagingBytes.
+Buffer& Context::staging_for(Buffer& kept, Buffer& temporary, Memory kind, std::size_t bytes) {
+  // Small transfers (an estimate's state words, histograms, candidates, a batch's counters) share a kept buffer,
+  // grown to the largest of them (a power of two, at most 1 MiB): an allocation per transfer cost more than the
+  // transfer on a discrete GPU. Large ones (the map's upload, a whole table) take a buffer of their own for the
+  // call, so that no 64 MiB of the device's small host-visible window stays held.
+  constexpr std::size_t kKept = std::size_t{1} << 20;
   const std::size_t want = std::min(bytes, kStagingBytes);
-  if (kept.size() < want) kept = Buffer(device_, std::max(want, std::size_t{1} << 16), kind);
+  if (want > kKept) {
+    temporary = Buffer(device_, want, kind);
+    return temporary;
+  }
+  if (kept.size() < want) kept = Buffer(device_, std::bit_ceil(std::max(want, std::size_t{4096})), kind);
   return kept;
 }
 
@@ -63,7 +72,8 @@ void Context::download(const Buffer& src, void* dst, std::size_t bytes, std::siz
     return;
   }
   std::lock_guard lock(mutex_);
-  Buffer& staging = staging_for(readback_staging_, Memory::readback, bytes);
+  Buffer temporary;
+  Buffer& staging = staging_for(readback_staging_, temporary, Memory::readback, bytes);
   for (std::size_t done = 0; done < bytes; done += staging.size()) {
     const std::size_t n = std::min(staging.size(), bytes - done);
     commands_.copy({{&src, &staging, offset + done, 0, n}});

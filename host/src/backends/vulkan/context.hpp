@@ -78,8 +78,9 @@ class Context {
   Instance instance_;
   Device device_;
   CommandRunner commands_;
-  // The staging buffers of upload() and download() (unmapped destinations), kept between transfers.
-  Buffer& staging_for(Buffer& kept, Memory kind, std::size_t bytes);
+  // The staging buffer of an upload() or download() of `bytes` (unmapped destinations): `kept` (up to 1 MiB,
+  // kept between small transfers) or, for a large one, `temporary`, made for the call.
+  Buffer& staging_for(Buffer& kept, Buffer& temporary, Memory kind, std::size_t bytes);
   Buffer upload_staging_, readback_staging_;
   bool force_staging_ = false;
   std::mutex mutex_;

@@ -146,6 +146,38 @@ BeliefSummary Belief::summarise() const {
   return s;
 }
 
+namespace {
+
+bool better(const BinOffset& a, const BinOffset& b) {
+  return a.offset != b.offset ? a.offset > b.offset : a.key < b.key;
+}
+
+// The best `k` bins of `table` that pass `keep`, best first, through a bounded heap (worst on top): one pass, no
+// copy of the table. *passed counts the bins that pass.
+template <class Keep>
+std::vector<BinOffset> best_of(const BinTable<std::uint64_t>& table, std::size_t k, Keep keep, std::size_t* passed) {
+  std::vector<BinOffset> heap;
+  heap.reserve(k);
+  *passed = 0;
+  table.for_each([&](std::uint64_t key, std::uint64_t off) {
+    if (!keep(off)) return;
+    ++*passed;
+    const BinOffset b{key, off};
+    if (heap.size() < k) {
+      heap.push_back(b);
+      std::push_heap(heap.begin(), heap.end(), better);
+    } else if (better(b, heap.front())) {
+      std::pop_heap(heap.begin(), heap.end(), better);
+      heap.back() = b;
+      std::push_heap(heap.begin(), heap.end(), better);
+    }
+  });
+  std::sort_heap(heap.begin(), heap.end(), better);
+  return heap;
+}
+
+}  // namespace
+
 std::vector<BinOffset> Belief::best_bins(std::size_t k) const {
   // One estimate asks for the best bins several times (the estimate's top bins, each object's modes, the
   // hypotheses, the surface check's three objects), each a pass over the band: the answer is kept until the next
@@ -154,43 +186,23 @@ std::vector<BinOffset> Belief::best_bins(std::size_t k) const {
   std::lock_guard lock(best_.mutex);
   if (best_.asked >= k)
     return {best_.bins.begin(), best_.bins.begin() + static_cast<std::ptrdiff_t>(std::min(k, best_.bins.size()))};
-  const auto better = [](const BinOffset& a, const BinOffset& b) {
-    return a.offset != b.offset ? a.offset > b.offset : a.key < b.key;
-  };
-  std::vector<BinOffset> all;  // slot order: partial_sort needs no sorted read-out
-  band_.for_each([&](std::uint64_t key, std::uint64_t off) {
-    if (in_band(off)) all.push_back({key, off});
-  });
-  // Every bin outside the band lies below every bin in it: the band holds
-  // the top k unless it has fewer than k bins.
-  std::size_t keep = std::max(k, std::min(kKeptBins, all.size()));
-  if (all.size() < k && all.size() < offset_.size()) {
-    // A sharp belief asked past its band (an estimate's next modes): the k best of the whole table through a
-    // bounded heap, worst on top, rather than a copy of a table of millions of bins (page faults, a sort).
-    all.clear();
-    all.reserve(k);
-    offset_.for_each([&](std::uint64_t key, std::uint64_t off) {
-      const BinOffset b{key, off};
-      if (all.size() < k) {
-        all.push_back(b);
-        std::push_heap(all.begin(), all.end(), better);
-      } else if (better(b, all.front())) {
-        std::pop_heap(all.begin(), all.end(), better);
-        all.back() = b;
-        std::push_heap(all.begin(), all.end(), better);
-      }
-    });
-    std::sort_heap(all.begin(), all.end(), better);
+  std::size_t in_band_bins = 0;
+  std::vector<BinOffset> best = best_of(
+      band_, std::max(k, kKeptBins), [&](std::uint64_t off) { return in_band(off); }, &in_band_bins);
+  // Every bin outside the band lies below every bin in it: the band holds the top k unless it has fewer than k
+  // bins. A sharp belief asked past its band (an estimate's next modes) takes the whole table, in place.
+  std::size_t keep = std::max(k, std::min(kKeptBins, in_band_bins));
+  if (in_band_bins < k && in_band_bins < offset_.size()) {
+    std::size_t all = 0;
+    best = best_of(
+        offset_, k, [](std::uint64_t) { return true; }, &all);
     keep = k;
-  } else {
-    const std::size_t sorted = std::min(keep, all.size());
-    std::partial_sort(all.begin(), all.begin() + static_cast<std::ptrdiff_t>(sorted), all.end(), better);
-    all.resize(sorted);
   }
-  best_.bins = all;
+  best.resize(std::min(keep, best.size()));
+  best_.bins = best;
   best_.asked = keep;
-  all.resize(std::min(k, all.size()));
-  return all;
+  best.resize(std::min(k, best.size()));
+  return best;
 }
 
 std::vector<std::uint64_t> Belief::offsets(std::span<const std::uint64_t> keys) const {

@@ -126,6 +126,56 @@ TEST_CASE("p_unknown starts at the prior, follows the model, and moves with the 
   CHECK(c.p_unknown(level, 0.3) == 0.3);  // one reading: no pair, no evidence
 }
 
+TEST_CASE("fit_unknown: one model over every reading count, its coefficients linear in log(n - 1)") {
+  // Known sessions' fit cost share ~ N(0.1, 0.05) at every step; unknown ones' drift away as 0.1 + 0.15 log(n - 1),
+  // so the separating slope must grow with the reading count. 12 steps per session, the first (1 reading) unused.
+  std::vector<CalibrationSession> sessions;
+  for (std::size_t t = 0; t < 200; ++t) {
+    util::Rng rng(7, t);
+    CalibrationSession s;
+    s.known = t % 3 != 0;
+    for (std::size_t n = 1; n <= 12; ++n) {
+      EvidenceLevel level;
+      level.readings = n;
+      level.object_log2_mass = {0.0, -5.0};
+      level.best_bits_per_pair = 2.0;
+      const double drift = s.known || n < 2 ? 0.0 : 0.15 * std::log(static_cast<double>(n - 1));
+      level.fit_cost_share = 0.1 + drift + 0.05 * rng.normal();
+      s.steps.push_back(level);
+    }
+    sessions.push_back(std::move(s));
+  }
+  Calibration c;
+  fit_unknown(sessions, &c);
+  REQUIRE(c.unknown.per_readings.size() == 23);  // n = 2 .. 24: twice the sessions' length
+  const auto& k = c.unknown.per_readings;
+  for (std::size_t i = 0; i < kUnknownFeatures + 1; ++i) {
+    // log(4 - 1) lies log(3) / log(7) of the way from n = 2 (log 1 = 0) to n = 8.
+    CHECK(k[2][i] == Approx(k[0][i] + (k[6][i] - k[0][i]) * std::log(3.0) / std::log(7.0)).margin(1e-9));
+  }
+  CHECK(k[8][3] > k[1][3]);  // the fit cost's slope grows with the readings
+  CHECK(k[1][3] > 0.0);
+  EvidenceLevel level;
+  level.object_log2_mass = {0.0, -5.0};
+  level.best_bits_per_pair = 2.0;
+  for (std::size_t n : {6, 12, 20}) {  // the ridge keeps the slopes modest: not sure of either kind at 3
+    level.readings = n;
+    level.fit_cost_share = 0.1;
+    CHECK(c.p_unknown(level, 0.5) < 0.3);
+    level.fit_cost_share = 0.1 + 0.15 * std::log(static_cast<double>(n - 1));
+    CHECK(c.p_unknown(level, 0.5) > 0.7);
+  }
+  level.readings = 100;  // past the written-out counts: the last model
+  level.fit_cost_share = 0.3;
+  Calibration last = c;
+  last.unknown.per_readings = {k.back()};
+  CHECK(c.p_unknown(level, 0.1) == last.p_unknown(level, 0.1));
+  // Without unknown sessions there is nothing to fit.
+  for (CalibrationSession& s : sessions) s.known = true;
+  fit_unknown(sessions, &c);
+  CHECK(c.unknown.empty());
+}
+
 TEST_CASE("the map file keeps the calibration (version 5), older maps load with the defaults") {
   sim::SimulateOptions so;
   so.train_per_object = 12;

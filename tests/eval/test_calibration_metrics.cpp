@@ -42,6 +42,36 @@ TEST_CASE("ECE and confidently wrong: from 2 readings on, over known objects, in
   CHECK(c.ece == Approx((0.45 + 0.895) / 4));
 }
 
+TEST_CASE("ECE uncertainty: the bootstrap over trials and what exactly right probabilities would measure") {
+  // 10 trials of 21 readings at 0.5 each, 5 trials right throughout and 5 wrong: the measured ECE is 0, while
+  // 200 outcomes drawn at 0.5 are off by E|Bin(200, 1/2) / 200 - 1/2| = 0.0282 and 10 drawn per trial by
+  // E|Bin(10, 1/2) / 10 - 1/2| = 0.1230 (both exact, the draws' spread well inside the margins).
+  EvalResult r;
+  r.max_readings = 21;
+  for (int i = 0; i < 10; ++i) r.trials.push_back(trial(true, std::vector(21, std::tuple{0.5, i < 5, 0.0})));
+  const CalibrationSummary c = calibration_summary(r);
+  CHECK(c.trial_readings == 200);
+  CHECK(c.ece == Approx(0.0).margin(1e-12));
+  CHECK(c.ece_if_calibrated_independent == Approx(0.0282).margin(0.004));
+  CHECK(c.ece_if_calibrated_per_trial == Approx(0.1230).margin(0.02));
+  // Resampled trials are rarely 5 and 5: the interval starts at 0 (a 5-5 draw, p = 0.25) and reaches past 0.15.
+  CHECK(c.ece_interval[0] == Approx(0.0).margin(1e-12));
+  CHECK(c.ece_interval[1] > 0.15);
+  CHECK(c.ece_interval[1] <= 0.5);
+  // Seeded: the same figures every time.
+  const CalibrationSummary again = calibration_summary(r);
+  CHECK(again.ece_interval == c.ece_interval);
+  CHECK(again.ece_if_calibrated_per_trial == c.ece_if_calibrated_per_trial);
+  // Sure and right everywhere: nothing to draw.
+  EvalResult sure;
+  sure.max_readings = 3;
+  for (int i = 0; i < 4; ++i) sure.trials.push_back(trial(true, std::vector(3, std::tuple{1.0, true, 0.0})));
+  const CalibrationSummary s = calibration_summary(sure);
+  CHECK(s.ece_interval[1] == 0.0);
+  CHECK(s.ece_if_calibrated_independent == 0.0);
+  CHECK(s.ece_if_calibrated_per_trial == 0.0);
+}
+
 TEST_CASE("stop summary: the first reading that decides, right or wrong, unknown objects right only as unknown") {
   EvalResult r;
   r.max_readings = 3;

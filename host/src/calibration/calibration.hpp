@@ -15,8 +15,8 @@
 // "None of these" asks how well the map explains the readings, against what known and unknown objects gave at the
 // same reading count on those held-out sessions: the evidence the best pose gathered per pair, how far the best
 // object stands above the next, and above all how well the best object's surface fits the contacts at the fine
-// pose (an unseen object's contacts do not lie on a known surface). A logistic model per reading count, fitted
-// with the two kinds weighted equally, then moved to the caller's prior odds.
+// pose (an unseen object's contacts do not lie on a known surface). A logistic model whose coefficients are linear
+// in log(n - 1), fitted with the two kinds weighted equally, then moved to the caller's prior odds.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -52,7 +52,9 @@ struct EvidenceLevel {
 inline constexpr std::size_t kUnknownFeatures = 3;
 using UnknownCoefficients = std::array<double, kUnknownFeatures + 1>;  // bias first
 
-// One logistic model of "none of these" per reading count: logit = c[0] + sum_i c[i + 1] f_i(level).
+// The logistic model of "none of these", written out per reading count: logit = c[0] + sum_i c[i + 1] f_i(level).
+// Learned maps write one model's coefficients, linear in log(n - 1), to twice the calibration sessions' length
+// (calibration_fit.hpp); maps of earlier builds hold one model per count to the sessions' length.
 struct UnknownModel {
   std::vector<UnknownCoefficients> per_readings;  // index n - 2 for n readings; past the last, the last
   bool empty() const { return per_readings.empty(); }

@@ -53,20 +53,18 @@ bool solve(std::array<std::array<double, N>, N> a, std::array<double, N> b, std:
   return true;
 }
 
-// Logistic regression with the two classes weighted equally and a ridge on the slopes.
-UnknownCoefficients fit_logistic(const std::vector<std::array<double, kUnknownFeatures>>& x,
-                                 const std::vector<bool>& unknown) {
-  constexpr std::size_t K = kUnknownFeatures + 1;
+// Logistic regression with the two classes weighted equally and a ridge on the slopes (not on the bias, x[.][0]).
+template <std::size_t K>
+std::array<double, K> fit_logistic(const std::vector<std::array<double, K>>& x, const std::vector<bool>& unknown) {
   constexpr double kRidge = 1e-2;
   double n1 = 0.0, n0 = 0.0;
   for (bool u : unknown) (u ? n1 : n0) += 1.0;
-  UnknownCoefficients w{};
+  std::array<double, K> w{};
   for (int it = 0; it < 50; ++it) {
     std::array<std::array<double, K>, K> h{};
     std::array<double, K> g{};
     for (std::size_t i = 0; i < x.size(); ++i) {
-      std::array<double, K> f{1.0};
-      for (std::size_t k = 0; k < kUnknownFeatures; ++k) f[k + 1] = x[i][k];
+      const std::array<double, K>& f = x[i];
       double z = 0.0;
       for (std::size_t k = 0; k < K; ++k) z += w[k] * f[k];
       const double p = 1.0 / (1.0 + pmath::exp(-std::clamp(z, -700.0, 700.0)));
@@ -92,6 +90,18 @@ UnknownCoefficients fit_logistic(const std::vector<std::array<double, kUnknownFe
     if (size < 1e-10) break;
   }
   return w;
+}
+
+// The pooled model's inputs at one step: the bias and the features, then both again times log(n - 1), so that
+// every coefficient is linear in the log of the reading count.
+constexpr std::size_t kPooled = 2 * (kUnknownFeatures + 1);
+std::array<double, kPooled> pooled_inputs(const EvidenceLevel& level) {
+  const std::array<double, kUnknownFeatures> f = Calibration::unknown_features(level);
+  const double l = pmath::log(static_cast<double>(level.readings - 1));
+  std::array<double, kPooled> x{1.0};
+  for (std::size_t k = 0; k < kUnknownFeatures; ++k) x[k + 1] = f[k];
+  for (std::size_t k = 0; k <= kUnknownFeatures; ++k) x[kUnknownFeatures + 1 + k] = l * x[k];
+  return x;
 }
 
 // The temperature of least NLL at one surface weight: a grid over the power, golden-section over log2 scale (the
@@ -156,20 +166,25 @@ void fit_unknown(const std::vector<CalibrationSession>& sessions, Calibration* c
   calibration->unknown = {};
   std::size_t readings = 0;
   bool any_unknown = false, any_known = false;
+  std::vector<std::array<double, kPooled>> x;
+  std::vector<bool> unknown;
   for (const CalibrationSession& s : sessions) {
     readings = std::max(readings, s.steps.size());
     (s.known ? any_known : any_unknown) = true;
-  }
-  if (!any_unknown || !any_known) return;
-  for (std::size_t n = 2; n <= readings; ++n) {
-    std::vector<std::array<double, kUnknownFeatures>> x;
-    std::vector<bool> unknown;
-    for (const CalibrationSession& s : sessions) {
-      if (s.steps.size() < n) continue;
-      x.push_back(Calibration::unknown_features(s.steps[n - 1]));
+    for (const EvidenceLevel& level : s.steps) {
+      if (level.readings < 2) continue;
+      x.push_back(pooled_inputs(level));
       unknown.push_back(!s.known);
     }
-    calibration->unknown.per_readings.push_back(fit_logistic(x, unknown));
+  }
+  if (!any_unknown || !any_known || readings < 2) return;
+  const std::array<double, kPooled> w = fit_logistic(x, unknown);
+  // Written out per reading count (the map's form), to twice the sessions' length; past that, the last.
+  for (std::size_t n = 2; n <= 2 * readings; ++n) {
+    const double l = pmath::log(static_cast<double>(n - 1));
+    UnknownCoefficients c{};
+    for (std::size_t k = 0; k <= kUnknownFeatures; ++k) c[k] = w[k] + l * w[kUnknownFeatures + 1 + k];
+    calibration->unknown.per_readings.push_back(c);
   }
 }
 

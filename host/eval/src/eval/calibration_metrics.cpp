@@ -1,25 +1,94 @@
 // The probability metrics of an evaluation (results.hpp): calibration, stopping, objects outside the map.
 #include <sva/eval/results.hpp>
 
+#include <sva/base/rng.hpp>
+
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace sva::eval {
+
+namespace {
+
+// One trial-reading as the calibration sees it: the top object's probability and whether the top object was right.
+struct Scored {
+  double p;
+  bool right;
+};
+
+// The trial-readings from 2 readings on of the trials whose object the map knows, trial by trial.
+std::vector<std::vector<Scored>> scored_trials(const EvalResult& result) {
+  std::vector<std::vector<Scored>> out;
+  for (const TrialResult& t : result.trials) {
+    if (!t.known || t.steps.size() < 2) continue;
+    std::vector<Scored>& trial = out.emplace_back();
+    for (std::size_t k = 1; k < t.steps.size(); ++k)
+      trial.push_back({std::clamp(t.steps[k].top_probability, 0.0, 1.0), t.steps[k].correct});
+  }
+  return out;
+}
+
+std::size_t bin_of(double p) { return std::min<std::size_t>(static_cast<std::size_t>(p * 10.0), 9); }
+
+// The ECE of 10 equal-width bins, from per-bin sums of confidence and of right answers.
+struct BinSums {
+  std::array<double, 10> confidence{}, right{};
+  std::size_t count = 0;
+  void add(double p, bool r) {
+    confidence[bin_of(p)] += p;
+    right[bin_of(p)] += r ? 1.0 : 0.0;
+    ++count;
+  }
+  double ece() const {
+    double e = 0.0;
+    for (std::size_t b = 0; b < 10; ++b) e += std::abs(confidence[b] - right[b]);
+    return count ? e / static_cast<double>(count) : 0.0;
+  }
+};
+
+// The bootstrap interval over trials and the ECE a belief with these probabilities would measure if they were
+// exactly right (CalibrationSummary says why). Seeded, so a run reports the same figures every time.
+void ece_uncertainty(const std::vector<std::vector<Scored>>& trials, CalibrationSummary* c) {
+  constexpr int kDraws = 400;
+  if (trials.empty()) return;
+  util::Rng rng(0xece, trials.size(), c->trial_readings);
+  std::vector<double> resampled;
+  double independent = 0.0, per_trial = 0.0;
+  for (int d = 0; d < kDraws; ++d) {
+    BinSums boot, ind, dep;
+    for (std::size_t i = 0; i < trials.size(); ++i) {
+      for (const Scored& s : trials[rng.below(trials.size())]) boot.add(s.p, s.right);
+      const double u = rng.uniform();
+      for (const Scored& s : trials[i]) {
+        ind.add(s.p, rng.uniform() < s.p);
+        dep.add(s.p, u < s.p);
+      }
+    }
+    resampled.push_back(boot.ece());
+    independent += ind.ece();
+    per_trial += dep.ece();
+  }
+  std::sort(resampled.begin(), resampled.end());
+  c->ece_interval = {resampled[kDraws / 20], resampled[kDraws - 1 - kDraws / 20]};
+  c->ece_if_calibrated_independent = independent / kDraws;
+  c->ece_if_calibrated_per_trial = per_trial / kDraws;
+}
+
+}  // namespace
 
 CalibrationSummary calibration_summary(const EvalResult& result) {
   CalibrationSummary c;
   c.bins.assign(10, {});
   std::size_t wrong_sure = 0;
-  for (const TrialResult& t : result.trials) {
-    if (!t.known) continue;
-    for (std::size_t k = 1; k < t.steps.size(); ++k) {  // from 2 readings on
-      const StepResult& s = t.steps[k];
-      const double p = std::clamp(s.top_probability, 0.0, 1.0);
-      ReliabilityBin& b = c.bins[std::min<std::size_t>(static_cast<std::size_t>(p * 10.0), 9)];
+  const std::vector<std::vector<Scored>> trials = scored_trials(result);
+  for (const std::vector<Scored>& trial : trials) {
+    for (const Scored& s : trial) {
+      ReliabilityBin& b = c.bins[bin_of(s.p)];
       ++b.count;
-      b.confidence += p;
-      b.accuracy += s.correct ? 1.0 : 0.0;
-      wrong_sure += (p >= 0.99 && !s.correct) ? 1 : 0;
+      b.confidence += s.p;
+      b.accuracy += s.right ? 1.0 : 0.0;
+      wrong_sure += (s.p >= 0.99 && !s.right) ? 1 : 0;
       ++c.trial_readings;
     }
   }
@@ -33,6 +102,7 @@ CalibrationSummary calibration_summary(const EvalResult& result) {
     c.ece /= static_cast<double>(c.trial_readings);
     c.confidently_wrong = static_cast<double>(wrong_sure) / static_cast<double>(c.trial_readings);
   }
+  ece_uncertainty(trials, &c);
   return c;
 }
 

@@ -109,6 +109,9 @@ json calibration_json(const CalibrationSummary& c) {
     bins.push_back({{"count", b.count}, {"confidence", b.confidence}, {"accuracy", b.accuracy}});
   return {{"trial_readings", c.trial_readings},
           {"ece", c.ece},
+          {"ece_interval", {c.ece_interval[0], c.ece_interval[1]}},
+          {"ece_if_calibrated",
+           {{"independent", c.ece_if_calibrated_independent}, {"per_trial", c.ece_if_calibrated_per_trial}}},
           {"confidently_wrong", c.confidently_wrong},
           {"reliability", std::move(bins)}};
 }
@@ -146,6 +149,11 @@ std::string probability_lines(const Curve& curve) {
                   "calibration: ECE %.4f, confidently wrong (top >= 0.99, wrong) %.2f%% of %zu trial-readings from 2 "
                   "readings on\n",
                   c.ece, 100.0 * c.confidently_wrong, c.trial_readings);
+    out += line;
+    std::snprintf(line, sizeof line,
+                  "  ECE over resampled trials %.4f-%.4f (90%%); exactly right probabilities would measure %.4f "
+                  "(readings independent) to %.4f (one outcome per trial)\n",
+                  c.ece_interval[0], c.ece_interval[1], c.ece_if_calibrated_independent, c.ece_if_calibrated_per_trial);
     out += line;
   }
   if (curve.stop) {

@@ -4,6 +4,7 @@
 // them against the number of readings (the paper's Fig. 4 and 5).
 #include <sva/pose.hpp>
 
+#include <array>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -81,6 +82,15 @@ struct CalibrationSummary {
   double ece = 0.0;
   double confidently_wrong = 0.0;    // share of trial_readings
   std::vector<ReliabilityBin> bins;  // 10: [0, 0.1), ..., [0.9, 1]
+  // How far the ECE itself can be trusted (docs/evaluation.md, "How much an ECE can say"). The readings of one
+  // trial are far from independent (a trial on the wrong twin stays wrong for many readings), so a few dozen
+  // trials measure a perfectly calibrated belief well above 0:
+  // - ece_interval: the 5th and 95th percentiles of the ECE over trials resampled with replacement (bootstrap);
+  // - ece_if_calibrated: the mean ECE that a belief with these same probabilities would measure if they were
+  //   exactly right, its outcomes drawn at random per trial-reading (`independent`, the floor) or one draw per
+  //   trial for all its readings (`per_trial`, fully dependent readings); real trials lie between.
+  std::array<double, 2> ece_interval{0.0, 0.0};
+  double ece_if_calibrated_independent = 0.0, ece_if_calibrated_per_trial = 0.0;
 };
 CalibrationSummary calibration_summary(const EvalResult& result);
 

@@ -24,6 +24,7 @@ Belief::Belief(const PoseSpace& space, double eps)
 
 void Belief::reset() {
   forget_best();
+  drop_upper();
   offset_.clear_keeping_capacity();
   band_.clear_keeping_capacity();
   band_pruned_size_ = 0;
@@ -72,8 +73,11 @@ bool Belief::add(const std::vector<BinOffset>& terms, std::uint32_t count) {
   forget_best();
   for (const BinOffset& t : terms) {
     bool inserted = false;
-    const std::uint64_t off = offset_.add_get(t.key, t.offset * count, &inserted);
+    const std::uint64_t added = t.offset * count;
+    const std::uint64_t off = offset_.add_get(t.key, added, &inserted);
     note(t.key, off, inserted);
+    // A bin that crosses the upper set's floor joins it (its offset is read from the table when asked).
+    if (off >= upper_floor_ && off - added < upper_floor_ && upper_floor_ != 0) upper_.set(t.key, 0);
   }
   pairs_ += count;
   if (band_.size() > 2 * std::max<std::size_t>(band_pruned_size_, 1024)) prune_band();
@@ -105,6 +109,7 @@ void Belief::prune_band() {
 
 std::size_t Belief::forget_below(std::uint64_t below, std::span<const std::uint64_t> keep) {
   forget_best();
+  drop_upper();  // its bins may be forgotten
   const auto keeps = [&](std::uint64_t key, std::uint64_t off) {
     return off >= below || std::binary_search(keep.begin(), keep.end(), key);
   };
@@ -193,14 +198,46 @@ std::vector<BinOffset> Belief::best_bins(std::size_t k) const {
   // bins. A sharp belief asked past its band (an estimate's next modes) takes the whole table, in place.
   std::size_t keep = std::max(k, std::min(kKeptBins, in_band_bins));
   if (in_band_bins < k && in_band_bins < offset_.size()) {
-    std::size_t all = 0;
-    best = best_of(
-        offset_, k, [](std::uint64_t) { return true; }, &all);
+    best = best_past_band(k);
     keep = k;
   }
   best.resize(std::min(keep, best.size()));
   best_.bins = best;
   best_.asked = keep;
+  best.resize(std::min(k, best.size()));
+  return best;
+}
+
+void Belief::drop_upper() const {
+  upper_floor_ = 0;
+  upper_made_size_ = 0;
+  upper_ = BinTable<std::uint64_t>(16);
+}
+
+std::vector<BinOffset> Belief::best_past_band(std::size_t k) const {
+  // A kept upper set answers while it holds k bins: every bin outside it lies below its floor, below them all.
+  constexpr std::size_t kGrowth = 8;
+  if (upper_floor_ != 0 && upper_.size() > kGrowth * upper_made_size_) drop_upper();
+  std::size_t passed = 0;
+  if (upper_floor_ != 0 && upper_.size() >= k) {
+    BinTable<std::uint64_t> current(upper_.size());
+    upper_.for_each([&](std::uint64_t key, std::uint64_t) { current.set(key, offset_.get(key)); });
+    return best_of(
+        current, k, [](std::uint64_t) { return true; }, &passed);
+  }
+  // A pass over the table for 4k bins: those above the 4k-th best's offset become the upper set (equal offsets at
+  // the edge stay out, so that every bin outside lies strictly below the floor).
+  const std::size_t wide = 4 * k;
+  std::vector<BinOffset> best = best_of(
+      offset_, wide, [](std::uint64_t) { return true; }, &passed);
+  drop_upper();
+  if (best.size() == wide && best.back().offset + 1 > best.back().offset) {
+    upper_floor_ = best.back().offset + 1;
+    upper_ = BinTable<std::uint64_t>(2 * wide);
+    for (const BinOffset& b : best)
+      if (b.offset >= upper_floor_) upper_.set(b.key, 0);
+    upper_made_size_ = std::max<std::size_t>(upper_.size(), 1);
+  }
   best.resize(std::min(k, best.size()));
   return best;
 }

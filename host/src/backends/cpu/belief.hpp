@@ -61,6 +61,14 @@ class Belief final : public BeliefState {
   void note(std::uint64_t key, std::uint64_t offset, bool inserted);
   void forget_best();  // the belief changed: best_bins' kept answer is stale
   void prune_band();
+  // The best bins past the band (best_bins) without a pass over the table each time: upper_ holds the key of every
+  // bin whose offset is at least upper_floor_ (offsets only grow, so a bin that enters never leaves, and add() sees
+  // every bin that crosses the floor; its offset is read from the table when asked); every other bin lies below the
+  // floor. Set by a pass
+  // over the table for some multiple of the bins asked, dropped when it has grown many times over, when bins are
+  // forgotten and on reset (upper_floor_ 0: none kept, the next request past the band makes it again).
+  std::vector<BinOffset> best_past_band(std::size_t k) const;
+  void drop_upper() const;
 
   const PoseSpace* space_;
   std::uint64_t eps_units_;
@@ -73,6 +81,9 @@ class Belief final : public BeliefState {
   std::vector<std::uint64_t> touched_, best_offset_, best_key_;
   BinTable<std::uint64_t> band_;  // each band bin's offset as of its last fold (current while it is in the band)
   std::size_t band_pruned_size_ = 0;
+  mutable BinTable<std::uint64_t> upper_{16};  // best_past_band's bins (under best_.mutex when read or made)
+  mutable std::uint64_t upper_floor_ = 0;      // 0: upper_ is not kept
+  mutable std::size_t upper_made_size_ = 0;
   // best_bins' last answer: the best `asked` bins (or all, if fewer), until the belief changes. A moved belief
   // starts without one (it is only a cache).
   struct KeptBest {

@@ -36,7 +36,7 @@ class Belief final : public BeliefState {
   std::size_t table_allocations() const override { return retired_allocations_ + offset_.allocations(); }
   std::size_t pairs_folded() const override { return pairs_; }
   std::size_t touched() const override { return offset_.size(); }
-  std::size_t table_bytes() const override { return offset_.bytes() + band_.bytes(); }
+  std::size_t table_bytes() const override { return offset_.bytes() + band_.bytes() + upper_.bytes(); }
   BeliefSummary summarise() const override;
   std::vector<BinOffset> best_bins(std::size_t k) const override;
   std::vector<std::uint64_t> offsets(std::span<const std::uint64_t> keys) const override;
@@ -64,9 +64,8 @@ class Belief final : public BeliefState {
   // The best bins past the band (best_bins) without a pass over the table each time: upper_ holds the key of every
   // bin whose offset is at least upper_floor_ (offsets only grow, so a bin that enters never leaves, and add() sees
   // every bin that crosses the floor; its offset is read from the table when asked); every other bin lies below the
-  // floor. Set by a pass
-  // over the table for some multiple of the bins asked, dropped when it has grown many times over, when bins are
-  // forgotten and on reset (upper_floor_ 0: none kept, the next request past the band makes it again).
+  // floor. Set by a pass over the table for 4 times the bins asked, dropped when it has grown eightfold, when bins
+  // are forgotten and on reset (upper_floor_ 0: none kept, the next request past the band makes it again).
   std::vector<BinOffset> best_past_band(std::size_t k) const;
   void drop_upper() const;
 

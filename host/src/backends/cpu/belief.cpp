@@ -211,7 +211,7 @@ std::vector<BinOffset> Belief::best_bins(std::size_t k) const {
 void Belief::drop_upper() const {
   upper_floor_ = 0;
   upper_made_size_ = 0;
-  upper_ = BinTable<std::uint64_t>(16);
+  upper_.clear_keeping_capacity();  // as the other tables: a reset keeps the allocation for the next session
 }
 
 std::vector<BinOffset> Belief::best_past_band(std::size_t k) const {
@@ -233,7 +233,6 @@ std::vector<BinOffset> Belief::best_past_band(std::size_t k) const {
   drop_upper();
   if (best.size() == wide && best.back().offset + 1 > best.back().offset) {
     upper_floor_ = best.back().offset + 1;
-    upper_ = BinTable<std::uint64_t>(2 * wide);
     for (const BinOffset& b : best)
       if (b.offset >= upper_floor_) upper_.set(b.key, 0);
     upper_made_size_ = std::max<std::size_t>(upper_.size(), 1);

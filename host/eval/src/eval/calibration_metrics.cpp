@@ -82,26 +82,24 @@ CalibrationSummary calibration_summary(const EvalResult& result) {
   c.bins.assign(10, {});
   std::size_t wrong_sure = 0;
   const std::vector<std::vector<Scored>> trials = scored_trials(result);
+  BinSums sums;
   for (const std::vector<Scored>& trial : trials) {
     for (const Scored& s : trial) {
-      ReliabilityBin& b = c.bins[bin_of(s.p)];
-      ++b.count;
-      b.confidence += s.p;
-      b.accuracy += s.right ? 1.0 : 0.0;
+      ++c.bins[bin_of(s.p)].count;
+      sums.add(s.p, s.right);
       wrong_sure += (s.p >= 0.99 && !s.right) ? 1 : 0;
-      ++c.trial_readings;
     }
   }
-  for (ReliabilityBin& b : c.bins) {
+  c.trial_readings = sums.count;
+  c.ece = sums.ece();
+  for (std::size_t k = 0; k < c.bins.size(); ++k) {
+    ReliabilityBin& b = c.bins[k];
     if (b.count == 0) continue;
-    c.ece += std::abs(b.confidence - b.accuracy);  // sums: count x the gap of the means
-    b.confidence /= static_cast<double>(b.count);
-    b.accuracy /= static_cast<double>(b.count);
+    b.confidence = sums.confidence[k] / static_cast<double>(b.count);
+    b.accuracy = sums.right[k] / static_cast<double>(b.count);
   }
-  if (c.trial_readings > 0) {
-    c.ece /= static_cast<double>(c.trial_readings);
+  if (c.trial_readings > 0)
     c.confidently_wrong = static_cast<double>(wrong_sure) / static_cast<double>(c.trial_readings);
-  }
   ece_uncertainty(trials, &c);
   return c;
 }

@@ -44,6 +44,23 @@ std::vector<sva::BinOffset> full_top(const sva::Belief& b, std::size_t k) {
   return all;
 }
 
+// One pair's votes on a 2-object space: the first `peak` votes on one region (translation bins 25, rotation bins
+// 4), the rest spread over `spread` translation bins per axis, each of a random mass.
+sva::BinAccumulator sharp_votes(const sva::PoseSpace& space, sva::util::Rng& rng, int votes, int peak, int spread) {
+  sva::BinAccumulator acc(4096);
+  for (int v = 0; v < votes; ++v) {
+    sva::BinIndex i;
+    i.object = static_cast<std::uint32_t>(rng.below(2));
+    const bool on_peak = v < peak;
+    for (int a = 0; a < 3; ++a) {
+      i.t[a] = on_peak ? 25 : static_cast<int>(rng.below(static_cast<std::uint64_t>(spread)));
+      i.r[a] = on_peak ? 4 : static_cast<int>(rng.below(9));
+    }
+    acc.add(space.pack(i), static_cast<std::int64_t>(1 + rng.below(1u << 20)));
+  }
+  return acc;
+}
+
 }  // namespace
 
 TEST_CASE("the belief's incremental reductions equal a full pass, through folds that move the maximum far") {
@@ -90,17 +107,7 @@ TEST_CASE("the best bins past the band, kept between folds as bins rise past the
   sva::Belief belief(space, 1e-6);
   sva::util::Rng rng(23, 1);
   for (int pair = 0; pair < 80; ++pair) {
-    sva::BinAccumulator acc(1024);
-    for (int v = 0; v < 600; ++v) {
-      sva::BinIndex i;
-      i.object = static_cast<std::uint32_t>(rng.below(2));
-      const bool peak = v < 20;
-      for (int a = 0; a < 3; ++a) {
-        i.t[a] = peak ? 25 : static_cast<int>(rng.below(40));
-        i.r[a] = peak ? 4 : static_cast<int>(rng.below(9));
-      }
-      acc.add(space.pack(i), static_cast<std::int64_t>(1 + rng.below(1u << 20)));
-    }
+    const sva::BinAccumulator acc = sharp_votes(space, rng, 600, 20, 40);
     REQUIRE(belief.add(belief.terms(acc), 1));
     INFO("after pair " << pair);
     for (std::size_t k : {48u, 300u}) REQUIRE(belief.best_bins(k) == full_top(belief, k));
@@ -122,17 +129,7 @@ TEST_CASE("forgetting gives the memory back: the table is sized for the bins it 
   sva::Belief belief(space, 1e-6);
   sva::util::Rng rng(11, 1);
   for (int pair = 0; pair < 40; ++pair) {
-    sva::BinAccumulator acc(4096);
-    for (int v = 0; v < 3000; ++v) {  // a wide spread, and one region voted by every pair
-      sva::BinIndex i;
-      i.object = static_cast<std::uint32_t>(rng.below(2));
-      const bool peak = v < 50;
-      for (int a = 0; a < 3; ++a) {
-        i.t[a] = peak ? 25 : static_cast<int>(rng.below(50));
-        i.r[a] = peak ? 4 : static_cast<int>(rng.below(9));
-      }
-      acc.add(space.pack(i), static_cast<std::int64_t>(1 + rng.below(1u << 20)));
-    }
+    const sva::BinAccumulator acc = sharp_votes(space, rng, 3000, 50, 50);  // a wide spread, one region every pair
     REQUIRE(belief.add(belief.terms(acc), 1));
   }
   const std::size_t before_bins = belief.touched(), before_bytes = belief.table_bytes();

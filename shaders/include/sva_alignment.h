@@ -43,20 +43,13 @@ struct SvaAlignment {
 // (Eq 16-18) yields when restricted to the plane: the projected vectors keep
 // their lengths, so each end is weighted by |pm||pn| exactly as in H.
 SVA_FN SvaAlignment sva_align(SvaPatch a1, SvaPatch b1, SvaPatch a2, SvaPatch b2) {
-  SvaAlignment al;
-  al.q1 = vec4(0.0f, 0.0f, 0.0f, 1.0f);
-  al.axis = vec3(0.0f, 0.0f, 1.0f);
-  al.c_obs = vec3(0.0f, 0.0f, 0.0f);
-  al.c_map_r = vec3(0.0f, 0.0f, 0.0f);
-  al.beta_hat = 0.0f;
-  al.align_conf = 0.0f;
-  al.sigma = sva_div(SVA_SIGMA_INIT, SVA_MIN_ALIGN_CONF);
-  al.valid = 0;
   SVA_PRECISE vec3 d1 = b1.p - a1.p;
   SVA_PRECISE vec3 d2 = b2.p - a2.p;
   SVA_PRECISE float l1 = sva_length(d1);
   SVA_PRECISE float l2 = sva_length(d2);
-  if (!(l1 >= SVA_MIN_PAIR_SEPARATION_MM) || !(l2 >= SVA_MIN_PAIR_SEPARATION_MM)) return al;
+  // Written as selects (every value computed, the invalid case's kept where the points coincide): the CPU aligns
+  // several matches in SIMD lanes (host/src/backends/cpu/align_lanes.cpp); the kept values are the same either way.
+  bool valid = l1 >= SVA_MIN_PAIR_SEPARATION_MM && l2 >= SVA_MIN_PAIR_SEPARATION_MM;
   SVA_PRECISE vec3 u1 = vec3(sva_div(d1.x, l1), sva_div(d1.y, l1), sva_div(d1.z, l1));
   SVA_PRECISE vec3 u2 = vec3(sva_div(d2.x, l2), sva_div(d2.y, l2), sva_div(d2.z, l2));
   SVA_PRECISE vec4 q1 = sva_quat_between(u2, u1);
@@ -71,17 +64,21 @@ SVA_FN SvaAlignment sva_align(SvaPatch a1, SvaPatch b1, SvaPatch a2, SvaPatch b2
   SVA_PRECISE float qa = sva_length(pn_a) * clamp(a1.conf, 0.0f, 1.0f) * sva_length(pm_a) * clamp(a2.conf, 0.0f, 1.0f);
   SVA_PRECISE float qb = sva_length(pn_b) * clamp(b1.conf, 0.0f, 1.0f) * sva_length(pm_b) * clamp(b2.conf, 0.0f, 1.0f);
   SVA_PRECISE float conf = 0.5f * (qa + qb);
-  if (!(conf >= 0.0f)) conf = 0.0f;  // NaN normals: no constraint
+  conf = conf >= 0.0f ? conf : 0.0f;  // NaN normals: no constraint
   SVA_PRECISE vec3 c1 = 0.5f * (a1.p + b1.p);
   SVA_PRECISE vec3 c2 = 0.5f * (a2.p + b2.p);
-  al.q1 = q1;
-  al.axis = u1;
-  al.c_obs = c1;
-  al.c_map_r = sva_quat_rotate(q1, c2);
-  al.beta_hat = sva_atan2(s_cross, s_dot);
-  al.align_conf = conf;
-  al.sigma = sva_div(SVA_SIGMA_INIT, max(conf, SVA_MIN_ALIGN_CONF));
-  al.valid = 1;
+  SVA_PRECISE vec3 c_map_r = sva_quat_rotate(q1, c2);
+  SVA_PRECISE float beta_hat = sva_atan2(s_cross, s_dot);
+  SVA_PRECISE float sigma = sva_div(SVA_SIGMA_INIT, max(conf, SVA_MIN_ALIGN_CONF));
+  SvaAlignment al;
+  al.q1 = valid ? q1 : vec4(0.0f, 0.0f, 0.0f, 1.0f);
+  al.axis = valid ? u1 : vec3(0.0f, 0.0f, 1.0f);
+  al.c_obs = valid ? c1 : vec3(0.0f, 0.0f, 0.0f);
+  al.c_map_r = valid ? c_map_r : vec3(0.0f, 0.0f, 0.0f);
+  al.beta_hat = valid ? beta_hat : 0.0f;
+  al.align_conf = valid ? conf : 0.0f;
+  al.sigma = valid ? sigma : sva_div(SVA_SIGMA_INIT, SVA_MIN_ALIGN_CONF);
+  al.valid = valid ? 1 : 0;
   return al;
 }
 

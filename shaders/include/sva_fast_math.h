@@ -275,8 +275,10 @@ SVA_FN vec2 sva_sincos(float x) {
 
 SVA_FN vec3 sva_normalize(vec3 v) {
   SVA_PRECISE float l = sva_length(v);
-  if (!(l > 0.0f)) return vec3(0.0f, 0.0f, 0.0f);
-  return vec3(sva_div(v.x, l), sva_div(v.y, l), sva_div(v.z, l));
+  bool none = !(l > 0.0f);
+  SVA_PRECISE float d = none ? 1.0f : l;
+  SVA_PRECISE vec3 u = vec3(sva_div(v.x, d), sva_div(v.y, d), sva_div(v.z, d));
+  return none ? vec3(0.0f, 0.0f, 0.0f) : u;
 }
 
 #endif

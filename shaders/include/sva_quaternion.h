@@ -48,21 +48,22 @@ SVA_FN vec4 sva_quat_axis_angle(vec3 unit_axis, float angle) {
 // about the axis perpendicular to `from` built from its smallest component, a
 // fixed rule so that CPU and GPU choose the same one (beta then fixes the rest).
 // The axis's largest component is made positive, so (from, to) and
-// (-from, -to) give the same quaternion, as they do off the branch.
+// (-from, -to) give the same quaternion, as they do off the branch. Both sides
+// are computed and one kept (a select: the CPU aligns several matches in SIMD
+// lanes, host/src/backends/cpu/align_lanes.cpp).
 SVA_FN vec4 sva_quat_between(vec3 from, vec3 to) {
   SVA_PRECISE float c = sva_dot(from, to);
-  if (c > SVA_ANTIPARALLEL_COS) {
-    SVA_PRECISE vec3 v = sva_cross(from, to);
-    SVA_PRECISE vec4 q = vec4(v.x, v.y, v.z, 1.0f + c);
-    SVA_PRECISE float l = sva_sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
-    return vec4(sva_div(q.x, l), sva_div(q.y, l), sva_div(q.z, l), sva_div(q.w, l));
-  }
+  SVA_PRECISE vec3 v = sva_cross(from, to);
+  SVA_PRECISE vec4 q = vec4(v.x, v.y, v.z, 1.0f + c);
+  SVA_PRECISE float l = sva_sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w);
+  SVA_PRECISE vec4 arc = vec4(sva_div(q.x, l), sva_div(q.y, l), sva_div(q.z, l), sva_div(q.w, l));
   SVA_PRECISE vec3 a = abs(from);
   vec3 e = vec3(1.0f, 0.0f, 0.0f);
-  if (a.y < a.x && a.y <= a.z) e = vec3(0.0f, 1.0f, 0.0f);
-  if (a.z < a.x && a.z < a.y) e = vec3(0.0f, 0.0f, 1.0f);
-  SVA_PRECISE vec3 perp = sva_normalize(sva_cross(from, e));
-  return vec4(sva_lead_positive(perp), 0.0f);
+  e = a.y < a.x && a.y <= a.z ? vec3(0.0f, 1.0f, 0.0f) : e;
+  e = a.z < a.x && a.z < a.y ? vec3(0.0f, 0.0f, 1.0f) : e;
+  SVA_PRECISE vec3 perp = sva_lead_positive(sva_normalize(sva_cross(from, e)));
+  SVA_PRECISE vec4 half_turn = vec4(perp.x, perp.y, perp.z, 0.0f);
+  return c > SVA_ANTIPARALLEL_COS ? arc : half_turn;
 }
 
 // Rodrigues vector (axis * angle, |r| <= pi) of a unit quaternion. q and -q are

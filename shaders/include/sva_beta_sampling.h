@@ -29,24 +29,23 @@ struct SvaBetaPlan {
 };
 
 SVA_FN SvaBetaPlan sva_beta_plan(SvaAlignment al, SvaPoseGrid grid) {
-  SvaBetaPlan p;
-  p.n = 0;
-  p.circle = 0;
-  p.unit = 0.0f;
-  p.inv_sigma = 0.0f;
-  if (al.valid == 0) return p;
+  // Written as selects (both plans worked out, one kept; an invalid alignment's plan is all zeros): the CPU plans a
+  // block of matches in SIMD lanes (host/src/backends/cpu/align_lanes.cpp).
   SVA_PRECISE float step = sva_beta_step(al, grid);
-  p.inv_sigma = sva_div(1.0f, al.sigma);
-  if (3.0f * al.sigma >= SVA_PI) {
-    p.circle = 1;
-    p.n = int(min(ceil(sva_div(SVA_TWO_PI, step)), float(SVA_MAX_BETA_SAMPLES - 1)));
-    p.unit = sva_div(SVA_PI, float(p.n));
-    return p;
-  }
+  SVA_PRECISE float inv_sigma = sva_div(1.0f, al.sigma);
+  bool circle = 3.0f * al.sigma >= SVA_PI;
+  int n_circle = int(min(ceil(sva_div(SVA_TWO_PI, step)), float(SVA_MAX_BETA_SAMPLES - 1)));
+  SVA_PRECISE float unit_circle = sva_div(SVA_PI, float(n_circle));
   SVA_PRECISE float h = 3.0f * al.sigma;
   SVA_PRECISE float m = min(ceil(sva_div(h, step)), float((SVA_MAX_BETA_SAMPLES - 1) / 2));
-  p.n = 2 * int(m) + 1;
-  if (m > 0.0f) p.unit = sva_div(h, m);
+  int n_gaussian = 2 * int(m) + 1;
+  SVA_PRECISE float unit_gaussian = m > 0.0f ? sva_div(h, m) : 0.0f;
+  bool valid = al.valid != 0;
+  SvaBetaPlan p;
+  p.n = valid ? (circle ? n_circle : n_gaussian) : 0;
+  p.circle = valid && circle ? 1 : 0;
+  p.unit = valid ? (circle ? unit_circle : unit_gaussian) : 0.0f;
+  p.inv_sigma = valid ? inv_sigma : 0.0f;
   return p;
 }
 

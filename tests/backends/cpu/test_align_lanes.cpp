@@ -1,5 +1,6 @@
 // The CPU reference's block alignment (backends/cpu/align_lanes.cpp) against the shared text's one-match alignment
-// (sva_align, the GPU's text): every field of every match's alignment, bit for bit, on a synthetic world's pairs
+// and beta plan (sva_align, sva_beta_plan: the GPU's text): every field of every match's alignment and plan, bit for
+// bit, on a synthetic world's pairs
 // under random poses, and on the hard cases: coincident ends (no axis: the invalid alignment), anti-parallel axes
 // (the half-turn branch of R1), NaN and zero normals, confidences outside [0, 1], and blocks of every fill.
 #include <catch2/catch.hpp>
@@ -24,7 +25,7 @@ namespace {
 
 // What the comparisons covered, so that a test cannot pass by comparing nothing.
 struct Tally {
-  long matches = 0, valid = 0, invalid = 0, half_turns = 0, mismatches = 0;
+  long matches = 0, valid = 0, invalid = 0, half_turns = 0, circles = 0, mismatches = 0;
 };
 
 bool same(float a, float b) { return std::bit_cast<std::uint32_t>(a) == std::bit_cast<std::uint32_t>(b); }
@@ -39,9 +40,14 @@ bool same(const vm::SvaAlignment& a, const vm::SvaAlignment& b) {
   return a.valid == b.valid;
 }
 
+bool same(const vm::SvaBetaPlan& a, const vm::SvaBetaPlan& b) {
+  return a.n == b.n && a.circle == b.circle && same(a.unit, b.unit) && same(a.inv_sigma, b.inv_sigma);
+}
+
 // The observed pair (a1, b1) against map pairs (ra[i], rb[i]) of `patches`, in blocks of `fill` matches.
 void compare(const vm::SvaPatch& a1, const vm::SvaPatch& b1, const std::vector<vm::SvaPatch>& patches,
-             const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs, int fill, Tally* tally) {
+             const std::vector<std::pair<std::uint32_t, std::uint32_t>>& pairs, const vm::SvaPoseGrid& grid, int fill,
+             Tally* tally) {
   for (std::size_t first = 0; first < pairs.size(); first += static_cast<std::size_t>(fill)) {
     cpu::MatchLanes block;
     for (std::size_t i = first; i < pairs.size() && block.n < fill; ++i, ++block.n) {
@@ -49,18 +55,22 @@ void compare(const vm::SvaPatch& a1, const vm::SvaPatch& b1, const std::vector<v
       block.rb[block.n] = pairs[i].second;
     }
     vm::SvaAlignment lanes[cpu::MatchLanes::kLanes];
-    cpu::align_lanes(a1, b1, patches, block, lanes);
+    vm::SvaBetaPlan plans[cpu::MatchLanes::kLanes];
+    cpu::align_lanes(a1, b1, patches, grid, block, lanes, plans);
     for (int l = 0; l < block.n; ++l) {
       const vm::SvaAlignment one = vm::sva_align(a1, b1, patches[block.ra[l]], patches[block.rb[l]]);
+      const vm::SvaBetaPlan plan = vm::sva_beta_plan(one, grid);
       ++tally->matches;
       (one.valid ? tally->valid : tally->invalid) += 1;
       if (one.valid && one.q1.w == 0.0f) ++tally->half_turns;
-      if (!same(lanes[l], one)) {
+      if (plan.circle) ++tally->circles;
+      if (!same(lanes[l], one) || !same(plans[l], plan)) {
         ++tally->mismatches;
         if (tally->mismatches <= 5)
           UNSCOPED_INFO("match " << first + static_cast<std::size_t>(l) << ": beta-hat " << lanes[l].beta_hat << " vs "
                                  << one.beta_hat << ", sigma " << lanes[l].sigma << " vs " << one.sigma << ", valid "
-                                 << lanes[l].valid << " vs " << one.valid);
+                                 << lanes[l].valid << " vs " << one.valid << ", samples " << plans[l].n << " vs "
+                                 << plan.n);
       }
     }
   }
@@ -76,9 +86,10 @@ glm::dvec3 unit(util::Rng& rng) {
 
 }  // namespace
 
-TEST_CASE("block alignments equal sva_align bit for bit on a world's pairs, in blocks of every fill") {
+TEST_CASE("block alignments and plans equal sva_align's and sva_beta_plan's bits on a world's pairs") {
   const WorldSpec spec;
   const World world = make_world(spec);
+  const vm::SvaPoseGrid spatial = grid_of(paper_space()), planar = grid_of(letters_space());
   util::Rng rng(spec.seed, 17);
   Tally tally;
   for (std::size_t o = 0; o < world.objects.size(); ++o) {
@@ -97,16 +108,20 @@ TEST_CASE("block alignments equal sva_align bit for bit on a world's pairs, in b
       for (int m = 0; m < 40; ++m)
         pairs.emplace_back(static_cast<std::uint32_t>(rng.below(map.size())),
                            static_cast<std::uint32_t>(rng.below(map.size())));
-      compare(a1, b1, map, pairs, 1 + trial % cpu::MatchLanes::kLanes, &tally);
+      compare(a1, b1, map, pairs, trial % 2 ? spatial : planar, 1 + trial % cpu::MatchLanes::kLanes, &tally);
     }
   }
   CHECK(tally.mismatches == 0);
   CHECK(tally.valid > 1000);
   CHECK(tally.invalid > 0);  // a map pair of one reading twice: coincident ends
+  CHECK(tally.circles > 0);  // confidences near 0: the whole circle
 }
 
-TEST_CASE("block alignments equal sva_align bit for bit on coincident, anti-parallel and broken patches") {
+TEST_CASE(
+    "block alignments and plans equal sva_align's and sva_beta_plan's bits on coincident, anti-parallel and "
+    "broken patches") {
   util::Rng rng(11, 3);
+  const vm::SvaPoseGrid spatial = grid_of(paper_space()), planar = grid_of(letters_space());
   const float nan = std::numeric_limits<float>::quiet_NaN();
   Tally tally;
   for (int t = 0; t < 300; ++t) {
@@ -130,10 +145,12 @@ TEST_CASE("block alignments equal sva_align bit for bit on coincident, anti-para
       pairs.emplace_back(static_cast<std::uint32_t>(rng.below(map.size())),
                          static_cast<std::uint32_t>(rng.below(map.size())));
     const float c1 = t % 3 == 0 ? nan : static_cast<float>(rng.uniform(-0.5, 1.5));
-    compare(patch(a1, unit(rng), c1), patch(b1, unit(rng), c1), map, pairs, 1 + t % cpu::MatchLanes::kLanes, &tally);
+    compare(patch(a1, unit(rng), c1), patch(b1, unit(rng), c1), map, pairs, t % 2 ? spatial : planar,
+            1 + t % cpu::MatchLanes::kLanes, &tally);
   }
   CHECK(tally.mismatches == 0);
   CHECK(tally.invalid >= 600);
   CHECK(tally.half_turns >= 100);
+  CHECK(tally.circles >= 100);
   CHECK(tally.valid > 2000);
 }

@@ -1,5 +1,6 @@
-// A block of matches aligned lane by lane (align_lanes.hpp says why and how). The formulas are sva_align's own
-// text; only the loop's shape (map patches gathered into arrays, one lane per match) is this file's.
+// A block of matches aligned and planned lane by lane (align_lanes.hpp says why and how). The formulas are
+// sva_align's and sva_beta_plan's own text; only the loop's shape (patches gathered into arrays, one lane per match)
+// is this file's.
 #include "backends/cpu/align_lanes.hpp"
 
 #include "util/hot_path.hpp"
@@ -41,7 +42,8 @@ struct PatchLanes {
   }
 };
 
-// The block's alignments, a field per array (a loop the compiler can vectorise writes arrays, not structures).
+// The block's alignments and plans, a field per array (a loop the compiler can vectorise writes arrays, not
+// structures).
 struct AlignmentLanes {
   alignas(32) float qx[kLanes], qy[kLanes], qz[kLanes], qw[kLanes];
   alignas(32) float ux[kLanes], uy[kLanes], uz[kLanes];
@@ -49,12 +51,19 @@ struct AlignmentLanes {
   alignas(32) float mx[kLanes], my[kLanes], mz[kLanes];
   alignas(32) float beta[kLanes], conf[kLanes], sigma[kLanes];
   alignas(32) std::int32_t valid[kLanes];
+  alignas(32) std::int32_t n[kLanes], circle[kLanes];
+  alignas(32) float unit[kLanes], inv_sigma[kLanes];
 };
 
 SVA_HOT_PATH void align_all(const PatchLanes& a1, const PatchLanes& b1, const PatchLanes& a2, const PatchLanes& b2,
-                            AlignmentLanes* __restrict out) {
+                            const SvaPoseGrid& grid, AlignmentLanes* __restrict out) {
   for (int l = 0; l < kLanes; ++l) {
     const SvaAlignment al = sva_align(a1.at(l), b1.at(l), a2.at(l), b2.at(l));
+    const SvaBetaPlan plan = sva_beta_plan(al, grid);
+    out->n[l] = plan.n;
+    out->circle[l] = plan.circle;
+    out->unit[l] = plan.unit;
+    out->inv_sigma[l] = plan.inv_sigma;
     out->qx[l] = al.q1.x;
     out->qy[l] = al.q1.y;
     out->qz[l] = al.q1.z;
@@ -77,8 +86,8 @@ SVA_HOT_PATH void align_all(const PatchLanes& a1, const PatchLanes& b1, const Pa
 
 }  // namespace
 
-void align_lanes(const SvaPatch& a1, const SvaPatch& b1, std::span<const SvaPatch> patches, const MatchLanes& block,
-                 SvaAlignment* out) {
+void align_lanes(const SvaPatch& a1, const SvaPatch& b1, std::span<const SvaPatch> patches, const SvaPoseGrid& grid,
+                 const MatchLanes& block, SvaAlignment* out, SvaBetaPlan* plan) {
   if (block.n <= 0) return;
   PatchLanes a1s, b1s, a2, b2;
   a1s.broadcast(a1);
@@ -86,7 +95,7 @@ void align_lanes(const SvaPatch& a1, const SvaPatch& b1, std::span<const SvaPatc
   a2.gather(patches, block.ra, block.n);
   b2.gather(patches, block.rb, block.n);
   AlignmentLanes lanes;
-  align_all(a1s, b1s, a2, b2, &lanes);
+  align_all(a1s, b1s, a2, b2, grid, &lanes);
   for (int l = 0; l < block.n; ++l) {
     SvaAlignment& al = out[l];
     al.q1 = vec4(lanes.qx[l], lanes.qy[l], lanes.qz[l], lanes.qw[l]);
@@ -97,6 +106,10 @@ void align_lanes(const SvaPatch& a1, const SvaPatch& b1, std::span<const SvaPatc
     al.align_conf = lanes.conf[l];
     al.sigma = lanes.sigma[l];
     al.valid = lanes.valid[l];
+    plan[l].n = lanes.n[l];
+    plan[l].circle = lanes.circle[l];
+    plan[l].unit = lanes.unit[l];
+    plan[l].inv_sigma = lanes.inv_sigma[l];
   }
 }
 

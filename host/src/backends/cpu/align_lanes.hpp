@@ -1,9 +1,10 @@
 #pragma once
-// The alignments of several matches of one observed pair, side by side (the CPU reference's alignment at the
-// machine's width). sva_align (shaders/include/sva_alignment.h) is one match's alignment as a GPU thread runs it,
-// written as selects; here it runs over a block of matches in a structure-of-arrays loop that the compiler turns
-// into SIMD lanes (8 in the x86-64-v3 clone), so each alignment is sva_align's bit for bit
-// (tests/backends/cpu/test_align_lanes.cpp compares them on simulated pairs and on the hard cases).
+// The alignments and beta plans of several matches of one observed pair, side by side (the CPU reference's
+// alignment at the machine's width). sva_align (shaders/include/sva_alignment.h) and sva_beta_plan
+// (sva_beta_sampling.h) are one match's alignment and plan as a GPU thread runs them, written as selects; here they
+// run over a block of matches in a structure-of-arrays loop that the compiler turns into SIMD lanes (8 in the
+// x86-64-v3 clone), so each is sva_align's and sva_beta_plan's bit for bit (tests/backends/cpu/test_align_lanes.cpp
+// compares them on simulated pairs and on the hard cases).
 #include <cstdint>
 #include <span>
 
@@ -19,8 +20,10 @@ struct MatchLanes {
   float likelihood[kLanes] = {};
 };
 
-// sva_align(a1, b1, patches[ra[i]], patches[rb[i]]) for each of the block's n matches, into out[0, n).
+// For each of the block's n matches i: al[i] = sva_align(a1, b1, patches[ra[i]], patches[rb[i]]) and
+// plan[i] = sva_beta_plan(al[i], grid).
 void align_lanes(const vote_math::SvaPatch& a1, const vote_math::SvaPatch& b1,
-                 std::span<const vote_math::SvaPatch> patches, const MatchLanes& block, vote_math::SvaAlignment* out);
+                 std::span<const vote_math::SvaPatch> patches, const vote_math::SvaPoseGrid& grid,
+                 const MatchLanes& block, vote_math::SvaAlignment* al, vote_math::SvaBetaPlan* plan);
 
 }  // namespace sva::cpu

@@ -180,18 +180,18 @@ class CpuVoteBackend final : public VoteBackend {
     if (block.n > 0) vote_block();
   }
 
-  // Aligns a block of matches (lane by lane) and scatters each one's beta samples (computed lane by lane,
+  // Aligns and plans a block of matches (lane by lane) and scatters each one's beta samples (computed lane by lane,
   // sample_votes.hpp: sva_vote's bits).
   SVA_HOT_PATH void vote_matches(const SvaPatch& a1, const SvaPatch& b1, const cpu::MatchLanes& block,
                                  BinAccumulator& acc, PairStats* out) const {
     vote_math::SvaAlignment al[cpu::MatchLanes::kLanes];
-    cpu::align_lanes(a1, b1, patches_, block, al);
+    vote_math::SvaBetaPlan plan[cpu::MatchLanes::kLanes];
+    cpu::align_lanes(a1, b1, patches_, grid_, block, al, plan);
     for (int m = 0; m < block.n; ++m) {
-      const vote_math::SvaBetaPlan plan = vote_math::sva_beta_plan(al[m], grid_);
-      if (plan.n == 0) continue;
+      if (plan[m].n == 0) continue;
       ++out->matches;
       cpu::SampleVotes votes;
-      cpu::sample_votes(al[m], plan, grid_, block.object[m], block.likelihood[m], &votes);
+      cpu::sample_votes(al[m], plan[m], grid_, block.object[m], block.likelihood[m], &votes);
       add_votes(votes, acc, out);
     }
   }

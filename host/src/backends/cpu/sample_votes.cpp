@@ -36,9 +36,12 @@ SVA_HOT_PATH void beta_weights(const SvaBetaPlan& plan, float* __restrict w) {
 // keys' 64-bit packing is a loop of its own: mixing widths in one loop keeps the compiler from vectorising it).
 struct SampleBins {
   alignas(32) std::int32_t tx[kCap], ty[kCap], tz[kCap], rx[kCap], ry[kCap], rz[kCap];
+  alignas(32) float qx[kCap], qy[kCap], qz[kCap], qw[kCap];  // each sample's rotation about the axis, between loops
 };
 
-// One loop per kind of pose space (a template, so that neither loop tests the kind per sample).
+// One pair of loops per kind of pose space (a template, so that neither tests the kind per sample). The first turns
+// each sample about the axis and bins its translation, the second composes its rotation and bins that: one loop
+// holding both kept more values than the registers hold and spilled them every sample.
 template <bool kPlanar>
 inline void bins_and_masses_of(const SvaAlignment& al, const SvaBetaPlan& plan, const SvaPoseGrid& grid,
                                const float* __restrict weight, float scale, SampleBins* __restrict bins,
@@ -48,11 +51,17 @@ inline void bins_and_masses_of(const SvaAlignment& al, const SvaBetaPlan& plan, 
     const float beta = al.beta_hat + sva_beta_offset(plan, i);
     const vec4 qb = sva_quat_axis_angle(al.axis, beta);
     const vec3 t = al.c_obs - sva_quat_rotate(qb, al.c_map_r);
-    const int tx = sva_translation_bin(t.x, grid);
-    const int ty = sva_translation_bin(t.y, grid);
-    const int tz = kPlanar ? 0 : sva_translation_bin(t.z, grid);
-    const vec4 q = sva_quat_mul(qb, al.q1);
-    int in = (tx | ty | tz) >= 0 ? 1 : 0;  // each bin is -1 outside
+    bins->tx[i] = sva_translation_bin(t.x, grid);
+    bins->ty[i] = sva_translation_bin(t.y, grid);
+    bins->tz[i] = kPlanar ? 0 : sva_translation_bin(t.z, grid);
+    bins->qx[i] = qb.x;
+    bins->qy[i] = qb.y;
+    bins->qz[i] = qb.z;
+    bins->qw[i] = qb.w;
+  }
+  for (int i = 0; i < lanes; ++i) {
+    const vec4 q = sva_quat_mul(vec4(bins->qx[i], bins->qy[i], bins->qz[i], bins->qw[i]), al.q1);
+    int in = (bins->tx[i] | bins->ty[i] | bins->tz[i]) >= 0 ? 1 : 0;  // each bin is -1 outside
     if constexpr (kPlanar) {
       in = sva_planar_tilted(q) ? 0 : in;
       bins->rx[i] = 0;
@@ -64,9 +73,6 @@ inline void bins_and_masses_of(const SvaAlignment& al, const SvaBetaPlan& plan, 
       bins->ry[i] = sva_rotation_bin(r.y, grid);
       bins->rz[i] = sva_rotation_bin(r.z, grid);
     }
-    bins->tx[i] = tx;
-    bins->ty[i] = ty;
-    bins->tz[i] = tz;
     // SVA_TO_FIXED, converted to 32 bits (exact: at most 2^24 units), which the lanes have.
     const float m = weight[i] * scale;
     out->mass[i] = static_cast<std::int32_t>(SVA_FIXED_UNITS(m)) * in;

@@ -56,7 +56,7 @@ void compare(const vm::SvaPatch& a1, const vm::SvaPatch& b1, const std::vector<v
     }
     vm::SvaAlignment lanes[cpu::MatchLanes::kLanes];
     vm::SvaBetaPlan plans[cpu::MatchLanes::kLanes];
-    cpu::align_lanes(a1, b1, patches, grid, block, lanes, plans);
+    cpu::align_lanes(cpu::ObservedLanes(a1, b1), patches, grid, block, lanes, plans);
     for (int l = 0; l < block.n; ++l) {
       const vm::SvaAlignment one = vm::sva_align(a1, b1, patches[block.ra[l]], patches[block.rb[l]]);
       const vm::SvaBetaPlan plan = vm::sva_beta_plan(one, grid);

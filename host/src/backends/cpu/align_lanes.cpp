@@ -12,35 +12,12 @@ namespace {
 using namespace vote_math;  // the shared text's names (vec3, vec4, sva_*)
 
 constexpr int kLanes = MatchLanes::kLanes;
+static_assert(PatchLanes::kLanes == kLanes);
 
-// One end of the block's pairs, a coordinate per array.
-struct PatchLanes {
-  alignas(32) float px[kLanes], py[kLanes], pz[kLanes], nx[kLanes], ny[kLanes], nz[kLanes], conf[kLanes];
-  void set(int l, const SvaPatch& p) {
-    px[l] = p.p.x;
-    py[l] = p.p.y;
-    pz[l] = p.p.z;
-    nx[l] = p.n.x;
-    ny[l] = p.n.y;
-    nz[l] = p.n.z;
-    conf[l] = p.conf;
-  }
-  void gather(std::span<const SvaPatch> patches, const std::uint32_t* reading, int n) {
-    for (int l = 0; l < kLanes; ++l) set(l, patches[reading[l < n ? l : 0]]);  // past n: the first again, never read
-  }
-  // The observed patch in every lane: a value the compiler holds in a scalar register would leave the selects on it
-  // (the clamp of its normal confidence) as a scalar condition among vectors, which it cannot vectorise.
-  void broadcast(const SvaPatch& p) {
-    for (int l = 0; l < kLanes; ++l) set(l, p);
-  }
-  SvaPatch at(int l) const {
-    SvaPatch p;
-    p.p = vec3(px[l], py[l], pz[l]);
-    p.n = vec3(nx[l], ny[l], nz[l]);
-    p.conf = conf[l];
-    return p;
-  }
-};
+// The block's map pairs' ends gathered into lanes.
+void gather(std::span<const SvaPatch> patches, const std::uint32_t* reading, int n, PatchLanes* out) {
+  for (int l = 0; l < kLanes; ++l) out->set(l, patches[reading[l < n ? l : 0]]);  // past n: the first, never read
+}
 
 // The block's alignments and plans, a field per array (a loop the compiler can vectorise writes arrays, not
 // structures).
@@ -86,16 +63,21 @@ SVA_HOT_PATH void align_all(const PatchLanes& a1, const PatchLanes& b1, const Pa
 
 }  // namespace
 
-void align_lanes(const SvaPatch& a1, const SvaPatch& b1, std::span<const SvaPatch> patches, const SvaPoseGrid& grid,
+ObservedLanes::ObservedLanes(const SvaPatch& a1, const SvaPatch& b1) {
+  for (int l = 0; l < kLanes; ++l) {
+    a.set(l, a1);
+    b.set(l, b1);
+  }
+}
+
+void align_lanes(const ObservedLanes& observed, std::span<const SvaPatch> patches, const SvaPoseGrid& grid,
                  const MatchLanes& block, SvaAlignment* out, SvaBetaPlan* plan) {
   if (block.n <= 0) return;
-  PatchLanes a1s, b1s, a2, b2;
-  a1s.broadcast(a1);
-  b1s.broadcast(b1);
-  a2.gather(patches, block.ra, block.n);
-  b2.gather(patches, block.rb, block.n);
+  PatchLanes a2, b2;
+  gather(patches, block.ra, block.n, &a2);
+  gather(patches, block.rb, block.n, &b2);
   AlignmentLanes lanes;
-  align_all(a1s, b1s, a2, b2, grid, &lanes);
+  align_all(observed.a, observed.b, a2, b2, grid, &lanes);
   for (int l = 0; l < block.n; ++l) {
     SvaAlignment& al = out[l];
     al.q1 = vec4(lanes.qx[l], lanes.qy[l], lanes.qz[l], lanes.qw[l]);

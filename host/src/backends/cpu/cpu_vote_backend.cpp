@@ -159,9 +159,10 @@ class CpuVoteBackend final : public VoteBackend {
     const std::vector<KeyRange> ranges = key_ranges(batch, q);
     for (const KeyRange& r : ranges) out->entries += r.end - r.begin;
     // Matches are aligned a block at a time (align_lanes.hpp), then each votes.
+    const cpu::ObservedLanes observed(a1, b1);
     cpu::MatchLanes block;
     const auto vote_block = [&] {
-      vote_matches(a1, b1, block, acc, out);
+      vote_matches(observed, block, acc, out);
       block.n = 0;
     };
     cpu::for_each_match(map_, ranges,
@@ -182,11 +183,11 @@ class CpuVoteBackend final : public VoteBackend {
 
   // Aligns and plans a block of matches (lane by lane) and scatters each one's beta samples (computed lane by lane,
   // sample_votes.hpp: sva_vote's bits).
-  SVA_HOT_PATH void vote_matches(const SvaPatch& a1, const SvaPatch& b1, const cpu::MatchLanes& block,
-                                 BinAccumulator& acc, PairStats* out) const {
+  SVA_HOT_PATH void vote_matches(const cpu::ObservedLanes& observed, const cpu::MatchLanes& block, BinAccumulator& acc,
+                                 PairStats* out) const {
     vote_math::SvaAlignment al[cpu::MatchLanes::kLanes];
     vote_math::SvaBetaPlan plan[cpu::MatchLanes::kLanes];
-    cpu::align_lanes(a1, b1, patches_, grid_, block, al, plan);
+    cpu::align_lanes(observed, patches_, grid_, block, al, plan);
     for (int m = 0; m < block.n; ++m) {
       if (plan[m].n == 0) continue;
       ++out->matches;

@@ -99,7 +99,7 @@ void Belief::note(std::uint64_t key, std::uint64_t offset, bool inserted) {
 void Belief::prune_band() {
   std::size_t keeping = 0;  // sized for what it keeps, as forget_below's table
   band_.for_each([&](std::uint64_t, std::uint64_t off) { keeping += in_band(off); });
-  BinTable<std::uint64_t> kept(keeping);
+  BeliefTable kept(keeping);
   band_.for_each([&](std::uint64_t key, std::uint64_t off) {
     if (in_band(off)) kept.set(key, off);
   });
@@ -110,20 +110,21 @@ void Belief::prune_band() {
 std::size_t Belief::forget_below(std::uint64_t below, std::span<const std::uint64_t> keep) {
   forget_best();
   drop_upper();  // its bins may be forgotten
-  const auto keeps = [&](std::uint64_t key, std::uint64_t off) {
-    return off >= below || std::binary_search(keep.begin(), keep.end(), key);
-  };
   // Sized for what it keeps (a half load), not for what it held: a session's table between updates is the larger
-  // part of its memory in a batch, and the bins it forgot were most of it.
-  std::size_t keeping = 0;
-  offset_.for_each([&](std::uint64_t key, std::uint64_t off) { keeping += keeps(key, off); });
-  BinTable<std::uint64_t> kept(keeping);
-  std::fill(touched_.begin(), touched_.end(), 0);
+  // part of its memory in a batch, and the bins it forgot were most of it. The kept keys are looked up, not searched
+  // for each bin: they are a few thousand, the bins hundreds of thousands.
+  std::size_t keeping = keep.size();
+  offset_.for_each([&](std::uint64_t, std::uint64_t off) { keeping += off >= below; });
+  BeliefTable kept(keeping);
   offset_.for_each([&](std::uint64_t key, std::uint64_t off) {
-    if (!keeps(key, off)) return;
-    kept.add(key, off);
-    ++touched_[PoseSpace::object_of(key)];
+    if (off >= below) kept.set(key, off);
   });
+  for (const std::uint64_t key : keep) {
+    std::uint64_t off = 0;
+    if (offset_.find(key, &off) && off < below) kept.set(key, off);
+  }
+  std::fill(touched_.begin(), touched_.end(), 0);
+  kept.for_each([&](std::uint64_t key, std::uint64_t) { ++touched_[PoseSpace::object_of(key)]; });
   const std::size_t forgotten = offset_.size() - kept.size();
   retired_allocations_ += offset_.allocations();
   offset_ = std::move(kept);
@@ -160,7 +161,7 @@ bool better(const BinOffset& a, const BinOffset& b) {
 // The best `k` bins of `table` that pass `keep`, best first, through a bounded heap (worst on top): one pass, no
 // copy of the table. *passed counts the bins that pass.
 template <class Keep>
-std::vector<BinOffset> best_of(const BinTable<std::uint64_t>& table, std::size_t k, Keep keep, std::size_t* passed) {
+std::vector<BinOffset> best_of(const BeliefTable& table, std::size_t k, Keep keep, std::size_t* passed) {
   std::vector<BinOffset> heap;
   heap.reserve(k);
   *passed = 0;
@@ -220,7 +221,7 @@ std::vector<BinOffset> Belief::best_past_band(std::size_t k) const {
   if (upper_floor_ != 0 && upper_.size() > kGrowth * upper_made_size_) drop_upper();
   std::size_t passed = 0;
   if (upper_floor_ != 0 && upper_.size() >= k) {
-    BinTable<std::uint64_t> current(upper_.size());
+    BeliefTable current(upper_.size());
     upper_.for_each([&](std::uint64_t key, std::uint64_t) { current.set(key, offset_.get(key)); });
     return best_of(
         current, k, [](std::uint64_t) { return true; }, &passed);

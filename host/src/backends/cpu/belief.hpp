@@ -73,15 +73,15 @@ class Belief final : public BeliefState {
   std::uint64_t eps_units_;
   std::uint32_t mass_bits_;
   std::uint64_t band_width_;
-  BinTable<std::uint64_t> offset_;
+  BeliefTable offset_;
   std::size_t retired_allocations_ = 0;  // of offset tables replaced by forget_below
   std::size_t pairs_ = 0;
   std::uint64_t max_ = 0;
   std::vector<std::uint64_t> touched_, best_offset_, best_key_;
-  BinTable<std::uint64_t> band_;  // each band bin's offset as of its last fold (current while it is in the band)
+  BeliefTable band_;  // each band bin's offset as of its last fold (current while it is in the band)
   std::size_t band_pruned_size_ = 0;
-  mutable BinTable<std::uint64_t> upper_{16};  // best_past_band's bins (under best_.mutex when read or made)
-  mutable std::uint64_t upper_floor_ = 0;      // 0: upper_ is not kept
+  mutable BeliefTable upper_{16};          // best_past_band's bins (under best_.mutex when read or made)
+  mutable std::uint64_t upper_floor_ = 0;  // 0: upper_ is not kept
   mutable std::size_t upper_made_size_ = 0;
   // best_bins' last answer: the best `asked` bins (or all, if fewer), until the belief changes. A moved belief
   // starts without one (it is only a cache).

@@ -39,23 +39,18 @@ class BinTable {
     *inserted = size_ != before;
     return x;
   }
-  // The value of a key, or Value{} when absent.
-  Value get(std::uint64_t key) const {
-    std::size_t i = home(key);
-    for (;;) {
-      if (slots_[i].key == key) return slots_[i].value;
-      if (slots_[i].key == kEmpty) return Value{};
-      i = (i + 1) & mask_;
-    }
-  }
   // Whether the key is present; if so, *value is its value.
   bool find(std::uint64_t key, Value* value) const {
-    std::size_t i = home(key);
-    for (;;) {
+    for (std::size_t i = home(key);; i = (i + 1) & mask_) {
       if (slots_[i].key == key) return *value = slots_[i].value, true;
       if (slots_[i].key == kEmpty) return false;
-      i = (i + 1) & mask_;
     }
+  }
+  // The value of a key, or Value{} when absent.
+  Value get(std::uint64_t key) const {
+    Value v{};
+    find(key, &v);
+    return v;
   }
   std::size_t size() const { return size_; }
   void clear() { init(1024); }

@@ -56,7 +56,7 @@ int cmd_recognize(const std::vector<std::string>& argv) {
               "weigh the leading objects by how well their surfaces explain the readings (default on)")
       .option("--belief-budget", "BINS",
               "touched pose bins per session before hopeless ones are forgotten (default 4194304; 0 = no bound; "
-              "32768 keeps a paper3d session of 30 readings near 7 MB; docs/recognition.md, \"Bounded memory\")")
+              "32768 keeps a paper3d session of 30 readings near 4 MB in a batch; docs/batch-format.md)")
       .option("--max-pairs", "N",
               "bounded cost per update: pairs per update, both orders counted (default 0: the exact filter; "
               "docs/recognition.md)")

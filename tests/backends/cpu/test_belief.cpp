@@ -61,6 +61,13 @@ sva::BinAccumulator sharp_votes(const sva::PoseSpace& space, sva::util::Rng& rng
   return acc;
 }
 
+// Folds `pairs` pairs of sharp_votes into the belief.
+void fold_sharp_pairs(sva::Belief& belief, const sva::PoseSpace& space, sva::util::Rng& rng, int pairs, int votes,
+                      int peak, int spread) {
+  for (int pair = 0; pair < pairs; ++pair)
+    REQUIRE(belief.add(belief.terms(sharp_votes(space, rng, votes, peak, spread)), 1));
+}
+
 }  // namespace
 
 TEST_CASE("the belief's incremental reductions equal a full pass, through folds that move the maximum far") {
@@ -128,10 +135,7 @@ TEST_CASE("forgetting gives the memory back: the table is sized for the bins it 
   const sva::PoseSpace space(sva::test::paper_space(), 2);
   sva::Belief belief(space, 1e-6);
   sva::util::Rng rng(11, 1);
-  for (int pair = 0; pair < 40; ++pair) {
-    const sva::BinAccumulator acc = sharp_votes(space, rng, 3000, 50, 50);  // a wide spread, one region every pair
-    REQUIRE(belief.add(belief.terms(acc), 1));
-  }
+  fold_sharp_pairs(belief, space, rng, 40, 3000, 50, 50);  // a wide spread, one region every pair
   const std::size_t before_bins = belief.touched(), before_bytes = belief.table_bytes();
   const std::uint64_t max = belief.summarise().max_offset;
   const std::uint64_t below = max - (std::uint64_t{64} << 32);
@@ -149,10 +153,7 @@ TEST_CASE("forgetting keeps the bins at or above the floor and the asked-for one
   const sva::PoseSpace space(sva::test::paper_space(), 2);
   sva::Belief belief(space, 1e-6);
   sva::util::Rng rng(5, 1);
-  for (int pair = 0; pair < 30; ++pair) {
-    const sva::BinAccumulator acc = sharp_votes(space, rng, 2000, 40, 40);
-    REQUIRE(belief.add(belief.terms(acc), 1));
-  }
+  fold_sharp_pairs(belief, space, rng, 30, 2000, 40, 40);
   const std::vector<sva::BinOffset> before = belief.table();
   const std::uint64_t below = belief.summarise().max_offset - (std::uint64_t{64} << 32);
   // Asked to keep: every 50th bin below the floor (one of each object at least), one above it, and keys never touched.
@@ -189,10 +190,7 @@ TEST_CASE("a belief that has just forgotten takes a large pair's terms at a few 
   const sva::PoseSpace space(sva::test::paper_space(), 2);
   sva::Belief belief(space, 1e-6);
   sva::util::Rng rng(9, 1);
-  for (int pair = 0; pair < 10; ++pair) {
-    const sva::BinAccumulator acc = sharp_votes(space, rng, 3000, 200, 40);
-    REQUIRE(belief.add(belief.terms(acc), 1));
-  }
+  fold_sharp_pairs(belief, space, rng, 10, 3000, 200, 40);
   belief.forget_below(belief.summarise().max_offset - (std::uint64_t{8} << 32), {});
   REQUIRE(belief.touched() < 1000);
   const sva::BinAccumulator wide = sharp_votes(space, rng, 60000, 200, 60);

@@ -9,8 +9,10 @@
 #include <sva/error.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <mutex>
+#include <numeric>
 #include <string>
 
 #include "backends/cpu/align_lanes.hpp"
@@ -93,19 +95,23 @@ class CpuVoteBackend final : public VoteBackend {
     }
     std::vector<PairStats> out(batch.pairs.size());
     std::vector<std::mutex> locks(beliefs.size());
+    // Each worker takes the next pair, largest first, until none is left: the last to finish is a small one, so
+    // neither worker waits long for the other (a split of the index range gave one worker all the large pairs).
+    const std::vector<std::size_t> order = largest_first(batch);
+    std::atomic<std::size_t> next{0};
+    const unsigned workers = settings_.threads ? settings_.threads : util::default_threads();
     util::parallel_for(
-        batch.pairs.size(),
-        [&](std::size_t i) {
-          BinAccumulator& acc = pair_accumulator();
-          vote_pair(batch, batch.pairs[i], acc, &out[i]);
-          out[i].table_probes = acc.probes();
-          thread_local std::vector<BinOffset> terms;  // reused: see Belief::terms
-          target[i]->terms(acc, &terms);
-          out[i].bins = terms.size();
-          std::lock_guard lock(locks[batch.pairs[i].session]);
-          const std::uint64_t probes = target[i]->table_probes();
-          out[i].folded = target[i]->add(terms, batch.pairs[i].fold_count);
-          out[i].belief_probes = target[i]->table_probes() - probes;
+        std::min<std::size_t>(workers, order.size()),
+        [&](std::size_t) {
+          try {
+            for (std::size_t k; (k = next.fetch_add(1)) < order.size();) {
+              const std::size_t i = order[k];
+              vote_and_fold_pair(batch, batch.pairs[i], *target[i], locks[batch.pairs[i].session], &out[i]);
+            }
+          } catch (...) {
+            next.store(order.size());  // the other workers stop after their current pair
+            throw;
+          }
         },
         settings_.threads);
     last_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -136,6 +142,33 @@ class CpuVoteBackend final : public VoteBackend {
     else
       acc.clear_keeping_capacity();
     return acc;
+  }
+
+  // One pair: its votes into the worker's table, then its terms into its session's belief under that session's lock.
+  void vote_and_fold_pair(const VoteBatch& batch, const PairQuery& q, Belief& belief, std::mutex& lock,
+                          PairStats* out) const {
+    BinAccumulator& acc = pair_accumulator();
+    vote_pair(batch, q, acc, out);
+    out->table_probes = acc.probes();
+    thread_local std::vector<BinOffset> terms;  // reused: see Belief::terms
+    belief.terms(acc, &terms);
+    out->bins = terms.size();
+    std::lock_guard guard(lock);
+    const std::uint64_t probes = belief.table_probes();
+    out->folded = belief.add(terms, q.fold_count);
+    out->belief_probes = belief.table_probes() - probes;
+  }
+
+  // The pairs by their map entries, most first: the workers take them in this order, so that the last pair to
+  // finish is a small one and neither worker waits long for the other (the fold's sum does not depend on order).
+  std::vector<std::size_t> largest_first(const VoteBatch& batch) const {
+    std::vector<std::uint64_t> entries(batch.pairs.size(), 0);
+    for (std::size_t i = 0; i < batch.pairs.size(); ++i)
+      for (const KeyRange& r : key_ranges(batch, batch.pairs[i])) entries[i] += r.end - r.begin;
+    std::vector<std::size_t> order(batch.pairs.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return entries[a] > entries[b]; });
+    return order;
   }
 
   // The ranges of the pair's keys that the map holds, in the pair's key order.

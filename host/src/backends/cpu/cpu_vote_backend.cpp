@@ -64,7 +64,7 @@ class CpuVoteBackend final : public VoteBackend {
         batch.pairs.size(),
         [&](std::size_t i) {
           BinAccumulator& acc = pair_accumulator();
-          vote_pair(batch, batch.pairs[i], acc, &out[i]);
+          vote_pair(batch, batch.pairs[i], key_ranges(batch, batch.pairs[i]), acc, &out[i]);
           out[i].table_probes = acc.probes();
           out[i].bins = acc.size();
           acc.sorted(&out[i].keys, &out[i].mass);
@@ -97,7 +97,11 @@ class CpuVoteBackend final : public VoteBackend {
     std::vector<std::mutex> locks(beliefs.size());
     // Each worker takes the next pair, largest first, until none is left: the last to finish is a small one, so
     // neither worker waits long for the other (a split of the index range gave one worker all the large pairs).
-    const std::vector<std::size_t> order = largest_first(batch);
+    // The fold's integer sum does not depend on the order.
+    std::vector<std::vector<KeyRange>> ranges(batch.pairs.size());
+    util::parallel_for(
+        batch.pairs.size(), [&](std::size_t i) { ranges[i] = key_ranges(batch, batch.pairs[i]); }, settings_.threads);
+    const std::vector<std::size_t> order = largest_first(ranges);
     std::atomic<std::size_t> next{0};
     const unsigned workers = settings_.threads ? settings_.threads : util::default_threads();
     util::parallel_for(
@@ -106,7 +110,7 @@ class CpuVoteBackend final : public VoteBackend {
           try {
             for (std::size_t k; (k = next.fetch_add(1)) < order.size();) {
               const std::size_t i = order[k];
-              vote_and_fold_pair(batch, batch.pairs[i], *target[i], locks[batch.pairs[i].session], &out[i]);
+              vote_and_fold_pair(batch, batch.pairs[i], ranges[i], *target[i], locks[batch.pairs[i].session], &out[i]);
             }
           } catch (...) {
             next.store(order.size());  // the other workers stop after their current pair
@@ -145,10 +149,10 @@ class CpuVoteBackend final : public VoteBackend {
   }
 
   // One pair: its votes into the worker's table, then its terms into its session's belief under that session's lock.
-  void vote_and_fold_pair(const VoteBatch& batch, const PairQuery& q, Belief& belief, std::mutex& lock,
-                          PairStats* out) const {
+  void vote_and_fold_pair(const VoteBatch& batch, const PairQuery& q, const std::vector<KeyRange>& ranges,
+                          Belief& belief, std::mutex& lock, PairStats* out) const {
     BinAccumulator& acc = pair_accumulator();
-    vote_pair(batch, q, acc, out);
+    vote_pair(batch, q, ranges, acc, out);
     out->table_probes = acc.probes();
     thread_local std::vector<BinOffset> terms;  // reused: see Belief::terms
     belief.terms(acc, &terms);
@@ -159,13 +163,12 @@ class CpuVoteBackend final : public VoteBackend {
     out->belief_probes = belief.table_probes() - probes;
   }
 
-  // The pairs by their map entries, most first: the workers take them in this order, so that the last pair to
-  // finish is a small one and neither worker waits long for the other (the fold's sum does not depend on order).
-  std::vector<std::size_t> largest_first(const VoteBatch& batch) const {
-    std::vector<std::uint64_t> entries(batch.pairs.size(), 0);
-    for (std::size_t i = 0; i < batch.pairs.size(); ++i)
-      for (const KeyRange& r : key_ranges(batch, batch.pairs[i])) entries[i] += r.end - r.begin;
-    std::vector<std::size_t> order(batch.pairs.size());
+  // The pairs' indices by their map entries, most first (ties in index order).
+  static std::vector<std::size_t> largest_first(const std::vector<std::vector<KeyRange>>& ranges) {
+    std::vector<std::uint64_t> entries(ranges.size(), 0);
+    for (std::size_t i = 0; i < ranges.size(); ++i)
+      for (const KeyRange& r : ranges[i]) entries[i] += r.end - r.begin;
+    std::vector<std::size_t> order(ranges.size());
     std::iota(order.begin(), order.end(), std::size_t{0});
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return entries[a] > entries[b]; });
     return order;
@@ -184,12 +187,12 @@ class CpuVoteBackend final : public VoteBackend {
     return ranges;
   }
 
-  void vote_pair(const VoteBatch& batch, const PairQuery& q, BinAccumulator& acc, PairStats* out) const {
+  void vote_pair(const VoteBatch& batch, const PairQuery& q, const std::vector<KeyRange>& ranges, BinAccumulator& acc,
+                 PairStats* out) const {
     const SvaPatch a1 = patch_of(q.a), b1 = patch_of(q.b);
     const std::uint8_t* active =
         batch.object_active.empty() ? nullptr : batch.object_active.data() + std::size_t{q.session} * objects_;
     std::uint32_t seen = 0;
-    const std::vector<KeyRange> ranges = key_ranges(batch, q);
     for (const KeyRange& r : ranges) out->entries += r.end - r.begin;
     // Matches are aligned a block at a time (align_lanes.hpp), then each votes.
     const cpu::ObservedLanes observed(a1, b1);

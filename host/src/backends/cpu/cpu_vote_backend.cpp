@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <functional>
 #include <mutex>
 #include <numeric>
 #include <string>
@@ -95,29 +96,12 @@ class CpuVoteBackend final : public VoteBackend {
     }
     std::vector<PairStats> out(batch.pairs.size());
     std::vector<std::mutex> locks(beliefs.size());
-    // Each worker takes the next pair, largest first, until none is left: the last to finish is a small one, so
-    // neither worker waits long for the other (a split of the index range gave one worker all the large pairs).
-    // The fold's integer sum does not depend on the order.
     std::vector<std::vector<KeyRange>> ranges(batch.pairs.size());
     util::parallel_for(
         batch.pairs.size(), [&](std::size_t i) { ranges[i] = key_ranges(batch, batch.pairs[i]); }, settings_.threads);
-    const std::vector<std::size_t> order = largest_first(ranges);
-    std::atomic<std::size_t> next{0};
-    const unsigned workers = settings_.threads ? settings_.threads : util::default_threads();
-    util::parallel_for(
-        std::min<std::size_t>(workers, order.size()),
-        [&](std::size_t) {
-          try {
-            for (std::size_t k; (k = next.fetch_add(1)) < order.size();) {
-              const std::size_t i = order[k];
-              vote_and_fold_pair(batch, batch.pairs[i], ranges[i], *target[i], locks[batch.pairs[i].session], &out[i]);
-            }
-          } catch (...) {
-            next.store(order.size());  // the other workers stop after their current pair
-            throw;
-          }
-        },
-        settings_.threads);
+    for_each_pair(batch, ranges, [&](std::size_t i) {
+      vote_and_fold_pair(batch, batch.pairs[i], ranges[i], *target[i], locks[batch.pairs[i].session], &out[i]);
+    });
     last_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
     last_work_ = work_of(out);
     return out;
@@ -163,15 +147,33 @@ class CpuVoteBackend final : public VoteBackend {
     out->belief_probes = belief.table_probes() - probes;
   }
 
-  // The pairs' indices by their map entries, most first (ties in index order).
-  static std::vector<std::size_t> largest_first(const std::vector<std::vector<KeyRange>>& ranges) {
+  // Runs fn(i) for every pair on the workers. One session's pairs go largest first from one counter: the last to
+  // finish is a small one, so neither worker waits long for the other (split by index range, one worker got the
+  // large pairs). A batch of sessions keeps the index range's split: its sessions' pairs lie together, so each
+  // worker mostly folds into sessions of its own, and the many pairs keep both busy. The fold's integer sum does
+  // not depend on the order.
+  void for_each_pair(const VoteBatch& batch, const std::vector<std::vector<KeyRange>>& ranges,
+                     const std::function<void(std::size_t)>& fn) const {
+    if (batch.sessions > 1) return util::parallel_for(batch.pairs.size(), fn, settings_.threads);
     std::vector<std::uint64_t> entries(ranges.size(), 0);
     for (std::size_t i = 0; i < ranges.size(); ++i)
       for (const KeyRange& r : ranges[i]) entries[i] += r.end - r.begin;
     std::vector<std::size_t> order(ranges.size());
     std::iota(order.begin(), order.end(), std::size_t{0});
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return entries[a] > entries[b]; });
-    return order;
+    std::atomic<std::size_t> next{0};
+    const unsigned workers = settings_.threads ? settings_.threads : util::default_threads();
+    util::parallel_for(
+        std::min<std::size_t>(workers, order.size()),
+        [&](std::size_t) {
+          try {
+            for (std::size_t k; (k = next.fetch_add(1)) < order.size();) fn(order[k]);
+          } catch (...) {
+            next.store(order.size());  // the other workers stop after their current pair
+            throw;
+          }
+        },
+        settings_.threads);
   }
 
   // The ranges of the pair's keys that the map holds, in the pair's key order.

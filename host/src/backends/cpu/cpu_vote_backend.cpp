@@ -167,7 +167,10 @@ class CpuVoteBackend final : public VoteBackend {
         std::min<std::size_t>(workers, order.size()),
         [&](std::size_t) {
           try {
-            for (std::size_t k; (k = next.fetch_add(1)) < order.size();) fn(order[k]);
+            for (std::size_t k; (k = next.fetch_add(1)) < order.size();) {
+              util::throw_if_interrupted();  // as parallel_for does between its items
+              fn(order[k]);
+            }
           } catch (...) {
             next.store(order.size());  // the other workers stop after their current pair
             throw;

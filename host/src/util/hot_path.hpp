@@ -2,8 +2,8 @@
 // SVA_HOT_PATH marks the few functions where the CPU reference spends its time
 // (the per-match vote loop, the fold's integer log2). On x86-64 they are
 // compiled three times, for the baseline ISA, for x86-64-v3 (AVX2, BMI2,
-// LZCNT) and for x86-64-v4 (AVX-512: twice the vector registers, so the
-// samples' lanes spill less), with every call inside inlined (flatten: the
+// LZCNT) and for x86-64-v4 (AVX-512: 16-lane vectors and twice the
+// registers for the samples' loops), with every call inside inlined (flatten: the
 // vote math must be compiled for the clone, not called in its baseline build),
 // and the loader picks the clone the CPU can run (GCC's target_clones, an
 // ifunc). The clones give the same bits: -ffp-contract=off forbids fusing

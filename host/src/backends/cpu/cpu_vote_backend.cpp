@@ -155,9 +155,8 @@ class CpuVoteBackend final : public VoteBackend {
   void for_each_pair(const VoteBatch& batch, const std::vector<std::vector<KeyRange>>& ranges,
                      const std::function<void(std::size_t)>& fn) const {
     if (batch.sessions > 1) return util::parallel_for(batch.pairs.size(), fn, settings_.threads);
-    std::vector<std::uint64_t> entries(ranges.size(), 0);
-    for (std::size_t i = 0; i < ranges.size(); ++i)
-      for (const KeyRange& r : ranges[i]) entries[i] += r.end - r.begin;
+    std::vector<std::uint64_t> entries(ranges.size());
+    for (std::size_t i = 0; i < ranges.size(); ++i) entries[i] = map_entries(ranges[i]);
     std::vector<std::size_t> order(ranges.size());
     std::iota(order.begin(), order.end(), std::size_t{0});
     std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return entries[a] > entries[b]; });
@@ -179,6 +178,13 @@ class CpuVoteBackend final : public VoteBackend {
         settings_.threads);
   }
 
+  // The map entries a pair's key ranges hold: the matches it will align, before the owner rule and the cutoffs.
+  static std::uint64_t map_entries(const std::vector<KeyRange>& ranges) {
+    std::uint64_t n = 0;
+    for (const KeyRange& r : ranges) n += r.end - r.begin;
+    return n;
+  }
+
   // The ranges of the pair's keys that the map holds, in the pair's key order.
   std::vector<KeyRange> key_ranges(const VoteBatch& batch, const PairQuery& q) const {
     std::vector<KeyRange> ranges;
@@ -198,7 +204,7 @@ class CpuVoteBackend final : public VoteBackend {
     const std::uint8_t* active =
         batch.object_active.empty() ? nullptr : batch.object_active.data() + std::size_t{q.session} * objects_;
     std::uint32_t seen = 0;
-    for (const KeyRange& r : ranges) out->entries += r.end - r.begin;
+    out->entries += map_entries(ranges);
     // Matches are aligned a block at a time (align_lanes.hpp), then each votes.
     const cpu::ObservedLanes observed(a1, b1);
     cpu::MatchLanes block;

@@ -3,8 +3,9 @@
 #   1. the device and the machine (device.txt);
 #   2. the agreement tests first, whose printed lines locate a disagreement with the CPU reference (agreement.txt);
 #   3. the whole test suite, areas in parallel, while paper3d is simulated and its map trained (suite.txt);
-#   4. sva bench on paper3d: the Vulkan backend one session at a time (10, 30, 100 readings), then 64 sessions per
-#      submission, then the CPU reference on the same machine (bench-*.txt), each cut at the budget's end.
+#   4. sva bench on paper3d: the Vulkan backend one session at a time (10, 30, 100 readings, 3 trials), then 64 per
+#      submission (10 and 30 readings), then the CPU reference on the same machine (bench-*.txt), each cut at the
+#      budget's end.
 # The per-test logs and the benchmarks' JSON go into details.tgz: 7 files in all.
 #
 #   run-device-check.sh OUT_DIR [SECONDS]    SECONDS: the budget for all of it (default 480)
@@ -73,8 +74,8 @@ bench() {  # NAME SHARE-OF-WHAT-IS-LEFT sva-bench-options...
 }
 [[ -f $work/map.svam ]] || { echo "no paper3d map in $work: no benchmark" >&2; suite_failed=$((suite_failed + 1)); }
 if [[ -f $work/map.svam ]]; then
-  bench vulkan 40 --backend vulkan --trials 1 --batch 0 --readings 10,30,100
-  bench vulkan-batch 50 --backend vulkan --trials 64 --batch 64 --readings 10
+  bench vulkan 40 --backend vulkan --trials 3 --batch 0 --readings 10,30,100
+  bench vulkan-batch 50 --backend vulkan --trials 64 --batch 64 --readings 10,30
   bench cpu 95 --backend cpu --trials 1 --batch 0 --readings 10,30,100
 fi
 tar -czf "$out/details.tgz" -C "$out" .suite .agreement 2>/dev/null

@@ -111,36 +111,59 @@ TEST_CASE("fit_temperature recovers the surface check's weight beside the temper
 TEST_CASE("p_unknown starts at the prior, follows the model, and moves with the prior's odds") {
   Calibration c;
   EvidenceLevel level;
-  level.readings = 5;
+  level.readings = 7;
   level.object_log2_mass = {0.0, -10.0};
   level.best_bits_per_pair = 3.0;
   level.fit_cost_share = 0.5;
-  CHECK(c.p_unknown(level, 0.1) == 0.1);                   // no model: the prior
-  c.unknown.per_readings.push_back({0.0, 0.0, 0.0, 8.0});  // logit rises with the fit's cost
+  CHECK(c.p_unknown(level, 0.1) == 0.1);                             // no model: the prior
+  c.unknown.per_readings.push_back({-1.0, 1.0, 0.0, 4.0, 2.0});  // the evidence, then the fit
+  const double fit_logit = -1.0 + 4.0 + 2.0 * std::log2(kFitShareFloor + 0.5);
   const double at_even = c.p_unknown(level, 0.5);
-  CHECK(at_even == Approx(1.0 / (1.0 + std::exp(-4.0))));
+  CHECK(at_even == Approx(1.0 / (1.0 + std::exp(-fit_logit))));
   CHECK(c.p_unknown(level, 0.1) < at_even);
-  level.fit_cost_share = 0.0;
-  CHECK(c.p_unknown(level, 0.5) == Approx(0.5));
+  level.fit_cost_share = 0.0;  // a perfect fit: known, whatever the evidence per pair says
+  CHECK(c.p_unknown(level, 0.5) < 0.01);
+  level.best_bits_per_pair = 100.0;
+  CHECK(c.p_unknown(level, 0.5) == Approx(1.0 / (1.0 + std::exp(1.0 - 4.0 - 2.0 * std::log2(kFitShareFloor)))));
+  level.fit_cost_share = -1.0;  // no fine pose yet: the evidence per pair, log2(1 + 3) = 2
+  level.best_bits_per_pair = 3.0;
+  CHECK(c.p_unknown(level, 0.5) == Approx(1.0 / (1.0 + std::exp(-1.0))));
   level.readings = 1;
   CHECK(c.p_unknown(level, 0.3) == 0.3);  // one reading: no pair, no evidence
 }
 
-TEST_CASE("fit_unknown: one model over every reading count, its coefficients linear in log(n - 1)") {
-  // Known sessions' fit cost share ~ N(0.1, 0.05) at every step; unknown ones' drift away as 0.1 + 0.15 log(n - 1),
-  // so the separating slope must grow with the reading count. 12 steps per session, the first (1 reading) unused.
+TEST_CASE("a model of an earlier map reads the evidence, the gap and the fit cost share at every step") {
+  Calibration c;
+  c.unknown.features = UnknownFeatureSet::evidence_gap_share;
+  c.unknown.per_readings.push_back({0.0, 0.0, 0.0, 8.0, 0.0});  // logit rises with the fit's cost
+  EvidenceLevel level;
+  level.readings = 5;
+  level.object_log2_mass = {0.0, -10.0};
+  level.fit_cost_share = 0.5;
+  CHECK(c.p_unknown(level, 0.5) == Approx(1.0 / (1.0 + std::exp(-4.0))));
+  level.fit_cost_share = -1.0;  // before the fine pose its share counted as 0
+  CHECK(c.p_unknown(level, 0.5) == Approx(0.5));
+}
+
+TEST_CASE("fit_unknown: the evidence before the fine pose, the fit after it, coefficients linear in log(n - 1)") {
+  // Before the fine pose (5 readings or fewer here) the evidence per pair separates the kinds: known ~ 3 bits, unknown
+  // ~ 1. From it on, the fit cost share does: known ~ N(0.1, 0.05), unknown drifting away as 0.1 + 0.15 log(n - 1);
+  // and half the known sessions are "flat" objects whose evidence per pair is as low as an unknown one's, which must
+  // not count against them. 12 steps per session, the first (1 reading) unused.
   std::vector<CalibrationSession> sessions;
   for (std::size_t t = 0; t < 200; ++t) {
     util::Rng rng(7, t);
     CalibrationSession s;
     s.known = t % 3 != 0;
+    const bool flat = s.known && t % 2 == 0;
     for (std::size_t n = 1; n <= 12; ++n) {
       EvidenceLevel level;
       level.readings = n;
       level.object_log2_mass = {0.0, -5.0};
-      level.best_bits_per_pair = 2.0;
+      const bool fine_pose = n >= 6;
+      level.best_bits_per_pair = std::max(0.0, (s.known && !(flat && fine_pose) ? 3.0 : 1.0) + 0.5 * rng.normal());
       const double drift = s.known || n < 2 ? 0.0 : 0.15 * std::log(static_cast<double>(n - 1));
-      level.fit_cost_share = 0.1 + drift + 0.05 * rng.normal();
+      level.fit_cost_share = fine_pose ? std::max(0.0, 0.1 + drift + 0.05 * rng.normal()) : -1.0;
       s.steps.push_back(level);
     }
     sessions.push_back(std::move(s));
@@ -148,17 +171,27 @@ TEST_CASE("fit_unknown: one model over every reading count, its coefficients lin
   Calibration c;
   fit_unknown(sessions, &c);
   REQUIRE(c.unknown.per_readings.size() == 23);  // n = 2 .. 24: twice the sessions' length
+  CHECK(c.unknown.features == UnknownFeatureSet::evidence_then_fit);
   const auto& k = c.unknown.per_readings;
   for (std::size_t i = 0; i < kUnknownFeatures + 1; ++i) {
     // log(4 - 1) lies log(3) / log(7) of the way from n = 2 (log 1 = 0) to n = 8.
     CHECK(k[2][i] == Approx(k[0][i] + (k[6][i] - k[0][i]) * std::log(3.0) / std::log(7.0)).margin(1e-9));
   }
-  CHECK(k[8][3] > k[1][3]);  // the fit cost's slope grows with the readings
-  CHECK(k[1][3] > 0.0);
+  for (const auto& row : k) {
+    CHECK(row[1] < 0.0);  // more evidence per pair: less likely unknown (before the fine pose)
+    CHECK(row[4] > 0.0);  // a costlier fit: more likely unknown (from it on)
+  }
   EvidenceLevel level;
   level.object_log2_mass = {0.0, -5.0};
-  level.best_bits_per_pair = 2.0;
-  for (std::size_t n : {6, 12, 20}) {  // the ridge keeps the slopes modest: not sure of either kind at 3
+  for (std::size_t n : {3, 5}) {
+    level.readings = n;
+    level.best_bits_per_pair = 3.0;
+    CHECK(c.p_unknown(level, 0.5) < 0.3);
+    level.best_bits_per_pair = 1.0;
+    CHECK(c.p_unknown(level, 0.5) > 0.7);
+  }
+  level.best_bits_per_pair = 1.0;  // a flat known object's evidence, or an unknown one's: the fit decides
+  for (std::size_t n : {6, 12, 20}) {
     level.readings = n;
     level.fit_cost_share = 0.1;
     CHECK(c.p_unknown(level, 0.5) < 0.3);
@@ -176,7 +209,7 @@ TEST_CASE("fit_unknown: one model over every reading count, its coefficients lin
   CHECK(c.unknown.empty());
 }
 
-TEST_CASE("the map file keeps the calibration (version 5), older maps load with the defaults") {
+TEST_CASE("the map file keeps the calibration (version 6), older maps load with theirs or the defaults") {
   sim::SimulateOptions so;
   so.train_per_object = 12;
   so.test_per_object = 1;
@@ -189,14 +222,26 @@ TEST_CASE("the map file keeps the calibration (version 5), older maps load with 
   m.calibration.temperature_scale = 0.7;
   m.calibration.temperature_power = 1.1;
   m.calibration.surface_weight = 0.125;
-  m.calibration.unknown.per_readings = {{1.0, 2.0, 3.0, 4.0}, {-1.0, 0.5, 0.25, 8.0}};
+  m.calibration.unknown.per_readings = {{1.0, 2.0, 3.0, 4.0, 5.0}, {-1.0, 0.5, 0.25, 8.0, -2.0}};
   const auto dir = test::temp_dir("map-calibration");
-  save_pair_map(m, dir / "v5.svam");
-  const auto back = load_pair_map(dir / "v5.svam");
+  save_pair_map(m, dir / "v6.svam");
+  const auto back = load_pair_map(dir / "v6.svam");
   CHECK(back->calibration.learned);
   CHECK(back->calibration.temperature_power == 1.1);
   CHECK(back->calibration.surface_weight == 0.125);
   CHECK(back->calibration.unknown.per_readings == m.calibration.unknown.per_readings);
+  CHECK(back->calibration.unknown.features == UnknownFeatureSet::evidence_then_fit);
+  // Versions 4 and 5 hold only the three features of their builds: this build's model is refused there, by name...
+  CHECK_THROWS_WITH(write_pair_map(m, dir / "v5.svam", 5), Catch::Contains("version 5") && Catch::Contains("version 6"));
+  // ...and a model of theirs keeps its features (its fourth weight 0), in version 5 and in version 6.
+  m.calibration.unknown.features = UnknownFeatureSet::evidence_gap_share;
+  m.calibration.unknown.per_readings = {{1.0, 2.0, 3.0, 4.0, 0.0}, {-1.0, 0.5, 0.25, 8.0, 0.0}};
+  for (std::uint32_t version : {5u, 6u}) {
+    write_pair_map(m, dir / "legacy.svam", version);
+    const auto legacy = load_pair_map(dir / "legacy.svam");
+    CHECK(legacy->calibration.unknown.features == UnknownFeatureSet::evidence_gap_share);
+    CHECK(legacy->calibration.unknown.per_readings == m.calibration.unknown.per_readings);
+  }
   write_pair_map(m, dir / "v4.svam", 4);  // the temperature, without the surface check's weight
   const auto v4 = load_pair_map(dir / "v4.svam");
   CHECK(v4->calibration.temperature_power == 1.1);

@@ -36,7 +36,7 @@ std::vector<double> Calibration::object_probability(const EvidenceLevel& level,
                             surface_weight);
 }
 
-std::array<double, kUnknownFeatures> Calibration::unknown_features(const EvidenceLevel& level) {
+std::array<double, kUnknownFeatures> Calibration::unknown_features(const EvidenceLevel& level, UnknownFeatureSet set) {
   double first = -INFINITY, second = -INFINITY;
   for (double l : level.object_log2_mass) {
     if (l > first) {
@@ -47,14 +47,17 @@ std::array<double, kUnknownFeatures> Calibration::unknown_features(const Evidenc
     }
   }
   const double gap = std::isfinite(second) ? first - second : 0.0;
-  return {pmath::log2(1.0 + std::max(level.best_bits_per_pair, 0.0)), pmath::log2(1.0 + std::max(gap, 0.0)),
-          std::max(level.fit_cost_share, 0.0)};
+  const double evidence = pmath::log2(1.0 + std::max(level.best_bits_per_pair, 0.0));
+  const double separation = pmath::log2(1.0 + std::max(gap, 0.0));
+  if (set == UnknownFeatureSet::evidence_gap_share) return {evidence, separation, std::max(level.fit_cost_share, 0.0), 0.0};
+  if (level.fit_cost_share < 0.0) return {evidence, separation, 0.0, 0.0};  // no fine pose yet
+  return {0.0, 0.0, 1.0, pmath::log2(kFitShareFloor + level.fit_cost_share)};
 }
 
 double Calibration::p_unknown(const EvidenceLevel& level, double unknown_prior) const {
   if (unknown.empty() || level.readings < 2 || !(unknown_prior > 0.0 && unknown_prior < 1.0)) return unknown_prior;
   const UnknownCoefficients& c = unknown.per_readings[std::min(level.readings - 2, unknown.per_readings.size() - 1)];
-  const std::array<double, kUnknownFeatures> f = unknown_features(level);
+  const std::array<double, kUnknownFeatures> f = unknown_features(level, unknown.features);
   // The model was fitted with known and unknown sessions weighted equally (even odds); the prior moves the odds.
   double logit = c[0] + pmath::log(unknown_prior / (1.0 - unknown_prior));
   for (std::size_t i = 0; i < kUnknownFeatures; ++i) logit += c[i + 1] * f[i];

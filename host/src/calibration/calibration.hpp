@@ -15,8 +15,9 @@
 // "None of these" asks how well the map explains the readings, against what known and unknown objects gave at the
 // same reading count on those held-out sessions: the evidence the best pose gathered per pair, how far the best
 // object stands above the next, and above all how well the best object's surface fits the contacts at the fine
-// pose (an unseen object's contacts do not lie on a known surface). A logistic model whose coefficients are linear
-// in log(n - 1), fitted with the two kinds weighted equally, then moved to the caller's prior odds.
+// pose (an unseen object's contacts do not lie on a known surface), which replaces the other two once it exists. A
+// logistic model whose coefficients are linear in log(n - 1), fitted with the two kinds weighted equally, then moved
+// to the caller's prior odds.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -44,12 +45,19 @@ struct EvidenceLevel {
   std::vector<double> surface_log2_fit;
 };
 
-// The features "none of these" reads (Calibration::unknown_features): the best bin's evidence per pair, the gap
-// between the two best objects' log-evidence (both log2(1 + x)), and the fine pose's cost share (0 before it). (The
-// readings' appearance log-likelihood under the best object was tried as a fourth: on household50's first held-out
-// split it caught 80% of unseen objects against 70%, on a small paper3d its ROC area fell from 0.91 to 0.74 by
-// overfitting; left out.)
-inline constexpr std::size_t kUnknownFeatures = 3;
+// The features "none of these" reads (Calibration::unknown_features). Before the fine pose exists (fewer readings
+// than it needs), the evidence: the best bin's evidence per pair and the gap between the two best objects'
+// log-evidence (both log2(1 + x)). From the fine pose on, the fit alone: an indicator that it exists and
+// log2(kFitShareFloor + its cost share). The evidence's level is the object's as much as the session's (a plate's or
+// a book's pairs spread their votes over many poses, so known flat objects looked unseen), while nothing in the fit
+// depends on the shape; its log makes the known objects' skewed shares, mostly near 0, count by ratio
+// (docs/evaluation.md, "Calibration"). (The readings' appearance log-likelihood under the best object was tried as
+// another feature: on a small paper3d its ROC area fell from 0.91 to 0.74 by overfitting; left out.)
+inline constexpr std::size_t kUnknownFeatures = 4;
+inline constexpr double kFitShareFloor = 0.02;  // one reading in fifty unexplained: keeps the log of a perfect fit finite
+// Which features a model reads: this build's, or those of maps of earlier builds (map versions 4 and 5): the evidence
+// per pair, the gap and the fit cost share (0 before the fine pose) at every step, the fourth weight 0.
+enum class UnknownFeatureSet : std::uint8_t { evidence_then_fit, evidence_gap_share };
 using UnknownCoefficients = std::array<double, kUnknownFeatures + 1>;  // bias first
 
 // The logistic model of "none of these", written out per reading count: logit = c[0] + sum_i c[i + 1] f_i(level).
@@ -57,6 +65,7 @@ using UnknownCoefficients = std::array<double, kUnknownFeatures + 1>;  // bias f
 // (calibration_fit.hpp); maps of earlier builds hold one model per count to the sessions' length.
 struct UnknownModel {
   std::vector<UnknownCoefficients> per_readings;  // index n - 2 for n readings; past the last, the last
+  UnknownFeatureSet features = UnknownFeatureSet::evidence_then_fit;
   bool empty() const { return per_readings.empty(); }
 };
 
@@ -93,8 +102,9 @@ struct Calibration {
   // The probability that the touched object is none of the map's, at prior probability `unknown_prior` of that.
   // The prior itself before any pair or without a model.
   double p_unknown(const EvidenceLevel& level, double unknown_prior) const;
-  // The features the unknown model reads.
-  static std::array<double, kUnknownFeatures> unknown_features(const EvidenceLevel& level);
+  // The features a model of `set` reads.
+  static std::array<double, kUnknownFeatures> unknown_features(
+      const EvidenceLevel& level, UnknownFeatureSet set = UnknownFeatureSet::evidence_then_fit);
 };
 
 }  // namespace sva

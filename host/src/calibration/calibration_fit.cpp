@@ -93,7 +93,8 @@ std::array<double, K> fit_logistic(const std::vector<std::array<double, K>>& x, 
 }
 
 // The pooled model's inputs at one step: the bias and the features, then both again times log(n - 1), so that
-// every coefficient is linear in the log of the reading count.
+// every coefficient is linear in the log of the reading count. The features switch from the evidence to the fit where
+// the fine pose begins (calibration.hpp), so the steps before and after it get a bias and slopes of their own.
 constexpr std::size_t kPooled = 2 * (kUnknownFeatures + 1);
 std::array<double, kPooled> pooled_inputs(const EvidenceLevel& level) {
   const std::array<double, kUnknownFeatures> f = Calibration::unknown_features(level);

@@ -42,9 +42,20 @@ Symmetry get_symmetry(io::BinaryReader& r) {
   return s;
 }
 
+// The "none of these" model's feature count in the file: 3 for the features of map versions 4 and 5, 4 for this
+// build's (version 6 on).
+std::uint32_t unknown_feature_count(UnknownFeatureSet set) {
+  return set == UnknownFeatureSet::evidence_gap_share ? 3 : static_cast<std::uint32_t>(kUnknownFeatures);
+}
+
 // Version 4: the calibration (calibration/calibration.hpp), after the entries.
 // Version 5: the surface check's weight after the temperature.
+// Version 6: the unknown model may read this build's features (evidence, then the fit).
 void put_calibration(io::BinaryWriter& w, const Calibration& c, std::uint32_t version) {
+  const std::uint32_t features = unknown_feature_count(c.unknown.features);
+  if (version < 6 && features != 3 && !c.unknown.empty())
+    throw Error("map version " + std::to_string(version) +
+                " cannot hold this build's \"none of these\" model (its features need version 6)");
   w.put<std::uint8_t>(c.learned ? 1 : 0);
   w.put<double>(c.temperature_scale);
   w.put<double>(c.temperature_power);
@@ -52,9 +63,28 @@ void put_calibration(io::BinaryWriter& w, const Calibration& c, std::uint32_t ve
   w.put<std::uint32_t>(c.known_sessions);
   w.put<std::uint32_t>(c.unknown_sessions);
   w.put<std::uint32_t>(c.session_readings);
-  w.put<std::uint32_t>(static_cast<std::uint32_t>(kUnknownFeatures));
+  w.put<std::uint32_t>(version < 6 ? 3 : features);
   w.put<std::uint64_t>(c.unknown.per_readings.size());
-  for (const UnknownCoefficients& k : c.unknown.per_readings) w.put_array(k.data(), k.size());
+  for (const UnknownCoefficients& k : c.unknown.per_readings) w.put_array(k.data(), features + 1);
+}
+
+// The unknown model after the session counts: its feature count, then its rows.
+void get_unknown_model(io::BinaryReader& r, UnknownModel* model) {
+  const auto features = r.get<std::uint32_t>();
+  if (features == 3) {
+    model->features = UnknownFeatureSet::evidence_gap_share;
+  } else if (features != kUnknownFeatures || r.version() < 6) {
+    r.fail("calibration: the unknown model reads " + std::to_string(features) + " features; a version " +
+           std::to_string(r.version()) + " map holds 3" + (r.version() < 6 ? "" : " or 4"));
+  }
+  const auto n = r.get<std::uint64_t>();
+  if (n > 1000) r.fail("calibration: " + std::to_string(n) + " unknown models (at most 1000)");
+  model->per_readings.assign(n, UnknownCoefficients{});  // a 3-feature row leaves the fourth weight 0
+  for (UnknownCoefficients& k : model->per_readings) {
+    r.get_array(k.data(), features + 1);
+    for (double v : k)
+      if (!std::isfinite(v)) r.fail("calibration: an unknown-model coefficient is not finite");
+  }
 }
 
 Calibration get_calibration(io::BinaryReader& r) {
@@ -76,18 +106,7 @@ Calibration get_calibration(io::BinaryReader& r) {
   c.known_sessions = r.get<std::uint32_t>();
   c.unknown_sessions = r.get<std::uint32_t>();
   c.session_readings = r.get<std::uint32_t>();
-  const auto features = r.get<std::uint32_t>();
-  if (features != kUnknownFeatures)
-    r.fail("calibration: the unknown model reads " + std::to_string(features) + " features, this build " +
-           std::to_string(kUnknownFeatures) + " (retrain the map with this build)");
-  const auto n = r.get<std::uint64_t>();
-  if (n > 1000) r.fail("calibration: " + std::to_string(n) + " unknown models (at most 1000)");
-  c.unknown.per_readings.resize(n);
-  for (UnknownCoefficients& k : c.unknown.per_readings) {
-    r.get_array(k.data(), k.size());
-    for (double v : k)
-      if (!std::isfinite(v)) r.fail("calibration: an unknown-model coefficient is not finite");
-  }
+  get_unknown_model(r, &c.unknown);
   return c;
 }
 

@@ -186,9 +186,11 @@ TEST_CASE("fit_unknown: the evidence before the fine pose, the fit after it, coe
   for (std::size_t n : {3, 5}) {
     level.readings = n;
     level.best_bits_per_pair = 3.0;
-    CHECK(c.p_unknown(level, 0.5) < 0.3);
+    const double high = c.p_unknown(level, 0.5);
     level.best_bits_per_pair = 1.0;
-    CHECK(c.p_unknown(level, 0.5) > 0.7);
+    const double low = c.p_unknown(level, 0.5);
+    CHECK(high < 0.3);
+    CHECK(low > high + 0.2);
   }
   level.best_bits_per_pair = 1.0;  // a flat known object's evidence, or an unknown one's: the fit decides
   for (std::size_t n : {6, 12, 20}) {
@@ -203,6 +205,17 @@ TEST_CASE("fit_unknown: the evidence before the fine pose, the fit after it, coe
   Calibration last = c;
   last.unknown.per_readings = {k.back()};
   CHECK(c.p_unknown(level, 0.1) == last.p_unknown(level, 0.1));
+  // Sessions too short for a fine pose: the evidence model alone, read as earlier builds read theirs.
+  std::vector<CalibrationSession> short_sessions = sessions;
+  for (CalibrationSession& s : short_sessions) s.steps.resize(5);
+  fit_unknown(short_sessions, &c);
+  CHECK(c.unknown.features == UnknownFeatureSet::evidence_gap_share);
+  level.readings = 4;
+  level.fit_cost_share = -1.0;
+  level.best_bits_per_pair = 3.0;
+  const double high = c.p_unknown(level, 0.5);
+  level.best_bits_per_pair = 1.0;
+  CHECK(c.p_unknown(level, 0.5) > high + 0.2);
   // Without unknown sessions there is nothing to fit.
   for (CalibrationSession& s : sessions) s.known = true;
   fit_unknown(sessions, &c);

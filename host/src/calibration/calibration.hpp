@@ -47,8 +47,8 @@ struct EvidenceLevel {
 
 // The features "none of these" reads (Calibration::unknown_features). Before the fine pose exists (fewer readings
 // than it needs), the evidence: the best bin's evidence per pair and the gap between the two best objects'
-// log-evidence (both log2(1 + x)). From the fine pose on, the fit alone: an indicator that it exists and
-// log2(kFitShareFloor + its cost share). The evidence's level is the object's as much as the session's (a plate's or
+// log-evidence (both log2(1 + x)), weighed by the evidence model. From the fine pose on, the fit alone, weighed by
+// the fit model: an indicator that it exists and log2(kFitShareFloor + its cost share) (calibration_fit.hpp). The evidence's level is the object's as much as the session's (a plate's or
 // a book's pairs spread their votes over many poses, so known flat objects looked unseen), while nothing in the fit
 // depends on the shape; its log makes the known objects' skewed shares, mostly near 0, count by ratio
 // (docs/evaluation.md, "Calibration"). (The readings' appearance log-likelihood under the best object was tried as

@@ -92,17 +92,34 @@ std::array<double, K> fit_logistic(const std::vector<std::array<double, K>>& x, 
   return w;
 }
 
-// The pooled model's inputs at one step: the bias and the features, then both again times log(n - 1), so that
-// every coefficient is linear in the log of the reading count. The features switch from the evidence to the fit where
-// the fine pose begins (calibration.hpp), so the steps before and after it get a bias and slopes of their own.
-constexpr std::size_t kPooled = 2 * (kUnknownFeatures + 1);
-std::array<double, kPooled> pooled_inputs(const EvidenceLevel& level) {
-  const std::array<double, kUnknownFeatures> f = Calibration::unknown_features(level);
-  const double l = pmath::log(static_cast<double>(level.readings - 1));
-  std::array<double, kPooled> x{1.0};
-  for (std::size_t k = 0; k < kUnknownFeatures; ++k) x[k + 1] = f[k];
-  for (std::size_t k = 0; k <= kUnknownFeatures; ++k) x[kUnknownFeatures + 1 + k] = l * x[k];
+// A pooled model's inputs at one step: the bias and the features, then both again times log(n - 1), so that every
+// coefficient is linear in the log of the reading count.
+template <std::size_t F>
+std::array<double, 2 * (F + 1)> pooled(const std::array<double, F>& f, std::size_t readings) {
+  const double l = pmath::log(static_cast<double>(readings - 1));
+  std::array<double, 2 * (F + 1)> x{1.0};
+  for (std::size_t k = 0; k < F; ++k) x[k + 1] = f[k];
+  for (std::size_t k = 0; k <= F; ++k) x[F + 1 + k] = l * x[k];
   return x;
+}
+
+// The evidence model's features: those of earlier builds (the evidence per pair, the gap, the fit cost share, 0
+// before the fine pose). The fit model's: log2(kFitShareFloor + the share), from the fine pose on.
+std::array<double, 3> evidence_features(const EvidenceLevel& level) {
+  const auto f = Calibration::unknown_features(level, UnknownFeatureSet::evidence_gap_share);
+  return {f[0], f[1], f[2]};
+}
+std::array<double, 1> fit_features(const EvidenceLevel& level) {
+  return {Calibration::unknown_features(level)[3]};
+}
+
+// A pooled model's coefficients at n readings.
+template <std::size_t K>
+std::array<double, K / 2> at_readings(const std::array<double, K>& w, std::size_t n) {
+  const double l = pmath::log(static_cast<double>(n - 1));
+  std::array<double, K / 2> c{};
+  for (std::size_t k = 0; k < K / 2; ++k) c[k] = w[k] + l * w[K / 2 + k];
+  return c;
 }
 
 // The temperature of least NLL at one surface weight: a grid over the power, golden-section over log2 scale (the
@@ -167,25 +184,36 @@ void fit_unknown(const std::vector<CalibrationSession>& sessions, Calibration* c
   calibration->unknown = {};
   std::size_t readings = 0;
   bool any_unknown = false, any_known = false;
-  std::vector<std::array<double, kPooled>> x;
-  std::vector<bool> unknown;
+  std::vector<std::array<double, 8>> evidence;  // every step
+  std::vector<std::array<double, 4>> fit;       // the steps with a fine pose
+  std::vector<bool> evidence_unknown, fit_unknown;
   for (const CalibrationSession& s : sessions) {
     readings = std::max(readings, s.steps.size());
     (s.known ? any_known : any_unknown) = true;
     for (const EvidenceLevel& level : s.steps) {
       if (level.readings < 2) continue;
-      x.push_back(pooled_inputs(level));
-      unknown.push_back(!s.known);
+      evidence.push_back(pooled(evidence_features(level), level.readings));
+      evidence_unknown.push_back(!s.known);
+      if (level.fit_cost_share < 0.0) continue;
+      fit.push_back(pooled(fit_features(level), level.readings));
+      fit_unknown.push_back(!s.known);
     }
   }
   if (!any_unknown || !any_known || readings < 2) return;
-  const std::array<double, kPooled> w = fit_logistic(x, unknown);
-  // Written out per reading count (the map's form), to twice the sessions' length; past that, the last.
+  const std::array<double, 8> we = fit_logistic(evidence, evidence_unknown);
+  const bool has_fit = std::count(fit_unknown.begin(), fit_unknown.end(), true) > 0 &&
+                       std::count(fit_unknown.begin(), fit_unknown.end(), false) > 0;
+  // Sessions too short for a fine pose: the evidence model alone, as earlier builds read it.
+  if (!has_fit) calibration->unknown.features = UnknownFeatureSet::evidence_gap_share;
+  const std::array<double, 4> wf = has_fit ? fit_logistic(fit, fit_unknown) : std::array<double, 4>{};
+  // Written out per reading count (the map's form), to twice the sessions' length; past that, the last. One row
+  // holds both models, as the features of each side are 0 on the other (calibration.hpp): the evidence model's bias
+  // and weights, then the fit model's bias less the evidence model's (the indicator's weight) and its slope.
   for (std::size_t n = 2; n <= 2 * readings; ++n) {
-    const double l = pmath::log(static_cast<double>(n - 1));
-    UnknownCoefficients c{};
-    for (std::size_t k = 0; k <= kUnknownFeatures; ++k) c[k] = w[k] + l * w[kUnknownFeatures + 1 + k];
-    calibration->unknown.per_readings.push_back(c);
+    const std::array<double, 4> e = at_readings(we, n);
+    const std::array<double, 2> f = at_readings(wf, n);
+    calibration->unknown.per_readings.push_back(has_fit ? UnknownCoefficients{e[0], e[1], e[2], f[0] - e[0], f[1]}
+                                                        : UnknownCoefficients{e[0], e[1], e[2], e[3], 0.0});
   }
 }
 

@@ -20,11 +20,14 @@ struct CalibrationOptions {
 // Temperature: scale and power minimising the negative log-likelihood of the true object over every step from 2
 // readings on of the known sessions (a grid over the power, golden-section search over log2 scale).
 void fit_temperature(const std::vector<CalibrationSession>& sessions, Calibration* calibration);
-// "None of these": one logistic regression of unknown against known sessions over every step from 2 readings on,
-// on Calibration::unknown_features with every coefficient linear in log(n - 1) (the features drift with the
-// reading count; one model per count had only the sessions' 90 steps of that count each, and held its last count's
-// model past the sessions' length), the two kinds weighted equally, with a small ridge (Newton's method). Written
-// out per reading count to twice the sessions' length. Leaves the model empty without unknown sessions.
+// "None of these": two logistic regressions of unknown against known sessions, each coefficient linear in log(n - 1)
+// (the features drift with the reading count; one model per count had only the sessions' 90 steps of that count
+// each, and held its last count's model past the sessions' length), the two kinds weighted equally, with a small
+// ridge (Newton's method). The evidence model, over every step from 2 readings on, on the three features of
+// earlier builds, is read before the fine pose; the fit model, over the steps with a fine pose, on the log of its
+// cost share, from the fine pose on (calibration.hpp). Written out per reading count to twice the sessions' length.
+// Sessions too short for a fine pose give the evidence model alone (the features of earlier builds). Leaves the
+// model empty without unknown sessions.
 void fit_unknown(const std::vector<CalibrationSession>& sessions, Calibration* calibration);
 
 // The whole learning: split `data`, train a calibration map with `params` on the kept part, run the sessions, fit.

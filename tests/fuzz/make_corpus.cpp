@@ -120,6 +120,13 @@ void maps(const fs::path& out) {
   both.entry_b = {1, 2, 0, 0, 2, 1};
   both.entry_weight = {1.0f, 0.5f, 1.0f, 0.5f, 0.25f, 0.25f};
   write_pair_map(both, out / "small-v1.svam", 1);
+  PairMap calibrated = m;  // a learned calibration with this build's "none of these" model (version 6)
+  calibrated.calibration.learned = true;
+  calibrated.calibration.unknown.per_readings = {{-1.0, -0.5, -0.25, 2.0, 1.5}, {-0.8, -0.4, -0.3, 1.9, 1.6}};
+  save_pair_map(calibrated, out / "small-v6.svam");
+  calibrated.calibration.unknown.features = UnknownFeatureSet::evidence_gap_share;  // version 5: three features
+  for (UnknownCoefficients& k : calibrated.calibration.unknown.per_readings) k[4] = 0.0;
+  write_pair_map(calibrated, out / "small-v5.svam", 5);
 }
 
 void session_files(const fs::path& out) {

@@ -45,7 +45,11 @@ TEST_CASE("cli: sva train and sva inspect on a map") {
   CHECK(bytes_of(dir / "a.svamap") == bytes_of(dir / "b.svamap"));
   REQUIRE(run("inspect " + (dir / "a.svamap").string(), &out) == 0);
   CHECK_THAT(out, Contains("sva map") && Contains("ambiguity A") && Contains("entries/key") && Contains("obj2") &&
-                      Contains("learned: temperature") && Contains("from 10 + 5 held-out sessions of 4 readings"));
+                      Contains("learned: temperature") && Contains("from 10 + 5 held-out sessions of 4 readings") &&
+                      Contains("says \"none of these\" (from the evidence alone)"));  // too short for a fine pose
+  REQUIRE(run(base + (dir / "e.svamap").string() + " --calibration-sessions 10 --calibration-readings 8", &out) == 0);
+  REQUIRE(run("inspect " + (dir / "e.svamap").string(), &out) == 0);
+  CHECK_THAT(out, Contains("says \"none of these\" (from the evidence, then the fine pose's fit)"));
   REQUIRE(run(base + (dir / "c.svamap").string() +
                   " --descriptor mn --clusters 4 --dist-bins 7 --dist-range 10:60 --no-calibration",
               &out) == 0);

@@ -358,7 +358,9 @@ std::string describe_calibration(const MapSummary& map) {
                   c.unknown_sessions, c.session_readings);
     s += buf;
   }
-  s += c.unknown_model ? "; says \"none of these\"" : "; cannot say \"none of these\"";
+  if (!c.unknown_model) return s + "; cannot say \"none of these\"";
+  return s + (c.unknown_from_fit ? "; says \"none of these\" (from the evidence, then the fine pose's fit)"
+                                 : "; says \"none of these\" (from the evidence alone)");
   return s;
 }
 

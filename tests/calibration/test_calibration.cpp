@@ -115,7 +115,7 @@ TEST_CASE("p_unknown starts at the prior, follows the model, and moves with the 
   level.object_log2_mass = {0.0, -10.0};
   level.best_bits_per_pair = 3.0;
   level.fit_cost_share = 0.5;
-  CHECK(c.p_unknown(level, 0.1) == 0.1);                             // no model: the prior
+  CHECK(c.p_unknown(level, 0.1) == 0.1);                         // no model: the prior
   c.unknown.per_readings.push_back({-1.0, 1.0, 0.0, 4.0, 2.0});  // the evidence, then the fit
   const double fit_logit = -1.0 + 4.0 + 2.0 * std::log2(kFitShareFloor + 0.5);
   const double at_even = c.p_unknown(level, 0.5);
@@ -245,7 +245,8 @@ TEST_CASE("the map file keeps the calibration (version 6), older maps load with 
   CHECK(back->calibration.unknown.per_readings == m.calibration.unknown.per_readings);
   CHECK(back->calibration.unknown.features == UnknownFeatureSet::evidence_then_fit);
   // Versions 4 and 5 hold only the three features of their builds: this build's model is refused there, by name...
-  CHECK_THROWS_WITH(write_pair_map(m, dir / "v5.svam", 5), Catch::Contains("version 5") && Catch::Contains("version 6"));
+  CHECK_THROWS_WITH(write_pair_map(m, dir / "v5.svam", 5),
+                    Catch::Contains("version 5") && Catch::Contains("version 6"));
   // ...and a model of theirs keeps its features (its fourth weight 0), in version 5 and in version 6.
   m.calibration.unknown.features = UnknownFeatureSet::evidence_gap_share;
   m.calibration.unknown.per_readings = {{1.0, 2.0, 3.0, 4.0, 0.0}, {-1.0, 0.5, 0.25, 8.0, 0.0}};

@@ -87,8 +87,8 @@ struct MapSummary {
   struct Calibration {
     bool learned = false;
     double temperature_scale = 0.0, temperature_power = 0.0;
-    double surface_weight = 0.0;  // the surface check's bits per bit of the posterior (docs/recognition.md)
-    bool unknown_model = false;   // the map can say "none of these"
+    double surface_weight = 0.0;    // the surface check's bits per bit of the posterior (docs/recognition.md)
+    bool unknown_model = false;     // the map can say "none of these"
     bool unknown_from_fit = false;  // ... from the fine pose's fit once it exists (format 6); else the evidence alone
     std::uint32_t known_sessions = 0, unknown_sessions = 0, session_readings = 0;
   } calibration;

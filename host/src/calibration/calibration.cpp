@@ -49,7 +49,8 @@ std::array<double, kUnknownFeatures> Calibration::unknown_features(const Evidenc
   const double gap = std::isfinite(second) ? first - second : 0.0;
   const double evidence = pmath::log2(1.0 + std::max(level.best_bits_per_pair, 0.0));
   const double separation = pmath::log2(1.0 + std::max(gap, 0.0));
-  if (set == UnknownFeatureSet::evidence_gap_share) return {evidence, separation, std::max(level.fit_cost_share, 0.0), 0.0};
+  if (set == UnknownFeatureSet::evidence_gap_share)
+    return {evidence, separation, std::max(level.fit_cost_share, 0.0), 0.0};
   if (level.fit_cost_share < 0.0) return {evidence, separation, 0.0, 0.0};  // no fine pose yet
   return {0.0, 0.0, 1.0, pmath::log2(kFitShareFloor + level.fit_cost_share)};
 }

@@ -15,9 +15,9 @@
 // "None of these" asks how well the map explains the readings, against what known and unknown objects gave at the
 // same reading count on those held-out sessions: the evidence the best pose gathered per pair, how far the best
 // object stands above the next, and above all how well the best object's surface fits the contacts at the fine
-// pose (an unseen object's contacts do not lie on a known surface), which replaces the other two once it exists. A
-// logistic model whose coefficients are linear in log(n - 1), fitted with the two kinds weighted equally, then moved
-// to the caller's prior odds.
+// pose (an unseen object's contacts do not lie on a known surface), which replaces the other two once it exists.
+// Two logistic models (the evidence model before the fine pose, the fit model from it on) whose coefficients are
+// linear in log(n - 1), fitted with the two kinds weighted equally, then moved to the caller's prior odds.
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -48,21 +48,24 @@ struct EvidenceLevel {
 // The features "none of these" reads (Calibration::unknown_features). Before the fine pose exists (fewer readings
 // than it needs), the evidence: the best bin's evidence per pair and the gap between the two best objects'
 // log-evidence (both log2(1 + x)), weighed by the evidence model. From the fine pose on, the fit alone, weighed by
-// the fit model: an indicator that it exists and log2(kFitShareFloor + its cost share) (calibration_fit.hpp). The evidence's level is the object's as much as the session's (a plate's or
-// a book's pairs spread their votes over many poses, so known flat objects looked unseen), while nothing in the fit
-// depends on the shape; its log makes the known objects' skewed shares, mostly near 0, count by ratio
-// (docs/evaluation.md, "Calibration"). (The readings' appearance log-likelihood under the best object was tried as
-// another feature: on a small paper3d its ROC area fell from 0.91 to 0.74 by overfitting; left out.)
+// the fit model: an indicator that it exists and log2(kFitShareFloor + its cost share) (calibration_fit.hpp). The
+// evidence's level is the object's as much as the session's (a plate's or a book's pairs spread their votes over many
+// poses, so known flat objects looked unseen), while nothing in the fit depends on the shape; its log makes the known
+// objects' skewed shares, mostly near 0, count by ratio (docs/evaluation.md, "Calibration"). (The readings' appearance
+// log-likelihood under the best object was tried as another feature: on a small paper3d its ROC area fell from 0.91 to
+// 0.74 by overfitting; left out.)
 inline constexpr std::size_t kUnknownFeatures = 4;
-inline constexpr double kFitShareFloor = 0.02;  // one reading in fifty unexplained: keeps the log of a perfect fit finite
+// One reading in fifty unexplained: keeps the log of a perfect fit finite.
+inline constexpr double kFitShareFloor = 0.02;
 // Which features a model reads: this build's, or those of maps of earlier builds (map versions 4 and 5): the evidence
 // per pair, the gap and the fit cost share (0 before the fine pose) at every step, the fourth weight 0.
 enum class UnknownFeatureSet : std::uint8_t { evidence_then_fit, evidence_gap_share };
 using UnknownCoefficients = std::array<double, kUnknownFeatures + 1>;  // bias first
 
 // The logistic model of "none of these", written out per reading count: logit = c[0] + sum_i c[i + 1] f_i(level).
-// Learned maps write one model's coefficients, linear in log(n - 1), to twice the calibration sessions' length
-// (calibration_fit.hpp); maps of earlier builds hold one model per count to the sessions' length.
+// Learned maps write the coefficients of both models (each linear in log(n - 1); a row holds both, as each model's
+// features are 0 on the other side) to twice the calibration sessions' length (calibration_fit.hpp); maps of earlier
+// builds hold one model, some of them one per count to the sessions' length.
 struct UnknownModel {
   std::vector<UnknownCoefficients> per_readings;  // index n - 2 for n readings; past the last, the last
   UnknownFeatureSet features = UnknownFeatureSet::evidence_then_fit;

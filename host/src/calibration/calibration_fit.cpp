@@ -109,9 +109,7 @@ std::array<double, 3> evidence_features(const EvidenceLevel& level) {
   const auto f = Calibration::unknown_features(level, UnknownFeatureSet::evidence_gap_share);
   return {f[0], f[1], f[2]};
 }
-std::array<double, 1> fit_features(const EvidenceLevel& level) {
-  return {Calibration::unknown_features(level)[3]};
-}
+std::array<double, 1> fit_features(const EvidenceLevel& level) { return {Calibration::unknown_features(level)[3]}; }
 
 // A pooled model's coefficients at n readings.
 template <std::size_t K>

@@ -131,8 +131,8 @@ MapSummary Map::summary() const {
   s.calibration.temperature_power = m.calibration.temperature_power;
   s.calibration.surface_weight = m.calibration.surface_weight;
   s.calibration.unknown_model = !m.calibration.unknown.empty();
-  s.calibration.unknown_from_fit = s.calibration.unknown_model &&
-                                   m.calibration.unknown.features == UnknownFeatureSet::evidence_then_fit;
+  s.calibration.unknown_from_fit =
+      s.calibration.unknown_model && m.calibration.unknown.features == UnknownFeatureSet::evidence_then_fit;
   s.calibration.known_sessions = m.calibration.known_sessions;
   s.calibration.unknown_sessions = m.calibration.unknown_sessions;
   s.calibration.session_readings = m.calibration.session_readings;

@@ -361,7 +361,6 @@ std::string describe_calibration(const MapSummary& map) {
   if (!c.unknown_model) return s + "; cannot say \"none of these\"";
   return s + (c.unknown_from_fit ? "; says \"none of these\" (from the evidence, then the fine pose's fit)"
                                  : "; says \"none of these\" (from the evidence alone)");
-  return s;
 }
 
 }  // namespace sva::eval

@@ -121,6 +121,11 @@ TEST_CASE("p_unknown starts at the prior, follows the model, and moves with the 
   const double at_even = c.p_unknown(level, 0.5);
   CHECK(at_even == Approx(1.0 / (1.0 + std::exp(-fit_logit))));
   CHECK(c.p_unknown(level, 0.1) < at_even);
+  level.fit_cost_share = 0.95;  // a share above the cap says no more than the cap
+  const double at_cap = c.p_unknown(level, 0.5);
+  level.fit_cost_share = kFitShareCap;
+  CHECK(c.p_unknown(level, 0.5) == at_cap);
+  CHECK(at_cap > at_even);
   level.fit_cost_share = 0.0;  // a perfect fit: known, whatever the evidence per pair says
   CHECK(c.p_unknown(level, 0.5) < 0.01);
   level.best_bits_per_pair = 100.0;

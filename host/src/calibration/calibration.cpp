@@ -52,7 +52,7 @@ std::array<double, kUnknownFeatures> Calibration::unknown_features(const Evidenc
   if (set == UnknownFeatureSet::evidence_gap_share)
     return {evidence, separation, std::max(level.fit_cost_share, 0.0), 0.0};
   if (level.fit_cost_share < 0.0) return {evidence, separation, 0.0, 0.0};  // no fine pose yet
-  return {0.0, 0.0, 1.0, pmath::log2(kFitShareFloor + level.fit_cost_share)};
+  return {0.0, 0.0, 1.0, pmath::log2(kFitShareFloor + std::min(level.fit_cost_share, kFitShareCap))};
 }
 
 double Calibration::p_unknown(const EvidenceLevel& level, double unknown_prior) const {

@@ -48,15 +48,19 @@ struct EvidenceLevel {
 // The features "none of these" reads (Calibration::unknown_features). Before the fine pose exists (fewer readings
 // than it needs), the evidence: the best bin's evidence per pair and the gap between the two best objects'
 // log-evidence (both log2(1 + x)), weighed by the evidence model. From the fine pose on, the fit alone, weighed by
-// the fit model: an indicator that it exists and log2(kFitShareFloor + its cost share) (calibration_fit.hpp). The
-// evidence's level is the object's as much as the session's (a plate's or a book's pairs spread their votes over many
-// poses, so known flat objects looked unseen), while nothing in the fit depends on the shape; its log makes the known
-// objects' skewed shares, mostly near 0, count by ratio (docs/evaluation.md, "Calibration"). (The readings' appearance
-// log-likelihood under the best object was tried as another feature: on a small paper3d its ROC area fell from 0.91 to
-// 0.74 by overfitting; left out.)
+// the fit model: an indicator that it exists and log2(kFitShareFloor + its cost share, at most kFitShareCap)
+// (calibration_fit.hpp). The evidence's level is the object's as much as the session's (a plate's or a book's pairs
+// spread their votes over many poses, so known flat objects looked unseen), while nothing in the fit depends on the
+// shape; its log makes the known objects' skewed shares, mostly near 0, count by ratio (docs/evaluation.md,
+// "Calibration"). (The readings' appearance log-likelihood under the best object was tried as another feature: on a
+// small paper3d its ROC area fell from 0.91 to 0.74 by overfitting; left out.)
 inline constexpr std::size_t kUnknownFeatures = 4;
 // One reading in fifty unexplained: keeps the log of a perfect fit finite.
 inline constexpr double kFitShareFloor = 0.02;
+// Three readings in four unexplained: a share above it says no more. The calibration's known sessions hold few such
+// shares (the first fine poses, the object still unsure), so the model's tail there would be extrapolation, and one
+// poor first fit read as a sure "none of these" (docs/evaluation.md, "Calibration").
+inline constexpr double kFitShareCap = 0.75;
 // Which features a model reads: this build's, or those of maps of earlier builds (map versions 4 and 5): the evidence
 // per pair, the gap and the fit cost share (0 before the fine pose) at every step, the fourth weight 0.
 enum class UnknownFeatureSet : std::uint8_t { evidence_then_fit, evidence_gap_share };

@@ -104,7 +104,8 @@ std::array<double, 2 * (F + 1)> pooled(const std::array<double, F>& f, std::size
 }
 
 // The evidence model's features: those of earlier builds (the evidence per pair, the gap, the fit cost share, 0
-// before the fine pose). The fit model's: log2(kFitShareFloor + the share), from the fine pose on.
+// before the fine pose). The fit model's: log2(kFitShareFloor + the share, at most kFitShareCap), from the fine pose
+// on.
 std::array<double, 3> evidence_features(const EvidenceLevel& level) {
   const auto f = Calibration::unknown_features(level, UnknownFeatureSet::evidence_gap_share);
   return {f[0], f[1], f[2]};

@@ -41,8 +41,13 @@ Written write_object(const ObjectSpec& o, const std::filesystem::path& dir) {
 // The scenes of objects at their real sizes (the household scenes and the
 // look-alikes') share everything but their name, comment and objects. Pair
 // distances reach from the smallest objects' 10 mm to the largest's 250 mm;
-// see docs/evaluation.md ("Many objects") for the protocol's sizes.
-std::string household_scene(const std::string& name, const std::string& comment, const std::vector<Written>& objects) {
+// see docs/evaluation.md ("Many objects") for the protocol's sizes. Scenes of
+// near-twins touch each object four times as often as they pair its readings:
+// the twins differ where few touches land, and the extra contacts are the
+// surface the fine pose and the surface check read (docs/recognition.md,
+// "Surface check").
+std::string household_scene(const std::string& name, const std::string& comment, const std::vector<Written>& objects,
+                            bool twins) {
   std::ostringstream s;
   s << "{\n  \"name\": \"" << name << "\",\n"
     << "  \"comment\": \"" << comment << "\",\n  \"objects\": [\n";
@@ -61,8 +66,10 @@ std::string household_scene(const std::string& name, const std::string& comment,
   "skin": {"stiffness_kpa_per_mm": 100, "spread_mm": 0.6, "rays_per_axis": 3, "noise_kpa": 0.0, "contact_threshold_kpa": 2.0, "target_pressure_kpa": 20.0},
   "errors": {"comment": "A capacitive 6 x 6 array (PPS-class) on a 6-axis arm (UR5/Panda-class); where each value comes from: docs/sensor-model.md, Error model.", "position_sigma_mm": 0.5, "normal_sigma_deg": 0.3, "gain_spread": 0.05, "offset_kpa": 0.3, "noise_kpa": 0.3, "full_scale_kpa": 200, "crosstalk": 0.02, "crosstalk_diagonal": 0.0, "train_sensor": 1, "test_sensor": 2},
   "pose_space": {"kind": "spatial", "translation_bins": 50, "translation_range_mm": [-200, 200], "rotation_bins": 9},
-  "appearance": {"descriptor": "mnti", "clusters": 25, "dist_bins": 40, "dist_range_mm": [10, 170]},
-  "protocol": {"kind": "paper3d", "train_per_object": 300, "test_per_object": 50, "approach_mm": 3.0, "tilt_deg": 10.0, "max_iterations": 100}
+  "appearance": {"descriptor": "mnti", "clusters": 25, "dist_bins": 40, "dist_range_mm": [10, 170])"
+    << (twins ? R"(, "pair_readings": 300)" : "") << R"(},
+  "protocol": {"kind": "paper3d", "train_per_object": )"
+    << (twins ? 1200 : 300) << R"(, "test_per_object": 50, "approach_mm": 3.0, "tilt_deg": 10.0, "max_iterations": 100}
 }
 )";
   return s.str();
@@ -73,9 +80,10 @@ std::string household_scene(const std::string& name, const std::string& comment,
 // whole families, in order, up to 100 objects.
 void write_scenes(const std::filesystem::path& dir, const std::vector<Written>& household,
                   const std::vector<Written>& lookalikes) {
-  auto write = [&](const std::string& name, const std::string& comment, const std::vector<Written>& objects) {
+  auto write = [&](const std::string& name, const std::string& comment, const std::vector<Written>& objects,
+                   bool twins = false) {
     auto file = dir / (name + ".json");
-    sva::io::write_text_file(file, household_scene(name, comment, objects));
+    sva::io::write_text_file(file, household_scene(name, comment, objects, twins));
     std::printf("%s\n", file.string().c_str());
   };
   const std::string real = " at their real sizes (sva_make_assets; docs/evaluation.md, Many objects).";
@@ -86,7 +94,7 @@ void write_scenes(const std::filesystem::path& dir, const std::vector<Written>& 
   }
   write("lookalikes",
         "Look-alike families, near-twins that differ by a scale, a detail, a handedness or one region," + real,
-        lookalikes);
+        lookalikes, true);
   std::vector<Written> all = household;
   for (std::size_t i = 0, end = 0; i < lookalikes.size() && all.size() < 100; i = end) {
     for (end = i; end < lookalikes.size() && std::string_view(lookalikes[end].family) == lookalikes[i].family;) ++end;
@@ -95,7 +103,7 @@ void write_scenes(const std::filesystem::path& dir, const std::vector<Written>& 
                lookalikes.begin() + static_cast<std::ptrdiff_t>(end));
   }
   if (all.size() != 100) throw sva::Error("household100: whole look-alike families do not make 100 objects");
-  write("household100", "The 50 everyday objects of the household set and the look-alike families" + real, all);
+  write("household100", "The 50 everyday objects of the household set and the look-alike families" + real, all, true);
 }
 
 }  // namespace

@@ -55,7 +55,11 @@ void inspect_map(const std::string& file) {
   std::printf("  ambiguity A    %.3f classes per reading\n", m.ambiguity);
   std::printf("  calibration    %s\n", eval::describe_calibration(m).c_str());
   std::printf("  distance bins  %u over %g-%g mm\n", m.distance_bins, m.distance_min_mm, m.distance_max_mm);
-  std::printf("  readings       %zu\n", m.readings);
+  if (m.readings_paired == m.readings)
+    std::printf("  readings       %zu\n", m.readings);
+  else
+    std::printf("  readings       %zu (%zu paired, %zu surface contacts only)\n", m.readings, m.readings_paired,
+                m.readings - m.readings_paired);
   std::printf("  entries        %zu under %zu keys (of %llu possible)\n", m.entries, m.keys,
               static_cast<unsigned long long>(m.possible_keys));
   std::printf("  bytes          %zu (%.2f per entry)\n", m.bytes,

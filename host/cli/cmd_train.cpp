@@ -41,6 +41,9 @@ int cmd_train(const std::vector<std::string>& argv) {
   a.option("--clusters", "N", "appearance classes n_C (default: the scene's, 25 for paper3d)");
   a.option("--dist-bins", "N", "distance bins (default: the scene's)");
   a.option("--dist-range", "MIN:MAX", "distance range in mm (default: the scene's)");
+  a.option("--pair-readings", "N",
+           "training readings per object that enter the pairs, drawn at random; the rest serve only as the object's "
+           "surface (fine pose, surface check, planner). Default: the scene's, 0 = all");
   a.option("--seed", "S", "seed of the clustering's candidate order (default 1)");
   a.option("--threads", "N", "worker threads (default: SVA_THREADS or all cores); results do not depend on it");
   a.option("--exclude-objects", "NAME,...",
@@ -64,6 +67,8 @@ int cmd_train(const std::vector<std::string>& argv) {
     o.dist_min_mm = lo;
     o.dist_max_mm = hi;
   }
+  if (a.has("--pair-readings"))
+    o.pair_readings = static_cast<std::size_t>(a.integer("--pair-readings", 0, 0, 100000000));
   o.seed = static_cast<std::uint64_t>(a.integer("--seed", 1, 0, std::numeric_limits<long long>::max()));
   o.threads = static_cast<unsigned>(a.integer("--threads", 0, 0, kInt));
   o.progress = true;
@@ -91,6 +96,9 @@ int cmd_train(const std::vector<std::string>& argv) {
   std::printf("  descriptor     %s (%u values)\n", m.descriptor == "mn" ? "MN" : "MNTI", m.descriptor_size);
   std::printf("  readings       %zu used, %zu skipped (not converged), %zu skipped (no contact to describe)\n",
               rep.readings_used, rep.skipped_not_converged, rep.skipped_undescribable);
+  if (rep.readings_paired != rep.readings_used)
+    std::printf("                 %zu of them paired, %zu surface contacts only\n", rep.readings_paired,
+                rep.readings_used - rep.readings_paired);
   std::printf("  classes        %u (PAM loss %.4f, %.2f s, %.2f s CPU)\n", m.classes, rep.clustering_loss,
               rep.clustering_seconds, rep.clustering_cpu_seconds);
   std::printf("  ambiguity A    %.3f classes per reading\n", m.ambiguity);

@@ -15,6 +15,7 @@ void bind_map(nb::module_& m) {
   nb::class_<TrainReport>(m, "TrainReport", "What training did (sva.train(..., report=TrainReport())).")
       .def(nb::init<>())
       .def_ro("readings_used", &TrainReport::readings_used)
+      .def_ro("readings_paired", &TrainReport::readings_paired)
       .def_ro("skipped_not_converged", &TrainReport::skipped_not_converged)
       .def_ro("skipped_undescribable", &TrainReport::skipped_undescribable)
       .def_ro("clustering_seconds", &TrainReport::clustering_seconds)

@@ -88,6 +88,46 @@ TEST_CASE("map: training on a synthetic dataset gives a valid, consistent map") 
   CHECK(pair_sum == Approx(1.0).margin(1e-4));
 }
 
+TEST_CASE("map: pair_readings pairs a seeded draw of each object's readings and keeps the rest as surface") {
+  TrainOptions o = no_calibration();
+  o.pair_readings = 20;
+  TrainReport rep;
+  const Map map = Map::train(data(), o, &rep);
+  const PairMap& m = MapAccess::pair_map(map);
+  CHECK(map.readings() == 180);  // every reading is kept: the fine pose and the surface check read them all
+  CHECK(rep.readings_used == 180);
+  CHECK(rep.readings_paired == 60);
+  CHECK(map.summary().readings_paired == 60);
+  CHECK_NOTHROW(validate_pair_map(m, "paired subset"));
+  // The paired readings come first in their object's group, and no entry reaches past them.
+  std::vector<std::size_t> first(4, 0);
+  for (std::size_t i = 0; i < m.readings.size(); ++i) first[m.readings.object[i] + 1] = i + 1;
+  for (std::size_t o2 = 1; o2 < first.size(); ++o2) first[o2] = std::max(first[o2], first[o2 - 1]);
+  for (std::size_t e = 0; e < m.entry_count(); ++e) {
+    const std::uint32_t a = m.entry_a[e], b = m.entry_b[e], obj = m.readings.object[a];
+    CHECK(a - first[obj] < 20);
+    CHECK(b - first[obj] < 20);
+  }
+  // A third of the readings make about a ninth of the pairs.
+  CHECK(map.entries() < trained().entries() / 5);
+  CHECK(map.entries() > trained().entries() / 20);
+  // Drawn, not the first ones: another seed pairs other readings; the same seed, on any thread count, the same.
+  TrainOptions other = o;
+  other.seed = 2;
+  const Map reseeded = Map::train(data(), other);
+  CHECK(MapAccess::pair_map(reseeded).readings.px != m.readings.px);
+  TrainOptions one_thread = o;
+  one_thread.threads = 1;
+  const Map again = Map::train(data(), one_thread);
+  CHECK(MapAccess::pair_map(again).entry_a == m.entry_a);
+  CHECK(MapAccess::pair_map(again).readings.px == m.readings.px);
+  // More than an object holds pairs them all: the same pairs as the full map.
+  o.pair_readings = 1000;
+  CHECK(Map::train(data(), o).entries() == trained().entries());
+  o.pair_readings = 1;
+  CHECK_THROWS_WITH(Map::train(data(), o), Contains("pair readings 1") && Contains("two readings"));
+}
+
 TEST_CASE("map: the CSR index equals a naive enumeration of the pairs") {
   PairMap m;
   m.objects.resize(2);

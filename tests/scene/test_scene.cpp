@@ -58,6 +58,12 @@ TEST_CASE("scene JSON: every fault names the field") {
   CHECK_THROWS_WITH(parse(R"({"objects": [{"mesh": "a.glb"}], "sensor": {"rows": "6"}})"), Contains("sensor.rows"));
   CHECK_THROWS_WITH(parse(R"({"objects": [{"mesh": "a.glb"}], "appearance": {"dist_range_mm": [50, 10]}})"),
                     Contains("min must be below max"));
+  CHECK_THROWS_WITH(parse(R"({"objects": [{"mesh": "a.glb"}], "appearance": {"pair_readings": 1}})"),
+                    Contains("appearance.pair_readings") && Contains("two readings"));
+  CHECK_THROWS_WITH(parse(R"({"objects": [{"mesh": "a.glb"}], "appearance": {"pair_readings": -3}})"),
+                    Contains("appearance.pair_readings"));
+  CHECK(parse(R"({"objects": [{"mesh": "a.glb"}], "appearance": {"pair_readings": 300}})").appearance.pair_readings ==
+        300);
   CHECK_THROWS_WITH(parse(R"({"objects": [{"mesh": "a.glb"}], "pose_space": {"kind": "4d"}})"),
                     Contains("pose_space.kind"));
   CHECK_THROWS_WITH(parse(R"({"objects": [{"mesh": "a.glb", "symmetry": {"type": "axis", "axis": [0, 0, 0]}}]})"),

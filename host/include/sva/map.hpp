@@ -27,6 +27,9 @@ struct TrainOptions {
   std::optional<int> dist_bins;           // Eq 13 bin count
   std::optional<double> dist_min_mm;
   std::optional<double> dist_max_mm;
+  // Training readings per object that enter the pairs (0: all), drawn at random (seeded by `seed`) from each
+  // object's usable readings; the rest are kept as surface contacts only (Scene::appearance.pair_readings).
+  std::optional<std::size_t> pair_readings;
   std::uint64_t seed = 1;  // PAM initialisation
   unsigned threads = 0;    // 0 = all cores (env SVA_THREADS); results do not depend on it
   bool progress = false;   // show progress on stderr
@@ -49,6 +52,8 @@ struct TrainOptions {
 // What training did, for the CLI summary.
 struct TrainReport {
   std::size_t readings_used = 0;
+  std::size_t readings_paired = 0;  // of them, those in the map's pairs (TrainOptions::pair_readings); the rest are
+                                    // surface contacts only
   std::size_t skipped_not_converged = 0;
   std::size_t skipped_undescribable = 0;  // all-zero image or nothing above the contact threshold
   double clustering_seconds = 0.0;        // wall clock
@@ -75,6 +80,7 @@ struct MapSummary {
   std::uint32_t distance_bins = 0;
   double distance_min_mm = 0.0, distance_max_mm = 0.0;
   std::size_t readings = 0, entries = 0, keys = 0, bytes = 0;
+  std::size_t readings_paired = 0;  // readings in at least one pair; the rest are surface contacts only
   std::uint64_t possible_keys = 0;  // classes^2 x distance bins
   std::uint32_t entries_per_key_min = 0, entries_per_key_median = 0, entries_per_key_max = 0;  // 0 without keys
   struct Object {

@@ -57,6 +57,11 @@ struct AppearanceSpec {
   int dist_bins = 40;
   double dist_min_mm = 30.0;
   double dist_max_mm = 160.0;
+  // Training readings per object that enter the map's pairs (0: all). The map's entries grow with the square of
+  // the readings that pair; every training reading is kept as a contact of the object's surface, which the fine
+  // pose, the surface check, "none of these" and the touch planner read. A scene of near-twins touches each object
+  // more than it pairs (lookalikes: 1,200 readings, 300 of them paired; docs/recognition.md, "Surface check").
+  int pair_readings = 0;
 };
 
 struct ProtocolSpec {

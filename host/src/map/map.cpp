@@ -126,6 +126,10 @@ MapSummary Map::summary() const {
   for (std::size_t o = 0; o < m.objects.size(); ++o) s.objects[o].name = m.objects[o].name;
   for (auto o : m.readings.object) ++s.objects[o].readings;
   for (auto a : m.entry_a) ++s.objects[m.readings.object[a]].entries;
+  std::vector<char> paired(m.readings.size(), 0);
+  for (auto a : m.entry_a) paired[a] = 1;
+  for (auto b : m.entry_b) paired[b] = 1;
+  s.readings_paired = static_cast<std::size_t>(std::count(paired.begin(), paired.end(), 1));
   s.calibration.learned = m.calibration.learned;
   s.calibration.temperature_scale = m.calibration.temperature_scale;
   s.calibration.temperature_power = m.calibration.temperature_power;

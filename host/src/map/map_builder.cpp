@@ -3,6 +3,7 @@
 #include <sva/base/interrupt.hpp>
 #include <sva/base/parallel.hpp>
 #include <sva/base/progress.hpp>
+#include <sva/base/rng.hpp>
 #include <sva/error.hpp>
 #include <sva/io/binary_file.hpp>
 
@@ -12,6 +13,7 @@
 #include <ctime>
 #include <limits>
 #include <memory>
+#include <numeric>
 
 #include "appearance/descriptor.hpp"
 #include "appearance/pam.hpp"
@@ -67,6 +69,9 @@ void TrainOptions::validate(const std::string& context) const {
     fail("calibration sessions " + std::to_string(calibration_sessions) + ": expected 10 to 100000");
   if (calibration_readings < 2 || calibration_readings > 1000)
     fail("calibration readings " + std::to_string(calibration_readings) + ": expected 2 to 1000");
+  if (pair_readings && (*pair_readings == 1 || *pair_readings > 100000000))
+    fail("pair readings " + std::to_string(*pair_readings) +
+         " per object: expected 0 (all) or 2 to 100000000 (a pair needs two readings)");
 }
 
 TrainParameters resolve_train_parameters(const Scene& scene, const TrainOptions& o) {
@@ -94,6 +99,10 @@ TrainParameters resolve_train_parameters(const Scene& scene, const TrainOptions&
   if (!o.dist_bins)
     bins = bins_for_position_error(bins, p.distance.min_mm, p.distance.max_mm, scene.errors.position_sigma_mm);
   p.distance.count = static_cast<std::uint32_t>(bins);
+  const int pair = o.pair_readings ? static_cast<int>(*o.pair_readings) : scene.appearance.pair_readings;
+  if (pair == 1 || pair < 0)
+    throw Error("pair readings " + std::to_string(pair) + " per object: expected 0 (all) or at least 2");
+  p.pair_readings = static_cast<std::size_t>(pair);
   const std::uint64_t space = static_cast<std::uint64_t>(p.clusters) * p.clusters * p.distance.count;
   if (space > kMaxKeySpace)
     throw Error("clusters x clusters x distance bins = " + std::to_string(space) + " keys: more than the supported " +
@@ -105,7 +114,7 @@ TrainParameters resolve_train_parameters(const Scene& scene, const TrainOptions&
 }
 
 void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>& classes, unsigned threads,
-                      bool progress) {
+                      bool progress, std::size_t pair_readings) {
   const MapReadings& rd = map.readings;
   const std::size_t n = rd.size();
   const std::uint64_t space =
@@ -114,8 +123,12 @@ void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>&
   std::vector<std::size_t> first(map.objects.size() + 1, 0);
   for (std::size_t i = 0; i < n; ++i) first[rd.object[i] + 1] = i + 1;
   for (std::size_t o = 1; o < first.size(); ++o) first[o] = std::max(first[o], first[o - 1]);
+  // Where each object's paired readings end: the rest are its surface contacts only.
+  std::vector<std::size_t> pair_end(first.begin() + 1, first.end());
+  if (pair_readings)
+    for (std::size_t o = 0; o < pair_end.size(); ++o) pair_end[o] = std::min(pair_end[o], first[o] + pair_readings);
 
-  // Every entry of reading a (as the first of the pair), in a fixed order:
+  // Every entry of reading a (as the first of the pair; none past its object's pair_end), in a fixed order:
   // b, then class of a, class of b, distance bin. Each unordered pair is
   // stored once, as (a, b) with a < b: the other order is the same pair
   // reversed, which the recognizer looks up under the reversed keys
@@ -123,7 +136,7 @@ void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>&
   auto for_each_entry = [&](std::size_t a, auto&& emit) {
     const std::uint32_t obj = rd.object[a];
     const double ax = rd.px[a], ay = rd.py[a], az = rd.pz[a];
-    for (std::size_t b = a + 1; b < first[obj + 1]; ++b) {
+    for (std::size_t b = a + 1; b < pair_end[obj]; ++b) {
       const double dx = rd.px[b] - ax, dy = rd.py[b] - ay, dz = rd.pz[b] - az;
       const auto bins = map.distance.bins(std::sqrt(dx * dx + dy * dy + dz * dz));
       for_each_pair_key(classes[a], classes[b], bins, map.key_space,
@@ -244,6 +257,37 @@ std::vector<std::size_t> usable_samples(const Dataset& data, const AppearanceMod
   return use;
 }
 
+// Puts each object's paired readings first in its group of `use` (grouped by object): `pair_readings` of them drawn
+// at random (seeded; every one when the object has no more), both parts kept in dataset order. A random draw, not
+// the first ones, so that a dataset recorded sweep by sweep still pairs readings from all over each object.
+// Returns how many readings pair.
+std::size_t put_paired_first(std::vector<std::size_t>& use, const Dataset& data, std::size_t pair_readings,
+                             std::uint64_t seed) {
+  if (pair_readings == 0) return use.size();
+  std::size_t paired = 0;
+  for (std::size_t begin = 0; begin < use.size();) {
+    const std::uint32_t object = data.samples[use[begin]].object;
+    std::size_t end = begin;
+    while (end < use.size() && data.samples[use[end]].object == object) ++end;
+    const std::size_t m = end - begin, k = std::min(m, pair_readings);
+    std::vector<std::size_t> order(m);
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    util::Rng rng(seed, 0x9a17ed, object);
+    for (std::size_t i = 0; i < k; ++i) std::swap(order[i], order[i + rng.below(m - i)]);
+    std::sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k));
+    std::vector<char> chosen(m, 0);
+    std::vector<std::size_t> group;
+    group.reserve(m);
+    for (std::size_t i = 0; i < k; ++i) chosen[order[i]] = 1, group.push_back(use[begin + order[i]]);
+    for (std::size_t i = 0; i < m; ++i)
+      if (!chosen[i]) group.push_back(use[begin + i]);
+    std::copy(group.begin(), group.end(), use.begin() + static_cast<std::ptrdiff_t>(begin));
+    paired += k;
+    begin = end;
+  }
+  return paired;
+}
+
 // Fills the map's reading table (object frame positions and normals, normConf) and returns the descriptors, one
 // row of model.descriptor_size per used sample.
 std::vector<float> describe_training_readings(const Dataset& data, const std::vector<std::size_t>& use,
@@ -284,6 +328,22 @@ std::vector<float> describe_training_readings(const Dataset& data, const std::ve
       p.threads);
   if (bar) bar->finish();
   return descriptors;
+}
+
+// The descriptor rows of the readings that pair (each object's first `pair_readings`; all when 0): the appearance
+// classes are the pairs' keys, so they are clustered from those (and PAM's cost stays that of the pairs).
+std::vector<float> paired_rows(const std::vector<float>& descriptors, const MapReadings& rd, std::size_t pair_readings,
+                               std::uint32_t dim) {
+  if (pair_readings == 0) return descriptors;
+  std::vector<float> rows;
+  std::size_t in_object = 0;
+  for (std::size_t j = 0; j < rd.size(); ++j) {
+    in_object = j > 0 && rd.object[j] == rd.object[j - 1] ? in_object + 1 : 0;
+    if (in_object < pair_readings)
+      rows.insert(rows.end(), descriptors.begin() + static_cast<std::ptrdiff_t>(j * dim),
+                  descriptors.begin() + static_cast<std::ptrdiff_t>((j + 1) * dim));
+  }
+  return rows;
 }
 
 // Appearance classes (PAM, Eq 7-9): the medoids and psi go into the model; returns the number of classes.
@@ -332,11 +392,13 @@ std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParamete
 
   AppearanceModel& model = map->appearance;
   model = appearance_model_for(scene, p.descriptor);
-  const std::vector<std::size_t> use = usable_samples(data, model, rep);
+  std::vector<std::size_t> use = usable_samples(data, model, rep);
   const std::size_t n = use.size();
   rep.readings_used = n;
+  rep.readings_paired = put_paired_first(use, data, p.pair_readings, p.seed);
   const std::vector<float> descriptors = describe_training_readings(data, use, model, p, map->readings);
-  const std::uint32_t k = cluster_appearance(descriptors, p, model, rep);
+  const std::uint32_t k = cluster_appearance(
+      paired_rows(descriptors, map->readings, p.pair_readings, model.descriptor_size), p, model, rep);
 
   const auto t0 = std::chrono::steady_clock::now();
   const auto c0 = std::clock();
@@ -354,7 +416,7 @@ std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParamete
 
   map->distance = p.distance;
   map->key_space = {k, p.distance.count};
-  build_pair_index(*map, classes, p.threads, p.progress);
+  build_pair_index(*map, classes, p.threads, p.progress, p.pair_readings);
   map->baseline =
       AppearanceBaseline::fit(static_cast<std::uint32_t>(scene.objects.size()), k, map->readings.object, classes);
   rep.map_build_seconds = seconds_since(t0);

@@ -14,6 +14,7 @@ struct TrainParameters {
   DescriptorKind descriptor = DescriptorKind::mnti;
   std::uint32_t clusters = 25;
   DistanceBins distance;
+  std::size_t pair_readings = 0;  // per object; 0: all (TrainOptions::pair_readings)
   std::uint64_t seed = 1;
   unsigned threads = 0;
   bool progress = false;
@@ -27,9 +28,11 @@ std::uint64_t location_free_scene_hash(Scene scene);
 
 // The pair entries and CSR index for readings whose appearance classes are
 // known (`classes[i]` for reading i of map.readings); fills map.keys, offsets
-// and entries. Deterministic for any thread count.
+// and entries. Each object's readings pair among its first `pair_readings`
+// (0: all of them); the rest take part in no pair. Deterministic for any
+// thread count.
 void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>& classes, unsigned threads,
-                      bool progress);
+                      bool progress, std::size_t pair_readings = 0);
 
 std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParameters& params, TrainReport* report);
 

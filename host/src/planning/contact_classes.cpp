@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 
 namespace sva::planning {
 
@@ -23,6 +24,32 @@ std::vector<ClassWeight> normalised(const double* mass, std::uint32_t classes) {
   return out;
 }
 
+// Readings without classes of their own take those of the nearest reading of their object that has some (brute
+// force per object: the planner is built once per map, and a surface contact has a few hundred paired neighbours).
+void classes_from_nearest(const MapReadings& rd, std::vector<std::vector<ClassWeight>>& out) {
+  std::vector<std::size_t> first{0};
+  for (std::size_t r = 1; r < rd.size(); ++r)
+    if (rd.object[r] != rd.object[r - 1]) first.push_back(r);
+  first.push_back(rd.size());
+  for (std::size_t g = 0; g + 1 < first.size(); ++g) {
+    std::vector<std::size_t> paired;
+    for (std::size_t r = first[g]; r < first[g + 1]; ++r)
+      if (!out[r].empty()) paired.push_back(r);
+    if (paired.empty()) continue;
+    for (std::size_t r = first[g]; r < first[g + 1]; ++r) {
+      if (!out[r].empty()) continue;
+      std::size_t best = paired.front();
+      float best_d = std::numeric_limits<float>::infinity();
+      for (std::size_t q : paired) {
+        const float dx = rd.px[q] - rd.px[r], dy = rd.py[q] - rd.py[r], dz = rd.pz[q] - rd.pz[r];
+        const float d = dx * dx + dy * dy + dz * dz;
+        if (d < best_d) best_d = d, best = q;
+      }
+      out[r] = out[best];
+    }
+  }
+}
+
 }  // namespace
 
 std::vector<std::vector<ClassWeight>> contact_classes(const PairMap& map) {
@@ -39,10 +66,11 @@ std::vector<std::vector<ClassWeight>> contact_classes(const PairMap& map) {
       if (map.entry_b[e] < n) mass[map.entry_b[e] * k + cb] += w;
     }
   }
+  for (std::size_t r = 0; r < n; ++r) out[r] = normalised(&mass[r * k], k);
+  classes_from_nearest(map.readings, out);
   const auto& histogram = map.baseline.class_given_object;
   std::vector<double> uniform(k, 1.0);
   for (std::size_t r = 0; r < n; ++r) {
-    out[r] = normalised(&mass[r * k], k);
     if (!out[r].empty()) continue;
     const std::size_t o = map.readings.object[r];
     const bool has_histogram = map.baseline.n_classes == k && (o + 1) * k <= histogram.size();

@@ -11,8 +11,10 @@
 namespace sva::planning {
 
 // Per row of map.readings: its soft classes (weight > 0, increasing class, summing to 1). A reading that takes
-// part in no pair (no partner within the distance bins) gets its object's class histogram (the appearance
-// baseline's), or uniform classes when the map has none.
+// part in no pair gets the classes of its object's nearest reading that does (a surface contact only, of a map
+// trained with pair_readings: what was felt there is most like what was felt nearby), or, when the object has no
+// paired reading, its object's class histogram (the appearance baseline's), or uniform classes when the map has
+// none.
 std::vector<std::vector<ClassWeight>> contact_classes(const PairMap& map);
 
 // How alike two soft class lists are (both in increasing class order): their Bhattacharyya coefficient, in [0, 1].

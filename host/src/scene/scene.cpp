@@ -332,7 +332,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
   }
   opt(j, "appearance", [&](const json& v) {
     c.object(v, "appearance");
-    c.known_keys(v, "appearance", {"descriptor", "clusters", "dist_bins", "dist_range_mm"});
+    c.known_keys(v, "appearance", {"descriptor", "clusters", "dist_bins", "dist_range_mm", "pair_readings"});
     auto& a = s.appearance;
     opt(v, "descriptor", [&](const json& x) {
       a.descriptor = c.string(x, "appearance.descriptor");
@@ -341,6 +341,10 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
     });
     opt(v, "clusters", [&](const json& x) { a.clusters = c.integer(x, "appearance.clusters", 1, 4096); });
     opt(v, "dist_bins", [&](const json& x) { a.dist_bins = c.integer(x, "appearance.dist_bins", 1, 65535); });
+    opt(v, "pair_readings", [&](const json& x) {
+      a.pair_readings = c.integer(x, "appearance.pair_readings", 0, 100000000);
+      if (a.pair_readings == 1) c.fail("appearance.pair_readings", "1: a pair needs two readings (0 pairs them all)");
+    });
     opt(v, "dist_range_mm", [&](const json& x) {
       if (!x.is_array() || x.size() != 2) c.fail("appearance.dist_range_mm", "expected [min, max]");
       a.dist_min_mm = c.number(x[0], "appearance.dist_range_mm[0]", 0.0, 1e6);
@@ -444,6 +448,8 @@ std::string scene_to_json(const Scene& s) {
         {"orientations", s.protocol.orientations},
         {"max_iterations", s.protocol.max_iterations}}},
   };
+  // Only when set, so that the datasets of scenes that pair every reading keep their bytes.
+  if (s.appearance.pair_readings > 0) j["appearance"]["pair_readings"] = s.appearance.pair_readings;
   return j.dump(2);
 }
 

@@ -104,6 +104,8 @@ def test_bad_workflow_options(tiny):
         sva.train(str(tiny.train), dist_range=(50.0, 10.0))
     with pytest.raises(sva.Error, match="clusters 0: expected 1 to 4096"):
         sva.train(str(tiny.train), clusters=0)
+    with pytest.raises(sva.Error, match="sva.train: pair readings 1 per object"):
+        sva.train(str(tiny.train), pair_readings=1)
     with pytest.raises(sva.Error, match="method"):
         sva.evaluate(str(tiny.map), str(tiny.test), method="magic")
     with pytest.raises(sva.Error, match="the map is empty"):

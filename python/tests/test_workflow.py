@@ -38,6 +38,12 @@ def test_train_builds_the_cli_map(tiny, tmp_path):
     # from a Dataset object too, with an option changed: another map
     other = sva.train(sva.Dataset.load(tiny.train), clusters=4)
     assert other.classes == 4
+    # fewer readings paired: every reading kept as surface, fewer entries
+    assert report.readings_paired == report.readings_used
+    paired = sva.TrainReport()
+    few = sva.train(str(tiny.train), pair_readings=4, report=paired, calibrate=False)
+    assert paired.readings_paired == 8 and paired.readings_used == report.readings_used
+    assert few.readings == m.readings and 0 < few.entries < m.entries
 
 
 def test_evaluate_gives_the_cli_summary(tiny, tiny_map, tmp_path):

@@ -41,11 +41,13 @@ Written write_object(const ObjectSpec& o, const std::filesystem::path& dir) {
 // The scenes of objects at their real sizes (the household scenes and the
 // look-alikes') share everything but their name, comment and objects. Pair
 // distances reach from the smallest objects' 10 mm to the largest's 250 mm;
-// see docs/evaluation.md ("Many objects") for the protocol's sizes. Scenes of
-// near-twins touch each object four times as often as they pair its readings:
-// the twins differ where few touches land, and the extra contacts are the
-// surface the fine pose and the surface check read (docs/recognition.md,
-// "Surface check").
+// see docs/evaluation.md ("Many objects") for the protocol's sizes. The scene
+// of near-twins (lookalikes) touches each object four times as often as it
+// pairs its readings: the twins differ where few touches land, and the extra
+// contacts are the surface the fine pose and the surface check read
+// (docs/recognition.md, "Surface check"). household100 keeps 300 readings, all
+// paired: there the extra surface bought no accuracy and its calibration lost
+// (docs/evaluation.md, "A surface denser than the pairs").
 std::string household_scene(const std::string& name, const std::string& comment, const std::vector<Written>& objects,
                             bool twins) {
   std::ostringstream s;
@@ -103,7 +105,7 @@ void write_scenes(const std::filesystem::path& dir, const std::vector<Written>& 
                lookalikes.begin() + static_cast<std::ptrdiff_t>(end));
   }
   if (all.size() != 100) throw sva::Error("household100: whole look-alike families do not make 100 objects");
-  write("household100", "The 50 everyday objects of the household set and the look-alike families" + real, all, true);
+  write("household100", "The 50 everyday objects of the household set and the look-alike families" + real, all);
 }
 
 }  // namespace

@@ -44,7 +44,7 @@ int cmd_train(const std::vector<std::string>& argv) {
   a.option("--pair-readings", "N",
            "training readings per object that enter the pairs, drawn at random; the rest serve only as the object's "
            "surface (fine pose, surface check, planner). Default: the scene's, 0 = all");
-  a.option("--seed", "S", "seed of the clustering's candidate order (default 1)");
+  a.option("--seed", "S", "seed of the clustering's candidate order and of the paired readings' draw (default 1)");
   a.option("--threads", "N", "worker threads (default: SVA_THREADS or all cores); results do not depend on it");
   a.option("--exclude-objects", "NAME,...",
            "leave these objects out of the map (to evaluate \"none of these\" with sva eval --unknown-objects)");

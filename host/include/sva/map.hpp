@@ -30,7 +30,7 @@ struct TrainOptions {
   // Training readings per object that enter the pairs (0: all), drawn at random (seeded by `seed`) from each
   // object's usable readings; the rest are kept as surface contacts only (Scene::appearance.pair_readings).
   std::optional<std::size_t> pair_readings;
-  std::uint64_t seed = 1;  // PAM initialisation
+  std::uint64_t seed = 1;  // PAM initialisation and the draw of the paired readings (pair_readings)
   unsigned threads = 0;    // 0 = all cores (env SVA_THREADS); results do not depend on it
   bool progress = false;   // show progress on stderr
   // Calibration (docs/recognition.md, "Calibration"): learn how far to trust the evidence, and when to say "none

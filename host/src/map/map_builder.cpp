@@ -274,13 +274,13 @@ std::size_t put_paired_first(std::vector<std::size_t>& use, const Dataset& data,
     std::iota(order.begin(), order.end(), std::size_t{0});
     util::Rng rng(seed, 0x9a17ed, object);
     for (std::size_t i = 0; i < k; ++i) std::swap(order[i], order[i + rng.below(m - i)]);
-    std::sort(order.begin(), order.begin() + static_cast<std::ptrdiff_t>(k));
     std::vector<char> chosen(m, 0);
+    for (std::size_t i = 0; i < k; ++i) chosen[order[i]] = 1;
     std::vector<std::size_t> group;
     group.reserve(m);
-    for (std::size_t i = 0; i < k; ++i) chosen[order[i]] = 1, group.push_back(use[begin + order[i]]);
-    for (std::size_t i = 0; i < m; ++i)
-      if (!chosen[i]) group.push_back(use[begin + i]);
+    for (char want : {1, 0})
+      for (std::size_t i = 0; i < m; ++i)
+        if (chosen[i] == want) group.push_back(use[begin + i]);
     std::copy(group.begin(), group.end(), use.begin() + static_cast<std::ptrdiff_t>(begin));
     paired += k;
     begin = end;
@@ -330,11 +330,10 @@ std::vector<float> describe_training_readings(const Dataset& data, const std::ve
   return descriptors;
 }
 
-// The descriptor rows of the readings that pair (each object's first `pair_readings`; all when 0): the appearance
-// classes are the pairs' keys, so they are clustered from those (and PAM's cost stays that of the pairs).
+// The descriptor rows of the readings that pair (each object's first `pair_readings`, > 0): the appearance classes
+// are the pairs' keys, so they are clustered from those (and PAM's cost stays that of the pairs).
 std::vector<float> paired_rows(const std::vector<float>& descriptors, const MapReadings& rd, std::size_t pair_readings,
                                std::uint32_t dim) {
-  if (pair_readings == 0) return descriptors;
   std::vector<float> rows;
   std::size_t in_object = 0;
   for (std::size_t j = 0; j < rd.size(); ++j) {
@@ -397,8 +396,10 @@ std::shared_ptr<PairMap> train_pair_map(const Dataset& data, const TrainParamete
   rep.readings_used = n;
   rep.readings_paired = put_paired_first(use, data, p.pair_readings, p.seed);
   const std::vector<float> descriptors = describe_training_readings(data, use, model, p, map->readings);
-  const std::uint32_t k = cluster_appearance(
-      paired_rows(descriptors, map->readings, p.pair_readings, model.descriptor_size), p, model, rep);
+  const std::vector<float> paired =
+      p.pair_readings ? paired_rows(descriptors, map->readings, p.pair_readings, model.descriptor_size)
+                      : std::vector<float>{};
+  const std::uint32_t k = cluster_appearance(p.pair_readings ? paired : descriptors, p, model, rep);
 
   const auto t0 = std::chrono::steady_clock::now();
   const auto c0 = std::clock();

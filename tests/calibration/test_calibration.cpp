@@ -10,6 +10,8 @@
 #include <sva/scene.hpp>
 #include <sva/sim/simulate.hpp>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -106,6 +108,114 @@ TEST_CASE("fit_temperature recovers the surface check's weight beside the temper
     CHECK(c.surface_weight == weight);
     for (std::size_t n : {2, 4, 8}) CHECK(c.temperature(n) == Approx(0.4).epsilon(0.2));
   }
+}
+
+TEST_CASE("the top label: a sure top made less sure and a flat one surer, the top kept, the others' ratios kept") {
+  Calibration c;
+  EvidenceLevel before, after;
+  before.fit_cost_share = -1.0;  // no fine pose yet
+  after.fit_cost_share = 0.1;
+  std::vector<double> p{0.05, 0.9, 0.03, 0.02};
+  std::vector<double> same = p;
+  c.recalibrate_top(after, &same);  // the identity (maps of format 1-6)
+  CHECK(same == p);
+  c.top_label = {Calibration::TopLabel{0.5, 0.5}, Calibration::TopLabel{-1.0, 1.0}};
+  std::vector<double> a = p;
+  c.recalibrate_top(after, &a);  // logit' = logit - 1: 0.9 -> 1 / (1 + e^(1 - ln 9))
+  CHECK(a[1] == Approx(1.0 / (1.0 + std::exp(1.0) / 9.0)));
+  CHECK(a[0] / a[2] == Approx(p[0] / p[2]));
+  CHECK(a[0] + a[1] + a[2] + a[3] == Approx(1.0));
+  std::vector<double> b = p;
+  c.recalibrate_top(before, &b);  // the other regime: logit' = 0.5 + 0.5 ln 9
+  CHECK(b[1] == Approx(1.0 / (1.0 + std::exp(-0.5 - 0.5 * std::log(9.0)))));
+  // An unsure top is raised, up to one half (0.1 -> logit' = 0.5 + 0.5 logit 0.1 = -0.599)...
+  std::vector<double> flat{0.1, 0.08, 0.07, 0.06, 0.05, 0.64 / 10, 0.64 / 10, 0.64 / 10, 0.64 / 10, 0.64 / 10};
+  for (std::size_t i = 10; i < 20; ++i) flat.push_back(0.0);
+  c.recalibrate_top(before, &flat);
+  CHECK(flat[0] == Approx(1.0 / (1.0 + std::exp(0.599))).epsilon(1e-3));
+  CHECK(flat[1] / flat[2] == Approx(0.08 / 0.07));
+  std::vector<double> unsure{0.25, 0.3, 0.25, 0.2};  // 0.3 -> 0.519 by the fit: held at one half
+  c.recalibrate_top(before, &unsure);
+  CHECK(unsure[1] == Approx(0.5));
+  // ...but a top above one half is never made surer than the temperature left it.
+  c.top_label[1] = {3.0, 0.3};
+  std::vector<double> coin{0.45, 0.55};
+  c.recalibrate_top(after, &coin);
+  CHECK(coin[1] == Approx(0.55));
+  // Lowered below the second, the top is held where it still leads.
+  c.top_label[1] = {-6.0, 1.0};
+  std::vector<double> close{0.45, 0.5, 0.05};
+  c.recalibrate_top(after, &close);
+  CHECK(close[1] >= close[0] * (1.0 - 1e-12));  // held level with the second (to rounding)
+  CHECK(close[0] + close[1] + close[2] == Approx(1.0));
+  // Nothing outside the top: left as it is (no share to give the others).
+  std::vector<double> sure{0.0, 1.0, 0.0};
+  c.recalibrate_top(after, &sure);
+  CHECK(sure == std::vector<double>{0.0, 1.0, 0.0});
+}
+
+TEST_CASE("fit_top_label recovers the top label of sessions whose top is right as often as it says") {
+  // Steps whose top object is right with probability sigmoid(a + b logit p_top) under the default temperature:
+  // before the fine pose {a, b} = {0.5, 0.4} (a flat top too unsure, a sure one too sure), from it on {-0.3, 0.8}.
+  const std::array<Calibration::TopLabel, 2> truth{Calibration::TopLabel{0.5, 0.4}, Calibration::TopLabel{-0.3, 0.8}};
+  std::vector<CalibrationSession> sessions;
+  const Calibration tempering;
+  for (std::size_t t = 0; t < 4000; ++t) {
+    util::Rng rng(7, t);
+    EvidenceLevel level;
+    level.readings = 2 + t % 8;
+    level.fit_cost_share = t % 2 ? 0.1 : -1.0;
+    for (int o = 0; o < 5; ++o) level.object_log2_mass.push_back(12.0 * rng.normal());
+    const std::vector<double> p = tempering.object_probability(level, {});
+    const std::size_t top = static_cast<std::size_t>(std::max_element(p.begin(), p.end()) - p.begin());
+    const Calibration::TopLabel& k = truth[t % 2];
+    const double right = 1.0 / (1.0 + std::exp(-(k[0] + k[1] * Calibration::top_logit(p[top]))));
+    CalibrationSession s;
+    s.object = rng.uniform() < right ? static_cast<std::uint32_t>(top)
+                                     : static_cast<std::uint32_t>((top + 1 + rng.below(4)) % 5);
+    s.steps.push_back(level);
+    sessions.push_back(std::move(s));
+  }
+  Calibration c;
+  fit_top_label(sessions, &c);
+  for (int regime = 0; regime < 2; ++regime) {
+    INFO("regime " << regime);
+    CHECK(c.top_label[regime][0] == Approx(truth[regime][0]).margin(0.15));
+    CHECK(c.top_label[regime][1] == Approx(truth[regime][1]).margin(0.1));
+  }
+  // Every step right: nothing to learn, the identity stays.
+  for (CalibrationSession& s : sessions) {
+    const std::vector<double> p = tempering.object_probability(s.steps[0], {});
+    s.object = static_cast<std::uint32_t>(std::max_element(p.begin(), p.end()) - p.begin());
+  }
+  Calibration all_right;
+  fit_top_label(sessions, &all_right);
+  CHECK(all_right.top_label == Calibration{}.top_label);
+}
+
+TEST_CASE("the temperature's map holds every object: the same readings held out, no object held out whole") {
+  sim::SimulateOptions so;
+  so.train_per_object = 20;
+  so.test_per_object = 1;
+  Dataset data = sim::simulate(load_scene("tiny"), so).train;
+  // Five objects (the split reads ids and names alone): a fifth of them, one, is held out whole.
+  const SceneObject first = data.scene.objects[0];
+  data.scene.objects.assign(5, first);
+  for (std::size_t o = 0; o < 5; ++o) data.scene.objects[o].name = "object" + std::to_string(o);
+  for (std::size_t i = 0; i < data.samples.size(); ++i) data.samples[i].object = static_cast<std::uint32_t>(i % 5);
+  const CalibrationSplit with = split_for_calibration(data, 0.2, 5);
+  const CalibrationSplit every = split_for_calibration(data, 0.2, 5, false);
+  CHECK(std::count(with.map_object.begin(), with.map_object.end(), -1) >= 1);
+  CHECK(std::count(every.map_object.begin(), every.map_object.end(), -1) == 0);
+  CHECK(every.map_part.scene.objects.size() == data.scene.objects.size());
+  CHECK(every.map_part.samples.size() + every.held_out.samples.size() == data.samples.size());
+  // A known object's held-out readings are the same in both splits.
+  std::size_t known_held_out = 0;
+  for (const Sample& s : with.held_out.samples) known_held_out += with.map_object[s.object] >= 0 ? 1 : 0;
+  std::size_t every_held_out_of_those = 0;
+  for (const Sample& s : every.held_out.samples) every_held_out_of_those += with.map_object[s.object] >= 0 ? 1 : 0;
+  CHECK(known_held_out == every_held_out_of_those);
+  CHECK(known_held_out > 0);
 }
 
 TEST_CASE("p_unknown starts at the prior, follows the model, and moves with the prior's odds") {
@@ -227,7 +337,7 @@ TEST_CASE("fit_unknown: the evidence before the fine pose, the fit after it, coe
   CHECK(c.unknown.empty());
 }
 
-TEST_CASE("the map file keeps the calibration (version 6), older maps load with theirs or the defaults") {
+TEST_CASE("the map file keeps the calibration (version 7), older maps load with theirs or the defaults") {
   sim::SimulateOptions so;
   so.train_per_object = 12;
   so.test_per_object = 1;
@@ -242,8 +352,21 @@ TEST_CASE("the map file keeps the calibration (version 6), older maps load with 
   m.calibration.surface_weight = 0.125;
   m.calibration.unknown.per_readings = {{1.0, 2.0, 3.0, 4.0, 5.0}, {-1.0, 0.5, 0.25, 8.0, -2.0}};
   const auto dir = test::temp_dir("map-calibration");
-  save_pair_map(m, dir / "v6.svam");
-  const auto back = load_pair_map(dir / "v6.svam");
+  m.calibration.top_label = {Calibration::TopLabel{-0.4, 0.4}, Calibration::TopLabel{-0.25, 0.85}};
+  save_pair_map(m, dir / "v7.svam");
+  const auto back = load_pair_map(dir / "v7.svam");
+  CHECK(back->calibration.top_label == m.calibration.top_label);
+  // Version 6 has no top label: refused by name, and a version 6 map loads with the identity.
+  CHECK_THROWS_WITH(write_pair_map(m, dir / "v6.svam", 6),
+                    Catch::Contains("version 6") && Catch::Contains("top label"));
+  m.calibration.top_label = Calibration{}.top_label;
+  write_pair_map(m, dir / "v6.svam", 6);
+  CHECK(load_pair_map(dir / "v6.svam")->calibration.top_label == Calibration{}.top_label);
+  m.calibration.top_label[1][1] = -0.5;  // a falling slope would turn the order of confidence around
+  save_pair_map(m, dir / "slope.svam");
+  CHECK_THROWS_WITH(load_pair_map(dir / "slope.svam"),
+                    Catch::Contains("slope.svam") && Catch::Contains("top-label slope"));
+  m.calibration.top_label = Calibration{}.top_label;
   CHECK(back->calibration.learned);
   CHECK(back->calibration.temperature_power == 1.1);
   CHECK(back->calibration.surface_weight == 0.125);

@@ -111,3 +111,36 @@ TEST_CASE("unknown summary: ROC of p_unknown, its area, and the catch at 5% fals
   r.trials.resize(20);
   CHECK_FALSE(unknown_summary(r, 2).has_value());
 }
+
+TEST_CASE("ECE by reading range: 2-5, 6-10, 11-20, 21-30 and by 20 on, each range's own ECE and which way it errs") {
+  // Two trials of 35 readings: overconfident before 6 readings (0.9, wrong), exactly right from 6 to 20 (1.0,
+  // right), underconfident from 21 on (0.6, right).
+  EvalResult r;
+  r.max_readings = 35;
+  for (int i = 0; i < 2; ++i) {
+    std::vector<std::tuple<double, bool, double>> steps;
+    for (int n = 1; n <= 35; ++n) steps.emplace_back(n <= 5 ? 0.9 : n <= 20 ? 1.0 : 0.6, n > 5, 0.0);
+    r.trials.push_back(trial(true, steps));
+  }
+  const CalibrationSummary c = calibration_summary(r);
+  REQUIRE(c.by_readings.size() == 5);
+  const std::vector<std::pair<std::size_t, std::size_t>> ranges{{2, 5}, {6, 10}, {11, 20}, {21, 30}, {31, 35}};
+  std::size_t total = 0;
+  for (std::size_t i = 0; i < ranges.size(); ++i) {
+    CHECK(c.by_readings[i].first == ranges[i].first);
+    CHECK(c.by_readings[i].last == ranges[i].second);  // 31-35: as far as the trials reached
+    total += c.by_readings[i].trial_readings;
+  }
+  CHECK(total == c.trial_readings);
+  CHECK(c.by_readings[0].trial_readings == 8);
+  CHECK(c.by_readings[0].ece == Approx(0.9));
+  CHECK(c.by_readings[0].confidence == Approx(0.9));
+  CHECK(c.by_readings[0].accuracy == 0.0);
+  CHECK(c.by_readings[1].ece == Approx(0.0).margin(1e-12));
+  CHECK(c.by_readings[2].ece == Approx(0.0).margin(1e-12));
+  CHECK(c.by_readings[3].ece == Approx(0.4));
+  CHECK(c.by_readings[3].accuracy == 1.0);
+  CHECK(c.by_readings[4].trial_readings == 10);
+  // The whole run's ECE mixes the ranges: (8 x 0.9 + 30 x 0.4) / 68.
+  CHECK(c.ece == Approx((8 * 0.9 + 30 * 0.4) / 68.0));
+}

@@ -495,6 +495,11 @@ TEST_CASE("sva eval reports the calibration and the decisions at --stop-at, and 
   const auto j = nlohmann::json::parse(read_file(f.path("s.json")));
   CHECK(j["calibration"]["trial_readings"] == 4 * 4);
   CHECK(j["calibration"]["reliability"].size() == 10);
+  CHECK(out.find("  by readings: 2-5 ECE") != std::string::npos);
+  REQUIRE(j["calibration"]["by_readings"].size() == 1);  // 5 readings: the first range alone
+  CHECK(j["calibration"]["by_readings"][0]["readings"] == nlohmann::json::array({2, 5}));
+  CHECK(j["calibration"]["by_readings"][0]["trial_readings"] == 4 * 4);
+  CHECK(j["calibration"]["by_readings"][0]["ece"] == j["calibration"]["ece"]);
   CHECK(j["stop"]["threshold"] == 0.9);
   CHECK(j["stop"]["trials"] == 4);
   CHECK_FALSE(j.contains("unknown_objects"));  // every test object is the map's

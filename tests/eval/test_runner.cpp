@@ -217,8 +217,8 @@ TEST_CASE("CSV has one row per trial and reading and JSON summaries read back") 
   CHECK_THROWS_WITH(read_curve_json(dir / "missing.json"), Catch::Contains("missing.json"));
   const std::string table = format_table(c);
   CHECK(table.find("readings") != std::string::npos);
-  // Title, two header lines, one row per point, the readings-to-95% line, the calibration's two lines.
-  CHECK(std::count(table.begin(), table.end(), '\n') == 3 + 3 + 1 + 2);
+  // Title, two header lines, one row per point, the readings-to-95% line, the calibration's three lines.
+  CHECK(std::count(table.begin(), table.end(), '\n') == 3 + 3 + 1 + 3);
   CHECK(table.find("calibration: ECE") != std::string::npos);
   CHECK(table.find("ECE over resampled trials") != std::string::npos);
   CHECK(table.find("policy random: readings until the true object holds >= 95%") != std::string::npos);

@@ -123,7 +123,10 @@ void maps(const fs::path& out) {
   PairMap calibrated = m;  // a learned calibration with this build's "none of these" model (version 6)
   calibrated.calibration.learned = true;
   calibrated.calibration.unknown.per_readings = {{-1.0, -0.5, -0.25, 2.0, 1.5}, {-0.8, -0.4, -0.3, 1.9, 1.6}};
-  save_pair_map(calibrated, out / "small-v6.svam");
+  write_pair_map(calibrated, out / "small-v6.svam", 6);
+  PairMap relabelled = calibrated;  // version 7: the top label too
+  relabelled.calibration.top_label = {Calibration::TopLabel{-0.4, 0.4}, Calibration::TopLabel{-0.3, 0.85}};
+  save_pair_map(relabelled, out / "small-v7.svam");
   calibrated.calibration.unknown.features = UnknownFeatureSet::evidence_gap_share;  // version 5: three features
   for (UnknownCoefficients& k : calibrated.calibration.unknown.per_readings) k[4] = 0.0;
   write_pair_map(calibrated, out / "small-v5.svam", 5);

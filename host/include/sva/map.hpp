@@ -6,6 +6,7 @@
 #include <sva/pose_space.hpp>
 #include <sva/reading.hpp>
 
+#include <array>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -93,7 +94,10 @@ struct MapSummary {
   struct Calibration {
     bool learned = false;
     double temperature_scale = 0.0, temperature_power = 0.0;
-    double surface_weight = 0.0;    // the surface check's bits per bit of the posterior (docs/recognition.md)
+    double surface_weight = 0.0;  // the surface check's bits per bit of the posterior (docs/recognition.md)
+    // The top object's probability recalibrated, logit p' = a + b logit p, as {a, b}: before the fine pose exists
+    // and from it on ({0, 1}: as the temperature left it; maps of format 1-6).
+    std::array<double, 2> top_label_before{0.0, 1.0}, top_label_after{0.0, 1.0};
     bool unknown_model = false;     // the map can say "none of these"
     bool unknown_from_fit = false;  // ... from the fine pose's fit once it exists (format 6); else the evidence alone
     std::uint32_t known_sessions = 0, unknown_sessions = 0, session_readings = 0;

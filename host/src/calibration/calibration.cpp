@@ -36,6 +36,31 @@ std::vector<double> Calibration::object_probability(const EvidenceLevel& level,
                             surface_weight);
 }
 
+void Calibration::recalibrate_top(const EvidenceLevel& level, std::vector<double>* p) const {
+  const TopLabel& c = top_label[level.fit_cost_share >= 0.0 ? 1 : 0];
+  if (p->size() < 2 || (c[0] == 0.0 && c[1] == 1.0)) return;
+  std::size_t top = 0;
+  for (std::size_t o = 1; o < p->size(); ++o)
+    if ((*p)[o] > (*p)[top]) top = o;
+  double second = 0.0;
+  for (std::size_t o = 0; o < p->size(); ++o)
+    if (o != top) second = std::max(second, (*p)[o]);
+  const double was = (*p)[top], rest = 1.0 - was;
+  if (!(rest > 0.0) || !(second > 0.0)) return;
+  const double z = top_logit(was);
+  double now = 1.0 / (1.0 + pmath::exp(-std::clamp(c[0] + c[1] * z, -700.0, 700.0)));
+  // Never surer than the temperature left it past one half: the fit extrapolates where its sessions were all right
+  // (two objects, few readings), and a decision taken at 0.95 must rest on the belief's own evidence.
+  now = std::min(now, std::max(was, 0.5));
+  now = std::max(now, second / (rest + second));  // the others grow by (1 - now) / rest: the top stays the top
+  for (std::size_t o = 0; o < p->size(); ++o) (*p)[o] = o == top ? now : (*p)[o] * ((1.0 - now) / rest);
+}
+
+double Calibration::top_logit(double p) {
+  const double q = std::clamp(p, kTopLabelClamp, 1.0 - kTopLabelClamp);
+  return pmath::log(q / (1.0 - q));
+}
+
 std::array<double, kUnknownFeatures> Calibration::unknown_features(const EvidenceLevel& level, UnknownFeatureSet set) {
   double first = -INFINITY, second = -INFINITY;
   for (double l : level.object_log2_mass) {

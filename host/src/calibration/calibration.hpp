@@ -98,6 +98,12 @@ struct Calibration {
   double temperature_scale = kDefaultScale;
   double temperature_power = kDefaultPower;
   double surface_weight = kDefaultSurfaceWeight;  // lambda: bits of the surface check per bit of the posterior
+  // The top object's probability recalibrated (Platt scaling on the top label): logit p' = a + b logit p, with
+  // {a, b} = top_label[0] before the fine pose exists and top_label[1] from it on; the other objects keep their
+  // ratios. One temperature per reading count cannot fix a reading count whose posteriors err both ways (too unsure
+  // when flat, too sure when peaked: docs/recognition.md, "Calibration"). Identity in maps without one (format 1-6).
+  using TopLabel = std::array<double, 2>;
+  std::array<TopLabel, 2> top_label{TopLabel{0.0, 1.0}, TopLabel{0.0, 1.0}};
   UnknownModel unknown;  // empty: the map cannot say "none of these" (p_unknown is then the prior)
   // How the fit was made (sva inspect): held-out sessions on known and unknown objects, readings per session.
   std::uint32_t known_sessions = 0, unknown_sessions = 0, session_readings = 0;
@@ -106,6 +112,16 @@ struct Calibration {
   double temperature(std::size_t readings) const;
   // The calibrated object posterior; `object_weight`: the prior per object (largest 1; empty: flat).
   std::vector<double> object_probability(const EvidenceLevel& level, std::span<const double> object_weight) const;
+  // Recalibrates the top object of `p` (a posterior over objects at `level`) by top_label, the rest scaled to sum to
+  // 1. It may lower a top and raise an unsure one up to one half, never make a top surer than the temperature left it
+  // past one half (on two objects, whose sessions were nearly all right at 2-5 readings, the fit read a coin flip as
+  // 0.95). The top object stays the top (held at least at the second's); a posterior with nothing outside its top
+  // object is left as it is.
+  void recalibrate_top(const EvidenceLevel& level, std::vector<double>* p) const;
+  // The logit the top-label recalibration reads: of p held within [kTopLabelClamp, 1 - kTopLabelClamp], so that a
+  // sure posterior's logit stays finite (20.7 at most).
+  static constexpr double kTopLabelClamp = 1e-9;
+  static double top_logit(double p);
   // The probability that the touched object is none of the map's, at prior probability `unknown_prior` of that.
   // The prior itself before any pair or without a model.
   double p_unknown(const EvidenceLevel& level, double unknown_prior) const;

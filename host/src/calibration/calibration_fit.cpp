@@ -10,6 +10,10 @@ namespace sva {
 
 namespace {
 
+// The top-label fit's ridge on its slope, per step: light (thousands of steps), enough to keep a regime whose steps
+// are nearly all right or all wrong finite.
+constexpr double kTopLabelRidge = 1e-3;
+
 // Negative log-likelihood (nats) of the true objects under temperature scale and power.
 double temperature_nll(const std::vector<CalibrationSession>& sessions, double scale, double power,
                        double surface_weight) {
@@ -53,13 +57,16 @@ bool solve(std::array<std::array<double, N>, N> a, std::array<double, N> b, std:
   return true;
 }
 
-// Logistic regression with the two classes weighted equally and a ridge on the slopes (not on the bias, x[.][0]).
+// Logistic regression of `y` on x (x[.][0] the bias), with a ridge on the slopes (not on the bias) and, when
+// `balanced`, the two classes weighted equally. `start`: the first iterate.
 template <std::size_t K>
-std::array<double, K> fit_logistic(const std::vector<std::array<double, K>>& x, const std::vector<bool>& unknown) {
-  constexpr double kRidge = 1e-2;
+std::array<double, K> fit_logistic(const std::vector<std::array<double, K>>& x, const std::vector<bool>& unknown,
+                                   bool balanced = true, double ridge = 1e-2, std::array<double, K> start = {}) {
+  const double kRidge = ridge;
   double n1 = 0.0, n0 = 0.0;
   for (bool u : unknown) (u ? n1 : n0) += 1.0;
-  std::array<double, K> w{};
+  if (!balanced) n1 = n0 = 0.5 * (n1 + n0);  // every step the same weight
+  std::array<double, K> w = start;
   for (int it = 0; it < 50; ++it) {
     std::array<std::array<double, K>, K> h{};
     std::array<double, K> g{};
@@ -161,6 +168,33 @@ bool any_surface_fit(const std::vector<CalibrationSession>& sessions) {
 
 }  // namespace
 
+void fit_top_label(const std::vector<CalibrationSession>& sessions, Calibration* calibration) {
+  std::array<std::vector<std::array<double, 2>>, 2> x;
+  std::array<std::vector<bool>, 2> right;
+  Calibration tempered = *calibration;
+  tempered.top_label = Calibration{}.top_label;
+  for (const CalibrationSession& s : sessions) {
+    if (!s.known) continue;
+    for (const EvidenceLevel& level : s.steps) {
+      if (level.readings < 2 || s.object >= level.object_log2_mass.size()) continue;
+      const std::vector<double> p = tempered.object_probability(level, {});
+      const std::size_t top = static_cast<std::size_t>(std::max_element(p.begin(), p.end()) - p.begin());
+      const int regime = level.fit_cost_share >= 0.0 ? 1 : 0;
+      x[regime].push_back({1.0, Calibration::top_logit(p[top])});
+      right[regime].push_back(top == s.object);
+    }
+  }
+  for (int regime = 0; regime < 2; ++regime) {
+    // A regime needs right and wrong steps to say how far its probabilities are off; else the identity.
+    const auto hits = std::count(right[regime].begin(), right[regime].end(), true);
+    if (hits == 0 || hits == static_cast<std::ptrdiff_t>(right[regime].size())) continue;
+    const std::array<double, 2> w = fit_logistic(x[regime], right[regime], false, kTopLabelRidge, {0.0, 1.0});
+    // The map file's bounds (a falling slope would turn the order of confidence around): else the identity.
+    if (std::isfinite(w[0]) && std::abs(w[0]) <= 1e3 && std::isfinite(w[1]) && w[1] >= 0.0 && w[1] <= 100.0)
+      calibration->top_label[regime] = {w[0], w[1]};
+  }
+}
+
 void fit_temperature(const std::vector<CalibrationSession>& sessions, Calibration* calibration) {
   // The surface weight on a grid of halvings (the NLL is flat near its best; a coarse grid is enough), each with its
   // own temperature. Sessions without a surface check keep the default weight.
@@ -217,17 +251,31 @@ void fit_unknown(const std::vector<CalibrationSession>& sessions, Calibration* c
 }
 
 Calibration learn_calibration(const Dataset& data, const TrainParameters& params, const CalibrationOptions& options) {
-  const CalibrationSplit split = split_for_calibration(data, options.held_out_share, params.seed);
   TrainParameters p = params;
-  p.progress = false;  // one bar for the calibration, its sessions'
-  const std::shared_ptr<PairMap> map = train_pair_map(split.map_part, p, nullptr);
+  p.progress = false;  // one bar per set of sessions
   HeldOutSessionOptions so = options.sessions;
   so.seed = params.seed;
   so.threads = params.threads;
   so.progress = params.progress;
-  const std::vector<CalibrationSession> sessions = run_held_out_sessions(*map, split, so);
+  // "None of these" learns from objects the map does not hold: a fifth of them held out whole.
+  const CalibrationSplit split = split_for_calibration(data, options.held_out_share, params.seed);
+  const std::vector<CalibrationSession> sessions =
+      run_held_out_sessions(*train_pair_map(split.map_part, p, nullptr), split, so);
+  // The temperature and the top label learn from a map of every object, its readings alone held out: a map missing a
+  // fifth of the objects faces fewer look-alikes than the real one, and its sessions were surer than the map's own
+  // (lookalikes: docs/evaluation.md, "Calibration from a map of every object"). Without objects held out (fewer than
+  // three) the first map is already that map.
+  std::vector<CalibrationSession> every;
+  if (std::count(split.map_object.begin(), split.map_object.end(), -1) > 0) {
+    const CalibrationSplit all = split_for_calibration(data, options.held_out_share, params.seed, false);
+    HeldOutSessionOptions known = so;
+    known.unknown_sessions = 0;
+    every = run_held_out_sessions(*train_pair_map(all.map_part, p, nullptr), all, known);
+  }
+  const std::vector<CalibrationSession>& tempering = every.empty() ? sessions : every;
   Calibration c;
-  fit_temperature(sessions, &c);
+  fit_temperature(tempering, &c);
+  fit_top_label(tempering, &c);
   fit_unknown(sessions, &c);
   c.learned = true;
   for (const CalibrationSession& s : sessions) ++(s.known ? c.known_sessions : c.unknown_sessions);

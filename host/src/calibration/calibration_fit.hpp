@@ -20,6 +20,11 @@ struct CalibrationOptions {
 // Temperature: scale and power minimising the negative log-likelihood of the true object over every step from 2
 // readings on of the known sessions (a grid over the power, golden-section search over log2 scale).
 void fit_temperature(const std::vector<CalibrationSession>& sessions, Calibration* calibration);
+// The top label (Calibration::top_label), after the temperature: per regime (before the fine pose, from it on), a
+// logistic regression of "the top object is right" on the logit of its tempered probability over every step from 2
+// readings on of the known sessions, each step weighed alike (Platt scaling). A regime without both right and wrong
+// steps keeps the identity.
+void fit_top_label(const std::vector<CalibrationSession>& sessions, Calibration* calibration);
 // "None of these": two logistic regressions of unknown against known sessions, each coefficient linear in log(n - 1)
 // (the features drift with the reading count; one model per count had only the sessions' 90 steps of that count
 // each, and held its last count's model past the sessions' length), the two kinds weighted equally, with a small
@@ -30,7 +35,9 @@ void fit_temperature(const std::vector<CalibrationSession>& sessions, Calibratio
 // model empty without unknown sessions.
 void fit_unknown(const std::vector<CalibrationSession>& sessions, Calibration* calibration);
 
-// The whole learning: split `data`, train a calibration map with `params` on the kept part, run the sessions, fit.
+// The whole learning: split `data`, train a calibration map with `params` on the kept part, run the sessions, fit
+// "none of these"; then the same on a map of every object (readings alone held out), whose sessions fit the
+// temperature, the surface weight and the top label.
 Calibration learn_calibration(const Dataset& data, const TrainParameters& params, const CalibrationOptions& options);
 
 }  // namespace sva

@@ -62,12 +62,14 @@ std::vector<std::size_t> presentation_order(std::size_t pool, std::size_t count,
 
 }  // namespace
 
-CalibrationSplit split_for_calibration(const Dataset& data, double fraction, std::uint64_t seed) {
+CalibrationSplit split_for_calibration(const Dataset& data, double fraction, std::uint64_t seed,
+                                       bool hold_out_objects) {
   if (!(fraction > 0.0 && fraction < 1.0))
     throw Error("calibration: the held-out share of readings is " + std::to_string(fraction) +
                 "; it must be in (0, 1)");
   util::Rng rng(seed, 0xca11b7a7e);
-  const std::vector<bool> unknown = objects_held_out(data.scene.objects.size(), rng);
+  std::vector<bool> unknown = objects_held_out(data.scene.objects.size(), rng);
+  if (!hold_out_objects) unknown.assign(unknown.size(), false);
   CalibrationSplit split;
   split.map_part.scene = data.scene;
   split.map_part.scene.objects.clear();

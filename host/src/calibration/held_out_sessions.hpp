@@ -24,7 +24,10 @@ struct CalibrationSplit {
 };
 
 // `fraction`: the share of each known object's converged readings held out, in (0, 1). Deterministic in `seed`.
-CalibrationSplit split_for_calibration(const Dataset& data, double fraction, std::uint64_t seed);
+// `hold_out_objects` false: every object is known (the map for the temperature, calibration_fit.hpp); the same
+// readings are held out of each object as with it.
+CalibrationSplit split_for_calibration(const Dataset& data, double fraction, std::uint64_t seed,
+                                       bool hold_out_objects = true);
 
 struct CalibrationSession {
   bool known = true;                 // the touched object is in the map

@@ -134,6 +134,8 @@ MapSummary Map::summary() const {
   s.calibration.temperature_scale = m.calibration.temperature_scale;
   s.calibration.temperature_power = m.calibration.temperature_power;
   s.calibration.surface_weight = m.calibration.surface_weight;
+  s.calibration.top_label_before = m.calibration.top_label[0];
+  s.calibration.top_label_after = m.calibration.top_label[1];
   s.calibration.unknown_model = !m.calibration.unknown.empty();
   s.calibration.unknown_from_fit =
       s.calibration.unknown_model && m.calibration.unknown.features == UnknownFeatureSet::evidence_then_fit;

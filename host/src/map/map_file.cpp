@@ -51,15 +51,21 @@ std::uint32_t unknown_feature_count(UnknownFeatureSet set) {
 // Version 4: the calibration (calibration/calibration.hpp), after the entries.
 // Version 5: the surface check's weight after the temperature.
 // Version 6: the unknown model may read this build's features (evidence, then the fit).
+// Version 7: the top label (before the fine pose, from it on) after the surface weight.
 void put_calibration(io::BinaryWriter& w, const Calibration& c, std::uint32_t version) {
   const std::uint32_t features = unknown_feature_count(c.unknown.features);
   if (version < 6 && features != 3 && !c.unknown.empty())
     throw Error("map version " + std::to_string(version) +
                 " cannot hold this build's \"none of these\" model (its features need version 6)");
+  if (version < 7 && c.top_label != Calibration{}.top_label)
+    throw Error("map version " + std::to_string(version) +
+                " cannot hold the top label's recalibration (it needs version 7)");
   w.put<std::uint8_t>(c.learned ? 1 : 0);
   w.put<double>(c.temperature_scale);
   w.put<double>(c.temperature_power);
   if (version >= 5) w.put<double>(c.surface_weight);
+  if (version >= 7)
+    for (const Calibration::TopLabel& t : c.top_label) w.put_array(t.data(), t.size());
   w.put<std::uint32_t>(c.known_sessions);
   w.put<std::uint32_t>(c.unknown_sessions);
   w.put<std::uint32_t>(c.session_readings);
@@ -87,6 +93,18 @@ void get_unknown_model(io::BinaryReader& r, UnknownModel* model) {
   }
 }
 
+// The top label's {a, b} per regime: finite, and a slope in [0, 100] (a negative one would turn the order of
+// confidence around).
+void get_top_label(io::BinaryReader& r, Calibration* c) {
+  for (Calibration::TopLabel& t : c->top_label) {
+    r.get_array(t.data(), t.size());
+    if (!(std::isfinite(t[0]) && std::abs(t[0]) <= 1e3))
+      r.fail("calibration: top-label bias " + std::to_string(t[0]) + " is not in [-1000, 1000]");
+    if (!(std::isfinite(t[1]) && t[1] >= 0.0 && t[1] <= 100.0))
+      r.fail("calibration: top-label slope " + std::to_string(t[1]) + " is not in [0, 100]");
+  }
+}
+
 Calibration get_calibration(io::BinaryReader& r) {
   Calibration c;
   const auto learned = r.get<std::uint8_t>();
@@ -103,6 +121,7 @@ Calibration get_calibration(io::BinaryReader& r) {
     if (!(std::isfinite(c.surface_weight) && c.surface_weight >= 0.0 && c.surface_weight <= 16.0))
       r.fail("calibration: surface weight " + std::to_string(c.surface_weight) + " is not in [0, 16]");
   }
+  if (r.version() >= 7) get_top_label(r, &c);  // older maps: the identity
   c.known_sessions = r.get<std::uint32_t>();
   c.unknown_sessions = r.get<std::uint32_t>();
   c.session_readings = r.get<std::uint32_t>();

@@ -456,6 +456,9 @@ Estimate filter_estimate(const BayesFilter& filter, const std::vector<MapObject>
     const double weight = r.calibration ? r.calibration->surface_weight : 1.0;
     follow_surface_check(check, level, temperature, weight, r.object_weight, filter.space(), &b);
   }
+  // The top label last: it keeps the top object, so the poses above stand.
+  const bool relabel = r.calibration && filter.readings() >= 2;
+  if (relabel) r.calibration->recalibrate_top(level, &b.object_probability);
   Estimate e;
   e.ready = true;
   e.object = b.object;
@@ -474,7 +477,7 @@ Estimate filter_estimate(const BayesFilter& filter, const std::vector<MapObject>
   }
   poses_to_robot(filter.space(), objects, b, &e);
   if (r.top_k > 0) add_hypotheses(filter, objects, r, b, &e);
-  if (temperature != 1.0 || !check.log2_fit.empty()) temper_hypotheses(b, &e);
+  if (temperature != 1.0 || !check.log2_fit.empty() || relabel) temper_hypotheses(b, &e);
   e.p_unknown = r.calibration ? r.calibration->p_unknown(level, r.unknown_prior) : 0.0;
   e.votes_outside = filter.last_update().votes_outside;
   e.votes_zero = filter.last_update().votes_zero;

@@ -11,10 +11,12 @@ namespace sva::eval {
 
 namespace {
 
-// One trial-reading as the calibration sees it: the top object's probability and whether the top object was right.
+// One trial-reading as the calibration sees it: the top object's probability, whether the top object was right, and
+// the reading count.
 struct Scored {
   double p;
   bool right;
+  std::size_t readings;
 };
 
 // The trial-readings from 2 readings on of the trials whose object the map knows, trial by trial.
@@ -24,7 +26,7 @@ std::vector<std::vector<Scored>> scored_trials(const EvalResult& result) {
     if (!t.known || t.steps.size() < 2) continue;
     std::vector<Scored>& trial = out.emplace_back();
     for (std::size_t k = 1; k < t.steps.size(); ++k)
-      trial.push_back({std::clamp(t.steps[k].top_probability, 0.0, 1.0), t.steps[k].correct});
+      trial.push_back({std::clamp(t.steps[k].top_probability, 0.0, 1.0), t.steps[k].correct, k + 1});
   }
   return out;
 }
@@ -75,6 +77,43 @@ void ece_uncertainty(const std::vector<std::vector<Scored>>& trials, Calibration
   c->ece_if_calibrated_per_trial = per_trial / kDraws;
 }
 
+// The first reading count of the range that `readings` (>= 2) falls in: 2-5, 6-10, 11-20, 21-30, then 31-50, 51-70,
+// ... (the first ranges split where the fine pose and the surface check start, at 6 readings).
+std::size_t range_first(std::size_t readings) {
+  if (readings <= 5) return 2;
+  if (readings <= 10) return 6;
+  if (readings <= 30) return 11 + 10 * ((readings - 11) / 10);
+  return 31 + 20 * ((readings - 31) / 20);
+}
+
+std::vector<ReadingRangeCalibration> by_reading_range(const std::vector<std::vector<Scored>>& trials) {
+  std::vector<ReadingRangeCalibration> out;
+  std::vector<BinSums> sums;
+  for (const std::vector<Scored>& trial : trials) {
+    for (const Scored& s : trial) {
+      const std::size_t first = range_first(s.readings);
+      std::size_t i = 0;
+      while (i < out.size() && out[i].first != first) ++i;
+      if (i == out.size()) {
+        out.push_back({first, first, 0, 0.0, 0.0, 0.0});
+        sums.emplace_back();
+      }
+      out[i].last = std::max(out[i].last, s.readings);  // the range as far as the trials reached
+      sums[i].add(s.p, s.right);
+      out[i].confidence += s.p;
+      out[i].accuracy += s.right ? 1.0 : 0.0;
+    }
+  }
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    out[i].trial_readings = sums[i].count;
+    out[i].ece = sums[i].ece();
+    out[i].confidence /= static_cast<double>(sums[i].count);
+    out[i].accuracy /= static_cast<double>(sums[i].count);
+  }
+  std::sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+  return out;
+}
+
 }  // namespace
 
 CalibrationSummary calibration_summary(const EvalResult& result) {
@@ -101,6 +140,7 @@ CalibrationSummary calibration_summary(const EvalResult& result) {
   if (c.trial_readings > 0)
     c.confidently_wrong = static_cast<double>(wrong_sure) / static_cast<double>(c.trial_readings);
   ece_uncertainty(trials, &c);
+  c.by_readings = by_reading_range(trials);
   return c;
 }
 

@@ -107,13 +107,21 @@ json calibration_json(const CalibrationSummary& c) {
   json bins = json::array();
   for (const ReliabilityBin& b : c.bins)
     bins.push_back({{"count", b.count}, {"confidence", b.confidence}, {"accuracy", b.accuracy}});
+  json ranges = json::array();
+  for (const ReadingRangeCalibration& r : c.by_readings)
+    ranges.push_back({{"readings", {r.first, r.last}},
+                      {"trial_readings", r.trial_readings},
+                      {"ece", r.ece},
+                      {"confidence", r.confidence},
+                      {"accuracy", r.accuracy}});
   return {{"trial_readings", c.trial_readings},
           {"ece", c.ece},
           {"ece_interval", {c.ece_interval[0], c.ece_interval[1]}},
           {"ece_if_calibrated",
            {{"independent", c.ece_if_calibrated_independent}, {"per_trial", c.ece_if_calibrated_per_trial}}},
           {"confidently_wrong", c.confidently_wrong},
-          {"reliability", std::move(bins)}};
+          {"reliability", std::move(bins)},
+          {"by_readings", std::move(ranges)}};
 }
 
 json stop_json(const StopSummary& s) {
@@ -139,6 +147,20 @@ json unknown_json(const UnknownSummary& u) {
           {"roc", std::move(roc)}};
 }
 
+// Where the ECE comes from: each range of reading counts, its ECE and which way it errs (mean confidence against the
+// share right).
+std::string range_line(const std::vector<ReadingRangeCalibration>& ranges) {
+  std::string out = "  by readings:";
+  char part[128];
+  for (std::size_t i = 0; i < ranges.size(); ++i) {
+    const ReadingRangeCalibration& r = ranges[i];
+    std::snprintf(part, sizeof part, "%s %zu-%zu ECE %.3f (mean p %.2f, %.0f%% right)", i ? "," : "", r.first, r.last,
+                  r.ece, r.confidence, 100.0 * r.accuracy);
+    out += part;
+  }
+  return out + "\n";
+}
+
 // The probability lines under the table: calibration, stopping, objects outside the map.
 std::string probability_lines(const Curve& curve) {
   char line[512];
@@ -155,6 +177,7 @@ std::string probability_lines(const Curve& curve) {
                   "(readings independent) to %.4f (one outcome per trial)\n",
                   c.ece_interval[0], c.ece_interval[1], c.ece_if_calibrated_independent, c.ece_if_calibrated_per_trial);
     out += line;
+    out += range_line(c.by_readings);
   }
   if (curve.stop) {
     const StopSummary& s = *curve.stop;
@@ -353,6 +376,13 @@ std::string describe_calibration(const MapSummary& map) {
   std::snprintf(buf, sizeof buf, "%s: temperature %.3g (n-1)^-%.2f, surface check weight %.3g",
                 c.learned ? "learned" : "the default", c.temperature_scale, c.temperature_power, c.surface_weight);
   std::string s = buf;
+  const std::array<double, 2> identity{0.0, 1.0};
+  if (c.top_label_before != identity || c.top_label_after != identity) {
+    std::snprintf(buf, sizeof buf,
+                  ", top label: logit p' = %.3g + %.3g logit p before the fine pose, %.3g + %.3g logit p from it on",
+                  c.top_label_before[0], c.top_label_before[1], c.top_label_after[0], c.top_label_after[1]);
+    s += buf;
+  }
   if (c.learned) {
     std::snprintf(buf, sizeof buf, ", from %u + %u held-out sessions of %u readings", c.known_sessions,
                   c.unknown_sessions, c.session_readings);

@@ -77,6 +77,14 @@ struct ReliabilityBin {
   std::size_t count = 0;
   double confidence = 0.0, accuracy = 0.0;  // means over the bin (0 when empty)
 };
+// The same over one range of reading counts (CalibrationSummary::by_readings): where the miscalibration lies, and
+// which way (mean confidence above the accuracy: overconfident). One temperature per reading count cannot fix a
+// range that errs both ways (docs/evaluation.md, "Why lookalikes' ECE is a draw of the map").
+struct ReadingRangeCalibration {
+  std::size_t first = 0, last = 0;  // reading counts, inclusive (last: the most any trial reached in the range)
+  std::size_t trial_readings = 0;
+  double ece = 0.0, confidence = 0.0, accuracy = 0.0;  // the ECE of this range's trial-readings alone; means
+};
 struct CalibrationSummary {
   std::size_t trial_readings = 0;
   double ece = 0.0;
@@ -91,6 +99,9 @@ struct CalibrationSummary {
   //   trial for all its readings (`per_trial`, fully dependent readings); real trials lie between.
   std::array<double, 2> ece_interval{0.0, 0.0};
   double ece_if_calibrated_independent = 0.0, ece_if_calibrated_per_trial = 0.0;
+  // Readings 2-5 (before the fine pose and the surface check), 6-10, 11-20, 21-30, then by 20 (31-50, ...), each
+  // range present when some trial reached it.
+  std::vector<ReadingRangeCalibration> by_readings;
 };
 CalibrationSummary calibration_summary(const EvalResult& result);
 

@@ -1,0 +1,83 @@
+// bench/calibration_study.sh's sessions: every step's evidence level (calibration/calibration.hpp), as JSON lines,
+// for the calibration's two kinds of held-out sessions (as `sva train` runs them) and for sessions on a test set with
+// the full map, so that calibration families can be fitted and compared offline (bench/calibration_study.py).
+//   calibration_study TRAIN.svad MAP.svam TEST.svad SEED TEST_SESSIONS OUT_PREFIX
+// writes OUT_PREFIX.objects_held_out.jsonl (the map missing a fifth of the objects: "none of these"),
+// OUT_PREFIX.every_object.jsonl (the map of every object: the temperature and the top label) and OUT_PREFIX.test.jsonl
+// (TEST_SESSIONS sessions of 30 readings on the test set, the full map). SEED: the map's training seed.
+#include <sva/dataset.hpp>
+#include <sva/error.hpp>
+#include <sva/map.hpp>
+
+#include <cstdio>
+#include <fstream>
+#include <string>
+
+#include "calibration/calibration_fit.hpp"
+#include "calibration/held_out_sessions.hpp"
+#include "map/map_builder.hpp"
+#include "map/map_file.hpp"
+
+using namespace sva;
+
+namespace {
+
+void write_sessions(const std::vector<CalibrationSession>& sessions, const std::string& file) {
+  std::ofstream out(file);
+  for (const CalibrationSession& s : sessions) {
+    out << "{\"known\":" << (s.known ? 1 : 0) << ",\"object\":" << s.object << ",\"steps\":[";
+    for (std::size_t i = 0; i < s.steps.size(); ++i) {
+      const EvidenceLevel& l = s.steps[i];
+      out << (i ? "," : "") << "{\"n\":" << l.readings << ",\"share\":" << l.fit_cost_share << ",\"L\":[";
+      for (std::size_t o = 0; o < l.object_log2_mass.size(); ++o) out << (o ? "," : "") << l.object_log2_mass[o];
+      out << "],\"G\":[";
+      for (std::size_t o = 0; o < l.surface_log2_fit.size(); ++o) out << (o ? "," : "") << l.surface_log2_fit[o];
+      out << "]}";
+    }
+    out << "]}\n";
+  }
+  if (!out) throw Error("could not write " + file);
+  std::fprintf(stderr, "wrote %s (%zu sessions)\n", file.c_str(), sessions.size());
+}
+
+// The held-out sessions `sva train` runs on a calibration map of `split`.
+std::vector<CalibrationSession> held_out(const Dataset& train, const TrainParameters& params, bool hold_out_objects) {
+  const CalibrationOptions co;
+  const CalibrationSplit split = split_for_calibration(train, co.held_out_share, params.seed, hold_out_objects);
+  HeldOutSessionOptions so = co.sessions;
+  so.seed = params.seed;
+  so.threads = params.threads;
+  if (!hold_out_objects) so.unknown_sessions = 0;
+  return run_held_out_sessions(*train_pair_map(split.map_part, params, nullptr), split, so);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) try {
+  if (argc != 7) {
+    std::fprintf(stderr, "usage: calibration_study TRAIN.svad MAP.svam TEST.svad SEED TEST_SESSIONS OUT_PREFIX\n");
+    return 2;
+  }
+  const Dataset train = load_dataset(argv[1]);
+  TrainOptions to;
+  to.seed = std::stoull(argv[4]);
+  const TrainParameters params = resolve_train_parameters(train.scene, to);
+  const std::string out = argv[6];
+  write_sessions(held_out(train, params, true), out + ".objects_held_out.jsonl");
+  write_sessions(held_out(train, params, false), out + ".every_object.jsonl");
+  const auto map = load_pair_map(argv[2]);
+  CalibrationSplit test;  // every test reading "held out", every object known
+  test.held_out = load_dataset(argv[3]);
+  for (std::size_t o = 0; o < test.held_out.scene.objects.size(); ++o)
+    test.map_object.push_back(static_cast<std::int32_t>(o));
+  HeldOutSessionOptions so;
+  so.known_sessions = std::stoul(argv[5]);
+  so.unknown_sessions = 0;
+  so.readings = 30;
+  so.seed = 77;  // not the training seed: other poses and orders than the calibration's
+  write_sessions(run_held_out_sessions(*map, test, so), out + ".test.jsonl");
+  return 0;
+} catch (const std::exception& e) {
+  std::fprintf(stderr, "calibration_study: %s\n", e.what());
+  return 1;
+}

@@ -1,0 +1,145 @@
+#!/usr/bin/env python3
+"""Calibration families compared offline on the sessions bench/calibration_study.cpp wrote (PREFIX.*.jsonl).
+
+    python3 bench/calibration_study.py PREFIX
+
+Mirrors host/src/calibration (calibration.cpp, calibration_fit.cpp): the temperature tau(n) = scale (n-1)^-power with
+the surface weight on a grid of halvings, fitted by the NLL of the true object; the top label, a logistic regression
+of "the top is right" on the logit of the tempered top probability per regime (before the fine pose, from it on),
+never surer than the temperature past one half. Prints the ECE of the test sessions (10 bins of the top object's
+probability, every step from 2 readings on) overall and by reading range, and the share confidently wrong.
+"""
+
+from __future__ import annotations
+
+import json
+import sys
+
+import numpy as np
+
+RANGES = [(2, 5), (6, 10), (11, 20), (21, 30)]
+WEIGHTS = [0.0, 1 / 32, 1 / 16, 1 / 8, 1 / 4, 1 / 2, 1.0]
+
+
+def load(path: str) -> dict:
+    """Every step from 2 readings on of the known sessions: n, the true object, L and G (objects padded)."""
+    rows = []
+    with open(path) as f:
+        for line in f:
+            s = json.loads(line)
+            if not s["known"]:
+                continue
+            rows += [(st["n"], s["object"], st["L"], st["G"], st["share"]) for st in s["steps"] if st["n"] >= 2]
+    k = max(len(r[2]) for r in rows)
+    d = {"n": np.array([r[0] for r in rows], float), "obj": np.array([r[1] for r in rows]),
+         "L": np.full((len(rows), k), -1e6), "G": np.zeros((len(rows), k)),
+         "fine": np.array([r[4] >= 0 for r in rows])}
+    for i, r in enumerate(rows):
+        d["L"][i, :len(r[2])] = r[2]
+        d["G"][i, :len(r[3])] = r[3]
+    return d
+
+
+def posterior(d, scale, power, weight):
+    tau = np.minimum(scale * (d["n"] - 1.0) ** (-power), 4.0)  # Calibration::kMaxTemperature
+    q = tau[:, None] * d["L"] + weight * d["G"]
+    p = np.exp2(q - q.max(1, keepdims=True))
+    return p / p.sum(1, keepdims=True)
+
+
+def nll(d, scale, power, weight):
+    p = posterior(d, scale, power, weight)
+    return -np.log(np.maximum(p[np.arange(len(p)), d["obj"]], 1e-300)).sum()
+
+
+def golden(f, lo, hi, iterations=40):
+    phi = 0.6180339887498949
+    m1, m2 = hi - phi * (hi - lo), lo + phi * (hi - lo)
+    f1, f2 = f(m1), f(m2)
+    for _ in range(iterations):
+        if f1 < f2:
+            hi, m2, f2 = m2, m1, f1
+            m1 = hi - phi * (hi - lo)
+            f1 = f(m1)
+        else:
+            lo, m1, f1 = m1, m2, f2
+            m2 = lo + phi * (hi - lo)
+            f2 = f(m2)
+    return (m1, f1) if f1 < f2 else (m2, f2)
+
+
+def fit_temperature(d):
+    best = (np.inf, 0.25, 0.8, 0.25)
+    for w in WEIGHTS:
+        for power in np.arange(0.0, 2.51, 0.05):
+            x, f = golden(lambda ls: nll(d, 2.0 ** ls, power, w), -12.0, 3.0)
+            if f < best[0]:
+                best = (f, 2.0 ** x, power, w)
+    return best[1:]
+
+
+def logit(p):
+    p = np.clip(p, 1e-9, 1 - 1e-9)
+    return np.log(p / (1 - p))
+
+
+def top_and_right(d, t):
+    p = posterior(d, *t)
+    return p.max(1), p.argmax(1) == d["obj"]
+
+
+def fit_top_label(d, t):
+    top, right = top_and_right(d, t)
+    labels = []
+    for regime in (False, True):
+        m = d["fine"] == regime
+        x = np.stack([np.ones(m.sum()), logit(top[m])], 1)
+        y = right[m].astype(float)
+        w = np.array([0.0, 1.0])
+        if 0 < y.sum() < len(y):
+            for _ in range(50):
+                p = 1 / (1 + np.exp(-np.clip(x @ w, -700, 700)))
+                g = x.T @ (p - y) / len(y) + np.array([0.0, 1e-3 * w[1]])
+                h = (x * (p * (1 - p))[:, None]).T @ x / len(y) + np.diag([1e-9, 1e-3])
+                w = w - np.linalg.solve(h, g)
+        labels.append(w)
+    return labels
+
+
+def relabel(d, top, labels):
+    ab = np.where(d["fine"][:, None], labels[1], labels[0])
+    now = 1 / (1 + np.exp(-np.clip(ab[:, 0] + ab[:, 1] * logit(top), -700, 700)))
+    return np.minimum(now, np.maximum(top, 0.5))
+
+
+def ece(top, right):
+    b = np.minimum((top * 10).astype(int), 9)
+    return sum(abs(top[b == k].sum() - right[b == k].sum()) for k in range(10)) / len(top)
+
+
+def report(name, d, top, right):
+    parts = " ".join(f"{ece(top[(d['n'] >= a) & (d['n'] <= b)], right[(d['n'] >= a) & (d['n'] <= b)]):.3f}"
+                     for a, b in RANGES)
+    wrong = 100 * ((top >= 0.99) & ~right).mean()
+    print(f"{name:<52} ECE {ece(top, right):.4f}   by readings {parts}   confidently wrong {wrong:.2f}%")
+
+
+def main() -> None:
+    prefix = sys.argv[1]
+    test = load(prefix + ".test.jsonl")
+    print(f"{len(test['n'])} test steps; ECE by readings: " + ", ".join(f"{a}-{b}" for a, b in RANGES))
+    for sessions in ("objects_held_out", "every_object"):
+        d = load(f"{prefix}.{sessions}.jsonl")
+        t = fit_temperature(d)
+        top, right = top_and_right(test, t)
+        report(f"temperature from {sessions} ({t[0]:.3f} (n-1)^-{t[1]:.2f}, w {t[2]:.3g})", test, top, right)
+        labels = fit_top_label(d, t)
+        report(f"  + top label {np.round(labels[0], 2)} {np.round(labels[1], 2)}", test, relabel(test, top, labels),
+               right)
+    t = fit_temperature(test)
+    top, right = top_and_right(test, t)
+    report(f"temperature fitted to the test sessions ({t[0]:.3f}, {t[1]:.2f}, {t[2]:.3g})", test, top, right)
+
+
+if __name__ == "__main__":
+    main()

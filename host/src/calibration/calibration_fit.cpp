@@ -62,7 +62,6 @@ bool solve(std::array<std::array<double, N>, N> a, std::array<double, N> b, std:
 template <std::size_t K>
 std::array<double, K> fit_logistic(const std::vector<std::array<double, K>>& x, const std::vector<bool>& unknown,
                                    bool balanced = true, double ridge = 1e-2, std::array<double, K> start = {}) {
-  const double kRidge = ridge;
   double n1 = 0.0, n0 = 0.0;
   for (bool u : unknown) (u ? n1 : n0) += 1.0;
   if (!balanced) n1 = n0 = 0.5 * (n1 + n0);  // every step the same weight
@@ -83,8 +82,8 @@ std::array<double, K> fit_logistic(const std::vector<std::array<double, K>>& x, 
       }
     }
     for (std::size_t k = 1; k < K; ++k) {
-      g[k] += kRidge * w[k];
-      h[k][k] += kRidge;
+      g[k] += ridge * w[k];
+      h[k][k] += ridge;
     }
     h[0][0] += 1e-9;
     std::array<double, K> step{};
@@ -263,8 +262,8 @@ Calibration learn_calibration(const Dataset& data, const TrainParameters& params
       run_held_out_sessions(*train_pair_map(split.map_part, p, nullptr), split, so);
   // The temperature and the top label learn from a map of every object, its readings alone held out: a map missing a
   // fifth of the objects faces fewer look-alikes than the real one, and its sessions were surer than the map's own
-  // (lookalikes: docs/evaluation.md, "Calibration from a map of every object"). Without objects held out (fewer than
-  // three) the first map is already that map.
+  // (lookalikes: docs/evaluation.md, "The temperature from a map of every object, and the top label"). Without objects
+  // held out (fewer than three) the first map is already that map.
   std::vector<CalibrationSession> every;
   if (std::count(split.map_object.begin(), split.map_object.end(), -1) > 0) {
     const CalibrationSplit all = split_for_calibration(data, options.held_out_share, params.seed, false);

@@ -79,7 +79,7 @@ struct ReliabilityBin {
 };
 // The same over one range of reading counts (CalibrationSummary::by_readings): where the miscalibration lies, and
 // which way (mean confidence above the accuracy: overconfident). One temperature per reading count cannot fix a
-// range that errs both ways (docs/evaluation.md, "Why lookalikes' ECE is a draw of the map").
+// range that errs both ways (docs/evaluation.md, "The temperature from a map of every object, and the top label").
 struct ReadingRangeCalibration {
   std::size_t first = 0, last = 0;  // reading counts, inclusive (last: the most any trial reached in the range)
   std::size_t trial_readings = 0;

@@ -19,6 +19,7 @@
 // Two logistic models (the evidence model before the fine pose, the fit model from it on) whose coefficients are
 // linear in log(n - 1), fitted with the two kinds weighted equally, then moved to the caller's prior odds.
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -122,6 +123,11 @@ struct Calibration {
   // sure posterior's logit stays finite (20.7 at most).
   static constexpr double kTopLabelClamp = 1e-9;
   static double top_logit(double p);
+  // A top label the map may hold: a finite bias within +-kTopLabelMaxBias and a slope in [0, kTopLabelMaxSlope] (a
+  // falling slope would turn the order of confidence around). The fit keeps the identity otherwise; the loader refuses.
+  static constexpr double kTopLabelMaxBias = 1e3, kTopLabelMaxSlope = 100.0;
+  static bool valid_bias(double a) { return std::isfinite(a) && std::abs(a) <= kTopLabelMaxBias; }
+  static bool valid_slope(double b) { return std::isfinite(b) && b >= 0.0 && b <= kTopLabelMaxSlope; }
   // The probability that the touched object is none of the map's, at prior probability `unknown_prior` of that.
   // The prior itself before any pair or without a model.
   double p_unknown(const EvidenceLevel& level, double unknown_prior) const;

@@ -188,9 +188,7 @@ void fit_top_label(const std::vector<CalibrationSession>& sessions, Calibration*
     const auto hits = std::count(right[regime].begin(), right[regime].end(), true);
     if (hits == 0 || hits == static_cast<std::ptrdiff_t>(right[regime].size())) continue;
     const std::array<double, 2> w = fit_logistic(x[regime], right[regime], false, kTopLabelRidge, {0.0, 1.0});
-    // The map file's bounds (a falling slope would turn the order of confidence around): else the identity.
-    if (std::isfinite(w[0]) && std::abs(w[0]) <= 1e3 && std::isfinite(w[1]) && w[1] >= 0.0 && w[1] <= 100.0)
-      calibration->top_label[regime] = {w[0], w[1]};
+    if (Calibration::valid_bias(w[0]) && Calibration::valid_slope(w[1])) calibration->top_label[regime] = {w[0], w[1]};
   }
 }
 

@@ -93,14 +93,13 @@ void get_unknown_model(io::BinaryReader& r, UnknownModel* model) {
   }
 }
 
-// The top label's {a, b} per regime: finite, and a slope in [0, 100] (a negative one would turn the order of
-// confidence around).
+// The top label's {a, b} per regime, within Calibration's bounds.
 void get_top_label(io::BinaryReader& r, Calibration* c) {
   for (Calibration::TopLabel& t : c->top_label) {
     r.get_array(t.data(), t.size());
-    if (!(std::isfinite(t[0]) && std::abs(t[0]) <= 1e3))
+    if (!Calibration::valid_bias(t[0]))
       r.fail("calibration: top-label bias " + std::to_string(t[0]) + " is not in [-1000, 1000]");
-    if (!(std::isfinite(t[1]) && t[1] >= 0.0 && t[1] <= 100.0))
+    if (!Calibration::valid_slope(t[1]))
       r.fail("calibration: top-label slope " + std::to_string(t[1]) + " is not in [0, 100]");
   }
 }

@@ -106,6 +106,63 @@ def fit_top_label(d, t):
     return labels
 
 
+def newton(x, y, ridge=1e-3, start=None):
+    """Unweighted logistic regression by Newton steps, every weight but the bias held by a small ridge."""
+    w = np.zeros(x.shape[1]) if start is None else np.array(start, float)
+    r = np.full(x.shape[1], ridge)
+    r[0] = 1e-9
+    for _ in range(50):
+        p = 1 / (1 + np.exp(-np.clip(x @ w, -700, 700)))
+        g = x.T @ (p - y) / len(y) + r * w
+        h = (x * (p * (1 - p))[:, None]).T @ x / len(y) + np.diag(r)
+        w = w - np.linalg.solve(h, g)
+    return w
+
+
+def fit_top_label_pooled(d, t):
+    """Per regime, a and b linear in log(n - 1): logit p' = a0 + a1 l + (b0 + b1 l) logit p."""
+    top, right = top_and_right(d, t)
+    labels = []
+    for regime in (False, True):
+        m = d["fine"] == regime
+        z, l = logit(top[m]), np.log(d["n"][m] - 1)
+        x = np.stack([np.ones(m.sum()), z, l, l * z], 1)
+        y = right[m].astype(float)
+        labels.append(newton(x, y, start=[0, 1, 0, 0]) if 0 < y.sum() < len(y) else np.array([0.0, 1, 0, 0]))
+    return labels
+
+
+def relabel_pooled(d, top, labels, n_max):
+    w = np.where(d["fine"][:, None], labels[1], labels[0])
+    l = np.log(np.minimum(d["n"], n_max) - 1)
+    z = logit(top)
+    now = 1 / (1 + np.exp(-np.clip(w[:, 0] + w[:, 1] * z + w[:, 2] * l + w[:, 3] * l * z, -700, 700)))
+    return np.minimum(now, np.maximum(top, 0.5))
+
+
+BANDS = [(2, 5), (6, 8), (9, 1000)]
+
+
+def fit_top_label_bands(d, t):
+    """One {a, b} per band of reading counts (the last band open-ended)."""
+    top, right = top_and_right(d, t)
+    labels = []
+    for a, b in BANDS:
+        m = (d["n"] >= a) & (d["n"] <= b)
+        x = np.stack([np.ones(m.sum()), logit(top[m])], 1)
+        y = right[m].astype(float)
+        labels.append(newton(x, y, start=[0, 1]) if 0 < y.sum() < len(y) else np.array([0.0, 1]))
+    return labels
+
+
+def relabel_bands(d, top, labels):
+    ab = np.zeros((len(top), 2))
+    for (a, b), w in zip(BANDS, labels):
+        ab[(d["n"] >= a) & (d["n"] <= b)] = w
+    now = 1 / (1 + np.exp(-np.clip(ab[:, 0] + ab[:, 1] * logit(top), -700, 700)))
+    return np.minimum(now, np.maximum(top, 0.5))
+
+
 def relabel(d, top, labels):
     ab = np.where(d["fine"][:, None], labels[1], labels[0])
     now = 1 / (1 + np.exp(-np.clip(ab[:, 0] + ab[:, 1] * logit(top), -700, 700)))
@@ -136,6 +193,10 @@ def main() -> None:
         labels = fit_top_label(d, t)
         report(f"  + top label {np.round(labels[0], 2)} {np.round(labels[1], 2)}", test, relabel(test, top, labels),
                right)
+        pl = fit_top_label_pooled(d, t)
+        report("  + top label linear in log(n-1)", test, relabel_pooled(test, top, pl, d["n"].max()), right)
+        bl = fit_top_label_bands(d, t)
+        report(f"  + top label per band {BANDS}", test, relabel_bands(test, top, bl), right)
     t = fit_temperature(test)
     top, right = top_and_right(test, t)
     report(f"temperature fitted to the test sessions ({t[0]:.3f}, {t[1]:.2f}, {t[2]:.3g})", test, top, right)

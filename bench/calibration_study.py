@@ -6,8 +6,10 @@
 Mirrors host/src/calibration (calibration.cpp, calibration_fit.cpp): the temperature tau(n) = scale (n-1)^-power with
 the surface weight on a grid of halvings, fitted by the NLL of the true object; the top label, a logistic regression
 of "the top is right" on the logit of the tempered top probability per regime (before the fine pose, from it on),
-never surer than the temperature past one half. Prints the ECE of the test sessions (10 bins of the top object's
-probability, every step from 2 readings on) overall and by reading range, and the share confidently wrong.
+never surer than the temperature past one half; and, tried and left (docs/evaluation.md, "600 trials, and the first
+fine poses"), the top label linear in log(n - 1) within each regime and one per band of reading counts. Prints the
+ECE of the test sessions (10 bins of the top object's probability, every step from 2 readings on) overall and by
+reading range, and the share confidently wrong.
 """
 
 from __future__ import annotations
@@ -88,24 +90,6 @@ def top_and_right(d, t):
     return p.max(1), p.argmax(1) == d["obj"]
 
 
-def fit_top_label(d, t):
-    top, right = top_and_right(d, t)
-    labels = []
-    for regime in (False, True):
-        m = d["fine"] == regime
-        x = np.stack([np.ones(m.sum()), logit(top[m])], 1)
-        y = right[m].astype(float)
-        w = np.array([0.0, 1.0])
-        if 0 < y.sum() < len(y):
-            for _ in range(50):
-                p = 1 / (1 + np.exp(-np.clip(x @ w, -700, 700)))
-                g = x.T @ (p - y) / len(y) + np.array([0.0, 1e-3 * w[1]])
-                h = (x * (p * (1 - p))[:, None]).T @ x / len(y) + np.diag([1e-9, 1e-3])
-                w = w - np.linalg.solve(h, g)
-        labels.append(w)
-    return labels
-
-
 def newton(x, y, ridge=1e-3, start=None):
     """Unweighted logistic regression by Newton steps, every weight but the bias held by a small ridge."""
     w = np.zeros(x.shape[1]) if start is None else np.array(start, float)
@@ -117,6 +101,23 @@ def newton(x, y, ridge=1e-3, start=None):
         h = (x * (p * (1 - p))[:, None]).T @ x / len(y) + np.diag(r)
         w = w - np.linalg.solve(h, g)
     return w
+
+
+def fit_top_label(d, t):
+    top, right = top_and_right(d, t)
+    labels = []
+    for regime in (False, True):
+        m = d["fine"] == regime
+        x = np.stack([np.ones(m.sum()), logit(top[m])], 1)
+        y = right[m].astype(float)
+        labels.append(newton(x, y, start=[0.0, 1.0]) if 0 < y.sum() < len(y) else np.array([0.0, 1.0]))
+    return labels
+
+
+def platt(ab, top):
+    """The top label's map of the top probability, never surer than the temperature left it past one half."""
+    now = 1 / (1 + np.exp(-np.clip(ab[:, 0] + ab[:, 1] * logit(top), -700, 700)))
+    return np.minimum(now, np.maximum(top, 0.5))
 
 
 def fit_top_label_pooled(d, t):
@@ -159,14 +160,11 @@ def relabel_bands(d, top, labels):
     ab = np.zeros((len(top), 2))
     for (a, b), w in zip(BANDS, labels):
         ab[(d["n"] >= a) & (d["n"] <= b)] = w
-    now = 1 / (1 + np.exp(-np.clip(ab[:, 0] + ab[:, 1] * logit(top), -700, 700)))
-    return np.minimum(now, np.maximum(top, 0.5))
+    return platt(ab, top)
 
 
 def relabel(d, top, labels):
-    ab = np.where(d["fine"][:, None], labels[1], labels[0])
-    now = 1 / (1 + np.exp(-np.clip(ab[:, 0] + ab[:, 1] * logit(top), -700, 700)))
-    return np.minimum(now, np.maximum(top, 0.5))
+    return platt(np.where(d["fine"][:, None], labels[1], labels[0]), top)
 
 
 def ece(top, right):

@@ -10,13 +10,15 @@ rm -rf "$work" && mkdir -p "$work/dense"
 "$sva" --quiet train --data "$work/train.svad" --out "$work/map.svam" --seed 1 --threads 2 > /dev/null
 "$sva" --quiet eval --map "$work/map.svam" --data "$work/test.svad" --trials 2 --max-readings 3 --backend cpu \
   --csv "$work/random.csv" > /dev/null
-run() { PYTHONPATH="$build/python:$source_dir/bench" "$python" "$source_dir/bench/touch_truth.py" --map "$work/map.svam" \
-  --data "$work/test.svad" --random-csv "$work/random.csv" "$@"; }
+run() {
+  PYTHONPATH="$build/python:$source_dir/bench" "$python" "$source_dir/bench/touch_truth.py" \
+    --map "$work/map.svam" --data "$work/test.svad" --random-csv "$work/random.csv" "$@"
+}
 out=$(run --readings 2 --dense "$work/dense/test.svad")
 echo "$out"
 grep -q "^2 trials after 2 readings" <<< "$out" && grep -q "defaults *rank correlation [-+]" <<< "$out" &&
-  grep -q "(the best candidate)" <<< "$out" && grep -q "^the place's share of the truth's variance: [-0-9]" <<< "$out" ||
-  { echo "missing lines" >&2; exit 1; }
+  grep -q "(the best candidate)" <<< "$out" &&
+  grep -q "^the place's share of the truth's variance: [-0-9]" <<< "$out" || { echo "missing lines" >&2; exit 1; }
 # A bad value is refused by name, not a traceback.
 if err=$(run --readings 9 2>&1); then echo "--readings 9 was accepted" >&2; exit 1; fi
 grep -q "readings 9: .*fewer readings per trial" <<< "$err" || { echo "unclear refusal: $err" >&2; exit 1; }

@@ -73,12 +73,12 @@ def rank_study(rec, planner, test, trials, k):
         candidates = [placed(test[i], R, T) for i in pool if i not in samples]
         if len(candidates) < 2:
             continue
-        cases.append((shown, candidates, truths(rec, shown, candidates, obj)))
+        cases.append((shown, candidates, truths(rec, shown, candidates, obj), session(rec, shown)))
     print(f"{len(cases)} trials after {k} readings; the truth: the true object's probability with each candidate added")
     for name, settings in SETTINGS:
         rho, lift, above = [], [], []
-        for shown, candidates, truth in cases:
-            score = planner_scores(planner, session(rec, shown), shown, candidates, settings)
+        for shown, candidates, truth, est in cases:
+            score = planner_scores(planner, est, shown, candidates, settings)
             best = int(np.argmax(score))
             rho.append(rank_correlation(score, truth))
             lift.append(truth[best] - np.median(truth))
@@ -136,21 +136,32 @@ def main():
     a = ap.parse_args()
     if a.readings < 1:
         ap.error(f"--readings must be at least 1, got {a.readings}")
-    m, test = sva.Map.load(a.map), sva.Dataset.load(a.data)
+    try:
+        m, test = sva.Map.load(a.map), sva.Dataset.load(a.data)
+        dense = sva.Dataset.load(a.dense) if a.dense else None
+    except sva.Error as e:  # names the file and the fault
+        ap.error(str(e))
     names = list(m.object_names)
     wanted = [s for s in a.objects.split(",") if s]
     unknown = [s for s in wanted if s not in names]
     if unknown:
         ap.error(f"--objects: {', '.join(unknown)} not in the map {a.map}")
-    trials = [t for t in random_trials(a.random_csv, a.trials, test) if not wanted or names[t[2]] in wanted]
+    try:
+        trials = [t for t in random_trials(a.random_csv, a.trials, test) if not wanted or names[t[2]] in wanted]
+    except (OSError, KeyError, ValueError, IndexError) as e:
+        ap.error(f"{a.random_csv}: not a CSV of `sva eval --csv` on this map and test set ({type(e).__name__}: {e})")
     if not trials:
         ap.error(f"no trial of {a.random_csv} is left to study")
     if any(len(t[1]) < a.readings for t in trials):
         ap.error(f"--readings {a.readings}: {a.random_csv} holds fewer readings per trial")
+    if dense is not None and (
+            dense.scene.name != test.scene.name or list(dense.scene.object_names) != list(test.scene.object_names)):
+        ap.error(f"--dense {a.dense}: scene \"{dense.scene.name}\", not the test set's \"{test.scene.name}\" "
+                 "with the same objects")
     rec = sva.Recognizer(m, backend="cpu")
     rank_study(rec, sva.TouchPlanner(m), test, trials, a.readings)
-    if a.dense:
-        place_study(rec, test, sva.Dataset.load(a.dense), trials, a.readings)
+    if dense is not None:
+        place_study(rec, test, dense, trials, a.readings)
 
 
 if __name__ == "__main__":

@@ -22,3 +22,12 @@ grep -q "^2 trials after 2 readings" <<< "$out" && grep -q "defaults *rank corre
 # A bad value is refused by name, not a traceback.
 if err=$(run --readings 9 2>&1); then echo "--readings 9 was accepted" >&2; exit 1; fi
 grep -q "readings 9: .*fewer readings per trial" <<< "$err" || { echo "unclear refusal: $err" >&2; exit 1; }
+printf 'trial,object\n0,0\n' > "$work/bad.csv"
+if err=$(PYTHONPATH="$build/python:$source_dir/bench" "$python" "$source_dir/bench/touch_truth.py" \
+  --map "$work/map.svam" --data "$work/test.svad" --random-csv "$work/bad.csv" 2>&1); then
+  echo "a CSV without readings was accepted" >&2; exit 1
+fi
+grep -q "bad.csv: not a CSV of" <<< "$err" && ! grep -q Traceback <<< "$err" || { echo "unclear refusal: $err" >&2; exit 1; }
+if err=$(run --dense "$work/map.svam" 2>&1); then echo "a map was taken for a dense test set" >&2; exit 1; fi
+grep -q "map.svam: not an sva dataset" <<< "$err" && ! grep -q Traceback <<< "$err" ||
+  { echo "unclear refusal: $err" >&2; exit 1; }

@@ -27,7 +27,8 @@ if err=$(PYTHONPATH="$build/python:$source_dir/bench" "$python" "$source_dir/ben
   --map "$work/map.svam" --data "$work/test.svad" --random-csv "$work/bad.csv" 2>&1); then
   echo "a CSV without readings was accepted" >&2; exit 1
 fi
-grep -q "bad.csv: not a CSV of" <<< "$err" && ! grep -q Traceback <<< "$err" || { echo "unclear refusal: $err" >&2; exit 1; }
+grep -q "bad.csv: not a CSV of" <<< "$err" && ! grep -q Traceback <<< "$err" ||
+  { echo "unclear refusal: $err" >&2; exit 1; }
 if err=$(run --dense "$work/map.svam" 2>&1); then echo "a map was taken for a dense test set" >&2; exit 1; fi
 grep -q "map.svam: not an sva dataset" <<< "$err" && ! grep -q Traceback <<< "$err" ||
   { echo "unclear refusal: $err" >&2; exit 1; }

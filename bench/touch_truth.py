@@ -14,8 +14,15 @@ compared. The share of the truth's variance (in logits) that neighbours share is
 surface a perfect model could predict; the rest is the reading's own draw (its image, its errors), which no policy
 choosing before it touches can know, though the greedy oracle of bench/active_touch_oracle.py sees it.
 
+With --train TRAIN.svad (the map's training set) it also scores the candidates with the recognizer itself as the
+outcome model: each object holding at least 1% predicts at the candidate its nearest training reading facing the same
+way (pressure image and all), placed at the object's best pose; the filter runs on the trial's readings plus that
+one, and the score is the expected gain in log2 of the predicting object's probability. Costs an update per
+candidate and object.
+
   usage: PYTHONPATH=build-ci/python .venv/bin/python bench/touch_truth.py --map MAP --data TEST.svad \
-             --random-csv RANDOM.csv [--readings K] [--trials N] [--objects a,b] [--dense DENSE.svad]
+             --random-csv RANDOM.csv [--readings K] [--trials N] [--objects a,b] [--dense DENSE.svad] \
+             [--train TRAIN.svad]
 RANDOM.csv is `sva eval --policy random --csv` of the same map, data and seed (its readings and poses).
 """
 import argparse
@@ -64,7 +71,55 @@ def planner_scores(planner, est, shown, candidates, settings):
     return score
 
 
-def rank_study(rec, planner, test, trials, k):
+class TrainingSurface:
+    """Each object's converged training readings, by position and normal (object frame)."""
+
+    def __init__(self, train):
+        self.train, self.index = train, {}
+        for i in range(len(train)):
+            if train[i].reading.status == sva.ControllerStatus.converged:
+                self.index.setdefault(train[i].object, []).append(i)
+        self.position = {o: np.array([train[i].reading.position for i in ix]) for o, ix in self.index.items()}
+        self.normal = {o: np.array([train[i].reading.normal for i in ix]) for o, ix in self.index.items()}
+
+    def predict(self, obj, R, T, reading):
+        """The training reading of `obj` nearest to `reading` (robot frame) facing within 60 degrees of it, placed at
+        (R, T); None when the object has none."""
+        if obj not in self.index:
+            return None
+        q, n = R.T @ (np.array(reading.position) - T), R.T @ np.array(reading.normal)
+        d = np.linalg.norm(self.position[obj] - q, axis=1)
+        d[self.normal[obj] @ n <= 0.5] = np.inf
+        return placed(self.train[self.index[obj][int(np.argmin(d))]], R, T) if np.isfinite(d.min()) else None
+
+
+def predicted_reading_scores(rec, surface, est, shown, candidates):
+    """The recognizer as the outcome model (see --train): sum_o p_o log2(p'_o / p_o) over objects holding >= 1%."""
+    objects = [(h.object, np.array(h.pose.R), np.array(h.pose.T), float(est.object_probability[h.object]))
+               for h in est.object_hypotheses if h.valid and est.object_probability[h.object] >= 0.01]
+    total = sum(o[3] for o in objects)
+    score = np.zeros(len(candidates))
+    for i, c in enumerate(candidates):
+        for obj, R, T, p in objects:
+            predicted = surface.predict(obj, R, T, c)
+            if predicted is not None:
+                after = float(session(rec, shown + [predicted]).object_probability[obj])
+                score[i] += (p / total) * np.log2(max(after, 1e-9) / (p / total))
+    return score
+
+
+def report(name, cases, scores):
+    rho, lift, above = [], [], []
+    for (shown, candidates, truth, est), score in zip(cases, scores):
+        best = int(np.argmax(score))
+        rho.append(rank_correlation(score, truth))
+        lift.append(truth[best] - np.median(truth))
+        above.append(float((truth > truth[best]).mean()))
+    print(f"  {name:22s} rank correlation {np.mean(rho):+.3f}   chosen less median {np.mean(lift):+.3f}   "
+          f"candidates better than the chosen {100 * np.mean(above):.0f}%")
+
+
+def rank_study(rec, planner, test, trials, k, surface=None):
     """Per setting: mean rank correlation, the chosen candidate's truth less the median, the share above it."""
     cases = []
     for t, rows, obj, R, T, pool in trials:
@@ -76,15 +131,9 @@ def rank_study(rec, planner, test, trials, k):
         cases.append((shown, candidates, truths(rec, shown, candidates, obj), session(rec, shown)))
     print(f"{len(cases)} trials after {k} readings; the truth: the true object's probability with each candidate added")
     for name, settings in SETTINGS:
-        rho, lift, above = [], [], []
-        for shown, candidates, truth, est in cases:
-            score = planner_scores(planner, est, shown, candidates, settings)
-            best = int(np.argmax(score))
-            rho.append(rank_correlation(score, truth))
-            lift.append(truth[best] - np.median(truth))
-            above.append(float((truth > truth[best]).mean()))
-        print(f"  {name:22s} rank correlation {np.mean(rho):+.3f}   chosen less median {np.mean(lift):+.3f}   "
-              f"candidates better than the chosen {100 * np.mean(above):.0f}%")
+        report(name, cases, [planner_scores(planner, c[3], c[0], c[1], settings) for c in cases])
+    if surface is not None:
+        report("predicted readings", cases, [predicted_reading_scores(rec, surface, c[3], c[0], c[1]) for c in cases])
     if cases:
         print(f"  {'(the best candidate)':22s} chosen less median "
               f"{np.mean([c[2].max() - np.median(c[2]) for c in cases]):+.3f}")
@@ -133,12 +182,14 @@ def main():
     ap.add_argument("--trials", type=int, default=0, help="the first N trials of the CSV (default all)")
     ap.add_argument("--objects", default="", help="only trials of these objects (comma-separated names)")
     ap.add_argument("--dense", help="a second, dense test set of the scene: the place's share of the truth")
+    ap.add_argument("--train", help="the map's training set: the recognizer on predicted readings as a planner")
     a = ap.parse_args()
     if a.readings < 1:
         ap.error(f"--readings must be at least 1, got {a.readings}")
     try:
         m, test = sva.Map.load(a.map), sva.Dataset.load(a.data)
         dense = sva.Dataset.load(a.dense) if a.dense else None
+        train = sva.Dataset.load(a.train) if a.train else None
     except sva.Error as e:  # names the file and the fault
         ap.error(str(e))
     names = list(m.object_names)
@@ -159,7 +210,9 @@ def main():
         ap.error(f"--dense {a.dense}: scene \"{dense.scene.name}\", not the test set's \"{test.scene.name}\" "
                  "with the same objects")
     rec = sva.Recognizer(m, backend="cpu")
-    rank_study(rec, sva.TouchPlanner(m), test, trials, a.readings)
+    if train is not None and train.scene.name != test.scene.name:
+        ap.error(f"--train {a.train}: scene \"{train.scene.name}\", not the test set's \"{test.scene.name}\"")
+    rank_study(rec, sva.TouchPlanner(m), test, trials, a.readings, TrainingSurface(train) if train else None)
     if dense is not None:
         place_study(rec, test, dense, trials, a.readings)
 

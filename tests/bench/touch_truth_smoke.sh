@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# bench/touch_truth.py on the tiny scene: both studies run and print their lines (the figures themselves are
+# bench/touch_truth.py on the tiny scene: the studies run and print their lines (the figures themselves are
 # docs/evaluation.md's, on household10 and lookalikes).
 #   tests/bench/touch_truth_smoke.sh SOURCE BUILD SVA PYTHON WORK
 set -euo pipefail
@@ -14,10 +14,10 @@ run() {
   PYTHONPATH="$build/python:$source_dir/bench" "$python" "$source_dir/bench/touch_truth.py" \
     --map "$work/map.svam" --data "$work/test.svad" --random-csv "$work/random.csv" "$@"
 }
-out=$(run --readings 2 --dense "$work/dense/test.svad")
+out=$(run --readings 2 --dense "$work/dense/test.svad" --train "$work/train.svad")
 echo "$out"
 grep -q "^2 trials after 2 readings" <<< "$out" && grep -q "defaults *rank correlation [-+]" <<< "$out" &&
-  grep -q "(the best candidate)" <<< "$out" &&
+  grep -q "predicted readings *rank correlation [-+]" <<< "$out" && grep -q "(the best candidate)" <<< "$out" &&
   grep -q "^the place's share of the truth's variance: [-0-9]" <<< "$out" || { echo "missing lines" >&2; exit 1; }
 # A bad value is refused by name, not a traceback.
 if err=$(run --readings 9 2>&1); then echo "--readings 9 was accepted" >&2; exit 1; fi

@@ -6,8 +6,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numbers>
-#include <optional>
 #include <vector>
 
 namespace sva {
@@ -331,47 +329,6 @@ RefineSettings refine_settings(const PoseSpace& space) {
   return s;
 }
 
-std::optional<SpinAxis> weakest_spin(const SurfaceIndex& surface, std::uint32_t object) {
-  if (object >= surface.objects() || surface.points(object).size() < 6) return std::nullopt;
-  const auto& points = surface.points(object);
-  glm::dvec3 centre(0.0);
-  for (const SurfacePoint& p : points) centre += p.position;
-  centre /= static_cast<double>(points.size());
-  double spread = 0.0;
-  for (const SurfacePoint& p : points) spread += glm::dot(p.position - centre, p.position - centre);
-  const double length = std::sqrt(spread / static_cast<double>(points.size()));  // turns and slides alike in size
-  if (!(length > 0.0)) return std::nullopt;
-  Mat info{};
-  for (const SurfacePoint& p : points) {
-    const glm::dvec3 m = glm::cross(p.position - centre, p.normal) / length;
-    const double j[6] = {p.normal.x, p.normal.y, p.normal.z, m.x, m.y, m.z};
-    for (int r = 0; r < 6; ++r)
-      for (int c = 0; c < 6; ++c) info[r][c] += j[r] * j[c];
-  }
-  Vec values{};
-  Mat vectors{};
-  symmetric_eigen(info, 6, &values, &vectors);
-  int weakest = -1;  // the least seen screw that is mostly a turn (a slide needs no start: the fit follows it)
-  for (int k = 0; k < 6; ++k) {
-    const glm::dvec3 t(vectors[0][k], vectors[1][k], vectors[2][k]), w(vectors[3][k], vectors[4][k], vectors[5][k]);
-    if (glm::length(w) >= glm::length(t) && (weakest < 0 || values[k] < values[weakest])) weakest = k;
-  }
-  if (weakest < 0) return std::nullopt;
-  const glm::dvec3 t(vectors[0][weakest], vectors[1][weakest], vectors[2][weakest]);
-  const glm::dvec3 w = glm::dvec3(vectors[3][weakest], vectors[4][weakest], vectors[5][weakest]) / length;
-  // A contact moves by t + w x (p - centre): the turn's axis passes through centre + w x t / |w|^2.
-  return SpinAxis{centre + glm::cross(w, t) / glm::dot(w, w), glm::normalize(w)};
-}
-
-std::vector<RigidPose> spin_starts(const SpinAxis& axis, const RigidPose& start, int turns) {
-  std::vector<RigidPose> out;
-  for (int k = 1; k < turns; ++k) {
-    const glm::dmat3 spin = so3::about_axis(axis.direction, 2.0 * std::numbers::pi * k / turns);
-    out.push_back({start.R * spin, start.T + start.R * (axis.point - spin * axis.point)});
-  }
-  return out;
-}
-
 RefinedPose refine_pose(const SurfaceIndex& surface, std::uint32_t object, std::span<const ObservedReading> readings,
                         std::span<const RigidPose> starts, const RefineSettings& settings) {
   RefinedPose out;
@@ -388,17 +345,11 @@ RefinedPose refine_pose(const SurfaceIndex& surface, std::uint32_t object, std::
   // A later (less probable) mode wins only by a clear margin: half a
   // reading's outlier cost, or a quarter of the cost. Modes the shape cannot
   // tell apart (a cube's faces) fit alike, and the histogram's order stands.
-  std::vector<RigidPose> all(starts.begin(), starts.end());
-  if (settings.spin_turns >= 2 && !settings.planar)
-    if (const auto axis = weakest_spin(surface, object)) {
-      const std::vector<RigidPose> spins = spin_starts(*axis, starts[0], settings.spin_turns);
-      all.insert(all.end(), spins.begin(), spins.end());
-    }
   bool have = false;
   RefinedPose best;
-  for (std::size_t k = 0; k < all.size(); ++k) {
+  for (std::size_t k = 0; k < starts.size(); ++k) {
     int observable = 0;
-    const auto [pose, f] = problem.run(all[k], &observable);
+    const auto [pose, f] = problem.run(starts[k], &observable);
     const double margin = std::max(final_scale * final_scale / 12.0, 0.25 * best.cost);
     if (have && !(f.cost < best.cost - margin)) continue;
     have = true;

@@ -13,9 +13,7 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <optional>
 #include <span>
-#include <vector>
 
 #include "map/surface_index.hpp"
 #include "recognition/observed_reading.hpp"
@@ -34,11 +32,6 @@ struct RefineSettings {
   int iterations = 6;                      // Gauss-Newton steps per scale at most
   double min_information = 0.02;           // eigenvalue of the point-to-plane equations (observed normals) below which
   double min_relative_information = 2e-3;  // ... (or this share of the largest) a direction is unobservable
-  // The first start is also tried turned about the object's weakest spin (weakest_spin) by every multiple of a full
-  // turn / spin_turns: the modes of a near-symmetric body (a mug, whose handle alone fixes its spin; a bottle and its
-  // cap) may hold it at the wrong spin, and the robust fit cannot turn it back, since the readings that would say so
-  // (on the handle) match nothing within the scale. 0 or 1: off. Planar spaces: off (their angle is the histogram's).
-  int spin_turns = 16;
 };
 
 // Settings for a pose space: scales in units of its translation bin (paper3d:
@@ -54,26 +47,13 @@ struct RefinedPose {
   int observable = 0;       // directions the readings constrain at the end (of 6; planar: of 3)
 };
 
-// Refines `starts` (best first) of `object`, then the first start turned about
-// the object's weakest spin (RefineSettings::spin_turns), against the surface and keeps the
+// Refines `starts` (best first) of `object` against the surface and keeps the
 // fit of least robust cost; a later start must beat the best so far by more
 // than half a reading's outlier cost and a quarter of its cost. No start, too
 // few readings or inliers, or no better fit than the first start's keep the
 // first start (or an identity pose when there is none), `refined` false.
 RefinedPose refine_pose(const SurfaceIndex& surface, std::uint32_t object, std::span<const ObservedReading> readings,
                         std::span<const RigidPose> starts, const RefineSettings& settings);
-
-// The turn an object's own training contacts constrain least: the least eigenvector, among those mostly a turn, of
-// their point-to-plane information sum J J^T, J = (n, (p - c) x n / l) about their centroid c (l: their RMS distance
-// from it). For a body of revolution it is the spin about the axis; for a mug, the spin only its handle fixes.
-struct SpinAxis {
-  glm::dvec3 point{0.0};      // a point of the axis (object frame)
-  glm::dvec3 direction{0.0};  // unit
-};
-std::optional<SpinAxis> weakest_spin(const SurfaceIndex& surface, std::uint32_t object);
-
-// `start` turned about `axis` by every multiple of a full turn / turns (turns - 1 poses, the start itself left out).
-std::vector<RigidPose> spin_starts(const SpinAxis& axis, const RigidPose& start, int turns);
 
 // How well `object`'s surface explains the readings at `pose`: per reading, log2(exp(-s2 / (2 sigma^2)) + floor)
 // with s2 the squared joint residual to its matched training contact (point-to-plane and normal tilt, as the fit

@@ -6,7 +6,8 @@
 Mirrors host/src/calibration (calibration.cpp, calibration_fit.cpp): the temperature tau(n) = scale (n-1)^-power with
 the surface weight on a grid of halvings, fitted by the NLL of the true object; the top label, a logistic regression
 of "the top is right" on the logit of the tempered top probability per regime (before the fine pose, from it on),
-never surer than the temperature past one half; and, tried and left (docs/evaluation.md, "600 trials, and the first
+the second phased in over the fine pose's first five readings, never surer than the temperature past one half (and,
+as earlier builds applied it, the second at once); and, tried and left (docs/evaluation.md, "600 trials, and the first
 fine poses"), the top label linear in log(n - 1) within each regime and one per band of reading counts. Prints the
 ECE of the test sessions (10 bins of the top object's probability, every step from 2 readings on) overall and by
 reading range, and the share confidently wrong.
@@ -31,11 +32,13 @@ def load(path: str) -> dict:
             s = json.loads(line)
             if not s["known"]:
                 continue
-            rows += [(st["n"], s["object"], st["L"], st["G"], st["share"]) for st in s["steps"] if st["n"] >= 2]
+            fine_from = min([st["n"] for st in s["steps"] if st["share"] >= 0], default=0)
+            rows += [(st["n"], s["object"], st["L"], st["G"], st["share"], fine_from) for st in s["steps"]
+                     if st["n"] >= 2]
     k = max(len(r[2]) for r in rows)
     d = {"n": np.array([r[0] for r in rows], float), "obj": np.array([r[1] for r in rows]),
          "L": np.full((len(rows), k), -1e6), "G": np.zeros((len(rows), k)),
-         "fine": np.array([r[4] >= 0 for r in rows])}
+         "fine": np.array([r[4] >= 0 for r in rows]), "fine_from": np.array([r[5] for r in rows], float)}
     for i, r in enumerate(rows):
         d["L"][i, :len(r[2])] = r[2]
         d["G"][i, :len(r[3])] = r[3]
@@ -163,8 +166,14 @@ def relabel_bands(d, top, labels):
     return platt(ab, top)
 
 
-def relabel(d, top, labels):
-    return platt(np.where(d["fine"][:, None], labels[1], labels[0]), top)
+BLEND_READINGS = 5.0  # Calibration::kTopLabelBlendReadings
+
+
+def relabel(d, top, labels, blend=BLEND_READINGS):
+    """This build's top label: the fine-pose regime phased in over its first `blend` readings (0: at once)."""
+    w = np.ones(len(top)) if blend == 0 else np.clip((d["n"] - d["fine_from"] + 1) / blend, 0, 1)
+    w = np.where(d["fine"], w, 0.0)[:, None]
+    return platt((1 - w) * labels[0] + w * labels[1], top)
 
 
 def ece(top, right):
@@ -191,6 +200,7 @@ def main() -> None:
         labels = fit_top_label(d, t)
         report(f"  + top label {np.round(labels[0], 2)} {np.round(labels[1], 2)}", test, relabel(test, top, labels),
                right)
+        report("  + the same, the fine-pose label at once", test, relabel(test, top, labels, 0), right)
         pl = fit_top_label_pooled(d, t)
         report("  + top label linear in log(n-1)", test, relabel_pooled(test, top, pl, d["n"].max()), right)
         bl = fit_top_label_bands(d, t)

@@ -154,6 +154,37 @@ TEST_CASE("the top label: a sure top made less sure and a flat one surer, the to
   CHECK(sure == std::vector<double>{0.0, 1.0, 0.0});
 }
 
+TEST_CASE("the top label's fine-pose regime comes in over its first five readings") {
+  Calibration c;
+  c.top_label = {Calibration::TopLabel{0.5, 0.5}, Calibration::TopLabel{-1.0, 1.0}};
+  EvidenceLevel level;
+  level.readings = 4;
+  CHECK(c.top_label_at(level) == c.top_label[0]);  // no fine pose yet
+  level.fit_cost_share = 0.1;
+  level.fine_pose_from = 6;
+  const auto blended = [&](double w) {
+    return Calibration::TopLabel{(1.0 - w) * 0.5 + w * -1.0, (1.0 - w) * 0.5 + w * 1.0};
+  };
+  for (std::size_t n : {6, 7, 8, 9}) {
+    level.readings = n;
+    const Calibration::TopLabel got = c.top_label_at(level), want = blended((static_cast<double>(n) - 5.0) / 5.0);
+    CHECK(got[0] == Approx(want[0]));
+    CHECK(got[1] == Approx(want[1]));
+  }
+  for (std::size_t n : {10, 11, 30}) {
+    level.readings = n;
+    CHECK(c.top_label_at(level) == c.top_label[1]);
+  }
+  level.fine_pose_from = 0;  // not known: the fine-pose regime in full
+  level.readings = 6;
+  CHECK(c.top_label_at(level) == c.top_label[1]);
+  // recalibrate_top reads the blend: at 6 readings logit' = 0.2 + 0.6 logit p.
+  level.fine_pose_from = 6;
+  std::vector<double> p{0.05, 0.9, 0.03, 0.02};
+  c.recalibrate_top(level, &p);
+  CHECK(p[1] == Approx(1.0 / (1.0 + std::exp(-0.2 - 0.6 * std::log(9.0)))));
+}
+
 TEST_CASE("fit_top_label recovers the top label of sessions whose top is right as often as it says") {
   // Steps whose top object is right with probability sigmoid(a + b logit p_top) under the default temperature:
   // before the fine pose {a, b} = {0.5, 0.4} (a flat top too unsure, a sure one too sure), from it on {-0.3, 0.8}.

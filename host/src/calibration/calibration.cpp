@@ -36,8 +36,17 @@ std::vector<double> Calibration::object_probability(const EvidenceLevel& level,
                             surface_weight);
 }
 
+Calibration::TopLabel Calibration::top_label_at(const EvidenceLevel& level) const {
+  if (level.fit_cost_share < 0.0) return top_label[0];
+  if (level.fine_pose_from == 0 || level.readings < level.fine_pose_from) return top_label[1];
+  const double w =
+      std::min(1.0, static_cast<double>(level.readings - level.fine_pose_from + 1) / kTopLabelBlendReadings);
+  if (w >= 1.0) return top_label[1];
+  return {(1.0 - w) * top_label[0][0] + w * top_label[1][0], (1.0 - w) * top_label[0][1] + w * top_label[1][1]};
+}
+
 void Calibration::recalibrate_top(const EvidenceLevel& level, std::vector<double>* p) const {
-  const TopLabel& c = top_label[level.fit_cost_share >= 0.0 ? 1 : 0];
+  const TopLabel c = top_label_at(level);
   if (p->size() < 2 || (c[0] == 0.0 && c[1] == 1.0)) return;
   std::size_t top = 0;
   for (std::size_t o = 1; o < p->size(); ++o)

@@ -40,6 +40,9 @@ struct EvidenceLevel {
   // the robust cost per reading over the final scale^2/6 (an unmatched reading's cost: 1). Negative when the fine
   // pose was not computed (too few readings).
   double fit_cost_share = -1.0;
+  // The reading count at which the session's fine pose first exists (RefineSettings::min_readings); 0: not known
+  // (the top label then applies its fine-pose regime in full).
+  std::size_t fine_pose_from = 0;
   // The surface check (recognition/surface_check.hpp), per object: log2 of how well its surface explains the
   // readings at its own fine pose, added to the tempered log-evidence with the calibration's surface weight.
   // Empty when it was not run (too few readings, no surface, switched off).
@@ -103,8 +106,16 @@ struct Calibration {
   // {a, b} = top_label[0] before the fine pose exists and top_label[1] from it on; the other objects keep their
   // ratios. One temperature per reading count cannot fix a reading count whose posteriors err both ways (too unsure
   // when flat, too sure when peaked: docs/recognition.md, "Calibration"). Identity in maps without one (format 1-6).
+  // The fine-pose regime comes in over its first kTopLabelBlendReadings readings (top_label_at): at 6 readings the
+  // fine pose and the surface check lift the top object's probability at once, while the share of right answers
+  // follows over the next four readings, so one label from 6 readings on was too sure at 6-8 and too unsure at 10-12
+  // (lookalikes: docs/evaluation.md, "The top label phased in").
   using TopLabel = std::array<double, 2>;
   std::array<TopLabel, 2> top_label{TopLabel{0.0, 1.0}, TopLabel{0.0, 1.0}};
+  static constexpr double kTopLabelBlendReadings = 5.0;
+  // The {a, b} recalibrate_top applies at `level`: the first regime before the fine pose, then (1 - w) of it and w
+  // of the second, w = (readings - fine_pose_from + 1) / kTopLabelBlendReadings up to 1 (1 when fine_pose_from is 0).
+  TopLabel top_label_at(const EvidenceLevel& level) const;
   UnknownModel unknown;  // empty: the map cannot say "none of these" (p_unknown is then the prior)
   // How the fit was made (sva inspect): held-out sessions on known and unknown objects, readings per session.
   std::uint32_t known_sessions = 0, unknown_sessions = 0, session_readings = 0;

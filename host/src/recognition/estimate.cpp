@@ -191,6 +191,7 @@ void set_surface_fit(const RefinedPose& fine, std::size_t readings, const Refine
   if (readings < settings.min_readings || readings == 0) return;
   const double outlier_cost = settings.scale_final_mm * settings.scale_final_mm / 6.0;
   level->fit_cost_share = fine.cost / (outlier_cost * static_cast<double>(readings));
+  level->fine_pose_from = settings.min_readings;
 }
 
 double total_mass(const BeliefSummary& summary, const PoseSpace& space, std::span<const double> object_weight) {

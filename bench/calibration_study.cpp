@@ -1,10 +1,13 @@
 // bench/calibration_study.sh's sessions: every step's evidence level (calibration/calibration.hpp), as JSON lines,
 // for the calibration's two kinds of held-out sessions (as `sva train` runs them) and for sessions on a test set with
 // the full map, so that calibration families can be fitted and compared offline (bench/calibration_study.py).
-//   calibration_study TRAIN.svad MAP.svam TEST.svad SEED TEST_SESSIONS OUT_PREFIX
+//   calibration_study TRAIN.svad MAP.svam TEST.svad SEED TEST_SESSIONS OUT_PREFIX [KNOWN_SESSIONS [TEST_SEED]]
 // writes OUT_PREFIX.objects_held_out.jsonl (the map missing a fifth of the objects: "none of these"),
 // OUT_PREFIX.every_object.jsonl (the map of every object: the temperature and the top label) and OUT_PREFIX.test.jsonl
 // (TEST_SESSIONS sessions of 30 readings on the test set, the full map). SEED: the map's training seed.
+// KNOWN_SESSIONS (default: `sva train`'s 60) sets the known sessions of both calibration maps, so that the fit's noise
+// can be measured on disjoint blocks of them (calibration_study.py --blocks); TEST_SEED (default 77) draws other test
+// sessions.
 #include <sva/dataset.hpp>
 #include <sva/error.hpp>
 #include <sva/map.hpp>
@@ -41,10 +44,12 @@ void write_sessions(const std::vector<CalibrationSession>& sessions, const std::
 }
 
 // The held-out sessions `sva train` runs on a calibration map of `split`.
-std::vector<CalibrationSession> held_out(const Dataset& train, const TrainParameters& params, bool hold_out_objects) {
+std::vector<CalibrationSession> held_out(const Dataset& train, const TrainParameters& params, bool hold_out_objects,
+                                         std::size_t known_sessions) {
   const CalibrationOptions co;
   const CalibrationSplit split = split_for_calibration(train, co.held_out_share, params.seed, hold_out_objects);
   HeldOutSessionOptions so = co.sessions;
+  if (known_sessions > 0) so.known_sessions = known_sessions;
   so.seed = params.seed;
   so.threads = params.threads;
   if (!hold_out_objects) so.unknown_sessions = 0;
@@ -54,17 +59,20 @@ std::vector<CalibrationSession> held_out(const Dataset& train, const TrainParame
 }  // namespace
 
 int main(int argc, char** argv) try {
-  if (argc != 7) {
-    std::fprintf(stderr, "usage: calibration_study TRAIN.svad MAP.svam TEST.svad SEED TEST_SESSIONS OUT_PREFIX\n");
+  if (argc < 7 || argc > 9) {
+    std::fprintf(stderr,
+                 "usage: calibration_study TRAIN.svad MAP.svam TEST.svad SEED TEST_SESSIONS OUT_PREFIX "
+                 "[KNOWN_SESSIONS [TEST_SEED]]\n");
     return 2;
   }
+  const std::size_t known = argc > 7 ? std::stoul(argv[7]) : 0;
   const Dataset train = load_dataset(argv[1]);
   TrainOptions to;
   to.seed = std::stoull(argv[4]);
   const TrainParameters params = resolve_train_parameters(train.scene, to);
   const std::string out = argv[6];
-  write_sessions(held_out(train, params, true), out + ".objects_held_out.jsonl");
-  write_sessions(held_out(train, params, false), out + ".every_object.jsonl");
+  write_sessions(held_out(train, params, true, known), out + ".objects_held_out.jsonl");
+  write_sessions(held_out(train, params, false, known), out + ".every_object.jsonl");
   const auto map = load_pair_map(argv[2]);
   CalibrationSplit test;  // every test reading "held out", every object known
   test.held_out = load_dataset(argv[3]);
@@ -74,7 +82,7 @@ int main(int argc, char** argv) try {
   so.known_sessions = std::stoul(argv[5]);
   so.unknown_sessions = 0;
   so.readings = 30;
-  so.seed = 77;  // not the training seed: other poses and orders than the calibration's
+  so.seed = argc > 8 ? std::stoull(argv[8]) : 77;  // not the training seed: other poses and orders
   write_sessions(run_held_out_sessions(*map, test, so), out + ".test.jsonl");
   return 0;
 } catch (const std::exception& e) {

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Calibration families compared offline on the sessions bench/calibration_study.cpp wrote (PREFIX.*.jsonl).
 
-    python3 bench/calibration_study.py PREFIX
+    python3 bench/calibration_study.py PREFIX [--blocks N]
 
 Mirrors host/src/calibration (calibration.cpp, calibration_fit.cpp): the temperature tau(n) = scale (n-1)^-power with
 the surface weight on a grid of halvings, fitted by the NLL of the true object; the top label, a logistic regression
@@ -10,7 +10,8 @@ the second phased in over the fine pose's first five readings, never surer than 
 as earlier builds applied it, the second at once); and, tried and left (docs/evaluation.md, "600 trials, and the first
 fine poses"), the top label linear in log(n - 1) within each regime and one per band of reading counts. Prints the
 ECE of the test sessions (10 bins of the top object's probability, every step from 2 readings on) overall and by
-reading range, and the share confidently wrong.
+reading range, and the share confidently wrong. --blocks N: also the temperature and top label fitted on each disjoint
+block of N known sessions of the map of every object (the fit's noise between draws of `sva train`'s sessions).
 """
 
 from __future__ import annotations
@@ -24,13 +25,18 @@ RANGES = [(2, 5), (6, 10), (11, 20), (21, 30)]
 WEIGHTS = [0.0, 1 / 32, 1 / 16, 1 / 8, 1 / 4, 1 / 2, 1.0]
 
 
-def load(path: str) -> dict:
-    """Every step from 2 readings on of the known sessions: n, the true object, L and G (objects padded)."""
+def load(path: str, first: int = 0, last: int | None = None) -> dict:
+    """Every step from 2 readings on of the known sessions (those numbered first to last - 1): n, the true object, L and
+    G (objects padded)."""
     rows = []
+    known = 0
     with open(path) as f:
         for line in f:
             s = json.loads(line)
             if not s["known"]:
+                continue
+            known += 1
+            if known <= first or (last is not None and known > last):
                 continue
             fine_from = min([st["n"] for st in s["steps"] if st["share"] >= 0], default=0)
             rows += [(st["n"], s["object"], st["L"], st["G"], st["share"], fine_from) for st in s["steps"]
@@ -189,6 +195,8 @@ def report(name, d, top, right):
 
 
 def main() -> None:
+    if len(sys.argv) < 2:
+        sys.exit("usage: calibration_study.py PREFIX [--blocks N]  (PREFIX.*.jsonl: calibration_study.sh writes them)")
     prefix = sys.argv[1]
     test = load(prefix + ".test.jsonl")
     print(f"{len(test['n'])} test steps; ECE by readings: " + ", ".join(f"{a}-{b}" for a, b in RANGES))
@@ -205,6 +213,16 @@ def main() -> None:
         report("  + top label linear in log(n-1)", test, relabel_pooled(test, top, pl, d["n"].max()), right)
         bl = fit_top_label_bands(d, t)
         report(f"  + top label per band {BANDS}", test, relabel_bands(test, top, bl), right)
+    if "--blocks" in sys.argv:
+        size = int(sys.argv[sys.argv.index("--blocks") + 1])
+        total = sum(1 for line in open(f"{prefix}.every_object.jsonl") if json.loads(line)["known"])
+        for first in range(0, total - size + 1, size):
+            d = load(f"{prefix}.every_object.jsonl", first, first + size)
+            t = fit_temperature(d)
+            top, right = top_and_right(test, t)
+            labels = fit_top_label(d, t)
+            report(f"sessions {first}-{first + size - 1}: {t[0]:.3f} (n-1)^-{t[1]:.2f}, w {t[2]:.3g}, label "
+                   f"{np.round(labels[1], 2)}", test, relabel(test, top, labels), right)
     t = fit_temperature(test)
     top, right = top_and_right(test, t)
     report(f"temperature fitted to the test sessions ({t[0]:.3f}, {t[1]:.2f}, {t[2]:.3g})", test, top, right)

@@ -1,13 +1,14 @@
 #!/usr/bin/env bash
 # bench/calibration_study.sh on the tiny scene: it builds against this build's libraries, writes the three kinds of
-# sessions and prints the families' ECE (the figures themselves are docs/evaluation.md's, on full-size scenes).
+# sessions and prints the families' ECE (the figures themselves are docs/evaluation.md's, on full-size scenes), and with
+# 120 known sessions the fits of its two blocks of 60.
 #   tests/bench/calibration_study_smoke.sh SOURCE BUILD SVA PYTHON WORK
 set -euo pipefail
 source_dir=$1 build=$2 sva=$3 python=$4 work=$5
 rm -rf "$work" && mkdir -p "$work"
 "$sva" --quiet simulate --scene tiny --out "$work" --train 20 --test 12 --seed 1 --threads 2
 "$sva" --quiet train --data "$work/train.svad" --out "$work/map.svam" --seed 1 --threads 2 > /dev/null
-out=$(BUILD_DIR="$build" PYTHON="$python" bash "$source_dir/bench/calibration_study.sh" "$work" 1 10 2>&1)
+out=$(BUILD_DIR="$build" PYTHON="$python" bash "$source_dir/bench/calibration_study.sh" "$work" 1 10 120 2>&1)
 echo "$out"
 for f in objects_held_out every_object test; do
   [[ -s $work/study.$f.jsonl ]] || { echo "no study.$f.jsonl" >&2; exit 1; }
@@ -15,3 +16,4 @@ done
 [[ $(wc -l < "$work/study.test.jsonl") -eq 10 ]] || { echo "expected 10 test sessions" >&2; exit 1; }
 grep -q "^temperature from every_object" <<< "$out" && grep -q "+ top label" <<< "$out" &&
   grep -q "^temperature fitted to the test sessions" <<< "$out" || { echo "missing lines" >&2; exit 1; }
+[[ $(grep -c "^sessions [0-9]*-[0-9]*: " <<< "$out") -eq 2 ]] || { echo "expected the fits of 2 blocks of 60" >&2; exit 1; }

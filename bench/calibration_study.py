@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Calibration families compared offline on the sessions bench/calibration_study.cpp wrote (PREFIX.*.jsonl).
 
-    python3 bench/calibration_study.py PREFIX [--blocks N]
+    python3 bench/calibration_study.py PREFIX [--blocks N] [--weights]
 
 Mirrors host/src/calibration (calibration.cpp, calibration_fit.cpp): the temperature tau(n) = scale (n-1)^-power with
 the surface weight on a grid of halvings, fitted by the NLL of the true object; the top label, a logistic regression
@@ -12,6 +12,9 @@ fine poses"), the top label linear in log(n - 1) within each regime and one per 
 ECE of the test sessions (10 bins of the top object's probability, every step from 2 readings on) overall and by
 reading range, and the share confidently wrong. --blocks N: also the temperature and top label fitted on each disjoint
 block of N known sessions of the map of every object (the fit's noise between draws of `sva train`'s sessions).
+--weights: also, for surface weights 1/8 to 1, the test steps' share right by reading range under the fitted
+temperature, and the ECE with the weight held there and the temperature and top label fitted again (docs/evaluation.md,
+"The surface weight that ranks best is not the one that calibrates best").
 """
 
 from __future__ import annotations
@@ -194,9 +197,24 @@ def report(name, d, top, right):
     print(f"{name:<52} ECE {ece(top, right):.4f}   by readings {parts}   confidently wrong {wrong:.2f}%")
 
 
+def surface_weights(d, test) -> None:
+    """Ranking and calibration as the surface weight varies (--weights)."""
+    global WEIGHTS
+    scale, power, _ = fit_temperature(d)
+    kept = WEIGHTS
+    for w in (0.125, 0.25, 0.5, 1.0):
+        right = posterior(test, scale, power, w).argmax(1) == test["obj"]
+        shares = " / ".join(f"{100 * right[(test['n'] >= a) & (test['n'] <= b)].mean():.1f}" for a, b in RANGES)
+        WEIGHTS = [w]
+        t = fit_temperature(d)
+        top, right = top_and_right(test, t)
+        report(f"w {w}: right {shares}%; held, refitted", test, relabel(test, top, fit_top_label(d, t)), right)
+    WEIGHTS = kept
+
+
 def main() -> None:
     if len(sys.argv) < 2:
-        sys.exit("usage: calibration_study.py PREFIX [--blocks N]  (PREFIX.*.jsonl: calibration_study.sh writes them)")
+        sys.exit("usage: calibration_study.py PREFIX [--blocks N] [--weights]  (calibration_study.sh writes PREFIX.*)")
     prefix = sys.argv[1]
     test = load(prefix + ".test.jsonl")
     print(f"{len(test['n'])} test steps; ECE by readings: " + ", ".join(f"{a}-{b}" for a, b in RANGES))
@@ -223,6 +241,8 @@ def main() -> None:
             labels = fit_top_label(d, t)
             report(f"sessions {first}-{first + size - 1}: {t[0]:.3f} (n-1)^-{t[1]:.2f}, w {t[2]:.3g}, label "
                    f"{np.round(labels[1], 2)}", test, relabel(test, top, labels), right)
+    if "--weights" in sys.argv:
+        surface_weights(load(f"{prefix}.every_object.jsonl"), test)
     t = fit_temperature(test)
     top, right = top_and_right(test, t)
     report(f"temperature fitted to the test sessions ({t[0]:.3f}, {t[1]:.2f}, {t[2]:.3g})", test, top, right)

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # bench/calibration_study.sh on the tiny scene: it builds against this build's libraries, writes the three kinds of
 # sessions and prints the families' ECE (the figures themselves are docs/evaluation.md's, on full-size scenes), and with
-# 120 known sessions the fits of its two blocks of 60.
+# 120 known sessions the fits of its two blocks of 60, and the surface weights (--weights).
 #   tests/bench/calibration_study_smoke.sh SOURCE BUILD SVA PYTHON WORK
 set -euo pipefail
 source_dir=$1 build=$2 sva=$3 python=$4 work=$5
@@ -17,3 +17,6 @@ done
 grep -q "^temperature from every_object" <<< "$out" && grep -q "+ top label" <<< "$out" &&
   grep -q "^temperature fitted to the test sessions" <<< "$out" || { echo "missing lines" >&2; exit 1; }
 [[ $(grep -c "^sessions [0-9]*-[0-9]*: " <<< "$out") -eq 2 ]] || { echo "expected the fits of 2 blocks of 60" >&2; exit 1; }
+weights=$("$python" "$source_dir/bench/calibration_study.py" "$work/study" --weights)
+[[ $(grep -c "^w [0-9.]*: right .*; held, refitted ECE" <<< "$weights") -eq 4 ]] ||
+  { echo "expected 4 surface weights" >&2; exit 1; }

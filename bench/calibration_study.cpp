@@ -56,6 +56,20 @@ std::vector<CalibrationSession> held_out(const Dataset& train, const TrainParame
   return run_held_out_sessions(*train_pair_map(split.map_part, params, nullptr), split, so);
 }
 
+// A count or seed from the command line, or an error naming the argument.
+std::uint64_t whole_number(const char* what, const std::string& text) {
+  std::size_t used = 0;
+  unsigned long long v = 0;
+  try {
+    v = std::stoull(text, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (used == 0 || used != text.size() || text[0] == '-')
+    throw Error(std::string("calibration_study: ") + what + " '" + text + "' is not a whole number");
+  return v;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) try {
@@ -65,10 +79,16 @@ int main(int argc, char** argv) try {
                  "[KNOWN_SESSIONS [TEST_SEED]]\n");
     return 2;
   }
-  const std::size_t known = argc > 7 ? std::stoul(argv[7]) : 0;
-  const Dataset train = load_dataset(argv[1]);
+  // Every number first, so that a mistyped one is refused before minutes of sessions.
   TrainOptions to;
-  to.seed = std::stoull(argv[4]);
+  to.seed = whole_number("SEED", argv[4]);
+  HeldOutSessionOptions so;  // the test sessions
+  so.known_sessions = whole_number("TEST_SESSIONS", argv[5]);
+  so.unknown_sessions = 0;
+  so.readings = 30;
+  so.seed = argc > 8 ? whole_number("TEST_SEED", argv[8]) : 77;  // not the training seed: other poses and orders
+  const std::size_t known = argc > 7 ? whole_number("KNOWN_SESSIONS", argv[7]) : 0;
+  const Dataset train = load_dataset(argv[1]);
   const TrainParameters params = resolve_train_parameters(train.scene, to);
   const std::string out = argv[6];
   write_sessions(held_out(train, params, true, known), out + ".objects_held_out.jsonl");
@@ -78,11 +98,6 @@ int main(int argc, char** argv) try {
   test.held_out = load_dataset(argv[3]);
   for (std::size_t o = 0; o < test.held_out.scene.objects.size(); ++o)
     test.map_object.push_back(static_cast<std::int32_t>(o));
-  HeldOutSessionOptions so;
-  so.known_sessions = std::stoul(argv[5]);
-  so.unknown_sessions = 0;
-  so.readings = 30;
-  so.seed = argc > 8 ? std::stoull(argv[8]) : 77;  // not the training seed: other poses and orders
   write_sessions(run_held_out_sessions(*map, test, so), out + ".test.jsonl");
   return 0;
 } catch (const std::exception& e) {

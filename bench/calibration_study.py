@@ -19,8 +19,8 @@ temperature, and the ECE with the weight held there and the temperature and top 
 
 from __future__ import annotations
 
+import argparse
 import json
-import sys
 
 import numpy as np
 
@@ -82,9 +82,9 @@ def golden(f, lo, hi, iterations=40):
     return (m1, f1) if f1 < f2 else (m2, f2)
 
 
-def fit_temperature(d):
+def fit_temperature(d, weights=WEIGHTS):
     best = (np.inf, 0.25, 0.8, 0.25)
-    for w in WEIGHTS:
+    for w in weights:
         for power in np.arange(0.0, 2.51, 0.05):
             x, f = golden(lambda ls: nll(d, 2.0 ** ls, power, w), -12.0, 3.0)
             if f < best[0]:
@@ -199,23 +199,24 @@ def report(name, d, top, right):
 
 def surface_weights(d, test) -> None:
     """Ranking and calibration as the surface weight varies (--weights)."""
-    global WEIGHTS
     scale, power, _ = fit_temperature(d)
-    kept = WEIGHTS
     for w in (0.125, 0.25, 0.5, 1.0):
         right = posterior(test, scale, power, w).argmax(1) == test["obj"]
         shares = " / ".join(f"{100 * right[(test['n'] >= a) & (test['n'] <= b)].mean():.1f}" for a, b in RANGES)
-        WEIGHTS = [w]
-        t = fit_temperature(d)
+        t = fit_temperature(d, [w])
         top, right = top_and_right(test, t)
         report(f"w {w}: right {shares}%; held, refitted", test, relabel(test, top, fit_top_label(d, t)), right)
-    WEIGHTS = kept
 
 
 def main() -> None:
-    if len(sys.argv) < 2:
-        sys.exit("usage: calibration_study.py PREFIX [--blocks N] [--weights]  (calibration_study.sh writes PREFIX.*)")
-    prefix = sys.argv[1]
+    ap = argparse.ArgumentParser(description="Calibration families compared offline (calibration_study.sh writes PREFIX.*)")
+    ap.add_argument("prefix", help="the sessions' prefix: PREFIX.test.jsonl, PREFIX.every_object.jsonl, ...")
+    ap.add_argument("--blocks", type=int, metavar="N", help="also fit each disjoint block of N known sessions")
+    ap.add_argument("--weights", action="store_true", help="also the surface weights' ranking and calibration")
+    args = ap.parse_args()
+    if args.blocks is not None and args.blocks < 1:
+        ap.error(f"--blocks {args.blocks}: expected at least 1 session per block")
+    prefix = args.prefix
     test = load(prefix + ".test.jsonl")
     print(f"{len(test['n'])} test steps; ECE by readings: " + ", ".join(f"{a}-{b}" for a, b in RANGES))
     for sessions in ("objects_held_out", "every_object"):
@@ -231,8 +232,8 @@ def main() -> None:
         report("  + top label linear in log(n-1)", test, relabel_pooled(test, top, pl, d["n"].max()), right)
         bl = fit_top_label_bands(d, t)
         report(f"  + top label per band {BANDS}", test, relabel_bands(test, top, bl), right)
-    if "--blocks" in sys.argv:
-        size = int(sys.argv[sys.argv.index("--blocks") + 1])
+    if args.blocks:
+        size = args.blocks
         total = sum(1 for line in open(f"{prefix}.every_object.jsonl") if json.loads(line)["known"])
         for first in range(0, total - size + 1, size):
             d = load(f"{prefix}.every_object.jsonl", first, first + size)
@@ -241,7 +242,7 @@ def main() -> None:
             labels = fit_top_label(d, t)
             report(f"sessions {first}-{first + size - 1}: {t[0]:.3f} (n-1)^-{t[1]:.2f}, w {t[2]:.3g}, label "
                    f"{np.round(labels[1], 2)}", test, relabel(test, top, labels), right)
-    if "--weights" in sys.argv:
+    if args.weights:
         surface_weights(load(f"{prefix}.every_object.jsonl"), test)
     t = fit_temperature(test)
     top, right = top_and_right(test, t)

@@ -66,7 +66,7 @@ std::uint64_t whole_number(const char* what, const std::string& text) {
     used = 0;
   }
   if (used == 0 || used != text.size() || text[0] == '-')
-    throw Error(std::string("calibration_study: ") + what + " '" + text + "' is not a whole number");
+    throw Error(std::string(what) + " '" + text + "' is not a whole number");
   return v;
 }
 

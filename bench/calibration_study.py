@@ -197,15 +197,34 @@ def report(name, d, top, right):
     print(f"{name:<52} ECE {ece(top, right):.4f}   by readings {parts}   confidently wrong {wrong:.2f}%")
 
 
+def shares_right(test, right) -> str:
+    return " / ".join(f"{100 * right[(test['n'] >= a) & (test['n'] <= b)].mean():.1f}" for a, b in RANGES)
+
+
 def surface_weights(d, test) -> None:
-    """Ranking and calibration as the surface weight varies (--weights)."""
-    scale, power, _ = fit_temperature(d)
+    """Ranking and calibration as the surface weight varies (--weights): each weight's share right under the fitted
+    temperature and its ECE with the temperature and top label fitted again at it; then the top object ranked with
+    two and four times the fitted weight while its probability stays the calibrated posterior's (the ranked object's
+    own, scaled as the top label scaled the rest where it is not the calibrated top)."""
+    fitted = fit_temperature(d)
+    scale, power, weight = fitted
     for w in (0.125, 0.25, 0.5, 1.0):
         right = posterior(test, scale, power, w).argmax(1) == test["obj"]
-        shares = " / ".join(f"{100 * right[(test['n'] >= a) & (test['n'] <= b)].mean():.1f}" for a, b in RANGES)
         t = fit_temperature(d, [w])
-        top, right = top_and_right(test, t)
-        report(f"w {w}: right {shares}%; held, refitted", test, relabel(test, top, fit_top_label(d, t)), right)
+        top, right_refit = top_and_right(test, t)
+        report(f"w {w}: right {shares_right(test, right)}%; held, refitted", test,
+               relabel(test, top, fit_top_label(d, t)), right_refit)
+    p = posterior(test, *fitted)
+    top = p.max(1)
+    calibrated = relabel(test, top, fit_top_label(d, fitted))
+    rest = (1 - calibrated) / np.maximum(1 - top, 1e-12)
+    for k in (2, 4):
+        ranked = posterior(test, scale, power, k * weight).argmax(1)
+        same = ranked == p.argmax(1)
+        prob = np.where(same, calibrated, p[np.arange(len(p)), ranked] * rest)
+        right = ranked == test["obj"]
+        report(f"ranked at w {k * weight:g}, calibrated at {weight:g}: right {shares_right(test, right)}%, "
+               f"{100 * (~same).mean():.1f}% of steps name another object", test, prob, right)
 
 
 def main() -> None:

@@ -18,5 +18,6 @@ grep -q "^temperature from every_object" <<< "$out" && grep -q "+ top label" <<<
   grep -q "^temperature fitted to the test sessions" <<< "$out" || { echo "missing lines" >&2; exit 1; }
 [[ $(grep -c "^sessions [0-9]*-[0-9]*: " <<< "$out") -eq 2 ]] || { echo "expected the fits of 2 blocks of 60" >&2; exit 1; }
 weights=$("$python" "$source_dir/bench/calibration_study.py" "$work/study" --weights)
-[[ $(grep -c "^w [0-9.]*: right .*; held, refitted ECE" <<< "$weights") -eq 4 ]] ||
-  { echo "expected 4 surface weights" >&2; exit 1; }
+[[ $(grep -c "^w [0-9.]*: right .*; held, refitted ECE" <<< "$weights") -eq 4 ]] &&
+  [[ $(grep -c "^ranked at w [0-9.]*, calibrated at [0-9.]*: right .* ECE" <<< "$weights") -eq 2 ]] ||
+  { echo "expected 4 surface weights and 2 ranking weights" >&2; exit 1; }

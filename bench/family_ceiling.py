@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
 """How far random touches can tell look-alikes apart at all: the ceiling of any recognizer (docs/evaluation.md,
-"Look-alikes": "What random touches can tell").
+"What random touches can tell under the sensor's pad").
 
     PYTHONPATH=build-ci/python python3 bench/family_ceiling.py TEST.svad SCENE [--gaps 1,2] [--draws 300]
 
@@ -123,6 +123,34 @@ def ceiling(tells: np.ndarray, n: int, draws: int, rng: np.random.Generator) -> 
     return float(np.mean(1.0 / np.array(left)))
 
 
+def readings_by_object(test) -> tuple[dict, dict]:
+    """The converged test readings' contacts and normals per object (object frame)."""
+    position, normal = {}, {}
+    for i in range(len(test)):
+        s = test[i]
+        if s.converged:
+            position.setdefault(s.object, []).append(s.reading.position)
+            normal.setdefault(s.object, []).append(s.reading.normal)
+    return ({o: np.array(v, float) for o, v in position.items()}, {o: np.array(v, float) for o, v in normal.items()})
+
+
+def family_gaps(scene, members, position, normal, half_width, n_points, rng) -> dict:
+    """Per member: the pad gap of each of its readings to each sibling (readings x siblings)."""
+    mesh = {o: scene.object_mesh(o) for o in members}
+    points = {o: surface_points(*mesh[o], n_points, rng) for o in members}
+    gap = {}
+    for o in members:
+        columns = []
+        for s in members:
+            if s == o:
+                continue
+            shift = shift_onto(points[o], points[s], rng)
+            moved = (mesh[s][0] - shift, mesh[s][1])
+            columns.append(pad_gap(position[o], normal[o], half_width, points[o], points[s] - shift, mesh[o], moved))
+        gap[o] = np.stack(columns, 1)
+    return gap
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("test", help="a test dataset (.svad) of the scene")
@@ -137,19 +165,17 @@ def main() -> None:
         sys.exit(f"family_ceiling.py: --gaps {a.gaps!r}: expected numbers in mm, comma-separated")
     if not gaps or min(gaps) <= 0 or a.draws < 1 or a.points < 100:
         sys.exit("family_ceiling.py: --gaps must be positive, --draws at least 1, --points at least 100")
-    test = sva.Dataset.load(a.test)
-    scene = sva.load_scene(a.scene)
+    try:
+        test = sva.Dataset.load(a.test)
+        scene = sva.load_scene(a.scene)
+    except Exception as e:  # the package's errors name the file and the fault
+        sys.exit(f"family_ceiling.py: {e}")
     families: dict[str, list[int]] = {}
     for i, o in enumerate(json.loads(scene.to_json())["objects"]):
         families.setdefault(o.get("family") or o["name"], []).append(i)
     if list(test.scene.object_names) != list(scene.object_names):
         sys.exit(f"family_ceiling.py: {a.test} is not a dataset of scene {a.scene!r} (its objects differ)")
-    position, normal = {}, {}
-    for i in range(len(test)):
-        s = test[i]
-        if s.converged:
-            position.setdefault(s.object, []).append(s.reading.position)
-            normal.setdefault(s.object, []).append(s.reading.normal)
+    position, normal = readings_by_object(test)
     half_width = 0.5 * max(scene.sensor.rows, scene.sensor.cols) * scene.sensor.pitch_mm
     rng = np.random.default_rng(1)
     counts = (5, 10, 15, 30)
@@ -163,22 +189,9 @@ def main() -> None:
                 for n in counts:
                     total[(g, n)] += 1.0
             continue
-        mesh = {o: scene.object_mesh(o) for o in members}
-        points = {o: surface_points(*mesh[o], a.points, rng) for o in members}
-        p = {o: np.array(position.get(o, []), float) for o in members}
-        nn = {o: np.array(normal.get(o, []), float) for o in members}
-        if any(len(p[o]) == 0 for o in members):
+        if any(o not in position for o in members):
             sys.exit(f"family_ceiling.py: a member of {family!r} has no converged test reading in {a.test}")
-        gap = {}
-        for o in members:
-            columns = []
-            for s in members:
-                if s == o:
-                    continue
-                shift = shift_onto(points[o], points[s], rng)
-                moved = (mesh[s][0] - shift, mesh[s][1])
-                columns.append(pad_gap(p[o], nn[o], half_width, points[o], points[s] - shift, mesh[o], moved))
-            gap[o] = np.stack(columns, 1)
+        gap = family_gaps(scene, members, position, normal, half_width, a.points, rng)
         for g in gaps:
             shares = " ".join(f"{(gap[o] > g).any(1).mean():.2f}" for o in members)
             row = []

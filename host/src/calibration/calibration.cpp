@@ -39,8 +39,7 @@ std::vector<double> Calibration::object_probability(const EvidenceLevel& level,
 Calibration::TopLabel Calibration::top_label_at(const EvidenceLevel& level) const {
   if (level.fit_cost_share < 0.0) return top_label[0];
   if (level.fine_pose_from == 0 || level.readings < level.fine_pose_from) return top_label[1];
-  const double w =
-      std::min(1.0, static_cast<double>(level.readings - level.fine_pose_from + 1) / kTopLabelBlendReadings);
+  const double w = static_cast<double>(level.readings - level.fine_pose_from + 1) / kTopLabelBlendReadings;
   if (w >= 1.0) return top_label[1];
   return {(1.0 - w) * top_label[0][0] + w * top_label[1][0], (1.0 - w) * top_label[0][1] + w * top_label[1][1]};
 }

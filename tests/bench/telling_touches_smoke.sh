@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # bench/telling_touches.py on three families of lookalikes' meshes: two copies of one ball (no reading tells them
 # apart, so only the random sessions run), a ball beside a cube with rounded edges (every reading tells; random
-# sessions name the right one at 30 readings) and two cubes whose edge radii differ (only readings at the edges tell:
-# both kinds of session run). The figures for the full scene are docs/evaluation.md's.
+# sessions, at poses drawn as sva eval draws them, name the right one at 30 readings) and two cubes whose edge radii
+# differ (only readings at the edges tell: both kinds of session run). The figures for the full scene are
+# docs/evaluation.md's.
 #   tests/bench/telling_touches_smoke.sh SOURCE BUILD SVA PYTHON WORK
 set -euo pipefail
 source_dir=$1 build=$2 sva=$3 python=$4 work=$5
@@ -24,7 +25,7 @@ scene["objects"] = [member("ball_64", "twins"), member("ball_64", "twins", "ball
 scene.setdefault("appearance", {}).pop("pair_readings", None)
 json.dump(scene, open(sys.argv[2], "w"))
 PY
-"$sva" --quiet simulate --scene "$work/families.json" --out "$work" --train 120 --test 60 --seed 1 --threads 2
+"$sva" --quiet simulate --scene "$work/families.json" --out "$work" --train 200 --test 60 --seed 1 --threads 2
 "$sva" --quiet train --data "$work/train.svad" --out "$work/map.svam" --no-calibration --threads 2
 touches() {
   PYTHONPATH="$build/python" "$python" "$source_dir/bench/telling_touches.py" "$work/map.svam" "$work/test.svad" \

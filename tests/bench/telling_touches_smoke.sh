@@ -8,23 +8,8 @@
 set -euo pipefail
 source_dir=$1 build=$2 sva=$3 python=$4 work=$5
 rm -rf "$work" && mkdir -p "$work"
-"$python" - "$source_dir/assets/scenes/lookalikes.json" "$work/families.json" <<'PY'
-import json, os, sys
-scene = json.load(open(sys.argv[1]))
-objects = os.path.join(os.path.dirname(os.path.abspath(sys.argv[1])), "..", "objects")
-by_name = {o["name"]: o for o in scene["objects"]}
-def member(name, family, rename=None):
-    o = dict(by_name[name], family=family, mesh=os.path.join(objects, os.path.basename(by_name[name]["mesh"])))
-    if rename:
-        o["name"] = rename
-    return o
-scene["name"] = "three_families"
-scene["objects"] = [member("ball_64", "twins"), member("ball_64", "twins", "ball_64_copy"),
-                    member("ball_74", "apart"), member("cube_r12", "apart"),
-                    member("cube_r2", "edges"), member("cube_r6", "edges")]
-scene.setdefault("appearance", {}).pop("pair_readings", None)
-json.dump(scene, open(sys.argv[2], "w"))
-PY
+"$python" "$source_dir/tests/bench/family_scene.py" "$source_dir/assets/scenes/lookalikes.json" "$work/families.json" \
+  three_families ball_64:twins ball_64:twins:ball_64_copy ball_74:apart cube_r12:apart cube_r2:edges cube_r6:edges
 "$sva" --quiet simulate --scene "$work/families.json" --out "$work" --train 200 --test 60 --seed 1 --threads 2
 "$sva" --quiet train --data "$work/train.svad" --out "$work/map.svam" --no-calibration --threads 2
 touches() {

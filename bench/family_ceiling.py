@@ -123,15 +123,18 @@ def ceiling(tells: np.ndarray, n: int, draws: int, rng: np.random.Generator) -> 
     return float(np.mean(1.0 / np.array(left)))
 
 
-def readings_by_object(test) -> tuple[dict, dict]:
-    """The converged test readings' contacts and normals per object (object frame)."""
-    position, normal = {}, {}
+def readings_by_object(test) -> tuple[dict, dict, dict]:
+    """The converged test readings' contacts and normals per object (object frame), and their rows in the dataset
+    (in the same order)."""
+    position, normal, rows = {}, {}, {}
     for i in range(len(test)):
         s = test[i]
         if s.converged:
             position.setdefault(s.object, []).append(s.reading.position)
             normal.setdefault(s.object, []).append(s.reading.normal)
-    return ({o: np.array(v, float) for o, v in position.items()}, {o: np.array(v, float) for o, v in normal.items()})
+            rows.setdefault(s.object, []).append(i)
+    return ({o: np.array(v, float) for o, v in position.items()}, {o: np.array(v, float) for o, v in normal.items()},
+            {o: np.array(v) for o, v in rows.items()})
 
 
 def family_gaps(scene, members, position, normal, half_width, n_points, rng) -> dict:
@@ -175,7 +178,7 @@ def main() -> None:
         families.setdefault(o.get("family") or o["name"], []).append(i)
     if list(test.scene.object_names) != list(scene.object_names):
         sys.exit(f"family_ceiling.py: {a.test} is not a dataset of scene {a.scene!r} (its objects differ)")
-    position, normal = readings_by_object(test)
+    position, normal, _ = readings_by_object(test)
     half_width = 0.5 * max(scene.sensor.rows, scene.sensor.cols) * scene.sensor.pitch_mm
     rng = np.random.default_rng(1)
     counts = (5, 10, 15, 30)

@@ -116,11 +116,7 @@ def main() -> None:
     unknown = [f for f in wanted if f not in families]
     if unknown:
         sys.exit(f"telling_touches.py: --families: {', '.join(unknown)} not a family of {a.scene!r}")
-    position, normal = readings_by_object(test)
-    rows_of: dict[int, list[int]] = {}
-    for i in range(len(test)):
-        if test[i].converged:
-            rows_of.setdefault(test[i].object, []).append(i)
+    position, normal, rows_of = readings_by_object(test)
     half_width = 0.5 * max(scene.sensor.rows, scene.sensor.cols) * scene.sensor.pitch_mm
     rng = np.random.default_rng(a.seed)
     rec = sva.Recognizer(m, backend="cpu")
@@ -143,7 +139,7 @@ def main() -> None:
                 for v in a.telling:
                     rows = draw(v, telling, rng)
                     if rows is not None:
-                        right[v].append(session_right(rec, moved(test, np.asarray(rows_of[o])[rows], pose), o))
+                        right[v].append(session_right(rec, moved(test, rows_of[o][rows], pose), o))
         shares = " ".join(f"{(gaps[o] > a.gap).any(1).mean():.2f}" for o in members)
         cells = [f"{label[v]} " + (f"{100 * np.mean([x[0] for x in right[v]]):3.0f} / "
                                    f"{100 * np.mean([x[1] for x in right[v]]):3.0f}% ({len(right[v])})"

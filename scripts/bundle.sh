@@ -86,6 +86,18 @@ if [[ -n ${libs[libtbb.so.12]:-} && -f $(dirname "${libs[libtbb.so.12]}")/libtbb
 fi
 for name in "${!libs[@]}"; do cp -L "${libs[$name]}" "$out/lib/$name"; done
 chmod u+w "$out"/lib/*
+# libglvnd's EGL and dispatch libraries, for a GPU machine that lacks them: NVIDIA's Vulkan driver
+# (libGLX_nvidia.so.0, named by the container's ICD file) opens libEGL.so.1, which needs libGLdispatch.so.0, and
+# without them the loader finds no driver ("Could not get 'vkCreateInstance'"; the fifth GPU run,
+# docs/vulkan-backend.md). Not in lib/: env.sh puts this folder on LD_LIBRARY_PATH only when the machine has no
+# libEGL.so.1, since the driver opens them at run time and the binaries' run path does not reach them.
+mkdir -p "$out/glvnd"
+for name in libEGL.so.1 libGLdispatch.so.0; do
+  path=$( { ldconfig -p 2>/dev/null || /sbin/ldconfig -p; } | awk -v so="$name" '$1 == so && /x86-64/ { print $NF; exit }')
+  [[ -n $path ]] || { echo "bundle: $name not found (scripts/setup.sh installs libegl1 and libglvnd0)" >&2; exit 1; }
+  cp -L "$path" "$out/glvnd/$name"
+done
+
 # The figures' font (cairo through fontconfig): a GPU machine may have no fonts at all, and a figure without
 # glyphs fails its test. env.sh points fontconfig at this folder's configuration.
 mkdir -p "$out/fonts"

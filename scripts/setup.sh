@@ -8,7 +8,8 @@ packages=(
   libglm-dev libembree-dev libtinygltf-dev libstb-dev nlohmann-json3-dev
   libusb-1.0-0-dev catch2 libtbb-dev
   qemu-user  # tests/determinism: the same binary run as other x86-64 CPUs (qemu-x86_64 -cpu Nehalem)
-  patchelf  # scripts/bundle.sh: $ORIGIN run paths in the relocatable bundle for a GPU machine
+  patchelf libegl1 libglvnd0  # scripts/bundle.sh: $ORIGIN run paths in the relocatable bundle for a GPU machine, and
+                              # libglvnd's EGL for one whose NVIDIA Vulkan driver lacks it
   clang-14 libclang-rt-14-dev  # scripts/fuzz.sh: libFuzzer (libclang_rt.fuzzer) and the sanitizer runtimes
   python3 python3-venv python3-dev python3-pip  # the Python package (python/, docs/python.md)
   libcairo2-dev fonts-dejavu-core  # the figures (host/eval/src/plot: cairo, PNG and SVG, DejaVu Sans)

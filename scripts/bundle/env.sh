@@ -39,6 +39,13 @@ if [[ -f $BUNDLE/lib/libstdc++.so.6 && -z ${SVA_BUNDLE_NO_PRELOAD:-} ]]; then
   unset sys_cxx sys_gcc mine theirs
 fi
 
+# NVIDIA's Vulkan driver opens libglvnd's libEGL.so.1 (which needs libGLdispatch.so.0), and a bare NVIDIA container
+# may lack both: the bundle's copies then (scripts/bundle.sh), reached through LD_LIBRARY_PATH since the driver
+# opens them at run time.
+if [[ -f $BUNDLE/glvnd/libEGL.so.1 && -z $(sva_system_lib libEGL.so.1) ]]; then
+  export LD_LIBRARY_PATH="$BUNDLE/glvnd${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}"
+fi
+
 # three.js for `sva view`'s pages (scripts/bundle.sh copies Debian's libjs-three).
 export SVA_THREE_JS="${SVA_THREE_JS:-$BUNDLE/three}"
 

@@ -12,7 +12,8 @@
 # Environment: VK_DRIVER_FILES (the caller's ICD, kept), WORK (paper3d's data and map, default OUT_DIR/paper3d:
 #   kept, so a second call skips the simulation), SIM_ARGS (extra `sva simulate` options, e.g. "--train 100
 #   --test 20" for a quick small dataset), AREAS (the suite's areas, default all: tests/sva_tests_<area>).
-# Prints a summary; exits 1 when a test failed or no benchmark could run, 2 on bad usage.
+# Prints a summary; exits 1 when a test failed, the agreement tests found no Vulkan device, or a benchmark failed or
+# could not run; 2 on bad usage.
 set -uo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/env.sh"
 [[ $# -ge 1 && $# -le 2 && -n $1 ]] || { echo "usage: run-device-check.sh OUT_DIR [SECONDS]" >&2; exit 2; }
@@ -25,6 +26,21 @@ t0=$SECONDS
 left() { echo $((budget - (SECONDS - t0))); }
 say() { echo "== $* ($((SECONDS - t0)) s)"; }
 
+# Each driver file the caller named: present, its library found, and what that library cannot load (a bare NVIDIA
+# container's driver without libglvnd left the first call of the fifth GPU run with no Vulkan test run).
+driver_diagnosis() {
+  local f lib
+  local files=${VK_DRIVER_FILES:-}
+  for f in ${files//:/ }; do
+    [[ -f $f ]] || { echo "driver file $f: missing"; continue; }
+    lib=$(sed -n 's/.*"library_path" *: *"\([^"]*\)".*/\1/p' "$f" | head -n 1)
+    [[ $lib == /* || -z $lib ]] || lib=$(sva_system_lib "$lib")
+    echo "driver file $f: library ${lib:-not found}"
+    [[ -n $lib ]] && ldd "$lib" | grep 'not found' | sed 's/^/  cannot load: /'
+  done
+  return 0
+}
+
 say "device"
 {
   date -u
@@ -32,6 +48,7 @@ say "device"
   echo "cores: $(nproc)"; grep -m1 'model name' /proc/cpuinfo
   echo "VK_DRIVER_FILES=${VK_DRIVER_FILES:-(loader default)}"
   "$BUNDLE/sva" --version
+  driver_diagnosis
 } >"$out/device.txt" 2>&1
 cat "$out/device.txt"
 
@@ -40,6 +57,13 @@ LOG_DIR=$out/.agreement timeout $(($(left) / 4)) "$BUNDLE/run-tests.sh" 'vulkan:
   'vulkan:*each key alone*' 'vulkan:the vote math*' "vulkan:the belief's integer math*" >"$out/agreement.txt" 2>&1
 grep -h -A4 'warning' "$out"/.agreement/*.log >>"$out/agreement.txt" 2>/dev/null
 grep -E 'passed,|FAILED|warning' -A3 "$out/agreement.txt" | head -40
+# Skipped agreement tests mean no Vulkan device was found: the check has checked nothing, so it fails.
+agreement_failed=0
+read -r _ _ _ _ skipped _ < <(grep -E '^[0-9]+ passed, [0-9]+ failed, [0-9]+ skipped' "$out/agreement.txt" | tail -n 1)
+if [[ ${skipped:-0} != 0 ]]; then
+  echo "no Vulkan device: the agreement tests were skipped (device.txt says which driver was tried)" | tee -a "$out/agreement.txt"
+  agreement_failed=1
+fi
 
 say "the whole suite, areas in parallel; paper3d simulated and trained meanwhile"
 mkdir -p "$out/.suite"
@@ -60,7 +84,7 @@ fi
 wait
 cat "$out"/.suite/*.out >"$out/suite.txt"
 grep -hE '^[a-z_]+: [0-9]+ passed|FAILED' "$out/suite.txt"
-suite_failed=$(grep -cE '^  FAILED' "$out/suite.txt")
+suite_failed=$(($(grep -cE '^  FAILED' "$out/suite.txt") + agreement_failed))
 
 bench() {  # NAME SHARE-OF-WHAT-IS-LEFT sva-bench-options...
   local name=$1 share=$2 t
@@ -69,7 +93,10 @@ bench() {  # NAME SHARE-OF-WHAT-IS-LEFT sva-bench-options...
   if ((t < 20)); then echo "bench $name: no time left" | tee "$out/bench-$name.txt"; return; fi
   say "sva bench $name ($t s at most)"
   timeout "$t" "$BUNDLE/sva" --quiet bench --map "$work/map.svam" --data "$work/test.svad" --json "$out/.suite/bench-$name.json" \
-    "$@" >"$out/bench-$name.txt" 2>&1 || echo "(stopped or failed: exit $?)" >>"$out/bench-$name.txt"
+    "$@" >"$out/bench-$name.txt" 2>&1
+  local rc=$?
+  if ((rc == 124)); then echo "(stopped at the budget's end)" >>"$out/bench-$name.txt"
+  elif ((rc != 0)); then echo "(failed: exit $rc)" >>"$out/bench-$name.txt"; suite_failed=$((suite_failed + 1)); fi
   grep -vE '^(cpu|vulkan)( batch)?: [0-9]+/' "$out/bench-$name.txt" | head -30
 }
 [[ -f $work/map.svam ]] || { echo "no paper3d map in $work: no benchmark" >&2; suite_failed=$((suite_failed + 1)); }
@@ -80,5 +107,5 @@ if [[ -f $work/map.svam ]]; then
 fi
 tar -czf "$out/details.tgz" -C "$out" .suite .agreement 2>/dev/null
 rm -rf "$out/.suite" "$out/.agreement"
-say "done: $suite_failed failed test(s); files in $out"
+say "done: $suite_failed failed test(s) or benchmark(s); files in $out"
 ((suite_failed == 0))

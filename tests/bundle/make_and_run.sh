@@ -29,3 +29,14 @@ for f in device.txt agreement.txt suite.txt bench-vulkan.txt bench-cpu.txt detai
 done
 grep -q '^io: [0-9]* passed, 0 failed, 0 skipped' "$tmp/check/suite.txt" || { echo "bundle: the device check's suite failed" >&2; exit 1; }
 grep -q '^cpu  *100 ' "$tmp/check/bench-cpu.txt" || { echo "bundle: the device check's CPU benchmark did not finish" >&2; exit 1; }
+# A driver that does not load fails the check, which then checked nothing, and device.txt names the file.
+[[ -f $tmp/bundle/glvnd/libEGL.so.1 && -f $tmp/bundle/glvnd/libGLdispatch.so.0 ]] ||
+  { echo "bundle: no libglvnd (libEGL.so.1, libGLdispatch.so.0) for NVIDIA's driver" >&2; exit 1; }
+if VK_DRIVER_FILES="$tmp/no_icd.json" WORK="$tmp/p3d" AREAS=io env -u LD_LIBRARY_PATH \
+  "$tmp/bundle/run-device-check.sh" "$tmp/check2" 60 >check2.txt 2>&1; then
+  cat check2.txt; echo "bundle: the device check passed with no Vulkan driver" >&2; exit 1
+fi
+grep -q "^driver file $tmp/no_icd.json: missing" "$tmp/check2/device.txt" &&
+  grep -q '^no Vulkan device: the agreement tests were skipped' "$tmp/check2/agreement.txt" &&
+  grep -q '(failed: exit 1)' "$tmp/check2/bench-vulkan.txt" ||
+  { cat check2.txt "$tmp/check2/device.txt"; echo "bundle: the check without a driver did not say why" >&2; exit 1; }

@@ -13,9 +13,9 @@
 #include <cstdlib>
 #include <filesystem>
 
-#include "map/map_access.hpp"
 #include "backends/vulkan/faults.hpp"
 #include "backends/vulkan/vulkan_engine.hpp"
+#include "map/map_access.hpp"
 #include "recognition/fixture.hpp"
 #include "recognition/trained_map.hpp"
 #include "vk_test_support.hpp"
@@ -204,5 +204,31 @@ TEST_CASE("GPU faults: the CLI names an injected fault and exits non-zero") {
   INFO(out);
   CHECK(code != 0);
   CHECK(contains(out, "lacks bufferDeviceAddress"));
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("a Vulkan driver named by VK_DRIVER_FILES that does not load is an error naming the variable and file") {
+  // A bare NVIDIA container's ICD file whose library cannot load (libglvnd missing) left a device check with no
+  // Vulkan test run and a message that asked for Mesa (the fifth GPU run, docs/vulkan-backend.md).
+  const auto dir = temp_dir("gpu-faults-driver");
+  std::string out;
+  const Trained& t = trained();
+  t.map.save(dir / "map.svam");
+  save_dataset(t.data, dir / "test.svad");
+  const std::string missing = (dir / "no_such_icd.json").string();
+  const char* was = std::getenv("VK_DRIVER_FILES");
+  const std::string saved = was ? was : "";
+  setenv("VK_DRIVER_FILES", missing.c_str(), 1);
+  const int code = run_sva("bench --map " + (dir / "map.svam").string() + " --data " + (dir / "test.svad").string() +
+                               " --readings 3 --trials 1 --batch 0 --backend vulkan",
+                           &out);
+  if (was)
+    setenv("VK_DRIVER_FILES", saved.c_str(), 1);
+  else
+    unsetenv("VK_DRIVER_FILES");
+  INFO(out);
+  CHECK(code != 0);
+  CHECK(contains(out, "no Vulkan device: the Vulkan driver named by VK_DRIVER_FILES=" + missing + " did not load"));
+  CHECK(contains(out, "VK_LOADER_DEBUG"));
   std::filesystem::remove_all(dir);
 }

@@ -3,6 +3,7 @@
 #include <sva/error.hpp>
 
 #include <algorithm>
+#include <cstdlib>
 #include <string>
 #ifdef __SANITIZE_ADDRESS__
 #include <dlfcn.h>
@@ -73,6 +74,21 @@ void keep_drivers_loaded() { dl_iterate_phdr(keep_loaded, nullptr); }
 void keep_drivers_loaded() {}
 #endif
 
+// Why vkCreateInstance found no driver. Where the caller named the drivers (an NVIDIA container's ICD file), the
+// likely fault is not a missing package but a library the driver opens that the machine lacks: on a bare container
+// libglvnd's libEGL.so.1 for NVIDIA's libGLX_nvidia.so.0 (docs/vulkan-backend.md, "Running on a GPU machine").
+std::string no_driver_message() {
+  for (const char* var : {"VK_DRIVER_FILES", "VK_ICD_FILENAMES"}) {
+    const char* files = std::getenv(var);
+    if (!files || !*files) continue;
+    return std::string("no Vulkan device: the Vulkan driver named by ") + var + "=" + files +
+           " did not load (a missing file, or a library it opens is missing, e.g. libglvnd's libEGL.so.1 for NVIDIA's; "
+           "VK_LOADER_DEBUG=error,driver prints the loader's reason)";
+  }
+  return "no Vulkan device: no Vulkan driver is installed (apt-get install mesa-vulkan-drivers for the lavapipe "
+         "CPU driver; VK_LOADER_DEBUG=error,driver prints what the loader tried)";
+}
+
 }  // namespace
 
 Instance::Instance(bool validation) {
@@ -92,10 +108,7 @@ Instance::Instance(bool validation) {
   ici.enabledExtensionCount = static_cast<std::uint32_t>(extensions.size());
   ici.ppEnabledExtensionNames = extensions.data();
   const VkResult r = vkCreateInstance(&ici, nullptr, &instance_);
-  if (r == VK_ERROR_INCOMPATIBLE_DRIVER || r == VK_ERROR_INITIALIZATION_FAILED)
-    throw Error(
-        "no Vulkan device: no Vulkan driver is installed (apt-get install mesa-vulkan-drivers for the "
-        "lavapipe CPU driver)");
+  if (r == VK_ERROR_INCOMPATIBLE_DRIVER || r == VK_ERROR_INITIALIZATION_FAILED) throw Error(no_driver_message());
   check(r, "vkCreateInstance");
   keep_drivers_loaded();
   if (!validation) return;

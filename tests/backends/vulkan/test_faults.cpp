@@ -1,7 +1,8 @@
 // GPU faults, injected on any device (lavapipe included) through backends/vulkan/faults.hpp: device memory that runs
 // out (the map: a clear error, and the CPU reference under auto; a batch's tables: split further, same answers), a
 // device that is lost mid-session (sva::DeviceLost, then the session rebuilt from its readings on a new engine),
-// and a device without a feature the engine needs (an error naming it).
+// a device without a feature the engine needs (an error naming it), and a named driver that does not load (an error
+// naming it and how to see why).
 #include <catch2/catch.hpp>
 
 #include <sva/dataset.hpp>

@@ -32,6 +32,12 @@ grep -q '^cpu  *100 ' "$tmp/check/bench-cpu.txt" || { echo "bundle: the device c
 # A driver that does not load fails the check, which then checked nothing, and device.txt names the file.
 [[ -f $tmp/bundle/glvnd/libEGL.so.1 && -f $tmp/bundle/glvnd/libGLdispatch.so.0 ]] ||
   { echo "bundle: no libglvnd (libEGL.so.1, libGLdispatch.so.0) for NVIDIA's driver" >&2; exit 1; }
+# env.sh reaches the bundle's libglvnd only on a machine without libEGL.so.1: one whose ldconfig lists nothing here.
+lib_path() { env -u LD_LIBRARY_PATH PATH="$1" bash -c 'source "$0/env.sh" >/dev/null; echo "${LD_LIBRARY_PATH:-}"' \
+  "$tmp/bundle"; }
+mkdir -p "$tmp/no-egl" && printf '#!/bin/sh\nexit 0\n' >"$tmp/no-egl/ldconfig" && chmod +x "$tmp/no-egl/ldconfig"
+[[ $(lib_path "$tmp/no-egl:$PATH") == "$tmp/bundle/glvnd" && $(lib_path "$PATH") != *glvnd* ]] ||
+  { echo "bundle: env.sh put libglvnd on LD_LIBRARY_PATH where it should not, or not where it should" >&2; exit 1; }
 if VK_DRIVER_FILES="$tmp/no_icd.json" WORK="$tmp/p3d" AREAS=io env -u LD_LIBRARY_PATH \
   "$tmp/bundle/run-device-check.sh" "$tmp/check2" 60 >check2.txt 2>&1; then
   cat check2.txt; echo "bundle: the device check passed with no Vulkan driver" >&2; exit 1

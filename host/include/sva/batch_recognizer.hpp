@@ -57,6 +57,9 @@ class BatchRecognizer {
     double kernel_ms = 0.0;
     double host_ms = 0.0;
     double fold_ms = 0.0;  // of kernel_ms: the fold into the beliefs
+    // Of host_ms: growing the sessions' belief tables (Vulkan: a new device buffer and its submissions per session
+    // that grows; 0 on the CPU, whose growth is part of the fold).
+    double belief_growth_ms = 0.0;
   };
   Timing last_backend_timing() const;
   // What the last update did, summed over its sessions' pairs (`sva bench` reports it per stage; docs/recognition.md,

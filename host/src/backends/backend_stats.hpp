@@ -28,6 +28,7 @@ struct BackendStats {
   std::uint64_t map_device_bytes = 0;
   unsigned band_rebuilds = 0;       // GPU band lists rebuilt from whole belief tables (after a growth or a full list)
   BatchRecognizer::Work last_work;  // what the last vote or vote_and_fold did (the backend's counts; 0 elsewhere)
+  double last_belief_growth_ms = 0.0;  // of last_host_ms: growing the beliefs' tables (Vulkan; 0 on the CPU)
 };
 
 }  // namespace sva

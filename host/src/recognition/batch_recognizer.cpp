@@ -282,6 +282,7 @@ BatchRecognizer::Timing BatchRecognizer::last_backend_timing() const {
     t.kernel_ms = st.last_kernel_ms;
     t.host_ms = st.last_host_ms;
     t.fold_ms = st.last_fold_ms;
+    t.belief_growth_ms = st.last_belief_growth_ms;
   }
   return t;
 }

@@ -93,13 +93,28 @@ TEST_CASE("GPU beliefs: tiny tables grow through overflow and stay identical to 
   vo.initial_table_slots = 256;
   vo.max_chunk_entries = 500;
   Twin t(w, space, 3, {}, {}, vo);
+  double growth_ms = 0.0;
   for (int r = 0; r < 6; ++r) {
     std::vector<ObservedReading> obs;
     for (std::size_t s = 0; s < 3; ++s)
       obs.push_back(test::observe(w.objects[s][static_cast<std::size_t>(r * 13 + 5) % w.objects[s].size()],
                                   test::random_pose(700 + s, 150.0)));
+    const auto allocations = [&] {
+      std::size_t n = 0;
+      for (const auto& f : t.fg) n += f->belief().table_allocations();
+      return n;
+    };
+    const std::size_t before = allocations();
     t.add(obs);
+    // The tables' growth is counted as host time of its own (`sva bench`'s growth ms), a part of the host time.
+    const BackendStats st = t.gpu->statistics();
+    CHECK(st.last_belief_growth_ms >= 0.0);
+    CHECK(st.last_belief_growth_ms <= st.last_host_ms);
+    if (allocations() > before) CHECK(st.last_belief_growth_ms > 0.0);  // a belief table grew in this update
+    growth_ms += st.last_belief_growth_ms;
   }
+  CHECK(growth_ms > 0.0);
+  CHECK(t.cpu->statistics().last_belief_growth_ms == 0.0);  // the CPU reference grows inside its fold
   for (std::size_t s = 0; s < 3; ++s) {
     t.require_same(s);
     CHECK(t.fg[s]->belief().touched() > 1000);  // far past the 64 slots it started with

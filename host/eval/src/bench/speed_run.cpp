@@ -38,7 +38,7 @@ struct Checkpoint {
   double seconds = 0.0;
   std::size_t correct = 0, trials = 0;
   std::vector<double> translation_mm;
-  std::vector<double> kernel_ms, backend_host_ms, fold_ms;
+  std::vector<double> kernel_ms, backend_host_ms, fold_ms, belief_growth_ms;
   std::vector<double> estimate_ms;   // per session: object, refined pose and top-1 after the update
   BatchRecognizer::Work work;        // summed over the checkpoint's updates (all sessions of each)
   std::vector<double> belief_bytes;  // per session after its update: a live session's memory
@@ -90,6 +90,7 @@ void record_checkpoint(Checkpoint& c, const BatchRecognizer& rec, const std::vec
   c.kernel_ms.push_back(t.kernel_ms);
   c.backend_host_ms.push_back(t.host_ms);
   c.fold_ms.push_back(t.fold_ms);
+  c.belief_growth_ms.push_back(t.belief_growth_ms);
   const BatchRecognizer::Work w = rec.last_update_work();
   for (auto [sum, v] : {std::pair{&c.work.pairs, w.pairs},
                         {&c.work.entries, w.entries},
@@ -120,6 +121,7 @@ json checkpoint_json(std::size_t readings, const Checkpoint& c, bool device, std
       {"votes_zero_fraction", ratio(c.votes_zero, c.votes)},
       {"gpu_kernel_ms", median_or_null(c.kernel_ms)},
       {"backend_host_ms", median_or_null(c.backend_host_ms)},
+      {"backend_belief_growth_ms", median_or_null(c.belief_growth_ms)},
       {"gpu_fold_ms", median_or_null(c.fold_ms)},
       {"estimate_ms", median_or_null(c.estimate_ms)},
       {"accuracy", ratio(static_cast<double>(c.correct), static_cast<double>(c.trials))},

@@ -35,6 +35,7 @@ struct VulkanBackendStats {
   double last_kernel_ms = 0.0;            // GPU time of the last batch: vote kernels and fold kernels
   double last_fold_ms = 0.0;              // of which the fold into the beliefs (belief_fold.comp, growth)
   double last_host_ms = 0.0;              // host time of the last batch: preparation and read-back
+  double last_belief_growth_ms = 0.0;     // of which growing the sessions' belief tables (buffers, submissions)
   std::uint32_t validation_messages = 0;  // Vulkan validation-layer warnings and errors (SVA_VK_VALIDATION=1)
 };
 

@@ -54,17 +54,25 @@ std::size_t GpuBelief::table_bytes() const {
   return static_cast<std::size_t>(table_.size() + band_.size() + state_.size());
 }
 
-void GpuBelief::allocate(vk::Buffer& b, std::uint32_t capacity) const {
+void GpuBelief::allocate_uncleared(vk::Buffer& b, std::uint32_t capacity) const {
   // The device's own memory: only kernels touch a belief.
   const std::size_t keys = std::size_t{capacity} * sizeof(std::uint64_t);
   b = k_->ctx->create_device_buffer(2 * keys + capacity / 32 * sizeof(std::uint32_t));
   ++table_allocations_;
+}
+
+void GpuBelief::allocate(vk::Buffer& b, std::uint32_t capacity) const {
+  allocate_uncleared(b, capacity);
   clear_table(b, capacity);
 }
 
+std::vector<vk::Fill> GpuBelief::clear_fills(vk::Buffer& b, std::uint64_t capacity) {
+  const std::size_t keys = static_cast<std::size_t>(capacity) * sizeof(std::uint64_t);
+  return {{&b, 0xffffffffu, 0, keys}, {&b, 0u, keys, 0}};
+}
+
 void GpuBelief::clear_table(vk::Buffer& b, std::uint32_t capacity) const {
-  const std::size_t keys = std::size_t{capacity} * sizeof(std::uint64_t);
-  k_->ctx->run({}, nullptr, {{&b, 0xffffffffu, 0, keys}, {&b, 0u, keys, 0}});
+  k_->ctx->run({}, nullptr, clear_fills(b, capacity));
 }
 
 void GpuBelief::reset() {
@@ -104,47 +112,79 @@ void GpuBelief::grow(std::uint64_t slots) {
   move_to(std::max<std::uint64_t>(slots, 2 * std::uint64_t{capacity_}), false, 0);
 }
 
-void GpuBelief::move_to(std::uint64_t slots, bool forget, std::uint64_t below) {
-  std::uint64_t cap = std::bit_ceil(std::max<std::uint64_t>(slots, 64));
-  vk::Buffer status = k_->ctx->create_buffer(sizeof(std::uint32_t));
+void GpuBelief::prepare_move(Move* m, std::uint64_t slots, bool forget, std::uint64_t below) {
+  if (slots > kMaxSlots)
+    throw Error("GPU belief table would need more than 2^31 slots (" + std::to_string(count_) + " touched bins)");
   const std::uint32_t objects = k_->space->objects();
-  const std::size_t touched = object_word(kTouched, objects) * sizeof(std::uint64_t);
-  for (;;) {
-    if (cap > kMaxSlots)
-      throw Error("GPU belief table would need more than 2^31 slots (" + std::to_string(count_) + " touched bins)");
-    vk::Buffer next;
-    allocate(next, static_cast<std::uint32_t>(cap));
-    *status.as<std::uint32_t>() = 0;
-    gpu::SvaRehashParams p{lo(table_.device_address()), hi(table_.device_address()), capacity_,
-                           lo(next.device_address()),   hi(next.device_address()),   static_cast<std::uint32_t>(cap)};
-    p.forget = forget ? 1u : 0u;
-    p.keep_lo = lo(below);
-    p.keep_hi = hi(below);
-    p.keep_count = forget ? keep_count_ : 0u;
-    p.state_lo = lo(state_.device_address());
-    p.state_hi = hi(state_.device_address());
-    p.objects = objects;
-    p.object_shift = k_->bins.object_shift();
-    const vk::Grid g = k_->ctx->grid(slot_invocations(capacity_));
-    ensure(*k_->ctx, keep_, sizeof(std::uint64_t));
-    vk::Dispatch d{k_->rehash, {&status, &keep_}, push_bytes(p), g.x};
-    d.groups_y = g.y;
-    std::vector<double> ms;
-    std::vector<vk::Fill> fills;  // forgetting counts the kept bins afresh
-    if (forget) fills.push_back({&state_, 0u, touched, std::size_t{objects} * sizeof(std::uint64_t)});
-    k_->ctx->run({d}, &ms, fills);
-    for (double m : ms) k_->kernel_ms += m;
-    if (*status.as<std::uint32_t>() == 0) {
-      table_ = std::move(next);
-      capacity_ = static_cast<std::uint32_t>(cap);
-      // The band list names slots of the old table; later folds append to it
-      // harmlessly (the rebuild starts it afresh).
-      band_stale_ = true;
-      forget_cache();
-      return;
-    }
-    cap *= 2;  // a probe run too long even at this load: spread further
+  m->slots = slots;
+  allocate_uncleared(m->next, static_cast<std::uint32_t>(slots));
+  m->status = k_->ctx->create_buffer(sizeof(std::uint32_t));
+  *m->status.as<std::uint32_t>() = 0;
+  gpu::SvaRehashParams p{lo(table_.device_address()),  hi(table_.device_address()),  capacity_,
+                         lo(m->next.device_address()), hi(m->next.device_address()), static_cast<std::uint32_t>(slots)};
+  p.forget = forget ? 1u : 0u;
+  p.keep_lo = lo(below);
+  p.keep_hi = hi(below);
+  p.keep_count = forget ? keep_count_ : 0u;
+  p.state_lo = lo(state_.device_address());
+  p.state_hi = hi(state_.device_address());
+  p.objects = objects;
+  p.object_shift = k_->bins.object_shift();
+  const vk::Grid g = k_->ctx->grid(slot_invocations(capacity_));
+  ensure(*k_->ctx, keep_, sizeof(std::uint64_t));
+  m->rehash = vk::Dispatch{k_->rehash, {&m->status, &keep_}, push_bytes(p), g.x};
+  m->rehash.groups_y = g.y;
+  m->fills = clear_fills(m->next, slots);  // in the rehash's submission
+  if (forget) {                            // forgetting counts the kept bins afresh
+    const std::size_t touched = object_word(kTouched, objects) * sizeof(std::uint64_t);
+    m->fills.push_back({&state_, 0u, touched, std::size_t{objects} * sizeof(std::uint64_t)});
   }
+}
+
+bool GpuBelief::adopt(Move& m) {
+  if (*m.status.as<std::uint32_t>() != 0) return false;  // a probe run too long even at this load
+  table_ = std::move(m.next);
+  capacity_ = static_cast<std::uint32_t>(m.slots);
+  // The band list names slots of the old table; later folds append to it
+  // harmlessly (the rebuild starts it afresh).
+  band_stale_ = true;
+  forget_cache();
+  return true;
+}
+
+void GpuBelief::move_to(std::uint64_t slots, bool forget, std::uint64_t below) {
+  for (std::uint64_t cap = std::bit_ceil(std::max<std::uint64_t>(slots, 64));; cap *= 2) {  // spread further
+    Move m;
+    prepare_move(&m, cap, forget, below);
+    std::vector<double> ms;
+    k_->ctx->run({m.rehash}, &ms, m.fills);
+    for (double t : ms) k_->kernel_ms += t;
+    if (adopt(m)) return;
+  }
+}
+
+void GpuBelief::keep_half_empty(std::span<GpuBelief* const> beliefs) {
+  std::vector<GpuBelief*> growing;
+  for (GpuBelief* b : beliefs)
+    if (2 * b->count_ > b->capacity_) growing.push_back(b);
+  if (growing.empty()) return;
+  std::vector<Move> moves(growing.size());  // sized once: the dispatches and fills point into it
+  std::vector<vk::Dispatch> ds;
+  std::vector<vk::Fill> fills;
+  for (std::size_t i = 0; i < growing.size(); ++i) {
+    GpuBelief& b = *growing[i];
+    // As grow(2 * count_) sizes it.
+    const std::uint64_t slots = std::max<std::uint64_t>(2 * b.count_, 2 * std::uint64_t{b.capacity_});
+    b.prepare_move(&moves[i], std::bit_ceil(std::max<std::uint64_t>(slots, 64)), false, 0);
+    ds.push_back(moves[i].rehash);
+    fills.insert(fills.end(), moves[i].fills.begin(), moves[i].fills.end());
+  }
+  GpuBeliefKernels& k = *growing.front()->k_;
+  std::vector<double> ms;
+  k.ctx->run(ds, &ms, fills);
+  for (double t : ms) k.kernel_ms += t;
+  for (std::size_t i = 0; i < growing.size(); ++i)
+    if (!growing[i]->adopt(moves[i])) growing[i]->move_to(2 * moves[i].slots, false, 0);
 }
 
 std::size_t GpuBelief::forget_below(std::uint64_t below, std::span<const std::uint64_t> keep) {

@@ -72,11 +72,30 @@ class GpuBelief final : public BeliefState {
   void keep_half_empty() {
     if (2 * count_ > capacity_) grow(2 * count_);
   }
+  // keep_half_empty for a batch's sessions (one backend's), their tables moved in one submission: in a batch, many
+  // sessions' tables outgrow their half together, and a submission each was most of the batch's host time.
+  static void keep_half_empty(std::span<GpuBelief* const> beliefs);
 
  private:
+  // A move of the table prepared: the new table (allocated, not yet cleared), the fills that clear it and the rehash
+  // into it, run alone (move_to) or with other sessions' moves in one submission (keep_half_empty).
+  struct Move {
+    vk::Buffer next, status;
+    std::uint64_t slots = 0;
+    std::vector<vk::Fill> fills;
+    vk::Dispatch rehash;
+  };
+  // Prepares *m (at a stable address: the dispatch and fills point into it) into a table of `slots` slots.
+  void prepare_move(Move* m, std::uint64_t slots, bool forget, std::uint64_t below);
+  // After the submission: true when the rehash placed every key (the new table is the belief's now).
+  bool adopt(Move& m);
+  // The new table of a move, not yet cleared (its fills clear it).
+  void allocate_uncleared(vk::Buffer& b, std::uint32_t capacity) const;
   void allocate(vk::Buffer& b, std::uint32_t capacity) const;
   // Empties a table of `capacity` slots in place: keys empty, offsets and band marks 0.
   void clear_table(vk::Buffer& b, std::uint32_t capacity) const;
+  // The fills that do it, for a submission of the caller's.
+  static std::vector<vk::Fill> clear_fills(vk::Buffer& b, std::uint64_t capacity);
   // Moves the table into one of at least `slots` slots (a power of two); with
   // `forget`, only the bins at or above `below` and those in `keep_` (sorted linear keys).
   void move_to(std::uint64_t slots, bool forget, std::uint64_t below);

@@ -120,9 +120,7 @@ class VulkanVoteBackend final : public VoteBackend {
       c.finish = [&](std::size_t first, std::size_t last) { finish_fold(batch, first, last, gb, fold, out); };
       fold_bins_ = 0;
       vote_pairs(batch, 0, batch.pairs.size(), c);
-      growing([&] {
-        for (GpuBelief* g : gb) g->keep_half_empty();
-      });
+      growing([&] { GpuBelief::keep_half_empty(gb); });
     });
     last_work_ = work_of(out);
     last_work_.bins = fold_bins_;  // counted per session by the fold's RESERVE pass

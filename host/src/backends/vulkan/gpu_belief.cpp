@@ -6,6 +6,7 @@
 #include <bit>
 #include <cassert>
 #include <cstring>
+#include <stdexcept>
 #include <string>
 #include <tuple>
 
@@ -180,6 +181,8 @@ void GpuBelief::keep_half_empty(std::span<GpuBelief* const> beliefs) {
     fills.insert(fills.end(), moves[i].fills.begin(), moves[i].fills.end());
   }
   GpuBeliefKernels& k = *growing.front()->k_;
+  for (const GpuBelief* b : growing)
+    if (b->k_ != &k) throw std::logic_error("GpuBelief::keep_half_empty: beliefs of two backends in one submission");
   std::vector<double> ms;
   k.ctx->run(ds, &ms, fills);
   for (double t : ms) k.kernel_ms += t;

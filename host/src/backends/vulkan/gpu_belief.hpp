@@ -68,12 +68,9 @@ class GpuBelief final : public BeliefState {
   void record(std::uint64_t inserted, std::size_t folded);
   // Moves the table into one of at least `slots` slots (a power of two).
   void grow(std::uint64_t slots);
-  // Keeps the load at most one half for the next update.
-  void keep_half_empty() {
-    if (2 * count_ > capacity_) grow(2 * count_);
-  }
-  // keep_half_empty for a batch's sessions (one backend's), their tables moved in one submission: in a batch, many
-  // sessions' tables outgrow their half together, and a submission each was most of the batch's host time.
+  // Keeps each belief's load at most one half for the next update (those of one backend: a batch's sessions), their
+  // tables moved in one submission: in a batch many sessions outgrow their half together, and two submissions each
+  // were a suspect for the batch's host time on a GPU (docs/vulkan-backend.md, "The fifth GPU run").
   static void keep_half_empty(std::span<GpuBelief* const> beliefs);
 
  private:

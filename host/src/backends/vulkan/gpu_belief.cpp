@@ -109,9 +109,11 @@ void GpuBelief::record(std::uint64_t inserted, std::size_t folded) {
   forget_cache();
 }
 
-void GpuBelief::grow(std::uint64_t slots) {
-  move_to(std::max<std::uint64_t>(slots, 2 * std::uint64_t{capacity_}), false, 0);
+std::uint64_t GpuBelief::grown_slots(std::uint64_t slots) const {
+  return std::bit_ceil(std::max<std::uint64_t>({slots, 2 * std::uint64_t{capacity_}, 64}));
 }
+
+void GpuBelief::grow(std::uint64_t slots) { move_to(grown_slots(slots), false, 0); }
 
 void GpuBelief::prepare_move(Move* m, std::uint64_t slots, bool forget, std::uint64_t below) {
   if (slots > kMaxSlots)
@@ -174,9 +176,7 @@ void GpuBelief::keep_half_empty(std::span<GpuBelief* const> beliefs) {
   std::vector<vk::Fill> fills;
   for (std::size_t i = 0; i < growing.size(); ++i) {
     GpuBelief& b = *growing[i];
-    // As grow(2 * count_) sizes it.
-    const std::uint64_t slots = std::max<std::uint64_t>(2 * b.count_, 2 * std::uint64_t{b.capacity_});
-    b.prepare_move(&moves[i], std::bit_ceil(std::max<std::uint64_t>(slots, 64)), false, 0);
+    b.prepare_move(&moves[i], b.grown_slots(2 * b.count_), false, 0);
     ds.push_back(moves[i].rehash);
     fills.insert(fills.end(), moves[i].fills.begin(), moves[i].fills.end());
   }

@@ -74,6 +74,8 @@ class GpuBelief final : public BeliefState {
   static void keep_half_empty(std::span<GpuBelief* const> beliefs);
 
  private:
+  // The table a growth to at least `slots` slots takes: a power of two, at least twice the current one and 64.
+  std::uint64_t grown_slots(std::uint64_t slots) const;
   // A move of the table prepared: the new table (allocated, not yet cleared), the fills that clear it and the rehash
   // into it, run alone (move_to) or with other sessions' moves in one submission (keep_half_empty).
   struct Move {

@@ -128,9 +128,9 @@ struct Calibration {
   // while the probabilities keep surface_weight. The weight is learned by the likelihood of the true object over the
   // held-out sessions' 2-12 readings; the check's bits, one per reading and never tempered, decide twins later on.
   // There a larger weight ranks better (lookalikes: right more often at every count from 8 to 29 readings, by up to
-  // 2.7 points) but, held in the probabilities, makes them too sure, which the top label cannot undo (docs/evaluation.md,
-  // "The surface weight that ranks best is not the one that calibrates best"). The named object may then hold less
-  // probability than another (about one step in twenty-five on lookalikes): its own, honestly lower.
+  // 2.7 points) but, held in the probabilities, makes them too sure, which the top label cannot undo
+  // (docs/evaluation.md, "The surface weight that ranks best is not the one that calibrates best"). The named object
+  // may then hold less probability than another (about one step in twenty-five on lookalikes): its own, honestly lower.
   static constexpr double kSurfaceRankFactor = 2.0;
   // object_probability with the surface check's bits at kSurfaceRankFactor times surface_weight: the ranking whose
   // first object the estimate names (not a probability to report).

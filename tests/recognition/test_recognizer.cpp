@@ -9,8 +9,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "map/map_access.hpp"
 #include "fixture.hpp"
+#include "map/map_access.hpp"
 #include "trained_map.hpp"
 
 using namespace sva;
@@ -318,4 +318,30 @@ TEST_CASE("Recognizer: a prior over objects decides what touch cannot, and a fla
   CHECK_THROWS_WITH(camera.set_prior({{0.5, -0.1, 0.5}}), Catch::Contains("object 1"));
   CHECK_THROWS_WITH(camera.set_prior({{0.5, std::nan(""), 0.5}}), Catch::Contains("finite"));
   CHECK_THROWS_WITH(camera.set_prior({{0.0, 0.0, 0.0}}), Catch::Contains("every object probability is 0"));
+}
+
+TEST_CASE("Recognizer: the fine pose and the surface check give the same estimate on one thread and on several") {
+  const Trained& t = trained();
+  RecognizerOptions one, several;
+  one.backend = several.backend = BackendKind::cpu;
+  one.threads = 1;
+  several.threads = 3;  // more workers than the check's objects: their fits and starts interleave
+  Recognizer a(t.map, paper_space(), one), b(t.map, paper_space(), several);
+  const RigidPose truth = random_pose(611, 100.0);
+  util::Rng rng(43);
+  for (int i = 0; i < 10; ++i) {
+    const Reading r =
+        reading_of(t.data.scene.sensor, world_point(t.spec, 2, static_cast<int>(rng.below(70))), truth, rng);
+    a.add_reading(r);
+    b.add_reading(r);
+    const Estimate ea = a.estimate(5), eb = b.estimate(5);
+    INFO("reading " << i + 1);
+    CHECK(ea.object == eb.object);
+    CHECK(ea.object_probability == eb.object_probability);
+    CHECK(ea.p_unknown == eb.p_unknown);
+    CHECK(ea.pose_refined == eb.pose_refined);
+    CHECK(ea.pose.T == eb.pose.T);
+    CHECK(ea.pose.R == eb.pose.R);
+  }
+  CHECK(a.estimate().pose_refined);  // the fits ran (6 readings and more)
 }

@@ -121,6 +121,7 @@ BatchRecognizer::BatchRecognizer(const Engine& engine, const PoseSpaceSpec& pose
         (options.calibrate && !impl_->pair_map->calibration.unknown.empty())) {
       impl_->surface = &EngineAccess::impl(engine)->surface();
       impl_->refine = refine_settings(impl_->space);
+      impl_->refine.threads = options.threads;
     }
   } else {
     if (impl_->pair_map->baseline.n_objects != impl_->pair_map->objects.size())

@@ -1,5 +1,6 @@
 #include "recognition/pose_refinement.hpp"
 
+#include <sva/base/parallel.hpp>
 #include <sva/base/portable_math.hpp>
 #include <sva/base/so3.hpp>
 
@@ -345,11 +346,17 @@ RefinedPose refine_pose(const SurfaceIndex& surface, std::uint32_t object, std::
   // A later (less probable) mode wins only by a clear margin: half a
   // reading's outlier cost, or a quarter of the cost. Modes the shape cannot
   // tell apart (a cube's faces) fit alike, and the histogram's order stands.
+  // The starts are fitted side by side on the workers (an estimate's latency on a robot), then weighed in their own
+  // order, so the answer does not depend on the thread count.
+  std::vector<std::pair<RigidPose, Fit>> runs(starts.size());
+  std::vector<int> observables(starts.size(), 0);
+  util::parallel_for(
+      starts.size(), [&](std::size_t k) { runs[k] = problem.run(starts[k], &observables[k]); }, settings.threads);
   bool have = false;
   RefinedPose best;
   for (std::size_t k = 0; k < starts.size(); ++k) {
-    int observable = 0;
-    const auto [pose, f] = problem.run(starts[k], &observable);
+    const int observable = observables[k];
+    const auto& [pose, f] = runs[k];
     const double margin = std::max(final_scale * final_scale / 12.0, 0.25 * best.cost);
     if (have && !(f.cost < best.cost - margin)) continue;
     have = true;

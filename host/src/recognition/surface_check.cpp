@@ -1,5 +1,7 @@
 #include "recognition/surface_check.hpp"
 
+#include <sva/base/parallel.hpp>
+
 #include <algorithm>
 #include <numeric>
 
@@ -37,22 +39,36 @@ SurfaceCheck check_surfaces(const BayesFilter& filter, const BeliefEstimate& b, 
   const std::vector<std::uint32_t> leading = leading_objects(b, s);
   if (leading.size() < 2) return check;
   const double sigma = kSurfaceSigmaOfScale * settings.scale_final_mm;
+  // Each object's starts come from the belief (one caller at a time); its fits, on the host alone, run side by side
+  // on the workers and are kept in the leading order.
+  std::vector<CheckedObject> checked(leading.size());
+  std::vector<std::vector<RigidPose>> starts(leading.size());
+  for (std::size_t i = 0; i < leading.size(); ++i) {
+    const std::uint32_t o = leading[i];
+    checked[i].object = o;
+    checked[i].best_key = s.best_key[o];
+    const bool own = estimate_modes_are_own && o == b.object && b.pose_valid && !b.modes.empty();
+    starts[i] =
+        own ? b.modes
+            : object_modes(filter.belief(), filter.space(), s.best_key[o], b.modes.empty() ? 1 : b.modes.size());
+    checked[i].parabolic_pose = starts[i].front();
+  }
+  std::vector<double> fits(leading.size(), 0.0);
+  util::parallel_for(
+      leading.size(),
+      [&](std::size_t i) {
+        CheckedObject& c = checked[i];
+        c.fine = refine_pose(surface, c.object, filter.observed(), starts[i], settings);
+        fits[i] = surface_log2_fit(surface, c.object, filter.observed(), c.fine.pose, settings, sigma, kSurfaceFloor);
+      },
+      settings.threads);
   check.log2_fit.assign(b.level.object_log2_mass.size(), 0.0);
   double worst = 0.0;
-  for (std::uint32_t o : leading) {
-    CheckedObject c;
-    c.object = o;
-    c.best_key = s.best_key[o];
-    const bool own = estimate_modes_are_own && o == b.object && b.pose_valid && !b.modes.empty();
-    const std::vector<RigidPose> starts =
-        own ? b.modes : object_modes(filter.belief(), filter.space(), c.best_key, b.modes.empty() ? 1 : b.modes.size());
-    c.parabolic_pose = starts.front();
-    c.fine = refine_pose(surface, o, filter.observed(), starts, settings);
-    const double fit = surface_log2_fit(surface, o, filter.observed(), c.fine.pose, settings, sigma, kSurfaceFloor);
-    check.log2_fit[o] = fit;
-    worst = check.checked.empty() ? fit : std::min(worst, fit);
-    check.checked.push_back(c);
+  for (std::size_t i = 0; i < leading.size(); ++i) {
+    check.log2_fit[leading[i]] = fits[i];
+    worst = i == 0 ? fits[i] : std::min(worst, fits[i]);
   }
+  check.checked = std::move(checked);
   for (std::uint32_t o = 0; o < check.log2_fit.size(); ++o)
     if (!check.find(o)) check.log2_fit[o] = worst;
   return check;

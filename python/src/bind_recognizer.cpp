@@ -99,9 +99,7 @@ void bind_estimate(nb::module_& m) {
       .def_prop_ro(
           "object", [](const Estimate& e) { return if_ready(e, nb::cast(e.object)); },
           nb::sig("def object(self) -> int | None"),
-          "id of the object named: the most probable, save where the surface check ranks a near-twin first (its "
-          "object_probability is then below another's; docs/recognition.md, \"Surface check\"). None before the "
-          "first reading")
+          "id of the object with the most mass summed over poses (None before the first reading)")
       .def_prop_ro(
           "object_name", [](const Estimate& e) { return if_ready(e, nb::cast(e.object_name)); },
           nb::sig("def object_name(self) -> str | None"), "that object's name (None before the first reading)")

@@ -154,32 +154,6 @@ TEST_CASE("the top label: a sure top made less sure and a flat one surer, the to
   CHECK(sure == std::vector<double>{0.0, 1.0, 0.0});
 }
 
-TEST_CASE("the surface check's bits rank at twice the surface weight, the probabilities keep the weight") {
-  Calibration c;
-  c.temperature_scale = 0.5;
-  c.temperature_power = 1.0;
-  c.surface_weight = 0.25;
-  EvidenceLevel level;
-  level.readings = 11;  // tau = 0.05
-  // The pairs favour object 0 by 20 bits (1 tempered bit); the check favours object 1 by 3 bits (0.75 weighted, 1.5
-  // ranked) and object 2 by 1 bit.
-  level.object_log2_mass = {0.0, -20.0, -40.0};
-  level.surface_log2_fit = {-9.0, -6.0, -8.0};
-  const std::vector<double> p = c.object_probability(level, {});
-  const std::vector<double> rank = c.ranking(level, {});
-  REQUIRE(p.size() == 3);
-  REQUIRE(rank.size() == 3);
-  CHECK(p[0] > p[1]);        // the probabilities: the pairs still lead by 0.25 bits
-  CHECK(rank[1] > rank[0]);  // the ranking: the check's 1.5 bits lead by 0.5
-  CHECK(rank[1] > rank[2]);
-  CHECK(std::log2(p[0] / p[1]) == Approx(0.25));
-  CHECK(std::log2(rank[1] / rank[0]) == Approx(0.5));
-  CHECK(rank[0] + rank[1] + rank[2] == Approx(1.0));
-  // Without the check's bits the two orders are one.
-  level.surface_log2_fit.clear();
-  CHECK(c.ranking(level, {}) == c.object_probability(level, {}));
-}
-
 TEST_CASE("the top label's fine-pose regime comes in over its first five readings") {
   Calibration c;
   c.top_label = {Calibration::TopLabel{0.5, 0.5}, Calibration::TopLabel{-1.0, 1.0}};

@@ -97,10 +97,7 @@ struct Estimate {
   // (uniform without one); object_name is empty, the poses are the identity, top and the hypotheses are empty.
   bool ready = false;
   std::size_t readings = 0;  // readings seen so far
-  // The object named: the most probable, save where the surface check ranks a near-twin first (its bits count twice
-  // in the ranking, not in the probabilities: docs/recognition.md, "Surface check"); object_probability[object] is
-  // then below another object's (about one step in twenty-five on the lookalikes scene), its own, honestly lower.
-  std::uint32_t object = 0;
+  std::uint32_t object = 0;  // the object with the most mass summed over poses
   std::string object_name;
   std::vector<double> object_probability;  // per object, sums to 1: the posterior given that the object is one of
                                            // the map's (calibrated unless RecognizerOptions::calibrate is off)

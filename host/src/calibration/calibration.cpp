@@ -36,11 +36,6 @@ std::vector<double> Calibration::object_probability(const EvidenceLevel& level,
                             surface_weight);
 }
 
-std::vector<double> Calibration::ranking(const EvidenceLevel& level, std::span<const double> object_weight) const {
-  return tempered_posterior(level.object_log2_mass, temperature(level.readings), object_weight, level.surface_log2_fit,
-                            kSurfaceRankFactor * surface_weight);
-}
-
 Calibration::TopLabel Calibration::top_label_at(const EvidenceLevel& level) const {
   if (level.fit_cost_share < 0.0) return top_label[0];
   if (level.fine_pose_from == 0 || level.readings < level.fine_pose_from) return top_label[1];

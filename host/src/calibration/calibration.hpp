@@ -124,17 +124,6 @@ struct Calibration {
   double temperature(std::size_t readings) const;
   // The calibrated object posterior; `object_weight`: the prior per object (largest 1; empty: flat).
   std::vector<double> object_probability(const EvidenceLevel& level, std::span<const double> object_weight) const;
-  // The surface check names the estimate's object with its bits counted kSurfaceRankFactor times surface_weight,
-  // while the probabilities keep surface_weight. The weight is learned by the likelihood of the true object over the
-  // held-out sessions' 2-12 readings; the check's bits, one per reading and never tempered, decide twins later on.
-  // There a larger weight ranks better (lookalikes: right more often at every count from 8 to 29 readings, by up to
-  // 2.7 points) but, held in the probabilities, makes them too sure, which the top label cannot undo
-  // (docs/evaluation.md, "The surface weight that ranks best is not the one that calibrates best"). The named object
-  // may then hold less probability than another (about one step in twenty-five on lookalikes): its own, honestly lower.
-  static constexpr double kSurfaceRankFactor = 2.0;
-  // object_probability with the surface check's bits at kSurfaceRankFactor times surface_weight: the ranking whose
-  // first object the estimate names (not a probability to report).
-  std::vector<double> ranking(const EvidenceLevel& level, std::span<const double> object_weight) const;
   // Recalibrates the top object of `p` (a posterior over objects at `level`) by top_label, the rest scaled to sum to
   // 1. It may lower a top and raise an unsure one up to one half, never make a top surer than the temperature left it
   // past one half (on two objects, whose sessions were nearly all right at 2-5 readings, the fit read a coin flip as

@@ -412,20 +412,16 @@ Estimate appearance_estimate(const std::vector<double>& log_posterior, const std
 
 namespace {
 
-// The surface check's posterior (tempered log-evidence plus the surfaces' fits) and, when the check names another
-// object than the belief's best, that object's best bin and poses in `b`. Calibrated, the check names by
-// Calibration::ranking (its bits weigh more there than in the probabilities); uncalibrated, its bits count as they
-// are in both.
-void follow_surface_check(const SurfaceCheck& check, const EvidenceLevel& level, const Calibration* calibration,
-                          std::span<const double> object_weight, const PoseSpace& space, BeliefEstimate* b) {
-  const double temperature = calibration ? calibration->temperature(level.readings) : 1.0;
-  const double weight = calibration ? calibration->surface_weight : 1.0;
+// The surface check's posterior (tempered log-evidence plus the surfaces' fits) and, when it names another object
+// than the belief's best, that object's best bin and poses in `b`.
+void follow_surface_check(const SurfaceCheck& check, const EvidenceLevel& level, double temperature,
+                          double surface_weight, std::span<const double> object_weight, const PoseSpace& space,
+                          BeliefEstimate* b) {
   b->object_probability =
-      tempered_posterior(level.object_log2_mass, temperature, object_weight, check.log2_fit, weight);
-  const std::vector<double> rank = calibration ? calibration->ranking(level, object_weight) : b->object_probability;
+      tempered_posterior(level.object_log2_mass, temperature, object_weight, check.log2_fit, surface_weight);
   std::uint32_t best = b->object;
-  for (std::uint32_t o = 0; o < rank.size(); ++o)
-    if (rank[o] > rank[best]) best = o;
+  for (std::uint32_t o = 0; o < b->object_probability.size(); ++o)
+    if (b->object_probability[o] > b->object_probability[best]) best = o;
   const CheckedObject* c = check.find(best);
   if (best == b->object || !c) return;  // an object the check did not fit rises only through its prior: kept as is
   b->object = best;
@@ -457,7 +453,9 @@ Estimate filter_estimate(const BayesFilter& filter, const std::vector<MapObject>
   const std::uint32_t belief_best = b.object;
   if (!check.log2_fit.empty()) {
     level.surface_log2_fit = check.log2_fit;
-    follow_surface_check(check, level, r.calibration, r.object_weight, filter.space(), &b);
+    // Uncalibrated, the check's bits count as they are, each reading once.
+    const double weight = r.calibration ? r.calibration->surface_weight : 1.0;
+    follow_surface_check(check, level, temperature, weight, r.object_weight, filter.space(), &b);
   }
   // The top label last: it keeps the top object, so the poses above stand.
   const bool relabel = r.calibration && filter.readings() >= 2;

@@ -343,15 +343,15 @@ RefinedPose refine_pose(const SurfaceIndex& surface, std::uint32_t object, std::
   const Fit unrefined = problem.fit(starts[0], final_scale);
   out.cost = unrefined.cost;
   out.inliers = unrefined.inliers;
-  // A later (less probable) mode wins only by a clear margin: half a
-  // reading's outlier cost, or a quarter of the cost. Modes the shape cannot
-  // tell apart (a cube's faces) fit alike, and the histogram's order stands.
   // The starts are fitted side by side on the workers (an estimate's latency on a robot), then weighed in their own
   // order, so the answer does not depend on the thread count.
   std::vector<std::pair<RigidPose, Fit>> runs(starts.size());
   std::vector<int> observables(starts.size(), 0);
   util::parallel_for(
       starts.size(), [&](std::size_t k) { runs[k] = problem.run(starts[k], &observables[k]); }, settings.threads);
+  // A later (less probable) mode wins only by a clear margin: half a
+  // reading's outlier cost, or a quarter of the cost. Modes the shape cannot
+  // tell apart (a cube's faces) fit alike, and the histogram's order stands.
   bool have = false;
   RefinedPose best;
   for (std::size_t k = 0; k < starts.size(); ++k) {

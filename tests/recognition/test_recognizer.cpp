@@ -325,7 +325,7 @@ TEST_CASE("Recognizer: the fine pose and the surface check give the same estimat
   RecognizerOptions one, several;
   one.backend = several.backend = BackendKind::cpu;
   one.threads = 1;
-  several.threads = 3;  // more workers than the check's objects: their fits and starts interleave
+  several.threads = 2;  // the check's three objects and their starts interleave on the workers
   Recognizer a(t.map, paper_space(), one), b(t.map, paper_space(), several);
   const RigidPose truth = random_pose(611, 100.0);
   util::Rng rng(43);

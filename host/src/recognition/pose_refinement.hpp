@@ -32,7 +32,7 @@ struct RefineSettings {
   int iterations = 6;                      // Gauss-Newton steps per scale at most
   double min_information = 0.02;           // eigenvalue of the point-to-plane equations (observed normals) below which
   double min_relative_information = 2e-3;  // ... (or this share of the largest) a direction is unobservable
-  unsigned threads = 0;  // workers for the fits (starts, the check's objects): RecognizerOptions::threads
+  unsigned threads = 0;                    // workers for the fits (RecognizerOptions::threads; 0: all cores)
 };
 
 // Settings for a pose space: scales in units of its translation bin (paper3d:

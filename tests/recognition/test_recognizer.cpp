@@ -320,7 +320,7 @@ TEST_CASE("Recognizer: a prior over objects decides what touch cannot, and a fla
   CHECK_THROWS_WITH(camera.set_prior({{0.0, 0.0, 0.0}}), Catch::Contains("every object probability is 0"));
 }
 
-TEST_CASE("Recognizer: the fine pose and the surface check give the same estimate on one thread and on several") {
+TEST_CASE("Recognizer: the estimate's fits and hypotheses are the same on one thread and on several") {
   const Trained& t = trained();
   RecognizerOptions one, several;
   one.backend = several.backend = BackendKind::cpu;
@@ -342,6 +342,19 @@ TEST_CASE("Recognizer: the fine pose and the surface check give the same estimat
     CHECK(ea.pose_refined == eb.pose_refined);
     CHECK(ea.pose.T == eb.pose.T);
     CHECK(ea.pose.R == eb.pose.R);
+    // Each object's best mode and the distinct modes, their neighbourhoods' moments computed on the workers.
+    REQUIRE(ea.object_hypotheses.size() == eb.object_hypotheses.size());
+    REQUIRE(ea.hypotheses.size() == eb.hypotheses.size());
+    for (std::size_t o = 0; o < ea.object_hypotheses.size(); ++o) {
+      CHECK(ea.object_hypotheses[o].probability == eb.object_hypotheses[o].probability);
+      CHECK(ea.object_hypotheses[o].covariance == eb.object_hypotheses[o].covariance);
+      CHECK(ea.object_hypotheses[o].pose.T == eb.object_hypotheses[o].pose.T);
+    }
+    for (std::size_t m = 0; m < ea.hypotheses.size(); ++m) {
+      CHECK(ea.hypotheses[m].object == eb.hypotheses[m].object);
+      CHECK(ea.hypotheses[m].probability == eb.hypotheses[m].probability);
+      CHECK(ea.hypotheses[m].covariance == eb.hypotheses[m].covariance);
+    }
   }
   CHECK(a.estimate().pose_refined);  // the fits ran (6 readings and more)
 }

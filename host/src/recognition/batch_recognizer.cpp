@@ -191,7 +191,8 @@ Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const
                             .refine_pose = impl_->options.refine_pose,
                             .surface_check = impl_->options.surface_check,
                             .calibration = impl_->options.calibrate ? &impl_->pair_map->calibration : nullptr,
-                            .unknown_prior = impl_->options.unknown_prior};
+                            .unknown_prior = impl_->options.unknown_prior,
+                            .threads = impl_->options.threads};
     e = filter_estimate(*s.filter, objects, r);
   } else {
     e = appearance_estimate(s.appearance_log_posterior, objects, s.prior_weight);

@@ -147,6 +147,7 @@ struct EstimateRequest {
   bool surface_check = true;                 // with `surface`: weigh the leading objects by their surfaces' fits
   const Calibration* calibration = nullptr;  // none: Eq 5's raw posterior and p_unknown = unknown_prior
   double unknown_prior = 0.1;
+  unsigned threads = 0;  // workers for the per-object work (RecognizerOptions::threads; 0: all cores)
 };
 
 // Method::sva: the estimate of the filter's belief, refined against the surface when there is one, in the robot

@@ -1,5 +1,6 @@
 #include "recognition/hypotheses.hpp"
 
+#include <sva/base/parallel.hpp>
 #include <sva/base/portable_math.hpp>
 #include <sva/base/so3.hpp>
 
@@ -179,7 +180,7 @@ void moments(const PoseSpace& space, const Hood& hood, std::uint64_t max_offset,
 
 HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, const BeliefSummary& summary,
                          std::size_t count, int radius, std::span<const double> object_weight,
-                         const PoseWeighting& pose_weighting) {
+                         const PoseWeighting& pose_weighting, unsigned threads) {
   HypothesisSet set;
   set.per_object.resize(space.objects());
   set.per_object_valid.assign(space.objects(), false);
@@ -205,18 +206,21 @@ HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, cons
                                          ? best_bin_under_prior(belief, summary, o, pose_weighting)
                                          : summary.best_key[o]));
     }
-  // One read of every neighbourhood's offsets (one device round trip on a GPU backend).
-  std::vector<Hood> hoods;
+  // The neighbourhoods on the workers (a hundred objects' best modes are most of a large map's estimate), then one
+  // read of all their offsets (one device round trip on a GPU backend).
+  std::vector<Hood> hoods(centres.size());
+  util::parallel_for(
+      centres.size(),
+      [&](std::size_t m) {
+        Hood& h = hoods[m];
+        h.bins = neighbourhood(space, centres[m], std::max(radius, 1));
+        for (const BinIndex& b : h.bins) h.keys.push_back(space.pack(b));
+        if (pose_weighting.applies_to(centres[m].object))
+          for (std::uint64_t k : h.keys) h.prior_bits.push_back(pose_weighting.log2_weight(k));
+      },
+      threads);
   std::vector<std::uint64_t> keys;
-  for (const BinIndex& c : centres) {
-    Hood h;
-    h.bins = neighbourhood(space, c, std::max(radius, 1));
-    for (const BinIndex& b : h.bins) h.keys.push_back(space.pack(b));
-    if (pose_weighting.applies_to(c.object))
-      for (std::uint64_t k : h.keys) h.prior_bits.push_back(pose_weighting.log2_weight(k));
-    keys.insert(keys.end(), h.keys.begin(), h.keys.end());
-    hoods.push_back(std::move(h));
-  }
+  for (const Hood& h : hoods) keys.insert(keys.end(), h.keys.begin(), h.keys.end());
   const std::vector<std::uint64_t> values = belief.offsets(keys);
   std::size_t next = 0;
   for (Hood& h : hoods) {
@@ -227,9 +231,10 @@ HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, cons
   const double z = total_mass(summary, space, object_weight);
   const std::uint32_t mass_bits = belief_math::mass_bits(space.bins_per_object());
   // Neighbourhoods of two modes may overlap (modes radius + 1 steps apart): a bin counts for the stronger mode
-  // only, so the modes' masses never sum past the object's.
+  // only, so the modes' masses never sum past the object's. The modes claim in order; each object's best mode
+  // claims nothing, so those run on the workers.
   std::unordered_set<std::uint64_t> claimed;
-  for (std::size_t m = 0; m < centres.size(); ++m) {
+  const auto mode_of = [&](std::size_t m, std::unordered_set<std::uint64_t>* claim) {
     ModeHypothesis h;
     h.object = centres[m].object;
     h.key = space.pack(centres[m]);
@@ -238,18 +243,20 @@ HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, cons
     // lies beyond every stronger mode's radius: never claimed.
     Hood hood;
     for (std::size_t i = 0; i < hoods[m].bins.size() && (radius > 0 || i == 0); ++i) {
-      if (m < modes && !claimed.insert(hoods[m].keys[i]).second) continue;
+      if (claim && !claim->insert(hoods[m].keys[i]).second) continue;
       hood.bins.push_back(hoods[m].bins[i]);
       hood.offsets.push_back(hoods[m].offsets[i]);
       if (!hoods[m].prior_bits.empty()) hood.prior_bits.push_back(hoods[m].prior_bits[i]);
     }
     moments(space, hood, summary.max_offset, mass_bits, z, &h);
     if (!object_weight.empty()) h.probability *= object_weight[h.object];
-    if (m < modes)
-      set.modes.push_back(h);
-    else
-      set.per_object[h.object] = h;
-  }
+    return h;
+  };
+  for (std::size_t m = 0; m < modes; ++m) set.modes.push_back(mode_of(m, &claimed));
+  std::vector<ModeHypothesis> best(centres.size() - modes);
+  util::parallel_for(
+      best.size(), [&](std::size_t i) { best[i] = mode_of(modes + i, nullptr); }, threads);
+  for (const ModeHypothesis& h : best) set.per_object[h.object] = h;
   return set;
 }
 

@@ -41,10 +41,11 @@ struct HypothesisSet {
 // evidence plus prior before the suppression, chooses each object's mode as best_bin_under_prior does, and
 // weighs every bin of a mode's mass and spread by the prior at its centre; the masses stay over the evidence's
 // total (the prior's normaliser would need every bin), so they compare modes but need not sum to an object's
-// probability.
+// probability. Each object's neighbourhood and moments are computed on `threads` workers (0: all cores), the same
+// answers for any count.
 HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, const BeliefSummary& summary,
                          std::size_t count, int radius, std::span<const double> object_weight = {},
-                         const PoseWeighting& pose_weighting = {});
+                         const PoseWeighting& pose_weighting = {}, unsigned threads = 0);
 
 // The covariance of a mode carried into the robot frame by the workspace rotation (both 3 x 3 blocks turn).
 std::array<double, 36> covariance_to_robot(const std::array<double, 36>& grid, const glm::dmat3& workspace);

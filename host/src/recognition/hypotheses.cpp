@@ -176,6 +176,33 @@ void moments(const PoseSpace& space, const Hood& hood, std::uint64_t max_offset,
   }
 }
 
+// The neighbourhoods of `centres` with their offsets: built on the workers (a hundred objects' best modes are most
+// of a large map's estimate), then one read of all their offsets (one device round trip on a GPU backend).
+std::vector<Hood> read_hoods(const BeliefState& belief, const PoseSpace& space, const std::vector<BinIndex>& centres,
+                             int radius, const PoseWeighting& pose_weighting, unsigned threads) {
+  std::vector<Hood> hoods(centres.size());
+  util::parallel_for(
+      centres.size(),
+      [&](std::size_t m) {
+        Hood& h = hoods[m];
+        h.bins = neighbourhood(space, centres[m], std::max(radius, 1));
+        for (const BinIndex& b : h.bins) h.keys.push_back(space.pack(b));
+        if (pose_weighting.applies_to(centres[m].object))
+          for (std::uint64_t k : h.keys) h.prior_bits.push_back(pose_weighting.log2_weight(k));
+      },
+      threads);
+  std::vector<std::uint64_t> keys;
+  for (const Hood& h : hoods) keys.insert(keys.end(), h.keys.begin(), h.keys.end());
+  const std::vector<std::uint64_t> values = belief.offsets(keys);
+  std::size_t next = 0;
+  for (Hood& h : hoods) {
+    h.offsets.assign(values.begin() + static_cast<std::ptrdiff_t>(next),
+                     values.begin() + static_cast<std::ptrdiff_t>(next + h.keys.size()));
+    next += h.keys.size();
+  }
+  return hoods;
+}
+
 }  // namespace
 
 HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, const BeliefSummary& summary,
@@ -206,28 +233,7 @@ HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, cons
                                          ? best_bin_under_prior(belief, summary, o, pose_weighting)
                                          : summary.best_key[o]));
     }
-  // The neighbourhoods on the workers (a hundred objects' best modes are most of a large map's estimate), then one
-  // read of all their offsets (one device round trip on a GPU backend).
-  std::vector<Hood> hoods(centres.size());
-  util::parallel_for(
-      centres.size(),
-      [&](std::size_t m) {
-        Hood& h = hoods[m];
-        h.bins = neighbourhood(space, centres[m], std::max(radius, 1));
-        for (const BinIndex& b : h.bins) h.keys.push_back(space.pack(b));
-        if (pose_weighting.applies_to(centres[m].object))
-          for (std::uint64_t k : h.keys) h.prior_bits.push_back(pose_weighting.log2_weight(k));
-      },
-      threads);
-  std::vector<std::uint64_t> keys;
-  for (const Hood& h : hoods) keys.insert(keys.end(), h.keys.begin(), h.keys.end());
-  const std::vector<std::uint64_t> values = belief.offsets(keys);
-  std::size_t next = 0;
-  for (Hood& h : hoods) {
-    h.offsets.assign(values.begin() + static_cast<std::ptrdiff_t>(next),
-                     values.begin() + static_cast<std::ptrdiff_t>(next + h.keys.size()));
-    next += h.keys.size();
-  }
+  const std::vector<Hood> hoods = read_hoods(belief, space, centres, radius, pose_weighting, threads);
   const double z = total_mass(summary, space, object_weight);
   const std::uint32_t mass_bits = belief_math::mass_bits(space.bins_per_object());
   // Neighbourhoods of two modes may overlap (modes radius + 1 steps apart): a bin counts for the stronger mode

@@ -35,8 +35,8 @@ struct RecognizerOptions {
   float likelihood_cutoff = 0.0f;         // skip matches whose Eq 15 likelihood (summed over shared keys) is below this
   double object_prune_probability = 0.0;  // skip map entries of objects whose posterior is below this
   int max_pairs_per_update = 0;           // 0 = all earlier readings (both orders); else the most recent ones
-  unsigned threads = 0;                   // CPU backend's votes, every backend's fine-pose fits: 0 = all cores;
-                                          // results do not depend on it
+  unsigned threads = 0;                   // CPU backend's votes, every backend's estimate (fits, per-object modes):
+                                          // 0 = all cores; results do not depend on it
   std::string vulkan_device;              // "" = prefer a discrete GPU (env SVA_VK_DEVICE)
   // The fine pose (docs/recognition.md): after the histogram, align the readings to the object's training
   // contacts (robust point-to-plane, on the host, the same for every backend). Off: the parabolic sub-bin pose.

@@ -52,6 +52,9 @@ class BinTable {
     find(key, &v);
     return v;
   }
+  // The key in the slot a lookup of `key` reads first: one load, no probing (bench/hash_floor.cpp times these as the
+  // least an addition can cost).
+  std::uint64_t home_key(std::uint64_t key) const { return slots_[home(key)].key; }
   std::size_t size() const { return size_; }
   void clear() { init(1024); }
   // Empties the table but keeps its slots (a belief's reset: the next session reuses the allocation).

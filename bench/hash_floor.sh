@@ -1,0 +1,15 @@
+#!/usr/bin/env bash
+# The floor of the CPU reference's hash-table work on this machine (bench/hash_floor.cpp; docs/recognition.md, "The
+# floor of the tables"): the ns of one addition into a pair's vote table and into a session's belief, and of one
+# independent load per belief term, with the engine's own table. Header-only: no build needed.
+#   bench/hash_floor.sh [pair_slots pair_adds pair_bins belief_bins terms new_percent repeats]
+# Defaults: paper3d at 30 readings (65,536 slots, 9,200 additions over 2,760 bins per pair; a belief of 1.2 M bins,
+# 80,000 terms per update, a third of them new; best of 10).
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+root=$(dirname "$here")
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+"${CXX:-c++}" -std=c++20 -O2 -I"$root/host/src" -I"$root/host/include" -I"$root/shaders/include" \
+  "$here/hash_floor.cpp" -o "$tmp/hash_floor"
+"$tmp/hash_floor" "$@"

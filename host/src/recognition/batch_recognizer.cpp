@@ -121,8 +121,8 @@ BatchRecognizer::BatchRecognizer(const Engine& engine, const PoseSpaceSpec& pose
         (options.calibrate && !impl_->pair_map->calibration.unknown.empty())) {
       impl_->surface = &EngineAccess::impl(engine)->surface();
       impl_->refine = refine_settings(impl_->space);
-      impl_->refine.threads = options.threads;
     }
+    impl_->refine.threads = options.threads;  // the estimate's workers: its fits and its per-object work
   } else {
     if (impl_->pair_map->baseline.n_objects != impl_->pair_map->objects.size())
       throw Error("recognizer: map '" + map.scene_name() + "' has no appearance baseline");
@@ -191,8 +191,7 @@ Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const
                             .refine_pose = impl_->options.refine_pose,
                             .surface_check = impl_->options.surface_check,
                             .calibration = impl_->options.calibrate ? &impl_->pair_map->calibration : nullptr,
-                            .unknown_prior = impl_->options.unknown_prior,
-                            .threads = impl_->options.threads};
+                            .unknown_prior = impl_->options.unknown_prior};
     e = filter_estimate(*s.filter, objects, r);
   } else {
     e = appearance_estimate(s.appearance_log_posterior, objects, s.prior_weight);

@@ -333,7 +333,7 @@ void add_hypotheses(const BayesFilter& filter, const std::vector<MapObject>& obj
                     const BeliefEstimate& b, Estimate* e) {
   const PoseSpace& space = filter.space();
   const HypothesisSet set = hypotheses(filter.belief(), space, b.summary, r.top_k, r.hypothesis_radius_bins,
-                                       r.object_weight, r.pose_weighting, r.threads);
+                                       r.object_weight, r.pose_weighting, r.refine.threads);
   for (const ModeHypothesis& m : set.modes) {
     e->hypotheses.push_back(public_hypothesis(m, space, objects));
     if (b.pose_valid && m.key == b.best_key) e->hypotheses.back().pose = e->pose;

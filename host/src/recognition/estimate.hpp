@@ -142,12 +142,12 @@ struct EstimateRequest {
   std::span<const double> object_weight;     // the prior over objects (largest 1; empty: flat)
   const PoseWeighting& pose_weighting;       // the pose priors (none: empty)
   const SurfaceIndex* surface = nullptr;     // the fine pose's training contacts; none: the parabolic pose
-  RefineSettings refine;                     // the fine pose's settings (with `surface`)
+  RefineSettings refine;                     // the fine pose's settings (with `surface`); its `threads` are the
+                                             // estimate's workers, for the fits and the per-object work alike
   bool refine_pose = true;                   // Estimate::pose is the fine pose (else the fit only feeds p_unknown)
   bool surface_check = true;                 // with `surface`: weigh the leading objects by their surfaces' fits
   const Calibration* calibration = nullptr;  // none: Eq 5's raw posterior and p_unknown = unknown_prior
   double unknown_prior = 0.1;
-  unsigned threads = 0;  // workers for the per-object work (RecognizerOptions::threads; 0: all cores)
 };
 
 // Method::sva: the estimate of the filter's belief, refined against the surface when there is one, in the robot

@@ -17,8 +17,9 @@
 namespace sva {
 
 // Objects checked: the leading ones by log-evidence. Each costs a fine pose per estimate; three (the best and two
-// rivals). Five changed no answer by more than a trial or two on lookalikes, and its recalibrated map traded accuracy
-// at 30 readings for accuracy at 13-17 (docs/evaluation.md, "Five checked objects instead of three").
+// rivals). Five, under the same calibration, moved lookalikes' accuracy by a trial or two at any reading count, and
+// recalibrated traded accuracy at 30 readings for accuracy at 13-17 (docs/evaluation.md, "The surface check's three
+// constants", which also has sigma 0.35 and a floor of 0.001, both left).
 inline constexpr std::size_t kSurfaceCheckObjects = 3;
 // A reading's fit: a Gaussian of the residual's joint scale (point-to-plane and normal tilt, as the fine pose
 // weighs them) with sigma half the fine pose's final scale (1 mm in 8 mm bins: the arm's 0.5 mm and the gaps

@@ -58,6 +58,7 @@ class Belief final : public BeliefState {
   // each with its offset, so that reading the band never looks a bin up in
   // the (much larger) offset table.
   bool in_band(std::uint64_t offset) const { return max_ - offset < band_width_; }
+  void add_term(const BinOffset& t, std::uint32_t count);  // one term of add(), its reductions kept current
   void note(std::uint64_t key, std::uint64_t offset, bool inserted);
   void forget_best();  // the belief changed: best_bins' kept answer is stale
   void prune_band();

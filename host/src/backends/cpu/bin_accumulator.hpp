@@ -55,6 +55,14 @@ class BinTable {
   // The key in the slot a lookup of `key` reads first: one load, no probing (bench/hash_floor.cpp times these as the
   // least an addition can cost).
   std::uint64_t home_key(std::uint64_t key) const { return slots_[home(key)].key; }
+  // Loads the home slot of every key in [first, last) (key_of gives an element's key): independent loads, whose misses
+  // overlap, so that additions of those keys right after find their slots in the cache (Belief::add says why).
+  template <class It, class KeyOf>
+  void load_homes(It first, It last, KeyOf key_of) {
+    std::uint64_t seen = 0;
+    for (; first != last; ++first) seen ^= home_key(key_of(*first));
+    loaded_ ^= seen;  // kept, so that the loads are made
+  }
   std::size_t size() const { return size_; }
   void clear() { init(1024); }
   // Empties the table but keeps its slots (a belief's reset: the next session reuses the allocation).
@@ -148,6 +156,7 @@ class BinTable {
   unsigned shift_ = 64;
   std::size_t allocations_ = 0;
   std::uint64_t probes_ = 0;
+  std::uint64_t loaded_ = 0;  // load_homes' keys, folded: nothing reads it
 };
 
 // Fixed-point vote mass per bin.

@@ -257,7 +257,12 @@ std::vector<BinOffset> Belief::best_past_band(std::size_t k) const {
 std::vector<std::uint64_t> Belief::offsets(std::span<const std::uint64_t> keys) const {
   std::vector<std::uint64_t> out;
   out.reserve(keys.size());
-  for (std::uint64_t k : keys) out.push_back(offset_.get(k));
+  constexpr std::size_t kBatch = 32;  // home slots loaded ahead, as add() does: a lookup's loop branches on its miss
+  for (std::size_t i = 0; i < keys.size(); i += kBatch) {
+    const auto batch = keys.subspan(i, std::min(kBatch, keys.size() - i));
+    offset_.load_homes(batch.begin(), batch.end(), [](std::uint64_t k) { return k; });
+    for (const std::uint64_t k : batch) out.push_back(offset_.get(k));
+  }
   return out;
 }
 

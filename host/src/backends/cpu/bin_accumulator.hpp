@@ -56,9 +56,10 @@ class BinTable {
   // least an addition can cost).
   std::uint64_t home_key(std::uint64_t key) const { return slots_[home(key)].key; }
   // Loads the home slot of every key in [first, last) (key_of gives an element's key): independent loads, whose misses
-  // overlap, so that additions of those keys right after find their slots in the cache (Belief::add says why).
+  // overlap, so that additions or lookups of those keys right after find their slots in the cache (Belief::add says
+  // why).
   template <class It, class KeyOf>
-  void load_homes(It first, It last, KeyOf key_of) {
+  void load_homes(It first, It last, KeyOf key_of) const {
     std::uint64_t seen = 0;
     for (; first != last; ++first) seen ^= home_key(key_of(*first));
     loaded_ ^= seen;  // kept, so that the loads are made
@@ -156,7 +157,7 @@ class BinTable {
   unsigned shift_ = 64;
   std::size_t allocations_ = 0;
   std::uint64_t probes_ = 0;
-  std::uint64_t loaded_ = 0;  // load_homes' keys, folded: nothing reads it
+  mutable std::uint64_t loaded_ = 0;  // load_homes' keys, folded: nothing reads it
 };
 
 // Fixed-point vote mass per bin.

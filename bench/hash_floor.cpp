@@ -104,13 +104,9 @@ BeliefFigures belief_ns(const Sizes& z) {
     for (const std::uint64_t t : added) table.add(t, 11);
     f.add_ns = std::min(f.add_ns, ns_per(start, added.size()));
     start = Clock::now();
-    constexpr std::size_t kBatch = 32;  // Belief::add's
-    for (std::size_t i = 0; i < batched.size(); i += kBatch) {
-      const auto first = batched.begin() + static_cast<std::ptrdiff_t>(i);
-      const auto last = batched.begin() + static_cast<std::ptrdiff_t>(std::min(batched.size(), i + kBatch));
-      table.load_homes(first, last, [](std::uint64_t k) { return k; });
-      for (auto t = first; t != last; ++t) table.add(*t, 11);
-    }
+    sva::for_each_loaded(
+        table, std::span<const std::uint64_t>(batched), [](std::uint64_t k) { return k; },
+        [&](std::uint64_t t) { table.add(t, 11); });
     f.batched_ns = std::min(f.batched_ns, ns_per(start, batched.size()));
     if (table.capacity() != capacity) std::abort();  // the bound above keeps it
   }

@@ -75,13 +75,9 @@ bool Belief::add(const std::vector<BinOffset>& terms, std::uint32_t count) {
   // key it loads, and a mispredicted exit waits for the miss: added one after another, the terms missed one at a
   // time. Their home slots are loaded a batch ahead instead, as independent loads whose misses overlap (prefetch
   // instructions did not help on the development machine; docs/recognition.md, "The floor of the tables").
-  constexpr std::size_t kBatch = 32;
-  for (std::size_t i = 0; i < terms.size(); i += kBatch) {
-    const auto first = terms.begin() + static_cast<std::ptrdiff_t>(i);
-    const auto last = terms.begin() + static_cast<std::ptrdiff_t>(std::min(terms.size(), i + kBatch));
-    offset_.load_homes(first, last, [](const BinOffset& t) { return t.key; });
-    for (auto t = first; t != last; ++t) add_term(*t, count);
-  }
+  for_each_loaded(
+      offset_, std::span<const BinOffset>(terms), [](const BinOffset& t) { return t.key; },
+      [&](const BinOffset& t) { add_term(t, count); });
   pairs_ += count;
   if (band_.size() > 2 * std::max<std::size_t>(band_pruned_size_, 1024)) prune_band();
   return true;
@@ -257,12 +253,9 @@ std::vector<BinOffset> Belief::best_past_band(std::size_t k) const {
 std::vector<std::uint64_t> Belief::offsets(std::span<const std::uint64_t> keys) const {
   std::vector<std::uint64_t> out;
   out.reserve(keys.size());
-  constexpr std::size_t kBatch = 32;  // home slots loaded ahead, as add() does: a lookup's loop branches on its miss
-  for (std::size_t i = 0; i < keys.size(); i += kBatch) {
-    const auto batch = keys.subspan(i, std::min(kBatch, keys.size() - i));
-    offset_.load_homes(batch.begin(), batch.end(), [](std::uint64_t k) { return k; });
-    for (const std::uint64_t k : batch) out.push_back(offset_.get(k));
-  }
+  // Home slots loaded ahead, as add() does: a lookup's probe loop branches on its miss too.
+  for_each_loaded(
+      offset_, keys, [](std::uint64_t k) { return k; }, [&](std::uint64_t k) { out.push_back(offset_.get(k)); });
   return out;
 }
 

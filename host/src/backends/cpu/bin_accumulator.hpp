@@ -10,6 +10,7 @@
 #include <bit>
 #include <cassert>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "core/hash.hpp"
@@ -159,6 +160,18 @@ class BinTable {
   std::uint64_t probes_ = 0;
   mutable std::uint64_t loaded_ = 0;  // load_homes' keys, folded: nothing reads it
 };
+
+// Runs fn(item) for every item in order, a batch at a time, each batch's home slots in `table` loaded first
+// (load_homes): for the additions or lookups of many keys in a table that outgrows the caches (Belief::add says why).
+inline constexpr std::size_t kLoadBatch = 32;  // 16 and 8 measured slower on paper3d (docs/recognition.md)
+template <class Table, class T, class KeyOf, class Fn>
+void for_each_loaded(const Table& table, std::span<T> items, KeyOf key_of, Fn fn) {
+  for (std::size_t i = 0; i < items.size(); i += kLoadBatch) {
+    const std::span<T> batch = items.subspan(i, std::min(kLoadBatch, items.size() - i));
+    table.load_homes(batch.begin(), batch.end(), key_of);
+    for (T& item : batch) fn(item);
+  }
+}
 
 // Fixed-point vote mass per bin.
 using BinAccumulator = BinTable<std::int64_t>;

@@ -298,14 +298,16 @@ void keep_one_order(PairMap& m) {
   m.offsets = std::move(offsets);
 }
 
-void validate_pair_map(const PairMap& m, const std::string& origin) {
-  auto fail = [&](const std::string& what) { throw Error(origin + ": invalid map: " + what); };
-  const auto& ps = m.pose_space;
-  if (ps.translation_bins < 1 || ps.rotation_bins < 1 || !std::isfinite(ps.translation_min_mm) ||
-      !std::isfinite(ps.translation_max_mm) || ps.translation_min_mm >= ps.translation_max_mm)
-    fail("pose space is invalid");
-  if (!std::isfinite(m.ambiguity) || m.ambiguity < 0) fail("appearance ambiguity is not a finite non-negative number");
+namespace {
 
+// Each part of validate_pair_map: throws sva::Error naming the map's origin and the fault.
+[[noreturn]] void invalid_map(const std::string& origin, const std::string& what) {
+  throw Error(origin + ": invalid map: " + what);
+}
+
+// The appearance model: sensor calibration, descriptor, classes, their psi and unit-length medoids.
+void validate_appearance(const PairMap& m, const std::string& origin) {
+  auto fail = [&](const std::string& what) { invalid_map(origin, what); };
   const AppearanceModel& a = m.appearance;
   const auto& cal = a.calibration;
   if (cal.sensor.rows < 1 || cal.sensor.cols < 1 || cal.sensor.rows > 1024 || cal.sensor.cols > 1024 ||
@@ -336,14 +338,24 @@ void validate_pair_map(const PairMap& m, const std::string& origin) {
     const double len2 = appearance::affinity(row, row, a.descriptor_size);
     if (std::fabs(len2 - 1.0) > 1e-3) fail("medoid " + std::to_string(i) + " is not unit length");
   }
+}
 
+// The distance bins; returns the size of the pair key space they span with the classes.
+std::uint64_t validate_key_space(const PairMap& m, const std::string& origin) {
+  auto fail = [&](const std::string& what) { invalid_map(origin, what); };
+  const std::uint32_t k = m.key_space.n_classes;
   const DistanceBins& d = m.distance;
   if (d.count < 1 || d.count > kMaxBins || d.count != m.key_space.n_dist_bins) fail("distance bin count is invalid");
   if (!std::isfinite(d.min_mm) || !std::isfinite(d.max_mm) || d.min_mm < 0 || d.min_mm >= d.max_mm)
     fail("distance range is invalid");
   const std::uint64_t space = static_cast<std::uint64_t>(k) * k * d.count;
   if (space > kMaxKeySpace) fail("key space is too large");
+  return space;
+}
 
+// The objects' radii and symmetries, and the training readings (grouped by object, finite, unit normals).
+void validate_objects_and_readings(const PairMap& m, const std::string& origin) {
+  auto fail = [&](const std::string& what) { invalid_map(origin, what); };
   if (m.objects.empty()) fail("no objects");
   for (const auto& o : m.objects) {
     if (!std::isfinite(o.inertial_radius_mm) || o.inertial_radius_mm < 0)
@@ -374,14 +386,25 @@ void validate_pair_map(const PairMap& m, const std::string& origin) {
     if (!(rd.norm_conf[i] >= 0.0f && rd.norm_conf[i] <= 1.0f))
       fail("reading " + std::to_string(i) + ": normConf outside [0, 1]");
   }
+}
 
+// The baseline's class-given-object table.
+void validate_baseline(const PairMap& m, const std::string& origin) {
+  auto fail = [&](const std::string& what) { invalid_map(origin, what); };
+  const std::uint32_t k = m.key_space.n_classes;
   const AppearanceBaseline& b = m.baseline;
   if (!(b.smoothing > 0) || !std::isfinite(b.smoothing)) fail("baseline smoothing must be positive");
   if (b.n_objects != m.objects.size() || b.n_classes != k || b.class_given_object.size() != m.objects.size() * k)
     fail("baseline table has the wrong size");
   for (double v : b.class_given_object)
     if (!(v > 0 && v <= 1)) fail("baseline probabilities must lie in (0, 1]");
+}
 
+// The keys, their offsets and the entries under them, as the recognizer's binary search needs them.
+void validate_entries(const PairMap& m, std::uint64_t space, const std::string& origin) {
+  auto fail = [&](const std::string& what) { invalid_map(origin, what); };
+  const MapReadings& rd = m.readings;
+  const std::size_t n = rd.size();
   if (m.offsets.size() != m.keys.size() + 1) fail("offsets must have one more element than keys");
   if (m.offsets.front() != 0) fail("offsets must start at 0");
   const std::size_t entries = m.entry_a.size();
@@ -411,6 +434,23 @@ void validate_pair_map(const PairMap& m, const std::string& origin) {
       if (m.entry_a[e] < m.entry_a[e - 1] || (m.entry_a[e] == m.entry_a[e - 1] && m.entry_b[e] <= m.entry_b[e - 1]))
         fail("entries of key " + std::to_string(m.keys[key]) +
              " are not strictly increasing by (reading a, reading b)");
+}
+
+}  // namespace
+
+void validate_pair_map(const PairMap& m, const std::string& origin) {
+  auto fail = [&](const std::string& what) { invalid_map(origin, what); };
+  const auto& ps = m.pose_space;
+  if (ps.translation_bins < 1 || ps.rotation_bins < 1 || !std::isfinite(ps.translation_min_mm) ||
+      !std::isfinite(ps.translation_max_mm) || ps.translation_min_mm >= ps.translation_max_mm)
+    fail("pose space is invalid");
+  if (!std::isfinite(m.ambiguity) || m.ambiguity < 0) fail("appearance ambiguity is not a finite non-negative number");
+
+  validate_appearance(m, origin);
+  const std::uint64_t space = validate_key_space(m, origin);
+  validate_objects_and_readings(m, origin);
+  validate_baseline(m, origin);
+  validate_entries(m, space, origin);
 }
 
 }  // namespace sva

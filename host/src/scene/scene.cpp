@@ -225,28 +225,11 @@ std::filesystem::path assets_dir() {
   return SVA_INSTALL_ASSETS_DIR;
 }
 
-Scene parse_scene(const std::string& text, const std::filesystem::path& origin) {
-  Ctx c(origin.string());
-  if (io::json_depth(text) > io::kMaxJsonDepth) c.fail("", io::json_too_deep_message());
-  json j;
-  try {
-    j = json::parse(text);
-  } catch (const json::exception& e) {  // syntax, and numbers out of a double's range
-    c.fail("", std::string("invalid JSON: ") + e.what());
-  }
-  c.object(j, "");
-  c.known_keys(j, "",
-               {"name", "objects", "sensor", "skin", "errors", "pose_space", "appearance", "protocol", "comment"});
-  Scene s;
-  s.file = origin;
-  s.name = origin.stem().string();
-  opt(j, "name", [&](const json& v) { s.name = c.string(v, "name"); });
-  if (!j.contains("objects")) c.fail("", "missing \"objects\"");
-  const json& objs = j["objects"];
-  if (!objs.is_array() || objs.empty()) c.fail("objects", "expected a non-empty array of objects");
-  if (objs.size() > kMaxSceneObjects)
-    c.fail("objects", std::to_string(objs.size()) + " objects, more than the " + std::to_string(kMaxSceneObjects) +
-                          " a map can hold");
+namespace {
+
+// "objects": each object's mesh (relative to the scene file's folder), name, size and the rest.
+std::vector<SceneObject> parse_objects(const Ctx& c, const json& objs, const std::filesystem::path& origin) {
+  std::vector<SceneObject> out;
   auto base = origin.has_parent_path() ? origin.parent_path() : std::filesystem::path(".");
   std::set<std::string> names;
   for (std::size_t i = 0; i < objs.size(); ++i) {
@@ -272,110 +255,152 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
     so.inertial_radius_mm = so.size_mm > 0 ? so.size_mm / 2 : 40.0;
     opt(o, "inertial_radius_mm",
         [&](const json& v) { so.inertial_radius_mm = c.number(v, p + ".inertial_radius_mm", 1e-3, 1e5); });
-    s.objects.push_back(std::move(so));
+    out.push_back(std::move(so));
   }
-  opt(j, "sensor", [&](const json& v) {
-    c.object(v, "sensor");
-    c.known_keys(v, "sensor", {"rows", "cols", "pitch_mm"});
-    opt(v, "rows", [&](const json& x) { s.sensor.rows = c.integer(x, "sensor.rows", 1, 64); });
-    opt(v, "cols", [&](const json& x) { s.sensor.cols = c.integer(x, "sensor.cols", 1, 64); });
-    opt(v, "pitch_mm", [&](const json& x) { s.sensor.pitch_mm = c.number(x, "sensor.pitch_mm", 0.01, 100.0); });
+  return out;
+}
+
+SensorSpec parse_sensor(const Ctx& c, const json& v) {
+  SensorSpec sensor;
+  c.object(v, "sensor");
+  c.known_keys(v, "sensor", {"rows", "cols", "pitch_mm"});
+  opt(v, "rows", [&](const json& x) { sensor.rows = c.integer(x, "sensor.rows", 1, 64); });
+  opt(v, "cols", [&](const json& x) { sensor.cols = c.integer(x, "sensor.cols", 1, 64); });
+  opt(v, "pitch_mm", [&](const json& x) { sensor.pitch_mm = c.number(x, "sensor.pitch_mm", 0.01, 100.0); });
+  return sensor;
+}
+
+SkinModel parse_skin(const Ctx& c, const json& v) {
+  SkinModel k;
+  c.object(v, "skin");
+  c.known_keys(v, "skin",
+               {"stiffness_kpa_per_mm", "spread_mm", "rays_per_axis", "noise_kpa", "contact_threshold_kpa",
+                "target_pressure_kpa"});
+  opt(v, "stiffness_kpa_per_mm",
+      [&](const json& x) { k.stiffness_kpa_per_mm = c.number(x, "skin.stiffness_kpa_per_mm", 1e-3, 1e6); });
+  opt(v, "spread_mm", [&](const json& x) { k.spread_mm = c.number(x, "skin.spread_mm", 0.0, 100.0); });
+  opt(v, "rays_per_axis", [&](const json& x) { k.rays_per_axis = c.integer(x, "skin.rays_per_axis", 1, 16); });
+  opt(v, "noise_kpa", [&](const json& x) { k.noise_kpa = c.number(x, "skin.noise_kpa", 0.0, 1e6); });
+  opt(v, "contact_threshold_kpa",
+      [&](const json& x) { k.contact_threshold_kpa = c.number(x, "skin.contact_threshold_kpa", 0.0, 1e6); });
+  opt(v, "target_pressure_kpa",
+      [&](const json& x) { k.target_pressure_kpa = c.number(x, "skin.target_pressure_kpa", 1e-3, 1e6); });
+  if (k.contact_threshold_kpa >= k.target_pressure_kpa)
+    c.fail("skin", "contact_threshold_kpa must be below target_pressure_kpa");
+  return k;
+}
+
+PoseSpaceSpec parse_pose_space(const Ctx& c, const json& v) {
+  PoseSpaceSpec ps;
+  c.object(v, "pose_space");
+  c.known_keys(v, "pose_space", {"kind", "translation_bins", "translation_range_mm", "rotation_bins"});
+  opt(v, "kind", [&](const json& x) {
+    std::string k = c.string(x, "pose_space.kind");
+    if (k == "spatial")
+      ps.kind = PoseSpaceSpec::Kind::spatial;
+    else if (k == "planar")
+      ps.kind = PoseSpaceSpec::Kind::planar;
+    else
+      c.fail("pose_space.kind", "expected \"spatial\" (6-DOF) or \"planar\" (x, y, angle), got \"" + k + "\"");
   });
-  opt(j, "skin", [&](const json& v) {
-    c.object(v, "skin");
-    c.known_keys(v, "skin",
-                 {"stiffness_kpa_per_mm", "spread_mm", "rays_per_axis", "noise_kpa", "contact_threshold_kpa",
-                  "target_pressure_kpa"});
-    auto& k = s.skin;
-    opt(v, "stiffness_kpa_per_mm",
-        [&](const json& x) { k.stiffness_kpa_per_mm = c.number(x, "skin.stiffness_kpa_per_mm", 1e-3, 1e6); });
-    opt(v, "spread_mm", [&](const json& x) { k.spread_mm = c.number(x, "skin.spread_mm", 0.0, 100.0); });
-    opt(v, "rays_per_axis", [&](const json& x) { k.rays_per_axis = c.integer(x, "skin.rays_per_axis", 1, 16); });
-    opt(v, "noise_kpa", [&](const json& x) { k.noise_kpa = c.number(x, "skin.noise_kpa", 0.0, 1e6); });
-    opt(v, "contact_threshold_kpa",
-        [&](const json& x) { k.contact_threshold_kpa = c.number(x, "skin.contact_threshold_kpa", 0.0, 1e6); });
-    opt(v, "target_pressure_kpa",
-        [&](const json& x) { k.target_pressure_kpa = c.number(x, "skin.target_pressure_kpa", 1e-3, 1e6); });
-    if (k.contact_threshold_kpa >= k.target_pressure_kpa)
-      c.fail("skin", "contact_threshold_kpa must be below target_pressure_kpa");
+  opt(v, "translation_bins",
+      [&](const json& x) { ps.translation_bins = c.integer(x, "pose_space.translation_bins", 1, 4096); });
+  opt(v, "rotation_bins", [&](const json& x) { ps.rotation_bins = c.integer(x, "pose_space.rotation_bins", 1, 4096); });
+  opt(v, "translation_range_mm", [&](const json& x) {
+    if (!x.is_array() || x.size() != 2) c.fail("pose_space.translation_range_mm", "expected [min, max]");
+    ps.translation_min_mm = c.number(x[0], "pose_space.translation_range_mm[0]", -1e6, 1e6);
+    ps.translation_max_mm = c.number(x[1], "pose_space.translation_range_mm[1]", -1e6, 1e6);
+    if (ps.translation_min_mm >= ps.translation_max_mm)
+      c.fail("pose_space.translation_range_mm", "min must be below max");
   });
+  return ps;
+}
+
+// Overrides the fields "appearance" names in a (the pose space's defaults).
+void parse_appearance(const Ctx& c, const json& v, AppearanceSpec& a) {
+  c.object(v, "appearance");
+  c.known_keys(v, "appearance", {"descriptor", "clusters", "dist_bins", "dist_range_mm", "pair_readings"});
+  opt(v, "descriptor", [&](const json& x) {
+    a.descriptor = c.string(x, "appearance.descriptor");
+    if (a.descriptor != "mn" && a.descriptor != "mnti")
+      c.fail("appearance.descriptor", "expected \"mn\" or \"mnti\", got \"" + a.descriptor + "\"");
+  });
+  opt(v, "clusters", [&](const json& x) { a.clusters = c.integer(x, "appearance.clusters", 1, 4096); });
+  opt(v, "dist_bins", [&](const json& x) { a.dist_bins = c.integer(x, "appearance.dist_bins", 1, 65535); });
+  opt(v, "pair_readings", [&](const json& x) {
+    a.pair_readings = c.integer(x, "appearance.pair_readings", 0, 100000000);
+    if (a.pair_readings == 1) c.fail("appearance.pair_readings", "1: a pair needs two readings (0 pairs them all)");
+  });
+  opt(v, "dist_range_mm", [&](const json& x) {
+    if (!x.is_array() || x.size() != 2) c.fail("appearance.dist_range_mm", "expected [min, max]");
+    a.dist_min_mm = c.number(x[0], "appearance.dist_range_mm[0]", 0.0, 1e6);
+    a.dist_max_mm = c.number(x[1], "appearance.dist_range_mm[1]", 0.0, 1e6);
+    if (a.dist_min_mm >= a.dist_max_mm) c.fail("appearance.dist_range_mm", "min must be below max");
+  });
+}
+
+ProtocolSpec parse_protocol(const Ctx& c, const json& v) {
+  ProtocolSpec p;
+  c.object(v, "protocol");
+  c.known_keys(v, "protocol",
+               {"kind", "train_per_object", "test_per_object", "approach_mm", "tilt_deg", "grid", "grid_spacing_mm",
+                "orientations", "max_iterations"});
+  opt(v, "kind", [&](const json& x) {
+    p.kind = c.string(x, "protocol.kind");
+    if (p.kind != "paper3d" && p.kind != "letters2d")
+      c.fail("protocol.kind", "expected \"paper3d\" or \"letters2d\", got \"" + p.kind + "\"");
+  });
+  opt(v, "train_per_object",
+      [&](const json& x) { p.train_per_object = c.integer(x, "protocol.train_per_object", 0, 1000000); });
+  opt(v, "test_per_object",
+      [&](const json& x) { p.test_per_object = c.integer(x, "protocol.test_per_object", 0, 1000000); });
+  opt(v, "approach_mm", [&](const json& x) { p.approach_mm = c.number(x, "protocol.approach_mm", 0.0, 100.0); });
+  opt(v, "tilt_deg", [&](const json& x) { p.tilt_deg = c.number(x, "protocol.tilt_deg", 0.0, 60.0); });
+  opt(v, "grid", [&](const json& x) { p.grid = c.integer(x, "protocol.grid", 1, 100); });
+  opt(v, "grid_spacing_mm",
+      [&](const json& x) { p.grid_spacing_mm = c.number(x, "protocol.grid_spacing_mm", 0.0, 1000.0); });
+  opt(v, "orientations", [&](const json& x) { p.orientations = c.integer(x, "protocol.orientations", 1, 360); });
+  opt(v, "max_iterations",
+      [&](const json& x) { p.max_iterations = c.integer(x, "protocol.max_iterations", 1, 10000); });
+  return p;
+}
+
+}  // namespace
+
+Scene parse_scene(const std::string& text, const std::filesystem::path& origin) {
+  Ctx c(origin.string());
+  if (io::json_depth(text) > io::kMaxJsonDepth) c.fail("", io::json_too_deep_message());
+  json j;
+  try {
+    j = json::parse(text);
+  } catch (const json::exception& e) {  // syntax, and numbers out of a double's range
+    c.fail("", std::string("invalid JSON: ") + e.what());
+  }
+  c.object(j, "");
+  c.known_keys(j, "",
+               {"name", "objects", "sensor", "skin", "errors", "pose_space", "appearance", "protocol", "comment"});
+  Scene s;
+  s.file = origin;
+  s.name = origin.stem().string();
+  opt(j, "name", [&](const json& v) { s.name = c.string(v, "name"); });
+  if (!j.contains("objects")) c.fail("", "missing \"objects\"");
+  const json& objs = j["objects"];
+  if (!objs.is_array() || objs.empty()) c.fail("objects", "expected a non-empty array of objects");
+  if (objs.size() > kMaxSceneObjects)
+    c.fail("objects", std::to_string(objs.size()) + " objects, more than the " + std::to_string(kMaxSceneObjects) +
+                          " a map can hold");
+  s.objects = parse_objects(c, objs, origin);
+  opt(j, "sensor", [&](const json& v) { s.sensor = parse_sensor(c, v); });
+  opt(j, "skin", [&](const json& v) { s.skin = parse_skin(c, v); });
   // No "errors" block is the ideal world, so scenes written before it keep their meaning.
   opt(j, "errors", [&](const json& v) { s.errors = parse_errors(c, v); });
   check_errors_against_skin(c, s.errors, s.skin);
-  opt(j, "pose_space", [&](const json& v) {
-    c.object(v, "pose_space");
-    c.known_keys(v, "pose_space", {"kind", "translation_bins", "translation_range_mm", "rotation_bins"});
-    auto& ps = s.pose_space;
-    opt(v, "kind", [&](const json& x) {
-      std::string k = c.string(x, "pose_space.kind");
-      if (k == "spatial")
-        ps.kind = PoseSpaceSpec::Kind::spatial;
-      else if (k == "planar")
-        ps.kind = PoseSpaceSpec::Kind::planar;
-      else
-        c.fail("pose_space.kind", "expected \"spatial\" (6-DOF) or \"planar\" (x, y, angle), got \"" + k + "\"");
-    });
-    opt(v, "translation_bins",
-        [&](const json& x) { ps.translation_bins = c.integer(x, "pose_space.translation_bins", 1, 4096); });
-    opt(v, "rotation_bins",
-        [&](const json& x) { ps.rotation_bins = c.integer(x, "pose_space.rotation_bins", 1, 4096); });
-    opt(v, "translation_range_mm", [&](const json& x) {
-      if (!x.is_array() || x.size() != 2) c.fail("pose_space.translation_range_mm", "expected [min, max]");
-      ps.translation_min_mm = c.number(x[0], "pose_space.translation_range_mm[0]", -1e6, 1e6);
-      ps.translation_max_mm = c.number(x[1], "pose_space.translation_range_mm[1]", -1e6, 1e6);
-      if (ps.translation_min_mm >= ps.translation_max_mm)
-        c.fail("pose_space.translation_range_mm", "min must be below max");
-    });
-  });
+  opt(j, "pose_space", [&](const json& v) { s.pose_space = parse_pose_space(c, v); });
   if (s.pose_space.kind == PoseSpaceSpec::Kind::planar) {  // the letters defaults (paper Sec 5.2); overridden below
     s.appearance = {"mn", 100, 100, 3.0, 20.0};
   }
-  opt(j, "appearance", [&](const json& v) {
-    c.object(v, "appearance");
-    c.known_keys(v, "appearance", {"descriptor", "clusters", "dist_bins", "dist_range_mm", "pair_readings"});
-    auto& a = s.appearance;
-    opt(v, "descriptor", [&](const json& x) {
-      a.descriptor = c.string(x, "appearance.descriptor");
-      if (a.descriptor != "mn" && a.descriptor != "mnti")
-        c.fail("appearance.descriptor", "expected \"mn\" or \"mnti\", got \"" + a.descriptor + "\"");
-    });
-    opt(v, "clusters", [&](const json& x) { a.clusters = c.integer(x, "appearance.clusters", 1, 4096); });
-    opt(v, "dist_bins", [&](const json& x) { a.dist_bins = c.integer(x, "appearance.dist_bins", 1, 65535); });
-    opt(v, "pair_readings", [&](const json& x) {
-      a.pair_readings = c.integer(x, "appearance.pair_readings", 0, 100000000);
-      if (a.pair_readings == 1) c.fail("appearance.pair_readings", "1: a pair needs two readings (0 pairs them all)");
-    });
-    opt(v, "dist_range_mm", [&](const json& x) {
-      if (!x.is_array() || x.size() != 2) c.fail("appearance.dist_range_mm", "expected [min, max]");
-      a.dist_min_mm = c.number(x[0], "appearance.dist_range_mm[0]", 0.0, 1e6);
-      a.dist_max_mm = c.number(x[1], "appearance.dist_range_mm[1]", 0.0, 1e6);
-      if (a.dist_min_mm >= a.dist_max_mm) c.fail("appearance.dist_range_mm", "min must be below max");
-    });
-  });
-  opt(j, "protocol", [&](const json& v) {
-    c.object(v, "protocol");
-    c.known_keys(v, "protocol",
-                 {"kind", "train_per_object", "test_per_object", "approach_mm", "tilt_deg", "grid", "grid_spacing_mm",
-                  "orientations", "max_iterations"});
-    auto& p = s.protocol;
-    opt(v, "kind", [&](const json& x) {
-      p.kind = c.string(x, "protocol.kind");
-      if (p.kind != "paper3d" && p.kind != "letters2d")
-        c.fail("protocol.kind", "expected \"paper3d\" or \"letters2d\", got \"" + p.kind + "\"");
-    });
-    opt(v, "train_per_object",
-        [&](const json& x) { p.train_per_object = c.integer(x, "protocol.train_per_object", 0, 1000000); });
-    opt(v, "test_per_object",
-        [&](const json& x) { p.test_per_object = c.integer(x, "protocol.test_per_object", 0, 1000000); });
-    opt(v, "approach_mm", [&](const json& x) { p.approach_mm = c.number(x, "protocol.approach_mm", 0.0, 100.0); });
-    opt(v, "tilt_deg", [&](const json& x) { p.tilt_deg = c.number(x, "protocol.tilt_deg", 0.0, 60.0); });
-    opt(v, "grid", [&](const json& x) { p.grid = c.integer(x, "protocol.grid", 1, 100); });
-    opt(v, "grid_spacing_mm",
-        [&](const json& x) { p.grid_spacing_mm = c.number(x, "protocol.grid_spacing_mm", 0.0, 1000.0); });
-    opt(v, "orientations", [&](const json& x) { p.orientations = c.integer(x, "protocol.orientations", 1, 360); });
-    opt(v, "max_iterations",
-        [&](const json& x) { p.max_iterations = c.integer(x, "protocol.max_iterations", 1, 10000); });
-  });
+  opt(j, "appearance", [&](const json& v) { parse_appearance(c, v, s.appearance); });
+  opt(j, "protocol", [&](const json& v) { s.protocol = parse_protocol(c, v); });
   return s;
 }
 

@@ -1,0 +1,41 @@
+#!/usr/bin/env bash
+# bench/place_oracle.py on the tiny scene: every way of valuing a place (the truth, the draws, the belief's hypotheses
+# fitted and predicting from the training set, the true object at the belief's pose, at a noisy pose) runs each trial
+# to a decision and prints the summary (the figures themselves are docs/evaluation.md's, on household10); bad values
+# are refused by name.
+#   tests/bench/place_oracle_smoke.sh SOURCE BUILD SVA PYTHON WORK
+set -euo pipefail
+source_dir=$1 build=$2 sva=$3 python=$4 work=$5
+rm -rf "$work" && mkdir -p "$work/dense"
+"$sva" --quiet simulate --scene tiny --out "$work" --train 20 --test 12 --seed 1 --threads 2
+"$sva" --quiet simulate --scene tiny --out "$work/dense" --train 1 --test 150 --seed 5 --threads 2
+"$sva" --quiet train --data "$work/train.svad" --out "$work/map.svam" --seed 1 --threads 2 > /dev/null
+"$sva" --quiet eval --map "$work/map.svam" --data "$work/test.svad" --trials 2 --max-readings 4 --backend cpu \
+  --csv "$work/random.csv" > /dev/null
+run() {
+  PYTHONPATH="$build/python:$source_dir/bench" "$python" "$source_dir/bench/place_oracle.py" --map "$work/map.svam" \
+    --data "$work/test.svad" --dense "$work/dense/test.svad" --random-csv "$work/random.csv" --max-readings 6 \
+    --threshold 0.7 --candidates 4 --near-mm 8 --near-deg 40 "$@"
+}
+modes=("" --see-draws "--value hypotheses --refine --train $work/train.svad" "--value true-object"
+  "--value noisy-truth --pose-error 1,5")
+for mode in "${modes[@]}"; do
+  # shellcheck disable=SC2086  # the mode is a list of options
+  out=$(run $mode)
+  echo "$out"
+  # Each trial's readings to a right decision lie in 1..7 (7: none within 6 readings).
+  grep -qE "^trials 2: .* mean readings to a right decision at 0.7: [1-7]\.[0-9]{2} " <<< "$out" &&
+    [[ $(grep -cE '^ +[01] +[a-z_]+ +[1-7]$' <<< "$out") == 2 ]] || { echo "missing lines ($mode)" >&2; exit 1; }
+done
+if err=$(run --near-deg 0 2>&1); then echo "--near-deg 0 was accepted" >&2; exit 1; fi
+grep -q "near-deg in (0, 180\], got" <<< "$err" && ! grep -q Traceback <<< "$err" ||
+  { echo "unclear refusal: $err" >&2; exit 1; }
+if err=$(run --value noisy-truth --pose-error 1 2>&1); then echo "--pose-error 1 was accepted" >&2; exit 1; fi
+grep -q 'pose-error: expected MM,DEG (two numbers >= 0), got "1"' <<< "$err" && ! grep -q Traceback <<< "$err" ||
+  { echo "unclear refusal: $err" >&2; exit 1; }
+if err=$(run --near-mm 0.001 2>&1); then echo "a dense set without neighbours was accepted" >&2; exit 1; fi
+grep -q "no place of .* with a neighbour within 0.001 mm" <<< "$err" && ! grep -q Traceback <<< "$err" ||
+  { echo "unclear refusal: $err" >&2; exit 1; }
+if err=$(run --dense "$work/map.svam" 2>&1); then echo "a map was taken for a dense test set" >&2; exit 1; fi
+grep -q "map.svam: not an sva dataset" <<< "$err" && ! grep -q Traceback <<< "$err" ||
+  { echo "unclear refusal: $err" >&2; exit 1; }

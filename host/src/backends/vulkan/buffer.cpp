@@ -83,7 +83,7 @@ OutOfMemory out_of_memory(const Device& device, VkResult r, std::size_t bytes) {
 
 }  // namespace
 
-Buffer::Buffer(const Device& device, std::size_t bytes, Memory kind, bool never_map)
+Buffer::Buffer(const Device& device, std::size_t bytes, Memory kind, bool never_map, Contents contents)
     : device_(device.handle()), size_(bytes ? bytes : 16) {
   if (size_ > device.info().max_allocation)
     throw OutOfMemory("Vulkan: a buffer of " + std::to_string(size_) +
@@ -97,14 +97,14 @@ Buffer::Buffer(const Device& device, std::size_t bytes, Memory kind, bool never_
   bci.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   check(vkCreateBuffer(device_, &bci, nullptr, &buffer_), "vkCreateBuffer");
   try {
-    allocate(device, kind, never_map);
+    allocate(device, kind, never_map, contents);
   } catch (...) {
     release();  // the destructor does not run for a failed constructor
     throw;
   }
 }
 
-void Buffer::allocate(const Device& device, Memory kind, bool never_map) {
+void Buffer::allocate(const Device& device, Memory kind, bool never_map, Contents contents) {
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(device_, buffer_, &req);
   VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
@@ -139,7 +139,7 @@ void Buffer::allocate(const Device& device, Memory kind, bool never_map) {
   // A discrete GPU's device buffers are never mapped (memory_types says why).
   if (host_visible && !(kind == Memory::device && (never_map || discrete))) {
     check(vkMapMemory(device_, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
-    std::memset(mapped_, 0, size_);
+    if (contents == Contents::zero) std::memset(mapped_, 0, size_);
   }
   VkBufferDeviceAddressInfo ai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
   ai.buffer = buffer_;

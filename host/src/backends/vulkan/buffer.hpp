@@ -19,6 +19,9 @@ namespace sva::vk {
 class Device;
 
 enum class Memory { mapped, device, readback };
+// What a new buffer holds: zeros, or whatever the memory held (for a caller that fills every byte in its own
+// submission before a kernel reads it: a belief's new table, cleared beside its rehash).
+enum class Contents { zero, undefined };
 
 // The memory types a buffer of `kind` tries, best first, among `allowed` (buffer.cpp says why; a test checks
 // the choice on the memory types of a discrete GPU without one).
@@ -28,10 +31,11 @@ std::vector<std::uint32_t> memory_types(const VkPhysicalDeviceMemoryProperties& 
 class Buffer {
  public:
   Buffer() = default;
-  // Zero-filled when mapped (a device buffer is zeroed by Context::create_device_buffer);
-  // `bytes` 0 gives a small placeholder (a binding cannot be empty). `never_map`
+  // Zero-filled when mapped, unless `contents` is undefined (a device buffer is zeroed by
+  // Context::create_device_buffer); `bytes` 0 gives a small placeholder (a binding cannot be empty). `never_map`
   // keeps a device buffer unmapped even in host-visible memory (tests of the staging path).
-  Buffer(const Device& device, std::size_t bytes, Memory kind = Memory::mapped, bool never_map = false);
+  Buffer(const Device& device, std::size_t bytes, Memory kind = Memory::mapped, bool never_map = false,
+         Contents contents = Contents::zero);
   Buffer(Buffer&&) noexcept;
   Buffer& operator=(Buffer&&) noexcept;
   Buffer(const Buffer&) = delete;
@@ -59,7 +63,7 @@ class Buffer {
   bool device_local() const { return device_local_; }
 
  private:
-  void allocate(const Device& device, Memory kind, bool never_map);
+  void allocate(const Device& device, Memory kind, bool never_map, Contents contents);
   void release();
 
   const Device* owner_ = nullptr;  // counts the device memory this buffer holds

@@ -48,6 +48,11 @@ class Context {
   Buffer create_buffer(std::size_t bytes) { return Buffer(device_, bytes, Memory::mapped); }
   // A buffer in the device's own memory, zero-filled: what only kernels touch.
   Buffer create_device_buffer(std::size_t bytes);
+  // The same, its contents undefined: for a caller that fills every byte in its own submission before a kernel
+  // reads it (zeroing it first cost a submission and a wait on a GPU, a memset of the whole buffer where it is mapped).
+  Buffer create_uncleared_device_buffer(std::size_t bytes) {
+    return Buffer(device_, bytes, Memory::device, force_staging_, Contents::undefined);
+  }
   // Host data into a buffer and back: in place when it is mapped, else through
   // a staging buffer and a copy on the device.
   void upload(Buffer& dst, const void* src, std::size_t bytes, std::size_t offset = 0);

@@ -58,7 +58,7 @@ std::size_t GpuBelief::table_bytes() const {
 void GpuBelief::allocate_uncleared(vk::Buffer& b, std::uint32_t capacity) const {
   // The device's own memory: only kernels touch a belief.
   const std::size_t keys = std::size_t{capacity} * sizeof(std::uint64_t);
-  b = k_->ctx->create_device_buffer(2 * keys + capacity / 32 * sizeof(std::uint32_t));
+  b = k_->ctx->create_uncleared_device_buffer(2 * keys + capacity / 32 * sizeof(std::uint32_t));
   ++table_allocations_;
 }
 
@@ -121,8 +121,8 @@ void GpuBelief::prepare_move(Move* m, std::uint64_t slots, bool forget, std::uin
   const std::uint32_t objects = k_->space->objects();
   m->slots = slots;
   allocate_uncleared(m->next, static_cast<std::uint32_t>(slots));
-  m->status = k_->ctx->create_buffer(sizeof(std::uint32_t));
-  *m->status.as<std::uint32_t>() = 0;
+  if (move_status_.size() == 0) move_status_ = k_->ctx->create_buffer(sizeof(std::uint32_t));
+  *move_status_.as<std::uint32_t>() = 0;
   gpu::SvaRehashParams p{lo(table_.device_address()),  hi(table_.device_address()),  capacity_,
                          lo(m->next.device_address()), hi(m->next.device_address()), static_cast<std::uint32_t>(slots)};
   p.forget = forget ? 1u : 0u;
@@ -135,7 +135,7 @@ void GpuBelief::prepare_move(Move* m, std::uint64_t slots, bool forget, std::uin
   p.object_shift = k_->bins.object_shift();
   const vk::Grid g = k_->ctx->grid(slot_invocations(capacity_));
   ensure(*k_->ctx, keep_, sizeof(std::uint64_t));
-  m->rehash = vk::Dispatch{k_->rehash, {&m->status, &keep_}, push_bytes(p), g.x};
+  m->rehash = vk::Dispatch{k_->rehash, {&move_status_, &keep_}, push_bytes(p), g.x};
   m->rehash.groups_y = g.y;
   m->fills = clear_fills(m->next, slots);  // in the rehash's submission
   if (forget) {                            // forgetting counts the kept bins afresh
@@ -145,7 +145,7 @@ void GpuBelief::prepare_move(Move* m, std::uint64_t slots, bool forget, std::uin
 }
 
 bool GpuBelief::adopt(Move& m) {
-  if (*m.status.as<std::uint32_t>() != 0) return false;  // a probe run too long even at this load
+  if (*move_status_.as<std::uint32_t>() != 0) return false;  // a probe run too long even at this load
   table_ = std::move(m.next);
   capacity_ = static_cast<std::uint32_t>(m.slots);
   // The band list names slots of the old table; later folds append to it

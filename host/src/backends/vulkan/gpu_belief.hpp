@@ -79,7 +79,7 @@ class GpuBelief final : public BeliefState {
   // A move of the table prepared: the new table (allocated, not yet cleared), the fills that clear it and the rehash
   // into it, run alone (move_to) or with other sessions' moves in one submission (keep_half_empty).
   struct Move {
-    vk::Buffer next, status;
+    vk::Buffer next;
     std::uint64_t slots = 0;
     std::vector<vk::Fill> fills;
     vk::Dispatch rehash;
@@ -135,7 +135,8 @@ class GpuBelief final : public BeliefState {
   mutable std::uint32_t band_capacity_ = 0;
   mutable bool band_stale_ = false;  // the table moved (its slots changed): rebuild before reading the list
   mutable vk::Buffer candidates_, queries_;
-  vk::Buffer keep_;  // forget_below's kept keys
+  vk::Buffer keep_;         // forget_below's kept keys
+  vk::Buffer move_status_;  // a move's rehash: nonzero when a probe ran too long (one word, kept between moves)
   std::uint32_t keep_count_ = 0;
   mutable std::optional<BeliefSummary> summary_cache_;
   // best_bins' last answer (the best kept_asked_ bins), until the belief changes.

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "backends/vulkan/context.hpp"
+#include "backends/vulkan/faults.hpp"
 #include "core/fixed_point.hpp"
 #include "vk_test_support.hpp"
 
@@ -48,6 +49,23 @@ TEST_CASE("buffers have device addresses and fills clear exactly their range") {
   CHECK(w[768] == 0x11111111u);
   for (int i = 0; i < 16; ++i) CHECK(b.as<std::uint32_t>()[i] == 7u);
   CHECK_THROWS_AS(ctx->run({}, nullptr, {{&b, 0u, 2, 8}}), std::logic_error);  // misaligned
+  CHECK(ctx->validation_messages() == 0);
+}
+
+TEST_CASE("a device buffer of undefined contents is poisoned on demand, a zeroed one never") {
+  auto ctx = sva::test::vulkan_context_or_skip();
+  struct PoisonOff {
+    ~PoisonOff() { sva::vk::faults::set_poison_uncleared(false); }
+  } off;
+  sva::vk::faults::set_poison_uncleared(true);
+  auto uncleared = ctx->create_uncleared_device_buffer(4096), zeroed = ctx->create_device_buffer(4096);
+  std::vector<std::uint32_t> u(1024), z(1024);
+  ctx->download(uncleared, u.data(), 4096);
+  ctx->download(zeroed, z.data(), 4096);
+  for (std::size_t i = 0; i < u.size(); i += 255) CHECK(z[i] == 0u);
+  // Only a mapped buffer can be poisoned from the host (lavapipe's are; a discrete GPU's device buffers are not).
+  if (uncleared.mapped())
+    for (std::size_t i = 0; i < u.size(); i += 255) CHECK(u[i] == 0xa5a5a5a5u);
   CHECK(ctx->validation_messages() == 0);
 }
 

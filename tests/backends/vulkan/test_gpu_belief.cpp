@@ -4,6 +4,7 @@
 
 #include <sva/error.hpp>
 
+#include "backends/vulkan/faults.hpp"
 #include "backends/vulkan/gpu_belief.hpp"
 #include "recognition/fixture.hpp"
 #include "vk_test_support.hpp"
@@ -84,7 +85,7 @@ struct Twin {
 
 }  // namespace
 
-TEST_CASE("GPU beliefs: tiny tables grow through overflow and stay identical to the CPU reference") {
+TEST_CASE("GPU beliefs: tiny tables grow through overflow, from garbage, and stay identical to the CPU reference") {
   test::WorldSpec spec;
   auto w = test::make_world(spec);
   PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
@@ -92,6 +93,11 @@ TEST_CASE("GPU beliefs: tiny tables grow through overflow and stay identical to 
   vo.initial_belief_slots = 64;  // the first fold overflows; the tables grow and fold again
   vo.initial_table_slots = 256;
   vo.max_chunk_entries = 500;
+  // Every new table starts as garbage (where it is mapped), so a growth that left any byte unfilled would differ.
+  struct PoisonOff {
+    ~PoisonOff() { vk::faults::set_poison_uncleared(false); }
+  } off;
+  vk::faults::set_poison_uncleared(true);
   Twin t(w, space, 3, {}, {}, vo);
   double growth_ms = 0.0;
   for (int r = 0; r < 6; ++r) {

@@ -139,7 +139,8 @@ void Buffer::allocate(const Device& device, Memory kind, bool never_map, Content
   // A discrete GPU's device buffers are never mapped (memory_types says why).
   if (host_visible && !(kind == Memory::device && (never_map || discrete))) {
     check(vkMapMemory(device_, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
-    if (contents == Contents::zero) std::memset(mapped_, 0, size_);
+    if (contents == Contents::zero || faults::poison_uncleared())
+      std::memset(mapped_, contents == Contents::zero ? 0 : 0xa5, size_);
   }
   VkBufferDeviceAddressInfo ai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
   ai.buffer = buffer_;

@@ -22,6 +22,7 @@ std::uint64_t env_count(const char* name) {
 // The state, first read from the environment; the hooks replace it.
 struct State {
   std::atomic<std::uint64_t> budget{0};
+  std::atomic<bool> poison{false};
   std::atomic<std::int64_t> submissions_before_loss{-1};  // -1: no loss pending
   std::mutex mutex;
   std::string missing;
@@ -30,6 +31,7 @@ struct State {
     if (const char* v = std::getenv("SVA_VK_FAULT_DEVICE_LOST_AFTER"); v && *v)
       submissions_before_loss = static_cast<std::int64_t>(env_count("SVA_VK_FAULT_DEVICE_LOST_AFTER"));
     if (const char* v = std::getenv("SVA_VK_FAULT_MISSING_FEATURE")) missing = v;
+    poison = env_count("SVA_VK_POISON_UNCLEARED") != 0;
   }
 };
 
@@ -65,5 +67,8 @@ void set_missing_feature(const std::string& feature) {
   std::lock_guard lock(s.mutex);
   s.missing = feature;
 }
+
+bool poison_uncleared() { return state().poison.load(); }
+void set_poison_uncleared(bool on) { state().poison = on; }
 
 }  // namespace sva::vk::faults

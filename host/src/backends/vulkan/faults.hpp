@@ -10,7 +10,11 @@
 //                                  VK_ERROR_DEVICE_LOST (once; later devices work);
 //   SVA_VK_FAULT_MISSING_FEATURE=F the device reports feature F (shaderInt64,
 //                                  shaderBufferInt64Atomics, bufferDeviceAddress,
-//                                  Vulkan 1.2) as missing.
+//                                  Vulkan 1.2) as missing;
+//   SVA_VK_POISON_UNCLEARED=1      a mapped buffer made with undefined contents
+//                                  (vk::Contents::undefined) starts as 0xa5 bytes, not
+//                                  as the zero pages a fresh allocation mostly gets, so
+//                                  that a caller that forgets to fill it reads garbage.
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -29,5 +33,9 @@ void clear_device_loss();                           // tests
 // The feature a device is to lack ("" = none).
 std::string missing_feature();
 void set_missing_feature(const std::string& feature);  // tests; "" clears
+
+// Whether buffers of undefined contents are poisoned.
+bool poison_uncleared();
+void set_poison_uncleared(bool on);  // tests
 
 }  // namespace sva::vk::faults

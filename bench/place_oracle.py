@@ -35,41 +35,16 @@ import sys
 import numpy as np
 
 import sva
-from active_touch_bound import placed, random_trials
+from active_touch_bound import placed, random_trials, rotation
 from active_touch_oracle import decision, score
 
 
-def session(rec, readings):
-    """A fresh session of the placed readings; its estimate."""
+def session(rec, readings, top_k=1):
+    """A fresh session of the placed readings; its estimate (top_k 8: every object's best mode too)."""
     rec.reset()
     for r in readings:
         rec.add_reading(r)
-    return rec.estimate(1)
-
-
-def rec_estimate(rec, readings):
-    """A fresh session of the placed readings; its estimate with every object's best mode."""
-    rec.reset()
-    for r in readings:
-        rec.add_reading(r)
-    return rec.estimate(8)
-
-
-def neighbourhoods(dense, obj, near_mm, near_deg):
-    """The dense set's converged readings of obj, and for each the others within near_mm and near_deg (object
-    frame)."""
-    idx = [i for i in range(len(dense)) if dense[i].object == obj
-           and dense[i].reading.status == sva.ControllerStatus.converged]
-    P = np.array([dense[i].reading.position for i in idx])
-    N = np.array([dense[i].reading.normal for i in idx])
-    cos_near = np.cos(np.radians(near_deg))
-    near = {}
-    for k, i in enumerate(idx):
-        ok = (np.linalg.norm(P - P[k], axis=1) < near_mm) & (N @ N[k] > cos_near)
-        ok[k] = False
-        if ok.any():
-            near[i] = [idx[j] for j in np.flatnonzero(ok)]
-    return near
+    return rec.estimate(top_k)
 
 
 class DenseSurface:
@@ -101,6 +76,17 @@ class DenseSurface:
         return [self.index[obj][j] for j in np.flatnonzero(ok)]
 
 
+def neighbourhoods(places, obj, near_mm, near_deg):
+    """Each converged dense reading of obj that has others within near_mm and near_deg of it: those others."""
+    near = {}
+    for k, i in enumerate(places.index.get(obj, [])):
+        hood = places.near(obj, places.position[obj][k], places.normal[obj][k], near_mm, near_deg)
+        hood = [j for j in hood if j != i]
+        if hood:
+            near[i] = hood
+    return near
+
+
 def predicted_value(rec, surface, shown, predictors, place, a, rng):
     """A place's expected outcome as the predictors see it: each (object, weight, R, T) predicts the dense readings
     of its own surface near the place, placed at its pose (R, T); the value is the mean, over the predictors by
@@ -126,9 +112,9 @@ def predictors(rec, shown, obj, R, T, a, rng):
     --pose-error in a random direction (noisy-truth)."""
     if a.value == "noisy-truth":
         axis, shift = rng.normal(size=3), rng.normal(size=3)
-        turn = rotation_about(axis / np.linalg.norm(axis), np.radians(a.pose_error[1]))
+        turn = rotation(axis / np.linalg.norm(axis) * np.radians(a.pose_error[1]))
         return [(obj, 1.0, R @ turn, T + a.pose_error[0] * shift / np.linalg.norm(shift))]
-    est = rec_estimate(rec, shown)
+    est = session(rec, shown, top_k=8)
     out = []
     for h in est.object_hypotheses:
         p = float(est.object_probability[h.object]) if a.value == "hypotheses" else float(h.object == obj)
@@ -170,7 +156,7 @@ def refine(shown, surface, obj, R, T, iterations=15, normal_mm=3.0, huber_mm=1.0
         A, b = np.vstack(A), np.concatenate(b)
         x = np.linalg.solve(A.T @ A + 1e-3 * np.eye(6), A.T @ b)
         u, t = x[:3], x[3:]
-        turn = rotation_about(u / np.linalg.norm(u), np.linalg.norm(u)) if np.linalg.norm(u) > 1e-12 else np.eye(3)
+        turn = rotation(u)
         # y' = turn y + t with y = R^T (x - T): R' = R turn^T, T' = T - R' t.
         R = R @ turn.T
         T = T - R @ t
@@ -179,16 +165,11 @@ def refine(shown, surface, obj, R, T, iterations=15, normal_mm=3.0, huber_mm=1.0
     return R, T
 
 
-def rotation_about(axis, angle):
-    K = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
-    return np.eye(3) + np.sin(angle) * K + (1 - np.cos(angle)) * K @ K
-
-
 def run_trial(job):
     """Readings to a right decision for one trial (max_readings + 1 for a wrong or no decision)."""
     a, (t, rows, obj, R, T, _) = job
     rec, test, dense = worker["rec"], worker["test"], worker["dense"]
-    near = neighbourhoods(dense, obj, a.near_mm, a.near_deg)
+    near = neighbourhoods(worker["places"], obj, a.near_mm, a.near_deg)
     rng = np.random.default_rng(1000 + t)
     shown = [placed(test[int(rows[0]["sample"])], R, T)]
     used = set()
@@ -210,7 +191,7 @@ def run_trial(job):
             who = predictors(rec, shown, obj, R, T, a, rng)
         for i in places:
             if a.value != "truth":
-                value = predicted_value(rec, worker["surface"], shown, who, placed(dense[i], R, T), a, rng)
+                value = predicted_value(rec, worker["outcomes"], shown, who, placed(dense[i], R, T), a, rng)
             elif a.see_draws:
                 value = score(session(rec, shown + [placed(dense[i], R, T)]), obj)
             else:
@@ -235,10 +216,10 @@ class NoPlace(ValueError):
 def start_worker(map_path, data_path, dense_path, train_path):
     m = sva.Map.load(map_path)
     dense = sva.Dataset.load(dense_path)
-    surface = DenseSurface(dense, len(m.object_names))
-    outcomes = DenseSurface(sva.Dataset.load(train_path), len(m.object_names)) if train_path else surface
+    places = DenseSurface(dense, len(m.object_names))
+    outcomes = DenseSurface(sva.Dataset.load(train_path), len(m.object_names)) if train_path else places
     worker.update(rec=sva.Recognizer(m, backend="cpu", threads=1), test=sva.Dataset.load(data_path), dense=dense,
-                  surface=outcomes, outcomes=outcomes)
+                  places=places, outcomes=outcomes)
 
 
 def main():

@@ -4,12 +4,8 @@
 #   tests/bench/touch_truth_smoke.sh SOURCE BUILD SVA PYTHON WORK
 set -euo pipefail
 source_dir=$1 build=$2 sva=$3 python=$4 work=$5
-rm -rf "$work" && mkdir -p "$work/dense"
-"$sva" --quiet simulate --scene tiny --out "$work" --train 20 --test 12 --seed 1 --threads 2
-"$sva" --quiet simulate --scene tiny --out "$work/dense" --train 1 --test 60 --seed 5 --threads 2
-"$sva" --quiet train --data "$work/train.svad" --out "$work/map.svam" --seed 1 --threads 2 > /dev/null
-"$sva" --quiet eval --map "$work/map.svam" --data "$work/test.svad" --trials 2 --max-readings 3 --backend cpu \
-  --csv "$work/random.csv" > /dev/null
+source "$(dirname "$0")/tiny_session_data.sh"
+tiny_session_data "$sva" "$work" 60 3
 run() {
   PYTHONPATH="$build/python:$source_dir/bench" "$python" "$source_dir/bench/touch_truth.py" \
     --map "$work/map.svam" --data "$work/test.svad" --random-csv "$work/random.csv" "$@"

@@ -27,6 +27,64 @@ std::pair<double, double> parse_range(const std::string& text) {
   if (b.empty() || *end != '\0') throw bad();
   return {lo, hi};  // the range itself is TrainOptions::validate's to check
 }
+
+// The command's options as the library's TrainOptions (TrainOptions::validate checks them).
+TrainOptions train_options(const Args& a) {
+  TrainOptions o;
+  constexpr long long kInt = std::numeric_limits<int>::max();
+  o.descriptor = a.get("--descriptor");
+  if (a.has("--clusters")) o.clusters = static_cast<int>(a.integer("--clusters", 25, -kInt, kInt));
+  if (a.has("--dist-bins")) o.dist_bins = static_cast<int>(a.integer("--dist-bins", 40, -kInt, kInt));
+  if (auto r = a.get("--dist-range")) {
+    auto [lo, hi] = parse_range(*r);
+    o.dist_min_mm = lo;
+    o.dist_max_mm = hi;
+  }
+  if (a.has("--pair-readings"))
+    o.pair_readings = static_cast<std::size_t>(a.integer("--pair-readings", 0, 0, 100000000));
+  o.seed = static_cast<std::uint64_t>(a.integer("--seed", 1, 0, std::numeric_limits<long long>::max()));
+  o.threads = static_cast<unsigned>(a.integer("--threads", 0, 0, kInt));
+  o.progress = true;
+  o.calibrate = !a.has("--no-calibration");
+  o.calibration_sessions = static_cast<std::size_t>(a.integer("--calibration-sessions", 60, -kInt, kInt));
+  o.calibration_readings = static_cast<std::size_t>(a.integer("--calibration-readings", 12, -kInt, kInt));
+  o.calibration_held_out = a.number("--calibration-held-out", 0.1, -1e9, 1e9);
+  o.validate("sva train");  // before the dataset loads
+  return o;
+}
+
+// --exclude-objects' names.
+std::vector<std::string> comma_list(const std::string& names) {
+  std::vector<std::string> list;
+  std::size_t start = 0;
+  for (std::size_t comma; (comma = names.find(',', start)) != std::string::npos; start = comma + 1)
+    list.push_back(names.substr(start, comma - start));
+  list.push_back(names.substr(start));
+  return list;
+}
+
+// What was built, from what, and what it cost.
+void print_report(const MapSummary& m, const TrainReport& rep, const std::string& out_file,
+                  const std::string& data_file) {
+  std::printf("%s: SVA map of scene \"%s\" from %s\n", out_file.c_str(), m.scene_name.c_str(), data_file.c_str());
+  std::printf("  descriptor     %s (%u values)\n", m.descriptor == "mn" ? "MN" : "MNTI", m.descriptor_size);
+  std::printf("  readings       %zu used, %zu skipped (not converged), %zu skipped (no contact to describe)\n",
+              rep.readings_used, rep.skipped_not_converged, rep.skipped_undescribable);
+  if (rep.readings_paired != rep.readings_used)
+    std::printf("                 %zu of them paired, %zu surface contacts only\n", rep.readings_paired,
+                rep.readings_used - rep.readings_paired);
+  std::printf("  classes        %u (PAM loss %.4f, %.2f s, %.2f s CPU)\n", m.classes, rep.clustering_loss,
+              rep.clustering_seconds, rep.clustering_cpu_seconds);
+  std::printf("  ambiguity A    %.3f classes per reading\n", m.ambiguity);
+  std::printf("  distance bins  %u over %g-%g mm\n", m.distance_bins, m.distance_min_mm, m.distance_max_mm);
+  std::printf("  map            %zu entries under %zu keys, %.1f MB (%.2f bytes/entry), built in %.2f s (%.2f s CPU)\n",
+              m.entries, m.keys, static_cast<double>(m.bytes) / 1e6,
+              m.entries ? static_cast<double>(m.bytes) / static_cast<double>(m.entries) : 0.0, rep.map_build_seconds,
+              rep.map_build_cpu_seconds);
+  std::printf("  calibration    %s (%.1f s)\n", eval::describe_calibration(m).c_str(), rep.calibration_seconds);
+  if (!rep.calibration_note.empty()) std::printf("                 %s\n", rep.calibration_note.c_str());
+}
+
 }  // namespace
 
 int cmd_train(const std::vector<std::string>& argv) {
@@ -56,59 +114,14 @@ int cmd_train(const std::vector<std::string>& argv) {
   if (!a.parse()) return 0;
   const std::string data_file = a.required("--data");
   const std::string out_file = a.required("--out");
-
-  TrainOptions o;
-  constexpr long long kInt = std::numeric_limits<int>::max();
-  o.descriptor = a.get("--descriptor");
-  if (a.has("--clusters")) o.clusters = static_cast<int>(a.integer("--clusters", 25, -kInt, kInt));
-  if (a.has("--dist-bins")) o.dist_bins = static_cast<int>(a.integer("--dist-bins", 40, -kInt, kInt));
-  if (auto r = a.get("--dist-range")) {
-    auto [lo, hi] = parse_range(*r);
-    o.dist_min_mm = lo;
-    o.dist_max_mm = hi;
-  }
-  if (a.has("--pair-readings"))
-    o.pair_readings = static_cast<std::size_t>(a.integer("--pair-readings", 0, 0, 100000000));
-  o.seed = static_cast<std::uint64_t>(a.integer("--seed", 1, 0, std::numeric_limits<long long>::max()));
-  o.threads = static_cast<unsigned>(a.integer("--threads", 0, 0, kInt));
-  o.progress = true;
-  o.calibrate = !a.has("--no-calibration");
-  o.calibration_sessions = static_cast<std::size_t>(a.integer("--calibration-sessions", 60, -kInt, kInt));
-  o.calibration_readings = static_cast<std::size_t>(a.integer("--calibration-readings", 12, -kInt, kInt));
-  o.calibration_held_out = a.number("--calibration-held-out", 0.1, -1e9, 1e9);
-  o.validate("sva train");  // before the dataset loads
+  const TrainOptions o = train_options(a);
 
   Dataset data = load_dataset(data_file);
-  if (auto names = a.get("--exclude-objects")) {
-    std::vector<std::string> list;
-    std::size_t start = 0;
-    for (std::size_t comma; (comma = names->find(',', start)) != std::string::npos; start = comma + 1)
-      list.push_back(names->substr(start, comma - start));
-    list.push_back(names->substr(start));
-    data = without_objects(data, list);
-  }
+  if (auto names = a.get("--exclude-objects")) data = without_objects(data, comma_list(*names));
   TrainReport rep;
   const Map map = Map::train(data, o, &rep);
   map.save(out_file);
-
-  const MapSummary m = map.summary();
-  std::printf("%s: SVA map of scene \"%s\" from %s\n", out_file.c_str(), m.scene_name.c_str(), data_file.c_str());
-  std::printf("  descriptor     %s (%u values)\n", m.descriptor == "mn" ? "MN" : "MNTI", m.descriptor_size);
-  std::printf("  readings       %zu used, %zu skipped (not converged), %zu skipped (no contact to describe)\n",
-              rep.readings_used, rep.skipped_not_converged, rep.skipped_undescribable);
-  if (rep.readings_paired != rep.readings_used)
-    std::printf("                 %zu of them paired, %zu surface contacts only\n", rep.readings_paired,
-                rep.readings_used - rep.readings_paired);
-  std::printf("  classes        %u (PAM loss %.4f, %.2f s, %.2f s CPU)\n", m.classes, rep.clustering_loss,
-              rep.clustering_seconds, rep.clustering_cpu_seconds);
-  std::printf("  ambiguity A    %.3f classes per reading\n", m.ambiguity);
-  std::printf("  distance bins  %u over %g-%g mm\n", m.distance_bins, m.distance_min_mm, m.distance_max_mm);
-  std::printf("  map            %zu entries under %zu keys, %.1f MB (%.2f bytes/entry), built in %.2f s (%.2f s CPU)\n",
-              m.entries, m.keys, static_cast<double>(m.bytes) / 1e6,
-              m.entries ? static_cast<double>(m.bytes) / static_cast<double>(m.entries) : 0.0, rep.map_build_seconds,
-              rep.map_build_cpu_seconds);
-  std::printf("  calibration    %s (%.1f s)\n", eval::describe_calibration(m).c_str(), rep.calibration_seconds);
-  if (!rep.calibration_note.empty()) std::printf("                 %s\n", rep.calibration_note.c_str());
+  print_report(map.summary(), rep, out_file, data_file);
   return 0;
 }
 

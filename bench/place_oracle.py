@@ -183,7 +183,7 @@ def run_trial(job):
         places = [i for i in near if i not in used]
         if not places:
             raise NoPlace(f"trial {t}: no place of {worker['test'].scene.object_names[obj]} left with a neighbour "
-                             f"within {a.near_mm:g} mm and {a.near_deg:g} deg in the dense set: give it more readings")
+                          f"within {a.near_mm:g} mm and {a.near_deg:g} deg in the dense set: give it more readings")
         if len(places) > a.candidates:
             places = list(rng.choice(places, size=a.candidates, replace=False))
         best, best_value = None, -1.0

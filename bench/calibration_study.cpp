@@ -43,12 +43,14 @@ void write_sessions(const std::vector<CalibrationSession>& sessions, const std::
   std::fprintf(stderr, "wrote %s (%zu sessions)\n", file.c_str(), sessions.size());
 }
 
-// The held-out sessions `sva train` runs on a calibration map of `split`.
+// The held-out sessions `sva train` runs on a calibration map of `split`, the fine pose from `fine_pose_from`
+// readings (the map's).
 std::vector<CalibrationSession> held_out(const Dataset& train, const TrainParameters& params, bool hold_out_objects,
-                                         std::size_t known_sessions) {
+                                         std::size_t known_sessions, std::uint32_t fine_pose_from) {
   const CalibrationOptions co;
   const CalibrationSplit split = split_for_calibration(train, co.held_out_share, params.seed, hold_out_objects);
   HeldOutSessionOptions so = co.sessions;
+  so.fine_pose_from = fine_pose_from;
   if (known_sessions > 0) so.known_sessions = known_sessions;
   so.seed = params.seed;
   so.threads = params.threads;
@@ -91,9 +93,10 @@ int main(int argc, char** argv) try {
   const Dataset train = load_dataset(argv[1]);
   const TrainParameters params = resolve_train_parameters(train.scene, to);
   const std::string out = argv[6];
-  write_sessions(held_out(train, params, true, known), out + ".objects_held_out.jsonl");
-  write_sessions(held_out(train, params, false, known), out + ".every_object.jsonl");
   const auto map = load_pair_map(argv[2]);
+  so.fine_pose_from = map->calibration.fine_pose_from;
+  write_sessions(held_out(train, params, true, known, so.fine_pose_from), out + ".objects_held_out.jsonl");
+  write_sessions(held_out(train, params, false, known, so.fine_pose_from), out + ".every_object.jsonl");
   CalibrationSplit test;  // every test reading "held out", every object known
   test.held_out = load_dataset(argv[3]);
   for (std::size_t o = 0; o < test.held_out.scene.objects.size(); ++o)

@@ -15,7 +15,8 @@ neighbour there; the first reading of every trial is the random run's own (nothi
 active policy and the greedy oracle.
 
 --value asks who predicts a place's outcome: the truth (the oracle above), the belief's own hypotheses (objects
-holding at least 1%, at their best modes, weighed by probability: a planner with a perfect outcome model), the true
+holding at least 1%, at their best modes, weighed by probability: a planner with a perfect outcome model), the
+belief's --modes best modes (several per object: a planner that tells poses apart as well), the true
 object at the belief's pose for it, or the true object at its true pose moved by --pose-error (how good a pose a
 planner needs). --refine fits each predicting pose to the readings so far first; --train predicts from the nearest
 reading of the map's training set instead of the dense set's (what a planner holding the map has).
@@ -23,7 +24,7 @@ reading of the map's training set instead of the dense set's (what a planner hol
   usage: PYTHONPATH=build-ci/python:bench .venv/bin/python bench/place_oracle.py --map MAP --data TEST.svad \
              --dense DENSE.svad --random-csv RANDOM.csv [--candidates 20] [--neighbours 4] [--near-mm 3] \
              [--near-deg 15] [--threshold 0.95] [--max-readings 20] [--trials N] [--jobs 2] [--see-draws]
-             [--value truth|hypotheses|true-object|noisy-truth] [--pose-error MM,DEG] [--refine] [--train TRAIN.svad]
+             [--value truth|hypotheses|modes|true-object|noisy-truth] [--modes 16] [--pose-error MM,DEG] [--refine] [--train TRAIN.svad]
 RANDOM.csv is `sva eval --policy random --csv` of the same map, data and seed (its first readings and poses); DENSE
 is the same scene simulated with many test readings per object (`sva simulate --scene S --train 1 --test 2000
 --seed 5`), so that most places have neighbours.
@@ -114,6 +115,8 @@ def predictors(rec, shown, obj, R, T, a, rng):
         axis, shift = rng.normal(size=3), rng.normal(size=3)
         turn = rotation(axis / np.linalg.norm(axis) * np.radians(a.pose_error[1]))
         return [(obj, 1.0, R @ turn, T + a.pose_error[0] * shift / np.linalg.norm(shift))]
+    if a.value == "modes":
+        return mode_predictors(session(rec, shown, top_k=a.modes), a)
     est = session(rec, shown, top_k=8)
     out = []
     for h in est.object_hypotheses:
@@ -123,6 +126,20 @@ def predictors(rec, shown, obj, R, T, a, rng):
             if a.refine:
                 Rh, Th = refine(shown, worker["outcomes"], h.object, Rh, Th)
             out.append((h.object, p, Rh, Th))
+    return out
+
+
+def mode_predictors(est, a):
+    """The belief's distinct modes (up to --modes, several per object where it holds them), each weighed by its
+    object's probability times its share of that object's modes' mass: a planner that tells poses apart too."""
+    mass = {}
+    for h in est.hypotheses:
+        mass[h.object] = mass.get(h.object, 0.0) + h.probability
+    out = []
+    for h in est.hypotheses:
+        p = float(est.object_probability[h.object]) * h.probability / mass[h.object] if mass[h.object] > 0 else 0.0
+        if p >= 0.01:
+            out.append((h.object, p, np.array(h.pose.R), np.array(h.pose.T)))
     return out
 
 
@@ -237,18 +254,19 @@ def main():
     ap.add_argument("--max-readings", type=int, default=20)
     ap.add_argument("--jobs", type=int, default=2, help="worker processes (one recognizer on one thread each)")
     ap.add_argument("--see-draws", action="store_true", help="choose by each candidate's own reading instead")
-    ap.add_argument("--value", choices=["truth", "hypotheses", "true-object", "noisy-truth"], default="truth",
+    ap.add_argument("--value", choices=["truth", "hypotheses", "modes", "true-object", "noisy-truth"], default="truth",
                     help="a place's value: the true object's expected probability at the true pose (the oracle); the "
                          "belief's own expectation from its hypotheses' objects and poses (a planner with a perfect "
-                         "outcome model); the true object's alone at the belief's pose for it (what the pose costs); "
+                         "outcome model); the same from each of the belief's distinct modes (modes); the true object's alone at the belief's pose for it (what the pose costs); "
                          "or at the true pose moved by --pose-error")
     ap.add_argument("--train", help="the map's training set: predicted readings and --refine's surface from it (the "
                                      "nearest reading, as a planner holding the map would), not from the dense set")
     ap.add_argument("--refine", action="store_true",
                     help="fit each predicting object's pose to the readings so far first (hypotheses, true-object)")
+    ap.add_argument("--modes", type=int, default=16, help="--value modes: the belief's modes asked (default 16)")
     ap.add_argument("--pose-error", default="2,10", help="MM,DEG: noisy-truth's pose error (default 2,10)")
     a = ap.parse_args()
-    for name in ("candidates", "neighbours", "jobs"):
+    for name in ("candidates", "neighbours", "jobs", "modes"):
         if getattr(a, name) < 1:
             ap.error(f"--{name} must be at least 1, got {getattr(a, name)}")
     if not (a.near_mm > 0 and 0 < a.near_deg <= 180):
@@ -274,6 +292,7 @@ def main():
     rule = ("its own reading (sees the draw)" if a.see_draws else
             f"the mean of up to {a.neighbours} readings near it" +
             {"truth": "", "hypotheses": " for each hypothesis (object, pose) of the belief",
+             "modes": f" for each of the belief's {a.modes} best modes",
              "true-object": " of the true object at the belief's pose for it",
              "noisy-truth": f" of the true object at the true pose moved by {a.pose_error[0]:g} mm and "
                             f"{a.pose_error[1]:g} deg"}[a.value])
@@ -288,6 +307,7 @@ def main():
             ap.error(f"--dense {a.dense}: {e}")
     who = "place oracle (sees the draws)" if a.see_draws else {
         "truth": "place oracle", "hypotheses": "planner (the belief's hypotheses, dense outcomes)",
+        "modes": "planner (the belief's modes, dense outcomes)",
         "true-object": "place oracle at the belief's pose", "noisy-truth": "place oracle at a noisy pose"}[a.value]
     print(f"trials {len(readings)}: {who} mean readings to a right "
           f"decision at {a.threshold}: {sum(readings) / len(readings):.2f} (no decision within {a.max_readings} "

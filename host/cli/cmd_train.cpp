@@ -49,6 +49,8 @@ TrainOptions train_options(const Args& a) {
   o.calibration_sessions = static_cast<std::size_t>(a.integer("--calibration-sessions", 60, -kInt, kInt));
   o.calibration_readings = static_cast<std::size_t>(a.integer("--calibration-readings", 12, -kInt, kInt));
   o.calibration_held_out = a.number("--calibration-held-out", 0.1, -1e9, 1e9);
+  if (a.has("--fine-pose-from"))
+    o.fine_pose_from = static_cast<std::uint32_t>(a.integer("--fine-pose-from", 6, 0, kInt));
   o.validate("sva train");  // before the dataset loads
   return o;
 }
@@ -111,6 +113,9 @@ int cmd_train(const std::vector<std::string>& argv) {
   a.option("--calibration-sessions", "N", "held-out sessions on known objects that learn the calibration (default 60)");
   a.option("--calibration-readings", "N", "readings per calibration session (default 12)");
   a.option("--calibration-held-out", "F", "share of each object's readings held out for the calibration (default 0.1)");
+  a.option("--fine-pose-from", "N",
+           "readings from which the fine pose and the surface check run, kept in the map (default 6, planar 3; 4 names "
+           "distinct objects right sooner and trusts twins less: docs/evaluation.md)");
   if (!a.parse()) return 0;
   const std::string data_file = a.required("--data");
   const std::string out_file = a.required("--out");

@@ -44,6 +44,8 @@ void bind_map(nb::module_& m) {
       .def_prop_ro("entries", &Map::entries)
       .def_prop_ro("keys", &Map::keys)
       .def_prop_ro("readings", &Map::readings, "training readings used")
+      .def_prop_ro("fine_pose_from", &Map::fine_pose_from,
+                   "readings from which the fine pose and the surface check run (sva.train's fine_pose_from)")
       .def_prop_ro("bytes", &Map::bytes, "in-memory size of the map's arrays")
       .def_prop_ro("scene_name", &Map::scene_name)
       .def_prop_ro("scene_hash", &Map::scene_hash)

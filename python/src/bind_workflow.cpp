@@ -123,9 +123,10 @@ std::pair<Dataset, Dataset> simulate(nb::handle scene_arg, std::optional<int> tr
 Map train(nb::handle data_arg, const std::optional<std::string>& descriptor, std::optional<int> clusters,
           std::optional<int> dist_bins, std::optional<std::pair<double, double>> dist_range, std::uint64_t seed,
           unsigned threads, const std::optional<std::filesystem::path>& out, TrainReport* report, bool calibrate,
-          std::optional<std::size_t> pair_readings) {
+          std::optional<std::size_t> pair_readings, std::optional<std::uint32_t> fine_pose_from) {
   TrainOptions o;
   o.pair_readings = pair_readings;
+  o.fine_pose_from = fine_pose_from;
   o.calibrate = calibrate;
   o.descriptor = descriptor;
   o.clusters = clusters;
@@ -197,14 +198,16 @@ void bind_workflow(nb::module_& m) {
         "out/test.svad, as `sva simulate` does. Same seed, same data, whatever `threads`.");
   m.def("train", &train, "data"_a, nb::kw_only(), "descriptor"_a = nb::none(), "clusters"_a = nb::none(),
         "dist_bins"_a = nb::none(), "dist_range"_a = nb::none(), "seed"_a = 1, "threads"_a = 0, "out"_a = nb::none(),
-        "report"_a = nb::none(), "calibrate"_a = true, "pair_readings"_a = nb::none(),
+        "report"_a = nb::none(), "calibrate"_a = true, "pair_readings"_a = nb::none(), "fine_pose_from"_a = nb::none(),
         nb::sig("def train(data: Dataset | str | os.PathLike, *, descriptor: str | None = None, clusters: int | None = "
                 "None, dist_bins: int | None = None, dist_range: tuple[float, float] | None = None, seed: int = 1, "
                 "threads: int = 0, out: str | os.PathLike | None = None, report: TrainReport | None = None, "
-                "calibrate: bool = True, pair_readings: int | None = None) -> Map"),
+                "calibrate: bool = True, pair_readings: int | None = None, fine_pose_from: int | None = None) -> Map"),
         "The SVA map of a training dataset, as `sva train` builds it (defaults from the dataset's scene); with `out`, "
         "also saved there; `report` (a TrainReport) is filled in. `pair_readings`: readings per object that enter the "
-        "pairs (drawn at random; the rest serve only as the object's surface; 0 = all; default: the scene's).");
+        "pairs (drawn at random; the rest serve only as the object's surface; 0 = all; default: the scene's). "
+        "`fine_pose_from`: readings from which the fine pose and the surface check run, kept in the map (3 to 1000; "
+        "default 6, planar 3; 4 names distinct objects right sooner and trusts twins less: docs/evaluation.md).");
   m.def(
       "evaluate",
       [](nb::handle map, nb::handle data, std::optional<std::size_t> trials, std::size_t max_readings,

@@ -44,6 +44,12 @@ def test_train_builds_the_cli_map(tiny, tmp_path):
     few = sva.train(str(tiny.train), pair_readings=4, report=paired, calibrate=False)
     assert paired.readings_paired == 8 and paired.readings_used == report.readings_used
     assert few.readings == m.readings and 0 < few.entries < m.entries
+    # the fine pose's start: the scene's default, or the one asked for, kept in the saved map
+    assert m.fine_pose_from == 6
+    early = sva.train(str(tiny.train), fine_pose_from=4, calibrate=False, out=tmp_path / "early.svam")
+    assert early.fine_pose_from == 4 and sva.Map.load(tmp_path / "early.svam").fine_pose_from == 4
+    with pytest.raises(sva.Error, match="fine pose from 2 readings: expected 3 to 1000"):
+        sva.train(str(tiny.train), fine_pose_from=2)
 
 
 def test_evaluate_gives_the_cli_summary(tiny, tiny_map, tmp_path):

@@ -46,7 +46,14 @@ TEST_CASE("cli: sva train and sva inspect on a map") {
   REQUIRE(run("inspect " + (dir / "a.svamap").string(), &out) == 0);
   CHECK_THAT(out, Contains("sva map") && Contains("ambiguity A") && Contains("entries/key") && Contains("obj2") &&
                       Contains("learned: temperature") && Contains("from 10 + 5 held-out sessions of 4 readings") &&
+                      Contains("fine pose from 6 readings") &&
                       Contains("says \"none of these\" (from the evidence alone)"));  // too short for a fine pose
+  // The fine pose from 3 readings: the map keeps it, and sessions of 4 readings now reach it in the calibration.
+  REQUIRE(run(base + (dir / "f.svamap").string() + small_calibration + " --fine-pose-from 3", &out) == 0);
+  CHECK_THAT(out, Contains("fine pose from 3 readings") &&
+                      Contains("says \"none of these\" (from the evidence, then the fine pose's fit)"));
+  CHECK(run(base + (dir / "g.svamap").string() + " --fine-pose-from 1001", &out) != 0);
+  CHECK_THAT(out, Contains("fine pose from 1001 readings: expected 3 to 1000"));
   REQUIRE(run(base + (dir / "e.svamap").string() + " --calibration-sessions 10 --calibration-readings 8", &out) == 0);
   REQUIRE(run("inspect " + (dir / "e.svamap").string(), &out) == 0);
   CHECK_THAT(out, Contains("says \"none of these\" (from the evidence, then the fine pose's fit)"));

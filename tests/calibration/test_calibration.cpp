@@ -368,7 +368,7 @@ TEST_CASE("fit_unknown: the evidence before the fine pose, the fit after it, coe
   CHECK(c.unknown.empty());
 }
 
-TEST_CASE("the map file keeps the calibration (version 7), older maps load with theirs or the defaults") {
+TEST_CASE("the map file keeps the calibration (version 8), older maps load with theirs or the defaults") {
   sim::SimulateOptions so;
   so.train_per_object = 12;
   so.test_per_object = 1;
@@ -387,6 +387,21 @@ TEST_CASE("the map file keeps the calibration (version 7), older maps load with 
   save_pair_map(m, dir / "v7.svam");
   const auto back = load_pair_map(dir / "v7.svam");
   CHECK(back->calibration.top_label == m.calibration.top_label);
+  CHECK(back->calibration.fine_pose_from == Calibration::kFinePoseFromSpatial);  // 0 in memory: written as the default
+  // Version 8 keeps the fine pose's start; older versions mean the default, and hold no other.
+  m.calibration.fine_pose_from = 4;
+  save_pair_map(m, dir / "v8.svam");
+  CHECK(load_pair_map(dir / "v8.svam")->calibration.fine_pose_from == 4);
+  CHECK_THROWS_WITH(write_pair_map(m, dir / "v7.svam", 7),
+                    Catch::Contains("version 7") && Catch::Contains("fine pose from 4 readings"));
+  m.calibration.fine_pose_from = 2;  // too few contacts for a pose
+  save_pair_map(m, dir / "two.svam");
+  CHECK_THROWS_WITH(load_pair_map(dir / "two.svam"),
+                    Catch::Contains("two.svam") && Catch::Contains("fine pose from 2 readings"));
+  m.calibration.fine_pose_from = Calibration::kFinePoseFromSpatial;
+  write_pair_map(m, dir / "v7.svam", 7);
+  CHECK(load_pair_map(dir / "v7.svam")->calibration.fine_pose_from == 0);  // the pose space's default
+  m.calibration.fine_pose_from = 0;
   // Version 6 has no top label: refused by name, and a version 6 map loads with the identity.
   CHECK_THROWS_WITH(write_pair_map(m, dir / "v6.svam", 6),
                     Catch::Contains("version 6") && Catch::Contains("top label"));

@@ -102,7 +102,7 @@ double twist_about_z(const RigidPose& truth, const RigidPose& est) {
 
 RefineSettings paper_settings() {
   const PoseSpace space(test::paper_space(), 1);
-  return refine_settings(space);  // 8 mm bins: scales 16 -> 2 mm
+  return refine_settings(space, 0);  // 8 mm bins: scales 16 -> 2 mm
 }
 
 bool same_pose(const RigidPose& a, const RigidPose& b) {
@@ -265,7 +265,7 @@ TEST_CASE("fine pose: a planar space moves x, y and the angle only") {
   RigidPose start = truth;
   start.R = so3::about_z(0.15) * truth.R;
   start.T += glm::dvec3(0.6, -0.5, 0.0);
-  const RefinedPose r = refine_pose(index, 0, obs, std::span(&start, 1), refine_settings(space));
+  const RefinedPose r = refine_pose(index, 0, obs, std::span(&start, 1), refine_settings(space, 0));
   CHECK(r.refined);
   CHECK(r.observable == 3);
   CHECK(glm::length(r.pose.T - truth.T) < 0.05);

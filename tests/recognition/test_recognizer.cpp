@@ -9,6 +9,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "calibration/calibration.hpp"
 #include "fixture.hpp"
 #include "map/map_access.hpp"
 #include "trained_map.hpp"
@@ -357,4 +358,38 @@ TEST_CASE("Recognizer: the estimate's fits and hypotheses are the same on one th
     }
   }
   CHECK(a.estimate().pose_refined);  // the fits ran (6 readings and more)
+}
+
+TEST_CASE("Recognizer: the fine pose and the surface check start at the reading count the map keeps") {
+  const Trained& t = trained();
+  TrainOptions o;
+  o.calibrate = false;  // the default calibration in both maps: the start is all that differs
+  o.fine_pose_from = 4;
+  const Map early = Map::train(t.data, o);
+  CHECK(early.fine_pose_from() == 4);
+  CHECK(t.map.fine_pose_from() == Calibration::kFinePoseFromSpatial);
+  RecognizerOptions ro;
+  ro.backend = BackendKind::cpu;
+  int refined_early = 0;
+  for (std::uint64_t session = 0; session < 4; ++session) {
+    Recognizer a(t.map, paper_space(), ro), b(early, paper_space(), ro);
+    for (const Reading& r : readings_at(1, random_pose(700 + session, 100.0), util::Rng(44, session), 7)) {
+      a.add_reading(r);
+      b.add_reading(r);
+      const Estimate ea = a.estimate(), eb = b.estimate();
+      const std::size_t n = a.reading_count();
+      INFO("session " << session << ", reading " << n);
+      if (n < 4) {  // before either start: the same estimate (from it on, a fit also needs as many inliers)
+        CHECK(ea.object_probability == eb.object_probability);
+        CHECK_FALSE(eb.pose_refined);
+        CHECK(ea.pose.T == eb.pose.T);
+      } else if (n < 6) {
+        CHECK_FALSE(ea.pose_refined);
+        refined_early += eb.pose_refined ? 1 : 0;
+      }
+    }
+  }
+  CHECK(refined_early > 0);  // the early map fitted at 4 and 5 readings
+  o.fine_pose_from = 2;      // too few contacts to fit a pose: refused by name
+  CHECK_THROWS_WITH(Map::train(t.data, o), Catch::Contains("fine pose from 2 readings"));
 }

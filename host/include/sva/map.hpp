@@ -43,6 +43,10 @@ struct TrainOptions {
   double calibration_held_out = 0.1;      // in (0, 0.5]
   std::size_t calibration_sessions = 60;  // on known objects (half as many on held-out objects), 10 to 100000
   std::size_t calibration_readings = 12;  // per session, 2 to 1000
+  // The reading count from which the fine pose and the surface check run (3 to 1000; unset: 6, 3 in a planar pose
+  // space). The map keeps it and its calibration is learned with it (docs/recognition.md, "Fine pose"): 4 names
+  // distinct objects right sooner, while twins' probabilities are trusted less (docs/evaluation.md).
+  std::optional<std::uint32_t> fine_pose_from;
 
   // The options as given, before the scene's defaults fill the unset ones: throws sva::Error naming the option,
   // its value and the fault, after `context` (the caller: "sva train", "sva.train"). Map::train checks them too
@@ -101,6 +105,7 @@ struct MapSummary {
     bool unknown_model = false;     // the map can say "none of these"
     bool unknown_from_fit = false;  // ... from the fine pose's fit once it exists (format 6); else the evidence alone
     std::uint32_t known_sessions = 0, unknown_sessions = 0, session_readings = 0;
+    std::uint32_t fine_pose_from = 0;  // readings from which the fine pose and the surface check run
   } calibration;
 };
 
@@ -127,6 +132,9 @@ class Map {
   // Whether the map was trained on readings of `scene` (the same scene hash): a cached map is reused only then.
   bool made_from(const Scene& scene) const;
   std::vector<std::string> object_names() const;
+  // The reading count from which the fine pose and the surface check run (TrainOptions::fine_pose_from; maps of
+  // format 1-7: 6, planar 3). A recognizer on the map starts there, as its calibration was learned.
+  std::uint32_t fine_pose_from() const;
   // The tactile array the map was trained with: readings must have its rows x cols image.
   const SensorSpec& sensor() const;
 

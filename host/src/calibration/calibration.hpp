@@ -117,6 +117,18 @@ struct Calibration {
   // of the second, w = (readings - fine_pose_from + 1) / kTopLabelBlendReadings up to 1 (1 when fine_pose_from is 0).
   TopLabel top_label_at(const EvidenceLevel& level) const;
   UnknownModel unknown;  // empty: the map cannot say "none of these" (p_unknown is then the prior)
+  // The reading count from which the fine pose, the surface check and the fit's "none of these" model run, and the
+  // second top label's regime starts: chosen when the map is trained (TrainOptions::fine_pose_from), since the
+  // calibration is learned with it. 0: the pose space's default (maps of format 1-7). From 4 instead of 6, scenes of
+  // distinct objects are named right sooner and twins' probabilities trusted less (docs/evaluation.md, "The fine
+  // pose from 4 readings").
+  std::uint32_t fine_pose_from = 0;
+  static constexpr std::uint32_t kFinePoseFromSpatial = 6, kFinePoseFromPlanar = 3;
+  static constexpr std::uint32_t kMinFinePoseFrom = 3, kMaxFinePoseFrom = 1000;
+  // `chosen`, or the default of a planar or spatial pose space when it is 0.
+  static std::uint32_t fine_pose_start(std::uint32_t chosen, bool planar) {
+    return chosen != 0 ? chosen : planar ? kFinePoseFromPlanar : kFinePoseFromSpatial;
+  }
   // How the fit was made (sva inspect): held-out sessions on known and unknown objects, readings per session.
   std::uint32_t known_sessions = 0, unknown_sessions = 0, session_readings = 0;
 

@@ -113,7 +113,7 @@ std::vector<CalibrationSession> run_held_out_sessions(const PairMap& map, const 
   const std::unique_ptr<VoteBackend> backend = make_vote_backend(BackendKind::cpu, map, space, vs).backend;
   BayesFilter filter(map, space, FilterOptions{}, *backend);
   const SurfaceIndex surface(map.readings, map.objects.size());
-  const RefineSettings refine = refine_settings(space);
+  const RefineSettings refine = refine_settings(space, options.fine_pose_from);
   const std::size_t total = options.known_sessions + (unknown.empty() ? 0 : options.unknown_sessions);
   std::unique_ptr<util::Progress> progress;
   if (options.progress) progress = std::make_unique<util::Progress>("calibration: held-out sessions", total);

@@ -37,7 +37,8 @@ struct CalibrationSession {
 
 struct HeldOutSessionOptions {
   std::size_t known_sessions = 60, unknown_sessions = 30;
-  std::size_t readings = 12;  // per session
+  std::size_t readings = 12;         // per session
+  std::uint32_t fine_pose_from = 0;  // the map's choice (Calibration::fine_pose_from; 0: the pose space's default)
   std::uint64_t seed = 1;
   unsigned threads = 0;
   bool progress = false;

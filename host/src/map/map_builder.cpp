@@ -69,6 +69,10 @@ void TrainOptions::validate(const std::string& context) const {
     fail("calibration sessions " + std::to_string(calibration_sessions) + ": expected 10 to 100000");
   if (calibration_readings < 2 || calibration_readings > 1000)
     fail("calibration readings " + std::to_string(calibration_readings) + ": expected 2 to 1000");
+  if (fine_pose_from &&
+      (*fine_pose_from < Calibration::kMinFinePoseFrom || *fine_pose_from > Calibration::kMaxFinePoseFrom))
+    fail("fine pose from " + std::to_string(*fine_pose_from) + " readings: expected " +
+         std::to_string(Calibration::kMinFinePoseFrom) + " to " + std::to_string(Calibration::kMaxFinePoseFrom));
   if (pair_readings && (*pair_readings == 1 || *pair_readings > 100000000))
     fail("pair readings " + std::to_string(*pair_readings) +
          " per object: expected 0 (all) or 2 to 100000000 (a pair needs two readings)");

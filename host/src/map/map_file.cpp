@@ -52,7 +52,9 @@ std::uint32_t unknown_feature_count(UnknownFeatureSet set) {
 // Version 5: the surface check's weight after the temperature.
 // Version 6: the unknown model may read this build's features (evidence, then the fit).
 // Version 7: the top label (before the fine pose, from it on) after the surface weight.
-void put_calibration(io::BinaryWriter& w, const Calibration& c, std::uint32_t version) {
+// Version 8: the fine pose's first reading count after the top label (0 in memory is written as the default of the
+// map's pose space, `planar` or not, which is what older versions mean).
+void put_calibration(io::BinaryWriter& w, const Calibration& c, std::uint32_t version, bool planar) {
   const std::uint32_t features = unknown_feature_count(c.unknown.features);
   if (version < 6 && features != 3 && !c.unknown.empty())
     throw Error("map version " + std::to_string(version) +
@@ -60,12 +62,17 @@ void put_calibration(io::BinaryWriter& w, const Calibration& c, std::uint32_t ve
   if (version < 7 && c.top_label != Calibration{}.top_label)
     throw Error("map version " + std::to_string(version) +
                 " cannot hold the top label's recalibration (it needs version 7)");
+  const std::uint32_t fine_pose_from = Calibration::fine_pose_start(c.fine_pose_from, planar);
+  if (version < 8 && fine_pose_from != Calibration::fine_pose_start(0, planar))
+    throw Error("map version " + std::to_string(version) + " cannot hold a fine pose from " +
+                std::to_string(fine_pose_from) + " readings (it needs version 8)");
   w.put<std::uint8_t>(c.learned ? 1 : 0);
   w.put<double>(c.temperature_scale);
   w.put<double>(c.temperature_power);
   if (version >= 5) w.put<double>(c.surface_weight);
   if (version >= 7)
     for (const Calibration::TopLabel& t : c.top_label) w.put_array(t.data(), t.size());
+  if (version >= 8) w.put<std::uint32_t>(fine_pose_from);
   w.put<std::uint32_t>(c.known_sessions);
   w.put<std::uint32_t>(c.unknown_sessions);
   w.put<std::uint32_t>(c.session_readings);
@@ -121,6 +128,13 @@ Calibration get_calibration(io::BinaryReader& r) {
       r.fail("calibration: surface weight " + std::to_string(c.surface_weight) + " is not in [0, 16]");
   }
   if (r.version() >= 7) get_top_label(r, &c);  // older maps: the identity
+  if (r.version() >= 8) {                      // older maps: 0, the pose space's default
+    c.fine_pose_from = r.get<std::uint32_t>();
+    if (c.fine_pose_from < Calibration::kMinFinePoseFrom || c.fine_pose_from > Calibration::kMaxFinePoseFrom)
+      r.fail("calibration: fine pose from " + std::to_string(c.fine_pose_from) + " readings is not in [" +
+             std::to_string(Calibration::kMinFinePoseFrom) + ", " + std::to_string(Calibration::kMaxFinePoseFrom) +
+             "]");
+  }
   c.known_sessions = r.get<std::uint32_t>();
   c.unknown_sessions = r.get<std::uint32_t>();
   c.session_readings = r.get<std::uint32_t>();
@@ -194,7 +208,7 @@ void write_pair_map(const PairMap& m, const std::filesystem::path& file, std::ui
   w.put_vector(m.entry_a);
   w.put_vector(m.entry_b);
   w.put_vector(m.entry_weight);
-  if (version >= 4) put_calibration(w, m.calibration, version);
+  if (version >= 4) put_calibration(w, m.calibration, version, m.pose_space.kind == PoseSpaceSpec::Kind::planar);
   w.write_file(file, std::string_view(kMapMagic, 8), version);
 }
 

@@ -17,7 +17,7 @@ inline constexpr char kMapMagic[] = "SVAMAP01";
 // adds a point of each symmetry axis; version 2 stores each
 // unordered training pair once (entry_a < entry_b); version 1 stored both
 // orders, and loads by dropping the second order.
-inline constexpr std::uint32_t kMapVersion = 7;
+inline constexpr std::uint32_t kMapVersion = 8;
 inline constexpr std::uint32_t kMapOldestVersion = 1;
 
 void save_pair_map(const PairMap& map, const std::filesystem::path& file);

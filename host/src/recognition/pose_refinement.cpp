@@ -9,6 +9,8 @@
 #include <cmath>
 #include <vector>
 
+#include "calibration/calibration.hpp"
+
 namespace sva {
 
 namespace {
@@ -316,12 +318,12 @@ std::pair<RigidPose, Fit> Problem::run(const RigidPose& start, int* observable) 
 
 }  // namespace
 
-RefineSettings refine_settings(const PoseSpace& space) {
+RefineSettings refine_settings(const PoseSpace& space, std::uint32_t fine_pose_from) {
   const PoseSpaceSpec& spec = space.spec();
   const double bin = (spec.translation_max_mm - spec.translation_min_mm) / spec.translation_bins;
   RefineSettings s;
   s.planar = space.planar();
-  s.min_readings = s.planar ? 3 : 6;
+  s.min_readings = Calibration::fine_pose_start(fine_pose_from, s.planar);
   s.scale_start_mm = 2.0 * bin;
   s.scale_final_mm = 0.25 * bin;
   // Light: a training contact's normal is one noisy sample at a point near the

@@ -36,8 +36,9 @@ struct RefineSettings {
 };
 
 // Settings for a pose space: scales in units of its translation bin (paper3d:
-// 8 mm bins give 16 -> 2 mm and 1 mm/rad; the letters' 0.95 mm bins 1.9 -> 0.24 mm).
-RefineSettings refine_settings(const PoseSpace& space);
+// 8 mm bins give 16 -> 2 mm and 1 mm/rad; the letters' 0.95 mm bins 1.9 -> 0.24 mm). `fine_pose_from`: the map's
+// choice (Calibration::fine_pose_from; 0: the pose space's default).
+RefineSettings refine_settings(const PoseSpace& space, std::uint32_t fine_pose_from);
 
 struct RefinedPose {
   RigidPose pose;

@@ -388,6 +388,8 @@ std::string describe_calibration(const MapSummary& map) {
                   c.unknown_sessions, c.session_readings);
     s += buf;
   }
+  std::snprintf(buf, sizeof buf, ", fine pose from %u readings", c.fine_pose_from);
+  s += buf;
   if (!c.unknown_model) return s + "; cannot say \"none of these\"";
   return s + (c.unknown_from_fit ? "; says \"none of these\" (from the evidence, then the fine pose's fit)"
                                  : "; says \"none of these\" (from the evidence alone)");

@@ -18,13 +18,15 @@ active policy and the greedy oracle.
 holding at least 1%, at their best modes, weighed by probability: a planner with a perfect outcome model), the
 belief's --modes best modes (several per object: a planner that tells poses apart as well), the true
 object at the belief's pose for it, or the true object at its true pose moved by --pose-error (how good a pose a
-planner needs). --refine fits each predicting pose to the readings so far first; --train predicts from the nearest
+planner needs; with --pose-samples K, the mean over K poses drawn as far about that one: a planner that knows how far
+its pose may be off). --refine fits each predicting pose to the readings so far first; --train predicts from the nearest
 reading of the map's training set instead of the dense set's (what a planner holding the map has).
 
   usage: PYTHONPATH=build-ci/python:bench .venv/bin/python bench/place_oracle.py --map MAP --data TEST.svad \
              --dense DENSE.svad --random-csv RANDOM.csv [--candidates 20] [--neighbours 4] [--near-mm 3] \
              [--near-deg 15] [--threshold 0.95] [--max-readings 20] [--trials N] [--jobs 2] [--see-draws]
-             [--value truth|hypotheses|modes|true-object|noisy-truth] [--modes 16] [--pose-error MM,DEG] [--refine] [--train TRAIN.svad]
+             [--value truth|hypotheses|modes|true-object|noisy-truth] [--modes 16] [--pose-error MM,DEG]
+             [--pose-samples 1] [--refine] [--train TRAIN.svad]
 RANDOM.csv is `sva eval --policy random --csv` of the same map, data and seed (its first readings and poses); DENSE
 is the same scene simulated with many test readings per object (`sva simulate --scene S --train 1 --test 2000
 --seed 5`), so that most places have neighbours.
@@ -112,11 +114,12 @@ def predictors(rec, shown, obj, R, T, a, rng):
     (hypotheses), the true object at the belief's pose for it (true-object), or at the true pose moved by
     --pose-error in a random direction (noisy-truth)."""
     if a.value == "noisy-truth":
-        axis, shift = rng.normal(size=3), rng.normal(size=3)
-        turn = rotation(axis / np.linalg.norm(axis) * np.radians(a.pose_error[1]))
-        return [(obj, 1.0, R @ turn, T + a.pose_error[0] * shift / np.linalg.norm(shift))]
+        R, T = moved(R, T, a.pose_error, rng)  # the estimate; --pose-samples > 1: poses drawn as far about it
+        if a.pose_samples == 1:
+            return [(obj, 1.0, R, T)]
+        return [(obj, 1.0 / a.pose_samples, *moved(R, T, a.pose_error, rng)) for _ in range(a.pose_samples)]
     if a.value == "modes":
-        return mode_predictors(session(rec, shown, top_k=a.modes), a)
+        return spread(mode_predictors(session(rec, shown, top_k=a.modes), a), a, rng)
     est = session(rec, shown, top_k=8)
     out = []
     for h in est.object_hypotheses:
@@ -125,8 +128,33 @@ def predictors(rec, shown, obj, R, T, a, rng):
             Rh, Th = np.array(h.pose.R), np.array(h.pose.T)
             if a.refine:
                 Rh, Th = refine(shown, worker["outcomes"], h.object, Rh, Th)
-            out.append((h.object, p, Rh, Th))
-    return out
+            out.append((h.object, p, Rh, Th, np.array(h.covariance)))
+    return spread(out, a, rng)
+
+
+def spread(out, a, rng):
+    """Each predictor (object, weight, R, T[, covariance]) as it is, or with --pose-samples K > 1 as K predictors of
+    a K-th of its weight at poses drawn about its own: --pose-error away (a fixed spread), or from its mode's
+    covariance (--spread covariance; ROS order, mm and rad, the rotation applied on the left)."""
+    if a.pose_samples == 1:
+        return [p[:4] for p in out]
+    drawn = []
+    for obj, weight, R, T, *cov in out:
+        for _ in range(a.pose_samples):
+            if a.spread == "covariance":
+                vals, vecs = np.linalg.eigh(cov[0])
+                d = vecs @ (np.sqrt(np.clip(vals, 0.0, None)) * rng.normal(size=6))
+                drawn.append((obj, weight / a.pose_samples, rotation(d[3:]) @ R, T + d[:3]))
+            else:
+                drawn.append((obj, weight / a.pose_samples, *moved(R, T, a.pose_error, rng)))
+    return drawn
+
+
+def moved(R, T, error, rng):
+    """The pose (R, T) turned by error[1] degrees and shifted by error[0] mm, each in a random direction."""
+    axis, shift = rng.normal(size=3), rng.normal(size=3)
+    turn = rotation(axis / np.linalg.norm(axis) * np.radians(error[1]))
+    return R @ turn, T + error[0] * shift / np.linalg.norm(shift)
 
 
 def mode_predictors(est, a):
@@ -139,7 +167,7 @@ def mode_predictors(est, a):
     for h in est.hypotheses:
         p = float(est.object_probability[h.object]) * h.probability / mass[h.object] if mass[h.object] > 0 else 0.0
         if p >= 0.01:
-            out.append((h.object, p, np.array(h.pose.R), np.array(h.pose.T)))
+            out.append((h.object, p, np.array(h.pose.R), np.array(h.pose.T), np.array(h.covariance)))
     return out
 
 
@@ -257,18 +285,25 @@ def main():
     ap.add_argument("--value", choices=["truth", "hypotheses", "modes", "true-object", "noisy-truth"], default="truth",
                     help="a place's value: the true object's expected probability at the true pose (the oracle); the "
                          "belief's own expectation from its hypotheses' objects and poses (a planner with a perfect "
-                         "outcome model); the same from each of the belief's distinct modes (modes); the true object's alone at the belief's pose for it (what the pose costs); "
-                         "or at the true pose moved by --pose-error")
+                         "outcome model); the same from each of the belief's distinct modes (modes); the true "
+                         "object's alone at the belief's pose for it (what the pose costs); or at the true pose moved "
+                         "by --pose-error")
     ap.add_argument("--train", help="the map's training set: predicted readings and --refine's surface from it (the "
                                      "nearest reading, as a planner holding the map would), not from the dense set")
     ap.add_argument("--refine", action="store_true",
                     help="fit each predicting object's pose to the readings so far first (hypotheses, true-object)")
     ap.add_argument("--modes", type=int, default=16, help="--value modes: the belief's modes asked (default 16)")
     ap.add_argument("--pose-error", default="2,10", help="MM,DEG: noisy-truth's pose error (default 2,10)")
+    ap.add_argument("--pose-samples", type=int, default=1,
+                    help="poses drawn about each predicting pose, the value their mean (a planner that knows how far "
+                         "its poses may be off; default 1, the pose alone): --pose-error away, or with --spread "
+                         "covariance from the mode's covariance (not for noisy-truth)")
+    ap.add_argument("--spread", choices=["fixed", "covariance"], default="fixed",
+                    help="--pose-samples' spread: --pose-error (fixed) or each mode's covariance")
     a = ap.parse_args()
-    for name in ("candidates", "neighbours", "jobs", "modes"):
+    for name in ("candidates", "neighbours", "jobs", "modes", "pose_samples"):
         if getattr(a, name) < 1:
-            ap.error(f"--{name} must be at least 1, got {getattr(a, name)}")
+            ap.error(f"--{name.replace('_', '-')} must be at least 1, got {getattr(a, name)}")
     if not (a.near_mm > 0 and 0 < a.near_deg <= 180):
         ap.error(f"--near-mm must be positive and --near-deg in (0, 180], got {a.near_mm} and {a.near_deg}")
     try:
@@ -289,13 +324,22 @@ def main():
     a.pose_error = pose_error
     if a.see_draws and a.value != "truth":
         ap.error(f"--see-draws and --value {a.value}: choose one")
+    if a.pose_samples > 1 and a.value == "truth":
+        ap.error("--pose-samples: the place oracle knows the true pose; give another --value")
+    if a.spread == "covariance" and a.value in ("truth", "noisy-truth"):
+        ap.error(f"--spread covariance: --value {a.value} has no mode covariance; use hypotheses, modes or true-object")
     rule = ("its own reading (sees the draw)" if a.see_draws else
             f"the mean of up to {a.neighbours} readings near it" +
             {"truth": "", "hypotheses": " for each hypothesis (object, pose) of the belief",
              "modes": f" for each of the belief's {a.modes} best modes",
              "true-object": " of the true object at the belief's pose for it",
              "noisy-truth": f" of the true object at the true pose moved by {a.pose_error[0]:g} mm and "
-                            f"{a.pose_error[1]:g} deg"}[a.value])
+                            f"{a.pose_error[1]:g} deg" + (f", averaged over {a.pose_samples} poses as far about it"
+                                                        if a.pose_samples > 1 else "")}[a.value])
+    if a.pose_samples > 1 and a.value != "noisy-truth":
+        rule += f", each pose spread over {a.pose_samples} drawn " + (
+            "from its mode's covariance" if a.spread == "covariance" else
+            f"{a.pose_error[0]:g} mm and {a.pose_error[1]:g} deg away")
     print(f"{len(trials)} trials; each step {a.candidates} candidate places, each valued by {rule}", flush=True)
     readings = []
     with multiprocessing.Pool(a.jobs, start_worker, (a.map, a.data, a.dense, a.train)) as pool:

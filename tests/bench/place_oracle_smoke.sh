@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # bench/place_oracle.py on the tiny scene: every way of valuing a place (the truth, the draws, the belief's hypotheses
-# fitted and predicting from the training set, the true object at the belief's pose, at a noisy pose) runs each trial
+# fitted and predicting from the training set, its modes, the true object at the belief's pose, at a noisy pose and
+# over poses drawn about it) runs each trial
 # to a decision and prints the summary (the figures themselves are docs/evaluation.md's, on household10); bad values
 # are refused by name.
 #   tests/bench/place_oracle_smoke.sh SOURCE BUILD SVA PYTHON WORK
@@ -14,7 +15,8 @@ run() {
     --threshold 0.7 --candidates 4 --near-mm 8 --near-deg 40 "$@"
 }
 modes=("" --see-draws "--value hypotheses --refine --train $work/train.svad" "--value true-object"
-  "--value noisy-truth --pose-error 1,5")
+  "--value modes --modes 4" "--value noisy-truth --pose-error 1,5"
+  "--value noisy-truth --pose-error 1,5 --pose-samples 3")
 for mode in "${modes[@]}"; do
   # shellcheck disable=SC2086  # the mode is a list of options
   out=$(run $mode)
@@ -28,6 +30,9 @@ grep -q "near-deg in (0, 180\], got" <<< "$err" && ! grep -q Traceback <<< "$err
   { echo "unclear refusal: $err" >&2; exit 1; }
 if err=$(run --value noisy-truth --pose-error 1 2>&1); then echo "--pose-error 1 was accepted" >&2; exit 1; fi
 grep -q 'pose-error: expected MM,DEG (two numbers >= 0), got "1"' <<< "$err" && ! grep -q Traceback <<< "$err" ||
+  { echo "unclear refusal: $err" >&2; exit 1; }
+if err=$(run --value noisy-truth --pose-samples 0 2>&1); then echo "--pose-samples 0 was accepted" >&2; exit 1; fi
+grep -q "pose-samples must be at least 1, got 0" <<< "$err" && ! grep -q Traceback <<< "$err" ||
   { echo "unclear refusal: $err" >&2; exit 1; }
 if err=$(run --near-mm 0.001 2>&1); then echo "a dense set without neighbours was accepted" >&2; exit 1; fi
 grep -q "no place of .* with a neighbour within 0.001 mm" <<< "$err" && ! grep -q Traceback <<< "$err" ||

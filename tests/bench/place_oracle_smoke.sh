@@ -16,7 +16,7 @@ run() {
 }
 modes=("" --see-draws "--value hypotheses --refine --train $work/train.svad" "--value true-object"
   "--value modes --modes 4" "--value noisy-truth --pose-error 1,5"
-  "--value noisy-truth --pose-error 1,5 --pose-samples 3")
+  "--value noisy-truth --pose-error 1,5 --pose-samples 3" "--value hypotheses --pose-samples 2 --spread covariance")
 for mode in "${modes[@]}"; do
   # shellcheck disable=SC2086  # the mode is a list of options
   out=$(run $mode)
@@ -33,6 +33,12 @@ grep -q 'pose-error: expected MM,DEG (two numbers >= 0), got "1"' <<< "$err" && 
   { echo "unclear refusal: $err" >&2; exit 1; }
 if err=$(run --value noisy-truth --pose-samples 0 2>&1); then echo "--pose-samples 0 was accepted" >&2; exit 1; fi
 grep -q "pose-samples must be at least 1, got 0" <<< "$err" && ! grep -q Traceback <<< "$err" ||
+  { echo "unclear refusal: $err" >&2; exit 1; }
+if err=$(run --value noisy-truth --spread covariance --pose-samples 2 2>&1); then
+  echo "--spread covariance was accepted without a mode" >&2
+  exit 1
+fi
+grep -q "spread covariance: --value noisy-truth has no mode covariance" <<< "$err" && ! grep -q Traceback <<< "$err" ||
   { echo "unclear refusal: $err" >&2; exit 1; }
 if err=$(run --near-mm 0.001 2>&1); then echo "a dense set without neighbours was accepted" >&2; exit 1; fi
 grep -q "no place of .* with a neighbour within 0.001 mm" <<< "$err" && ! grep -q Traceback <<< "$err" ||

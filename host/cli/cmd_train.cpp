@@ -50,7 +50,7 @@ TrainOptions train_options(const Args& a) {
   o.calibration_readings = static_cast<std::size_t>(a.integer("--calibration-readings", 12, -kInt, kInt));
   o.calibration_held_out = a.number("--calibration-held-out", 0.1, -1e9, 1e9);
   if (a.has("--fine-pose-from"))
-    o.fine_pose_from = static_cast<std::uint32_t>(a.integer("--fine-pose-from", 6, 0, kInt));
+    o.fine_pose_from = static_cast<std::uint32_t>(a.integer("--fine-pose-from", 6, 3, 1000));
   o.validate("sva train");  // before the dataset loads
   return o;
 }

@@ -53,7 +53,7 @@ TEST_CASE("cli: sva train and sva inspect on a map") {
   CHECK_THAT(out, Contains("fine pose from 3 readings") &&
                       Contains("says \"none of these\" (from the evidence, then the fine pose's fit)"));
   CHECK(run(base + (dir / "g.svamap").string() + " --fine-pose-from 1001", &out) != 0);
-  CHECK_THAT(out, Contains("fine pose from 1001 readings: expected 3 to 1000"));
+  CHECK_THAT(out, Contains("--fine-pose-from 1001 is out of range [3, 1000]"));
   REQUIRE(run(base + (dir / "e.svamap").string() + " --calibration-sessions 10 --calibration-readings 8", &out) == 0);
   REQUIRE(run("inspect " + (dir / "e.svamap").string(), &out) == 0);
   CHECK_THAT(out, Contains("says \"none of these\" (from the evidence, then the fine pose's fit)"));

@@ -117,27 +117,30 @@ TrainParameters resolve_train_parameters(const Scene& scene, const TrainOptions&
   return p;
 }
 
-void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>& classes, unsigned threads,
-                      bool progress, std::size_t pair_readings) {
-  const MapReadings& rd = map.readings;
-  const std::size_t n = rd.size();
-  const std::uint64_t space =
-      static_cast<std::uint64_t>(map.key_space.n_classes) * map.key_space.n_classes * map.key_space.n_dist_bins;
-  // Readings are grouped by object; each reading pairs with its own object's.
-  std::vector<std::size_t> first(map.objects.size() + 1, 0);
-  for (std::size_t i = 0; i < n; ++i) first[rd.object[i] + 1] = i + 1;
-  for (std::size_t o = 1; o < first.size(); ++o) first[o] = std::max(first[o], first[o - 1]);
-  // Where each object's paired readings end: the rest are its surface contacts only.
-  std::vector<std::size_t> pair_end(first.begin() + 1, first.end());
-  if (pair_readings)
-    for (std::size_t o = 0; o < pair_end.size(); ++o) pair_end[o] = std::min(pair_end[o], first[o] + pair_readings);
+namespace {
 
-  // Every entry of reading a (as the first of the pair; none past its object's pair_end), in a fixed order:
-  // b, then class of a, class of b, distance bin. Each unordered pair is
-  // stored once, as (a, b) with a < b: the other order is the same pair
-  // reversed, which the recognizer looks up under the reversed keys
-  // (for_each_query_key).
-  auto for_each_entry = [&](std::size_t a, auto&& emit) {
+// Where each object's paired readings end (readings are grouped by object): the rest are its surface contacts only.
+std::vector<std::size_t> paired_ends(const MapReadings& rd, std::size_t objects, std::size_t pair_readings) {
+  std::vector<std::size_t> first(objects + 1, 0);
+  for (std::size_t i = 0; i < rd.size(); ++i) first[rd.object[i] + 1] = i + 1;
+  for (std::size_t o = 1; o < first.size(); ++o) first[o] = std::max(first[o], first[o - 1]);
+  std::vector<std::size_t> end(first.begin() + 1, first.end());
+  if (pair_readings)
+    for (std::size_t o = 0; o < end.size(); ++o) end[o] = std::min(end[o], first[o] + pair_readings);
+  return end;
+}
+
+// Every entry of reading a (as the first of the pair; none past its object's paired readings), in a fixed order:
+// b, then class of a, class of b, distance bin. Each unordered pair is stored once, as (a, b) with a < b: the other
+// order is the same pair reversed, which the recognizer looks up under the reversed keys (for_each_query_key).
+struct PairEntries {
+  const PairMap& map;
+  const std::vector<std::vector<ClassWeight>>& classes;
+  std::vector<std::size_t> pair_end;
+
+  template <class Emit>
+  void operator()(std::size_t a, Emit&& emit) const {
+    const MapReadings& rd = map.readings;
     const std::uint32_t obj = rd.object[a];
     const double ax = rd.px[a], ay = rd.py[a], az = rd.pz[a];
     for (std::size_t b = a + 1; b < pair_end[obj]; ++b) {
@@ -146,26 +149,35 @@ void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>&
       for_each_pair_key(classes[a], classes[b], bins, map.key_space,
                         [&](PairKeyWeight k) { emit(k.key, static_cast<std::uint32_t>(b), k.weight); });
     }
-  };
+  }
+};
 
-  // Counting sort into CSR. Chunks are fixed ranges of readings (not one per
-  // thread), so the entry order within a key - chunk by chunk - is the same
-  // for any thread count.
-  const std::size_t max_chunks = std::max<std::size_t>(1, (std::size_t{1} << 24) / space);
-  const std::size_t chunk = std::max<std::size_t>(16, (n + max_chunks - 1) / max_chunks);
-  const std::size_t chunks = n ? (n + chunk - 1) / chunk : 0;
-  std::vector<std::vector<std::uint32_t>> cursor(chunks);
-  std::unique_ptr<util::Progress> bar;
-  if (progress) bar = std::make_unique<util::Progress>("map: pairs", 2 * chunks);
-  std::vector<std::uint64_t> chunk_total(chunks, 0);
+// The counting sort's chunks: fixed ranges of readings (not one per thread), so that the entry order within a key,
+// chunk by chunk, is the same for any thread count; each chunk counts into (then writes from) a table of the whole
+// key space, so the key space bounds how many there are.
+struct Chunks {
+  std::size_t readings = 0, size = 0, count = 0;
+  Chunks(std::size_t n, std::uint64_t space) : readings(n) {
+    const std::size_t max_chunks = std::max<std::size_t>(1, (std::size_t{1} << 24) / space);
+    size = std::max<std::size_t>(16, (n + max_chunks - 1) / max_chunks);
+    count = n ? (n + size - 1) / size : 0;
+  }
+  std::size_t begin(std::size_t c) const { return c * size; }
+  std::size_t end(std::size_t c) const { return std::min(readings, (c + 1) * size); }
+};
+
+// Pass 1: each chunk's entries per key, into cursor[c]; the total, refused past what 32-bit offsets allow.
+std::uint64_t count_entries(const PairEntries& entries, const Chunks& chunks, std::uint64_t space,
+                            std::vector<std::vector<std::uint32_t>>& cursor, unsigned threads, util::Progress* bar) {
+  std::vector<std::uint64_t> chunk_total(chunks.count, 0);
   util::parallel_for(
-      chunks,
+      chunks.count,
       [&](std::size_t c) {
         auto& count = cursor[c];
         count.assign(space, 0);
         std::uint64_t total = 0;
-        for (std::size_t a = c * chunk; a < std::min(n, (c + 1) * chunk); ++a)
-          for_each_entry(a, [&](std::uint32_t key, std::uint32_t, float) {
+        for (std::size_t a = chunks.begin(c); a < chunks.end(c); ++a)
+          entries(a, [&](std::uint32_t key, std::uint32_t, float) {
             ++count[key];
             ++total;
           });
@@ -178,14 +190,19 @@ void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>&
   if (total >= std::numeric_limits<std::uint32_t>::max())
     throw Error("the map would hold " + std::to_string(total) +
                 " entries, more than 32-bit offsets allow: use fewer readings, classes or a narrower distance range");
+  return total;
+}
+
+// The keys that have entries and their offsets, from the counts; each chunk's counts become where it writes.
+void key_offsets(PairMap& map, std::uint64_t space, std::vector<std::vector<std::uint32_t>>& cursor) {
   map.keys.clear();
   map.offsets.assign(1, 0);
   std::uint32_t run = 0;
   for (std::uint64_t key = 0; key < space; ++key) {
     const std::uint32_t start = run;
-    for (std::size_t c = 0; c < chunks; ++c) {
-      const std::uint32_t k = cursor[c][key];
-      cursor[c][key] = run;
+    for (auto& chunk : cursor) {
+      const std::uint32_t k = chunk[key];
+      chunk[key] = run;
       run += k;
     }
     if (run != start) {
@@ -193,15 +210,20 @@ void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>&
       map.offsets.push_back(run);
     }
   }
+}
+
+// Pass 2: every entry at its place.
+void write_entries(PairMap& map, const PairEntries& entries, const Chunks& chunks, std::uint64_t total,
+                   std::vector<std::vector<std::uint32_t>>& cursor, unsigned threads, util::Progress* bar) {
   map.entry_a.assign(total, 0);
   map.entry_b.assign(total, 0);
   map.entry_weight.assign(total, 0.0f);
   util::parallel_for(
-      chunks,
+      chunks.count,
       [&](std::size_t c) {
         auto& pos = cursor[c];
-        for (std::size_t a = c * chunk; a < std::min(n, (c + 1) * chunk); ++a)
-          for_each_entry(a, [&](std::uint32_t key, std::uint32_t b, float w) {
+        for (std::size_t a = chunks.begin(c); a < chunks.end(c); ++a)
+          entries(a, [&](std::uint32_t key, std::uint32_t b, float w) {
             const std::uint32_t at = pos[key]++;
             map.entry_a[at] = static_cast<std::uint32_t>(a);
             map.entry_b[at] = b;
@@ -211,6 +233,22 @@ void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>&
         if (bar) bar->advance();
       },
       threads);
+}
+
+}  // namespace
+
+void build_pair_index(PairMap& map, const std::vector<std::vector<ClassWeight>>& classes, unsigned threads,
+                      bool progress, std::size_t pair_readings) {
+  const std::uint64_t space =
+      static_cast<std::uint64_t>(map.key_space.n_classes) * map.key_space.n_classes * map.key_space.n_dist_bins;
+  const PairEntries entries{map, classes, paired_ends(map.readings, map.objects.size(), pair_readings)};
+  const Chunks chunks(map.readings.size(), space);  // a counting sort into CSR
+  std::vector<std::vector<std::uint32_t>> cursor(chunks.count);
+  std::unique_ptr<util::Progress> bar;
+  if (progress) bar = std::make_unique<util::Progress>("map: pairs", 2 * chunks.count);
+  const std::uint64_t total = count_entries(entries, chunks, space, cursor, threads, bar.get());
+  key_offsets(map, space, cursor);
+  write_entries(map, entries, chunks, total, cursor, threads, bar.get());
   if (bar) bar->finish();
 }
 

@@ -63,8 +63,8 @@ Map Map::train(const Dataset& data, const TrainOptions& options, TrainReport* re
   const TrainParameters params = resolve_train_parameters(data.scene, options);
   std::shared_ptr<PairMap> map = train_pair_map(data, params, report);
   map->calibration = calibration_for(data, params, options, report);
-  map->calibration.fine_pose_from = Calibration::fine_pose_start(options.fine_pose_from.value_or(0),
-                                                                 map->pose_space.kind == PoseSpaceSpec::Kind::planar);
+  map->calibration.fine_pose_from = options.fine_pose_from.value_or(0);
+  map->calibration.fine_pose_from = map->fine_pose_from();  // the pose space's default said, when none was asked
   return Map(std::move(map));
 }
 
@@ -73,10 +73,7 @@ Map Map::load(const std::filesystem::path& file) { return Map(load_pair_map(file
 void Map::save(const std::filesystem::path& file) const { save_pair_map(require(map_), file); }
 
 std::size_t Map::objects() const { return require(map_).objects.size(); }
-std::uint32_t Map::fine_pose_from() const {
-  const PairMap& m = require(map_);
-  return Calibration::fine_pose_start(m.calibration.fine_pose_from, m.pose_space.kind == PoseSpaceSpec::Kind::planar);
-}
+std::uint32_t Map::fine_pose_from() const { return require(map_).fine_pose_from(); }
 std::uint32_t Map::classes() const { return require(map_).key_space.n_classes; }
 std::size_t Map::entries() const { return require(map_).entry_count(); }
 std::size_t Map::keys() const { return require(map_).keys.size(); }

@@ -52,9 +52,10 @@ std::uint32_t unknown_feature_count(UnknownFeatureSet set) {
 // Version 5: the surface check's weight after the temperature.
 // Version 6: the unknown model may read this build's features (evidence, then the fit).
 // Version 7: the top label (before the fine pose, from it on) after the surface weight.
-// Version 8: the fine pose's first reading count after the top label (0 in memory is written as the default of the
-// map's pose space, `planar` or not, which is what older versions mean).
-void put_calibration(io::BinaryWriter& w, const Calibration& c, std::uint32_t version, bool planar) {
+// Version 8: the fine pose's first reading count after the top label (PairMap::fine_pose_from: the pose space's
+// default when the calibration says 0); older versions mean that default and hold no other.
+void put_calibration(io::BinaryWriter& w, const PairMap& m, std::uint32_t version) {
+  const Calibration& c = m.calibration;
   const std::uint32_t features = unknown_feature_count(c.unknown.features);
   if (version < 6 && features != 3 && !c.unknown.empty())
     throw Error("map version " + std::to_string(version) +
@@ -62,8 +63,9 @@ void put_calibration(io::BinaryWriter& w, const Calibration& c, std::uint32_t ve
   if (version < 7 && c.top_label != Calibration{}.top_label)
     throw Error("map version " + std::to_string(version) +
                 " cannot hold the top label's recalibration (it needs version 7)");
-  const std::uint32_t fine_pose_from = Calibration::fine_pose_start(c.fine_pose_from, planar);
-  if (version < 8 && fine_pose_from != Calibration::fine_pose_start(0, planar))
+  const std::uint32_t fine_pose_from = m.fine_pose_from();
+  if (version < 8 &&
+      fine_pose_from != Calibration::fine_pose_start(0, m.pose_space.kind == PoseSpaceSpec::Kind::planar))
     throw Error("map version " + std::to_string(version) + " cannot hold a fine pose from " +
                 std::to_string(fine_pose_from) + " readings (it needs version 8)");
   w.put<std::uint8_t>(c.learned ? 1 : 0);
@@ -208,7 +210,7 @@ void write_pair_map(const PairMap& m, const std::filesystem::path& file, std::ui
   w.put_vector(m.entry_a);
   w.put_vector(m.entry_b);
   w.put_vector(m.entry_weight);
-  if (version >= 4) put_calibration(w, m.calibration, version, m.pose_space.kind == PoseSpaceSpec::Kind::planar);
+  if (version >= 4) put_calibration(w, m, version);
   w.write_file(file, std::string_view(kMapMagic, 8), version);
 }
 

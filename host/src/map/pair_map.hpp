@@ -77,6 +77,11 @@ struct PairMap {
   std::vector<float> entry_weight;
 
   std::size_t entry_count() const { return entry_a.size(); }
+  // The reading count from which the fine pose and the surface check run: the calibration's, or its pose space's
+  // default (Calibration::fine_pose_start).
+  std::uint32_t fine_pose_from() const {
+    return Calibration::fine_pose_start(calibration.fine_pose_from, pose_space.kind == PoseSpaceSpec::Kind::planar);
+  }
   // Index range of a key's entries; {0, 0} when the key is absent.
   std::pair<std::uint32_t, std::uint32_t> find(std::uint32_t key) const;
 };

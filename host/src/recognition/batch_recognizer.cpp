@@ -120,7 +120,7 @@ BatchRecognizer::BatchRecognizer(const Engine& engine, const PoseSpaceSpec& pose
     if (options.refine_pose || options.surface_check ||
         (options.calibrate && !impl_->pair_map->calibration.unknown.empty())) {
       impl_->surface = &EngineAccess::impl(engine)->surface();
-      impl_->refine = refine_settings(impl_->space, impl_->pair_map->calibration.fine_pose_from);
+      impl_->refine = refine_settings(impl_->space, impl_->pair_map->fine_pose_from());
     }
     impl_->refine.threads = options.threads;  // the estimate's workers: its fits and its per-object work
   } else {

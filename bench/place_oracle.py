@@ -111,13 +111,10 @@ def predicted_value(rec, surface, shown, predictors, place, a, rng):
 
 def predictors(rec, shown, obj, R, T, a, rng):
     """Who predicts a place's outcome (--value): the belief's objects holding at least 1% at their best poses
-    (hypotheses), the true object at the belief's pose for it (true-object), or at the true pose moved by
-    --pose-error in a random direction (noisy-truth)."""
-    if a.value == "noisy-truth":
-        R, T = moved(R, T, a.pose_error, rng)  # the estimate; --pose-samples > 1: poses drawn as far about it
-        if a.pose_samples == 1:
-            return [(obj, 1.0, R, T)]
-        return [(obj, 1.0 / a.pose_samples, *moved(R, T, a.pose_error, rng)) for _ in range(a.pose_samples)]
+    (hypotheses), its distinct modes (modes), the true object at the belief's pose for it (true-object), or at the
+    true pose moved by --pose-error in a random direction (noisy-truth); each spread over --pose-samples poses."""
+    if a.value == "noisy-truth":  # the estimate; --pose-samples > 1: poses drawn as far about it
+        return spread([(obj, 1.0, *moved(R, T, a.pose_error, rng))], a, rng)
     if a.value == "modes":
         return spread(mode_predictors(session(rec, shown, top_k=a.modes), a), a, rng)
     est = session(rec, shown, top_k=8)

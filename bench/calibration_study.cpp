@@ -16,10 +16,10 @@
 #include <fstream>
 #include <string>
 
-#include "calibration/calibration_fit.hpp"
-#include "calibration/held_out_sessions.hpp"
 #include "map/map_builder.hpp"
 #include "map/map_file.hpp"
+#include "training/calibration_fit.hpp"
+#include "training/held_out_sessions.hpp"
 
 using namespace sva;
 

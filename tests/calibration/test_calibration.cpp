@@ -17,10 +17,10 @@
 #include <optional>
 
 #include "calibration/calibration.hpp"
-#include "calibration/calibration_fit.hpp"
 #include "map/map_access.hpp"
 #include "map/map_file.hpp"
 #include "test_support.hpp"
+#include "training/calibration_fit.hpp"
 
 using namespace sva;
 

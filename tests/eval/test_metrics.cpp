@@ -15,12 +15,12 @@
 #include <sva/sim/simulate.hpp>
 
 #include <sva/base/so3.hpp>
-#include "calibration/session_sampling.hpp"
 #include "eval/metrics.hpp"
 #include "map/map_access.hpp"
 #include "map/map_file.hpp"
 #include "map/pair_map.hpp"
 #include "test_support.hpp"
+#include "training/session_sampling.hpp"
 
 using namespace sva;
 using namespace sva::eval;

@@ -12,8 +12,8 @@
 #include <set>
 
 #include <sva/base/so3.hpp>
-#include "calibration/session_sampling.hpp"
 #include "eval/metrics.hpp"
+#include "training/session_sampling.hpp"
 
 using namespace sva;
 using namespace sva::eval;

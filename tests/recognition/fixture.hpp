@@ -15,10 +15,11 @@
 #include <vector>
 
 #include "backends/vote_backend.hpp"
+#include "estimate/candidates.hpp"
 #include "map/map_builder.hpp"
 #include "map/pair_map.hpp"
+#include "reading/observed_reading.hpp"
 #include "recognition/bayes_filter.hpp"
-#include "recognition/observed_reading.hpp"
 #include "votes/pose_space.hpp"
 
 namespace sva::test {
@@ -96,11 +97,21 @@ inline World make_world(const WorldSpec& s) {
   return w;
 }
 
+// The estimate's first stage on a filter's belief: what the filter's tests read of it.
+inline Candidates candidates(const BayesFilter& f, std::size_t top_k, std::size_t modes = 1) {
+  f.require_complete();
+  CandidateRequest r;
+  r.top_k = top_k;
+  r.modes = modes;
+  return find_candidates(f.belief(), f.space(), r);
+}
+
 // A point of the object seen in the robot frame under `pose`.
 inline ObservedReading observe(const WorldPoint& w, const RigidPose& pose, float norm_conf = 1.0f) {
   ObservedReading r;
   r.position = pose.apply(w.p);
   r.normal = pose.rotate(w.n);
+  r.normal = r.normal / glm::length(r.normal);  // as describe_reading and to_grid hand the filter its readings
   r.norm_conf = norm_conf;
   r.classes = {{w.cls, 1.0f}};
   return r;

@@ -12,7 +12,7 @@ using namespace sva::test;
 namespace {
 
 struct RunResult {
-  BeliefEstimate estimate;
+  Candidates estimate;
   RigidPose truth;
 };
 
@@ -26,7 +26,7 @@ RunResult run(const World& w, const PoseSpaceSpec& spec, std::uint32_t object, c
     const auto& pts = w.objects[object];
     filter.add(observe(pts[rng.below(pts.size())], truth));
   }
-  return {filter.estimate(5), truth};
+  return {candidates(filter, 5), truth};
 }
 
 // A planar world like the raised letters: points on z = 0, normals +z.

@@ -23,7 +23,8 @@ struct Session {
         space(spec, static_cast<std::uint32_t>(ws.objects)),
         backend(make_cpu_vote_backend(*world.map, space, vs)),
         filter(*world.map, space, fo, *backend) {}
-  UpdateStats add(const ObservedReading& r) { return filter.add(r); }
+  // As the recognizer does: the reading checked once (reading/observed_reading.hpp), then the filter.
+  UpdateStats add(const ObservedReading& r) { return filter.add(validated(r, *world.map, "reading")); }
 };
 
 // The true bin's rank among all touched bins (0 = best) and whether it is finite.
@@ -41,7 +42,7 @@ std::size_t rank_of_truth(const BayesFilter& f, std::uint32_t object, const Rigi
   return rank;
 }
 
-void require_finite(const BeliefEstimate& e) {
+void require_finite(const Candidates& e) {
   for (double p : e.object_probability) REQUIRE(std::isfinite(p));
   for (const BinHypothesis& h : e.top) REQUIRE(std::isfinite(h.probability));
   if (e.pose_valid) {
@@ -63,13 +64,13 @@ TEST_CASE("200 readings: no NaN or Inf, the true pose stays on top") {
   for (int i = 0; i < 200; ++i) {
     s.add(observe(s.world.objects[1][rng.below(40)], truth));
     if (i % 50 == 49) {
-      const BeliefEstimate e = s.filter.estimate(5);
+      const Candidates e = candidates(s.filter, 5);
       require_finite(e);
       CHECK(e.object == 1);
       CHECK(rank_of_truth(s.filter, 1, truth) == 0);
     }
   }
-  const BeliefEstimate e = s.filter.estimate(5);
+  const Candidates e = candidates(s.filter, 5);
   CHECK(glm::length(e.pose.T - truth.T) < 1.5 * bin_width(paper_space()));
 }
 
@@ -79,12 +80,12 @@ TEST_CASE("a reading from a part never seen in training does not destroy the tru
   const RigidPose truth = random_pose(12, 80.0);
   util::Rng rng(2);
   for (int i = 0; i < 8; ++i) s.add(observe(s.world.objects[0][rng.below(80)], truth));
-  REQUIRE(s.filter.estimate(1).object == 0);
+  REQUIRE(candidates(s.filter, 1).object == 0);
   // Off the surface, with a normal that matches nothing, in a class seen elsewhere.
   WorldPoint alien{{60.0, -5.0, 40.0}, glm::normalize(glm::dvec3(1, 1, 0)), 2};
   s.add(observe(alien, truth));
   for (int i = 0; i < 3; ++i) s.add(observe(s.world.objects[0][rng.below(80)], truth));
-  const BeliefEstimate e = s.filter.estimate(5);
+  const Candidates e = candidates(s.filter, 5);
   require_finite(e);
   CHECK(e.object == 0);
   CHECK(rank_of_truth(s.filter, 0, truth) == 0);
@@ -100,7 +101,7 @@ TEST_CASE("the same reading repeated adds no information and no NaN") {
   CHECK(st.pairs == 2);
   CHECK(st.pairs_folded == 0);
   CHECK(s.filter.belief().touched() == 0);
-  const BeliefEstimate e = s.filter.estimate(3);
+  const Candidates e = candidates(s.filter, 3);
   require_finite(e);
   CHECK_FALSE(e.pose_valid);
 }
@@ -115,7 +116,7 @@ TEST_CASE("every pair out of distance range leaves the belief uniform") {
   const UpdateStats st = s.add(b);
   CHECK(st.votes == 0);
   CHECK(s.filter.belief().touched() == 0);
-  const BeliefEstimate e = s.filter.estimate(3);
+  const Candidates e = candidates(s.filter, 3);
   require_finite(e);
   CHECK_FALSE(e.pose_valid);
   for (double p : e.object_probability) CHECK(p == Approx(1.0 / 3.0));
@@ -128,7 +129,7 @@ TEST_CASE("a single-object map localises with probability 1") {
   const RigidPose truth = random_pose(14, 100.0);
   util::Rng rng(3);
   for (int i = 0; i < 8; ++i) s.add(observe(s.world.objects[0][rng.below(80)], truth));
-  const BeliefEstimate e = s.filter.estimate(3);
+  const Candidates e = candidates(s.filter, 3);
   require_finite(e);
   CHECK(e.object_probability.size() == 1);
   CHECK(e.object_probability[0] == 1.0);
@@ -148,7 +149,7 @@ TEST_CASE("a translation range that excludes the true pose is reported, not cras
   for (int i = 0; i < 5; ++i) st = s.add(observe(s.world.objects[0][rng.below(80)], truth));
   CHECK(st.votes_outside > 0);
   CHECK(st.votes == 0);
-  require_finite(s.filter.estimate(3));
+  require_finite(candidates(s.filter, 3));
 }
 
 TEST_CASE("edge contacts and normals along the pair axis spread votes without NaN") {
@@ -160,7 +161,7 @@ TEST_CASE("edge contacts and normals along the pair axis spread votes without Na
     const UpdateStats st = s.add(observe(s.world.objects[1][rng.below(80)], truth, 0.0f));  // normConf = 0
     if (i > 0) CHECK(st.votes > 0);
   }
-  const BeliefEstimate e = s.filter.estimate(5);
+  const Candidates e = candidates(s.filter, 5);
   require_finite(e);
   CHECK(e.pose_valid);
 }
@@ -220,7 +221,7 @@ TEST_CASE("results do not depend on the thread count") {
     CHECK(va[i].keys == vb[i].keys);
     CHECK(va[i].mass == vb[i].mass);
   }
-  const BeliefEstimate ea = a.filter.estimate(10), eb = b.filter.estimate(10);
+  const Candidates ea = candidates(a.filter, 10), eb = candidates(b.filter, 10);
   CHECK(ea.object_probability == eb.object_probability);
   REQUIRE(ea.top.size() == eb.top.size());
   for (std::size_t i = 0; i < ea.top.size(); ++i) {
@@ -246,9 +247,9 @@ TEST_CASE("a batch of sessions gives the same beliefs as updating each alone") {
   }
   CHECK(s0.belief().table() == r0.belief().table());
   CHECK(s1.belief().table() == r1.belief().table());
-  CHECK(s0.estimate(5).object_probability == r0.estimate(5).object_probability);
-  CHECK(s1.estimate(5).object_probability == r1.estimate(5).object_probability);
-  CHECK(s1.estimate(5).best_key == r1.estimate(5).best_key);
+  CHECK(candidates(s0, 5).object_probability == candidates(r0, 5).object_probability);
+  CHECK(candidates(s1, 5).object_probability == candidates(r1, 5).object_probability);
+  CHECK(candidates(s1, 5).best_key == candidates(r1, 5).best_key);
 }
 
 TEST_CASE("speed knobs: pair cap, likelihood cut-off and object pruning keep the answer") {
@@ -264,7 +265,7 @@ TEST_CASE("speed knobs: pair cap, likelihood cut-off and object pruning keep the
   UpdateStats st;
   for (int i = 0; i < 12; ++i) st = s.add(observe(s.world.objects[2][rng.below(80)], truth));
   CHECK(st.pairs == 6);
-  const BeliefEstimate e = s.filter.estimate(3);
+  const Candidates e = candidates(s.filter, 3);
   CHECK(e.object == 2);
   CHECK(glm::length(e.pose.T - truth.T) < 1.5 * bin_width(paper_space()));
 }
@@ -277,9 +278,9 @@ TEST_CASE("a session interrupted during an update refuses further use until rese
   CHECK_THROWS_AS(s.add(observe(s.world.objects[0][50], pose)), Interrupted);
   util::clear_interrupt();
   // Its belief may hold part of that update: no estimate, no update, a clear reason.
-  CHECK_THROWS_WITH(s.filter.estimate(1), Catch::Contains("interrupted") && Catch::Contains("reset"));
+  CHECK_THROWS_WITH(s.filter.require_complete(), Catch::Contains("interrupted") && Catch::Contains("reset"));
   CHECK_THROWS_WITH(s.add(observe(s.world.objects[0][51], pose)), Catch::Contains("interrupted"));
   s.filter.reset();
   for (int i = 0; i < 6; ++i) s.add(observe(s.world.objects[0][static_cast<std::size_t>(i * 7)], pose));
-  CHECK(s.filter.estimate(1).object == 0);
+  CHECK(candidates(s.filter, 1).object == 0);
 }

@@ -13,7 +13,7 @@
 #include "fixture.hpp"
 #include "map/map_builder.hpp"
 #include "map/pair_keys.hpp"
-#include "recognition/describe_reading.hpp"
+#include "reading/observed_reading.hpp"
 
 namespace {
 

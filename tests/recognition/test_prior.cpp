@@ -11,11 +11,11 @@
 #include <filesystem>
 #include <memory>
 
-#include "map/map_access.hpp"
 #include "backends/vote_backend_factory.hpp"
+#include "estimate/candidates.hpp"
 #include "fixture.hpp"
-#include "recognition/describe_reading.hpp"
-#include "recognition/estimate.hpp"
+#include "map/map_access.hpp"
+#include "reading/observed_reading.hpp"
 #include "test_support.hpp"
 #include "trained_map.hpp"
 
@@ -220,7 +220,7 @@ TEST_CASE("Reset keeps the belief table: the next session allocates none until i
     observe_all(long_session);
     const std::size_t grown = filter.belief().table_allocations();
     REQUIRE(grown > at_start);  // the long session outgrew the first table
-    const BeliefEstimate first = filter.estimate(3);
+    const Candidates first = candidates(filter, 3);
     filter.reset();
     CHECK(filter.belief().table_allocations() == grown);
     observe_all(short_session);  // smaller than the last: no allocation at all
@@ -228,7 +228,7 @@ TEST_CASE("Reset keeps the belief table: the next session allocates none until i
     filter.reset();
     observe_all(long_session);  // the same session again: it fits the kept table, and answers as before
     CHECK(filter.belief().table_allocations() == grown);
-    const BeliefEstimate again = filter.estimate(3);
+    const Candidates again = candidates(filter, 3);
     CHECK(again.object_probability == first.object_probability);
     CHECK(again.pose.T == first.pose.T);
     REQUIRE(again.top.size() == first.top.size());

@@ -76,7 +76,7 @@ TEST_CASE("errors: three objects are recognised and localised with the realistic
   // ends either near the truth (~5 degrees) or in a look-alike rotation of the die or the mug (~90 degrees), and
   // the median of 12 such trials is a coin toss (28 to 109 degrees over seeds; paper3d's 1000 contacts give
   // 1.4 degrees, docs/evaluation.md). The fine pose's angle is tested on tiny, in the right mode
-  // (test_pose_refinement.cpp).
+  // (tests/estimate/test_fine_pose.cpp).
   test::margin("three objects: median translation (mm) at 12 readings", *last.translation_mm.median, "<", 6.0);
   CHECK(*last.translation_mm.median < 6.0);
   // Evidence accumulates: not all right after one pair, more right at the end.

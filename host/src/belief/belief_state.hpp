@@ -10,7 +10,7 @@
 // belief can live wherever its backend folds (host memory for the CPU
 // reference, device memory for Vulkan) and every backend answers alike:
 // BeliefState is the interface, `Belief` the CPU reference, and the estimate
-// is computed once, from a BeliefState's reductions (recognition/estimate.hpp).
+// is computed once, from a BeliefState's reductions (estimate/candidates.hpp).
 #include <cstdint>
 #include <span>
 #include <vector>

@@ -36,14 +36,14 @@ struct EvidenceLevel {
   std::vector<double> object_log2_mass;
   // The best bin's evidence in bits over the ordered pairs folded so far (0 before any pair).
   double best_bits_per_pair = 0.0;
-  // How well the best object's surface explains the contacts at the fine pose (recognition/pose_refinement.hpp):
+  // How well the best object's surface explains the contacts at the fine pose (estimate/fine_pose.hpp):
   // the robust cost per reading over the final scale^2/6 (an unmatched reading's cost: 1). Negative when the fine
   // pose was not computed (too few readings).
   double fit_cost_share = -1.0;
   // The reading count at which the session's fine pose first exists (RefineSettings::min_readings); 0: not known
   // (the top label then applies its fine-pose regime in full).
   std::size_t fine_pose_from = 0;
-  // The surface check (recognition/surface_check.hpp), per object: log2 of how well its surface explains the
+  // The verify stage (estimate/verify.hpp), per object: log2 of how well its surface explains the
   // readings at its own fine pose, added to the tempered log-evidence with the calibration's surface weight.
   // Empty when it was not run (too few readings, no surface, switched off).
   std::vector<double> surface_log2_fit;

@@ -4,9 +4,7 @@
 #include <sva/scene.hpp>
 
 #include <algorithm>
-#include <chrono>
 
-#include "calibration/calibration_fit.hpp"
 #include "map/map_access.hpp"
 #include "map/map_builder.hpp"
 #include "map/map_file.hpp"
@@ -23,50 +21,7 @@ template <class T>
 std::size_t bytes_of(const std::vector<T>& v) {
   return v.size() * sizeof(T);
 }
-// The map's calibration: learned from held-out training readings, or the default with the reason in the report.
-Calibration calibration_for(const Dataset& data, const TrainParameters& params, const TrainOptions& options,
-                            TrainReport* report) {
-  std::string note;
-  Calibration c;
-  const auto start = std::chrono::steady_clock::now();
-  if (!options.calibrate) {
-    note = "calibration off: the default temperature, no \"none of these\"";
-  } else if (data.scene.objects.size() < 2) {
-    note = "one object: nothing to calibrate";
-  } else {
-    CalibrationOptions co;
-    co.held_out_share = options.calibration_held_out;
-    co.sessions.known_sessions = options.calibration_sessions;
-    co.sessions.unknown_sessions = (options.calibration_sessions + 1) / 2;
-    co.sessions.readings = options.calibration_readings;
-    co.sessions.fine_pose_from = options.fine_pose_from.value_or(0);
-    try {
-      c = learn_calibration(data, params, co);
-    } catch (const Interrupted&) {
-      throw;
-    } catch (const Error& e) {
-      // Too few readings to hold some out is not the user's error: the map is still good, with the default.
-      c = Calibration{};
-      note = std::string("the default calibration: it could not be learned (") + e.what() + ")";
-    }
-  }
-  if (report) {
-    report->calibration_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    report->calibration_note = note;
-  }
-  return c;
-}
-
 }  // namespace
-
-Map Map::train(const Dataset& data, const TrainOptions& options, TrainReport* report) {
-  const TrainParameters params = resolve_train_parameters(data.scene, options);
-  std::shared_ptr<PairMap> map = train_pair_map(data, params, report);
-  map->calibration = calibration_for(data, params, options, report);
-  map->calibration.fine_pose_from = options.fine_pose_from.value_or(0);
-  map->calibration.fine_pose_from = map->fine_pose_from();  // the pose space's default said, when none was asked
-  return Map(std::move(map));
-}
 
 Map Map::load(const std::filesystem::path& file) { return Map(load_pair_map(file)); }
 

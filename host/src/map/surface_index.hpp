@@ -1,7 +1,7 @@
 #pragma once
 // The objects' surfaces as the map knows them: every training reading's
 // contact position and normal (object frame, mm), in one small k-d tree per
-// object, so that the fine pose (recognition/pose_refinement.hpp) finds the
+// object, so that the fine pose (estimate/fine_pose.hpp) finds the
 // training contacts nearest to an observed one in microseconds. Built once per
 // map (by the recognizer that uses it), never per estimate; immutable, so any
 // number of sessions may query it at once.

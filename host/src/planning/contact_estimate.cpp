@@ -13,7 +13,7 @@
 #include <sva/base/so3.hpp>
 #include "planning/contact_classes.hpp"
 #include "planning/planner_state.hpp"
-#include "recognition/describe_reading.hpp"
+#include "reading/observed_reading.hpp"
 
 namespace sva {
 

@@ -1,6 +1,6 @@
 // The session table of batch recognition: each session is a Bayes filter (Method::sva) or an appearance-only
 // posterior (Method::appearance); one backend serves all sessions, and one update carries every session that got
-// a reading. The estimate is put together in recognition/estimate.cpp, a prior checked in prior_checks.cpp.
+// a reading. The estimate runs as the stages of estimate/pipeline.hpp, a prior is checked in prior_checks.cpp.
 #include <sva/batch_recognizer.hpp>
 #include <sva/error.hpp>
 
@@ -12,15 +12,17 @@
 
 #include "backends/vote_backend.hpp"
 #include "backends/vote_backend_factory.hpp"
+#include "estimate/fine_pose.hpp"
+#include "estimate/pipeline.hpp"
+#include "estimate/pose_prior.hpp"
+#include "estimate/report.hpp"
 #include "map/map_access.hpp"
 #include "map/pair_map.hpp"
 #include "map/surface_index.hpp"
+#include "reading/observed_reading.hpp"
 #include "recognition/bayes_filter.hpp"
-#include "recognition/describe_reading.hpp"
 #include "recognition/engine.hpp"
 #include "recognition/engine_access.hpp"
-#include "recognition/estimate.hpp"
-#include "recognition/pose_refinement.hpp"
 #include "recognition/prior_checks.hpp"
 #include "recognition/session_file.hpp"
 #include "votes/pose_space.hpp"
@@ -192,7 +194,10 @@ Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const
                             .surface_check = impl_->options.surface_check,
                             .calibration = impl_->options.calibrate ? &impl_->pair_map->calibration : nullptr,
                             .unknown_prior = impl_->options.unknown_prior};
-    e = filter_estimate(*s.filter, objects, r);
+    s.filter->require_complete();
+    e = estimate_session({s.filter->belief(), s.filter->space(), s.filter->observed()}, objects, r);
+    e.votes_outside = s.filter->last_update().votes_outside;
+    e.votes_zero = s.filter->last_update().votes_zero;
   } else {
     e = appearance_estimate(s.appearance_log_posterior, objects, s.prior_weight);
     e.p_unknown = no_evidence_unknown;

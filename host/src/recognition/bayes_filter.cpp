@@ -1,6 +1,7 @@
 #include "recognition/bayes_filter.hpp"
 
 #include "belief/belief_math.hpp"
+#include "belief/object_mass.hpp"
 #include "map/pair_keys.hpp"
 
 #include <sva/error.hpp>
@@ -50,7 +51,7 @@ void BayesFilter::require_complete() const {
 }
 
 namespace {
-ObservedPatch patch_of(const ObservedReading& r) {
+ObservedPatch observed_patch(const ObservedReading& r) {
   ObservedPatch p;
   for (int k = 0; k < 3; ++k) {
     p.position[k] = static_cast<float>(r.position[k]);
@@ -87,8 +88,8 @@ void BayesFilter::queue_pairs(const ObservedReading& reading, std::uint32_t sess
   for (std::size_t j = 0; j < t && queued < budget; ++j) {
     const ObservedReading& a = readings_[t - 1 - j];
     PairQuery q;
-    q.a = patch_of(a);
-    q.b = patch_of(reading);
+    q.a = observed_patch(a);
+    q.b = observed_patch(reading);
     q.session = session;
     q.fold_count = static_cast<std::uint32_t>(std::min<std::size_t>(2, budget - queued));
     q.key_begin = static_cast<std::uint32_t>(batch->keys.size());
@@ -130,12 +131,7 @@ std::vector<UpdateStats> update_sessions(const std::vector<BayesFilter*>& sessio
     if (&f->map() != &sessions.front()->map() || &f->space() != &sessions.front()->space() || &f->backend() != &backend)
       throw Error("update_sessions: all sessions of a batch must share one map, pose space and backend");
   for (const BayesFilter* f : sessions) f->require_complete();
-  std::vector<ObservedReading> valid;
-  valid.reserve(readings.size());
-  for (std::size_t s = 0; s < sessions.size(); ++s) {
-    const std::string what = "reading " + std::to_string(sessions[s]->readings() + 1);
-    valid.push_back(validated(readings[s], sessions[s]->map(), what.c_str()));
-  }
+  const std::vector<ObservedReading>& valid = readings;
   VoteBatch batch;
   std::vector<std::size_t> first(sessions.size() + 1, 0);
   for (std::size_t s = 0; s < sessions.size(); ++s) {

@@ -12,8 +12,7 @@
 #include "backends/vote_backend.hpp"
 #include "belief/belief_state.hpp"
 #include "map/pair_map.hpp"
-#include "recognition/estimate.hpp"
-#include "recognition/observed_reading.hpp"
+#include "reading/observed_reading.hpp"
 #include "votes/pose_space.hpp"
 
 namespace sva {
@@ -48,15 +47,8 @@ class BayesFilter {
   // The belief is made by `backend`, which must outlive the filter.
   BayesFilter(const PairMap& map, const PoseSpace& space, const FilterOptions& options, VoteBackend& backend);
 
-  // Adds one reading and updates the belief.
+  // Adds one reading (as describe_reading and to_grid make it: checked, grid frame) and updates the belief.
   UpdateStats add(const ObservedReading& reading);
-  // `modes`: distinct modes of the best object to report (the fine pose's starts).
-  // `object_weight`: a prior over objects; `pose_weighting`: a pose prior (sva::estimate).
-  BeliefEstimate estimate(std::size_t top_k, std::size_t modes = 1, std::span<const double> object_weight = {},
-                          const PoseWeighting& pose_weighting = {}, double temperature = 1.0) const {
-    require_complete();
-    return sva::estimate(*belief_, *space_, top_k, modes, object_weight, pose_weighting, temperature);
-  }
   void reset();
 
   std::size_t readings() const { return readings_.size(); }
@@ -95,9 +87,8 @@ class BayesFilter {
   bool incomplete_ = false;
 };
 
-// Updates several independent sessions, each with its next reading, in one
-// call of their common backend. Readings are validated first; results equal
-// calling add() on each session in turn.
+// Updates several independent sessions, each with its next reading (checked, grid frame), in one call of their
+// common backend; results equal calling add() on each session in turn.
 std::vector<UpdateStats> update_sessions(const std::vector<BayesFilter*>& sessions,
                                          const std::vector<ObservedReading>& readings);
 

@@ -69,7 +69,7 @@ struct Twin {
         if (c.offsets(std::vector<std::uint64_t>{k})[0] == 0) keys.push_back(k);
       });
     CHECK(c.offsets(keys) == g.offsets(keys));
-    const BeliefEstimate a = fc[s]->estimate(5), b = fg[s]->estimate(5);
+    const Candidates a = test::candidates(*fc[s], 5), b = test::candidates(*fg[s], 5);
     CHECK(a.object == b.object);
     CHECK(a.object_probability == b.object_probability);
     CHECK(a.pose_valid == b.pose_valid);
@@ -151,7 +151,7 @@ TEST_CASE("GPU beliefs: planar space, pruning and a reset session match the CPU 
   }
   t.require_same(0);
   t.require_same(1);
-  CHECK(t.fg[0]->estimate(1).object == 1);
+  CHECK(test::candidates(*t.fg[0], 1).object == 1);
   CHECK(t.gpu->statistics().validation_messages == 0);
 }
 
@@ -164,9 +164,9 @@ TEST_CASE("GPU beliefs: an empty belief and a misuse are reported, not crashed")
   BayesFilter g(*w.map, space, {}, *gpu), c(*w.map, space, {}, *cpu);
   CHECK(g.belief().summarise() == c.belief().summarise());
   CHECK(g.belief().best_bins(5).empty());
-  const BeliefEstimate e = g.estimate(5);
+  const Candidates e = test::candidates(g, 5);
   CHECK_FALSE(e.pose_valid);
-  CHECK(e.object_probability == c.estimate(5).object_probability);
+  CHECK(e.object_probability == test::candidates(c, 5).object_probability);
   // A belief of one backend cannot be folded by another.
   std::vector<BeliefState*> wrong{&c.mutable_belief()};
   VoteBatch batch;
@@ -251,7 +251,7 @@ TEST_CASE("Bounded beliefs: both backends forget the same bins, and the estimate
     CHECK(a.bins_forgotten == b.bins_forgotten);
     forgotten += a.bins_forgotten;
     t.require_same(0);  // the same bins forgotten, the same estimate on both backends
-    const BeliefEstimate e = t.fc[0]->estimate(5), u = unbounded.estimate(5);
+    const Candidates e = test::candidates(*t.fc[0], 5), u = test::candidates(unbounded, 5);
     CHECK(e.object_probability == u.object_probability);
     CHECK(e.best_key == u.best_key);
     for (int k = 0; k < 3; ++k) CHECK(e.pose.T[k] == u.pose.T[k]);

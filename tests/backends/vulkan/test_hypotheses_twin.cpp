@@ -2,8 +2,8 @@
 // covariances and poses, spatial and planar, at every suppression radius.
 #include <catch2/catch.hpp>
 
+#include "estimate/hypotheses.hpp"
 #include "recognition/fixture.hpp"
-#include "recognition/hypotheses.hpp"
 #include "vk_test_support.hpp"
 
 using namespace sva;

@@ -130,7 +130,8 @@ TEST_CASE("Vulkan backend folds into identical beliefs through update_sessions")
     update_sessions(pg, obs);
   }
   for (int s = 0; s < 3; ++s) {
-    const auto a = fc[static_cast<std::size_t>(s)]->estimate(5), b = fg[static_cast<std::size_t>(s)]->estimate(5);
+    const auto a = test::candidates(*fc[static_cast<std::size_t>(s)], 5),
+               b = test::candidates(*fg[static_cast<std::size_t>(s)], 5);
     CHECK(a.object == b.object);
     CHECK(a.object_probability == b.object_probability);
     REQUIRE(a.top.size() == b.top.size());
@@ -165,7 +166,7 @@ TEST_CASE("Vulkan backend: staged uploads into unmapped device memory give the e
     fg.add(obs);
   }
   CHECK(fg.belief().table() == fc.belief().table());
-  CHECK(fg.estimate(3).object_probability == fc.estimate(3).object_probability);
+  CHECK(test::candidates(fg, 3).object_probability == test::candidates(fc, 3).object_probability);
   CHECK(gpu->statistics().validation_messages == 0);
 }
 

@@ -1,6 +1,6 @@
 #include "eval/active_trials.hpp"
 
-#include "calibration/session_sampling.hpp"
+#include "training/session_sampling.hpp"
 
 #include <sva/base/interrupt.hpp>
 #include <sva/base/parallel.hpp>

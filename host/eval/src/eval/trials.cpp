@@ -8,7 +8,7 @@
 
 #include <cmath>
 
-#include "calibration/session_sampling.hpp"
+#include "training/session_sampling.hpp"
 
 namespace sva::eval {
 

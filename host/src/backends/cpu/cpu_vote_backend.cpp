@@ -33,7 +33,7 @@ using vote_math::SvaPatch;
 using vote_math::vec3;
 using Clock = std::chrono::steady_clock;
 
-SvaPatch patch_of(const ObservedPatch& o) {
+SvaPatch sva_patch(const ObservedPatch& o) {
   SvaPatch p;
   p.p = vec3(o.position[0], o.position[1], o.position[2]);
   p.n = vec3(o.normal[0], o.normal[1], o.normal[2]);
@@ -200,7 +200,7 @@ class CpuVoteBackend final : public VoteBackend {
 
   void vote_pair(const VoteBatch& batch, const PairQuery& q, const std::vector<KeyRange>& ranges, BinAccumulator& acc,
                  PairStats* out) const {
-    const SvaPatch a1 = patch_of(q.a), b1 = patch_of(q.b);
+    const SvaPatch a1 = sva_patch(q.a), b1 = sva_patch(q.b);
     const std::uint8_t* active =
         batch.object_active.empty() ? nullptr : batch.object_active.data() + std::size_t{q.session} * objects_;
     std::uint32_t seen = 0;

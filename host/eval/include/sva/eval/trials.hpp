@@ -19,7 +19,7 @@
 namespace sva::eval {
 
 // Poses and moved readings are drawn as the core draws them for the calibration's sessions
-// (host/src/calibration/session_sampling.hpp: sva::random_pose, sva::transform_reading).
+// (host/src/training/session_sampling.hpp: sva::random_pose, sva::transform_reading).
 
 struct Trial {
   std::size_t index = 0;

@@ -1,4 +1,4 @@
-// The surface check (host/src/recognition/surface_check.cpp) on a family of look-alikes: one spring clamp at three
+// The verify stage (host/src/estimate/verify.cpp) on a family of look-alikes: one spring clamp at three
 // scales (89, 120 and 171 mm; assets/scenes/lookalikes.json), simulated with the realistic errors.
 #include <catch2/catch.hpp>
 

@@ -4,7 +4,7 @@
 // Training splits its dataset: a fifth of the objects (at least one, when there are three or more) are held out
 // whole, as objects "none of these" should catch, and a share of every other object's readings is held out. A
 // calibration map is trained on the rest; sessions drawn from the held-out readings (as the evaluation draws its
-// trials: calibration/session_sampling.hpp) run on it through the CPU reference, and each step's evidence level is
+// trials: training/session_sampling.hpp) run on it through the CPU reference, and each step's evidence level is
 // recorded. The test set is never read.
 #include <sva/dataset.hpp>
 

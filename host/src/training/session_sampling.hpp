@@ -1,7 +1,7 @@
 #pragma once
 // How a recognition session is drawn from a set of readings (paper Sec 5): one object, a pose uniform over the
 // pose space, that object's readings moved by the pose and shown in random order. The evaluation's trials
-// (sva::eval::TrialGenerator) and the calibration's held-out sessions (calibration/held_out_sessions.hpp) draw
+// (sva::eval::TrialGenerator) and the calibration's held-out sessions (training/held_out_sessions.hpp) draw
 // them alike, from these functions.
 #include <sva/pose.hpp>
 #include <sva/pose_space.hpp>

@@ -1,4 +1,4 @@
-#include "recognition/hypotheses.hpp"
+#include "estimate/hypotheses.hpp"
 
 #include <sva/base/parallel.hpp>
 #include <sva/base/portable_math.hpp>
@@ -11,7 +11,8 @@
 #include <unordered_set>
 
 #include "belief/belief_math.hpp"
-#include "recognition/estimate.hpp"
+#include "belief/object_mass.hpp"
+#include "estimate/pose_prior.hpp"
 
 namespace sva {
 

@@ -1,4 +1,4 @@
-#include "recognition/pose_refinement.hpp"
+#include "estimate/fine_pose.hpp"
 
 #include <sva/base/parallel.hpp>
 #include <sva/base/portable_math.hpp>

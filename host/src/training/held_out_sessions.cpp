@@ -1,4 +1,4 @@
-#include "calibration/held_out_sessions.hpp"
+#include "training/held_out_sessions.hpp"
 
 #include <sva/base/progress.hpp>
 #include <sva/base/rng.hpp>
@@ -10,10 +10,10 @@
 #include <string>
 
 #include "backends/vote_backend_factory.hpp"
-#include "calibration/session_sampling.hpp"
+#include "estimate/pipeline.hpp"
+#include "reading/observed_reading.hpp"
 #include "recognition/bayes_filter.hpp"
-#include "recognition/describe_reading.hpp"
-#include "recognition/estimate.hpp"
+#include "training/session_sampling.hpp"
 #include "votes/pose_space.hpp"
 
 namespace sva {
@@ -132,7 +132,7 @@ std::vector<CalibrationSession> run_held_out_sessions(const PairMap& map, const 
     for (std::size_t i : presentation_order(readings.size(), options.readings, rng)) {
       const Reading r = transform_reading(readings[i], pose);
       filter.add(to_grid(space, describe_reading(map, r, "calibration reading")));
-      s.steps.push_back(calibration_evidence(filter, surface, refine));
+      s.steps.push_back(estimate_evidence({filter.belief(), filter.space(), filter.observed()}, surface, refine));
     }
     sessions.push_back(std::move(s));
     if (progress) progress->advance();

@@ -11,7 +11,7 @@
 #include <sva/pose.hpp>
 
 #include "belief/belief_state.hpp"
-#include "recognition/estimate.hpp"
+#include "estimate/pose_prior.hpp"
 #include "votes/pose_space.hpp"
 
 namespace sva {

@@ -9,9 +9,10 @@
 
 #include "backends/cpu/belief.hpp"
 #include "belief/belief_math.hpp"
-#include "fixture.hpp"
-#include "recognition/estimate.hpp"
-#include "recognition/hypotheses.hpp"
+#include "belief/object_mass.hpp"
+#include "estimate/candidates.hpp"
+#include "estimate/hypotheses.hpp"
+#include "recognition/fixture.hpp"
 
 using namespace sva;
 using namespace sva::test;

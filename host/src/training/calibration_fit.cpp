@@ -1,4 +1,4 @@
-#include "calibration/calibration_fit.hpp"
+#include "training/calibration_fit.hpp"
 
 #include <sva/base/portable_math.hpp>
 #include <sva/error.hpp>

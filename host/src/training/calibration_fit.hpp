@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "calibration/calibration.hpp"
-#include "calibration/held_out_sessions.hpp"
 #include "map/map_builder.hpp"
+#include "training/held_out_sessions.hpp"
 
 namespace sva {
 

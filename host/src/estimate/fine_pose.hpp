@@ -16,7 +16,7 @@
 #include <span>
 
 #include "map/surface_index.hpp"
-#include "recognition/observed_reading.hpp"
+#include "reading/observed_reading.hpp"
 #include "votes/pose_space.hpp"
 
 namespace sva {

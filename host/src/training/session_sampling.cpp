@@ -1,4 +1,4 @@
-#include "calibration/session_sampling.hpp"
+#include "training/session_sampling.hpp"
 
 #include <sva/base/portable_math.hpp>
 

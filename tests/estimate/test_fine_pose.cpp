@@ -1,4 +1,4 @@
-// The fine pose (recognition/pose_refinement.hpp) and the surface index it
+// The fine pose (estimate/fine_pose.hpp) and the surface index it
 // searches (map/surface_index.hpp): convergence from a bin-sized offset, a
 // wrong first mode left for a better one, too few readings and a body of
 // revolution (unobservable directions keep the start), repeatability, and one
@@ -14,10 +14,10 @@
 
 #include <sva/eval/evaluation.hpp>
 #include <sva/eval/results.hpp>
+#include "estimate/fine_pose.hpp"
 #include "eval/metrics.hpp"
-#include "fixture.hpp"
 #include "map/surface_index.hpp"
-#include "recognition/pose_refinement.hpp"
+#include "recognition/fixture.hpp"
 #include "test_support.hpp"
 
 using namespace sva;

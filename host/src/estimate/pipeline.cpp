@@ -1,0 +1,61 @@
+#include "estimate/pipeline.hpp"
+
+#include "estimate/calibrate.hpp"
+#include "estimate/candidates.hpp"
+#include "estimate/fit.hpp"
+#include "estimate/report.hpp"
+#include "estimate/verify.hpp"
+
+namespace sva {
+
+namespace {
+
+// Stage 1's request: the fits' starts only where stage 2 will fit (a surface, enough readings, verification on).
+CandidateRequest candidate_request(const EstimateRequest& r, std::size_t readings, double temperature) {
+  CandidateRequest c;
+  c.top_k = r.top_k;
+  c.modes = r.surface ? kFitStarts : 1;
+  c.object_weight = r.object_weight;
+  c.pose_weighting = &r.pose_weighting;
+  c.temperature = temperature;
+  c.leading = r.surface && r.surface_check && readings >= r.refine.min_readings ? kFittedObjects : 0;
+  c.hypotheses = r.top_k > 0;
+  c.hypothesis_radius_bins = r.hypothesis_radius_bins;
+  c.threads = r.refine.threads;
+  return c;
+}
+
+}  // namespace
+
+Estimate estimate_session(const EstimateInput& in, const std::vector<MapObject>& objects, const EstimateRequest& r) {
+  const std::size_t n = in.readings.size();
+  const double temperature = r.calibration ? r.calibration->temperature(n) : 1.0;
+  const Candidates c = find_candidates(in.belief, in.space, candidate_request(r, n, temperature));
+  const Fits fits = fit_candidates(c, in.readings, r.surface, r.refine, r.pose_weighting.empty());
+  const Verification v =
+      r.surface ? verify_candidates(fits, in.readings, *r.surface, r.refine, objects.size()) : Verification{};
+  const EvidenceLevel level = evidence_after(c, fits, v, n, r.refine);
+  const CalibratedPosterior p = calibrate(c, fits, v, level,
+                                          {.calibration = r.calibration,
+                                           .temperature = temperature,
+                                           .object_weight = r.object_weight,
+                                           .unknown_prior = r.unknown_prior});
+  return report(c, fits, p, in.space, objects, {.hypotheses = r.top_k > 0, .fine_pose = r.refine_pose});
+}
+
+EvidenceLevel estimate_evidence(const EstimateInput& in, const SurfaceIndex& surface, const RefineSettings& settings,
+                                bool surface_check) {
+  const std::size_t n = in.readings.size();
+  const bool fit = n >= settings.min_readings;
+  CandidateRequest cr;
+  cr.top_k = 0;
+  cr.modes = fit ? kFitStarts : 1;
+  cr.leading = fit && surface_check ? kFittedObjects : 0;
+  cr.threads = settings.threads;
+  const Candidates c = find_candidates(in.belief, in.space, cr);
+  const Fits fits = fit ? fit_candidates(c, in.readings, &surface, settings, true) : Fits{};
+  const Verification v = verify_candidates(fits, in.readings, surface, settings, in.space.objects());
+  return evidence_after(c, fits, v, n, settings);
+}
+
+}  // namespace sva

@@ -1,0 +1,61 @@
+#pragma once
+// The estimate, as stages called in order (docs/architecture.md), data flowing one way:
+//
+//   1. candidates (estimate/candidates.hpp): read from the belief, the only stage that reads it: the objects'
+//      evidence, the best object's best bin, parabolic peak and modes, the leading objects and their starts, the
+//      top bins and the distinct hypotheses;
+//   2. fit (estimate/fit.hpp): the fine pose of the best object and of each leading object;
+//   3. verify (estimate/verify.hpp): how well each leading object's surface explains every reading;
+//   4. calibrate (estimate/calibrate.hpp): the tempered, recalibrated posterior and "none of these";
+//   5. report (estimate/report.hpp): the public sva::Estimate, in the robot frame.
+//
+// The recognizers run all five; the calibration's held-out sessions (training/) run the first three and read what
+// stage 4 would (estimate_evidence), so that the calibration learns from exactly what recognition computes.
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include <sva/recognizer.hpp>
+
+#include "belief/belief_state.hpp"
+#include "calibration/calibration.hpp"
+#include "estimate/fine_pose.hpp"
+#include "estimate/pose_prior.hpp"
+#include "map/pair_map.hpp"
+#include "map/surface_index.hpp"
+#include "reading/observed_reading.hpp"
+#include "votes/pose_space.hpp"
+
+namespace sva {
+
+// What the estimate reads of a session: its belief, its pose space and its readings (grid frame, oldest first).
+struct EstimateInput {
+  const BeliefState& belief;
+  const PoseSpace& space;
+  std::span<const ObservedReading> readings;
+};
+
+// What a session's estimate asks.
+struct EstimateRequest {
+  std::size_t top_k = 5;  // best bins and distinct hypotheses (0: neither)
+  int hypothesis_radius_bins = 1;
+  std::span<const double> object_weight;     // the prior over objects (largest 1; empty: flat)
+  const PoseWeighting& pose_weighting;       // the pose priors (none: empty)
+  const SurfaceIndex* surface = nullptr;     // the fine pose's training contacts; none: the parabolic pose
+  RefineSettings refine;                     // the fine pose's settings (with `surface`); its `threads` are the
+                                             // estimate's workers, for the fits and the per-object work alike
+  bool refine_pose = true;                   // Estimate::pose is the fine pose (else the fit only feeds p_unknown)
+  bool surface_check = true;                 // with `surface`: verify the leading objects against their surfaces
+  const Calibration* calibration = nullptr;  // none: Eq 5's raw posterior and p_unknown = 0
+  double unknown_prior = 0.1;
+};
+
+// The estimate of a session with at least one reading (stages 1-5).
+Estimate estimate_session(const EstimateInput& in, const std::vector<MapObject>& objects, const EstimateRequest& r);
+
+// What stage 4 reads after stages 1-3, without a prior, a temperature or the report: the calibration's
+// held-out sessions record it.
+EvidenceLevel estimate_evidence(const EstimateInput& in, const SurfaceIndex& surface, const RefineSettings& settings,
+                                bool surface_check = true);
+
+}  // namespace sva

@@ -1,0 +1,36 @@
+#pragma once
+// Stage 3 of the estimate (estimate/pipeline.hpp): verify the leading objects against their surfaces
+// (docs/recognition.md, "Surface check"). Eq 5 votes with pairs of readings whose keys (appearance classes and a
+// distance bin) near-twins share: a clamp and its larger copy, a brick of 2x2 and of 2x4 studs agree on most pairs,
+// and the belief may settle on the wrong one. The surface knows more: the larger clamp's readings lie off the
+// smaller one's surface wherever the pose puts it. Each reading counts once here, unlike Eq 5's pairs; its bits
+// enter the posterior with the calibration's learned surface weight (stage 4), which discounts the sampling noise
+// of the training contacts.
+#include <cstddef>
+#include <span>
+#include <vector>
+
+#include "estimate/fit.hpp"
+#include "map/surface_index.hpp"
+#include "reading/observed_reading.hpp"
+
+namespace sva {
+
+// A reading's fit: a Gaussian of the residual's joint scale (point-to-plane and normal tilt, as the fine pose
+// weighs them) with sigma half the fine pose's final scale (1 mm in 8 mm bins: the arm's 0.5 mm and the gaps
+// between training contacts), and a floor for readings the surface does not explain (2^-6.6: an outlier costs
+// 6.6 bits, so that one odd reading cannot overrule the pairs' evidence, a few can).
+inline constexpr double kSurfaceSigmaOfScale = 0.5;
+inline constexpr double kSurfaceFloor = 0.01;
+
+struct Verification {
+  // Per object (empty when not run): the fit in bits for the fitted leading objects, the worst of theirs for the
+  // others (not fitted because the evidence already ranks them lower; never favoured by the check).
+  std::vector<double> log2_fit;
+};
+
+// How well each leading object of `fits` explains `readings` at its fine pose; empty without leading fits.
+Verification verify_candidates(const Fits& fits, std::span<const ObservedReading> readings, const SurfaceIndex& surface,
+                               const RefineSettings& settings, std::size_t objects);
+
+}  // namespace sva

@@ -22,6 +22,7 @@
 #include "args.hpp"
 
 #if __has_include(<sva/sim/simulate.hpp>)
+#include <sva/sim/mesh.hpp>
 #include <sva/sim/simulate.hpp>
 #define SVA_HAVE_SIM 1
 #endif
@@ -117,6 +118,9 @@ Map stage_train(const DemoConfig& cfg, const DemoData& data) {
   TrainOptions o;
   o.threads = cfg.threads;
   o.progress = true;
+#ifdef SVA_HAVE_SIM
+  o.surfaces = sim::object_surfaces(data.train.scene);  // the built-in scenes' meshes: the verify stage's model
+#endif
   TrainReport rep;
   const auto t0 = std::chrono::steady_clock::now();
   Map m = Map::train(data.train, o, &rep);

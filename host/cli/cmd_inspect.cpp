@@ -64,6 +64,7 @@ void inspect_map(const std::string& file) {
               static_cast<unsigned long long>(m.possible_keys));
   std::printf("  bytes          %zu (%.2f per entry)\n", m.bytes,
               m.entries ? static_cast<double>(m.bytes) / static_cast<double>(m.entries) : 0.0);
+  std::printf("  surfaces       %s\n", eval::describe_surfaces(m).c_str());
   if (m.keys > 0)
     std::printf("  entries/key    min %u, median %u, max %u\n", m.entries_per_key_min, m.entries_per_key_median,
                 m.entries_per_key_max);

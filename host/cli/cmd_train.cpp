@@ -2,6 +2,7 @@
 #include <sva/dataset.hpp>
 #include <sva/eval/report.hpp>
 #include <sva/map.hpp>
+#include <sva/sim/mesh.hpp>
 
 #include <cstdio>
 #include <cstdlib>
@@ -83,6 +84,7 @@ void print_report(const MapSummary& m, const TrainReport& rep, const std::string
               m.entries, m.keys, static_cast<double>(m.bytes) / 1e6,
               m.entries ? static_cast<double>(m.bytes) / static_cast<double>(m.entries) : 0.0, rep.map_build_seconds,
               rep.map_build_cpu_seconds);
+  std::printf("  surfaces       %s\n", eval::describe_surfaces(m).c_str());
   std::printf("  calibration    %s (%.1f s)\n", eval::describe_calibration(m).c_str(), rep.calibration_seconds);
   if (!rep.calibration_note.empty()) std::printf("                 %s\n", rep.calibration_note.c_str());
 }
@@ -108,6 +110,9 @@ int cmd_train(const std::vector<std::string>& argv) {
   a.option("--threads", "N", "worker threads (default: SVA_THREADS or all cores); results do not depend on it");
   a.option("--exclude-objects", "NAME,...",
            "leave these objects out of the map (to evaluate \"none of these\" with sva eval --unknown-objects)");
+  a.flag("--no-surfaces",
+         "leave the objects' meshes out of the map (a dataset of a real sensor's recordings): the verify stage then "
+         "reads the training contacts instead of the measurement model (docs/recognition.md)");
   a.flag("--no-calibration",
          "skip the calibration (the default temperature, no \"none of these\"; docs/recognition.md)");
   a.option("--calibration-sessions", "N", "held-out sessions on known objects that learn the calibration (default 60)");
@@ -119,10 +124,19 @@ int cmd_train(const std::vector<std::string>& argv) {
   if (!a.parse()) return 0;
   const std::string data_file = a.required("--data");
   const std::string out_file = a.required("--out");
-  const TrainOptions o = train_options(a);
+  TrainOptions o = train_options(a);
 
   Dataset data = load_dataset(data_file);
   if (auto names = a.get("--exclude-objects")) data = without_objects(data, comma_list(*names));
+  if (!a.has("--no-surfaces")) {
+    try {
+      o.surfaces = sim::object_surfaces(data.scene);
+    } catch (const Error& e) {
+      throw Error(std::string("sva train: ") + e.what() +
+                  " (--no-surfaces trains without the objects' meshes: the verify stage then reads the training "
+                  "contacts)");
+    }
+  }
   TrainReport rep;
   const Map map = Map::train(data, o, &rep);
   map.save(out_file);

@@ -27,6 +27,7 @@
 #include "recognizer_options.hpp"
 
 #if __has_include(<sva/sim/simulate.hpp>)
+#include <sva/sim/mesh.hpp>
 #include <sva/sim/simulate.hpp>
 #define SVA_HAVE_SIM 1
 #endif
@@ -123,7 +124,7 @@ std::pair<Dataset, Dataset> simulate(nb::handle scene_arg, std::optional<int> tr
 Map train(nb::handle data_arg, const std::optional<std::string>& descriptor, std::optional<int> clusters,
           std::optional<int> dist_bins, std::optional<std::pair<double, double>> dist_range, std::uint64_t seed,
           unsigned threads, const std::optional<std::filesystem::path>& out, TrainReport* report, bool calibrate,
-          std::optional<std::size_t> pair_readings, std::optional<std::uint32_t> fine_pose_from) {
+          std::optional<std::size_t> pair_readings, std::optional<std::uint32_t> fine_pose_from, bool surfaces) {
   TrainOptions o;
   o.pair_readings = pair_readings;
   o.fine_pose_from = fine_pose_from;
@@ -137,6 +138,19 @@ Map train(nb::handle data_arg, const std::optional<std::string>& descriptor, std
   o.progress = true;        // shown when sva.show_progress(True)
   o.validate("sva.train");  // before the dataset loads
   const DatasetArg data = dataset_arg(data_arg, "sva.train: data");
+#ifdef SVA_HAVE_SIM
+  if (surfaces) {
+    try {
+      o.surfaces = sim::object_surfaces(data.data->scene);
+    } catch (const Error& e) {
+      throw Error(std::string("sva.train: ") + e.what() +
+                  " (surfaces=False trains without the objects' meshes: the verify stage then reads the training "
+                  "contacts)");
+    }
+  }
+#else
+  (void)surfaces;
+#endif
   EngineScope scope(true);
   Map map = Map::train(*data.data, o, report);
   if (out) map.save(*out);
@@ -199,15 +213,19 @@ void bind_workflow(nb::module_& m) {
   m.def("train", &train, "data"_a, nb::kw_only(), "descriptor"_a = nb::none(), "clusters"_a = nb::none(),
         "dist_bins"_a = nb::none(), "dist_range"_a = nb::none(), "seed"_a = 1, "threads"_a = 0, "out"_a = nb::none(),
         "report"_a = nb::none(), "calibrate"_a = true, "pair_readings"_a = nb::none(), "fine_pose_from"_a = nb::none(),
+        "surfaces"_a = true,
         nb::sig("def train(data: Dataset | str | os.PathLike, *, descriptor: str | None = None, clusters: int | None = "
                 "None, dist_bins: int | None = None, dist_range: tuple[float, float] | None = None, seed: int = 1, "
                 "threads: int = 0, out: str | os.PathLike | None = None, report: TrainReport | None = None, "
-                "calibrate: bool = True, pair_readings: int | None = None, fine_pose_from: int | None = None) -> Map"),
+                "calibrate: bool = True, pair_readings: int | None = None, fine_pose_from: int | None = None, "
+                "surfaces: bool = True) -> Map"),
         "The SVA map of a training dataset, as `sva train` builds it (defaults from the dataset's scene); with `out`, "
         "also saved there; `report` (a TrainReport) is filled in. `pair_readings`: readings per object that enter the "
         "pairs (drawn at random; the rest serve only as the object's surface; 0 = all; default: the scene's). "
         "`fine_pose_from`: readings from which the fine pose and the surface check run, kept in the map (3 to 1000; "
-        "default 6, planar 3; 4 names distinct objects right sooner and trusts twins less: docs/evaluation.md).");
+        "default 6, planar 3; 4 names distinct objects right sooner and trusts twins less: docs/evaluation.md). "
+        "`surfaces`: the objects' meshes in the map, for the verify stage's measurement model (False: a dataset of "
+        "a real sensor's recordings; the training contacts instead).");
   m.def(
       "evaluate",
       [](nb::handle map, nb::handle data, std::optional<std::size_t> trials, std::size_t max_readings,

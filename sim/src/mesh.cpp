@@ -427,6 +427,23 @@ Mesh load_object_mesh(const SceneObject& object) {
   return m;
 }
 
+std::vector<ObjectSurface> object_surfaces(const Scene& scene) {
+  std::vector<ObjectSurface> out;
+  for (const SceneObject& o : scene.objects) {
+    Mesh m;
+    try {
+      m = load_object_mesh(o);
+    } catch (const Error& e) {
+      throw Error("the surface of object \"" + o.name + "\": " + e.what());
+    }
+    ObjectSurface s;
+    s.positions = std::move(m.positions);
+    s.triangles = std::move(m.triangles);
+    out.push_back(std::move(s));
+  }
+  return out;
+}
+
 void save_glb(const Mesh& mesh, const std::filesystem::path& file, bool with_normals) {
   tinygltf::Model model;
   tinygltf::Buffer buffer;

@@ -359,3 +359,58 @@ TEST_CASE("appearance baseline: histograms and a naive-Bayes posterior that find
   }
   CHECK(right >= 2);
 }
+
+namespace {
+
+// A small closed surface per object: a tetrahedron of `size` mm, counter-clockwise seen from outside.
+ObjectSurface tetrahedron(float size) {
+  ObjectSurface s;
+  s.positions = {{0, 0, 0}, {size, 0, 0}, {0, size, 0}, {0, 0, size}};
+  s.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("map: the objects' surfaces (format 9) round-trip, and a damaged section is refused naming the file") {
+  const auto dir = test::temp_dir("map-surfaces");
+  TrainOptions o = no_calibration();
+  for (int k = 0; k < 3; ++k) o.surfaces.push_back(tetrahedron(20.0f + 10.0f * static_cast<float>(k)));
+  const Map m = Map::train(data(), o);
+  const MapSummary s = m.summary();
+  CHECK(s.surface_objects == 3);
+  CHECK(s.surface_triangles == 12);
+  CHECK(s.surface_vertices == 12);
+  CHECK(s.surface_bytes == 12 * 12 + 12 * 12);  // apart from `bytes`, which the entries divide
+  CHECK(s.bytes == trained().summary().bytes);
+  m.save(dir / "with.svamap");
+  const Map loaded = Map::load(dir / "with.svamap");
+  const PairMap& back = MapAccess::pair_map(loaded);
+  REQUIRE(back.surfaces.size() == 3);
+  for (std::size_t k = 0; k < 3; ++k) {
+    CHECK(back.surfaces[k].positions == o.surfaces[k].positions);
+    CHECK(back.surfaces[k].triangles == o.surfaces[k].triangles);
+  }
+  // A map without them (format 8 and older, or trained with none) loads with none, and says so.
+  CHECK(trained().summary().surface_objects == 0);
+  write_pair_map(MapAccess::pair_map(trained()), dir / "v8.svamap", 8);
+  CHECK(MapAccess::pair_map(Map::load(dir / "v8.svamap")).surfaces.empty());
+  CHECK_THROWS_WITH(write_pair_map(MapAccess::pair_map(m), dir / "v8-with.svamap", 8), Contains("version 9"));
+  // A surface section a buggy or hostile writer damaged: refused by the loader, naming the file.
+  auto damaged = [&](auto&& mutate, const std::string& expect) {
+    PairMap bad = MapAccess::pair_map(m);
+    mutate(bad);
+    write_pair_map(bad, dir / "bad.svamap", kMapVersion);
+    CHECK_THROWS_WITH(Map::load(dir / "bad.svamap"), Contains("bad.svamap") && Contains(expect));
+  };
+  damaged([](PairMap& p) { p.surfaces[1].triangles[2].y = 99; }, "names vertex 99");
+  damaged([](PairMap& p) { p.surfaces[0].positions[1].x = NAN; }, "not finite");
+  damaged([](PairMap& p) { p.surfaces[2].triangles.clear(); }, "no triangles");
+  damaged([](PairMap& p) { p.surfaces.pop_back(); },
+          "");  // the third object's surface cut off: any fault, the file named
+  // Training refuses surfaces that are not one per object.
+  TrainOptions two = o;
+  two.surfaces.pop_back();
+  CHECK_THROWS_WITH(Map::train(data(), two), Contains("2 surfaces") && Contains("3 objects"));
+  std::filesystem::remove_all(dir);
+}

@@ -21,6 +21,15 @@ struct PairMap;
 struct Dataset;  // sva/dataset.hpp
 struct Scene;    // sva/scene.hpp
 
+// One object's surface: its mesh in millimetres, in the object's own frame (the frame of its training readings: the
+// simulator's mesh after the scene's scale and centring), triangles counter-clockwise seen from outside. A map
+// trained with them carries them (format 9), and the estimate's verify stage weighs every reading against them
+// (docs/recognition.md, "The measurement model"); sva::sim::object_surfaces loads them from a scene's meshes.
+struct ObjectSurface {
+  std::vector<glm::vec3> positions;
+  std::vector<glm::uvec3> triangles;  // indices into positions
+};
+
 struct TrainOptions {
   // Unset values come from the dataset's scene (Scene::appearance).
   std::optional<std::string> descriptor;  // "mn" or "mnti"
@@ -47,6 +56,9 @@ struct TrainOptions {
   // space). The map keeps it and its calibration is learned with it (docs/recognition.md, "Fine pose"): 4 names
   // distinct objects right sooner, while twins' probabilities are trusted less (docs/evaluation.md).
   std::optional<std::uint32_t> fine_pose_from;
+  // The objects' surfaces, one per object of the dataset's scene in its order, or none: a map without surfaces
+  // (trained from a real sensor's recordings, say) verifies its leading objects against the training contacts.
+  std::vector<ObjectSurface> surfaces;
 
   // The options as given, before the scene's defaults fill the unset ones: throws sva::Error naming the option,
   // its value and the fault, after `context` (the caller: "sva train", "sva.train"). Map::train checks them too
@@ -84,7 +96,10 @@ struct MapSummary {
   double ambiguity = 0.0;  // classes per reading
   std::uint32_t distance_bins = 0;
   double distance_min_mm = 0.0, distance_max_mm = 0.0;
-  std::size_t readings = 0, entries = 0, keys = 0, bytes = 0;
+  std::size_t readings = 0, entries = 0, keys = 0, bytes = 0;  // bytes: the pairs, readings and appearance model
+  // The objects' surfaces (format 9): objects with one (0: none, the verify stage reads the training contacts), their
+  // triangles and vertices, and their bytes, apart from `bytes`.
+  std::size_t surface_objects = 0, surface_triangles = 0, surface_vertices = 0, surface_bytes = 0;
   std::size_t readings_paired = 0;  // readings in at least one pair; the rest are surface contacts only
   std::uint64_t possible_keys = 0;  // classes^2 x distance bins
   std::uint32_t entries_per_key_min = 0, entries_per_key_median = 0, entries_per_key_max = 0;  // 0 without keys

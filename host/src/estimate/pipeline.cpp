@@ -33,7 +33,8 @@ Estimate estimate_session(const EstimateInput& in, const std::vector<MapObject>&
   const Candidates c = find_candidates(in.belief, in.space, candidate_request(r, n, temperature));
   const Fits fits = fit_candidates(c, in.readings, r.surface, r.refine, r.pose_weighting.empty());
   const Verification v =
-      r.surface ? verify_candidates(fits, in.readings, *r.surface, r.refine, objects.size()) : Verification{};
+      r.surface ? verify_candidates(fits, in.readings, *r.surface, r.refine, objects.size(), r.surface_model)
+                : Verification{};
   const EvidenceLevel level = evidence_after(c, fits, v, n, r.refine);
   const CalibratedPosterior p = calibrate(c, fits, v, level,
                                           {.calibration = r.calibration,
@@ -44,7 +45,7 @@ Estimate estimate_session(const EstimateInput& in, const std::vector<MapObject>&
 }
 
 EvidenceLevel estimate_evidence(const EstimateInput& in, const SurfaceIndex& surface, const RefineSettings& settings,
-                                bool surface_check) {
+                                bool surface_check, const SurfaceModel* surface_model) {
   const std::size_t n = in.readings.size();
   const bool fit = n >= settings.min_readings;
   CandidateRequest cr;
@@ -54,7 +55,7 @@ EvidenceLevel estimate_evidence(const EstimateInput& in, const SurfaceIndex& sur
   cr.threads = settings.threads;
   const Candidates c = find_candidates(in.belief, in.space, cr);
   const Fits fits = fit ? fit_candidates(c, in.readings, &surface, settings, true) : Fits{};
-  const Verification v = verify_candidates(fits, in.readings, surface, settings, in.space.objects());
+  const Verification v = verify_candidates(fits, in.readings, surface, settings, in.space.objects(), surface_model);
   return evidence_after(c, fits, v, n, settings);
 }
 

@@ -21,6 +21,7 @@
 #include "calibration/calibration.hpp"
 #include "estimate/fine_pose.hpp"
 #include "estimate/pose_prior.hpp"
+#include "estimate/surface_model.hpp"
 #include "map/pair_map.hpp"
 #include "map/surface_index.hpp"
 #include "reading/observed_reading.hpp"
@@ -39,14 +40,15 @@ struct EstimateInput {
 struct EstimateRequest {
   std::size_t top_k = 5;  // best bins and distinct hypotheses (0: neither)
   int hypothesis_radius_bins = 1;
-  std::span<const double> object_weight;     // the prior over objects (largest 1; empty: flat)
-  const PoseWeighting& pose_weighting;       // the pose priors (none: empty)
-  const SurfaceIndex* surface = nullptr;     // the fine pose's training contacts; none: the parabolic pose
-  RefineSettings refine;                     // the fine pose's settings (with `surface`); its `threads` are the
-                                             // estimate's workers, for the fits and the per-object work alike
-  bool refine_pose = true;                   // Estimate::pose is the fine pose (else the fit only feeds p_unknown)
-  bool surface_check = true;                 // with `surface`: verify the leading objects against their surfaces
-  const Calibration* calibration = nullptr;  // none: Eq 5's raw posterior and p_unknown = 0
+  std::span<const double> object_weight;        // the prior over objects (largest 1; empty: flat)
+  const PoseWeighting& pose_weighting;          // the pose priors (none: empty)
+  const SurfaceIndex* surface = nullptr;        // the fine pose's training contacts; none: the parabolic pose
+  RefineSettings refine;                        // the fine pose's settings (with `surface`); its `threads` are the
+                                                // estimate's workers, for the fits and the per-object work alike
+  bool refine_pose = true;                      // Estimate::pose is the fine pose (else the fit only feeds p_unknown)
+  bool surface_check = true;                    // with `surface`: verify the leading objects against their surfaces
+  const SurfaceModel* surface_model = nullptr;  // the map's meshes (verify's measurement model); none: the contacts
+  const Calibration* calibration = nullptr;     // none: Eq 5's raw posterior and p_unknown = 0
   double unknown_prior = 0.1;
 };
 
@@ -56,6 +58,6 @@ Estimate estimate_session(const EstimateInput& in, const std::vector<MapObject>&
 // What stage 4 reads after stages 1-3, without a prior, a temperature or the report: the calibration's
 // held-out sessions record it.
 EvidenceLevel estimate_evidence(const EstimateInput& in, const SurfaceIndex& surface, const RefineSettings& settings,
-                                bool surface_check = true);
+                                bool surface_check = true, const SurfaceModel* surface_model = nullptr);
 
 }  // namespace sva

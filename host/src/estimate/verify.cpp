@@ -4,19 +4,53 @@
 
 #include <algorithm>
 
+#include "votes/pose_space.hpp"
+
 namespace sva {
 
+ContactNoise contact_noise(const RefineSettings& settings) {
+  ContactNoise n;
+  n.sigma_mm = kSurfaceSigmaOfScale * settings.scale_final_mm;
+  n.normal_weight_mm = settings.normal_weight_mm;
+  n.floor = kSurfaceFloor;
+  n.reach_mm = 4.0 * n.sigma_mm;
+  return n;
+}
+
+std::unique_ptr<SurfaceModel> surface_model_of(const PairMap& map) {
+  if (map.surfaces.empty()) return nullptr;
+  const PoseSpace space(map.pose_space, static_cast<std::uint32_t>(map.objects.size()));
+  return std::make_unique<SurfaceModel>(map.surfaces, contact_noise(refine_settings(space, 0)).reach_mm);
+}
+
+namespace {
+
+// The measurement model's bits for one leading object: the best over every leading fit's pose.
+double model_bits(const SurfaceModel& model, std::uint32_t object, const Fits& fits,
+                  std::span<const ObservedReading> readings, const ContactNoise& noise) {
+  double best = 0.0;
+  for (std::size_t j = 0; j < fits.leading.size(); ++j) {
+    const double b = model.log2_likelihood(object, readings, fits.leading[j].fine.pose, noise);
+    best = j == 0 ? b : std::max(best, b);
+  }
+  return best;
+}
+
+}  // namespace
+
 Verification verify_candidates(const Fits& fits, std::span<const ObservedReading> readings, const SurfaceIndex& surface,
-                               const RefineSettings& settings, std::size_t objects) {
+                               const RefineSettings& settings, std::size_t objects, const SurfaceModel* model) {
   Verification v;
   if (fits.leading.empty()) return v;
   const double sigma = kSurfaceSigmaOfScale * settings.scale_final_mm;
+  const ContactNoise noise = contact_noise(settings);
   std::vector<double> bits(fits.leading.size(), 0.0);
   util::parallel_for(
       fits.leading.size(),
       [&](std::size_t i) {
         const FittedObject& f = fits.leading[i];
-        bits[i] = surface_log2_fit(surface, f.object, readings, f.fine.pose, settings, sigma, kSurfaceFloor);
+        bits[i] = model ? model_bits(*model, f.object, fits, readings, noise)
+                        : surface_log2_fit(surface, f.object, readings, f.fine.pose, settings, sigma, kSurfaceFloor);
       },
       settings.threads);
   v.log2_fit.assign(objects, 0.0);

@@ -7,10 +7,13 @@
 // enter the posterior with the calibration's learned surface weight (stage 4), which discounts the sampling noise
 // of the training contacts.
 #include <cstddef>
+#include <memory>
 #include <span>
 #include <vector>
 
 #include "estimate/fit.hpp"
+#include "estimate/surface_model.hpp"
+#include "map/pair_map.hpp"
 #include "map/surface_index.hpp"
 #include "reading/observed_reading.hpp"
 
@@ -29,8 +32,19 @@ struct Verification {
   std::vector<double> log2_fit;
 };
 
-// How well each leading object of `fits` explains `readings` at its fine pose; empty without leading fits.
+// The measurement model's noise at `settings` (the fine pose's final scale and normal weight), its reach 4 sigma:
+// past it a reading's Gaussian term is 3% of the floor. A map's surface model takes the reach as its cell.
+ContactNoise contact_noise(const RefineSettings& settings);
+// The measurement model of `map`'s surfaces, its cells the reach of the map's own pose space; none when the map
+// carries no surfaces.
+std::unique_ptr<SurfaceModel> surface_model_of(const PairMap& map);
+
+// How well each leading object of `fits` explains `readings`; empty without leading fits. With the map's surfaces
+// (`model`), the measurement model at each of the leading fits' poses, the best of them: every object is tried at
+// the same poses, so that two copies of one mesh score alike, bit for bit. Without (a map of recordings, or of
+// format 8 and older), the training contacts at the object's own fine pose.
 Verification verify_candidates(const Fits& fits, std::span<const ObservedReading> readings, const SurfaceIndex& surface,
-                               const RefineSettings& settings, std::size_t objects);
+                               const RefineSettings& settings, std::size_t objects,
+                               const SurfaceModel* model = nullptr);
 
 }  // namespace sva

@@ -72,6 +72,12 @@ MapSummary Map::summary() const {
   s.entries = entries();
   s.keys = keys();
   s.bytes = bytes();
+  for (const ObjectSurface& o : m.surfaces) {
+    s.surface_objects += 1;
+    s.surface_triangles += o.triangles.size();
+    s.surface_vertices += o.positions.size();
+    s.surface_bytes += bytes_of(o.positions) + bytes_of(o.triangles);
+  }
   s.possible_keys = static_cast<std::uint64_t>(m.key_space.n_classes) * m.key_space.n_classes * m.key_space.n_dist_bins;
   if (!m.keys.empty()) {
     std::vector<std::uint32_t> per(m.keys.size());

@@ -151,6 +151,44 @@ bool all_finite(const std::vector<T>& v) {
   return true;
 }
 
+// The surfaces' section (version 9): a flag, then per object its vertices (x, y, z) and triangles (3 indices each).
+void put_surfaces(io::BinaryWriter& w, const PairMap& m, std::uint32_t version) {
+  if (version < 9) {
+    if (!m.surfaces.empty())
+      throw Error("map version " + std::to_string(version) +
+                  " cannot hold the objects' surfaces (they need version 9)");
+    return;
+  }
+  w.put<std::uint8_t>(m.surfaces.empty() ? 0 : 1);
+  for (const ObjectSurface& s : m.surfaces) {
+    std::vector<float> xyz;
+    xyz.reserve(3 * s.positions.size());
+    for (const glm::vec3& v : s.positions) xyz.insert(xyz.end(), {v.x, v.y, v.z});
+    std::vector<std::uint32_t> idx;
+    idx.reserve(3 * s.triangles.size());
+    for (const glm::uvec3& t : s.triangles) idx.insert(idx.end(), {t.x, t.y, t.z});
+    w.put_vector(xyz);
+    w.put_vector(idx);
+  }
+}
+
+std::vector<ObjectSurface> get_surfaces(io::BinaryReader& r, std::size_t objects) {
+  const auto flag = r.get<std::uint8_t>();
+  if (flag > 1) r.fail("surfaces: invalid flag " + std::to_string(flag));
+  std::vector<ObjectSurface> out;
+  if (flag == 0) return out;
+  out.resize(objects);
+  for (std::size_t o = 0; o < objects; ++o) {
+    const std::vector<float> xyz = r.get_vector<float>();
+    const std::vector<std::uint32_t> idx = r.get_vector<std::uint32_t>();
+    if (xyz.size() % 3 != 0 || idx.size() % 3 != 0)
+      r.fail("surface of object " + std::to_string(o) + ": its arrays are not in threes");
+    for (std::size_t i = 0; i < xyz.size(); i += 3) out[o].positions.emplace_back(xyz[i], xyz[i + 1], xyz[i + 2]);
+    for (std::size_t i = 0; i < idx.size(); i += 3) out[o].triangles.emplace_back(idx[i], idx[i + 1], idx[i + 2]);
+  }
+  return out;
+}
+
 }  // namespace
 
 void save_pair_map(const PairMap& m, const std::filesystem::path& file) {
@@ -211,6 +249,7 @@ void write_pair_map(const PairMap& m, const std::filesystem::path& file, std::ui
   w.put_vector(m.entry_b);
   w.put_vector(m.entry_weight);
   if (version >= 4) put_calibration(w, m, version);
+  put_surfaces(w, m, version);
   w.write_file(file, std::string_view(kMapMagic, 8), version);
 }
 
@@ -276,7 +315,8 @@ std::shared_ptr<PairMap> load_pair_map(const std::filesystem::path& file) {
   m.entry_a = r.get_vector<std::uint32_t>();
   m.entry_b = r.get_vector<std::uint32_t>();
   m.entry_weight = r.get_vector<float>();
-  if (r.version() >= 4) m.calibration = get_calibration(r);  // older maps: the documented default
+  if (r.version() >= 4) m.calibration = get_calibration(r);              // older maps: the documented default
+  if (r.version() >= 9) m.surfaces = get_surfaces(r, m.objects.size());  // older maps: none
   r.expect_end();
   if (r.version() == 1) {
     if (m.entry_b.size() != m.entry_a.size() || m.entry_weight.size() != m.entry_a.size() ||
@@ -404,6 +444,27 @@ void validate_objects_and_readings(const PairMap& m, const std::string& origin) 
   }
 }
 
+// The objects' surfaces: none, or one per object with finite vertices and triangles that index them.
+void validate_surfaces(const PairMap& m, const std::string& origin) {
+  auto fail = [&](const std::string& what) { invalid_map(origin, what); };
+  if (m.surfaces.empty()) return;
+  if (m.surfaces.size() != m.objects.size())
+    fail(std::to_string(m.surfaces.size()) + " surfaces for " + std::to_string(m.objects.size()) + " objects");
+  for (std::size_t o = 0; o < m.surfaces.size(); ++o) {
+    const ObjectSurface& s = m.surfaces[o];
+    const std::string who = "surface of object \"" + m.objects[o].name + "\": ";
+    if (s.triangles.empty()) fail(who + "no triangles");
+    if (s.positions.size() > std::numeric_limits<std::uint32_t>::max()) fail(who + "too many vertices");
+    for (const glm::vec3& v : s.positions)
+      if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) fail(who + "a vertex is not finite");
+    for (std::size_t t = 0; t < s.triangles.size(); ++t)
+      for (int k = 0; k < 3; ++k)
+        if (s.triangles[t][k] >= s.positions.size())
+          fail(who + "triangle " + std::to_string(t) + " names vertex " + std::to_string(s.triangles[t][k]) + " of " +
+               std::to_string(s.positions.size()));
+  }
+}
+
 // The baseline's class-given-object table.
 void validate_baseline(const PairMap& m, const std::string& origin) {
   auto fail = [&](const std::string& what) { invalid_map(origin, what); };
@@ -467,6 +528,7 @@ void validate_pair_map(const PairMap& m, const std::string& origin) {
   validate_objects_and_readings(m, origin);
   validate_baseline(m, origin);
   validate_entries(m, space, origin);
+  validate_surfaces(m, origin);
 }
 
 }  // namespace sva

@@ -8,6 +8,7 @@
 // This header is the contract between the map builder (appearance issue) and
 // the recognizer backends (CPU reference and Vulkan). Both read these arrays
 // directly.
+#include <sva/map.hpp>
 #include <sva/pose.hpp>
 #include <sva/scene.hpp>
 
@@ -63,6 +64,9 @@ struct PairMap {
   MapReadings readings;
   AppearanceBaseline baseline;  // appearance-only recognition of [15] (the paper's comparison)
   Calibration calibration;      // how far to trust the evidence; "none of these" (calibration/calibration.hpp)
+  // Each object's surface (format 9: sva::ObjectSurface), one per object, or none (the verify stage then reads the
+  // training contacts).
+  std::vector<ObjectSurface> surfaces;
 
   // CSR over sorted keys: entries of keys[i] are [offsets[i], offsets[i+1]).
   std::vector<std::uint32_t> keys;     // strictly increasing

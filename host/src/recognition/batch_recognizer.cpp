@@ -47,7 +47,8 @@ struct BatchRecognizer::Impl {
   PoseSpace space;
   std::unique_ptr<VoteBackend> backend;
   std::vector<Session> sessions;
-  const SurfaceIndex* surface = nullptr;  // the fine pose's (the engine's), or none
+  const SurfaceIndex* surface = nullptr;        // the fine pose's (the engine's), or none
+  const SurfaceModel* surface_model = nullptr;  // the verify stage's model of the map's meshes, or none
   RefineSettings refine;
   // Every public call takes it: a recognizer may be shared between threads (and a const estimate() runs GPU
   // work that writes caches of the belief).
@@ -122,6 +123,7 @@ BatchRecognizer::BatchRecognizer(const Engine& engine, const PoseSpaceSpec& pose
     if (options.refine_pose || options.surface_check ||
         (options.calibrate && !impl_->pair_map->calibration.unknown.empty())) {
       impl_->surface = &EngineAccess::impl(engine)->surface();
+      impl_->surface_model = EngineAccess::impl(engine)->surface_model();
       impl_->refine = refine_settings(impl_->space, impl_->pair_map->fine_pose_from());
     }
     impl_->refine.threads = options.threads;  // the estimate's workers: its fits and its per-object work
@@ -192,6 +194,7 @@ Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const
                             .refine = impl_->refine,
                             .refine_pose = impl_->options.refine_pose,
                             .surface_check = impl_->options.surface_check,
+                            .surface_model = impl_->surface_model,
                             .calibration = impl_->options.calibrate ? &impl_->pair_map->calibration : nullptr,
                             .unknown_prior = impl_->options.unknown_prior};
     s.filter->require_complete();

@@ -2,6 +2,7 @@
 
 #include <sva/error.hpp>
 
+#include "estimate/verify.hpp"
 #include "map/map_access.hpp"
 #include "map/pair_map.hpp"
 
@@ -33,6 +34,11 @@ const SurfaceIndex& Engine::Impl::surface() const {
     surface_ = std::make_unique<SurfaceIndex>(m.readings, m.objects.size());
   });
   return *surface_;
+}
+
+const SurfaceModel* Engine::Impl::surface_model() const {
+  std::call_once(model_once_, [&] { model_ = surface_model_of(MapAccess::pair_map(map)); });
+  return model_.get();
 }
 
 VulkanBackendOptions vulkan_options(const Engine::Impl& engine) {

@@ -7,6 +7,7 @@
 
 #include "backends/vote_backend.hpp"
 #include "backends/vote_backend_factory.hpp"
+#include "estimate/surface_model.hpp"
 #include "map/surface_index.hpp"
 #include "votes/pose_space.hpp"
 
@@ -25,10 +26,14 @@ struct Engine::Impl {
 
   // The fine pose's index of the objects' training contacts, built on first use and shared.
   const SurfaceIndex& surface() const;
+  // The verify stage's measurement model of the map's meshes, built on first use and shared; null when the map
+  // carries none.
+  const SurfaceModel* surface_model() const;
 
  private:
-  mutable std::once_flag surface_once_;
+  mutable std::once_flag surface_once_, model_once_;
   mutable std::unique_ptr<SurfaceIndex> surface_;
+  mutable std::unique_ptr<SurfaceModel> model_;
 };
 
 // The backend options of a recognizer made from `engine`: its kind (resolved) and device.

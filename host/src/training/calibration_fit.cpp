@@ -247,6 +247,22 @@ void fit_unknown(const std::vector<CalibrationSession>& sessions, Calibration* c
   }
 }
 
+namespace {
+
+// A calibration map of `split`'s known objects, with their surfaces when the map has them: its sessions then verify
+// as the map's own recognizer will, and the surface weight is learned for that model.
+std::shared_ptr<PairMap> calibration_map(const CalibrationSplit& split, const TrainParameters& params,
+                                         const std::vector<ObjectSurface>& surfaces) {
+  std::shared_ptr<PairMap> map = train_pair_map(split.map_part, params, nullptr);
+  if (surfaces.empty()) return map;
+  map->surfaces.resize(map->objects.size());
+  for (std::size_t o = 0; o < split.map_object.size(); ++o)
+    if (split.map_object[o] >= 0) map->surfaces[static_cast<std::size_t>(split.map_object[o])] = surfaces[o];
+  return map;
+}
+
+}  // namespace
+
 Calibration learn_calibration(const Dataset& data, const TrainParameters& params, const CalibrationOptions& options) {
   TrainParameters p = params;
   p.progress = false;  // one bar per set of sessions
@@ -257,7 +273,7 @@ Calibration learn_calibration(const Dataset& data, const TrainParameters& params
   // "None of these" learns from objects the map does not hold: a fifth of them held out whole.
   const CalibrationSplit split = split_for_calibration(data, options.held_out_share, params.seed);
   const std::vector<CalibrationSession> sessions =
-      run_held_out_sessions(*train_pair_map(split.map_part, p, nullptr), split, so);
+      run_held_out_sessions(*calibration_map(split, p, options.surfaces), split, so);
   // The temperature and the top label learn from a map of every object, its readings alone held out: a map missing a
   // fifth of the objects faces fewer look-alikes than the real one, and its sessions were surer than the map's own
   // (lookalikes: docs/evaluation.md, "The temperature from a map of every object, and the top label"). Without objects
@@ -267,7 +283,7 @@ Calibration learn_calibration(const Dataset& data, const TrainParameters& params
     const CalibrationSplit all = split_for_calibration(data, options.held_out_share, params.seed, false);
     HeldOutSessionOptions known = so;
     known.unknown_sessions = 0;
-    every = run_held_out_sessions(*train_pair_map(all.map_part, p, nullptr), all, known);
+    every = run_held_out_sessions(*calibration_map(all, p, options.surfaces), all, known);
   }
   const std::vector<CalibrationSession>& tempering = every.empty() ? sessions : every;
   Calibration c;

@@ -15,6 +15,7 @@ namespace sva {
 struct CalibrationOptions {
   double held_out_share = 0.1;  // of each known object's readings
   HeldOutSessionOptions sessions;
+  std::vector<ObjectSurface> surfaces;  // the map's (one per object of the scene), or none
 };
 
 // Temperature: scale and power minimising the negative log-likelihood of the true object over every step from 2

@@ -11,6 +11,7 @@
 
 #include "backends/vote_backend_factory.hpp"
 #include "estimate/pipeline.hpp"
+#include "estimate/verify.hpp"
 #include "reading/observed_reading.hpp"
 #include "recognition/bayes_filter.hpp"
 #include "training/session_sampling.hpp"
@@ -113,6 +114,7 @@ std::vector<CalibrationSession> run_held_out_sessions(const PairMap& map, const 
   const std::unique_ptr<VoteBackend> backend = make_vote_backend(BackendKind::cpu, map, space, vs).backend;
   BayesFilter filter(map, space, FilterOptions{}, *backend);
   const SurfaceIndex surface(map.readings, map.objects.size());
+  const std::unique_ptr<SurfaceModel> model = surface_model_of(map);
   const RefineSettings refine = refine_settings(space, options.fine_pose_from);
   const std::size_t total = options.known_sessions + (unknown.empty() ? 0 : options.unknown_sessions);
   std::unique_ptr<util::Progress> progress;
@@ -132,7 +134,8 @@ std::vector<CalibrationSession> run_held_out_sessions(const PairMap& map, const 
     for (std::size_t i : presentation_order(readings.size(), options.readings, rng)) {
       const Reading r = transform_reading(readings[i], pose);
       filter.add(to_grid(space, describe_reading(map, r, "calibration reading")));
-      s.steps.push_back(estimate_evidence({filter.belief(), filter.space(), filter.observed()}, surface, refine));
+      s.steps.push_back(
+          estimate_evidence({filter.belief(), filter.space(), filter.observed()}, surface, refine, true, model.get()));
     }
     sessions.push_back(std::move(s));
     if (progress) progress->advance();

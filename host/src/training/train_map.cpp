@@ -11,6 +11,7 @@
 
 #include "map/map_access.hpp"
 #include "map/map_builder.hpp"
+#include "map/map_file.hpp"
 #include "map/pair_map.hpp"
 #include "training/calibration_fit.hpp"
 
@@ -35,6 +36,7 @@ Calibration calibration_for(const Dataset& data, const TrainParameters& params, 
     co.sessions.unknown_sessions = (options.calibration_sessions + 1) / 2;
     co.sessions.readings = options.calibration_readings;
     co.sessions.fine_pose_from = options.fine_pose_from.value_or(0);
+    co.surfaces = options.surfaces;
     try {
       c = learn_calibration(data, params, co);
     } catch (const Interrupted&) {
@@ -56,7 +58,12 @@ Calibration calibration_for(const Dataset& data, const TrainParameters& params, 
 
 Map Map::train(const Dataset& data, const TrainOptions& options, TrainReport* report) {
   const TrainParameters params = resolve_train_parameters(data.scene, options);
+  if (!options.surfaces.empty() && options.surfaces.size() != data.scene.objects.size())
+    throw Error("train: " + std::to_string(options.surfaces.size()) + " surfaces for the scene's " +
+                std::to_string(data.scene.objects.size()) + " objects (one per object, or none)");
   std::shared_ptr<PairMap> map = train_pair_map(data, params, report);
+  map->surfaces = options.surfaces;
+  validate_pair_map(*map, "train: the objects' surfaces");  // before the calibration trains on them
   map->calibration = calibration_for(data, params, options, report);
   map->calibration.fine_pose_from = options.fine_pose_from.value_or(0);
   map->calibration.fine_pose_from = map->fine_pose_from();  // the pose space's default said, when none was asked

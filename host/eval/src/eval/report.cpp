@@ -370,6 +370,15 @@ Curve read_curve_json(const std::filesystem::path& file) {
   return c;
 }
 
+std::string describe_surfaces(const MapSummary& map) {
+  if (map.surface_objects == 0) return "none: the verify stage weighs the readings against the training contacts";
+  char line[256];
+  std::snprintf(line, sizeof line, "%zu meshes, %zu triangles, %zu vertices, %.2f MB (apart from the entries' bytes)",
+                map.surface_objects, map.surface_triangles, map.surface_vertices,
+                static_cast<double>(map.surface_bytes) / 1e6);
+  return line;
+}
+
 std::string describe_calibration(const MapSummary& map) {
   const MapSummary::Calibration& c = map.calibration;
   char buf[256];

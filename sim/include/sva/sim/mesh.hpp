@@ -2,6 +2,7 @@
 // Triangle meshes for the simulator: loaded from glTF 2.0 (.gltf, .glb),
 // validated, flattened (every mesh, primitive and node transform) and fitted
 // to a scene object's size and centre. Units: millimetres after fitting.
+#include <sva/map.hpp>
 #include <sva/scene.hpp>
 
 #include <glm/glm.hpp>
@@ -35,6 +36,11 @@ void fit_mesh(Mesh& mesh, const SceneObject& object);
 
 // load_mesh + fit_mesh.
 Mesh load_object_mesh(const SceneObject& object);
+
+// The objects' surfaces of `scene` for a map (TrainOptions::surfaces): each object's mesh fitted as the simulator
+// fits it (load_object_mesh), in the scene's order: the frame its simulated readings were taken in. Throws
+// sva::Error naming the object and the file when a mesh is missing or broken.
+std::vector<ObjectSurface> object_surfaces(const Scene& scene);
 
 // Writes the mesh as a binary glTF (.glb) atomically: positions and indices
 // (and normals when `with_normals`), one node, one primitive.

@@ -24,6 +24,9 @@ std::string format_table(const Curve& curve);
 // One line on a map's calibration (sva train, sva inspect): learned or the default, the temperature's law and
 // whether it can say "none of these".
 std::string describe_calibration(const MapSummary& map);
+// One line on a map's surfaces (sva train, sva inspect): what the verify stage weighs the readings against, the
+// meshes (their triangles and bytes, apart from the entries') or the training contacts.
+std::string describe_surfaces(const MapSummary& map);
 
 // Reads a JSON summary written by to_json; errors name the file and field.
 Curve read_curve_json(const std::filesystem::path& file);

@@ -1,0 +1,75 @@
+#pragma once
+// The measurement model of the verify stage (DESIGN 2): p(reading | object, pose) from the object's own surface,
+// the mesh the map carries (map version 9, PairMap::surfaces), rather than from the training contacts sampled on it.
+// A reading says where the sensor met the surface and which way the surface faced; under a hypothesis (object,
+// pose) the model finds the point of the object's surface nearest to that contact and compares position and normal,
+// with the noise the fine pose assumes (estimate/fine_pose.hpp: the final scale and the normal's weight). Everything
+// it reads is the mesh, so two copies of one mesh predict every reading identically and give exactly zero evidence
+// between them: where twins agree, no touch moves the balance.
+//
+// Not yet modelled: the pressure image (the pad's contact model lives in sim/ alone, docs/architecture.md).
+#include <sva/map.hpp>
+#include <sva/pose.hpp>
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <span>
+#include <unordered_map>
+#include <vector>
+
+#include "reading/observed_reading.hpp"
+
+namespace sva {
+
+// How a reading is weighed against a predicted contact: the joint residual s^2 = d^2 + (normal_weight_mm * angle)^2
+// with d the distance to the surface and `angle` the normals' misfit; a reading scores log2(exp(-s^2 / (2 sigma^2))
+// + floor), and one the surface does not reach within `reach_mm` scores log2(floor).
+struct ContactNoise {
+  double sigma_mm = 1.0;
+  double normal_weight_mm = 4.0;
+  double floor = 0.01;
+  double reach_mm = 3.0;  // past it the Gaussian term is below the floor's hundredth: not searched
+};
+
+class SurfaceModel {
+ public:
+  // One uniform grid of triangles per object (cells of `cell_mm`, at least the reach the queries use, so that a
+  // query visits at most 27 cells). Throws sva::Error on a surface that is not one per object.
+  SurfaceModel(const std::vector<ObjectSurface>& surfaces, double cell_mm);
+
+  std::size_t objects() const { return meshes_.size(); }
+
+  struct Nearest {
+    bool found = false;
+    glm::dvec3 point{0.0};
+    glm::dvec3 normal{0.0};  // the triangle's unit normal, outward by its winding
+    double distance = 0.0;
+    std::uint32_t triangle = 0;
+  };
+  // The point of `object`'s surface nearest to `p` (object frame) within `radius` (at most the cell size); ties go
+  // to the smaller triangle index, so the answer is one and the same on every machine.
+  Nearest nearest(std::uint32_t object, const glm::dvec3& p, double radius) const;
+
+  // log2 p(readings | object, pose), each reading once (grid frame: the readings and the pose alike).
+  double log2_likelihood(std::uint32_t object, std::span<const ObservedReading> readings, const RigidPose& pose,
+                         const ContactNoise& noise) const;
+  // One reading's term of it.
+  double log2_likelihood(std::uint32_t object, const ObservedReading& reading, const RigidPose& pose,
+                         const ContactNoise& noise) const;
+
+ private:
+  struct Mesh {
+    std::vector<glm::dvec3> a, b, c;  // triangle corners (degenerate triangles dropped, their indices kept)
+    std::vector<glm::dvec3> normal;
+    std::vector<std::uint32_t> index;  // each kept triangle's index in the object's surface
+    glm::dvec3 origin{0.0};            // the grid's corner
+    std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells;
+  };
+  std::uint64_t cell_key(const glm::ivec3& c) const;
+  glm::ivec3 cell_of(const Mesh& m, const glm::dvec3& p) const;
+  std::vector<Mesh> meshes_;
+  double cell_ = 1.0;
+};
+
+}  // namespace sva

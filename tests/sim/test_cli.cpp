@@ -212,3 +212,31 @@ TEST_CASE("simulate: Ctrl-C stops cleanly and leaves no output") {
   CHECK_FALSE(fs::exists(dir / "out" / "train.svad"));
   CHECK_FALSE(fs::exists(dir / "out" / "test.svad"));
 }
+
+TEST_CASE("train: the objects' meshes go into the map; a missing or broken one is refused, naming it") {
+  auto dir = sva::test::temp_dir("train-surfaces");
+  sva::test::write_gltf(sva::test::box_mesh({0, 0, 0}, {1, 2, 3}), dir / "box.gltf");
+  std::string output;
+  REQUIRE(sva::test::run_sva("simulate --mesh " + q(dir / "box.gltf") + " --out " + q(dir) + " --train 60 --test 2",
+                             &output) == 0);
+  REQUIRE(sva::test::run_sva("train --data " + q(dir / "train.svad") + " --out " + q(dir / "map.svam"), &output) == 0);
+  CHECK_THAT(output, Contains("surfaces       1 mesh, 12 triangles"));
+  REQUIRE(sva::test::run_sva("inspect " + q(dir / "map.svam"), &output) == 0);
+  CHECK_THAT(output, Contains("1 mesh, 12 triangles, 8 vertices"));
+  // The mesh broken after simulating: training names it and the way around it, and writes no map.
+  std::ofstream(dir / "box.gltf") << "this is not glTF";
+  const int rc =
+      sva::test::run_sva("train --data " + q(dir / "train.svad") + " --out " + q(dir / "broken.svam"), &output);
+  INFO(output);
+  CHECK(rc != 0);
+  CHECK(rc < 128);
+  CHECK_THAT(output, Contains("box.gltf") && Contains("not a glTF") && Contains("--no-surfaces"));
+  CHECK_FALSE(fs::exists(dir / "broken.svam"));
+  fs::remove(dir / "box.gltf");
+  CHECK(sva::test::run_sva("train --data " + q(dir / "train.svad") + " --out " + q(dir / "gone.svam"), &output) != 0);
+  CHECK_THAT(output, Contains("box.gltf") && Contains("no such file"));
+  // A dataset whose meshes are not to be had (a real sensor's recordings): --no-surfaces, and the map says so.
+  REQUIRE(sva::test::run_sva("train --no-surfaces --data " + q(dir / "train.svad") + " --out " + q(dir / "bare.svam"),
+                             &output) == 0);
+  CHECK_THAT(output, Contains("surfaces       none: the verify stage weighs the readings against the training"));
+}

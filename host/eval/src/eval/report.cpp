@@ -373,8 +373,9 @@ Curve read_curve_json(const std::filesystem::path& file) {
 std::string describe_surfaces(const MapSummary& map) {
   if (map.surface_objects == 0) return "none: the verify stage weighs the readings against the training contacts";
   char line[256];
-  std::snprintf(line, sizeof line, "%zu meshes, %zu triangles, %zu vertices, %.2f MB (apart from the entries' bytes)",
-                map.surface_objects, map.surface_triangles, map.surface_vertices,
+  std::snprintf(line, sizeof line, "%zu %s, %zu triangles, %zu vertices, %.2f MB (apart from the entries' bytes)",
+                map.surface_objects, map.surface_objects == 1 ? "mesh" : "meshes", map.surface_triangles,
+                map.surface_vertices,
                 static_cast<double>(map.surface_bytes) / 1e6);
   return line;
 }

@@ -359,3 +359,77 @@ TEST_CASE("Touch planner: the first touch's contact estimate guesses poses that 
   broken.pressure.pop_back();
   CHECK_THROWS_WITH(planner().contact_estimate(broken, 5, 7), Catch::Contains("pressure values"));
 }
+
+namespace {
+
+// Twins as meshes (the map's surfaces, format 9): a 40 x 40 mm field on a 5 mm grid, flat for object 0; object 1
+// raises the vertices (3..5, 3..5) by 6 mm, a plateau with slopes around it over [10, 30]^2, the one region where
+// they differ. Their training contacts lie on the flat field alike (one class): the meshes alone tell them apart.
+ObjectSurface field(bool raised) {
+  ObjectSurface s;
+  for (int j = 0; j <= 8; ++j)
+    for (int i = 0; i <= 8; ++i) {
+      const bool up = raised && i >= 3 && i <= 5 && j >= 3 && j <= 5;
+      s.positions.emplace_back(5.0f * static_cast<float>(i), 5.0f * static_cast<float>(j), up ? 6.0f : 0.0f);
+    }
+  auto at = [](int i, int j) { return static_cast<std::uint32_t>(j * 9 + i); };
+  for (int j = 0; j < 8; ++j)
+    for (int i = 0; i < 8; ++i) {
+      s.triangles.emplace_back(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+      s.triangles.emplace_back(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+  return s;
+}
+
+const Map& field_twins() {
+  static const Map m = [] {
+    Dataset d = synthetic_training_set("field-twins", "field", 2);
+    for (int o = 0; o < 2; ++o)
+      for (int i = 0; i < 80; ++i) {
+        util::Rng rng(4, static_cast<std::uint64_t>(o), static_cast<std::uint64_t>(i));
+        WorldPoint w;
+        w.p = glm::dvec3(rng.uniform(0.0, 40.0), rng.uniform(0.0, 40.0), 0.0);
+        w.n = glm::dvec3(0.0, 0.0, 1.0);
+        w.cls = 0;
+        Sample s;
+        s.object = static_cast<std::uint32_t>(o);
+        s.reading = reading_of(d.scene.sensor, w, RigidPose{}, rng);
+        d.samples.push_back(s);
+      }
+    TrainOptions o;
+    o.calibrate = false;
+    o.surfaces = {field(false), field(true)};
+    return Map::train(d, o);
+  }();
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("Touch planner: with the map's meshes, two posed twins that differ in one region are touched there") {
+  const TouchPlanner mesh_planner(field_twins());
+  const RigidPose pose = random_pose(12, 40.0);
+  const Estimate e = both_at(pose);
+  std::vector<CandidateTouch> cands;  // presses down onto the flat field, every 2.5 mm
+  for (int j = 0; j <= 16; ++j)
+    for (int i = 0; i <= 16; ++i)
+      cands.push_back({pose.apply(glm::dvec3(2.5 * i, 2.5 * j, 0.0)), pose.rotate(glm::dvec3(0.0, 0.0, -1.0)), true});
+  TouchPlanOptions all;
+  all.best = cands.size();
+  const TouchPlan plan = mesh_planner.plan(e, cands, all);
+  REQUIRE(plan.best.size() == cands.size());
+  for (std::size_t k = 0; k < 5; ++k) {
+    const glm::dvec3 q = pose.inverse().apply(plan.best[k].touch.position);
+    INFO("best " << k << " at " << q.x << ", " << q.y << ", score " << plan.best[k].score);
+    CHECK(q.x > 10.0);  // on the plateau or its slopes
+    CHECK(q.x < 30.0);
+    CHECK(q.y > 10.0);
+    CHECK(q.y < 30.0);
+    CHECK(plan.best[k].score > 0.5);
+  }
+  // Away from the region the twins' meshes predict the same contact: nothing to learn there.
+  for (const TouchScore& s : plan.best) {
+    const glm::dvec3 q = pose.inverse().apply(s.touch.position);
+    if (q.x < 7.5 || q.x > 32.5 || q.y < 7.5 || q.y > 32.5) CHECK(s.score == 0.0);
+  }
+}

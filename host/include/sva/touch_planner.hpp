@@ -1,9 +1,11 @@
 #pragma once
 // Choosing where to touch next (active touch planning, docs/api.md "Choosing the next touch"). After each reading
 // the recognizer holds a belief over objects and poses; the map knows every object's surface as its training
-// contacts (position, normal, appearance class). For a candidate touch the planner predicts what each hypothesis
-// of the estimate would feel there - from the map's stored surface, not a mesh: a real robot has the map - and
-// scores the touch by how well the outcome would tell the hypotheses apart.
+// contacts (position, normal, appearance class), and a map trained with meshes (format 9) the surfaces themselves.
+// For a candidate touch the planner predicts what each hypothesis of the estimate would feel there - from the map
+// alone, which a real robot has: the meshes' nearest point and normal when the map carries them (the verify stage's
+// measurement model), else the nearest training contact and its classes - and scores the touch by how well the
+// outcome would tell the hypotheses apart.
 //
 //   sva::TouchPlanner planner(map);                       // once per map (k-d trees, classes of the contacts)
 //   sva::Estimate est = recognizer.estimate(8);           // the hypotheses to tell apart

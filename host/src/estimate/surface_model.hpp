@@ -39,6 +39,7 @@ class SurfaceModel {
   SurfaceModel(const std::vector<ObjectSurface>& surfaces, double cell_mm);
 
   std::size_t objects() const { return meshes_.size(); }
+  double cell_mm() const { return cell_; }  // also the farthest a query looks
 
   struct Nearest {
     bool found = false;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "appearance/appearance_model.hpp"
+#include "estimate/surface_model.hpp"
 #include "map/pair_map.hpp"
 #include "map/surface_index.hpp"
 
@@ -18,6 +19,7 @@ struct TouchPlanner::Impl {
 
   std::shared_ptr<const PairMap> map;
   SurfaceIndex surface;
+  std::unique_ptr<SurfaceModel> model;  // the map's meshes (format 9), or none: predictions from training contacts
   std::vector<std::vector<ClassWeight>> classes;  // per map reading row
   double sigma_mm = 5.0;                          // twice the median spacing of the training contacts
   double shortest_pair_mm = 0.0, longest_pair_mm = 0.0;

@@ -15,6 +15,7 @@
 #include <sva/base/finite.hpp>
 #include <sva/base/portable_math.hpp>
 #include <sva/base/rng.hpp>
+#include "estimate/verify.hpp"
 #include "map/map_access.hpp"
 #include "planning/contact_classes.hpp"
 #include "planning/planner_state.hpp"
@@ -42,7 +43,10 @@ double median_spacing(const SurfaceIndex& surface) {
 }  // namespace
 
 TouchPlanner::Impl::Impl(std::shared_ptr<const PairMap> m)
-    : map(std::move(m)), surface(map->readings, map->objects.size()), classes(planning::contact_classes(*map)) {
+    : map(std::move(m)),
+      surface(map->readings, map->objects.size()),
+      model(surface_model_of(*map)),
+      classes(planning::contact_classes(*map)) {
   shortest_pair_mm = map->distance.min_mm;
   longest_pair_mm = map->distance.max_mm;
   sigma_mm = 2.0 * median_spacing(surface);
@@ -120,7 +124,8 @@ std::vector<Weighed> weighed_hypotheses(const Estimate& est, const TouchPlanOpti
   return out;
 }
 
-// What a hypothesis predicts at a candidate: a miss, or a contact at a training contact of its object.
+// What a hypothesis predicts at a candidate: a miss, or a contact at a training contact of its object, or on its
+// mesh (then without classes).
 struct Outcome {
   bool contact = false;
   glm::dvec3 position{0.0}, normal{0.0};  // robot frame
@@ -131,9 +136,21 @@ struct Resolved {
   double tolerance_mm, cos_normal, sigma_p, sigma_n, confusion, pair_min, pair_max;
 };
 
+// With the map's meshes: the point of the hypothesis' surface nearest to the candidate within the measurement
+// model's reach, facing the sensor, as the verify stage will weigh the reading. Geometry only: the training
+// contacts' classes are samples whose gaps differ between twins even where their surfaces agree, so they would
+// call touches telling where they are not.
+Outcome predict_on_mesh(const SurfaceModel& model, const Weighed& h, const glm::dvec3& q, const glm::dvec3& facing,
+                        const Resolved& r) {
+  const SurfaceModel::Nearest n = model.nearest(h.object, q, std::min(r.tolerance_mm, model.cell_mm()));
+  if (!n.found || glm::dot(n.normal, facing) < r.cos_normal) return {};
+  return {true, h.pose.apply(n.point), h.pose.rotate(n.normal), nullptr};
+}
+
 Outcome predict(const TouchPlanner::Impl& m, const Weighed& h, const CandidateTouch& c, const Resolved& r,
                 std::vector<SurfaceNeighbour>& nn) {
   const glm::dvec3 q = h.inverse.apply(c.position), facing = -h.inverse.rotate(c.approach);
+  if (m.model) return predict_on_mesh(*m.model, h, q, facing, r);
   m.surface.nearest(h.object, q, 8, &nn);
   const auto& points = m.surface.points(h.object);
   for (const SurfaceNeighbour& n : nn) {
@@ -150,8 +167,8 @@ double likeness(const Outcome& a, const Outcome& b, const Resolved& r) {
   if (a.contact != b.contact) return r.confusion;
   const glm::dvec3 d = a.position - b.position;
   const double angle = pmath::acos(std::clamp(glm::dot(a.normal, b.normal), -1.0, 1.0));
-  const double alike = planning::class_overlap(*a.classes, *b.classes) *
-                       pmath::exp(-0.5 * glm::dot(d, d) / (r.sigma_p * r.sigma_p)) *
+  const double classes = a.classes && b.classes ? planning::class_overlap(*a.classes, *b.classes) : 1.0;
+  const double alike = classes * pmath::exp(-0.5 * glm::dot(d, d) / (r.sigma_p * r.sigma_p)) *
                        pmath::exp(-0.5 * angle * angle / (r.sigma_n * r.sigma_n));
   return r.confusion + (1.0 - r.confusion) * alike;
 }

@@ -46,7 +46,13 @@ void bind_map(nb::module_& m) {
       .def_prop_ro("readings", &Map::readings, "training readings used")
       .def_prop_ro("fine_pose_from", &Map::fine_pose_from,
                    "readings from which the fine pose and the surface check run (sva.train's fine_pose_from)")
-      .def_prop_ro("bytes", &Map::bytes, "in-memory size of the map's arrays")
+      .def_prop_ro("bytes", &Map::bytes, "in-memory size of the map's arrays (the objects' surfaces apart)")
+      .def_prop_ro(
+          "surface_objects", [](const Map& map) { return map.summary().surface_objects; },
+          "objects whose mesh the map carries (sva.train's surfaces; 0: the verify stage reads the training contacts)")
+      .def_prop_ro(
+          "surface_bytes", [](const Map& map) { return map.summary().surface_bytes; },
+          "bytes of the objects' meshes, apart from `bytes`")
       .def_prop_ro("scene_name", &Map::scene_name)
       .def_prop_ro("scene_hash", &Map::scene_hash)
       .def_prop_ro("pose_space", &Map::pose_space, "the pose space of the map's scene (a copy)")

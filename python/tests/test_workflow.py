@@ -50,6 +50,10 @@ def test_train_builds_the_cli_map(tiny, tmp_path):
     assert early.fine_pose_from == 4 and sva.Map.load(tmp_path / "early.svam").fine_pose_from == 4
     with pytest.raises(sva.Error, match="fine pose from 2 readings: expected 3 to 1000"):
         sva.train(str(tiny.train), fine_pose_from=2)
+    # the objects' meshes: in the map by default (the verify stage's measurement model), left out on request
+    assert m.surface_objects == m.objects and m.surface_bytes > 0
+    bare = sva.train(str(tiny.train), calibrate=False, surfaces=False)
+    assert bare.surface_objects == 0 and bare.surface_bytes == 0 and bare.bytes == early.bytes
 
 
 def test_evaluate_gives_the_cli_summary(tiny, tiny_map, tmp_path):

@@ -11,7 +11,7 @@ namespace sva {
 ContactNoise contact_noise(const RefineSettings& settings) {
   ContactNoise n;
   n.sigma_mm = kSurfaceSigmaOfScale * settings.scale_final_mm;
-  n.normal_weight_mm = settings.normal_weight_mm;
+  n.normal_weight_mm = n.sigma_mm / kMeshTiltSigma;
   n.floor = kSurfaceFloor;
   n.reach_mm = 4.0 * n.sigma_mm;
   return n;

@@ -36,7 +36,8 @@ std::vector<char> bytes_of(const std::filesystem::path& p) {
 TEST_CASE("cli: sva train and sva inspect on a map") {
   const auto dir = test::temp_dir("cli-train");
   save_dataset(test::synthetic_dataset(3, 40), dir / "train.svad");
-  const std::string base = "train --data " + (dir / "train.svad").string() + " --out ";
+  // A synthetic dataset names no real mesh: trained as a real sensor's recordings are, without surfaces.
+  const std::string base = "train --no-surfaces --data " + (dir / "train.svad").string() + " --out ";
   const std::string small_calibration = " --calibration-sessions 10 --calibration-readings 4";
   std::string out;
   REQUIRE(run(base + (dir / "a.svamap").string() + " --threads 1" + small_calibration, &out) == 0);
@@ -72,7 +73,8 @@ TEST_CASE("cli: bad maps and bad options exit non-zero with a message") {
   const auto dir = test::temp_dir("cli-bad");
   save_dataset(test::synthetic_dataset(2, 20), dir / "train.svad");
   const std::string base =
-      "train --data " + (dir / "train.svad").string() + " --out " + (dir / "m.svamap").string() + " --no-calibration";
+      "train --no-surfaces --data " + (dir / "train.svad").string() + " --out " + (dir / "m.svamap").string() +
+      " --no-calibration";
   std::string out;
   REQUIRE(run(base, &out) == 0);
   auto bytes = bytes_of(dir / "m.svamap");

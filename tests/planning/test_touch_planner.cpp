@@ -12,6 +12,7 @@
 #include <limits>
 #include <numbers>
 
+#include "estimate/heightfield.hpp"
 #include "recognition/fixture.hpp"
 #include "recognition/trained_map.hpp"
 #include "test_support.hpp"
@@ -362,25 +363,8 @@ TEST_CASE("Touch planner: the first touch's contact estimate guesses poses that 
 
 namespace {
 
-// Twins as meshes (the map's surfaces, format 9): a 40 x 40 mm field on a 5 mm grid, flat for object 0; object 1
-// raises the vertices (3..5, 3..5) by 6 mm, a plateau with slopes around it over [10, 30]^2, the one region where
-// they differ. Their training contacts lie on the flat field alike (one class): the meshes alone tell them apart.
-ObjectSurface field(bool raised) {
-  ObjectSurface s;
-  for (int j = 0; j <= 8; ++j)
-    for (int i = 0; i <= 8; ++i) {
-      const bool up = raised && i >= 3 && i <= 5 && j >= 3 && j <= 5;
-      s.positions.emplace_back(5.0f * static_cast<float>(i), 5.0f * static_cast<float>(j), up ? 6.0f : 0.0f);
-    }
-  auto at = [](int i, int j) { return static_cast<std::uint32_t>(j * 9 + i); };
-  for (int j = 0; j < 8; ++j)
-    for (int i = 0; i < 8; ++i) {
-      s.triangles.emplace_back(at(i, j), at(i + 1, j), at(i + 1, j + 1));
-      s.triangles.emplace_back(at(i, j), at(i + 1, j + 1), at(i, j + 1));
-    }
-  return s;
-}
-
+// Twins as meshes (the map's surfaces, format 9): a flat field and its twin with a raised plateau. Their training
+// contacts lie on the flat field alike (one class): the meshes alone tell them apart.
 const Map& field_twins() {
   static const Map m = [] {
     Dataset d = synthetic_training_set("field-twins", "field", 2);
@@ -398,7 +382,7 @@ const Map& field_twins() {
       }
     TrainOptions o;
     o.calibrate = false;
-    o.surfaces = {field(false), field(true)};
+    o.surfaces = {heightfield(false), heightfield(true)};
     return Map::train(d, o);
   }();
   return m;

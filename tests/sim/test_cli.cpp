@@ -213,7 +213,7 @@ TEST_CASE("simulate: Ctrl-C stops cleanly and leaves no output") {
   CHECK_FALSE(fs::exists(dir / "out" / "test.svad"));
 }
 
-TEST_CASE("train: the objects' meshes go into the map; a missing or broken one is refused, naming it") {
+TEST_CASE("train: the objects' meshes go into the map, and a missing or broken one is refused, naming it") {
   auto dir = sva::test::temp_dir("train-surfaces");
   sva::test::write_gltf(sva::test::box_mesh({0, 0, 0}, {1, 2, 3}), dir / "box.gltf");
   std::string output;

@@ -103,3 +103,11 @@ TEST_CASE("surface model: the nearest point is the closest on any triangle, ties
   REQUIRE(corner.found);
   CHECK(corner.triangle == 2 * (1 * 8 + 1));  // the first triangle of cell (1, 1), which holds vertex (2, 2)
 }
+
+TEST_CASE("surface model: a mesh far larger than its cells is refused, not gridded into all memory") {
+  ObjectSurface huge;
+  huge.positions = {{0, 0, 0}, {9e5f, 0, 0}, {0, 9e5f, 9e5f}};
+  huge.triangles = {{0, 1, 2}};
+  CHECK_THROWS_WITH(SurfaceModel({huge}, 0.5), Catch::Contains("triangle 0 of object 0") && Catch::Contains("cells"));
+  CHECK_NOTHROW(SurfaceModel({heightfield(true)}, 0.5));  // a 40 mm field at half-millimetre cells is fine
+}

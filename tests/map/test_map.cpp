@@ -406,6 +406,7 @@ TEST_CASE("map: the objects' surfaces (format 9) round-trip, and a damaged secti
   damaged([](PairMap& p) { p.surfaces[1].triangles[2].y = 99; }, "names vertex 99");
   damaged([](PairMap& p) { p.surfaces[0].positions[1].x = NAN; }, "not finite");
   damaged([](PairMap& p) { p.surfaces[2].triangles.clear(); }, "no triangles");
+  damaged([](PairMap& p) { p.surfaces[1].positions[3].z = 2e6f; }, "more than 1 km");
   damaged([](PairMap& p) { p.surfaces.pop_back(); },
           "");  // the third object's surface cut off: any fault, the file named
   // Training refuses surfaces that are not one per object.

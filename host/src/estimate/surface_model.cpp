@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
 
 namespace sva {
 
@@ -35,6 +36,9 @@ glm::dvec3 closest_on_triangle(const glm::dvec3& p, const glm::dvec3& a, const g
 
 // Grid coordinates are kept within +-2^20 per axis: 21 bits each in a cell's key.
 constexpr int kCellLimit = 1 << 20;
+// A triangle's bounding box in cells: a 400 mm face of a letter at 0.5 mm cells is 640,000; more is a mesh that does
+// not fit its pose space, refused rather than filling memory.
+constexpr double kMaxCellsPerTriangle = 1 << 22;
 
 }  // namespace
 
@@ -70,6 +74,11 @@ SurfaceModel::SurfaceModel(const std::vector<ObjectSurface>& surfaces, double ce
       const std::uint32_t kept = static_cast<std::uint32_t>(m.a.size());
       m.a.push_back(a), m.b.push_back(b), m.c.push_back(c), m.normal.push_back(n / len), m.index.push_back(t);
       const glm::ivec3 lo = cell_of(m, glm::min(a, glm::min(b, c))), hi = cell_of(m, glm::max(a, glm::max(b, c)));
+      const glm::dvec3 span = glm::dvec3(hi - lo) + 1.0;
+      if (span.x * span.y * span.z > kMaxCellsPerTriangle)
+        throw Error("surface model: triangle " + std::to_string(t) + " of object " + std::to_string(o) +
+                    " spans more than " + std::to_string(static_cast<long>(kMaxCellsPerTriangle)) + " cells of " +
+                    std::to_string(cell_mm) + " mm (a mesh far larger than its object's pose space?)");
       for (int x = lo.x; x <= hi.x; ++x)
         for (int y = lo.y; y <= hi.y; ++y)
           for (int z = lo.z; z <= hi.z; ++z) m.cells[cell_key({x, y, z})].push_back(kept);

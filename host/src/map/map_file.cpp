@@ -444,6 +444,8 @@ void validate_objects_and_readings(const PairMap& m, const std::string& origin) 
   }
 }
 
+constexpr float kMaxSurfaceMm = 1e6f;
+
 // The objects' surfaces: none, or one per object with finite vertices and triangles that index them.
 void validate_surfaces(const PairMap& m, const std::string& origin) {
   auto fail = [&](const std::string& what) { invalid_map(origin, what); };
@@ -455,8 +457,13 @@ void validate_surfaces(const PairMap& m, const std::string& origin) {
     const std::string who = "surface of object \"" + m.objects[o].name + "\": ";
     if (s.triangles.empty()) fail(who + "no triangles");
     if (s.positions.size() > std::numeric_limits<std::uint32_t>::max()) fail(who + "too many vertices");
-    for (const glm::vec3& v : s.positions)
+    for (const glm::vec3& v : s.positions) {
       if (!std::isfinite(v.x) || !std::isfinite(v.y) || !std::isfinite(v.z)) fail(who + "a vertex is not finite");
+      // An object's frame is centred on it (the scene's size is its largest extent): a vertex a kilometre out is
+      // a damaged file, and would make the measurement model's grid absurd.
+      if (std::fabs(v.x) > kMaxSurfaceMm || std::fabs(v.y) > kMaxSurfaceMm || std::fabs(v.z) > kMaxSurfaceMm)
+        fail(who + "a vertex lies more than 1 km from the object's origin");
+    }
     for (std::size_t t = 0; t < s.triangles.size(); ++t)
       for (int k = 0; k < 3; ++k)
         if (s.triangles[t][k] >= s.positions.size())

@@ -116,8 +116,8 @@ std::vector<RigidPose> next_modes(const BeliefState& belief, const PoseSpace& sp
   return out;
 }
 
-}  // namespace
-
+// Up to `count` distinct modes of the object of bin `best` (its best bin), best first, as Candidates::modes
+// (without a pose prior): the fit's starts for a leading object other than the best one.
 std::vector<RigidPose> object_modes(const BeliefState& belief, const PoseSpace& space, std::uint64_t best,
                                     std::size_t count) {
   std::vector<RigidPose> modes;
@@ -127,17 +127,20 @@ std::vector<RigidPose> object_modes(const BeliefState& belief, const PoseSpace& 
   return modes;
 }
 
-EvidenceLevel evidence_level(const BeliefSummary& summary, std::size_t pairs_folded, const PoseSpace& space,
-                             std::size_t readings) {
+// What the calibration reads of a belief's reductions (its reading count is the calibrate stage's to set).
+EvidenceLevel evidence_level(const BeliefSummary& summary, std::size_t pairs_folded, const PoseSpace& space) {
   EvidenceLevel e;
-  e.readings = readings;
   e.object_log2_mass = object_log2_mass(summary, space);
   if (pairs_folded > 0)
     e.best_bits_per_pair = belief_math::units_to_bits(summary.max_offset) / static_cast<double>(pairs_folded);
   return e;
 }
 
-namespace {
+// The request's pose priors, or none.
+const PoseWeighting& pose_prior_of(const CandidateRequest& r) {
+  static const PoseWeighting none;
+  return r.pose_weighting ? *r.pose_weighting : none;
+}
 
 // The leading touched objects by log-evidence (ties to the smaller id): an order no temperature changes.
 std::vector<std::uint32_t> leading_objects(const EvidenceLevel& level, const BeliefSummary& s, std::size_t count) {
@@ -176,8 +179,7 @@ std::vector<LeadingObject> leading_with_starts(const BeliefState& belief, const 
 // Eq 5 does), with its best bin, parabolic peak and modes.
 void best_object(const BeliefState& belief, const PoseSpace& space, const std::vector<double>& mass,
                  const CandidateRequest& r, Candidates* c) {
-  static const PoseWeighting none;
-  const PoseWeighting& prior = r.pose_weighting ? *r.pose_weighting : none;
+  const PoseWeighting& prior = pose_prior_of(r);
   const BeliefSummary& s = c->summary;
   const bool tempered = r.temperature != 1.0;
   c->object_probability = tempered ? tempered_posterior(c->level.object_log2_mass, r.temperature, r.object_weight)
@@ -209,7 +211,7 @@ Candidates find_candidates(const BeliefState& belief, const PoseSpace& space, co
   for (double m : mass) z += m;
   c.raw_object_probability.resize(mass.size());
   for (std::size_t o = 0; o < mass.size(); ++o) c.raw_object_probability[o] = mass[o] / z;
-  c.level = evidence_level(s, belief.pairs_folded(), space, 0);
+  c.level = evidence_level(s, belief.pairs_folded(), space);
   best_object(belief, space, mass, r, &c);
   // A bin's probability: its weight 2^(offset - M) at mass_bits over the total.
   const double scale = std::ldexp(1.0, static_cast<int>(belief_math::mass_bits(space.bins_per_object()))) / z;
@@ -223,11 +225,9 @@ Candidates find_candidates(const BeliefState& belief, const PoseSpace& space, co
     c.top.push_back(h);
   }
   if (r.leading > 0) c.leading = leading_with_starts(belief, space, c, r);
-  if (r.hypotheses && r.top_k > 0) {
-    static const PoseWeighting none;
-    c.hypotheses = hypotheses(belief, space, s, r.top_k, r.hypothesis_radius_bins, r.object_weight,
-                              r.pose_weighting ? *r.pose_weighting : none, r.threads);
-  }
+  if (r.hypotheses && r.top_k > 0)
+    c.hypotheses =
+        hypotheses(belief, space, s, r.top_k, r.hypothesis_radius_bins, r.object_weight, pose_prior_of(r), r.threads);
   return c;
 }
 

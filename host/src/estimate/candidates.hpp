@@ -76,13 +76,4 @@ struct CandidateRequest {
 // parabola's bins and orders the modes by it; it leaves the object posterior and `top` as they are.
 Candidates find_candidates(const BeliefState& belief, const PoseSpace& space, const CandidateRequest& request);
 
-// Up to `count` distinct modes of the object of bin `best` (its best bin), best first, as Candidates::modes
-// (without a pose prior).
-std::vector<RigidPose> object_modes(const BeliefState& belief, const PoseSpace& space, std::uint64_t best,
-                                    std::size_t count);
-
-// What the calibration reads of a belief's reductions after `readings` readings.
-EvidenceLevel evidence_level(const BeliefSummary& summary, std::size_t pairs_folded, const PoseSpace& space,
-                             std::size_t readings);
-
 }  // namespace sva

@@ -339,7 +339,10 @@ def main():
             f"{a.pose_error[0]:g} mm and {a.pose_error[1]:g} deg away")
     print(f"{len(trials)} trials; each step {a.candidates} candidate places, each valued by {rule}", flush=True)
     readings = []
-    with multiprocessing.Pool(a.jobs, start_worker, (a.map, a.data, a.dense, a.train)) as pool:
+    # Workers from a fork server, not forked from this process: the engine's worker threads in a forked copy may hold
+    # a lock no thread of the child will release (a suite run hung once at 300 s, with every trial's output printed).
+    ctx = multiprocessing.get_context("forkserver")
+    with ctx.Pool(a.jobs, start_worker, (a.map, a.data, a.dense, a.train)) as pool:
         try:
             for t, obj, r in pool.imap(run_trial, [(a, tr) for tr in trials]):
                 readings.append(r)

@@ -338,17 +338,23 @@ def main():
             "from its mode's covariance" if a.spread == "covariance" else
             f"{a.pose_error[0]:g} mm and {a.pose_error[1]:g} deg away")
     print(f"{len(trials)} trials; each step {a.candidates} candidate places, each valued by {rule}", flush=True)
-    readings = []
-    # Workers from a fork server, not forked from this process: the engine's worker threads in a forked copy may hold
-    # a lock no thread of the child will release (a suite run hung once at 300 s, with every trial's output printed).
-    ctx = multiprocessing.get_context("forkserver")
-    with ctx.Pool(a.jobs, start_worker, (a.map, a.data, a.dense, a.train)) as pool:
-        try:
-            for t, obj, r in pool.imap(run_trial, [(a, tr) for tr in trials]):
-                readings.append(r)
-                print(f"{t:5d} {test.scene.object_names[obj]:16s} {r:5d}", flush=True)
-        except NoPlace as e:
-            ap.error(f"--dense {a.dense}: {e}")
+    readings, fault = [], None
+    # Workers from a fork server, not forked from this process (a forked copy of the engine's threads may hold a lock),
+    # and the pool closed and joined, never terminated: Pool.terminate() hung at 300 s in 1 run of 3 here, after every
+    # trial had printed, joining a worker that the pool's own handler had started behind it (py-spy: the main thread
+    # in Pool._terminate_pool's join, the worker waiting for a task on the queue's lock).
+    pool = multiprocessing.get_context("forkserver").Pool(a.jobs, start_worker, (a.map, a.data, a.dense, a.train))
+    try:
+        for t, obj, r in pool.imap(run_trial, [(a, tr) for tr in trials]):
+            readings.append(r)
+            print(f"{t:5d} {test.scene.object_names[obj]:16s} {r:5d}", flush=True)
+    except NoPlace as e:
+        fault = e
+    finally:
+        pool.close()  # the trials still queued after a fault run out; each is bounded by --max-readings
+        pool.join()
+    if fault is not None:
+        ap.error(f"--dense {a.dense}: {fault}")
     who = "place oracle (sees the draws)" if a.see_draws else {
         "truth": "place oracle", "hypotheses": "planner (the belief's hypotheses, dense outcomes)",
         "modes": "planner (the belief's modes, dense outcomes)",

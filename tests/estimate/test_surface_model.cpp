@@ -111,3 +111,68 @@ TEST_CASE("surface model: a mesh far larger than its cells is refused, not gridd
   CHECK_THROWS_WITH(SurfaceModel({huge}, 0.5), Catch::Contains("triangle 0 of object 0") && Catch::Contains("cells"));
   CHECK_NOTHROW(SurfaceModel({heightfield(true)}, 0.5));  // a 40 mm field at half-millimetre cells is fine
 }
+
+TEST_CASE("surface model: a pose a little off is polished onto the mesh before it is scored") {
+  const SurfaceModel model({heightfield(true)}, contact_noise(paper_settings()).reach_mm);
+  const ContactNoise noise = contact_noise(paper_settings());
+  const RigidPose truth = placed();
+  std::vector<ObservedReading> readings;  // the plateau's top and the flat around it, 9 touches
+  for (double x : {4.0, 20.0, 36.0})
+    for (double y : {4.0, 20.0, 36.0}) {
+      ObservedReading r = touch(truth, x, y);
+      if (x == 20.0 && y == 20.0) r.position = truth.apply(glm::dvec3(x, y, 6.0));
+      readings.push_back(r);
+    }
+  RigidPose start = truth;  // the training contacts' fit: 0.8 mm high and 2.3 degrees tilted
+  start.T += truth.rotate(glm::dvec3(0.0, 0.0, 0.8));
+  start.R = so3::exp(truth.rotate(glm::dvec3(0.04, 0.0, 0.0))) * start.R;
+  const RigidPose polished = polish_on_mesh(model, 0, readings, start, paper_settings(), noise);
+  const double before = model.log2_likelihood(0, readings, start, noise);
+  const double after = model.log2_likelihood(0, readings, polished, noise);
+  CHECK(after > before + 1.0);
+  for (const ObservedReading& r : readings) {  // every contact back on its facet
+    const glm::dvec3 p = glm::transpose(polished.R) * (r.position - polished.T);
+    const SurfaceModel::Nearest q = model.nearest(0, p, noise.reach_mm);
+    REQUIRE(q.found);
+    CHECK(q.distance < 0.05);
+  }
+  // Too few readings to pose anything: the start stands, untouched.
+  const RigidPose kept = polish_on_mesh(model, 0, std::span(readings).first(3), start, paper_settings(), noise);
+  CHECK(kept.T == start.T);
+  CHECK(kept.R == start.R);
+}
+
+TEST_CASE("surface model: the pad's image tells twins apart where the contact point and normal agree") {
+  PadGeometry pad;  // the 6 x 6 array at 2 mm of the built-in scenes, 2 kPa at 100 kPa/mm to count as touching
+  pad.rows = pad.cols = 6, pad.pitch_mm = 2.0, pad.contact_depth_mm = 0.02;
+  const double reach = contact_noise(paper_settings()).reach_mm;
+  const SurfaceModel model({heightfield(false), heightfield(true)}, reach, pad);
+  const RigidPose truth = placed();  // the flat twin is touched beside the raised twin's slope (it rises from x = 10)
+  ObservedReading r = touch(truth, 7.0, 20.0);
+  r.x_axis = truth.rotate(glm::dvec3(1.0, 0.0, 0.0));
+  r.depth_mm.assign(36, 0.2f);  // the flat pressed evenly: the columns at x = 2..12 all felt it
+  ContactNoise with_pad = contact_noise(paper_settings());
+  with_pad.pad_sigma_mm = 0.04;
+  ContactNoise without_pad = with_pad;
+  without_pad.pad_sigma_mm = 0.0;
+  // The contact alone: the raised twin is flat at (7, 20) too, so the point and normal say nothing.
+  CHECK(std::fabs(model.log2_likelihood(0, r, truth, without_pad) - model.log2_likelihood(1, r, truth, without_pad)) <
+        0.1);
+  // The image: the raised twin's slope would press the pad's last column 2.4 mm deep; the flat one fits it.
+  CHECK(model.pad_misfit(0, r, truth) < 0.01);
+  CHECK(model.pad_misfit(1, r, truth) > 0.1);
+  CHECK(model.log2_likelihood(0, r, truth, with_pad) - model.log2_likelihood(1, r, truth, with_pad) >= std::log2(99.0));
+  // Copies of one mesh: the image's evidence between them is exactly zero.
+  const SurfaceModel copies({heightfield(true), heightfield(true)}, reach, pad);
+  CHECK(copies.log2_likelihood(0, r, truth, with_pad) == copies.log2_likelihood(1, r, truth, with_pad));
+  // No image (a planner's prediction), or one of another size: nothing to compare, the contact alone.
+  ObservedReading bare = r;
+  bare.depth_mm.clear();
+  CHECK(model.pad_misfit(1, bare, truth) < 0.0);
+  CHECK(model.log2_likelihood(1, bare, truth, with_pad) == model.log2_likelihood(1, bare, truth, without_pad));
+  bare.depth_mm.assign(16, 0.2f);
+  CHECK(model.pad_misfit(1, bare, truth) < 0.0);
+  // A pad without rows is refused by name.
+  PadGeometry none;
+  CHECK_THROWS_WITH(SurfaceModel({heightfield(false)}, reach, none), Catch::Contains("the pad needs rows"));
+}

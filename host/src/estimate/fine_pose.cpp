@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "calibration/calibration.hpp"
+#include "estimate/surface_model.hpp"
 
 namespace sva {
 
@@ -136,11 +137,63 @@ void add_row(Mat* h, Vec* g, const Vec& row, double residual, double weight, int
   }
 }
 
+// Where a reading meets the object (object frame): the surface point and normal matched to a contact `y` whose
+// normal is `u`, within `radius` of it. Two sources: the map's training contacts, and the object's mesh.
+class Correspondences {
+ public:
+  virtual ~Correspondences() = default;
+  virtual bool match(const glm::dvec3& y, const glm::dvec3& u, double radius, glm::dvec3* point,
+                     glm::dvec3* normal) const = 0;
+};
+
+// The training contacts: the first of the nearest few whose normal is compatible (the radius is not used: the
+// robust loss decides what a far match is worth).
+class ContactCorrespondences final : public Correspondences {
+ public:
+  ContactCorrespondences(const SurfaceIndex& surface, std::uint32_t object, const RefineSettings& s)
+      : surface_(surface), object_(object), s_(s) {}
+  bool match(const glm::dvec3& y, const glm::dvec3& u, double, glm::dvec3* point, glm::dvec3* normal) const override {
+    thread_local std::vector<SurfaceNeighbour> nb;
+    surface_.nearest(object_, y, s_.neighbours, &nb);
+    const std::vector<SurfacePoint>& pts = surface_.points(object_);
+    for (const SurfaceNeighbour& n : nb) {
+      const SurfacePoint& sp = pts[n.index];
+      if (glm::dot(sp.normal, u) < s_.min_normal_cos) continue;
+      *point = sp.position, *normal = sp.normal;
+      return true;
+    }
+    return false;
+  }
+
+ private:
+  const SurfaceIndex& surface_;
+  std::uint32_t object_;
+  RefineSettings s_;
+};
+
+// The mesh: the nearest point within the radius (at most the model's reach), facing the contact's way.
+class MeshCorrespondences final : public Correspondences {
+ public:
+  MeshCorrespondences(const SurfaceModel& model, std::uint32_t object, const RefineSettings& s)
+      : model_(model), object_(object), s_(s) {}
+  bool match(const glm::dvec3& y, const glm::dvec3& u, double radius, glm::dvec3* point,
+             glm::dvec3* normal) const override {
+    const SurfaceModel::Nearest q = model_.nearest(object_, y, radius);
+    if (!q.found || glm::dot(q.normal, u) < s_.min_normal_cos) return false;
+    *point = q.point, *normal = q.normal;
+    return true;
+  }
+
+ private:
+  const SurfaceModel& model_;
+  std::uint32_t object_;
+  RefineSettings s_;
+};
+
 class Problem {
  public:
-  Problem(const SurfaceIndex& surface, std::uint32_t object, std::span<const ObservedReading> readings,
-          const RefineSettings& s)
-      : surface_(surface), object_(object), readings_(readings), s_(s), dim_(s.planar ? 3 : 6) {
+  Problem(const Correspondences& surface, std::span<const ObservedReading> readings, const RefineSettings& s)
+      : surface_(surface), readings_(readings), s_(s), dim_(s.planar ? 3 : 6) {
     for (const ObservedReading& r : readings) centre_ += r.position;
     centre_ /= static_cast<double>(readings.size());
     double spread = 0.0;
@@ -156,12 +209,11 @@ class Problem {
   std::pair<RigidPose, Fit> run(const RigidPose& start, int* observable) const;
 
  private:
-  Match match(const RigidPose& pose, const ObservedReading& r, std::vector<SurfaceNeighbour>* nb) const;
+  Match match(const RigidPose& pose, const ObservedReading& r, double scale) const;
   // A parameter's place in the full (w_x, w_y, w_z, v_x, v_y, v_z).
   int full_index(int i) const { return dim_ == 6 ? i : i + 2; }
 
-  const SurfaceIndex& surface_;
-  std::uint32_t object_;
+  const Correspondences& surface_;
   std::span<const ObservedReading> readings_;
   RefineSettings s_;
   int dim_;
@@ -169,32 +221,26 @@ class Problem {
   double spread_ = 1.0;
 };
 
-Match Problem::match(const RigidPose& pose, const ObservedReading& r, std::vector<SurfaceNeighbour>* nb) const {
+Match Problem::match(const RigidPose& pose, const ObservedReading& r, double scale) const {
   Match m;
   const glm::dmat3 Rt = glm::transpose(pose.R);
   const glm::dvec3 y = Rt * (r.position - pose.T), u = Rt * r.normal;
-  surface_.nearest(object_, y, s_.neighbours, nb);
-  const std::vector<SurfacePoint>& pts = surface_.points(object_);
-  for (const SurfaceNeighbour& n : *nb) {
-    const SurfacePoint& sp = pts[n.index];
-    if (glm::dot(sp.normal, u) < s_.min_normal_cos) continue;
-    m.found = true;
-    m.point = pose.apply(sp.position);
-    m.normal = pose.rotate(sp.normal);
-    m.plane = glm::dot(m.normal, r.position - m.point);
-    m.tilt = r.normal - m.normal;
-    m.s2 = m.plane * m.plane + s_.normal_weight_mm * s_.normal_weight_mm * glm::dot(m.tilt, m.tilt);
-    break;
-  }
+  glm::dvec3 point, normal;
+  if (!surface_.match(y, u, scale, &point, &normal)) return m;
+  m.found = true;
+  m.point = pose.apply(point);
+  m.normal = pose.rotate(normal);
+  m.plane = glm::dot(m.normal, r.position - m.point);
+  m.tilt = r.normal - m.normal;
+  m.s2 = m.plane * m.plane + s_.normal_weight_mm * s_.normal_weight_mm * glm::dot(m.tilt, m.tilt);
   return m;
 }
 
 Fit Problem::fit(const RigidPose& pose, double scale) const {
   Fit f;
   f.matches.reserve(readings_.size());
-  std::vector<SurfaceNeighbour> nb;
   for (const ObservedReading& r : readings_) {
-    Match m = match(pose, r, &nb);
+    Match m = match(pose, r, scale);
     f.cost += m.found ? tukey_cost(m.s2, scale) : scale * scale / 6.0;
     f.inliers += m.found && m.s2 < scale * scale;
     f.matches.push_back(m);
@@ -340,7 +386,8 @@ RefinedPose refine_pose(const SurfaceIndex& surface, std::uint32_t object, std::
   if (readings.size() < std::max<std::size_t>(settings.min_readings, 1) || object >= surface.objects() ||
       surface.points(object).empty())
     return out;
-  const Problem problem(surface, object, readings, settings);
+  const ContactCorrespondences contacts(surface, object, settings);
+  const Problem problem(contacts, readings, settings);
   const double final_scale = settings.scale_final_mm;
   const Fit unrefined = problem.fit(starts[0], final_scale);
   out.cost = unrefined.cost;
@@ -375,11 +422,28 @@ RefinedPose refine_pose(const SurfaceIndex& surface, std::uint32_t object, std::
   return best;
 }
 
+RigidPose polish_on_mesh(const SurfaceModel& model, std::uint32_t object, std::span<const ObservedReading> readings,
+                         const RigidPose& start, const RefineSettings& settings, const ContactNoise& noise) {
+  if (readings.size() < std::max<std::size_t>(settings.min_readings, 1) || object >= model.objects()) return start;
+  RefineSettings s = settings;
+  // From the model's reach down to the fine pose's final scale: the start is already within a few mm (the fit on
+  // the training contacts), and the mesh's exact facets weigh the normal as the model does.
+  s.scale_start_mm = noise.reach_mm;
+  s.scale_final_mm = std::min(settings.scale_final_mm, noise.reach_mm);
+  s.normal_weight_mm = noise.normal_weight_mm;
+  const MeshCorrespondences mesh(model, object, s);
+  const Problem problem(mesh, readings, s);
+  int observable = 0;
+  const auto [pose, f] = problem.run(start, &observable);
+  return f.cost < problem.fit(start, s.scale_final_mm).cost ? pose : start;
+}
+
 double surface_log2_fit(const SurfaceIndex& surface, std::uint32_t object, std::span<const ObservedReading> readings,
                         const RigidPose& pose, const RefineSettings& settings, double sigma_mm, double floor) {
   if (readings.empty() || object >= surface.objects() || surface.points(object).empty())
     return static_cast<double>(readings.size()) * pmath::log2(floor);
-  const Problem problem(surface, object, readings, settings);
+  const ContactCorrespondences contacts(surface, object, settings);
+  const Problem problem(contacts, readings, settings);
   const Fit f = problem.fit(pose, settings.scale_final_mm);
   double bits = 0.0;
   for (const Match& m : f.matches)

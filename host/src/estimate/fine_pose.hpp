@@ -15,6 +15,7 @@
 #include <cstdint>
 #include <span>
 
+#include "estimate/surface_model.hpp"
 #include "map/surface_index.hpp"
 #include "reading/observed_reading.hpp"
 #include "votes/pose_space.hpp"
@@ -56,6 +57,14 @@ struct RefinedPose {
 // first start (or an identity pose when there is none), `refined` false.
 RefinedPose refine_pose(const SurfaceIndex& surface, std::uint32_t object, std::span<const ObservedReading> readings,
                         std::span<const RigidPose> starts, const RefineSettings& settings);
+
+// `start` moved to fit `object`'s mesh (the map's surfaces, SurfaceModel): point-to-plane against the nearest facet
+// and the facet's exact normal, weighed as the measurement model weighs them (`noise`), Tukey's loss from the model's
+// reach down to the fine pose's final scale. The training contacts' fit leaves their sampling gaps in the pose
+// (a few tenths of a mm); the measurement model, which compares each contact with the facet under it, sees them.
+// Deterministic; fewer readings than the fine pose needs, or no better fit, keep `start`.
+RigidPose polish_on_mesh(const SurfaceModel& model, std::uint32_t object, std::span<const ObservedReading> readings,
+                         const RigidPose& start, const RefineSettings& settings, const ContactNoise& noise);
 
 // How well `object`'s surface explains the readings at `pose`: per reading, log2(exp(-s2 / (2 sigma^2)) + floor)
 // with s2 the squared joint residual to its matched training contact (point-to-plane and normal tilt, as the fit

@@ -115,6 +115,83 @@ SurfaceModel::Nearest SurfaceModel::nearest(std::uint32_t object, const glm::dve
   return best;
 }
 
+SurfaceModel::SurfaceModel(const std::vector<ObjectSurface>& surfaces, double cell_mm, const PadGeometry& pad)
+    : SurfaceModel(surfaces, cell_mm) {
+  if (pad.rows <= 0 || pad.cols <= 0 || !(pad.pitch_mm > 0.0) || !(pad.contact_depth_mm >= 0.0) ||
+      !(pad.reach_mm > 0.0))
+    throw Error("surface model: the pad needs rows, columns, a pitch and a reach, and a contact depth >= 0");
+  pad_ = pad;
+  pad_.reach_mm = std::min(pad.reach_mm, cell_);
+}
+
+namespace {
+
+// The plane o + a u + b v of least squares through (u, v, z) over `use`, its slopes held near 0 by `ridge` (a pad of
+// two elements in contact fixes no tilt). Returns {o, a, b}.
+glm::dvec3 fit_plane(const std::vector<glm::dvec3>& uvz, const std::vector<char>& use, double ridge) {
+  glm::dmat3 a(0.0);
+  glm::dvec3 b(0.0);
+  for (std::size_t k = 0; k < uvz.size(); ++k) {
+    if (!use[k]) continue;
+    const glm::dvec3 row(1.0, uvz[k].x, uvz[k].y);
+    a += glm::outerProduct(row, row);
+    b += row * uvz[k].z;
+  }
+  a[1][1] += ridge, a[2][2] += ridge;
+  if (!(a[0][0] > 0.0)) return glm::dvec3(0.0);
+  return glm::inverse(a) * b;
+}
+
+}  // namespace
+
+double SurfaceModel::pad_misfit(std::uint32_t object, const ObservedReading& r, const RigidPose& pose) const {
+  const std::size_t elements = static_cast<std::size_t>(pad_.rows) * static_cast<std::size_t>(pad_.cols);
+  if (!has_pad() || r.depth_mm.size() != elements || object >= meshes_.size()) return -1.0;
+  const glm::dvec3 n = glm::normalize(r.normal);
+  glm::dvec3 x = r.x_axis - glm::dot(r.x_axis, n) * n;
+  if (!(glm::length(x) > 1e-6)) return -1.0;
+  x = glm::normalize(x);
+  const glm::dvec3 y = glm::cross(n, x);
+  const glm::dmat3 Rt = glm::transpose(pose.R);
+  const glm::dvec3 no = Rt * n;
+  // Per element: its place on the pad (u, v) and how far the surface lies below the pad's plane there (its height
+  // above the surface: negative where the surface pokes through, as under a pressing pad), the reach where none is.
+  std::vector<glm::dvec3> uvh(elements);
+  for (int i = 0; i < pad_.rows; ++i)
+    for (int j = 0; j < pad_.cols; ++j) {
+      const double u = (j - 0.5 * (pad_.cols - 1)) * pad_.pitch_mm, v = (i - 0.5 * (pad_.rows - 1)) * pad_.pitch_mm;
+      const glm::dvec3 c = Rt * (r.position + u * x + v * y - pose.T);
+      const Nearest q = nearest(object, c, pad_.reach_mm);
+      uvh[static_cast<std::size_t>(i * pad_.cols + j)] = {u, v, q.found ? glm::dot(c - q.point, no) : pad_.reach_mm};
+    }
+  // The press plane: the elements felt, depth + height = o + a u + b v; then again over the elements the plane
+  // predicts in contact too (a few rounds: the set settles).
+  std::vector<char> use(elements, 0);
+  std::vector<glm::dvec3> target(elements);
+  for (std::size_t k = 0; k < elements; ++k) {
+    use[k] = r.depth_mm[k] > pad_.contact_depth_mm;
+    target[k] = {uvh[k].x, uvh[k].y, r.depth_mm[k] + uvh[k].z};
+  }
+  const double ridge = 0.5 * static_cast<double>(elements);  // mm^2 per unit slope^2: 2 degrees cost 0.02 mm^2
+  glm::dvec3 plane = fit_plane(target, use, ridge);
+  for (int round = 0; round < 3; ++round) {
+    for (std::size_t k = 0; k < elements; ++k)
+      use[k] = r.depth_mm[k] > pad_.contact_depth_mm ||
+               plane.x + plane.y * uvh[k].x + plane.z * uvh[k].y - uvh[k].z > pad_.contact_depth_mm;
+    plane = fit_plane(target, use, ridge);
+  }
+  double sum = 0.0;
+  std::size_t count = 0;
+  for (std::size_t k = 0; k < elements; ++k) {
+    const double predicted = std::max(0.0, plane.x + plane.y * uvh[k].x + plane.z * uvh[k].y - uvh[k].z);
+    if (!(r.depth_mm[k] > pad_.contact_depth_mm || predicted > pad_.contact_depth_mm)) continue;
+    const double e = r.depth_mm[k] - predicted;
+    sum += e * e;
+    ++count;
+  }
+  return count ? std::sqrt(sum / static_cast<double>(count)) : 0.0;
+}
+
 double SurfaceModel::log2_likelihood(std::uint32_t object, const ObservedReading& r, const RigidPose& pose,
                                      const ContactNoise& noise) const {
   // The reading in the object's frame: the hypothesis says where the object is.
@@ -123,7 +200,12 @@ double SurfaceModel::log2_likelihood(std::uint32_t object, const ObservedReading
   const Nearest q = nearest(object, p, noise.reach_mm);
   if (!q.found) return pmath::log2(noise.floor);
   const glm::dvec3 tilt = n - q.normal;
-  const double s2 = q.distance * q.distance + noise.normal_weight_mm * noise.normal_weight_mm * glm::dot(tilt, tilt);
+  double s2 = q.distance * q.distance + noise.normal_weight_mm * noise.normal_weight_mm * glm::dot(tilt, tilt);
+  if (noise.pad_sigma_mm > 0.0) {
+    const double misfit = pad_misfit(object, r, pose);
+    const double scale = noise.sigma_mm / noise.pad_sigma_mm;
+    if (misfit >= 0.0) s2 += scale * scale * misfit * misfit;
+  }
   return pmath::log2(pmath::exp(-0.5 * s2 / (noise.sigma_mm * noise.sigma_mm)) + noise.floor);
 }
 

@@ -7,7 +7,9 @@
 // it reads is the mesh, so two copies of one mesh predict every reading identically and give exactly zero evidence
 // between them: where twins agree, no touch moves the balance.
 //
-// Not yet modelled: the pressure image (the pad's contact model lives in sim/ alone, docs/architecture.md).
+// With the map's pad (PadGeometry), the image joins the comparison: the penetration each element felt against the
+// hypothesis's surface under it, so a slot, a ridge or a rim under the pad tells twins apart even where the contact
+// point and normal agree. Not modelled: the skin's elastic spread (the simulator's sim/ alone, docs/architecture.md).
 #include <sva/map.hpp>
 #include <sva/pose.hpp>
 
@@ -30,6 +32,18 @@ struct ContactNoise {
   double normal_weight_mm = 4.0;
   double floor = 0.01;
   double reach_mm = 3.0;  // past it the Gaussian term is below the floor's hundredth: not searched
+  // The pad's image against the surface under it (SurfaceModel::pad_misfit2): its misfit in mm joins the residual
+  // as (sigma / pad_sigma)^2 * misfit^2. 0: the image is not compared (the contact alone, as before).
+  double pad_sigma_mm = 0.0;
+};
+
+// The pad a map's readings were pressed with (its appearance calibration): the array's shape and pitch, and the
+// penetration an element must feel to count as touching (the contact threshold over the stiffness).
+struct PadGeometry {
+  int rows = 0, cols = 0;
+  double pitch_mm = 0.0;
+  double contact_depth_mm = 0.02;
+  double reach_mm = 1.5;  // how far from an element's centre the surface is looked for (no surface: no contact)
 };
 
 class SurfaceModel {
@@ -37,6 +51,8 @@ class SurfaceModel {
   // One uniform grid of triangles per object (cells of `cell_mm`, at least the reach the queries use, so that a
   // query visits at most 27 cells). Throws sva::Error on a surface that is not one per object.
   SurfaceModel(const std::vector<ObjectSurface>& surfaces, double cell_mm);
+  // With the pad the readings were taken with, the model also compares each reading's image (pad_misfit2).
+  SurfaceModel(const std::vector<ObjectSurface>& surfaces, double cell_mm, const PadGeometry& pad);
 
   std::size_t objects() const { return meshes_.size(); }
   double cell_mm() const { return cell_; }  // also the farthest a query looks
@@ -59,6 +75,14 @@ class SurfaceModel {
   double log2_likelihood(std::uint32_t object, const ObservedReading& reading, const RigidPose& pose,
                          const ContactNoise& noise) const;
 
+  // How far the pad's image departs from what `object`'s surface at `pose` predicts, in mm (root mean square over
+  // the elements either side sees in contact): each element's centre on the reading's pad plane, the surface's height
+  // under it (the nearest point within the pad's reach, along the reading's normal), the predicted penetration that
+  // height below a plane fitted to the image (the press depth and the arm's small tilt, which the image cannot tell
+  // from the surface's own). Negative when there is nothing to compare: no pad, no image, an image of another size.
+  double pad_misfit(std::uint32_t object, const ObservedReading& reading, const RigidPose& pose) const;
+  bool has_pad() const { return pad_.rows > 0; }
+
  private:
   struct Mesh {
     std::vector<glm::dvec3> a, b, c;  // triangle corners (degenerate triangles dropped, their indices kept)
@@ -71,6 +95,7 @@ class SurfaceModel {
   glm::ivec3 cell_of(const Mesh& m, const glm::dvec3& p) const;
   std::vector<Mesh> meshes_;
   double cell_ = 1.0;
+  PadGeometry pad_;
 };
 
 }  // namespace sva

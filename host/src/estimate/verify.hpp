@@ -30,6 +30,10 @@ inline constexpr double kSurfaceFloor = 0.01;
 // meshes: |n_obs - n_facet| median 0.033, p75 0.08, p95 1.1 (edges); the contact's distance to the surface median
 // -0.28 mm, p5-p95 -1.15 to 0.63 mm.
 inline constexpr double kMeshTiltSigma = 0.1;
+// The pad's image against the surface under it (SurfaceModel::pad_misfit): the misfit's scale in mm of penetration.
+// lookalikes' sensor: 0.3 kPa of noise and offset and 5% gain at 100 kPa/mm are 0.003-0.01 mm; the skin's 0.6 mm
+// spread, which the model does not press, blurs an edge by a few hundredths.
+inline constexpr double kPadSigmaMm = 0.08;
 
 struct Verification {
   // Per object (empty when not run): the fit in bits for the fitted leading objects, the worst of theirs for the

@@ -3,6 +3,7 @@
 #include <sva/base/finite.hpp>
 #include <sva/error.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -63,6 +64,12 @@ ObservedReading describe_reading(const PairMap& map, const Reading& r, const std
   ObservedReading o;
   o.position = r.position;
   o.normal = r.normal;
+  if (finite(r.x_axis)) {
+    o.x_axis = r.x_axis;
+    o.depth_mm.reserve(r.pressure.size());
+    for (float v : r.pressure)
+      o.depth_mm.push_back(static_cast<float>(std::max(0.0, static_cast<double>(v)) / cal.stiffness_kpa_per_mm));
+  }
   try {
     o.norm_conf = map.appearance.norm_conf(r);
     o.classes = map.appearance.classify(map.appearance.describe(r));
@@ -76,6 +83,7 @@ ObservedReading to_grid(const PoseSpace& space, ObservedReading r) {
   const RigidPose to = space.workspace().inverse();
   r.position = to.apply(r.position);
   r.normal = to.rotate(r.normal);
+  r.x_axis = to.rotate(r.x_axis);
   double sum = 0.0;
   for (const ClassWeight& c : r.classes) sum += c.weight;
   normalise(r, glm::length(r.normal), sum);

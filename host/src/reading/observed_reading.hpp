@@ -20,6 +20,11 @@ struct ObservedReading {
   glm::dvec3 normal{0.0, 0.0, 1.0};
   float norm_conf = 0.0f;
   std::vector<ClassWeight> classes;  // Eq 12: non-empty, weights sum to 1
+  // The pad as it pressed: its x axis (rows run along normal x x_axis) and its image as penetration, mm per element
+  // (the pressure over the sensor's stiffness, row-major), which the measurement model compares with a hypothesis's
+  // surface under the pad. Empty when the reading came without an image (a planner's prediction, one made by hand).
+  glm::dvec3 x_axis{1.0, 0.0, 0.0};
+  std::vector<float> depth_mm;
 };
 
 // From a raw reading to what the filter sees (robot frame): refuses readings the controller did not converge on,

@@ -1,7 +1,17 @@
 #!/usr/bin/env bash
 # Installs every Debian 12 package sva needs to build, test and run. Idempotent; run as root.
+#   scripts/setup.sh              # the x86-64 build, its tests and the Python package
+#   scripts/setup.sh --aarch64    # and the cross build for aarch64 (the aarch64 preset; scripts/aarch64-check.sh)
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
+aarch64=0
+for arg in "$@"; do
+  case "$arg" in
+    --aarch64) aarch64=1 ;;
+    -h | --help) sed -n '2,4p' "$0"; exit 0 ;;
+    *) echo "setup.sh: unknown option $arg (see --help)" >&2; exit 2 ;;
+  esac
+done
 packages=(
   build-essential cmake ninja-build pkg-config git ccache
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers glslang-tools
@@ -15,11 +25,21 @@ packages=(
   libcairo2-dev fonts-dejavu-core  # the figures (host/eval/src/plot: cairo, PNG and SVG, DejaVu Sans)
   libjs-three chromium  # sva view's pages (three.js inlined) and their browser test (tests/view, headless)
 )
+if [ "$aarch64" = 1 ]; then
+  # Debian's cross compiler and the arm64 builds of the libraries sva links (multiarch: beside the x86-64 ones).
+  packages+=(g++-aarch64-linux-gnu libembree-dev:arm64 libvulkan-dev:arm64 libtinygltf-dev:arm64 libtbb-dev:arm64
+    libusb-1.0-0-dev:arm64 libcairo2-dev:arm64 mesa-vulkan-drivers:arm64)
+  if ! dpkg --print-foreign-architectures | grep -qx arm64; then
+    SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
+    $SUDO dpkg --add-architecture arm64
+    force_update=1
+  fi
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
-if [ ${#missing[@]} -gt 0 ]; then
+if [ ${#missing[@]} -gt 0 ] || [ "${force_update:-0}" = 1 ]; then
   SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
   $SUDO apt-get update
   $SUDO apt-get install -y --no-install-recommends "${missing[@]}"

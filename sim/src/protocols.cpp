@@ -35,7 +35,10 @@ void basis(const glm::dvec3& n, glm::dvec3& t1, glm::dvec3& t2) {
 // overlapping parts and turns normals of inside-out triangles around).
 void accessible_point(const ObjectGeometry& g, util::Rng& rng, double clearance, glm::dvec3& p, glm::dvec3& n) {
   for (int attempt = 0; attempt < 64; ++attempt) {
-    g.sample_surface(rng.uniform(), rng.uniform(), rng.uniform(), p, n);
+    // Drawn in statements, last argument first: the order x86-64's GCC evaluated the call's arguments in, which
+    // C++ leaves unspecified and aarch64's GCC reversed (every touch of a dataset differed: issue 54).
+    const double u2 = rng.uniform(), u1 = rng.uniform(), u0 = rng.uniform();
+    g.sample_surface(u0, u1, u2, p, n);
     if (!g.intersect(p, n, 1e-3, clearance).hit) return;
     if (!g.intersect(p, -n, 1e-3, clearance).hit) {
       n = -n;

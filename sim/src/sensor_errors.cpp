@@ -88,8 +88,11 @@ void report_pose(const ErrorModel& errors, std::uint64_t seed, glm::dvec3& posit
   if (errors.arm_ideal()) return;
   util::Rng rng(seed, kArmStream);
   const double ps = errors.position_sigma_mm, rs = errors.normal_sigma_deg * M_PI / 180.0;
-  const glm::dvec3 dp(rng.normal(), rng.normal(), rng.normal());
-  const glm::dvec3 w(rng.normal(), rng.normal(), rng.normal());
+  // Component by component, z first: the order x86-64's GCC evaluated the constructors' arguments in (C++ leaves it
+  // unspecified, and aarch64's GCC reversed it: issue 54).
+  glm::dvec3 dp, w;
+  dp.z = rng.normal(), dp.y = rng.normal(), dp.x = rng.normal();
+  w.z = rng.normal(), w.y = rng.normal(), w.x = rng.normal();
   position += ps * dp;
   normal = glm::normalize(rotate(normal, rs * w));
   x_axis = rotate(x_axis, rs * w);

@@ -12,6 +12,7 @@
 // candidate's boundary, the triangles around its corners join them: a triangle
 // that one kernel misses at its edge is then still a candidate through the
 // neighbour that kernel hits (robust mode is watertight).
+#include <sva/base/parallel.hpp>
 #include <sva/error.hpp>
 #include <sva/sim/tactile_sensor.hpp>
 
@@ -21,7 +22,6 @@
 #include <array>
 #include <cmath>
 #include <cstdlib>
-#include <cstring>
 #include <limits>
 #include <mutex>
 #include <span>
@@ -55,10 +55,9 @@ std::string device_config() {
   // (global_control), which capped every parallel loop of the process, the simulator's included, at that many
   // threads. Builds may use the pool; hits do not depend on the BVH (the filter collects every candidate).
   std::string config = "set_affinity=0";
-  // SVA_THREADS (sva/base/parallel.hpp) caps Embree's pool too: a run asked for one thread starts no workers (under
+  // SVA_THREADS (util::default_threads) caps Embree's pool too: a run asked for one thread starts no workers (under
   // qemu-user, oneTBB's worker start spins: scripts/aarch64-check.sh runs with SVA_THREADS=1).
-  if (const char* threads = std::getenv("SVA_THREADS"); threads && std::strcmp(threads, "1") == 0)
-    config += ",threads=1";
+  if (std::getenv("SVA_THREADS")) config += ",threads=" + std::to_string(util::default_threads());
   const char* isa = std::getenv("SVA_EMBREE_ISA");
   if (!isa || !*isa) return config;
   static const std::array<std::string, 5> known{"sse2", "sse4.2", "avx", "avx2", "avx512"};

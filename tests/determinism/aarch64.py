@@ -26,7 +26,7 @@ QEMU = ["qemu-aarch64", "-L", "/usr/aarch64-linux-gnu"]
 ONE_THREAD = {"SVA_THREADS": "1"}
 
 
-def recognize(prefix, sva, work, map_path, data_path, sessions, out):
+def recognize(prefix, sva, map_path, data_path, sessions, out):
     """`sva recognize` of the test set's trials, written by this machine's build once (the same input for both)."""
     if not os.path.exists(sessions):
         subprocess.run([sva, "recognize", "--write-sessions", sessions, "--map", map_path, "--data", data_path,
@@ -65,8 +65,8 @@ def main():
         return 1
     w = os.path.join(a.work, "aarch64")
     m, d, sessions = os.path.join(w, "map.svam"), os.path.join(w, "test.svad"), os.path.join(a.work, "sessions.jsonl")
-    native, _ = recognize([], a.sva, a.work, m, d, sessions, os.path.join(a.work, "native.jsonl"))
-    emulated, secs = recognize(QEMU, a.sva_aarch64, a.work, m, d, sessions, os.path.join(a.work, "aarch64.jsonl"))
+    native, _ = recognize([], a.sva, m, d, sessions, os.path.join(a.work, "native.jsonl"))
+    emulated, secs = recognize(QEMU, a.sva_aarch64, m, d, sessions, os.path.join(a.work, "aarch64.jsonl"))
     print(f"recognize   {emulated}  {'ok' if emulated == native else 'DIFFERS (x86-64 ' + native + ')'} "
           f"({secs:.1f} s under qemu)")
     if emulated != native:

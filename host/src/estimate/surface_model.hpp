@@ -32,7 +32,7 @@ struct ContactNoise {
   double normal_weight_mm = 4.0;
   double floor = 0.01;
   double reach_mm = 3.0;  // past it the Gaussian term is below the floor's hundredth: not searched
-  // The pad's image against the surface under it (SurfaceModel::pad_misfit2): its misfit in mm joins the residual
+  // The pad's image against the surface under it (SurfaceModel::pad_misfit): its misfit in mm joins the residual
   // as (sigma / pad_sigma)^2 * misfit^2. 0: the image is not compared (the contact alone, as before).
   double pad_sigma_mm = 0.0;
 };
@@ -51,7 +51,7 @@ class SurfaceModel {
   // One uniform grid of triangles per object (cells of `cell_mm`, at least the reach the queries use, so that a
   // query visits at most 27 cells). Throws sva::Error on a surface that is not one per object.
   SurfaceModel(const std::vector<ObjectSurface>& surfaces, double cell_mm);
-  // With the pad the readings were taken with, the model also compares each reading's image (pad_misfit2).
+  // With the pad the readings were taken with, the model also compares each reading's image (pad_misfit).
   SurfaceModel(const std::vector<ObjectSurface>& surfaces, double cell_mm, const PadGeometry& pad);
 
   std::size_t objects() const { return meshes_.size(); }

@@ -163,10 +163,25 @@
 
   // ----- the side panel
   const fmt = (v, d) => (v === null || v === undefined ? "-" : Number(v).toFixed(d));
+  // Names come from files (a map, a dataset, a sessions file: someone else's, maybe): the panel is built of elements
+  // and text nodes, never parsed from a string, so a name shows as written and runs nothing (docs/view.md).
+  function el(tag, className = "", text = null) {
+    const e = document.createElement(tag);
+    if (className) e.className = className;
+    if (text !== null) e.textContent = text;
+    return e;
+  }
   function bar(name, p, colour) {
-    return `<div class="bar"><span class="name" title="${name}">${name}</span><span class="track"><div class="fill" ` +
-      `style="width:${(100 * p).toFixed(1)}%;background:${colour}"></div></span>` +
-      `<span class="value">${(100 * p).toFixed(1)}%</span></div>`;
+    const label = el("span", "name", String(name));
+    label.title = String(name);
+    const fill = el("div", "fill");
+    fill.style.width = `${(100 * p).toFixed(1)}%`;
+    fill.style.background = colour;
+    const track = el("span", "track");
+    track.append(fill);
+    const row = el("div", "bar");
+    row.append(label, track, el("span", "value", `${(100 * p).toFixed(1)}%`));
+    return row;
   }
   function showPanel(i, step) {
     $("step-label").textContent = `reading ${i} of ${data.readings.length}`;
@@ -174,16 +189,21 @@
     const truth = data.truth ? data.objects[data.truth.object] : null;
     const named = step.object === null ? "no answer yet" : data.objects[step.object];
     const e = step.error;
-    $("errors").innerHTML = `estimate: <b>${named}</b>` + (truth ? ` (truth: ${truth})` : "") + "<br>" +
-      (e ? `error: ${fmt(e.translation_mm, 2)} mm, ${fmt(e.angle_deg, 2)}&deg;` : "error: -") +
-      `<br>none of these: ${fmt(100 * step.p_unknown, 1)}%`;
+    $("errors").replaceChildren("estimate: ", el("b", "", String(named)), truth ? ` (truth: ${truth})` : "", el("br"),
+      e ? `error: ${fmt(e.translation_mm, 2)} mm, ${fmt(e.angle_deg, 2)}\u00b0` : "error: -", el("br"),
+      `none of these: ${fmt(100 * step.p_unknown, 1)}%`);
     const order = step.probabilities.map((p, o) => [p, o]).sort((a, b) => b[0] - a[0]).slice(0, 12);
-    $("bars").innerHTML = order.map(([p, o]) =>
-      bar(data.objects[o], p * (1 - step.p_unknown), data.truth && o === data.truth.object ? "#2ca02c" : "#1f77b4"))
-      .join("") + bar("none of these", step.p_unknown, "#999");
-    $("hypotheses").innerHTML = step.hypotheses.map((h, k) =>
-      `${k + 1}. ${data.objects[h.object]} <span style="color:#${massColour(h.probability).getHexString()}">` +
-      `&#9632;</span> ${fmt(100 * h.probability, 1)}%`).join("<br>") || "none yet";
+    $("bars").replaceChildren(...order.map(([p, o]) =>
+      bar(data.objects[o], p * (1 - step.p_unknown), data.truth && o === data.truth.object ? "#2ca02c" : "#1f77b4")),
+      bar("none of these", step.p_unknown, "#999"));
+    const lines = [];
+    step.hypotheses.forEach((h, k) => {
+      const square = el("span", "", "\u25a0");
+      square.style.color = `#${massColour(h.probability).getHexString()}`;
+      if (k > 0) lines.push(el("br"));
+      lines.push(`${k + 1}. ${data.objects[h.object]} `, square, ` ${fmt(100 * h.probability, 1)}%`);
+    });
+    $("hypotheses").replaceChildren(...(lines.length ? lines : ["none yet"]));
   }
 
   let current = 1;

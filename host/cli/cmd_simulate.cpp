@@ -34,6 +34,9 @@ Scene scene_of_meshes(const std::vector<std::string>& meshes) {
     for (int k = 2; !names.insert(o.name).second; ++k) o.name = base + "_" + std::to_string(k);
     s.objects.push_back(o);
   }
+  // Read back as a scene file is, so that its names are checked as a file's (a control character in a mesh file's
+  // name is refused here, not when sva train reads the dataset: docs/scene-format.md, "Names").
+  parse_scene(scene_to_json(s), "sva simulate --mesh");
   return s;
 }
 

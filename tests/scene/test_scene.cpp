@@ -1,9 +1,13 @@
 #include <catch2/catch.hpp>
 
+#include <sva/dataset.hpp>
 #include <sva/error.hpp>
 #include <sva/scene.hpp>
 
 #include <cmath>
+#include <nlohmann/json.hpp>
+
+#include "test_support.hpp"
 
 using Catch::Contains;
 
@@ -70,6 +74,42 @@ TEST_CASE("scene JSON: every fault names the field") {
                     Contains("zero length"));
   CHECK_THROWS_WITH(sva::load_scene("/nonexistent/scene.json"), Contains("/nonexistent/scene.json"));
   CHECK_THROWS_WITH(sva::load_scene("no-such-builtin"), Contains("no-such-builtin"));
+}
+
+TEST_CASE("scene JSON: names refuse control characters and take any other Unicode") {
+  // Names reach terminals, CSV and pages (docs/scene-format.md, "Names"): U+0000-U+001F and U+007F are refused,
+  // with the file, the field and the character's place.
+  CHECK_THROWS_WITH(parse(R"({"objects": [{"mesh": "a.glb"}, {"mesh": "b.glb", "name": "b\u00e9l\u0007l"}]})"),
+                    Contains("scene.json: objects[1].name: control character U+0007 at character 4"));
+  CHECK_THROWS_WITH(parse(R"({"name": "s\u001b[31m", "objects": [{"mesh": "a.glb"}]})"),
+                    Contains("scene.json: name: control character U+001B at character 2"));
+  CHECK_THROWS_WITH(parse(R"({"objects": [{"mesh": "a.glb", "family": "f\u007f"}]})"),
+                    Contains("objects[0].family: control character U+007F at character 2"));
+  CHECK_THROWS_WITH(parse(R"({"objects": [{"mesh": "a.glb", "name": "\u0000"}]})"),
+                    Contains("objects[0].name: control character U+0000 at character 1"));
+  CHECK_THROWS_WITH(parse("{\"objects\": [{\"mesh\": \"tab\\u0009.glb\"}]}"),  // the mesh's stem, as the name
+                    Contains("objects[0].name: control character U+0009"));
+  // Markup, quotes, an RTL override, emoji and U+0080 (a C1 control, not refused): as written.
+  const std::string hostile = "<img src=x onerror=\"alert('x')\"></script>\u202e\u00e9\U0001F600\u0080";
+  const nlohmann::json scene = {{"name", hostile}, {"objects", {{{"mesh", "a.glb"}, {"name", hostile},
+                                                                 {"family", hostile}}}}};
+  const sva::Scene s = parse(scene.dump());
+  CHECK(s.name == hostile);
+  CHECK(s.objects[0].name == hostile);
+  CHECK(s.objects[0].family == hostile);
+  CHECK(sva::parse_scene(sva::scene_to_json(s), "/tmp/x/again.json").objects[0].name == hostile);
+}
+
+TEST_CASE("scene JSON: a dataset whose scene names hold a control character is refused (sva train)") {
+  // A scene made in memory (not parsed) carries one into a dataset file; reading it back names the file and field.
+  sva::Dataset d;
+  d.scene = parse(R"({"objects": [{"mesh": "a.glb"}]})");
+  d.scene.objects[0].name = "a\nb";
+  d.split = "train";
+  const auto file = sva::test::temp_dir("scene-control") / "train.svad";
+  sva::save_dataset(d, file);
+  CHECK_THROWS_WITH(sva::load_dataset(file),
+                    Contains("train.svad") && Contains("objects[0].name: control character U+000A at character 2"));
 }
 
 TEST_CASE("scene JSON: the errors block, its defaults and its round trip") {

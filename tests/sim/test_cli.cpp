@@ -90,6 +90,20 @@ TEST_CASE("simulate --mesh, --preview, inspect and export") {
   CHECK_THAT(output, Contains("block.gltf"));
 }
 
+TEST_CASE("simulate --mesh: a control character in a mesh file's name is refused, as in a scene file's names") {
+  // The object is named by the file's stem (docs/scene-format.md, "Names"): refused before anything is simulated.
+  auto dir = sva::test::temp_dir("sim-control-name");
+  auto mesh = sva::test::write_gltf(sva::test::box_mesh({0, 0, 0}, {3, 2, 1}), dir / "tab\tblock.gltf");
+  std::string output;
+  const int rc =
+      sva::test::run_sva("simulate --mesh " + q(mesh) + " --out " + q(dir / "data") + " --train 2 --test 1", &output);
+  INFO(output);
+  CHECK(rc != 0);
+  CHECK(rc < 128);
+  CHECK_THAT(output, Contains("sva simulate --mesh: objects[0].name: control character U+0009 at character 4"));
+  CHECK_FALSE(fs::exists(dir / "data" / "train.svad"));
+}
+
 TEST_CASE("simulate: bad meshes are refused with the file and the fault") {
   auto dir = sva::test::temp_dir("sim-bad-mesh");
   using sva::test::TestMesh;

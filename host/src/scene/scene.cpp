@@ -6,6 +6,7 @@
 #include <sva/scene.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <mutex>
@@ -65,6 +66,21 @@ class Ctx {
   std::string string(const json& j, const std::string& path) const {
     if (!j.is_string()) fail(path, "expected a string, got " + std::string(j.type_name()));
     return j.get<std::string>();
+  }
+  // A name (the scene's, an object's, a family's) is shown in terminals, file names, CSV and pages (sva view): any
+  // Unicode but the C0 controls and DEL, which a terminal acts on and a page hides. Refused where the scene is read
+  // (sva simulate, and sva train through the dataset's copy), so no map or dataset carries one on.
+  void check_name(const std::string& name, const std::string& path) const {
+    std::size_t character = 0;
+    for (const unsigned char b : name) {
+      if ((b & 0xC0) != 0x80) ++character;  // each character's first byte (UTF-8's continuation bytes are 10xxxxxx)
+      if (b < 0x20 || b == 0x7F) {  // never part of a multi-byte character
+        char code[8];
+        std::snprintf(code, sizeof code, "U+%04X", b);
+        fail(path, "control character " + std::string(code) + " at character " + std::to_string(character) +
+                       " of the name (names may hold any other Unicode)");
+      }
+    }
   }
   bool boolean(const json& j, const std::string& path) const {
     if (!j.is_boolean()) fail(path, "expected true or false, got " + j.dump());
@@ -244,6 +260,7 @@ std::vector<SceneObject> parse_objects(const Ctx& c, const json& objs, const std
     so.name = mesh.stem().string();
     opt(o, "name", [&](const json& v) { so.name = c.string(v, p + ".name"); });
     if (so.name.empty()) c.fail(p + ".name", "empty name");
+    c.check_name(so.name, p + ".name");  // the mesh file's stem too, when the key is left out
     if (!names.insert(so.name).second) c.fail(p + ".name", "duplicate object name \"" + so.name + "\"");
     opt(o, "size_mm", [&](const json& v) { so.size_mm = c.number(v, p + ".size_mm", 0.0, 1e5); });
     opt(o, "center", [&](const json& v) { so.center = c.boolean(v, p + ".center"); });
@@ -251,6 +268,7 @@ std::vector<SceneObject> parse_objects(const Ctx& c, const json& objs, const std
     opt(o, "family", [&](const json& v) {
       so.family = c.string(v, p + ".family");
       if (so.family.empty()) c.fail(p + ".family", "empty family name (leave the key out for none)");
+      c.check_name(so.family, p + ".family");
     });
     so.inertial_radius_mm = so.size_mm > 0 ? so.size_mm / 2 : 40.0;
     opt(o, "inertial_radius_mm",
@@ -383,6 +401,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
   s.file = origin;
   s.name = origin.stem().string();
   opt(j, "name", [&](const json& v) { s.name = c.string(v, "name"); });
+  c.check_name(s.name, "name");
   if (!j.contains("objects")) c.fail("", "missing \"objects\"");
   const json& objs = j["objects"];
   if (!objs.is_array() || objs.empty()) c.fail("objects", "expected a non-empty array of objects");

@@ -147,6 +147,27 @@ std::string script(const std::string& text, const std::string& attributes = "") 
   return "<script" + attributes + ">\n" + safe + "\n</script>";
 }
 
+// The data as JSON that is safe inside <script>: names come from files (a map, a dataset, a sessions file), and
+// "</script>" or "<!--<script>" in one would end the element early or keep it open past its end tag. '<', '>' and
+// '&' occur in JSON text only inside strings, where \u003c and the rest decode to the same characters. A name that
+// is not UTF-8 (a map file's bytes are not checked) shows with U+FFFD instead of failing the page.
+std::string script_json(const json& data) {
+  const std::string text = data.dump(-1, ' ', false, json::error_handler_t::replace);
+  std::string safe;
+  safe.reserve(text.size());
+  for (char c : text) {
+    if (c == '<')
+      safe += "\\u003c";
+    else if (c == '>')
+      safe += "\\u003e";
+    else if (c == '&')
+      safe += "\\u0026";
+    else
+      safe += c;
+  }
+  return safe;
+}
+
 }  // namespace
 
 json session_view_data(const Map& map, const Scene* scene, std::span<const Reading> readings,
@@ -207,7 +228,7 @@ void write_session_page(const std::filesystem::path& out, const json& data) {
                script(io::read_text_file(three / "three.min.js", "cannot read three.js" + missing)) + "\n" +
                    script(io::read_text_file(three / "examples/js/controls/OrbitControls.js",
                                              "cannot read three.js' OrbitControls" + missing)));
-  replace_once(page, "<!--SVA_DATA-->", script(data.dump(), " id=\"sva-data\" type=\"application/json\""));
+  replace_once(page, "<!--SVA_DATA-->", script(script_json(data), " id=\"sva-data\" type=\"application/json\""));
   replace_once(page, "<!--SVA_VIEWER-->",
                script(io::read_text_file(assets / "viewer.js", "cannot read the viewer (SVA_ASSETS)")));
   io::write_text_file(out, page);

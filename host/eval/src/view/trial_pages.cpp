@@ -16,6 +16,7 @@ namespace sva::view {
 
 namespace {
 
+// Text from files (scene and object names) as HTML text or a quoted attribute's value: shown, never parsed as markup.
 std::string escape(const std::string& s) {
   std::string out;
   for (char c : s) {
@@ -27,6 +28,8 @@ std::string escape(const std::string& s) {
       out += "&amp;";
     else if (c == '"')
       out += "&quot;";
+    else if (c == '\'')
+      out += "&#39;";
     else
       out += c;
   }

@@ -38,7 +38,7 @@ Belief belief_of(const PoseSpace& space, const std::map<std::uint64_t, double>& 
   Belief b(space, 1e-6);
   std::vector<BinOffset> terms;
   for (const auto& [key, v] : bits) terms.push_back({key, static_cast<std::uint64_t>(v * kUnits)});
-  b.add(terms, 1);
+  b.add(BeliefTerms::grouped(terms), 1);
   return b;
 }
 

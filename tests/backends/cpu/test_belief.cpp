@@ -195,10 +195,50 @@ TEST_CASE("a belief that has just forgotten takes a large pair's terms at a few 
   REQUIRE(belief.touched() < 1000);
   const sva::BinAccumulator wide = sharp_votes(space, rng, 60000, 200, 60);
   REQUIRE(wide.capacity() > 32 * belief.touched());
-  const std::vector<sva::BinOffset> terms = belief.terms(wide);
+  const sva::BeliefTerms terms = belief.terms(wide);
   const std::uint64_t probes = belief.table_probes();
   REQUIRE(belief.add(terms, 1));
   const double per_term = static_cast<double>(belief.table_probes() - probes) / static_cast<double>(terms.size());
   INFO(terms.size() << " terms into a table of " << belief.touched() << " bins: " << per_term << " probes each");
   CHECK(per_term < 5.0);
+}
+
+TEST_CASE("one session's pairs added shard by shard in parallel give the belief that adding them one by one gives") {
+  // Belief::add_all is the CPU reference's fold of one session (issue 52): every shard on its own worker. Offsets
+  // are integer sums, so the tables, the reductions and the best bins must equal adding the pairs in order, for any
+  // thread count; a pair without terms or with count 0 does not fold.
+  const sva::PoseSpace space(sva::test::paper_space(), 3);
+  sva::util::Rng rng(31, 1);
+  sva::Belief reference(space, 1e-6);
+  std::vector<sva::BeliefTerms> terms;
+  std::vector<std::uint32_t> counts;
+  for (int pair = 0; pair < 24; ++pair) {
+    terms.push_back(reference.terms(sharp_votes(space, rng, 1500, 60, 30)));
+    counts.push_back(pair == 5 ? 0u : 1u + static_cast<std::uint32_t>(pair % 2));
+  }
+  terms[9] = reference.terms(sva::BinAccumulator(16));  // no vote mass
+  REQUIRE(terms[9].empty());
+  for (std::size_t i = 0; i < terms.size(); ++i) CHECK(reference.add(terms[i], counts[i]) == (i != 5 && i != 9));
+  for (unsigned threads : {1u, 2u, 8u}) {
+    INFO(threads << " threads");
+    sva::Belief belief(space, 1e-6);
+    std::vector<std::uint8_t> folded;
+    std::vector<std::uint64_t> probes;
+    belief.add_all(terms, counts, threads, &folded, &probes);
+    CHECK(belief.table() == reference.table());
+    CHECK(belief.summarise() == reference.summarise());
+    CHECK(belief.summarise() == full_pass(belief, space));
+    for (std::size_t k : {1u, 16u, 200u, 5000u}) CHECK(belief.best_bins(k) == full_top(reference, k));
+    CHECK(belief.pairs_folded() == reference.pairs_folded());
+    REQUIRE(folded.size() == terms.size());
+    std::uint64_t probed = 0;
+    for (std::size_t i = 0; i < terms.size(); ++i) {
+      CHECK((folded[i] != 0) == (i != 5 && i != 9));
+      if (folded[i]) CHECK(probes[i] >= terms[i].size());  // at least one probe per term
+      probed += probes[i];
+    }
+    CHECK(probed == belief.table_probes());
+  }
+  // Not vacuous: the pairs spread over every shard.
+  for (std::size_t s = 0; s < sva::kBeliefShards; ++s) CHECK(terms[0].shard(s).size() > 0);
 }

@@ -78,6 +78,16 @@ void bind_batch_recognizer(nb::module_& m) {
           },
           "session"_a, "top_k"_a = 5)
       .def(
+          "estimates",
+          [](const PyBatchRecognizer& b, const std::vector<std::size_t>& sessions, std::size_t top_k) {
+            EngineScope scope;
+            std::lock_guard lock(b.mutex);
+            return b.rec.estimates(sessions, top_k);
+          },
+          "sessions"_a, "top_k"_a = 5,
+          "The estimates of many sessions at once (the i-th is sessions[i]'s), each equal to estimate()'s: the "
+          "sessions' fits run side by side on the recognizer's threads.")
+      .def(
           "reset",
           [](PyBatchRecognizer& b, std::size_t session) {
             EngineScope scope;

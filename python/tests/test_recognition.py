@@ -74,9 +74,12 @@ def test_batch_recognizer_gives_the_cli_estimates(tiny, tiny_map):
     for step in range(max(len(s["readings"]) for s in sessions)):
         ids = [i for i, s in enumerate(sessions) if step < len(s["readings"])]
         b.add_readings(ids, [reading_of(sessions[i]["readings"][step]) for i in ids])
+    at_once = b.estimates(list(range(len(sessions))), top_k=3)
+    assert len(at_once) == len(sessions)
     for i, want in enumerate(results):
         assert b.readings(i) == len(sessions[i]["readings"])
         assert_estimate_is(b.estimate(i, top_k=3), want, tiny_map.object_names)
+        assert_estimate_is(at_once[i], want, tiny_map.object_names)
         assert b.belief_bytes(i) > 0  # a live session's memory: its belief's tables
     kept = b.belief_bytes(0)
     b.reset(0)

@@ -28,12 +28,22 @@ CandidateRequest candidate_request(const EstimateRequest& r, std::size_t reading
 }  // namespace
 
 Estimate estimate_session(const EstimateInput& in, const std::vector<MapObject>& objects, const EstimateRequest& r) {
+  return estimate_from(estimate_candidates(in, r), in.readings, in.space, objects, r);
+}
+
+Candidates estimate_candidates(const EstimateInput& in, const EstimateRequest& r) {
   const std::size_t n = in.readings.size();
   const double temperature = r.calibration ? r.calibration->temperature(n) : 1.0;
-  const Candidates c = find_candidates(in.belief, in.space, candidate_request(r, n, temperature));
-  const Fits fits = fit_candidates(c, in.readings, r.surface, r.refine, r.pose_weighting.empty());
+  return find_candidates(in.belief, in.space, candidate_request(r, n, temperature));
+}
+
+Estimate estimate_from(const Candidates& c, std::span<const ObservedReading> readings, const PoseSpace& space,
+                       const std::vector<MapObject>& objects, const EstimateRequest& r) {
+  const std::size_t n = readings.size();
+  const double temperature = r.calibration ? r.calibration->temperature(n) : 1.0;
+  const Fits fits = fit_candidates(c, readings, r.surface, r.refine, r.pose_weighting.empty());
   const Verification v =
-      r.surface ? verify_candidates(fits, in.readings, *r.surface, r.refine, objects.size(), r.surface_model)
+      r.surface ? verify_candidates(fits, readings, *r.surface, r.refine, objects.size(), r.surface_model)
                 : Verification{};
   const EvidenceLevel level = evidence_after(c, fits, v, n, r.refine);
   const CalibratedPosterior p = calibrate(c, fits, v, level,
@@ -41,7 +51,7 @@ Estimate estimate_session(const EstimateInput& in, const std::vector<MapObject>&
                                            .temperature = temperature,
                                            .object_weight = r.object_weight,
                                            .unknown_prior = r.unknown_prior});
-  return report(c, fits, p, in.space, objects, {.hypotheses = r.top_k > 0, .fine_pose = r.refine_pose});
+  return report(c, fits, p, space, objects, {.hypotheses = r.top_k > 0, .fine_pose = r.refine_pose});
 }
 
 EvidenceLevel estimate_evidence(const EstimateInput& in, const SurfaceIndex& surface, const RefineSettings& settings,

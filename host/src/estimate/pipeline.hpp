@@ -19,6 +19,7 @@
 
 #include "belief/belief_state.hpp"
 #include "calibration/calibration.hpp"
+#include "estimate/candidates.hpp"
 #include "estimate/fine_pose.hpp"
 #include "estimate/pose_prior.hpp"
 #include "estimate/surface_model.hpp"
@@ -54,6 +55,11 @@ struct EstimateRequest {
 
 // The estimate of a session with at least one reading (stages 1-5).
 Estimate estimate_session(const EstimateInput& in, const std::vector<MapObject>& objects, const EstimateRequest& r);
+// The same in two steps: stage 1, the only one that reads the belief (a device's belief: one session at a time),
+// then stages 2-5 on the host alone (many sessions' at once on the workers: BatchRecognizer::estimates).
+Candidates estimate_candidates(const EstimateInput& in, const EstimateRequest& r);
+Estimate estimate_from(const Candidates& c, std::span<const ObservedReading> readings, const PoseSpace& space,
+                       const std::vector<MapObject>& objects, const EstimateRequest& r);
 
 // What stage 4 reads after stages 1-3, without a prior, a temperature or the report: the calibration's
 // held-out sessions record it.

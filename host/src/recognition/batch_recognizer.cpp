@@ -2,6 +2,7 @@
 // posterior (Method::appearance); one backend serves all sessions, and one update carries every session that got
 // a reading. The estimate runs as the stages of estimate/pipeline.hpp, a prior is checked in prior_checks.cpp.
 #include <sva/batch_recognizer.hpp>
+#include <sva/base/parallel.hpp>
 #include <sva/error.hpp>
 
 #include <algorithm>
@@ -60,6 +61,15 @@ struct BatchRecognizer::Impl {
         options(o),
         space(spec, static_cast<std::uint32_t>(MapAccess::pair_map(e.map()).objects.size())) {}
 
+  EstimateRequest request(const Session& s, std::size_t top_k, unsigned threads) const;
+  Estimate estimate_without_belief(const Session& s) const;
+  Estimate finish(const Session& s, Estimate e) const;
+
+  const Session& at(std::size_t s) const {
+    if (s >= sessions.size())
+      throw Error("session " + std::to_string(s) + " out of range (" + std::to_string(sessions.size()) + " sessions)");
+    return sessions[s];
+  }
   Session& at(std::size_t s) {
     if (s >= sessions.size())
       throw Error("session " + std::to_string(s) + " out of range (" + std::to_string(sessions.size()) + " sessions)");
@@ -173,41 +183,101 @@ void BatchRecognizer::add_readings(std::span<const std::size_t> sessions, std::s
   }
 }
 
-Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const {
-  const std::lock_guard lock(impl_->mutex);
-  const Impl::Session& s = impl_->at(session);
-  const auto& objects = impl_->pair_map->objects;
-  // Without evidence (no reading yet, or the appearance-only method) "none of these" stays at its prior.
-  const double no_evidence_unknown = impl_->options.calibrate ? impl_->options.unknown_prior : 0.0;
-  if (s.readings == 0) {
-    Estimate e = not_ready_estimate(objects.size(), s.prior_weight);
-    e.p_unknown = no_evidence_unknown;
-    return e;
-  }
-  Estimate e;
-  if (s.filter) {
-    const EstimateRequest r{.top_k = top_k,
-                            .hypothesis_radius_bins = impl_->options.hypothesis_radius_bins,
-                            .object_weight = s.prior_weight,
-                            .pose_weighting = s.pose_prior,
-                            .surface = impl_->surface,
-                            .refine = impl_->refine,
-                            .refine_pose = impl_->options.refine_pose,
-                            .surface_check = impl_->options.surface_check,
-                            .surface_model = impl_->surface_model,
-                            .calibration = impl_->options.calibrate ? &impl_->pair_map->calibration : nullptr,
-                            .unknown_prior = impl_->options.unknown_prior};
-    s.filter->require_complete();
-    e = estimate_session({s.filter->belief(), s.filter->space(), s.filter->observed()}, objects, r);
+namespace {
+
+// Which sessions' estimates run the whole pipeline (those with readings and a belief), and the others' answers.
+struct EstimatePlan {
+  std::vector<std::size_t> piped;  // positions in the request
+  std::vector<Estimate> out;
+};
+
+}  // namespace
+
+EstimateRequest BatchRecognizer::Impl::request(const Session& s, std::size_t top_k, unsigned threads) const {
+  RefineSettings r = refine;
+  r.threads = threads;
+  return EstimateRequest{.top_k = top_k,
+                         .hypothesis_radius_bins = options.hypothesis_radius_bins,
+                         .object_weight = s.prior_weight,
+                         .pose_weighting = s.pose_prior,
+                         .surface = surface,
+                         .refine = r,
+                         .refine_pose = options.refine_pose,
+                         .surface_check = options.surface_check,
+                         .surface_model = surface_model,
+                         .calibration = options.calibrate ? &pair_map->calibration : nullptr,
+                         .unknown_prior = options.unknown_prior};
+}
+
+// The estimate of a session that needs no pipeline: no reading yet, or the appearance-only method. Without evidence
+// "none of these" stays at its prior.
+Estimate BatchRecognizer::Impl::estimate_without_belief(const Session& s) const {
+  const double no_evidence_unknown = options.calibrate ? options.unknown_prior : 0.0;
+  Estimate e = s.readings == 0 ? not_ready_estimate(pair_map->objects.size(), s.prior_weight)
+                               : appearance_estimate(s.appearance_log_posterior, pair_map->objects, s.prior_weight);
+  e.p_unknown = no_evidence_unknown;
+  return finish(s, std::move(e));
+}
+
+Estimate BatchRecognizer::Impl::finish(const Session& s, Estimate e) const {
+  if (s.filter && s.readings > 0) {
     e.votes_outside = s.filter->last_update().votes_outside;
     e.votes_zero = s.filter->last_update().votes_zero;
-  } else {
-    e = appearance_estimate(s.appearance_log_posterior, objects, s.prior_weight);
-    e.p_unknown = no_evidence_unknown;
   }
   e.readings = s.readings;
   e.votes = s.last_votes;
   return e;
+}
+
+Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const {
+  const std::lock_guard lock(impl_->mutex);
+  const Impl::Session& s = impl_->at(session);
+  if (s.readings == 0 || !s.filter) return impl_->estimate_without_belief(s);
+  s.filter->require_complete();
+  const EstimateRequest r = impl_->request(s, top_k, impl_->options.threads);
+  return impl_->finish(
+      s, estimate_session({s.filter->belief(), s.filter->space(), s.filter->observed()}, impl_->pair_map->objects, r));
+}
+
+std::vector<Estimate> BatchRecognizer::estimates(std::span<const std::size_t> sessions, std::size_t top_k) const {
+  const std::lock_guard lock(impl_->mutex);
+  EstimatePlan plan;
+  plan.out.resize(sessions.size());
+  for (std::size_t i = 0; i < sessions.size(); ++i) {
+    const Impl::Session& s = impl_->at(sessions[i]);
+    if (s.readings == 0 || !s.filter) {
+      plan.out[i] = impl_->estimate_without_belief(s);
+    } else {
+      s.filter->require_complete();
+      plan.piped.push_back(i);
+    }
+  }
+  if (plan.piped.empty()) return plan.out;
+  // Each session's estimate on one worker, the sessions across the workers: its fits are small, and a session's own
+  // split of them left most workers idle. Stage 1 reads the belief: a device's one session at a time (its queue is
+  // the backend's), the CPU reference's on the workers. The same answers as estimate(), for any thread count.
+  const auto& objects = impl_->pair_map->objects;
+  const bool device = impl_->engine.backend() == BackendKind::vulkan;
+  std::vector<Candidates> candidates(plan.piped.size());
+  const auto read = [&](std::size_t k) {
+    const Impl::Session& s = impl_->sessions[sessions[plan.piped[k]]];
+    candidates[k] = estimate_candidates({s.filter->belief(), s.filter->space(), s.filter->observed()},
+                                        impl_->request(s, top_k, 1));
+  };
+  if (device) {
+    for (std::size_t k = 0; k < plan.piped.size(); ++k) read(k);
+  } else {
+    util::parallel_for(plan.piped.size(), read, impl_->options.threads);
+  }
+  util::parallel_for(
+      plan.piped.size(),
+      [&](std::size_t k) {
+        const Impl::Session& s = impl_->sessions[sessions[plan.piped[k]]];
+        plan.out[plan.piped[k]] = impl_->finish(s, estimate_from(candidates[k], s.filter->observed(), s.filter->space(),
+                                                                 objects, impl_->request(s, top_k, 1)));
+      },
+      impl_->options.threads);
+  return plan.out;
 }
 
 void BatchRecognizer::set_prior(std::size_t session, const Prior& prior) {

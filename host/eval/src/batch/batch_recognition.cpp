@@ -3,6 +3,7 @@
 #include <sva/error.hpp>
 
 #include <algorithm>
+#include <numeric>
 
 #include "map/pair_map.hpp"
 #include "recognition/lockstep.hpp"
@@ -27,9 +28,9 @@ void recognize_groups(BatchRecognizer& rec, std::size_t sessions, std::size_t to
     return readings;
   };
   hooks.on_group_end = [&](std::size_t first, std::size_t count) {
-    std::vector<Estimate> estimates;
-    for (std::size_t i = 0; i < count; ++i) estimates.push_back(rec.estimate(i, top_k));
-    done(first, group, std::move(estimates));
+    std::vector<std::size_t> slots(count);
+    std::iota(slots.begin(), slots.end(), std::size_t{0});
+    done(first, group, rec.estimates(slots, top_k));
   };
   hooks.on_error = [&](const Error& e, const LockstepStep& s) {
     return Error(source + ": " + e.what() + " (session numbers count from " + std::to_string(first_session + s.first) +

@@ -161,10 +161,10 @@ class SpeedRecorder {
     f.seconds = s.update_ms / 1e3;
     std::vector<Estimate> est;
     const auto t1 = Clock::now();
-    for (std::size_t i : s.sessions) {
-      est.push_back(rec_.estimate(i, 1));
-      f.votes += est.back().votes;
-      f.votes_zero += est.back().votes_zero;
+    est = rec_.estimates(s.sessions, 1);
+    for (const Estimate& e : est) {
+      f.votes += e.votes;
+      f.votes_zero += e.votes_zero;
     }
     f.estimate_seconds = std::chrono::duration<double>(Clock::now() - t1).count();
     all_.votes += f.votes;

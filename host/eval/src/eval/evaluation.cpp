@@ -45,7 +45,9 @@ class RecognizerBatch final : public SessionBatch {
   void add_readings(std::span<const std::size_t> sessions, std::span<const Reading> readings) override {
     batch_.add_readings(sessions, readings);
   }
-  Estimate estimate(std::size_t session) const override { return batch_.estimate(session, 1); }
+  std::vector<Estimate> estimates(std::span<const std::size_t> sessions) const override {
+    return batch_.estimates(sessions, 1);
+  }
   void reset() override {
     for (std::size_t s = 0; s < batch_.sessions(); ++s) batch_.reset(s);
   }

@@ -141,9 +141,11 @@ EvalResult run_trials_batched(const Dataset& test, const TrialSetup& setup, Sess
   };
   // A step's time is the batch update's time shared by the trials in it.
   hooks.on_step = [&](const LockstepStep& s) {
-    for (std::size_t i : s.sessions) {
+    const std::vector<Estimate> estimates = batch.estimates(s.sessions);
+    for (std::size_t k = 0; k < s.sessions.size(); ++k) {
+      const std::size_t i = s.sessions[k];
       const Trial& trial = trials[i];
-      record_step(result.trials[s.first + i].steps[s.step], batch.estimate(i), trial, test.scene.objects[trial.object],
+      record_step(result.trials[s.first + i].steps[s.step], estimates[k], trial, test.scene.objects[trial.object],
                   s.update_ms / static_cast<double>(s.sessions.size()), map_object_of(setup, trial.object));
     }
   };

@@ -38,7 +38,8 @@ using SessionFactory = std::function<std::unique_ptr<Session>()>;
 // submission); the runner reads each trial's estimate after every update.
 class SessionBatch : public LockstepSessions {
  public:
-  virtual Estimate estimate(std::size_t session) const = 0;
+  // The estimates of `sessions` (the i-th is sessions[i]'s): the estimate after every update of a batched eval.
+  virtual std::vector<Estimate> estimates(std::span<const std::size_t> sessions) const = 0;
 };
 
 struct TrialSetup {

@@ -1,0 +1,58 @@
+// A batch's estimates at once on the Vulkan backend (BatchRecognizer::estimates, issue 52): the belief is read one
+// session at a time on the device, the fits then run on the host's workers; each session's answer must be what
+// estimate() gives and what the CPU reference's batch gives, bit for bit.
+#include <catch2/catch.hpp>
+
+#include <sva/batch_recognizer.hpp>
+#include <sva/error.hpp>
+
+#include <numeric>
+
+#include "recognition/fixture.hpp"
+#include "recognition/same_estimate.hpp"
+#include "recognition/trained_map.hpp"
+#include "vk_test_support.hpp"
+
+using namespace sva;
+using namespace sva::test;
+
+TEST_CASE("GPU batch: the estimates of 40 sessions at once equal estimate() and the CPU reference's") {
+  const Trained& t = trained();
+  constexpr std::size_t kSessions = 40;
+  RecognizerOptions vo;
+  vo.backend = BackendKind::vulkan;
+  vo.threads = 2;
+  std::unique_ptr<BatchRecognizer> gpu;
+  try {
+    gpu = std::make_unique<BatchRecognizer>(t.map, paper_space(), kSessions, vo);
+  } catch (const Error& e) {
+    skip(e.what());
+  }
+  RecognizerOptions co = vo;
+  co.backend = BackendKind::cpu;
+  BatchRecognizer cpu(t.map, paper_space(), kSessions, co);
+  for (std::size_t step = 0; step < 7; ++step) {
+    std::vector<std::size_t> ids;
+    std::vector<Reading> rd;
+    for (std::size_t i = 0; i < kSessions; ++i) {
+      const std::vector<Reading> r = readings_at(static_cast<std::uint32_t>(i % 3), random_pose(700 + i, 100.0),
+                                                 util::Rng(700 + i, 5), static_cast<int>(i % 8));
+      if (step >= r.size()) continue;
+      ids.push_back(i);
+      rd.push_back(r[step]);
+    }
+    gpu->add_readings(ids, rd);
+    cpu.add_readings(ids, rd);
+  }
+  std::vector<std::size_t> all(kSessions);
+  std::iota(all.begin(), all.end(), std::size_t{0});
+  const std::vector<Estimate> g = gpu->estimates(all, 3), c = cpu.estimates(all, 3);
+  std::size_t refined = 0;
+  for (std::size_t i = 0; i < kSessions; ++i) {
+    INFO("session " << i);
+    CHECK(same(g[i], c[i]));
+    CHECK(same(g[i], gpu->estimate(i, 3)));
+    refined += g[i].pose_refined;
+  }
+  CHECK(refined > 5);  // not vacuous: fine poses were fitted on the workers
+}

@@ -1,0 +1,78 @@
+// A batch's estimates at once (BatchRecognizer::estimates, issue 52): several hundred sessions stepped together
+// must each get exactly what a recognizer of their own gets, and estimates() what estimate() gives, for any thread
+// count: the sessions' fits run side by side on the workers, the CPU belief's reductions too.
+#include <catch2/catch.hpp>
+
+#include <sva/batch_recognizer.hpp>
+#include <sva/recognizer.hpp>
+
+#include <numeric>
+
+#include "recognition/fixture.hpp"
+#include "recognition/same_estimate.hpp"
+#include "recognition/trained_map.hpp"
+
+using namespace sva;
+using namespace sva::test;
+
+namespace {
+
+// Session i: 0 to 7 readings of object i mod 3 at its own pose (a session with none is "not ready").
+std::vector<Reading> session_readings(std::size_t i) {
+  return readings_at(static_cast<std::uint32_t>(i % 3), random_pose(400 + i, 100.0), util::Rng(400 + i, 5),
+                     static_cast<int>(i % 8));
+}
+
+}  // namespace
+
+TEST_CASE("a batch of several hundred sessions gives each session what it gets alone, its estimates at once") {
+  const Trained& t = trained();
+  constexpr std::size_t kSessions = 320;
+  std::vector<std::vector<Reading>> readings(kSessions);
+  std::size_t longest = 0;
+  for (std::size_t i = 0; i < kSessions; ++i) {
+    readings[i] = session_readings(i);
+    longest = std::max(longest, readings[i].size());
+  }
+  RecognizerOptions options;
+  options.backend = BackendKind::cpu;
+  options.threads = 2;
+  BatchRecognizer batch(t.map, paper_space(), kSessions, options);
+  for (std::size_t step = 0; step < longest; ++step) {  // lock-step: every session with a reading left gets it
+    std::vector<std::size_t> ids;
+    std::vector<Reading> rd;
+    for (std::size_t i = 0; i < kSessions; ++i)
+      if (step < readings[i].size()) {
+        ids.push_back(i);
+        rd.push_back(readings[i][step]);
+      }
+    batch.add_readings(ids, rd);
+  }
+  std::vector<std::size_t> all(kSessions);
+  std::iota(all.begin(), all.end(), std::size_t{0});
+  const std::vector<Estimate> at_once = batch.estimates(all, 3);
+  REQUIRE(at_once.size() == kSessions);
+  // Alone: a recognizer per session (every 7th, to keep the test short), on 1 thread.
+  RecognizerOptions one = options;
+  one.threads = 1;
+  std::size_t compared = 0, refined = 0;
+  for (std::size_t i = 0; i < kSessions; i += 7) {
+    Recognizer alone(t.map, paper_space(), one);
+    for (const Reading& r : readings[i]) alone.add_reading(r);
+    INFO("session " << i << " of " << readings[i].size() << " readings");
+    CHECK(same(at_once[i], alone.estimate(3)));
+    CHECK(same(at_once[i], batch.estimate(i, 3)));
+    ++compared;
+    refined += at_once[i].pose_refined;
+  }
+  // Any order and subset of sessions: each answer is its own session's.
+  const std::vector<std::size_t> some = {301, 5, 64, 0, 77};
+  const std::vector<Estimate> subset = batch.estimates(some, 3);
+  for (std::size_t k = 0; k < some.size(); ++k) CHECK(same(subset[k], at_once[some[k]]));
+  CHECK_THROWS_WITH(batch.estimates(std::vector<std::size_t>{3, kSessions}, 3), Catch::Contains("out of range"));
+  // Not vacuous: sessions without readings, with a few, and with fine poses were compared.
+  CHECK(compared > 40);
+  CHECK(refined > 5);
+  CHECK_FALSE(at_once[0].ready);
+  CHECK(at_once[14].ready);
+}

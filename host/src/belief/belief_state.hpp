@@ -39,8 +39,8 @@ class BeliefState {
   virtual ~BeliefState() = default;
   // Forgets every bin; the table's allocation is kept for the next session.
   virtual void reset() = 0;
-  // Belief tables allocated so far: the first, and one per growth or rehash (forgetting). A reset allocates none,
-  // so a session after it allocates none until it outgrows the previous one's table.
+  // Belief tables allocated so far: the first (the CPU reference's: one per shard), and one per growth or rehash
+  // (forgetting). A reset allocates none, so a session after it allocates none until it outgrows the previous one's.
   virtual std::size_t table_allocations() const = 0;
   virtual std::size_t pairs_folded() const = 0;
   virtual std::size_t touched() const = 0;

@@ -253,16 +253,19 @@ std::vector<Estimate> BatchRecognizer::estimates(std::span<const std::size_t> se
     }
   }
   if (plan.piped.empty()) return plan.out;
-  // Each session's estimate on one worker, the sessions across the workers: its fits are small, and a session's own
-  // split of them left most workers idle. Stage 1 reads the belief: a device's one session at a time (its queue is
+  // Each session's estimate on its share of the workers, the sessions across them: a session's fits are few, and
+  // its own split of them left most workers idle in a batch. Stage 1 reads the belief: a device's one session at a time (its queue is
   // the backend's), the CPU reference's on the workers. The same answers as estimate(), for any thread count.
   const auto& objects = impl_->pair_map->objects;
   const bool device = impl_->engine.backend() == BackendKind::vulkan;
+  // Fewer sessions than workers (a robot's one session): each session's own stages split the rest.
+  const unsigned workers = impl_->options.threads ? impl_->options.threads : util::default_threads();
+  const unsigned inner = static_cast<unsigned>(std::max<std::size_t>(1, workers / plan.piped.size()));
   std::vector<Candidates> candidates(plan.piped.size());
   const auto read = [&](std::size_t k) {
     const Impl::Session& s = impl_->sessions[sessions[plan.piped[k]]];
     candidates[k] = estimate_candidates({s.filter->belief(), s.filter->space(), s.filter->observed()},
-                                        impl_->request(s, top_k, 1));
+                                        impl_->request(s, top_k, inner));
   };
   if (device) {
     for (std::size_t k = 0; k < plan.piped.size(); ++k) read(k);
@@ -274,7 +277,7 @@ std::vector<Estimate> BatchRecognizer::estimates(std::span<const std::size_t> se
       [&](std::size_t k) {
         const Impl::Session& s = impl_->sessions[sessions[plan.piped[k]]];
         plan.out[plan.piped[k]] = impl_->finish(s, estimate_from(candidates[k], s.filter->observed(), s.filter->space(),
-                                                                 objects, impl_->request(s, top_k, 1)));
+                                                                 objects, impl_->request(s, top_k, inner)));
       },
       impl_->options.threads);
   return plan.out;

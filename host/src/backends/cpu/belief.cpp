@@ -237,12 +237,18 @@ std::vector<BinOffset> Belief::best_bins(std::size_t k) const {
   std::vector<std::vector<BinOffset>> tops(kBeliefShards);
   for (std::size_t s = 0; s < kBeliefShards; ++s) tops[s] = shards_[s].band_top(std::max(k, kKeptPerShard));
   std::vector<BinOffset> best = merge_tops(tops, shards_);
-  if (best.size() < k) {
+  // Each shard holds about k / 32 of the top k (bins fall in shards by their hash): asked for twice that, a shard
+  // past its band makes an upper set of its own share, not of all k; asked again for twice as many while the merge
+  // is short. Once a shard gives k bins (or all), the merge holds k: the loop ends.
+  const std::size_t bins = touched();
+  for (std::size_t want = 2 * ((k + kBeliefShards - 1) / kBeliefShards) + 8; best.size() < std::min(k, bins);
+       want *= 2) {
     for (std::size_t s = 0; s < kBeliefShards; ++s)
-      if (tops[s].size() < k && tops[s].size() < shards_[s].size()) tops[s] = shards_[s].top(k);
-    best = merge_tops(tops, shards_);  // now at least k, or every bin: each shard gave k or all of its bins
+      if (tops[s].size() < std::min(want, k) && tops[s].size() < shards_[s].size())
+        tops[s] = shards_[s].top(std::min(want, k));
+    best = merge_tops(tops, shards_);
   }
-  best_.asked = best.size() < touched() ? best.size() : std::numeric_limits<std::size_t>::max();
+  best_.asked = best.size() < bins ? best.size() : std::numeric_limits<std::size_t>::max();
   best_.bins = best;
   best.resize(std::min(k, best.size()));
   return best;

@@ -3,9 +3,13 @@
 # benchmark on a GPU machine with no build tools (docs/vulkan-backend.md,
 # "Running on a GPU machine"):
 #
-#   scripts/bundle.sh OUT_DIR          BUILD_DIR=build-ci (default): reused when built,
+#   scripts/bundle.sh [--arch x86_64|aarch64] OUT_DIR
+#                                      BUILD_DIR=build-ci (default): reused when built,
 #                                      else configured and built with PRESET (ci: the
 #                                      default preset builds the command line only)
+#                                      --arch aarch64: the aarch64 preset's cross build
+#                                      (build-aarch64; scripts/setup.sh --aarch64), for a
+#                                      Jetson-class machine; its libraries found under qemu
 #
 # OUT_DIR/  sva, tests/sva_tests_<area>, assets/ (scenes and objects), lib/ (every
 #           shared library they load but the C library and the Vulkan drivers),
@@ -15,18 +19,46 @@
 # SVA_BIN and SVA_ASSETS, so the build and source paths compiled into the tests
 # (tests/main.cpp) are never used.
 set -euo pipefail
-usage() { echo "usage: [BUILD_DIR=build-ci] [PRESET=ci] scripts/bundle.sh OUT_DIR" >&2; exit 2; }
+usage() { echo "usage: [BUILD_DIR=build-ci] [PRESET=ci] scripts/bundle.sh [--arch x86_64|aarch64] OUT_DIR" >&2; exit 2; }
+arch=x86_64
+if [[ ${1:-} == --arch ]]; then
+  [[ $# -ge 2 ]] || usage
+  arch=$2
+  shift 2
+fi
+[[ $arch == x86_64 || $arch == aarch64 ]] || { echo "bundle: --arch must be x86_64 or aarch64, not '$arch'" >&2; exit 2; }
 [[ $# -eq 1 && -n $1 ]] || usage
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 out=$1
 preset=${PRESET:-ci}
+[[ $arch == aarch64 ]] && preset=${PRESET:-aarch64}
 # The presets' binary folders: build/ for default, build-<preset>/ for the others.
 default_build=$root/build
 [[ $preset == default ]] || default_build=$root/build-$preset
 build=${BUILD_DIR:-$default_build}
+# What differs by architecture: how a binary's libraries are listed (ldd runs the binary's own loader, so a foreign
+# one runs under qemu), where a library the binaries do not link is found, and the strip tool.
+if [[ $arch == aarch64 ]]; then
+  command -v qemu-aarch64 >/dev/null || { echo "bundle: qemu-aarch64 not found (scripts/setup.sh installs it)" >&2; exit 1; }
+  list_libs() { qemu-aarch64 -L / /lib/ld-linux-aarch64.so.1 --list "$1"; }  # executables and libraries alike
+  run_target() { qemu-aarch64 -L / "$@"; }
+  # The arm64 packages' multiarch folder (an x86-64 machine's linker cache does not list it).
+  system_lib() { ls /usr/lib/aarch64-linux-gnu/"$1" /lib/aarch64-linux-gnu/"$1" 2>/dev/null | head -n 1; }
+  strip_tool=aarch64-linux-gnu-strip
+else
+  list_libs() { ldd "$1"; }
+  run_target() { "$@"; }
+  system_lib() { { ldconfig -p 2>/dev/null || /sbin/ldconfig -p; } | awk -v so="$1" '$1 == so && /x86-64/ { print $NF; exit }'; }
+  strip_tool=strip
+fi
 command -v patchelf >/dev/null || { echo "bundle: patchelf not found (scripts/setup.sh installs it)" >&2; exit 1; }
 
-if [[ ! -x $build/sva ]]; then
+if [[ $arch == aarch64 && ! -x $build/tests/sva_tests_vulkan ]]; then
+  # The aarch64 preset's own build makes the CPU-only suites that run under qemu; a GPU machine runs them all.
+  [[ -z ${BUILD_DIR:-} ]] || { echo "bundle: no aarch64 Vulkan suite in BUILD_DIR=$build (build every target)" >&2; exit 1; }
+  echo "== no whole aarch64 build in $build: cmake --preset $preset, cmake --build --preset aarch64-bundle"
+  (cd "$root" && cmake --preset "$preset" && cmake --build --preset aarch64-bundle)
+elif [[ ! -x $build/sva ]]; then
   [[ -z ${BUILD_DIR:-} ]] || { echo "bundle: no sva in BUILD_DIR=$build" >&2; exit 1; }
   echo "== no build in $build: cmake --preset $preset"
   (cd "$root" && cmake --preset "$preset" && cmake --build --preset "$preset")
@@ -77,7 +109,7 @@ for bin in "$out/sva" "$out"/tests/sva_tests_*; do
     [[ $name =~ $glibc_re ]] && continue
     [[ $path == /* ]] || { echo "bundle: $bin needs $name, which is not found" >&2; exit 1; }
     libs[$name]=$path
-  done < <(ldd "$bin" | awk '$2 == "=>" { print $1, $2, $3 }')
+  done < <(list_libs "$bin" | awk '$2 == "=>" { print $1, $2, $3 }')
 done
 # Loaded with dlopen, so ldd does not see it: TBB's scalable allocator (Embree's
 # task scheduler uses it when present).
@@ -93,8 +125,8 @@ chmod u+w "$out"/lib/*
 # libEGL.so.1, since the driver opens them at run time and the binaries' run path does not reach them.
 mkdir -p "$out/glvnd"
 for name in libEGL.so.1 libGLdispatch.so.0; do
-  path=$( { ldconfig -p 2>/dev/null || /sbin/ldconfig -p; } | awk -v so="$name" '$1 == so && /x86-64/ { print $NF; exit }')
-  [[ -n $path ]] || { echo "bundle: $name not found (scripts/setup.sh installs libegl1 and libglvnd0)" >&2; exit 1; }
+  path=$(system_lib "$name")
+  [[ -n $path ]] || { echo "bundle: $name ($arch) not found (scripts/setup.sh installs libegl1 and libglvnd0)" >&2; exit 1; }
   cp -L "$path" "$out/glvnd/$name"
 done
 
@@ -109,8 +141,8 @@ cat >"$out/fonts/fonts.conf" <<'CONF'
 CONF
 
 # Debug information stays in the build tree; the bundle is for running.
-if command -v strip >/dev/null && [[ ${STRIP:-1} != 0 ]]; then
-  strip --strip-debug "$out/sva" "$out"/tests/sva_tests_* "$out"/lib/*
+if command -v "$strip_tool" >/dev/null && [[ ${STRIP:-1} != 0 ]]; then
+  "$strip_tool" --strip-debug "$out/sva" "$out"/tests/sva_tests_* "$out"/lib/*
 fi
 patchelf --set-rpath '$ORIGIN/lib' "$out/sva"
 for t in "$out"/tests/sva_tests_*; do patchelf --set-rpath '$ORIGIN/../lib' "$t"; done
@@ -123,13 +155,14 @@ for bin in "$out/sva" "$out"/tests/sva_tests_* "$out"/lib/*; do
   while read -r name _ path _; do
     [[ $name =~ $glibc_re || $(realpath -m "$path") == "$out/lib/"* ]] && continue
     echo "bundle: $bin loads $name from $path, outside the bundle" >&2; bad=1
-  done < <(env -u LD_LIBRARY_PATH ldd "$bin" | awk '$2 == "=>" { print $1, $2, $3 }')
+  done < <(unset LD_LIBRARY_PATH; list_libs "$bin" | awk '$2 == "=>" { print $1, $2, $3 }')
 done
 [[ $bad -eq 0 ]] || exit 1
-env -u LD_LIBRARY_PATH SVA_ASSETS="$out/assets" "$out/sva" --version >/dev/null
+(unset LD_LIBRARY_PATH; SVA_ASSETS="$out/assets" run_target "$out/sva" --version >/dev/null)
 
 {
-  "$out/sva" --version 2>/dev/null | head -n 1
+  run_target "$out/sva" --version 2>/dev/null | head -n 1
+  echo "architecture: $arch"
   # The oldest C library it runs on: the newest glibc symbol version anything here asks for.
   echo "needs glibc >= $(cat "$out/sva" "$out"/tests/sva_tests_* "$out"/lib/* | grep -aoE 'GLIBC_2\.[0-9]+' | sort -uV | tail -n 1 | cut -c7-)"
   echo "built from $(git -C "$root" describe --always --dirty 2>/dev/null || echo unknown) on $(uname -n), $(date -u +%Y-%m-%dT%H:%M:%SZ)"

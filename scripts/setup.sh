@@ -28,7 +28,7 @@ packages=(
 if [ "$aarch64" = 1 ]; then
   # Debian's cross compiler and the arm64 builds of the libraries sva links (multiarch: beside the x86-64 ones).
   packages+=(g++-aarch64-linux-gnu libembree-dev:arm64 libvulkan-dev:arm64 libtinygltf-dev:arm64 libtbb-dev:arm64
-    libusb-1.0-0-dev:arm64 libcairo2-dev:arm64 mesa-vulkan-drivers:arm64)
+    libusb-1.0-0-dev:arm64 libcairo2-dev:arm64 mesa-vulkan-drivers:arm64 libegl1:arm64 libglvnd0:arm64)
   if ! dpkg --print-foreign-architectures | grep -qx arm64; then
     SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
     $SUDO dpkg --add-architecture arm64

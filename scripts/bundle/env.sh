@@ -21,9 +21,12 @@ export SVA_VK_VALIDATION="${SVA_VK_VALIDATION:-0}"
 # preloaded instead (only one libstdc++ can live in a process).
 sva_glibcxx() { grep -aoE 'GLIBCXX_3\.4\.[0-9]+' "$1" 2>/dev/null | sort -uV | tail -n 1; }
 sva_system_lib() {
-  # The first x86-64 copy of a soname in the dynamic linker's cache.
+  # The first copy of a soname for this machine's architecture in the dynamic linker's cache (a bundle is made for
+  # x86-64 or aarch64: scripts/bundle.sh --arch).
+  local arch=x86-64
+  [[ $(uname -m) == aarch64 ]] && arch=AArch64
   { ldconfig -p 2>/dev/null || /sbin/ldconfig -p 2>/dev/null; } |
-    awk -v so="$1" '$1 == so && /x86-64/ { print $NF; exit }'
+    awk -v so="$1" -v a="$arch" '$1 == so && index($0, "," a ")") { print $NF; exit }'
 }
 if [[ -f $BUNDLE/lib/libstdc++.so.6 && -z ${SVA_BUNDLE_NO_PRELOAD:-} ]]; then
   sys_cxx=$(sva_system_lib libstdc++.so.6)

@@ -8,8 +8,8 @@
 
 #include <sva/error.hpp>
 
-#include "core/fixed_point.hpp"
-#include "core/hash.hpp"
+#include "votes/fixed_point.hpp"
+#include "votes/bin_hash.hpp"
 #include "spv/hash_scatter.h"
 
 namespace sva::bench {

@@ -11,7 +11,7 @@
 
 #include "backends/vulkan/context.hpp"
 #include "backends/vulkan/vk_test_support.hpp"
-#include "core/fixed_point.hpp"
+#include "votes/fixed_point.hpp"
 #include "spv/fixed_point_scatter.h"
 
 namespace {

@@ -9,7 +9,7 @@
 
 #include <glm/glm.hpp>
 
-#include "core/fixed_point.hpp"
+#include "votes/fixed_point.hpp"
 
 namespace sva::vote_math {
 using namespace glm;

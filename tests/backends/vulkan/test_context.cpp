@@ -9,7 +9,7 @@
 
 #include "backends/vulkan/context.hpp"
 #include "backends/vulkan/faults.hpp"
-#include "core/fixed_point.hpp"
+#include "votes/fixed_point.hpp"
 #include "vk_test_support.hpp"
 
 TEST_CASE("to_fixed quantises, clamps and rejects NaN") {

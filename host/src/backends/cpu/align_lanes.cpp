@@ -3,7 +3,7 @@
 // is this file's.
 #include "backends/cpu/align_lanes.hpp"
 
-#include "util/hot_path.hpp"
+#include "backends/cpu/hot_path.hpp"
 
 namespace sva::cpu {
 

@@ -13,7 +13,7 @@
 #include <span>
 #include <vector>
 
-#include "core/hash.hpp"
+#include "votes/bin_hash.hpp"
 
 namespace sva {
 

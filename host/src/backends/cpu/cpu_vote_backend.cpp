@@ -22,7 +22,7 @@
 #include "backends/cpu/key_ranges.hpp"
 #include "backends/cpu/sample_votes.hpp"
 #include "backends/vote_backend.hpp"
-#include "util/hot_path.hpp"
+#include "backends/cpu/hot_path.hpp"
 #include "votes/vote_math.hpp"
 
 namespace sva {

@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "util/hot_path.hpp"
+#include "backends/cpu/hot_path.hpp"
 
 namespace sva::cpu {
 

@@ -16,7 +16,7 @@
 #include "backends/vulkan/linear_bins.hpp"
 #include "backends/vulkan/vk_check.hpp"
 #include "backends/vulkan/vulkan_engine.hpp"
-#include "core/hash.hpp"
+#include "votes/bin_hash.hpp"
 
 namespace sva {
 

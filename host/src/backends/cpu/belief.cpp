@@ -122,28 +122,27 @@ void Belief::add_all(std::span<const BeliefTerms> terms, std::span<const std::ui
   }
 }
 
-std::size_t Belief::table_allocations() const {
-  std::size_t n = 0;
-  for (const BeliefShard& s : shards_) n += s.allocations();
-  return n;
-}
-
-std::size_t Belief::touched() const {
-  std::size_t n = 0;
-  for (const BeliefShard& s : shards_) n += s.size();
-  return n;
-}
-
-std::size_t Belief::table_bytes() const {
-  std::size_t n = 0;
-  for (const BeliefShard& s : shards_) n += s.bytes();
-  return n;
-}
-
-std::uint64_t Belief::table_probes() const {
+namespace {
+// A figure summed over the shards (what the belief as a whole reports).
+template <class Of>
+std::uint64_t over_shards(const std::vector<BeliefShard>& shards, Of of) {
   std::uint64_t n = 0;
-  for (const BeliefShard& s : shards_) n += s.probes();
+  for (const BeliefShard& s : shards) n += of(s);
   return n;
+}
+}  // namespace
+
+std::size_t Belief::table_allocations() const {
+  return over_shards(shards_, [](const BeliefShard& s) { return s.allocations(); });
+}
+std::size_t Belief::touched() const {
+  return over_shards(shards_, [](const BeliefShard& s) { return s.size(); });
+}
+std::size_t Belief::table_bytes() const {
+  return over_shards(shards_, [](const BeliefShard& s) { return s.bytes(); });
+}
+std::uint64_t Belief::table_probes() const {
+  return over_shards(shards_, [](const BeliefShard& s) { return s.probes(); });
 }
 
 std::size_t Belief::forget_below(std::uint64_t below, std::span<const std::uint64_t> keep) {

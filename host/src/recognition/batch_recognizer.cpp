@@ -183,16 +183,6 @@ void BatchRecognizer::add_readings(std::span<const std::size_t> sessions, std::s
   }
 }
 
-namespace {
-
-// Which sessions' estimates run the whole pipeline (those with readings and a belief), and the others' answers.
-struct EstimatePlan {
-  std::vector<std::size_t> piped;  // positions in the request
-  std::vector<Estimate> out;
-};
-
-}  // namespace
-
 EstimateRequest BatchRecognizer::Impl::request(const Session& s, std::size_t top_k, unsigned threads) const {
   RefineSettings r = refine;
   r.threads = threads;
@@ -229,58 +219,53 @@ Estimate BatchRecognizer::Impl::finish(const Session& s, Estimate e) const {
   return e;
 }
 
+// One session's estimate is a batch's of one (which gives it every worker).
 Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const {
-  const std::lock_guard lock(impl_->mutex);
-  const Impl::Session& s = impl_->at(session);
-  if (s.readings == 0 || !s.filter) return impl_->estimate_without_belief(s);
-  s.filter->require_complete();
-  const EstimateRequest r = impl_->request(s, top_k, impl_->options.threads);
-  return impl_->finish(
-      s, estimate_session({s.filter->belief(), s.filter->space(), s.filter->observed()}, impl_->pair_map->objects, r));
+  return estimates(std::span(&session, 1), top_k).front();
 }
 
 std::vector<Estimate> BatchRecognizer::estimates(std::span<const std::size_t> sessions, std::size_t top_k) const {
   const std::lock_guard lock(impl_->mutex);
-  EstimatePlan plan;
-  plan.out.resize(sessions.size());
+  std::vector<Estimate> out(sessions.size());
+  std::vector<std::size_t> piped;  // positions of the sessions that run the pipeline (readings and a belief)
   for (std::size_t i = 0; i < sessions.size(); ++i) {
     const Impl::Session& s = impl_->at(sessions[i]);
     if (s.readings == 0 || !s.filter) {
-      plan.out[i] = impl_->estimate_without_belief(s);
+      out[i] = impl_->estimate_without_belief(s);
     } else {
       s.filter->require_complete();
-      plan.piped.push_back(i);
+      piped.push_back(i);
     }
   }
-  if (plan.piped.empty()) return plan.out;
+  if (piped.empty()) return out;
   // Each session's estimate on its share of the workers, the sessions across them: a session's fits are few, and
-  // its own split of them left most workers idle in a batch. Stage 1 reads the belief: a device's one session at a time (its queue is
-  // the backend's), the CPU reference's on the workers. The same answers as estimate(), for any thread count.
+  // its own split of them left most workers idle in a batch. Stage 1 reads the belief: a device's one session at a
+  // time (its queue is the backend's), the CPU reference's on the workers. The same answers for any thread count.
   const auto& objects = impl_->pair_map->objects;
   const bool device = impl_->engine.backend() == BackendKind::vulkan;
   // Fewer sessions than workers (a robot's one session): each session's own stages split the rest.
   const unsigned workers = impl_->options.threads ? impl_->options.threads : util::default_threads();
-  const unsigned inner = static_cast<unsigned>(std::max<std::size_t>(1, workers / plan.piped.size()));
-  std::vector<Candidates> candidates(plan.piped.size());
+  const unsigned inner = static_cast<unsigned>(std::max<std::size_t>(1, workers / piped.size()));
+  std::vector<Candidates> candidates(piped.size());
   const auto read = [&](std::size_t k) {
-    const Impl::Session& s = impl_->sessions[sessions[plan.piped[k]]];
+    const Impl::Session& s = impl_->sessions[sessions[piped[k]]];
     candidates[k] = estimate_candidates({s.filter->belief(), s.filter->space(), s.filter->observed()},
                                         impl_->request(s, top_k, inner));
   };
   if (device) {
-    for (std::size_t k = 0; k < plan.piped.size(); ++k) read(k);
+    for (std::size_t k = 0; k < piped.size(); ++k) read(k);
   } else {
-    util::parallel_for(plan.piped.size(), read, impl_->options.threads);
+    util::parallel_for(piped.size(), read, impl_->options.threads);
   }
   util::parallel_for(
-      plan.piped.size(),
+      piped.size(),
       [&](std::size_t k) {
-        const Impl::Session& s = impl_->sessions[sessions[plan.piped[k]]];
-        plan.out[plan.piped[k]] = impl_->finish(s, estimate_from(candidates[k], s.filter->observed(), s.filter->space(),
-                                                                 objects, impl_->request(s, top_k, inner)));
+        const Impl::Session& s = impl_->sessions[sessions[piped[k]]];
+        out[piped[k]] = impl_->finish(s, estimate_from(candidates[k], s.filter->observed(), s.filter->space(), objects,
+                                                       impl_->request(s, top_k, inner)));
       },
       impl_->options.threads);
-  return plan.out;
+  return out;
 }
 
 void BatchRecognizer::set_prior(std::size_t session, const Prior& prior) {

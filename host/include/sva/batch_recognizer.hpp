@@ -66,6 +66,10 @@ class BatchRecognizer {
     double belief_growth_ms = 0.0;
   };
   Timing last_backend_timing() const;
+  // Device submissions so far (each a round trip to the device: submit, then wait), the estimates' reads of the
+  // beliefs included: what `sva bench` divides by the estimates made. With an Engine shared by recognizers, of
+  // every recognizer on its device. 0 on the CPU.
+  std::uint64_t device_submissions() const;
   // What the last update did, summed over its sessions' pairs (`sva bench` reports it per stage; docs/recognition.md,
   // "Work counted"). The CPU reference counts all but the atomics; the Vulkan backend all but the belief probes
   // (0 where not counted).

@@ -29,6 +29,9 @@ struct BackendStats {
   unsigned band_rebuilds = 0;       // GPU band lists rebuilt from whole belief tables (after a growth or a full list)
   BatchRecognizer::Work last_work;  // what the last vote or vote_and_fold did (the backend's counts; 0 elsewhere)
   double last_belief_growth_ms = 0.0;  // of last_host_ms: growing the beliefs' tables (Vulkan; 0 on the CPU)
+  // Device submissions so far (each a round trip: submit, then wait), the estimates' reads of the beliefs included;
+  // with a shared engine, of every backend on its device. 0 on the CPU.
+  std::uint64_t device_submissions = 0;
 };
 
 }  // namespace sva

@@ -93,6 +93,13 @@ class VoteBackend {
   // Votes every pair of the batch and folds it into beliefs[pair.session]
   // (each made by this backend's make_belief). Returns per-pair statistics.
   virtual std::vector<PairStats> vote_and_fold(const VoteBatch& batch, std::span<BeliefState* const> beliefs) = 0;
+  // Reads ahead, for many sessions' beliefs (each made by this backend), what their estimates read first: the
+  // summary and the `best_bins` best bins. A device runs each pass once for all of them, where each session's
+  // estimate made a round trip per pass; the beliefs' reads after it return what came back (the same answers).
+  // The CPU reference reads its own memory: nothing to read ahead.
+  virtual void read_ahead(std::span<const BeliefState* const> beliefs, std::size_t best_bins) {
+    (void)beliefs, (void)best_bins;
+  }
   virtual const char* name() const = 0;
   // What runs the votes, the last update's timings and the counters so far.
   virtual BackendStats statistics() const = 0;

@@ -202,6 +202,16 @@ void best_object(const BeliefState& belief, const PoseSpace& space, const std::v
 
 }  // namespace
 
+std::size_t best_bins_asked(const CandidateRequest& r) {
+  std::size_t k = r.top_k;
+  // next_modes' candidates for the best object's modes after the first, and for a leading object's (as many).
+  if (r.modes > 1) k = std::max(k, 16 * r.modes);
+  const bool prior = r.pose_weighting && !r.pose_weighting->empty();
+  if (r.hypotheses && r.top_k > 0) k = std::max(k, r.top_k <= 1 && !prior ? r.top_k : 16 * (r.top_k + 1));
+  if (prior) k = std::max(k, kPosePriorCandidates);
+  return k;
+}
+
 Candidates find_candidates(const BeliefState& belief, const PoseSpace& space, const CandidateRequest& r) {
   Candidates c;
   c.summary = belief.summarise();

@@ -75,5 +75,8 @@ struct CandidateRequest {
 // best bin and its bins among the best bins read for the modes), adds the prior to the log-belief of the
 // parabola's bins and orders the modes by it; it leaves the object posterior and `top` as they are.
 Candidates find_candidates(const BeliefState& belief, const PoseSpace& space, const CandidateRequest& request);
+// The most best bins find_candidates asks of a belief for `request` (its top bins, the modes' and hypotheses'
+// candidates, a pose prior's): what a device reads ahead for many sessions at once (VoteBackend::read_ahead).
+std::size_t best_bins_asked(const CandidateRequest& request);
 
 }  // namespace sva

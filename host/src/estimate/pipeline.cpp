@@ -37,14 +37,18 @@ Candidates estimate_candidates(const EstimateInput& in, const EstimateRequest& r
   return find_candidates(in.belief, in.space, candidate_request(r, n, temperature));
 }
 
+std::size_t estimate_best_bins(const EstimateRequest& r, std::size_t readings) {
+  return best_bins_asked(candidate_request(r, readings, 1.0));
+}
+
 Estimate estimate_from(const Candidates& c, std::span<const ObservedReading> readings, const PoseSpace& space,
                        const std::vector<MapObject>& objects, const EstimateRequest& r) {
   const std::size_t n = readings.size();
   const double temperature = r.calibration ? r.calibration->temperature(n) : 1.0;
   const Fits fits = fit_candidates(c, readings, r.surface, r.refine, r.pose_weighting.empty());
-  const Verification v =
-      r.surface ? verify_candidates(fits, readings, *r.surface, r.refine, objects.size(), r.surface_model)
-                : Verification{};
+  const Verification v = r.surface
+                             ? verify_candidates(fits, readings, *r.surface, r.refine, objects.size(), r.surface_model)
+                             : Verification{};
   const EvidenceLevel level = evidence_after(c, fits, v, n, r.refine);
   const CalibratedPosterior p = calibrate(c, fits, v, level,
                                           {.calibration = r.calibration,

@@ -60,6 +60,8 @@ Estimate estimate_session(const EstimateInput& in, const std::vector<MapObject>&
 Candidates estimate_candidates(const EstimateInput& in, const EstimateRequest& r);
 Estimate estimate_from(const Candidates& c, std::span<const ObservedReading> readings, const PoseSpace& space,
                        const std::vector<MapObject>& objects, const EstimateRequest& r);
+// The most best bins stage 1 asks of a session's belief after `readings` readings (VoteBackend::read_ahead).
+std::size_t estimate_best_bins(const EstimateRequest& r, std::size_t readings);
 
 // What stage 4 reads after stages 1-3, without a prior, a temperature or the report: the calibration's
 // held-out sessions record it.

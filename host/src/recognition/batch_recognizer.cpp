@@ -1,8 +1,8 @@
 // The session table of batch recognition: each session is a Bayes filter (Method::sva) or an appearance-only
 // posterior (Method::appearance); one backend serves all sessions, and one update carries every session that got
 // a reading. The estimate runs as the stages of estimate/pipeline.hpp, a prior is checked in prior_checks.cpp.
-#include <sva/batch_recognizer.hpp>
 #include <sva/base/parallel.hpp>
+#include <sva/batch_recognizer.hpp>
 #include <sva/error.hpp>
 
 #include <algorithm>
@@ -253,6 +253,15 @@ std::vector<Estimate> BatchRecognizer::estimates(std::span<const std::size_t> se
                                         impl_->request(s, top_k, inner));
   };
   if (device) {
+    // Each belief pass once for every session (a round trip each), then each session's stage 1 from what came back.
+    std::vector<const BeliefState*> beliefs;
+    std::size_t best_bins = 0;
+    for (std::size_t i : piped) {
+      const Impl::Session& s = impl_->sessions[sessions[i]];
+      beliefs.push_back(&s.filter->belief());
+      best_bins = std::max(best_bins, estimate_best_bins(impl_->request(s, top_k, inner), s.filter->observed().size()));
+    }
+    impl_->backend->read_ahead(beliefs, best_bins);
     for (std::size_t k = 0; k < piped.size(); ++k) read(k);
   } else {
     util::parallel_for(piped.size(), read, impl_->options.threads);
@@ -352,6 +361,11 @@ BatchRecognizer::Timing BatchRecognizer::last_backend_timing() const {
     t.belief_growth_ms = st.last_belief_growth_ms;
   }
   return t;
+}
+
+std::uint64_t BatchRecognizer::device_submissions() const {
+  const std::lock_guard lock(impl_->mutex);
+  return impl_->backend ? impl_->backend->statistics().device_submissions : 0;
 }
 
 BatchRecognizer::Work BatchRecognizer::last_update_work() const {

@@ -56,3 +56,49 @@ TEST_CASE("GPU batch: the estimates of 40 sessions at once equal estimate() and 
   }
   CHECK(refined > 5);  // not vacuous: fine poses were fitted on the workers
 }
+
+TEST_CASE("GPU batch: a batch's estimates read every summary and best-bin list in three submissions") {
+  // The read-ahead (VoteBackend::read_ahead) runs each belief pass once for all sessions: the summaries and the best
+  // bins of 40 sessions cost three submissions where each session's estimate made its own; what stays per session
+  // is its few lookups of bins near its modes.
+  const Trained& t = trained();
+  constexpr std::size_t kSessions = 40;
+  RecognizerOptions vo;
+  vo.backend = BackendKind::vulkan;
+  vo.threads = 2;
+  std::unique_ptr<BatchRecognizer> batch, alone;
+  try {
+    batch = std::make_unique<BatchRecognizer>(t.map, paper_space(), kSessions, vo);
+    alone = std::make_unique<BatchRecognizer>(t.map, paper_space(), kSessions, vo);
+  } catch (const Error& e) {
+    skip(e.what());
+  }
+  for (std::size_t step = 0; step < 4; ++step) {
+    std::vector<std::size_t> ids(kSessions);
+    std::iota(ids.begin(), ids.end(), std::size_t{0});
+    std::vector<Reading> rd;
+    for (std::size_t i = 0; i < kSessions; ++i)
+      rd.push_back(readings_at(static_cast<std::uint32_t>(i % 3), random_pose(900 + i, 100.0), util::Rng(900 + i, 5),
+                               4)[step]);
+    batch->add_readings(ids, rd);
+    alone->add_readings(ids, rd);
+  }
+  std::vector<std::size_t> all(kSessions);
+  std::iota(all.begin(), all.end(), std::size_t{0});
+  const std::uint64_t b0 = batch->device_submissions();
+  const std::vector<Estimate> together = batch->estimates(all, 3);
+  const std::uint64_t batched = batch->device_submissions() - b0;
+  const std::uint64_t a0 = alone->device_submissions();
+  for (std::size_t i = 0; i < kSessions; ++i) {
+    INFO("session " << i);
+    CHECK(same(together[i], alone->estimate(i, 3)));
+  }
+  const std::uint64_t each = alone->device_submissions() - a0;
+  INFO("submissions: " << batched << " for the batch, " << each << " one session at a time");
+  CHECK(batched > 0);
+  // Alone, a session reads its summary and its best bins (a round trip each), then its lookups; in the batch the
+  // summaries and selections of all 40 take three submissions (stale bands, MASS and FLIP, selections).
+  CHECK(each >= 3 * kSessions);
+  REQUIRE(batched < each);
+  CHECK(each - batched >= 2 * kSessions - 3);
+}

@@ -203,6 +203,7 @@ void CommandRunner::record_dispatch(VkCommandBuffer cmd, const Dispatch& d, std:
 }
 
 void CommandRunner::submit_and_wait(VkCommandBuffer cmd) {
+  ++submissions_;
   if (device_.lost()) fail(VK_ERROR_DEVICE_LOST, "vkQueueSubmit (the device was lost by an earlier submission)");
   VkSubmitInfo si{VK_STRUCTURE_TYPE_SUBMIT_INFO};
   si.commandBufferCount = 1;

@@ -62,6 +62,8 @@ class CommandRunner {
   // Records the copies, submits and waits; their writes are visible to later
   // runs and to the host's mapped reads.
   void copy(const std::vector<Copy>& copies);
+  // Submissions so far (each a round trip: submit, then wait for the fence): what a batch's reads save.
+  std::uint64_t submissions() const { return submissions_; }
 
  private:
   VkCommandBuffer begin();
@@ -80,6 +82,7 @@ class CommandRunner {
   VkFence fence_ = VK_NULL_HANDLE;
   VkQueryPool queries_ = VK_NULL_HANDLE;
   std::uint32_t query_capacity_ = 0;
+  std::uint64_t submissions_ = 0;  // the Context's lock orders every run and copy
 };
 
 }  // namespace sva::vk

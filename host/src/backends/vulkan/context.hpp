@@ -74,6 +74,11 @@ class Context {
     commands_.run(dispatches, kernel_ms, fills);
   }
   bool force_staging() const { return force_staging_; }
+  // Submissions so far, runs and staged transfers alike (each a round trip to the device).
+  std::uint64_t submissions() {
+    std::lock_guard lock(mutex_);
+    return commands_.submissions();
+  }
 
   const Instance& instance() const { return instance_; }
   const Device& device() const { return device_; }

@@ -231,8 +231,8 @@ gpu::SvaReduceParams GpuBelief::reduce_params(std::uint32_t pass) const {
   return p;
 }
 
-void GpuBelief::run_reduce(const std::vector<std::uint32_t>& passes, std::uint64_t entries,
-                           std::vector<vk::Fill> fills) const {
+std::vector<vk::Dispatch> GpuBelief::reduce_dispatches(const std::vector<std::uint32_t>& passes,
+                                                       std::uint64_t entries) const {
   ensure(*k_->ctx, candidates_, 2 * sizeof(std::uint64_t));
   std::vector<vk::Dispatch> ds;
   for (std::uint32_t pass : passes) {
@@ -241,12 +241,22 @@ void GpuBelief::run_reduce(const std::vector<std::uint32_t>& passes, std::uint64
     d.groups_y = g.y;
     ds.push_back(std::move(d));
   }
-  std::vector<double> ms;
-  k_->ctx->run(ds, &ms, fills);
-  for (double m : ms) k_->kernel_ms += m;
+  return ds;
 }
 
-void GpuBelief::rebuild_band(std::uint64_t entries) const {
+void GpuBelief::run(GpuBeliefKernels& k, const std::vector<vk::Dispatch>& ds, const std::vector<vk::Fill>& fills) {
+  if (ds.empty() && fills.empty()) return;
+  std::vector<double> ms;
+  k.ctx->run(ds, &ms, fills);
+  for (double m : ms) k.kernel_ms += m;
+}
+
+void GpuBelief::run_reduce(const std::vector<std::uint32_t>& passes, std::uint64_t entries,
+                           std::vector<vk::Fill> fills) const {
+  run(*k_, reduce_dispatches(passes, entries), fills);
+}
+
+std::vector<vk::Fill> GpuBelief::prepare_rebuild(std::uint64_t entries) const {
   // A side never needs more entries than the table has slots.
   const std::uint64_t want = std::min<std::uint64_t>(std::bit_ceil(std::max<std::uint64_t>(entries, 64)), capacity_);
   if (want > band_capacity_ || band_.size() == 0) {
@@ -255,32 +265,32 @@ void GpuBelief::rebuild_band(std::uint64_t entries) const {
   }
   // Empty list on side 0, no marks, then every bin in the band joins.
   const std::size_t marks = 2 * std::size_t{capacity_} * sizeof(std::uint64_t);
-  run_reduce({SVA_REDUCE_REBUILD}, capacity_,
-             {{&table_, 0u, marks, 0},
-              {&state_, 0u, SVA_STATE_BAND_COUNT * sizeof(std::uint64_t), 4 * sizeof(std::uint64_t)}});
+  return {{&table_, 0u, marks, 0},
+          {&state_, 0u, SVA_STATE_BAND_COUNT * sizeof(std::uint64_t), 4 * sizeof(std::uint64_t)}};
+}
+
+void GpuBelief::rebuilt() const {
   band_stale_ = false;
   ++k_->band_rebuilds;
 }
 
-void GpuBelief::reduce() const {
+void GpuBelief::rebuild_band(std::uint64_t entries) const {
+  std::vector<vk::Fill> fills = prepare_rebuild(entries);
+  run_reduce({SVA_REDUCE_REBUILD}, capacity_, std::move(fills));
+  rebuilt();
+}
+
+std::vector<vk::Fill> GpuBelief::mass_fills() const {
+  const std::size_t mass = object_word(kMass, k_->space->objects()) * sizeof(std::uint64_t);
+  return {{&state_, 0u, mass, 0}, {&state_, 0u, SVA_STATE_NEXT_COUNT * sizeof(std::uint64_t), 8}};
+}
+
+bool GpuBelief::read_state() const {
   const std::uint32_t objects = k_->space->objects();
   const std::size_t words = state_words(objects);
   std::vector<std::uint64_t> w(words);
-  const std::size_t mass = object_word(kMass, objects) * sizeof(std::uint64_t);
-  for (int attempt = 0;; ++attempt) {
-    if (band_stale_) rebuild_band(band_capacity_);
-    // Masses and histogram from 0, then the passes over the band.
-    run_reduce({SVA_REDUCE_MASS, SVA_REDUCE_FLIP}, band_capacity_,
-               {{&state_, 0u, mass, 0}, {&state_, 0u, SVA_STATE_NEXT_COUNT * sizeof(std::uint64_t), 8}});
-    k_->ctx->download(state_, w.data(), words * sizeof(std::uint64_t));
-    if (w[SVA_STATE_BAND_LOST] == 0) break;
-    // A fold found the list full: what the passes read was incomplete. Rebuild it larger and read again.
-    if (attempt > 0 && band_capacity_ >= capacity_)
-      throw std::logic_error("GPU belief: the band list lost bins at full size");
-    band_stale_ = true;
-    band_capacity_ = std::min<std::uint32_t>(2 * band_capacity_, capacity_);
-    band_ = {};
-  }
+  k_->ctx->download(state_, w.data(), words * sizeof(std::uint64_t));
+  if (w[SVA_STATE_BAND_LOST] != 0) return false;
   BeliefSummary s;
   s.max_offset = w[SVA_STATE_MAX];
   const auto array = [&](std::uint32_t a) {
@@ -295,6 +305,57 @@ void GpuBelief::reduce() const {
   const std::uint64_t* h = w.data() + object_word(SVA_STATE_ARRAYS, objects);
   histogram_.assign(h, h + SVA_BELIEF_BUCKETS);
   summary_cache_ = std::move(s);
+  return true;
+}
+
+void GpuBelief::enlarge_band() const {
+  band_stale_ = true;
+  band_capacity_ = std::min<std::uint32_t>(2 * band_capacity_, capacity_);
+  band_ = {};
+}
+
+void GpuBelief::reduce() const {
+  for (int attempt = 0;; ++attempt) {
+    if (band_stale_) rebuild_band(band_capacity_);
+    // Masses and histogram from 0, then the passes over the band.
+    run_reduce({SVA_REDUCE_MASS, SVA_REDUCE_FLIP}, band_capacity_, mass_fills());
+    if (read_state()) return;
+    // A fold found the list full: what the passes read was incomplete. Rebuild it larger and read again.
+    if (attempt > 0 && band_capacity_ >= capacity_)
+      throw std::logic_error("GPU belief: the band list lost bins at full size");
+    enlarge_band();
+  }
+}
+
+void GpuBelief::read_ahead(std::span<const GpuBelief* const> beliefs, std::size_t k) {
+  if (beliefs.empty()) return;
+  GpuBeliefKernels& kernels = *beliefs.front()->k_;
+  for (const GpuBelief* b : beliefs)
+    if (b->k_ != &kernels) throw std::logic_error("GpuBelief::read_ahead: beliefs of two backends in one submission");
+  std::vector<const GpuBelief*> unread, stale;
+  for (const GpuBelief* b : beliefs)
+    if (!b->summary_cache_) (b->band_stale_ ? stale : unread).push_back(b);
+  std::vector<vk::Dispatch> ds;
+  std::vector<vk::Fill> fills;
+  const auto add = [&](std::vector<vk::Dispatch> d, std::vector<vk::Fill> f) {
+    ds.insert(ds.end(), std::make_move_iterator(d.begin()), std::make_move_iterator(d.end()));
+    fills.insert(fills.end(), f.begin(), f.end());
+  };
+  // The stale bands first (a table moved since the last estimate: each growth of an update's sessions).
+  for (const GpuBelief* b : stale) {
+    std::vector<vk::Fill> f = b->prepare_rebuild(b->band_capacity_);
+    add(b->reduce_dispatches({SVA_REDUCE_REBUILD}, b->capacity_), std::move(f));
+  }
+  run(kernels, ds, fills);
+  for (const GpuBelief* b : stale) b->rebuilt();
+  ds.clear(), fills.clear();
+  unread.insert(unread.end(), stale.begin(), stale.end());
+  for (const GpuBelief* b : unread)
+    add(b->reduce_dispatches({SVA_REDUCE_MASS, SVA_REDUCE_FLIP}, b->band_capacity_), b->mass_fills());
+  run(kernels, ds, fills);
+  for (const GpuBelief* b : unread)
+    if (!b->read_state()) b->enlarge_band();  // its summarise() reads again, alone
+  read_best_ahead(beliefs, k);
 }
 
 BeliefSummary GpuBelief::summarise() const {
@@ -316,7 +377,16 @@ std::vector<BinOffset> GpuBelief::best_bins(std::size_t k) const {
   // each a selection pass and a round trip: the best `kept_asked_` stay until the belief changes, and a smaller k
   // is their prefix (best first, ties to the smaller key: the same order for any k).
   if (k <= kept_asked_) return {kept_best_.begin(), kept_best_.begin() + static_cast<std::ptrdiff_t>(k)};
-  std::vector<BinOffset> out = select_best(k);
+  return keep_best(select_best(k), k);
+}
+
+std::vector<BinOffset> GpuBelief::keep_best(std::vector<BinOffset> out, std::size_t k) const {
+  const auto best_first = [](const BinOffset& a, const BinOffset& b) {
+    return a.offset != b.offset ? a.offset > b.offset : a.key < b.key;
+  };
+  k = std::min(k, out.size());
+  std::partial_sort(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(k), out.end(), best_first);
+  out.resize(k);
   kept_best_ = out;
   kept_asked_ = k;
   return out;
@@ -337,9 +407,6 @@ std::vector<BinOffset> GpuBelief::select_best(std::size_t k) const {
     }
     return {best};
   }
-  const auto best_first = [](const BinOffset& a, const BinOffset& b) {
-    return a.offset != b.offset ? a.offset > b.offset : a.key < b.key;
-  };
   // The smallest bucket bound that holds at least k bins: those bins contain the top k. The band's histogram
   // first; when the band holds fewer than k bins (a sharp belief asked for its next modes), every slot's.
   // On a GPU two passes over the slots cost microseconds where the table would cross the bus; a CPU device
@@ -352,22 +419,38 @@ std::vector<BinOffset> GpuBelief::select_best(std::size_t k) const {
     pass = SVA_REDUCE_TABLE_SELECT;
     entries = capacity_;
   }
-  std::vector<BinOffset> out;
   if (bucket == SVA_BELIEF_BUCKETS || n * 2 * sizeof(std::uint64_t) > k_->ctx->info().max_storage_buffer_range) {
     // The whole table on the host: a CPU device, or so many bins tied near the k-th that their list would not
     // fit one binding (same answer).
-    out = unsorted_table();
-    if (out.size() > k) {
-      std::nth_element(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(k), out.end(), best_first);
-      out.resize(k);
-    }
-  } else {
-    out = select_candidates(pass, bucket, n, entries);
+    return unsorted_table();
   }
-  k = std::min(k, out.size());
-  std::partial_sort(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(k), out.end(), best_first);
-  out.resize(k);
-  return out;
+  return select_candidates(pass, bucket, n, entries);
+}
+
+void GpuBelief::read_best_ahead(std::span<const GpuBelief* const> beliefs, std::size_t k) {
+  struct Selection {
+    const GpuBelief* belief;
+    std::size_t k;
+    std::uint64_t n;
+  };
+  std::vector<Selection> sel;
+  std::vector<vk::Dispatch> ds;
+  std::vector<vk::Fill> fills;
+  for (const GpuBelief* b : beliefs) {
+    const std::size_t kb = std::min(k, b->count_);
+    // One bin is the summary's; a belief read alone, or already read this far, needs no selection.
+    if (kb <= 1 || !b->summary_cache_ || kb <= b->kept_asked_) continue;
+    const auto [bucket, n] = bucket_holding(b->histogram_, kb);
+    // Past the band (a pass over every slot first) or past one binding: best_bins' own ways, alone.
+    if (bucket == SVA_BELIEF_BUCKETS || n * 2 * sizeof(std::uint64_t) > b->k_->ctx->info().max_storage_buffer_range)
+      continue;
+    ds.push_back(b->select_dispatch(SVA_REDUCE_SELECT, bucket, n, b->band_capacity_));
+    fills.push_back(b->select_fill());
+    sel.push_back({b, kb, n});
+  }
+  if (sel.empty()) return;
+  run(*sel.front().belief->k_, ds, fills);
+  for (const Selection& s : sel) s.belief->keep_best(s.belief->read_candidates(s.n), s.k);
 }
 
 std::pair<std::uint32_t, std::uint64_t> GpuBelief::bucket_holding(std::span<const std::uint64_t> histogram,
@@ -389,8 +472,8 @@ std::vector<std::uint64_t> GpuBelief::table_histogram() const {
   return h;
 }
 
-std::vector<BinOffset> GpuBelief::select_candidates(std::uint32_t pass, std::uint32_t bucket, std::uint64_t n,
-                                                    std::uint64_t entries) const {
+vk::Dispatch GpuBelief::select_dispatch(std::uint32_t pass, std::uint32_t bucket, std::uint64_t n,
+                                        std::uint64_t entries) const {
   ensure(*k_->ctx, candidates_, n * 2 * sizeof(std::uint64_t));
   gpu::SvaReduceParams p = reduce_params(pass);
   p.select_bucket = bucket;
@@ -398,17 +481,26 @@ std::vector<BinOffset> GpuBelief::select_candidates(std::uint32_t pass, std::uin
   const vk::Grid g = k_->ctx->grid(slot_invocations(entries));
   vk::Dispatch d{k_->reduce, {&candidates_}, push_bytes(p), g.x};
   d.groups_y = g.y;
-  std::vector<double> ms;
-  k_->ctx->run({d}, &ms, {{&state_, 0u, SVA_STATE_CANDIDATES * sizeof(std::uint64_t), 8}});
-  for (double m : ms) k_->kernel_ms += m;
+  return d;
+}
+
+vk::Fill GpuBelief::select_fill() const { return {&state_, 0u, SVA_STATE_CANDIDATES * sizeof(std::uint64_t), 8}; }
+
+std::vector<BinOffset> GpuBelief::read_candidates(std::uint64_t n) const {
   std::uint64_t found = 0;
   k_->ctx->download(state_, &found, sizeof found, SVA_STATE_CANDIDATES * sizeof(std::uint64_t));
   if (found != n)
     throw std::logic_error("GPU belief: top-k selection found a different number of bins than its histogram");
-  const auto* c = candidates_.as<std::uint64_t>();
+  const auto* c = candidates_.as<std::uint64_t>();  // host-mapped (gpu::ensure)
   std::vector<BinOffset> out(n);
   for (std::size_t i = 0; i < n; ++i) out[i] = {k_->bins.key(c[2 * i]), c[2 * i + 1]};
   return out;
+}
+
+std::vector<BinOffset> GpuBelief::select_candidates(std::uint32_t pass, std::uint32_t bucket, std::uint64_t n,
+                                                    std::uint64_t entries) const {
+  run(*k_, {select_dispatch(pass, bucket, n, entries)}, {select_fill()});
+  return read_candidates(n);
 }
 
 std::vector<std::uint64_t> GpuBelief::offsets(std::span<const std::uint64_t> keys) const {

@@ -72,6 +72,12 @@ class GpuBelief final : public BeliefState {
   // tables moved in one submission: in a batch many sessions outgrow their half together, and two submissions each
   // were a suspect for the batch's host time on a GPU (docs/vulkan-backend.md, "The fifth GPU run").
   static void keep_half_empty(std::span<GpuBelief* const> beliefs);
+  // Reads ahead, for every belief of `beliefs` (one backend's), what an estimate asks first: the summary, and the
+  // best k bins where the band's histogram holds them. Each pass runs once for all the beliefs (the stale bands'
+  // rebuilds, the MASS and FLIP passes, the selections: three submissions) where each session's estimate made a
+  // round trip per pass; later reads return what came back until the belief changes, the same answers as reading
+  // one belief at a time. A belief whose band lost bins, or whose k best bins lie past its band, reads alone.
+  static void read_ahead(std::span<const GpuBelief* const> beliefs, std::size_t k);
 
  private:
   // The table a growth to at least `slots` slots takes: a power of two, at least twice the current one and 64.
@@ -99,11 +105,24 @@ class GpuBelief final : public BeliefState {
   // `forget`, only the bins at or above `below` and those in `keep_` (sorted linear keys).
   void move_to(std::uint64_t slots, bool forget, std::uint64_t below);
   gpu::SvaReduceParams reduce_params(std::uint32_t pass) const;
+  // Passes of belief_reduce.comp over `entries` entries (or slots) each, for a submission.
+  std::vector<vk::Dispatch> reduce_dispatches(const std::vector<std::uint32_t>& passes, std::uint64_t entries) const;
   // Runs passes of belief_reduce.comp over `invocations` entries (or slots) each.
   void run_reduce(const std::vector<std::uint32_t>& passes, std::uint64_t entries,
                   std::vector<vk::Fill> fills = {}) const;
-  // The band list from scratch, on a side of at least `entries` entries.
+  // Runs one submission (of one belief's passes or of many beliefs'), its GPU time counted.
+  static void run(GpuBeliefKernels& k, const std::vector<vk::Dispatch>& ds, const std::vector<vk::Fill>& fills);
+  // The band list from scratch, on a side of at least `entries` entries: the list made large enough and the fills
+  // that empty it (prepare_rebuild), the REBUILD pass, then the list is current (rebuilt).
+  std::vector<vk::Fill> prepare_rebuild(std::uint64_t entries) const;
+  void rebuilt() const;
   void rebuild_band(std::uint64_t entries) const;
+  // The fills that zero the masses and histogram before the MASS pass.
+  std::vector<vk::Fill> mass_fills() const;
+  // The state's words after the MASS and FLIP passes, to the summary; false when a fold found the band list full
+  // (what the passes read was incomplete): the list is then to be rebuilt larger (enlarge_band) and read again.
+  bool read_state() const;
+  void enlarge_band() const;
   // The MASS and FLIP passes, then the state's words to the host.
   void reduce() const;
   // The belief changed: its summary and best bins are to be read again.
@@ -120,6 +139,14 @@ class GpuBelief final : public BeliefState {
   // The bins up to `bucket` (n of them, from the histogram) of the band list or of the whole table.
   std::vector<BinOffset> select_candidates(std::uint32_t pass, std::uint32_t bucket, std::uint64_t n,
                                            std::uint64_t entries) const;
+  // Its parts: the selection's dispatch and fill (for a submission), then its n bins read back.
+  vk::Dispatch select_dispatch(std::uint32_t pass, std::uint32_t bucket, std::uint64_t n, std::uint64_t entries) const;
+  vk::Fill select_fill() const;
+  std::vector<BinOffset> read_candidates(std::uint64_t n) const;
+  // The best k of `out` (candidates holding them), best first, kept as best_bins' answer for k.
+  std::vector<BinOffset> keep_best(std::vector<BinOffset> out, std::size_t k) const;
+  // read_ahead's selections: each belief's best k bins where its band's histogram holds them, in one submission.
+  static void read_best_ahead(std::span<const GpuBelief* const> beliefs, std::size_t k);
 
   GpuBeliefKernels* k_;
   std::uint64_t eps_units_;

@@ -127,6 +127,16 @@ class VulkanVoteBackend final : public VoteBackend {
     return out;
   }
 
+  void read_ahead(std::span<const BeliefState* const> beliefs, std::size_t best_bins) override {
+    std::vector<const GpuBelief*> gb;
+    for (const BeliefState* b : beliefs) {
+      const auto* g = dynamic_cast<const GpuBelief*>(b);
+      if (!g) throw Error("vulkan backend: a session's belief was made by another backend");
+      gb.push_back(g);
+    }
+    GpuBelief::read_ahead(gb, best_bins);
+  }
+
   // Device memory: what the engine's device holds (the map once, and the work buffers and beliefs of every
   // backend sharing the engine; tables only grow, so this is the peak of the run so far).
   BackendStats statistics() const override {
@@ -138,6 +148,7 @@ class VulkanVoteBackend final : public VoteBackend {
     s.band_rebuilds = beliefs_.band_rebuilds;
     s.last_work = last_work_;
     s.last_belief_growth_ms = stats_.last_belief_growth_ms;
+    s.device_submissions = ctx_.submissions();
     return s;
   }
 

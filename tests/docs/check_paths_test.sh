@@ -5,7 +5,11 @@
 set -euo pipefail
 python=$1 work=$2
 here=$(dirname "$0")
-"$python" "$here/check_paths.py"
+out=$("$python" "$here/check_paths.py")
+echo "$out"
+# Every page is read, the lab notebook's (docs/notes/) included: README.md and docs/**/*.md.
+pages=$(( 1 + $(find "$here/../../docs" -name '*.md' | wc -l) ))
+grep -q "in $pages document(s)" <<< "$out" || { echo "not every page was read ($pages expected): $out" >&2; exit 1; }
 rm -rf "$work" && mkdir -p "$work"
 printf '%s\n' '# A page' 'The votes live in `host/src/vulkan/` and `votes/pose_space.*`;' \
   'a run writes `OUT_DIR/run-tests.sh` and `la/map.svam`.' '```sh' 'cat host/src/nowhere.cpp' '```' > "$work/page.md"

@@ -152,7 +152,8 @@ def trial_session(data, map: Map, trial: int, *, seed: int = 1, max_readings: in
     ``sva recognize --write-sessions`` writes it (``object``, ``R`` row by row, ``T`` in mm)."""
     import numpy as np
 
-    from ._sva_core import Dataset, _eval_trial
+    from ._sva_core import Dataset
+    from ._sva_eval import _eval_trial  # the tools' module, imported on first use
 
     if trial < 0 or max_readings < 1 or seed < 0:
         raise Error(f"trial_session: trial {trial} and seed {seed} must be >= 0, max_readings {max_readings} >= 1")

@@ -1,15 +1,12 @@
 // sva recognize: batch recognition of many independent sessions (docs/batch-format.md).
 // Sessions are stepped together, so each update of the backend (one GPU
 // submission with --backend vulkan) carries one reading of every session.
-#include <sva/base/progress.hpp>
+#include <sva/batch_file.hpp>
 #include <sva/batch_recognizer.hpp>
 #include <sva/dataset.hpp>
 #include <sva/error.hpp>
-#include <sva/eval/batch_recognition.hpp>
-#include <sva/eval/batch_sessions.hpp>
 #include <sva/eval/evaluation.hpp>
 #include <sva/eval/trial_sessions.hpp>
-#include <sva/io/text_file.hpp>
 #include <sva/map.hpp>
 #include <sva/recognizer.hpp>
 
@@ -30,7 +27,7 @@ int write_sessions(const Args& a, const std::string& out_file) {
   const auto n = static_cast<std::size_t>(a.integer("--trials", static_cast<long long>(map.objects()), 1, 10000000));
   const auto m = static_cast<std::size_t>(a.integer("--max-readings", 30, 1, 100000));
   const auto seed = static_cast<std::uint64_t>(a.integer("--seed", 1, 0, INT64_MAX));
-  io::write_batch_sessions(out_file, eval::trial_sessions(test, map.pose_space(), seed, n, m, data_file));
+  write_batch_sessions(out_file, eval::trial_sessions(test, map.pose_space(), seed, n, m, data_file));
   std::printf("wrote %zu sessions of %zu readings to %s\n", n, m, out_file.c_str());
   return 0;
 }
@@ -70,7 +67,7 @@ int cmd_recognize(const std::vector<std::string>& argv) {
   const std::string map_file = a.required("--map"), batch_file = a.required("--batch"), out_file = a.required("--out");
   const Map map = Map::load(map_file);
   // Checked whole first (a bad line anywhere stops it before any recognition), then streamed a group at a time.
-  const io::BatchSessionsSummary summary = io::scan_batch_sessions(batch_file, map.sensor().elements());
+  const BatchSessionsFile sessions(batch_file, map.sensor().elements());
   const auto per = static_cast<std::size_t>(a.integer("--sessions-per-submission", 64, 1, 1 << 20));
   const auto top_k = static_cast<std::size_t>(a.integer("--top", 3, 0, 1000));
   RecognizerOptions ro;
@@ -82,17 +79,13 @@ int cmd_recognize(const std::vector<std::string>& argv) {
       a.integer("--belief-budget", static_cast<long long>(ro.belief_budget_bins), 0, 1ll << 40));
   ro.max_pairs_per_update = static_cast<int>(a.integer("--max-pairs", 0, 0, 1 << 20));
 
-  util::Progress progress("recognize", summary.readings);
-  BatchRecognizer rec(map, map.pose_space(), std::min(per, summary.sessions), ro);
+  BatchRecognizer rec(map, map.pose_space(), std::min(per, sessions.sessions()), ro);
   if (!rec.backend_fallback_reason().empty())
     std::fprintf(stderr, "sva recognize: backend auto chose the CPU reference: %s\n",
                  rec.backend_fallback_reason().c_str());
-  io::write_file_atomically(out_file, [&](std::ostream& out) {
-    batch::recognize_file(rec, map, batch_file, summary.sessions, out, top_k, &progress);
-  });
-  progress.finish();
-  std::fprintf(stderr, "recognised %zu sessions (%zu readings) with %s; wrote %s\n", summary.sessions, summary.readings,
-               rec.backend_description().c_str(), out_file.c_str());
+  sessions.recognize(rec, map, out_file, top_k, true);
+  std::fprintf(stderr, "recognised %zu sessions (%zu readings) with %s; wrote %s\n", sessions.sessions(),
+               sessions.readings(), rec.backend_description().c_str(), out_file.c_str());
   return 0;
 }
 

@@ -1,9 +1,9 @@
 // sva replay: plays a sensor session recording through the live pipeline
 // (parser, settle rule, pose matching) and prints each reading as it forms;
 // with a map, recognises as the readings arrive and prints the estimate.
+#include <sva/batch_file.hpp>
 #include <sva/drivers/session.hpp>
 #include <sva/error.hpp>
-#include <sva/eval/batch_sessions.hpp>
 #include <sva/map.hpp>
 #include <sva/recognizer.hpp>
 
@@ -55,7 +55,7 @@ int cmd_replay(const std::vector<std::string>& argv_in) {
                          parse_backend_kind(a.get_or("--backend", "cpu"), "sva replay: --backend"));
   double worst_latency_ms = 0;
   // --write-session: the recognizer's readings (only converged ones are used) and their times.
-  io::BatchSession kept{std::filesystem::path(file).stem().string(), {}, {{"recording", file}}};
+  BatchSession kept{std::filesystem::path(file).stem().string(), {}, {}};
   nlohmann::json stamps = nlohmann::json::array();
   drivers::PipelineEvents events;
   events.on_reading = [&](const drivers::FormedReading& f, std::int64_t delivered_ns) {
@@ -75,8 +75,8 @@ int cmd_replay(const std::vector<std::string>& argv_in) {
   if (auto out = a.get("--write-session")) {
     if (kept.readings.empty())
       throw Error("sva replay: " + file + " formed no converged reading: nothing to write to " + *out);
-    kept.truth["stamps_s"] = std::move(stamps);
-    io::write_batch_sessions(*out, std::span<const io::BatchSession>(&kept, 1));
+    kept.truth = nlohmann::json{{"recording", file}, {"stamps_s", std::move(stamps)}}.dump();
+    write_batch_sessions(*out, std::span<const BatchSession>(&kept, 1));
     std::fprintf(stderr, "sva replay: wrote %zu converged readings to %s\n", kept.readings.size(), out->c_str());
   }
   std::fprintf(stderr,

@@ -2,9 +2,9 @@
 // trial `sva eval` runs with the same --seed and --max-readings) or a session of a sessions file (--sessions,
 // --session or --id: a robot's readings, a replayed recording, a batch's session); the page is written by the
 // tools' library (sva/eval/session_view.hpp); this file parses the options.
+#include <sva/batch_file.hpp>
 #include <sva/dataset.hpp>
 #include <sva/error.hpp>
-#include <sva/eval/batch_sessions.hpp>
 #include <sva/eval/evaluation.hpp>
 #include <sva/eval/session_view.hpp>
 #include <sva/eval/trials.hpp>
@@ -28,8 +28,11 @@ std::optional<std::uint32_t> map_object(const Map& map, const std::string& name)
   return static_cast<std::uint32_t>(it - names.begin());
 }
 
-// A sessions file's truth ({"object": name, "R": rows, "T": mm}, as `sva recognize --write-sessions` writes it).
-std::optional<view::SessionTruth> truth_of(const Map& map, const nlohmann::json& t) {
+// A sessions file's truth ({"object": name, "R": rows, "T": mm}, as `sva recognize --write-sessions` writes it), from
+// its JSON text (the reader has parsed it once: it is JSON).
+std::optional<view::SessionTruth> truth_of(const Map& map, const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  const nlohmann::json t = nlohmann::json::parse(text);
   if (!t.is_object() || !t.contains("object") || !t.contains("R") || !t.contains("T")) return std::nullopt;
   const auto object = map_object(map, t["object"].get<std::string>());
   if (!object) return std::nullopt;
@@ -61,7 +64,7 @@ Picked from_trial(const Args& a, const Map& map, const std::string& map_file) {
 
 Picked from_sessions(const Args& a, const Map& map) {
   const std::string file = a.required("--sessions");
-  auto sessions = io::read_batch_sessions(file, map.sensor().elements());
+  auto sessions = read_batch_sessions(file, map.sensor().elements());
   std::size_t k = static_cast<std::size_t>(a.integer("--session", 0, 0, 100000000));
   if (auto id = a.get("--id")) {
     const auto it = std::find_if(sessions.begin(), sessions.end(), [&](const auto& s) { return s.id == *id; });

@@ -1,8 +1,8 @@
 // JSON lines printed by the sensor commands (sva replay, sva record --map).
 #include "sensor_output.hpp"
 
+#include <sva/batch_file.hpp>
 #include <sva/drivers/transport.hpp>
-#include <sva/eval/batch_sessions.hpp>
 
 #include <algorithm>
 #include <cstdio>
@@ -24,14 +24,16 @@ nlohmann::json reading_json(const drivers::FormedReading& f) {
 nlohmann::json estimate_json(const Estimate& e, double time) {
   nlohmann::json top = nlohmann::json::array();
   for (const auto& h : e.top)
-    top.push_back({{"object", h.object_name}, {"probability", h.probability}, {"pose", io::pose_json(h.pose)}});
+    top.push_back({{"object", h.object_name},
+                   {"probability", h.probability},
+                   {"pose", nlohmann::json::parse(pose_json(h.pose))}});
   nlohmann::json j{{"type", "estimate"},
                    {"time", time},
                    {"readings", e.readings},
                    {"object", e.object_name},
                    {"object_probability", e.object_probability},
                    {"top", top}};
-  if (e.pose_valid) j["pose"] = io::pose_json(e.pose);
+  if (e.pose_valid) j["pose"] = nlohmann::json::parse(pose_json(e.pose));
   return j;
 }
 

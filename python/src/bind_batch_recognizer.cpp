@@ -1,5 +1,6 @@
 // sva.BatchRecognizer: many independent sessions against one map, stepped together (one backend call, one GPU
 // submission, per add_readings). Calls take turns on one object; the GIL is released during them.
+#include <sva/batch_file.hpp>
 #include <sva/batch_recognizer.hpp>
 #include <sva/error.hpp>
 
@@ -10,7 +11,6 @@
 #include <mutex>
 #include <string_view>
 
-#include <sva/eval/batch_recognition.hpp>
 #include "bindings.hpp"
 #include "recognizer_options.hpp"
 
@@ -37,7 +37,7 @@ void add_readings(PyBatchRecognizer& b, const std::vector<std::size_t>& sessions
   b.rec.add_readings(sessions, readings);
 }
 
-// One shard of a sessions file, recognised on this batch (host/eval/include/sva/eval/batch_recognition.hpp).
+// One shard of a sessions file, recognised on this batch (host/include/sva/batch_file.hpp).
 nb::bytes recognize_shard(PyBatchRecognizer& b, const Map& map, nb::bytes text, const std::string& source,
                           std::size_t first_line, std::size_t first_session, std::size_t top_k) {
   std::string results;
@@ -45,7 +45,7 @@ nb::bytes recognize_shard(PyBatchRecognizer& b, const Map& map, nb::bytes text, 
     const std::string_view lines(text.c_str(), text.size());
     EngineScope scope(true);
     std::lock_guard lock(b.mutex);
-    results = batch::recognize_shard(b.rec, map, lines, source, first_line, first_session, top_k);
+    results = recognize_batch_shard(b.rec, map, lines, source, first_line, first_session, top_k);
   }
   return nb::bytes(results.data(), results.size());
 }

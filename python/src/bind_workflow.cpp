@@ -1,17 +1,12 @@
-// The entry points of the commands, as functions: sva.simulate (sva simulate), sva.train (sva train) and
-// sva.evaluate (sva eval). They call the library functions the CLI calls, with the GIL released and Ctrl-C reaching
-// the engine.
+// The entry points of the commands, as functions: sva.simulate (sva simulate) and sva.train (sva train); sva.evaluate
+// (sva eval) is the tools' module's (tools/bind_evaluate.cpp). They call the library functions the CLI calls, with
+// the GIL released and Ctrl-C reaching the engine.
 #include <sva/dataset.hpp>
 #include <sva/error.hpp>
 #include <sva/map.hpp>
 #include <sva/scene.hpp>
 
 #include <sva/base/progress.hpp>
-#include <sva/eval/dataset_export.hpp>
-#include <sva/eval/evaluation.hpp>
-#include <sva/eval/figure.hpp>
-#include <sva/eval/report.hpp>
-#include <sva/io/text_file.hpp>
 
 #include <nanobind/stl/filesystem.h>
 #include <nanobind/stl/optional.h>
@@ -23,8 +18,8 @@
 #include <memory>
 #include <optional>
 
+#include "arguments.hpp"
 #include "bindings.hpp"
-#include "recognizer_options.hpp"
 
 #if __has_include(<sva/sim/simulate.hpp>)
 #include <sva/sim/mesh.hpp>
@@ -37,45 +32,6 @@ namespace sva::python {
 using namespace nb::literals;
 
 namespace {
-
-// A Dataset argument: a Dataset, or the path of a .svad file (loaded).
-struct DatasetArg {
-  const Dataset* data = nullptr;  // the caller's, or `loaded`
-  std::shared_ptr<const Dataset> loaded;
-  std::string name = "dataset";
-};
-
-DatasetArg dataset_arg(nb::handle obj, const char* what) {
-  DatasetArg a;
-  if (nb::try_cast(obj, a.data, false) && a.data) return a;
-  std::filesystem::path file;
-  if (!nb::try_cast(obj, file))
-    throw nb::type_error((std::string(what) + ": expected a Dataset or the path of a .svad file").c_str());
-  {
-    EngineScope scope(true);
-    a.loaded = std::make_shared<const Dataset>(load_dataset(file));
-  }
-  a.data = a.loaded.get();
-  a.name = file.string();
-  return a;
-}
-
-struct MapArg {
-  Map map;
-  std::string name = "map";
-};
-
-MapArg map_arg(nb::handle obj, const char* what) {
-  MapArg a;
-  if (nb::try_cast(obj, a.map, false)) return a;
-  std::filesystem::path file;
-  if (!nb::try_cast(obj, file))
-    throw nb::type_error((std::string(what) + ": expected a Map or the path of a .svam file").c_str());
-  EngineScope scope(true);
-  a.map = Map::load(file);
-  a.name = file.string();
-  return a;
-}
 
 std::pair<Dataset, Dataset> simulate(nb::handle scene_arg, std::optional<int> train, std::optional<int> test,
                                      std::uint64_t seed, unsigned threads,
@@ -96,18 +52,22 @@ std::pair<Dataset, Dataset> simulate(nb::handle scene_arg, std::optional<int> tr
     throw Error("sva.simulate: train and test are readings per object, >= 0");
   opt.seed = seed;
   opt.threads = threads;
-  EngineScope scope(true);
-  std::error_code ec;
-  if (out && std::filesystem::exists(*out, ec) && !std::filesystem::is_directory(*out, ec))
-    throw Error(out->string() + ": exists and is not a directory");
-  sim::SimulatedData data = sim::simulate(scene, opt);  // all inputs validated before anything is written
-  if (out) {
-    std::filesystem::create_directories(*out, ec);
-    if (ec) throw Error(out->string() + ": cannot create directory: " + ec.message());
-    save_dataset(data.train, *out / "train.svad");
-    save_dataset(data.test, *out / "test.svad");
+  sim::SimulatedData data;
+  {
+    EngineScope scope(true);
+    std::error_code ec;
+    if (out && std::filesystem::exists(*out, ec) && !std::filesystem::is_directory(*out, ec))
+      throw Error(out->string() + ": exists and is not a directory");
+    data = sim::simulate(scene, opt);  // all inputs validated before anything is written
+    if (out) {
+      std::filesystem::create_directories(*out, ec);
+      if (ec) throw Error(out->string() + ": cannot create directory: " + ec.message());
+      save_dataset(data.train, *out / "train.svad");
+      save_dataset(data.test, *out / "test.svad");
+    }
   }
-  if (preview) io::write_preview(data.train, *preview);
+  // The preview is a figure: the tools' module draws it (loaded now, so that `import sva` needs no cairo).
+  if (preview) tools_module().attr("_write_preview")(nb::cast(&data.train, nb::rv_policy::reference), *preview);
   // The images have the scene's sensor's shape, as in a loaded dataset (Reading.pressure is then 2-D).
   for (Dataset* d : {&data.train, &data.test})
     for (Sample& s : d->samples) {
@@ -157,51 +117,23 @@ Map train(nb::handle data_arg, const std::optional<std::string>& descriptor, std
   return map;
 }
 
-struct EvalFiles {
-  std::optional<std::filesystem::path> json, csv, plot;
-};
-
-std::string evaluate(const MapArg& map, const DatasetArg& test, eval::EvalOptions o, const EvalFiles& files) {
-  EngineScope scope(true);
-  eval::check_compatible(map.map, *test.data, map.name, test.name);
-  if (o.trials == 0) o.trials = 3 * test.data->scene.objects.size();
-  const eval::EvalResult result = eval::run_evaluation(map.map, *test.data, o);
-  const eval::Curve curve = eval::summarize(result);
-  const std::string json = eval::to_json(result, curve);
-  if (files.json) io::write_text_file(*files.json, json);
-  if (files.csv) io::write_text_file(*files.csv, eval::to_csv(result));
-  if (files.plot) eval::write_figure({curve}, *files.plot);
-  return json;
-}
-
-nb::object evaluate_py(nb::handle map_obj, nb::handle data_obj, std::optional<std::size_t> trials,
-                       std::size_t max_readings, std::uint64_t seed, unsigned threads, const EvalFiles& files,
-                       const nb::kwargs& options) {
-  eval::EvalOptions o;
-  o.recognizer = recognizer_options(options, "sva.evaluate");
-  if (trials && *trials == 0) throw Error("sva.evaluate: trials must be >= 1");
-  o.trials = trials.value_or(0);
-  if (max_readings == 0) throw Error("sva.evaluate: max_readings must be >= 1");
-  o.max_readings = max_readings;
-  o.seed = seed;
-  o.threads = threads;
-  o.progress = true;  // shown when sva.show_progress(True)
-  const MapArg map = map_arg(map_obj, "sva.evaluate: map");
-  const DatasetArg test = dataset_arg(data_obj, "sva.evaluate: data");
-  o.map_name = map.name;
-  o.data_name = test.name;
-  const std::string json = evaluate(map, test, o, files);
-  return nb::module_::import_("json").attr("loads")(json);
-}
-
 }  // namespace
 
 void bind_workflow(nb::module_& m) {
   // Progress lines on stderr suit the command line; a Python program asks for them.
   util::Progress::set_quiet(true);
+  static bool shown = false;
   m.def(
-      "show_progress", [](bool on) { util::Progress::set_quiet(!on); }, "on"_a = true,
-      "Show the progress of simulation, training and evaluation on stderr (off by default).");
+      "show_progress",
+      [](bool on) {
+        util::Progress::set_quiet(!on);
+        // The tools' module has its own copy of the setting (its own copy of the library): told too when loaded,
+        // and it reads _progress_shown when it loads.
+        shown = on;
+        if (nb::object tools = loaded_tools_module(); tools.is_valid()) tools.attr("_show_progress")(on);
+      },
+      "on"_a = true, "Show the progress of simulation, training and evaluation on stderr (off by default).");
+  m.def("_progress_shown", [] { return shown; });
   m.def("simulate", &simulate, "scene"_a, nb::kw_only(), "train"_a = nb::none(), "test"_a = nb::none(), "seed"_a = 1,
         "threads"_a = 0, "out"_a = nb::none(), "preview"_a = nb::none(),
         nb::sig("def simulate(scene: Scene | str, *, train: int | None = None, test: int | None = None, seed: int = 1, "
@@ -226,23 +158,6 @@ void bind_workflow(nb::module_& m) {
         "default 6, planar 3; 4 names distinct objects right sooner and trusts twins less: docs/evaluation.md). "
         "`surfaces`: the objects' meshes in the map, for the verify stage's measurement model (False: a dataset of "
         "a real sensor's recordings; the training contacts instead).");
-  m.def(
-      "evaluate",
-      [](nb::handle map, nb::handle data, std::optional<std::size_t> trials, std::size_t max_readings,
-         std::uint64_t seed, unsigned threads, std::optional<std::filesystem::path> json,
-         std::optional<std::filesystem::path> csv, std::optional<std::filesystem::path> plot,
-         const nb::kwargs& options) {
-        return evaluate_py(map, data, trials, max_readings, seed, threads, EvalFiles{json, csv, plot}, options);
-      },
-      "map"_a, "data"_a, nb::kw_only(), "trials"_a = nb::none(), "max_readings"_a = 30, "seed"_a = 1, "threads"_a = 0,
-      "json"_a = nb::none(), "csv"_a = nb::none(), "plot"_a = nb::none(), "options"_a,
-      nb::sig("def evaluate(map: Map | str | os.PathLike, data: Dataset | str | os.PathLike, *, trials: int | None = "
-              "None, max_readings: int = 30, seed: int = 1, threads: int = 0, json: str | os.PathLike | None = None, "
-              "csv: str | os.PathLike | None = None, plot: str | os.PathLike | None = "
-              "None, " RECOGNIZER_OPTIONS_SIG_NO_THREADS ") -> dict[str, typing.Any]"),
-      "Recognition trials of a map on a test set, as `sva eval` runs them (docs/evaluation.md): returns the JSON "
-      "summary as a dict (the curve against the number of readings); `json`, `csv` and `plot` also write the "
-      "files. Trials default to 3 per object.");
 }
 
 }  // namespace sva::python

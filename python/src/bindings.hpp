@@ -1,6 +1,7 @@
 #pragma once
-// The Python bindings of sva (module sva._sva_core, re-exported by the package `sva`): one bind_* function per
-// public class or stage, each in its own file, so that a change of the C++ API touches one small file. Helpers
+// The Python bindings of sva (module sva._sva_core, the engine, re-exported by the package `sva`; the tools' module
+// sva._sva_eval in tools/): one bind_* function per public class or stage, each in its own file, so that a change
+// of the C++ API touches one small file. Helpers
 // shared by them: NumPy conversions of readings and poses, and the scope that releases the GIL around the engine's
 // work while keeping Ctrl-C working.
 #include <nanobind/nanobind.h>
@@ -66,6 +67,11 @@ T keyword_value(nb::handle value, const std::string& what, const std::string& ke
                              .c_str());
   return out;
 }
+
+// The tools' module sva._sva_eval (evaluation, figures: the tools' library, cairo): imported on first use, so that
+// `import sva` loads the engine alone. loaded_tools_module(): the module if imported already, else an invalid handle.
+nb::module_ tools_module();
+nb::object loaded_tools_module();
 
 // "auto", "cpu", "vulkan" (anything else: sva.Error naming `what`).
 BackendKind to_backend(const std::string& text, const std::string& what);

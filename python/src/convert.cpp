@@ -112,6 +112,13 @@ BackendKind to_backend(const std::string& text, const std::string& what) { retur
 
 const char* backend_name(BackendKind kind) { return backend_kind_name(kind); }
 
+nb::module_ tools_module() { return nb::module_::import_("sva._sva_eval"); }
+
+nb::object loaded_tools_module() {
+  nb::dict modules = nb::borrow<nb::dict>(nb::module_::import_("sys").attr("modules"));
+  return modules.contains("sva._sva_eval") ? nb::object(modules["sva._sva_eval"]) : nb::object();
+}
+
 namespace {
 bool on_main_thread() {
   nb::module_ threading = nb::module_::import_("threading");

@@ -46,7 +46,6 @@ from ._sva_core import (
     TouchScore,
     TrainReport,
     assets_dir,
-    evaluate,
     load_scene,
     parse_scene,
     placed_pose_space,
@@ -99,6 +98,23 @@ __all__ = [
     "simulate",
     "train",
 ]
+
+
+
+def __getattr__(name: str):
+    # sva.evaluate is the tools' module's (sva._sva_eval: evaluation and figures, which link cairo): imported on first
+    # use, so that `import sva`, all a robot's program needs, loads the engine alone.
+    if name == "evaluate":
+        from ._sva_eval import evaluate
+
+        globals()["evaluate"] = evaluate
+        return evaluate
+    raise AttributeError(f"module 'sva' has no attribute {name!r}")
+
+
+def __dir__() -> list:
+    return sorted(set(globals()) | {"evaluate"})
+
 
 # An installed wheel carries the built-in scenes and objects beside this file; the engine looks there (unless
 # SVA_ASSETS says otherwise). In the build tree there is no such folder and the source tree's assets are used.

@@ -8,11 +8,11 @@ shards' lines concatenated in input order. :mod:`sva.distributed` runs the same 
 from __future__ import annotations
 
 import os
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Iterator, Optional, Union
 
+from ._files import atomic_output
 from ._sva_core import BatchRecognizer, Error, Map
 
 PathLike = Union[str, "os.PathLike[str]"]
@@ -78,23 +78,10 @@ def check_writable(file: PathLike) -> None:
 
 def write_atomically(file: PathLike, chunks: Iterator[bytes]) -> None:
     """Writes the chunks to a temporary file beside ``file`` and renames it into place (no partial results file
-    that looks complete, as the engine writes its files)."""
-    path = Path(file)
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=path.name + ".", suffix=".tmp", dir=path.parent)
-    except OSError as e:
-        raise Error(f"{os.fspath(file)}: cannot write: {e.strerror}") from None
-    try:
-        with os.fdopen(fd, "wb") as out:
-            for chunk in chunks:
-                out.write(chunk)
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+    that looks complete, as the engine writes its files), with the mode the user's umask gives (sva._files)."""
+    with atomic_output(file) as out:
+        for chunk in chunks:
+            out.write(chunk)
 
 
 def recognize_batch(
@@ -152,7 +139,8 @@ def trial_session(data, map: Map, trial: int, *, seed: int = 1, max_readings: in
     ``sva recognize --write-sessions`` writes it (``object``, ``R`` row by row, ``T`` in mm)."""
     import numpy as np
 
-    from ._sva_core import Dataset, _eval_trial
+    from ._sva_core import Dataset
+    from ._sva_eval import _eval_trial  # the tools' module, imported on first use
 
     if trial < 0 or max_readings < 1 or seed < 0:
         raise Error(f"trial_session: trial {trial} and seed {seed} must be >= 0, max_readings {max_readings} >= 1")

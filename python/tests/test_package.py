@@ -45,3 +45,15 @@ def test_installed_package_is_complete_and_finds_its_assets(tmp_path):
 
 def test_the_build_tree_package_uses_the_source_assets():
     assert (sva.assets_dir() / "scenes" / "tiny.json").is_file()
+
+
+def test_import_sva_loads_the_engine_alone_and_the_tools_on_first_use():
+    """`import sva` (all a robot's program needs) maps no cairo and no tools' module; sva.evaluate loads them."""
+    code = ("import sys, sva\n"
+            "def cairo(): return any('libcairo' in line for line in open('/proc/self/maps'))\n"
+            "print(cairo(), 'sva._sva_eval' in sys.modules)\n"
+            "sva.evaluate\n"
+            "print(cairo(), 'sva._sva_eval' in sys.modules, 'evaluate' in dir(sva))\n")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=os.environ)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.split("\n")[:2] == ["False False", "True True True"]

@@ -3,6 +3,9 @@ sessions file against `sva recognize` on the same map and sessions."""
 
 from __future__ import annotations
 
+import os
+import stat
+
 import numpy as np
 import pytest
 
@@ -86,12 +89,20 @@ def test_batch_recognizer_gives_the_cli_estimates(tiny, tiny_map):
     assert b.belief_bytes(0) == kept  # a reset keeps the table's allocation for the next session
 
 
-@pytest.mark.parametrize("per_submission", [64, 4])
-def test_recognize_batch_writes_the_cli_file(tiny, tiny_map, tmp_path, per_submission):
+@pytest.mark.parametrize("per_submission, umask, mode", [(64, 0o022, 0o644), (4, 0o077, 0o600)])
+def test_recognize_batch_writes_the_cli_file(tiny, tiny_map, tmp_path, per_submission, umask, mode):
     out = tmp_path / "results.jsonl"
-    lines = sva.recognize_batch(tiny_map, tiny.sessions, out, sessions_per_submission=per_submission, backend="cpu")
+    old = os.umask(umask)
+    try:
+        lines = sva.recognize_batch(tiny_map, tiny.sessions, out, sessions_per_submission=per_submission,
+                                    backend="cpu")
+    finally:
+        os.umask(old)
     assert out.read_bytes() == tiny.results.read_bytes()
     assert lines == tiny.results.read_text().splitlines()
+    # A results file is meant to be shared: the user's umask decides its mode, not the temporary file's 0600.
+    assert stat.S_IMODE(out.stat().st_mode) == mode
+    assert [p.name for p in tmp_path.iterdir()] == ["results.jsonl"]  # no temporary file left behind
 
 
 def test_recognize_batch_reports_the_bad_line(tiny, tmp_path):

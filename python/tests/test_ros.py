@@ -2,6 +2,8 @@
 estimates `sva recognize` wrote for the same sessions (docs/ros.md)."""
 
 import math
+import os
+import stat
 
 import numpy as np
 import pytest
@@ -137,6 +139,23 @@ def test_the_command_line_writes_the_same_bag_and_refuses_bad_input(tiny, tmp_pa
     assert "bad.jsonl:1" in capsys.readouterr().err
     with pytest.raises(sva.Error, match="does not exist"):
         sva.ros.export_session(sva.Recognizer(sva.Map.load(tiny.map), backend="cpu"), [], tmp_path / "no" / "x.mcap")
+
+
+@pytest.mark.parametrize("umask, mode", [(0o022, 0o644), (0o077, 0o600)])
+def test_the_bag_takes_the_users_umask(tiny, tmp_path, umask, mode):
+    """A bag is meant to be shared: its mode is what the user's umask gives any new file (the engine's files too),
+    not the 0600 of the temporary file it is written to."""
+    from sva.ros.__main__ import main
+
+    out = tmp_path / "shared.mcap"
+    old = os.umask(umask)
+    try:
+        assert main(["export", "--map", str(tiny.map), "--sessions", str(tiny.sessions), "--out", str(out),
+                     "--session", "0", "--backend", "cpu", "--mesh", "off"]) == 0
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE(out.stat().st_mode) == mode
+    assert [p.name for p in tmp_path.iterdir()] == ["shared.mcap"]
 
 
 def test_converters_need_no_bag(tiny, tiny_map):

@@ -11,8 +11,9 @@
 
 #include <cmath>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
-#include <sva/eval/batch_sessions.hpp>
+#include <sva/batch_file.hpp>
 #include <sva/io/recording_file.hpp>
 #include "test_support.hpp"
 
@@ -152,11 +153,12 @@ TEST_CASE("sva export --recording and sva replay: readings and estimates on stdo
   // --write-session: the converged readings as a sessions file, with their times, for sva recognize and sva.ros.
   const auto written = (d / "replayed.jsonl").string();
   REQUIRE(sva::test::run_sva("replay " + rec + " --speed 0 --write-session " + written, &out) == 0);
-  const auto sessions = sva::io::read_batch_sessions(written, 36);
+  const auto sessions = sva::read_batch_sessions(written, 36);
   REQUIRE(sessions.size() == 1);
   CHECK(sessions[0].readings.size() >= 3);
-  CHECK(sessions[0].truth["stamps_s"].size() == sessions[0].readings.size());
-  CHECK(sessions[0].truth["recording"] == rec);
+  const auto truth = nlohmann::json::parse(sessions[0].truth);
+  CHECK(truth["stamps_s"].size() == sessions[0].readings.size());
+  CHECK(truth["recording"] == rec);
   REQUIRE(sva::test::run_sva("recognize --map " + (d / "map.svam").string() + " --batch " + written + " --out " +
                                  (d / "replayed_results.jsonl").string() + " --backend cpu",
                              &out) == 0);

@@ -3,6 +3,7 @@
 // harnesses (tests/fuzz) run the same loaders under ASan + UBSan; these tests keep the fixes in the gcc build.
 #include <catch2/catch.hpp>
 
+#include <sva/batch_file.hpp>
 #include <sva/dataset.hpp>
 #include <sva/error.hpp>
 #include <sva/scene.hpp>
@@ -14,8 +15,8 @@
 #include <iterator>
 #include <map>
 
-#include <sva/eval/batch_sessions.hpp>
 #include "map/map_file.hpp"
+#include "recognition/batch_sessions.hpp"
 #include "recognition/session_file.hpp"
 #include "test_support.hpp"
 #if __has_include(<sva/sim/mesh.hpp>)
@@ -52,7 +53,7 @@ std::map<std::string, std::function<void(const fs::path&)>> loaders() {
   l["dataset"] = [](const fs::path& f) { (void)sva::load_dataset(f); };
   l["map"] = [](const fs::path& f) { (void)sva::load_pair_map(f); };
   l["session_file"] = [](const fs::path& f) { (void)sva::io::load_session_file(f); };
-  l["batch_sessions"] = [](const fs::path& f) { (void)sva::io::read_batch_sessions(f.string(), 36); };
+  l["batch_sessions"] = [](const fs::path& f) { (void)sva::read_batch_sessions(f, 36); };
 #ifdef SVA_TEST_HAVE_SIM
   l["mesh"] = [](const fs::path& f) { (void)sva::sim::load_mesh(f); };
 #endif
@@ -100,7 +101,7 @@ TEST_CASE("fuzz regression: deeply nested JSON is refused before parsing") {
   const std::string deep = std::string(100000, '[') + std::string(100000, ']');
   CHECK_THROWS_WITH(sva::parse_scene("{\"objects\": [{\"mesh\": \"a.glb\", \"center\": " + deep + "}]}", "deep.json"),
                     Catch::Contains("deep.json") && Catch::Contains("nested deeper than 64"));
-  CHECK_THROWS_WITH(sva::io::parse_batch_sessions("{\"id\": " + deep + ", \"readings\": []}\n", "deep.jsonl", 1, 0, 36),
+  CHECK_THROWS_WITH(sva::batch::parse_sessions("{\"id\": " + deep + ", \"readings\": []}\n", "deep.jsonl", 1, 0, 36),
                     Catch::Contains("deep.jsonl:1") && Catch::Contains("nested deeper"));
   CHECK_THROWS_WITH(sva::load_scene((corpus() / "scene" / "regression-nested-200.json").string()),
                     Catch::Contains("nested deeper"));
@@ -127,10 +128,10 @@ TEST_CASE("fuzz regression: numbers past the range of the field's C++ type") {
   std::string pressure = "[1e300";
   for (int i = 1; i < 36; ++i) pressure += ", 0";
   pressure += "]";
-  CHECK_THROWS_WITH(sva::io::parse_batch_sessions("{\"readings\": [{\"position\": [0, 0, 0], \"normal\": [0, 0, 1], "
-                                                  "\"pressure\": " +
-                                                      pressure + "}]}",
-                                                  "big.jsonl", 1, 0, 36),
+  CHECK_THROWS_WITH(sva::batch::parse_sessions("{\"readings\": [{\"position\": [0, 0, 0], \"normal\": [0, 0, 1], "
+                                               "\"pressure\": " +
+                                                   pressure + "}]}",
+                                               "big.jsonl", 1, 0, 36),
                     Catch::Contains("big.jsonl:1") && Catch::Contains("out-of-range"));
 #ifdef SVA_TEST_HAVE_DRIVERS
   using sva::drivers::Calibration;

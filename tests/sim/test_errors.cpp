@@ -6,7 +6,6 @@
 
 #include <sva/dataset.hpp>
 #include <sva/error.hpp>
-#include <sva/io/binary_file.hpp>
 #include <sva/sim/sensor_errors.hpp>
 #include <sva/sim/simulate.hpp>
 #include <sva/sim/tactile_sensor.hpp>
@@ -300,45 +299,4 @@ TEST_CASE("errors: the train and test splits are read by their own sensor") {
     CHECK(same.train.samples[i].reading.pressure == other.train.samples[i].reading.pressure);
     CHECK(same.test.samples[i].reading.pressure != other.test.samples[i].reading.pressure);
   }
-}
-
-TEST_CASE("dataset: the truth round-trips, and a version-1 file loads with the reading's pose as its truth") {
-  auto dir = test::temp_dir("errors-dataset");
-  const auto& data = tiny_data();
-  save_dataset(data.test, dir / "test.svad");
-  const Dataset back = load_dataset(dir / "test.svad");
-  REQUIRE(back.samples.size() == data.test.samples.size());
-  for (std::size_t i = 0; i < back.samples.size(); ++i) {
-    CHECK(back.samples[i].truth.position == data.test.samples[i].truth.position);
-    CHECK(back.samples[i].truth.surface_normal == data.test.samples[i].truth.surface_normal);
-  }
-  CHECK(back.scene.errors.test_sensor == data.test.scene.errors.test_sensor);
-
-  // A version-1 file (no truth, a scene without errors) as the old writer made it.
-  io::BinaryWriter w;
-  w.put_string(R"({"objects": [{"mesh": "a.glb"}]})");
-  w.put_string("test");
-  w.put<std::uint64_t>(7);
-  w.put<std::uint64_t>(1);
-  w.put<std::uint32_t>(0);
-  w.put<std::uint8_t>(0);
-  w.put<std::uint16_t>(4);
-  const double pose[] = {1, 2, 3, 0, 0, 1, 1, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0};
-  w.put_array(pose, 21);
-  std::vector<float> pressure(36, 5.0f);
-  w.put_array(pressure.data(), 36);
-  w.write_file(dir / "v1.svad", "SVADATA1", 1);
-  const Dataset v1 = load_dataset(dir / "v1.svad");
-  REQUIRE(v1.samples.size() == 1u);
-  CHECK(v1.samples[0].truth.position == glm::dvec3(1, 2, 3));
-  CHECK(v1.samples[0].truth.normal == glm::dvec3(0, 0, 1));
-  CHECK(v1.samples[0].truth.surface_normal == glm::dvec3(0.0));
-  CHECK(v1.scene.errors.position_sigma_mm == 0.0);
-
-  // A truth that is not a unit frame is refused, naming the file and the sample.
-  Dataset bad = data.test;
-  bad.samples[1].truth.normal = {0, 0, 2};
-  save_dataset(bad, dir / "bad.svad");
-  CHECK_THROWS_WITH(load_dataset(dir / "bad.svad"), Catch::Contains("bad.svad") && Catch::Contains("sample 1") &&
-                                                        Catch::Contains("true sensor normal"));
 }

@@ -3,11 +3,11 @@
 from __future__ import annotations
 
 import os
-import tempfile
 from pathlib import Path
 from typing import Any, Optional, Sequence, Union
 
 from .. import _sva_core as _core
+from .._files import atomic_output
 from . import TOPICS, ObjectMesh, session_messages
 from .msgdefs import definition
 
@@ -37,24 +37,19 @@ def export_session(recognizer: "_core.Recognizer", readings: Sequence["_core.Rea
     if not out.parent.is_dir():
         raise _core.Error(f"{out}: cannot write: the folder {out.parent} does not exist")
     counts = {topic: 0 for topic in TOPICS}
-    fd, tmp = tempfile.mkstemp(prefix=out.name + ".", suffix=".tmp", dir=out.parent)
-    try:
-        with os.fdopen(fd, "wb") as f:
-            writer = Writer(f)
-            schemas = {topic: writer.register_msgdef(kind, definition(kind))
-                       for topic, kind in TOPICS.items()}
-            for topic, stamp, message in session_messages(recognizer, readings, frame_id=frame_id,
-                                                          start_ns=start_ns, period_ns=period_ns, top_k=top_k,
-                                                          detection_id=detection_id, meshes=meshes,
-                                                          stamps_ns=stamps_ns):
-                writer.write_message(topic, schemas[topic], message, log_time=stamp, publish_time=stamp,
-                                     sequence=counts[topic])
-                counts[topic] += 1
-            writer.finish()
-        os.replace(tmp, out)
-    except BaseException:
-        os.unlink(tmp)
-        raise
+    # Whole or not at all, with the mode of the user's other files (a bag is meant to be shared: not mkstemp's 0600).
+    with atomic_output(out) as f:
+        writer = Writer(f)
+        schemas = {topic: writer.register_msgdef(kind, definition(kind))
+                   for topic, kind in TOPICS.items()}
+        for topic, stamp, message in session_messages(recognizer, readings, frame_id=frame_id,
+                                                      start_ns=start_ns, period_ns=period_ns, top_k=top_k,
+                                                      detection_id=detection_id, meshes=meshes,
+                                                      stamps_ns=stamps_ns):
+            writer.write_message(topic, schemas[topic], message, log_time=stamp, publish_time=stamp,
+                                 sequence=counts[topic])
+            counts[topic] += 1
+        writer.finish()
     return {"messages": {t: c for t, c in counts.items() if c}, "readings": len(readings),
             "bytes": out.stat().st_size}
 

@@ -4,7 +4,6 @@
 #include <sva/base/progress.hpp>
 #include <sva/batch_recognizer.hpp>
 #include <sva/error.hpp>
-#include <sva/eval/batch_sessions.hpp>
 #include <sva/io/text_file.hpp>
 #ifdef SVA_HAVE_SIM
 #include <sva/sim/mesh.hpp>
@@ -17,6 +16,7 @@
 #include <ostream>
 
 #include "eval/metrics.hpp"
+#include "recognition/batch_sessions.hpp"
 
 namespace sva::view {
 
@@ -63,7 +63,7 @@ json step_json(const Estimate& est, double update_ms, const std::optional<Sessio
                const SceneObject* truth_object) {
   json hypotheses = json::array();
   for (const PoseHypothesis& h : est.hypotheses) {
-    json j = io::pose_json(h.pose);
+    json j = batch::pose_value(h.pose);
     j["object"] = h.object;
     j["probability"] = h.probability;
     hypotheses.push_back(j);
@@ -212,7 +212,7 @@ json session_view_data(const Map& map, const Scene* scene, std::span<const Readi
             {"meshes", json::object()},
             {"warnings", json::array()}};
   if (truth) {
-    j["truth"] = io::pose_json(truth->pose);
+    j["truth"] = batch::pose_value(truth->pose);
     j["truth"]["object"] = truth->object;
   }
   if (scene) j["meshes"] = meshes_json(*scene, names, steps, truth, j["warnings"]);

@@ -1,17 +1,17 @@
-#include <sva/eval/batch_sessions.hpp>
+// The sessions file and the results file (docs/batch-format.md): each line parsed and checked field by field, the
+// result lines formatted. recognition/batch_file.cpp runs them; this file knows nothing of recognition.
+#include "recognition/batch_sessions.hpp"
 
 #include <sva/error.hpp>
 #include <sva/io/json_limits.hpp>
-#include <sva/io/text_file.hpp>
 
 #include <cmath>
 #include <fstream>
-#include <iterator>
 #include <stdexcept>
 
 #include <sva/base/so3.hpp>
 
-namespace sva::io {
+namespace sva::batch {
 
 namespace {
 
@@ -53,7 +53,7 @@ Reading reading_of(const json& jr, const std::string& w, int elements) {
   if (!p.is_array() || p.size() != static_cast<std::size_t>(elements))
     throw Error(w + ".pressure: expected " + std::to_string(elements) + " numbers (the map's sensor)");
   for (const auto& v : p) {
-    const auto f = json_float(v);
+    const auto f = io::json_float(v);
     if (!f) throw Error(w + ".pressure: non-numeric, non-finite or out-of-range value");
     rd.pressure.push_back(*f);
   }
@@ -63,7 +63,7 @@ Reading reading_of(const json& jr, const std::string& w, int elements) {
 
 // One line of the sessions file; `number` is the session's place in the file.
 BatchSession session_of(const std::string& line, const std::string& where, std::size_t number, int elements) {
-  if (json_depth(line) > kMaxJsonDepth) throw Error(where + ": " + json_too_deep_message());
+  if (io::json_depth(line) > io::kMaxJsonDepth) throw Error(where + ": " + io::json_too_deep_message());
   json j;
   try {
     j = json::parse(line);
@@ -74,7 +74,8 @@ BatchSession session_of(const std::string& line, const std::string& where, std::
   BatchSession s;
   s.id = std::to_string(number);
   if (j.contains("id")) s.id = j["id"].is_string() ? j["id"].get<std::string>() : j["id"].dump();
-  if (j.contains("truth")) s.truth = j["truth"];
+  // Kept as text: the public type carries no JSON library. An explicit null is no truth, as an absent one.
+  if (j.contains("truth") && !j["truth"].is_null()) s.truth = j["truth"].dump();
   if (!j.contains("readings") || !j["readings"].is_array() || j["readings"].empty())
     throw Error(where + ": \"readings\" must be a non-empty array");
   for (std::size_t r = 0; r < j["readings"].size(); ++r)
@@ -82,12 +83,21 @@ BatchSession session_of(const std::string& line, const std::string& where, std::
   return s;
 }
 
+// A session's truth as JSON; a caller's session (not one read from a file) may hold text that is not JSON.
+json truth_value(const BatchSession& s) {
+  try {
+    return json::parse(s.truth);
+  } catch (const json::exception&) {
+    throw Error("session \"" + s.id + "\": its truth is not JSON text: " + s.truth.substr(0, 40));
+  }
+}
+
 json result_json(const BatchSession& s, const Estimate& e, std::span<const std::string> objects) {
   json probs = json::object();
   for (std::size_t o = 0; o < e.object_probability.size(); ++o) probs[objects[o]] = e.object_probability[o];
   json top = json::array();
   for (const auto& h : e.top) {
-    json t = pose_json(h.pose);
+    json t = pose_value(h.pose);
     t["object"] = h.object_name;
     t["probability"] = h.probability;
     top.push_back(t);
@@ -98,22 +108,22 @@ json result_json(const BatchSession& s, const Estimate& e, std::span<const std::
                {"object_probability", probs},
                {"p_unknown", e.p_unknown},
                {"pose_valid", e.pose_valid}};
-  if (e.pose_valid) line["pose"] = pose_json(e.pose);
+  if (e.pose_valid) line["pose"] = pose_value(e.pose);
   line["top"] = top;
-  if (!s.truth.is_null()) line["truth"] = s.truth;
+  if (!s.truth.empty()) line["truth"] = truth_value(s);
   return line;
 }
 
 }  // namespace
 
-json pose_json(const RigidPose& p) {
+json pose_value(const RigidPose& p) {
   json R = json::array();
   for (int r = 0; r < 3; ++r) R.push_back(json::array({p.R[0][r], p.R[1][r], p.R[2][r]}));  // row-major rows
   return {{"R", R}, {"T", vec3_json(p.T)}, {"rodrigues", vec3_json(so3::log(p.R))}};
 }
 
-std::vector<BatchSession> parse_batch_sessions(std::string_view text, const std::string& file, std::size_t first_line,
-                                               std::size_t first_session, int elements) {
+std::vector<BatchSession> parse_sessions(std::string_view text, const std::string& file, std::size_t first_line,
+                                         std::size_t first_session, int elements) {
   std::vector<BatchSession> out;
   std::size_t line_no = first_line;
   for (std::size_t begin = 0; begin < text.size(); ++line_no) {
@@ -127,22 +137,12 @@ std::vector<BatchSession> parse_batch_sessions(std::string_view text, const std:
   return out;
 }
 
-std::vector<BatchSession> read_batch_sessions(const std::string& file, int elements) {
-  std::ifstream in(file, std::ios::binary);
-  if (!in) throw Error(file + ": cannot read the sessions file");
-  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw Error(file + ": cannot read the sessions file");
-  std::vector<BatchSession> out = parse_batch_sessions(text, file, 1, 0, elements);
-  if (out.empty()) throw Error(file + ": no sessions (empty file)");
-  return out;
-}
-
-BatchSessionReader::BatchSessionReader(const std::string& file, int elements)
+SessionReader::SessionReader(const std::string& file, int elements)
     : in_(file, std::ios::binary), file_(file), elements_(elements) {
   if (!in_) throw Error(file + ": cannot read the sessions file");
 }
 
-std::vector<BatchSession> BatchSessionReader::next(std::size_t count) {
+std::vector<BatchSession> SessionReader::next(std::size_t count) {
   std::vector<BatchSession> out;
   std::string line;
   while (out.size() < count && std::getline(in_, line)) {
@@ -155,16 +155,7 @@ std::vector<BatchSession> BatchSessionReader::next(std::size_t count) {
   return out;
 }
 
-BatchSessionsSummary scan_batch_sessions(const std::string& file, int elements) {
-  BatchSessionReader reader(file, elements);
-  BatchSessionsSummary sum;
-  for (std::vector<BatchSession> part; !(part = reader.next(256)).empty();)
-    for (const BatchSession& s : part) ++sum.sessions, sum.readings += s.readings.size();
-  if (sum.sessions == 0) throw Error(file + ": no sessions (empty file)");
-  return sum;
-}
-
-void write_batch_sessions(const std::string& file, std::span<const BatchSession> sessions) {
+std::string format_sessions(std::span<const BatchSession> sessions) {
   std::string text;
   for (const BatchSession& s : sessions) {
     json readings = json::array();
@@ -174,25 +165,19 @@ void write_batch_sessions(const std::string& file, std::span<const BatchSession>
                           {"x_axis", vec3_json(r.x_axis)},
                           {"pressure", r.pressure}});
     json line = {{"id", s.id}, {"readings", readings}};
-    if (!s.truth.is_null()) line["truth"] = s.truth;
+    if (!s.truth.empty()) line["truth"] = truth_value(s);
     text += line.dump() + "\n";
   }
-  write_text_file(file, text);
+  return text;
 }
 
-std::string format_batch_results(std::span<const BatchSession> sessions, std::span<const Estimate> estimates,
-                                 std::span<const std::string> objects) {
-  if (sessions.size() != estimates.size())
-    throw std::logic_error("format_batch_results: one estimate per session is needed");
+std::string format_results(std::span<const BatchSession> sessions, std::span<const Estimate> estimates,
+                           std::span<const std::string> objects) {
+  if (sessions.size() != estimates.size()) throw std::logic_error("format_results: one estimate per session is needed");
   std::string text;
   for (std::size_t i = 0; i < sessions.size(); ++i)
     text += result_json(sessions[i], estimates[i], objects).dump() + "\n";
   return text;
 }
 
-void write_batch_results(const std::string& file, std::span<const BatchSession> sessions,
-                         std::span<const Estimate> estimates, std::span<const std::string> objects) {
-  write_text_file(file, format_batch_results(sessions, estimates, objects));
-}
-
-}  // namespace sva::io
+}  // namespace sva::batch

@@ -1,0 +1,128 @@
+// Batch recognition of a sessions file (<sva/batch_file.hpp>): the lock-step loop of recognition/lockstep.hpp over
+// the sessions a file, or a shard of one, supplies a group at a time; the file's format is batch_sessions.cpp's.
+#include <sva/batch_file.hpp>
+
+#include <sva/base/progress.hpp>
+#include <sva/error.hpp>
+#include <sva/io/text_file.hpp>
+
+#include <algorithm>
+#include <fstream>
+#include <iterator>
+#include <numeric>
+#include <optional>
+
+#include "recognition/batch_sessions.hpp"
+#include "recognition/lockstep.hpp"
+
+namespace sva {
+
+namespace batch {
+
+namespace {
+
+// The lock-step loop over `sessions` sessions that `fetch(first, count)` supplies a group at a time (a span that
+// stays valid until the next call); `done(first, group, estimates)` takes each group's estimates as it ends. An
+// error names `source` and the failing update's first session, counted from `first_session`.
+template <class Fetch, class Done>
+void recognize_groups(BatchRecognizer& rec, std::size_t sessions, std::size_t top_k, const std::string& source,
+                      std::size_t first_session, util::Progress* progress, Fetch fetch, Done done) {
+  std::span<const BatchSession> group;
+  LockstepHooks hooks;
+  hooks.progress = progress;
+  hooks.group = [&](std::size_t first, std::size_t count) {
+    group = fetch(first, count);
+    std::vector<std::span<const Reading>> readings;
+    for (const BatchSession& s : group) readings.emplace_back(s.readings);
+    return readings;
+  };
+  hooks.on_group_end = [&](std::size_t first, std::size_t count) {
+    std::vector<std::size_t> slots(count);
+    std::iota(slots.begin(), slots.end(), std::size_t{0});
+    done(first, group, rec.estimates(slots, top_k));
+  };
+  hooks.on_error = [&](const Error& e, const LockstepStep& s) {
+    return Error(source + ": " + e.what() + " (session numbers count from " + std::to_string(first_session + s.first) +
+                 ")");
+  };
+  run_lockstep(rec, sessions, hooks);
+}
+
+}  // namespace
+
+std::vector<Estimate> recognize_sessions(BatchRecognizer& rec, std::span<const BatchSession> sessions,
+                                         std::size_t top_k, const std::string& source, std::size_t first_session,
+                                         util::Progress* progress) {
+  std::vector<Estimate> out(sessions.size());
+  recognize_groups(
+      rec, sessions.size(), top_k, source, first_session, progress,
+      [&](std::size_t first, std::size_t count) { return sessions.subspan(first, count); },
+      [&](std::size_t first, std::span<const BatchSession>, std::vector<Estimate> estimates) {
+        std::move(estimates.begin(), estimates.end(), out.begin() + static_cast<std::ptrdiff_t>(first));
+      });
+  return out;
+}
+
+}  // namespace batch
+
+std::vector<BatchSession> read_batch_sessions(const std::filesystem::path& file, int elements) {
+  const std::string name = file.string();
+  std::ifstream in(file, std::ios::binary);
+  if (!in) throw Error(name + ": cannot read the sessions file");
+  const std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw Error(name + ": cannot read the sessions file");
+  std::vector<BatchSession> out = batch::parse_sessions(text, name, 1, 0, elements);
+  if (out.empty()) throw Error(name + ": no sessions (empty file)");
+  return out;
+}
+
+void write_batch_sessions(const std::filesystem::path& file, std::span<const BatchSession> sessions) {
+  io::write_text_file(file, batch::format_sessions(sessions));
+}
+
+std::string pose_json(const RigidPose& pose) { return batch::pose_value(pose).dump(); }
+
+BatchSessionsFile::BatchSessionsFile(std::filesystem::path file, int elements)
+    : file_(std::move(file)), elements_(elements) {
+  // Every line parsed and checked, only the counts kept: the whole file's check costs one group's memory.
+  batch::SessionReader reader(file_.string(), elements_);
+  for (std::vector<BatchSession> part; !(part = reader.next(256)).empty();)
+    for (const BatchSession& s : part) ++sessions_, readings_ += s.readings.size();
+  if (sessions_ == 0) throw Error(file_.string() + ": no sessions (empty file)");
+}
+
+void BatchSessionsFile::recognize(BatchRecognizer& rec, const Map& map, const std::filesystem::path& results,
+                                  std::size_t top_k, bool progress) const {
+  const std::string source = file_.string();
+  const std::vector<std::string> objects = map.object_names();
+  std::optional<util::Progress> shown;
+  if (progress) shown.emplace("recognize", readings_);
+  // Each group's result lines go to the results file's temporary as the group ends; the rename comes last.
+  io::write_file_atomically(results, [&](std::ostream& out) {
+    batch::SessionReader reader(source, elements_);
+    std::vector<BatchSession> held;  // the group being recognised: all the memory the file's sessions take
+    batch::recognize_groups(
+        rec, sessions_, top_k, source, 0, shown ? &*shown : nullptr,
+        [&](std::size_t first, std::size_t count) {
+          held = reader.next(count);
+          if (held.size() != count)
+            throw Error(source + ": the file changed while it was read (session " +
+                        std::to_string(first + held.size()) + " is missing)");
+          return std::span<const BatchSession>(held);
+        },
+        [&](std::size_t, std::span<const BatchSession> group, const std::vector<Estimate>& estimates) {
+          out << batch::format_results(group, estimates, objects);
+        });
+  });
+  if (shown) shown->finish();
+}
+
+std::string recognize_batch_shard(BatchRecognizer& rec, const Map& map, std::string_view text,
+                                  const std::string& source, std::size_t first_line, std::size_t first_session,
+                                  std::size_t top_k) {
+  const auto sessions = batch::parse_sessions(text, source, first_line, first_session, map.sensor().elements());
+  const auto estimates = batch::recognize_sessions(rec, sessions, top_k, source, first_session);
+  return batch::format_results(sessions, estimates, map.object_names());
+}
+
+}  // namespace sva

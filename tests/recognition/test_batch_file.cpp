@@ -1,0 +1,119 @@
+// Batch recognition of a sessions file (<sva/batch_file.hpp>), streamed a group at a time (sva recognize), against
+// the whole file in memory and against shards of it (the path of sva.recognize_batch and sva.distributed): the same
+// result lines, and a bad line refused up front.
+#include <catch2/catch.hpp>
+
+#include <sva/batch_file.hpp>
+#include <sva/batch_recognizer.hpp>
+#include <sva/error.hpp>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "recognition/batch_sessions.hpp"
+#include "recognition/fixture.hpp"
+#include "recognition/trained_map.hpp"
+#include "test_support.hpp"
+
+using namespace sva;
+using namespace sva::test;
+
+namespace {
+
+std::vector<Reading> readings_of(std::uint32_t object, std::uint64_t seed, int count) {
+  return readings_at(object, random_pose(seed, 100.0), util::Rng(seed, 9), count);
+}
+
+// Seven sessions of 2 to 5 readings, written by the project's writer, with blank lines between some of them, one
+// session without an id (numbered by its place in the file) and one with a truth.
+std::filesystem::path sessions_file(const std::filesystem::path& dir) {
+  std::vector<BatchSession> sessions(7);
+  for (std::size_t i = 0; i < sessions.size(); ++i) {
+    sessions[i].id = "s" + std::to_string(i);
+    sessions[i].readings = readings_of(static_cast<std::uint32_t>(i % 3), 900 + i, 2 + static_cast<int>(i % 4));
+  }
+  sessions[2].truth = R"({"object":"b","note":[1,2.5]})";
+  const auto file = dir / "sessions.jsonl";
+  write_batch_sessions(file, sessions);
+  std::ifstream in(file);
+  std::string text, line;
+  for (int n = 0; std::getline(in, line); ++n) {
+    if (n == 4) line.replace(line.find("\"id\":\"s4\","), 10, "");  // no id: numbered 4
+    text += line + "\n" + (n % 3 == 1 ? "\n  \n" : "");
+  }
+  std::ofstream(file) << text;
+  return file;
+}
+
+std::string read_all(const std::filesystem::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), {}};
+}
+
+}  // namespace
+
+TEST_CASE("Batch recognition: a streamed file gives the whole file's result lines, for any group size and shards") {
+  const Trained& t = trained();
+  const auto dir = temp_dir("batch-stream");
+  const auto file = sessions_file(dir);
+  const int elements = t.data.scene.sensor.elements();
+  const auto all = read_batch_sessions(file, elements);
+  REQUIRE(all.size() == 7);
+  CHECK(all[4].id == "4");
+  CHECK(all[2].truth == R"({"note":[1,2.5],"object":"b"})");  // any JSON, kept as text
+  BatchRecognizer whole(t.map, paper_space(), 7);
+  const std::string expected =
+      batch::format_results(all, batch::recognize_sessions(whole, all, 3, file.string()), t.map.object_names());
+  CHECK(expected.find(R"("truth":{"note":[1,2.5],"object":"b"})") != std::string::npos);
+
+  const BatchSessionsFile checked(file, elements);
+  CHECK(checked.sessions() == 7);
+  std::size_t readings = 0;
+  for (const auto& s : all) readings += s.readings.size();
+  CHECK(checked.readings() == readings);
+  for (std::size_t group : {1, 3, 7}) {
+    INFO("group of " << group);
+    BatchRecognizer rec(t.map, paper_space(), group);
+    checked.recognize(rec, t.map, dir / "results.jsonl", 3);
+    CHECK(read_all(dir / "results.jsonl") == expected);
+  }
+  // Two shards cut at a line boundary (lines 1-5 hold sessions 0-2): their lines concatenated are the whole file's.
+  const std::string text = read_all(file);
+  std::size_t cut = 0;
+  for (int n = 0; n < 5; ++n) cut = text.find('\n', cut) + 1;
+  BatchRecognizer shard_rec(t.map, paper_space(), 2);
+  const std::string first = recognize_batch_shard(shard_rec, t.map, text.substr(0, cut), file.string(), 1, 0, 3);
+  const std::string second = recognize_batch_shard(shard_rec, t.map, text.substr(cut), file.string(), 6, 3, 3);
+  CHECK(first + second == expected);
+  CHECK_THROWS_WITH(recognize_batch_shard(shard_rec, t.map, "{\"readings\": 1}\n", "part.jsonl", 40, 9, 3),
+                    Catch::Contains("part.jsonl:40") && Catch::Contains("\"readings\""));
+  std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("Batch recognition: the check refuses a bad line anywhere, naming it, and a file without sessions") {
+  const Trained& t = trained();
+  const auto dir = temp_dir("batch-scan");
+  const auto file = sessions_file(dir);
+  std::ofstream(file, std::ios::app) << "{\"id\": \"last\", \"readings\": []}\n";
+  const int elements = t.data.scene.sensor.elements();
+  CHECK_THROWS_WITH(BatchSessionsFile(file, elements),
+                    Catch::Contains("sessions.jsonl:12") && Catch::Contains("non-empty"));
+  // The reader gives what is good up to the bad line, then the same error.
+  batch::SessionReader reader(file.string(), elements);
+  CHECK(reader.next(5).size() == 5);
+  CHECK(reader.next(2).size() == 2);
+  CHECK_THROWS_WITH(reader.next(1), Catch::Contains("sessions.jsonl:12"));
+  std::ofstream(dir / "blank.jsonl") << "\n  \n";
+  CHECK_THROWS_WITH(BatchSessionsFile(dir / "blank.jsonl", elements),
+                    Catch::Contains("blank.jsonl") && Catch::Contains("no sessions"));
+  CHECK_THROWS_WITH(read_batch_sessions(dir / "blank.jsonl", elements),
+                    Catch::Contains("blank.jsonl") && Catch::Contains("no sessions"));
+  CHECK_THROWS_WITH(BatchSessionsFile(dir / "none.jsonl", elements), Catch::Contains("none.jsonl"));
+  // A caller's session whose truth is not JSON is refused by the writer, naming the session.
+  BatchSession odd{"odd", readings_of(0, 5, 1), "{not json"};
+  CHECK_THROWS_WITH(write_batch_sessions(dir / "odd.jsonl", std::span<const BatchSession>(&odd, 1)),
+                    Catch::Contains("\"odd\"") && Catch::Contains("not JSON"));
+  CHECK_FALSE(std::filesystem::exists(dir / "odd.jsonl"));
+  std::filesystem::remove_all(dir);
+}

@@ -4,6 +4,7 @@
 #include <sva/batch_file.hpp>
 #include <sva/batch_recognizer.hpp>
 #include <sva/dataset.hpp>
+#include <sva/engine.hpp>
 #include <sva/error.hpp>
 #include <sva/eval/evaluation.hpp>
 #include <sva/eval/trial_sessions.hpp>
@@ -45,7 +46,9 @@ int cmd_recognize(const std::vector<std::string>& argv) {
       .option("--batch", "SESSIONS.jsonl", "the sessions to recognise")
       .option("--out", "RESULTS.jsonl", "where the estimates go")
       .option("--backend", "auto|cpu|vulkan", "vote backend (default auto: Vulkan when a device exists, else CPU)")
-      .option("--sessions-per-submission", "N", "sessions stepped together (default 64)")
+      .option("--sessions-per-submission", "N",
+              "sessions stepped together (default: on a GPU as many as half its memory holds at "
+              "--belief-budget, 64 to 4096; 64 on the CPU)")
       .option("--device", "NAME|INDEX", "Vulkan device (default: prefer a discrete GPU; env SVA_VK_DEVICE)")
       .option("--top", "K", "hypotheses reported per session (default 3)")
       .option("--refine", "on|off", "fine pose: align the readings to the object's surface (default on)")
@@ -68,7 +71,6 @@ int cmd_recognize(const std::vector<std::string>& argv) {
   const Map map = Map::load(map_file);
   // Checked whole first (a bad line anywhere stops it before any recognition), then streamed a group at a time.
   const BatchSessionsFile sessions(batch_file, map.sensor().elements());
-  const auto per = static_cast<std::size_t>(a.integer("--sessions-per-submission", 64, 1, 1 << 20));
   const auto top_k = static_cast<std::size_t>(a.integer("--top", 3, 0, 1000));
   RecognizerOptions ro;
   ro.backend = parse_backend_kind(a.get_or("--backend", "auto"), "sva recognize: --backend");
@@ -79,13 +81,17 @@ int cmd_recognize(const std::vector<std::string>& argv) {
       a.integer("--belief-budget", static_cast<long long>(ro.belief_budget_bins), 0, 1ll << 40));
   ro.max_pairs_per_update = static_cast<int>(a.integer("--max-pairs", 0, 0, 1 << 20));
 
-  BatchRecognizer rec(map, map.pose_space(), std::min(per, sessions.sessions()), ro);
+  const Engine engine(map, {ro.backend, ro.vulkan_device});
+  const auto per = static_cast<std::size_t>(
+      a.integer("--sessions-per-submission", static_cast<long long>(engine.sessions_per_submission(ro)), 1, 1 << 20));
+  BatchRecognizer rec(engine, map.pose_space(), std::min(per, sessions.sessions()), ro);
   if (!rec.backend_fallback_reason().empty())
     std::fprintf(stderr, "sva recognize: backend auto chose the CPU reference: %s\n",
                  rec.backend_fallback_reason().c_str());
   sessions.recognize(rec, map, out_file, top_k, true);
-  std::fprintf(stderr, "recognised %zu sessions (%zu readings) with %s; wrote %s\n", sessions.sessions(),
-               sessions.readings(), rec.backend_description().c_str(), out_file.c_str());
+  std::fprintf(stderr, "recognised %zu sessions (%zu readings) with %s, %zu per submission; wrote %s\n",
+               sessions.sessions(), sessions.readings(), rec.backend_description().c_str(), rec.sessions(),
+               out_file.c_str());
   return 0;
 }
 

@@ -5,6 +5,7 @@
 #include <nanobind/stl/string.h>
 
 #include "bindings.hpp"
+#include "recognizer_options.hpp"
 
 namespace sva::python {
 
@@ -32,6 +33,14 @@ void bind_engine(nb::module_& m) {
       .def_prop_ro("fallback_reason", &Engine::fallback_reason,
                    "with backend 'auto' on the CPU: why no Vulkan device was usable ('' otherwise)")
       .def_prop_ro("backend_description", &Engine::backend_description, "'cpu', or 'vulkan: DEVICE'")
+      .def(
+          "sessions_per_submission",
+          [](const Engine& e, const nb::kwargs& options) {
+            return e.sessions_per_submission(recognizer_options(options, "sva.Engine.sessions_per_submission"));
+          },
+          "options"_a, nb::sig("def sessions_per_submission(self, *, " RECOGNIZER_OPTIONS_SIG ") -> int"),
+          "The sessions a BatchRecognizer on this engine steps together by default (sva.recognize_batch): on a GPU "
+          "as many as half its memory holds with every belief at belief_budget_bins, 64 to 4096; 64 on the CPU.")
       .def("__repr__", [](const Engine& e) { return "Engine(" + e.backend_description() + ")"; });
 }
 

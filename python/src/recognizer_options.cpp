@@ -36,6 +36,8 @@ RecognizerOptions recognizer_options(const nb::kwargs& kwargs, const std::string
       o.object_prune_probability = keyword_value<double>(v, what, "object_prune_probability", "a number");
     } else if (key == "max_pairs_per_update") {
       o.max_pairs_per_update = keyword_value<int>(v, what, "max_pairs_per_update", "an int");
+    } else if (key == "belief_budget_bins") {
+      o.belief_budget_bins = keyword_value<std::size_t>(v, what, "belief_budget_bins", "a non-negative int");
     } else if (key == "threads") {
       o.threads = keyword_value<unsigned>(v, what, "threads", "a non-negative int");
     } else if (key == "vulkan_device") {
@@ -52,7 +54,7 @@ RecognizerOptions recognizer_options(const nb::kwargs& kwargs, const std::string
       throw nb::type_error(
           (what + ": unknown option \"" + key +
            "\" (options: backend, method, eps, likelihood_cutoff, object_prune_probability, "
-           "max_pairs_per_update, threads, vulkan_device, refine_pose, surface_check, calibrate, unknown_prior)")
+           "max_pairs_per_update, belief_budget_bins, threads, vulkan_device, refine_pose, surface_check, calibrate, unknown_prior)")
               .c_str());
     }
   }

@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Iterator, Optional, Union
 
 from ._files import atomic_output
-from ._sva_core import BatchRecognizer, Error, Map
+from ._sva_core import BatchRecognizer, Engine, Error, Map
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -89,21 +89,25 @@ def recognize_batch(
     sessions: PathLike,
     out: Optional[PathLike] = None,
     *,
-    sessions_per_submission: int = 64,
+    sessions_per_submission: Optional[int] = None,
     top: int = 3,
     **options,
 ) -> list[str]:
     """Recognises every session of a sessions file, as ``sva recognize --batch SESSIONS --out OUT`` does: the
     results (one JSON line per session, in input order; docs/batch-format.md) are returned as strings and, with
     ``out``, written there (byte for byte the command's file). ``options`` are the Recognizer's (backend="auto",
-    refine_pose, vulkan_device, ...)."""
+    refine_pose, vulkan_device, ...). ``sessions_per_submission`` defaults to the engine's
+    (``Engine.sessions_per_submission``: on a GPU as many as half its memory holds, 64 on the CPU)."""
     if not isinstance(map, Map):
         map = Map.load(map)
-    if sessions_per_submission < 1:
+    if sessions_per_submission is not None and sessions_per_submission < 1:
         raise Error(f"sessions_per_submission must be >= 1, got {sessions_per_submission}")
     if out is not None:
         check_writable(out)
     file = SessionsFile(sessions)
+    if sessions_per_submission is None:
+        engine = Engine(map, options.get("backend", "auto"), options.get("vulkan_device", ""))
+        sessions_per_submission = engine.sessions_per_submission(**options)
     (whole,) = file.shards(file.sessions)
     rec = BatchRecognizer(map, min(sessions_per_submission, whole.sessions), **options)
     results = rec._recognize_shard(map, whole.text, file.name, whole.first_line, whole.first_session, top)

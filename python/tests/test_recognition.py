@@ -156,3 +156,33 @@ def test_hypotheses_with_covariance(tiny, tiny_map):
     assert np.all(np.diag(cov)[:3] > 0)  # the bin quantisation alone gives every translation axis a variance
     assert len(est.object_hypotheses) == tiny_map.objects
     assert est.object_hypotheses[est.object].valid
+
+
+def test_sessions_per_submission_defaults_to_the_engines(tiny_map, tiny, tmp_path):
+    # On the CPU reference (and lavapipe) the engine steps 64 sessions together; the default gives the same file as
+    # asking for it.
+    engine = sva.Engine(tiny_map, backend="cpu")
+    assert engine.sessions_per_submission() == 64
+    assert engine.sessions_per_submission(belief_budget_bins=0) == 64
+    with pytest.raises(TypeError):
+        engine.sessions_per_submission(no_such_option=1)
+    default = sva.recognize_batch(tiny_map, tiny.sessions, tmp_path / "a.jsonl", backend="cpu", threads=1)
+    asked = sva.recognize_batch(tiny_map, tiny.sessions, tmp_path / "b.jsonl", sessions_per_submission=64,
+                                backend="cpu", threads=1)
+    assert default == asked
+    assert (tmp_path / "a.jsonl").read_bytes() == (tmp_path / "b.jsonl").read_bytes()
+
+
+def test_belief_budget_bins_is_an_option(tiny, tiny_map):
+    # RecognizerOptions.belief_budget_bins from Python (docs/recognition.md, "Bounded memory"): accepted by the
+    # recognizers and the engine, a negative count refused by name.
+    session = tiny.session_lines()[0]
+    bounded = sva.BatchRecognizer(tiny_map, 1, backend="cpu", belief_budget_bins=256)
+    free = sva.BatchRecognizer(tiny_map, 1, backend="cpu", belief_budget_bins=0)
+    for r in session["readings"]:
+        bounded.add_readings([0], [reading_of(r)])
+        free.add_readings([0], [reading_of(r)])
+    assert bounded.estimate(0).object == free.estimate(0).object
+    assert sva.Engine(tiny_map, backend="cpu").sessions_per_submission(belief_budget_bins=256) == 64
+    with pytest.raises(TypeError, match="belief_budget_bins"):
+        sva.BatchRecognizer(tiny_map, 1, backend="cpu", belief_budget_bins=-1)

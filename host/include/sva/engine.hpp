@@ -37,6 +37,11 @@ class Engine {
   const std::string& fallback_reason() const;
   // "cpu", or "vulkan: DEVICE".
   std::string backend_description() const;
+  // The sessions a BatchRecognizer on this engine steps together by default (`sva recognize`,
+  // `sva.recognize_batch`). On a GPU: as many as half of its memory left by the map holds with every session's
+  // belief at its bound (`options.belief_budget_bins`), from 64 to 4096; on the CPU reference, lavapipe, or without
+  // a bound: 64 (the CPU's workers are busy from a few sessions on).
+  std::size_t sessions_per_submission(const RecognizerOptions& options = {}) const;
 
   struct Impl;
 

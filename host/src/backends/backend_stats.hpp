@@ -32,6 +32,10 @@ struct BackendStats {
   // Device submissions so far (each a round trip: submit, then wait), the estimates' reads of the beliefs included;
   // with a shared engine, of every backend on its device. 0 on the CPU.
   std::uint64_t device_submissions = 0;
+  // The device: its kind ("discrete", "integrated", "cpu" for lavapipe; "" on the CPU reference) and its largest
+  // device-local heap (0 on the CPU).
+  std::string device_type;
+  std::uint64_t device_memory_bytes = 0;
 };
 
 }  // namespace sva

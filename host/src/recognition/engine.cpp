@@ -2,6 +2,9 @@
 
 #include <sva/error.hpp>
 
+#include <algorithm>
+
+#include "backends/vulkan/gpu_belief.hpp"
 #include "estimate/verify.hpp"
 #include "map/map_access.hpp"
 #include "map/pair_map.hpp"
@@ -19,8 +22,26 @@ Engine::Engine(const Map& map, const EngineOptions& options) : impl_(std::make_s
   impl_->fallback_reason = std::move(choice.fallback_reason);
   impl_->description = choice.kind == BackendKind::vulkan ? "vulkan: " + choice.backend->statistics().device
                                                           : std::string(choice.backend->name());
+  const BackendStats stats = choice.backend->statistics();
+  impl_->device_type = stats.device_type;
+  impl_->device_memory_bytes = stats.device_memory_bytes;
+  impl_->map_device_bytes = stats.map_device_bytes;
   // The CPU backend holds nothing worth sharing; a Vulkan one keeps the device and the map's upload alive.
   if (choice.kind == BackendKind::vulkan) impl_->keep_backend = std::move(choice.backend);
+}
+
+std::size_t Engine::sessions_per_submission(const RecognizerOptions& options) const {
+  DeviceMemoryInfo d{impl_->device_type, impl_->device_memory_bytes, impl_->map_device_bytes, 0};
+  if (impl_->kind == BackendKind::vulkan && options.belief_budget_bins > 0)
+    d.belief_bytes = GpuBelief::bytes_at(options.belief_budget_bins, impl_->keep_space->objects());
+  return submission_sessions(d);
+}
+
+std::size_t submission_sessions(const DeviceMemoryInfo& d) {
+  const bool gpu = !d.type.empty() && d.type != "cpu";
+  if (!gpu || d.belief_bytes == 0 || d.bytes <= d.map_bytes) return kMinSubmission;
+  const std::uint64_t fits = (d.bytes - d.map_bytes) / 2 / d.belief_bytes;
+  return static_cast<std::size_t>(std::clamp<std::uint64_t>(fits, kMinSubmission, kMaxSubmission));
 }
 
 const Map& Engine::map() const { return impl_->map; }

@@ -23,6 +23,9 @@ struct Engine::Impl {
   // device) for as long as the Engine lives; CPU: nothing.
   std::unique_ptr<PoseSpace> keep_space;
   std::unique_ptr<VoteBackend> keep_backend;
+  // The device's memory as the backend found it (sessions_per_submission): kind, largest device-local heap, map.
+  std::string device_type;
+  std::uint64_t device_memory_bytes = 0, map_device_bytes = 0;
 
   // The fine pose's index of the objects' training contacts, built on first use and shared.
   const SurfaceIndex& surface() const;
@@ -38,5 +41,17 @@ struct Engine::Impl {
 
 // The backend options of a recognizer made from `engine`: its kind (resolved) and device.
 VulkanBackendOptions vulkan_options(const Engine::Impl& engine);
+
+// A device's memory, for sizing a batch's submissions.
+struct DeviceMemoryInfo {
+  std::string type;                // "discrete", "integrated", "cpu" (lavapipe); "" on the CPU reference
+  std::uint64_t bytes = 0;         // its largest device-local heap
+  std::uint64_t map_bytes = 0;     // of it, the uploaded map's
+  std::uint64_t belief_bytes = 0;  // one session's belief at its bound (0: no bound)
+};
+// Engine::sessions_per_submission's rule: the sessions whose beliefs at their bound fill half the memory the map
+// leaves, from kMinSubmission to kMaxSubmission; kMinSubmission on a CPU (the reference or lavapipe) or unbounded.
+constexpr std::size_t kMinSubmission = 64, kMaxSubmission = 4096;
+std::size_t submission_sessions(const DeviceMemoryInfo& device);
 
 }  // namespace sva

@@ -196,6 +196,9 @@ Device::Device(const Instance& instance, const std::string& choice) {
   queue_family_ = c.family;
   info_ = describe(c);
   vkGetPhysicalDeviceMemoryProperties(physical_, &memory_);
+  for (std::uint32_t h = 0; h < memory_.memoryHeapCount; ++h)
+    if (memory_.memoryHeaps[h].flags & VK_MEMORY_HEAP_DEVICE_LOCAL_BIT)
+      info_.device_local_bytes = std::max<std::uint64_t>(info_.device_local_bytes, memory_.memoryHeaps[h].size);
   device_ = create_device(physical_, queue_family_);
   vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
 }

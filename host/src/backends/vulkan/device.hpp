@@ -25,6 +25,7 @@ struct DeviceInfo {
   // vote kernel pre-aggregates equal keys across a subgroup before its atomics.
   bool subgroup_aggregation = false;
   double timestamp_period_ns = 0;
+  std::uint64_t device_local_bytes = 0;  // the largest device-local memory heap (what sizes a batch's submissions)
 };
 
 struct Grid {

@@ -51,6 +51,12 @@ GpuBelief::GpuBelief(GpuBeliefKernels& kernels, double eps)
   reset();
 }
 
+std::uint64_t GpuBelief::bytes_at(std::uint64_t bins, std::uint32_t objects) {
+  const std::uint64_t slots = std::bit_ceil(std::max<std::uint64_t>(2 * bins, 64));
+  const std::uint64_t table = 2 * slots * sizeof(std::uint64_t) + slots / 32 * sizeof(std::uint32_t);
+  return table + 2 * slots * sizeof(std::uint32_t) + state_words(objects) * sizeof(std::uint64_t);
+}
+
 std::size_t GpuBelief::table_bytes() const {
   return static_cast<std::size_t>(table_.size() + band_.size() + state_.size());
 }

@@ -78,6 +78,9 @@ class GpuBelief final : public BeliefState {
   // round trip per pass; later reads return what came back until the belief changes, the same answers as reading
   // one belief at a time. A belief whose band lost bins, or whose k best bins lie past its band, reads alone.
   static void read_ahead(std::span<const GpuBelief* const> beliefs, std::size_t k);
+  // The device memory a belief of `bins` touched bins holds at most: its table kept at most half full (a power of
+  // two of slots: keys, offsets, band marks), a band list of two sides as long as the table, and its state words.
+  static std::uint64_t bytes_at(std::uint64_t bins, std::uint32_t objects);
 
  private:
   // The table a growth to at least `slots` slots takes: a power of two, at least twice the current one and 64.

@@ -1,0 +1,59 @@
+// How many sessions a batch steps together by default (Engine::sessions_per_submission, issue 52): on a GPU as many
+// as half its memory left by the map holds with every session's belief at its bound, from 64 to 4096; 64 on a CPU.
+#include <catch2/catch.hpp>
+
+#include <sva/engine.hpp>
+#include <sva/error.hpp>
+
+#include "backends/vulkan/gpu_belief.hpp"
+#include "recognition/engine.hpp"
+#include "recognition/trained_map.hpp"
+
+using namespace sva;
+
+namespace {
+constexpr std::uint64_t kGiB = std::uint64_t{1} << 30;
+}
+
+TEST_CASE("submission size: a GPU's memory holds the batch's beliefs at their bound, within the limits") {
+  const std::uint64_t belief = GpuBelief::bytes_at(std::size_t{1} << 22, 10);  // the default budget, 10 objects
+  // A table of 2^23 slots (half full at 2^22 bins): keys and offsets, band marks and the band list's two sides.
+  CHECK(belief >= (std::uint64_t{1} << 23) * 24);
+  CHECK(belief < (std::uint64_t{1} << 23) * 25);
+  for (const std::uint64_t memory : {16 * kGiB, 80 * kGiB, 141 * kGiB}) {
+    INFO("device memory " << memory / kGiB << " GiB");
+    const std::uint64_t map = 90'000'000;
+    const std::size_t n = submission_sessions({"discrete", memory, map, belief});
+    REQUIRE(n >= kMinSubmission);
+    REQUIRE(n <= kMaxSubmission);
+    // Half of what the map leaves holds them all; one more would not fit (unless the floor of 64 decided).
+    if (n > kMinSubmission) CHECK(n * belief <= (memory - map) / 2);
+    if (n > kMinSubmission && n < kMaxSubmission) CHECK((n + 1) * belief > (memory - map) / 2);
+  }
+  // An H100's 80 GiB holds a few hundred sessions at the default bound: more than today's 64 per submission.
+  const std::size_t h100 = submission_sessions({"discrete", 80 * kGiB, 90'000'000, belief});
+  CHECK(h100 > 100);
+  CHECK(h100 < 400);
+  // A small bound fills a large device up to the ceiling.
+  CHECK(submission_sessions({"discrete", 141 * kGiB, 0, GpuBelief::bytes_at(32768, 10)}) == kMaxSubmission);
+}
+
+TEST_CASE("submission size: 64 on a CPU, without a bound, or when the map leaves no memory") {
+  const std::uint64_t belief = GpuBelief::bytes_at(1 << 20, 3);
+  CHECK(submission_sessions({"", 0, 0, 0}) == kMinSubmission);                         // the CPU reference
+  CHECK(submission_sessions({"cpu", 64 * kGiB, 0, belief}) == kMinSubmission);         // lavapipe: the host's cores
+  CHECK(submission_sessions({"discrete", 64 * kGiB, 0, 0}) == kMinSubmission);         // no bound on a belief
+  CHECK(submission_sessions({"discrete", kGiB, 2 * kGiB, belief}) == kMinSubmission);  // the map fills it
+  CHECK(submission_sessions({"integrated", 4 * kGiB, 0, belief}) == kMinSubmission);   // the floor
+}
+
+TEST_CASE("submission size: an engine on the CPU reference or on lavapipe steps 64 sessions together") {
+  const sva::test::Trained& t = sva::test::trained();
+  CHECK(Engine(t.map, {BackendKind::cpu, ""}).sessions_per_submission() == kMinSubmission);
+  try {
+    const Engine gpu(t.map, {BackendKind::vulkan, ""});
+    CHECK(gpu.sessions_per_submission() == kMinSubmission);  // lavapipe is a CPU device
+  } catch (const Error& e) {
+    WARN("no Vulkan device: " << e.what());
+  }
+}

@@ -8,6 +8,7 @@
 #include <sva/eval/confusion.hpp>
 #include <sva/eval/evaluation.hpp>
 #include <sva/eval/figure.hpp>
+#include <sva/eval/mesh_symmetry.hpp>
 #include <sva/eval/report.hpp>
 #include <sva/eval/results.hpp>
 #include <sva/eval/robustness.hpp>
@@ -294,6 +295,9 @@ int cmd_eval(const std::vector<std::string>& argv) {
   const Dataset test = load_dataset(data_file);
   const Map map = Map::load(map_file);
   eval::check_compatible(map, test, map_file, data_file, o.unknown_objects);
+  // The scene's declared symmetries (the angle error's) against its meshes' (MSSD's): docs/pose-errors.md.
+  for (const std::string& w : eval::symmetry_warnings(test.scene))
+    std::fprintf(stderr, "sva eval: warning: %s\n", w.c_str());
   o.trials = trials_arg > 0 ? static_cast<std::size_t>(trials_arg) : 3 * test.scene.objects.size();
   if (o.policy == eval::Policy::active_sim) o.active.simulate = touch_simulator(test.scene, data_file);
   const std::vector<eval::Curve> others = compared_curves(compare_files, map, o);

@@ -260,7 +260,9 @@ int cmd_eval(const std::vector<std::string>& argv) {
          "Run recognition trials: each trial takes an object (cycling through the objects), a random pose from the "
          "map's pose space and that object's test readings, transformed by the pose, in random order; after every "
          "reading it records whether the object is right, the translational, angular (with the object's symmetries) "
-         "and inertial errors, and the update time. Prints the curve; see docs/evaluation.md.",
+         "and inertial errors, MSSD and ADD-S (with the symmetries found on the object's mesh; docs/pose-errors.md), "
+         "and the update time. Warns where the scene's declared symmetry and the mesh's disagree. Prints the curve; "
+         "see docs/evaluation.md.",
          argv);
   declare_eval_options(a);
   if (!a.parse()) return 0;

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <string>
 
@@ -131,6 +132,40 @@ SurfaceDistance::SurfaceDistance(const ObjectSurface& surface, const std::string
     cell_start_[c + 1] = cell_start_[c] + static_cast<std::uint32_t>(lists[c].size());
     cell_items_.insert(cell_items_.end(), lists[c].begin(), lists[c].end());
   }
+  find_empty_rings();
+}
+
+void SurfaceDistance::find_empty_rings() {
+  // Breadth first from every cell that holds a triangle over the 26 neighbours: the number of steps is the
+  // Chebyshev distance in cells, the shells a query may skip.
+  const std::size_t cells = cell_start_.size() - 1;
+  empty_rings_.assign(cells, std::numeric_limits<std::uint32_t>::max());
+  std::vector<std::size_t> frontier;
+  for (std::size_t c = 0; c < cells; ++c)
+    if (cell_start_[c + 1] > cell_start_[c]) {
+      empty_rings_[c] = 0;
+      frontier.push_back(c);
+    }
+  for (std::uint32_t ring = 1; !frontier.empty(); ++ring) {
+    std::vector<std::size_t> next;
+    for (const std::size_t c : frontier) {
+      const int x = static_cast<int>(c % static_cast<std::size_t>(dims_.x));
+      const int y = static_cast<int>((c / static_cast<std::size_t>(dims_.x)) % static_cast<std::size_t>(dims_.y));
+      const int z = static_cast<int>(c / (static_cast<std::size_t>(dims_.x) * static_cast<std::size_t>(dims_.y)));
+      for (int dz = -1; dz <= 1; ++dz)
+        for (int dy = -1; dy <= 1; ++dy)
+          for (int dx = -1; dx <= 1; ++dx) {
+            const int nx = x + dx, ny = y + dy, nz = z + dz;
+            if (nx < 0 || ny < 0 || nz < 0 || nx >= dims_.x || ny >= dims_.y || nz >= dims_.z) continue;
+            const std::size_t n = (static_cast<std::size_t>(nz) * dims_.y + ny) * dims_.x + nx;
+            if (empty_rings_[n] > ring) {
+              empty_rings_[n] = ring;
+              next.push_back(n);
+            }
+          }
+    }
+    frontier = std::move(next);
+  }
 }
 
 double SurfaceDistance::nearest_in_cell(std::size_t cell, const glm::dvec3& p, double best) const {
@@ -153,7 +188,10 @@ double SurfaceDistance::distance(const glm::dvec3& p, double cap) const {
   }
   const int max_shell = std::max({dims_.x, dims_.y, dims_.z});
   double best = 1e300;  // squared
-  for (int s = 0; s <= max_shell; ++s) {
+  // The shells nearer than the nearest cell with a triangle are empty: start at it.
+  const std::size_t home = (static_cast<std::size_t>(c.z) * dims_.y + c.y) * dims_.x + c.x;
+  for (int s = static_cast<int>(std::min<std::uint32_t>(empty_rings_[home], static_cast<std::uint32_t>(max_shell)));
+       s <= max_shell; ++s) {
     for (int z = c.z - s; z <= c.z + s; ++z) {
       if (z < 0 || z >= dims_.z) continue;
       for (int y = c.y - s; y <= c.y + s; ++y) {
@@ -161,7 +199,14 @@ double SurfaceDistance::distance(const glm::dvec3& p, double cap) const {
         const bool face = std::abs(z - c.z) == s || std::abs(y - c.y) == s;
         for (int x = c.x - s; x <= c.x + s; x += (face || s == 0) ? 1 : 2 * s) {
           if (x < 0 || x >= dims_.x) continue;
-          best = nearest_in_cell((static_cast<std::size_t>(z) * dims_.y + y) * dims_.x + x, p, best);
+          // A cell whose box lies no nearer than the best so far holds no nearer triangle.
+          const glm::ivec3 cell(x, y, z);
+          double box = 0.0;
+          for (int k = 0; k < 3; ++k) {
+            const double lo = origin_[k] + cell[k] * cell_, gap = std::max({lo - p[k], p[k] - (lo + cell_), 0.0});
+            box += gap * gap;
+          }
+          if (box < best) best = nearest_in_cell((static_cast<std::size_t>(z) * dims_.y + y) * dims_.x + x, p, best);
         }
       }
     }

@@ -41,6 +41,7 @@ class SurfaceDistance {
     glm::dvec3 a, b, c;
   };
   double nearest_in_cell(std::size_t cell, const glm::dvec3& p, double best) const;
+  void find_empty_rings();
 
   std::vector<glm::dvec3> vertices_;
   std::vector<Triangle> triangles_;  // those of positive area
@@ -53,6 +54,7 @@ class SurfaceDistance {
   double cell_ = 1.0;
   glm::ivec3 dims_{1};
   std::vector<std::uint32_t> cell_start_, cell_items_;
+  std::vector<std::uint32_t> empty_rings_;  // per cell: Chebyshev distance (cells) to the nearest with a triangle
 };
 
 // find_symmetries on a surface already built (`mesh` is `surface`'s): the evaluation keeps it for ADD-S.

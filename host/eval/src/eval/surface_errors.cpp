@@ -30,6 +30,7 @@ std::shared_ptr<const SurfaceModel> build_model(const SceneObject& object) {
   model->surface = std::make_unique<SurfaceDistance>(surface, what);
   model->symmetry = find_symmetries(surface, *model->surface, SymmetrySearch{});
   model->points = model->surface->sample(500, 2);
+  model->adds_points.assign(model->points.begin(), model->points.begin() + 200);
   model->symmetries = symmetry_rotations(model->symmetry);
   return model;
 #else
@@ -79,7 +80,7 @@ void add_surface_errors(EvalResult& result, const Scene& scene, unsigned threads
         for (StepResult& s : trial.steps) {
           if (!s.has_pose_error()) continue;
           s.mssd_mm = mssd(trial.pose, s.estimate, m->points, m->symmetries, m->symmetry.centre);
-          s.adds_mm = adds(trial.pose, s.estimate, m->points, *m->surface);
+          s.adds_mm = adds(trial.pose, s.estimate, m->adds_points, *m->surface);
         }
       },
       threads);

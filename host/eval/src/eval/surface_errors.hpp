@@ -15,8 +15,9 @@ namespace sva::eval {
 struct SurfaceModel {
   MeshSymmetry symmetry;
   std::unique_ptr<SurfaceDistance> surface;
-  std::vector<glm::dvec3> points;      // 500 on the surface (object frame)
-  std::vector<glm::dmat3> symmetries;  // symmetry_rotations(symmetry)
+  std::vector<glm::dvec3> points;       // 500 on the surface (object frame): MSSD's
+  std::vector<glm::dvec3> adds_points;  // the first 200 of them: ADD-S's (a closest point costs ~100 MSSD terms)
+  std::vector<glm::dmat3> symmetries;   // symmetry_rotations(symmetry)
 };
 
 // The object's model (cached), or nullptr when it has no readable mesh (see object_symmetry).

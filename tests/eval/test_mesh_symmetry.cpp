@@ -86,7 +86,7 @@ TEST_CASE("mesh symmetry: a box of three different sides has the identity and th
   for (std::size_t k = 1; k < 4; ++k) CHECK(so3::angle_sincos(s.rotations[k]) == Approx(kPi));
 }
 
-TEST_CASE("mesh symmetry: a cylinder is continuous about its axis and turned over; a cone only continuous") {
+TEST_CASE("mesh symmetry: a cylinder is continuous about its axis and turned over, a cone only continuous") {
   const MeshSymmetry cylinder = find_symmetries(frustum(20, 20, 60), "cylinder");
   REQUIRE(cylinder.axis);
   CHECK(std::fabs(cylinder.axis->z) == Approx(1.0).epsilon(1e-9));
@@ -128,7 +128,7 @@ TEST_CASE("mesh symmetry: the scene's declared symmetry is checked against the m
   CHECK(symmetry_disagreement(object_with({}), find_symmetries(box(40, 30, 20, {6.0f, 4.0f, 3.0f}), "b")).empty());
 }
 
-TEST_CASE("surface distance: exact to a box's faces, edges and corners; the samples lie on the surface") {
+TEST_CASE("surface distance: exact to the faces, edges and corners of a box, and the samples lie on the surface") {
   const SurfaceDistance d(box(40, 30, 20), "box");
   CHECK(d.area() == Approx(2 * (40 * 30 + 40 * 20 + 30 * 20)));
   CHECK(d.distance({0, 0, 0}) == Approx(10.0));                    // inside: the nearest face, z = +-10

@@ -303,7 +303,7 @@ ObjectSurface three_sided_box() {  // 40 x 30 x 20 mm: the identity and three ha
 
 }  // namespace
 
-TEST_CASE("metrics: MSSD of a symmetric half turn is 0 while the angle error is 180 degrees; ADD-S <= MSSD") {
+TEST_CASE("metrics: MSSD of a symmetric half turn is 0 while the angle error is 180 degrees, and ADD-S <= MSSD") {
   const ObjectSurface surface = three_sided_box();
   const MeshSymmetry found = find_symmetries(surface, "box");
   REQUIRE(found.rotations.size() == 4);

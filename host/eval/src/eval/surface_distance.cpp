@@ -118,20 +118,20 @@ SurfaceDistance::SurfaceDistance(const ObjectSurface& surface, const std::string
     return c;
   };
   const std::size_t cells = static_cast<std::size_t>(dims_.x) * dims_.y * dims_.z;
-  std::vector<std::vector<std::uint32_t>> lists(cells);
-  for (std::size_t i = 0; i < triangles_.size(); ++i) {
-    const Triangle& t = triangles_[i];
+  // Two passes over the triangles' cells (count, then place): one flat list, triangles in index order per cell.
+  const auto for_each_cell = [&](const Triangle& t, auto&& visit) {
     const glm::ivec3 a = cell_of(glm::min(t.a, glm::min(t.b, t.c))), b = cell_of(glm::max(t.a, glm::max(t.b, t.c)));
     for (int z = a.z; z <= b.z; ++z)
       for (int y = a.y; y <= b.y; ++y)
-        for (int x = a.x; x <= b.x; ++x)
-          lists[(static_cast<std::size_t>(z) * dims_.y + y) * dims_.x + x].push_back(static_cast<std::uint32_t>(i));
-  }
+        for (int x = a.x; x <= b.x; ++x) visit((static_cast<std::size_t>(z) * dims_.y + y) * dims_.x + x);
+  };
   cell_start_.assign(cells + 1, 0);
-  for (std::size_t c = 0; c < cells; ++c) {
-    cell_start_[c + 1] = cell_start_[c] + static_cast<std::uint32_t>(lists[c].size());
-    cell_items_.insert(cell_items_.end(), lists[c].begin(), lists[c].end());
-  }
+  for (const Triangle& t : triangles_) for_each_cell(t, [&](std::size_t c) { ++cell_start_[c + 1]; });
+  for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
+  cell_items_.resize(cell_start_[cells]);
+  std::vector<std::uint32_t> next(cell_start_.begin(), cell_start_.end() - 1);
+  for (std::size_t i = 0; i < triangles_.size(); ++i)
+    for_each_cell(triangles_[i], [&](std::size_t c) { cell_items_[next[c]++] = static_cast<std::uint32_t>(i); });
   find_empty_rings();
 }
 

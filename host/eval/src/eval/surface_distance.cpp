@@ -103,7 +103,10 @@ SurfaceDistance::SurfaceDistance(const ObjectSurface& surface, const std::string
   centroid_ = first_moment / total_area_;
   scatter_ = second - glm::outerProduct(centroid_, centroid_) * total_area_;
   diameter_ = diameter_of(vertices_);
+  build_grid(lo, hi);
+}
 
+void SurfaceDistance::build_grid(const glm::dvec3& lo, const glm::dvec3& hi) {
   // A surface of n cells along its longest side crosses some 6 n^2 cells: n = sqrt(triangles / 12) puts about two
   // triangles in each (a query then tests tens of triangles, not hundreds).
   const glm::dvec3 extent = hi - lo;

@@ -41,6 +41,7 @@ class SurfaceDistance {
     glm::dvec3 a, b, c;
   };
   double nearest_in_cell(std::size_t cell, const glm::dvec3& p, double best) const;
+  void build_grid(const glm::dvec3& lo, const glm::dvec3& hi);
   void find_empty_rings();
 
   std::vector<glm::dvec3> vertices_;

@@ -143,7 +143,7 @@ TEST_CASE("surface distance: exact to the faces, edges and corners of a box, and
   CHECK(points == d.sample(300, 1));  // the same points every time
 }
 
-TEST_CASE("surface distance: a mesh without area or with a bad index is an error naming it") {
+TEST_CASE("surface distance: a mesh without area or with a bad index, or a bad search, is an error naming it") {
   ObjectSurface flat;
   flat.positions = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
   flat.triangles = {{0, 1, 2}};
@@ -151,6 +151,12 @@ TEST_CASE("surface distance: a mesh without area or with a bad index is an error
   ObjectSurface bad = box(1, 1, 1);
   bad.triangles.push_back({0, 1, 99});
   CHECK_THROWS_WITH(find_symmetries(bad, "bad.glb"), Catch::Contains("bad.glb") && Catch::Contains("out of range"));
+  SymmetrySearch bad_search;
+  bad_search.tolerance_fraction = std::nan("");
+  CHECK_THROWS_WITH(find_symmetries(box(1, 1, 1), "box", bad_search), Catch::Contains("tolerance"));
+  bad_search = {};
+  bad_search.max_order = 1;
+  CHECK_THROWS_WITH(find_symmetries(box(1, 1, 1), "box", bad_search), Catch::Contains("order") && Catch::Contains("1"));
   ObjectSurface nan = box(1, 1, 1);
   nan.positions[0].x = std::nanf("");
   CHECK_THROWS_WITH(SurfaceDistance(nan, "nan.glb"), Catch::Contains("nan.glb") && Catch::Contains("not finite"));

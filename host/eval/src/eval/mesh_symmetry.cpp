@@ -174,8 +174,10 @@ class Checker {
 bool continuous_about(const Checker& check, const glm::dvec3& axis, double* worst) {
   for (double g : {3.0, 2.0, 0.37, 1.13, 2.71})
     if (!check.passes_quick_look(so3::about_axis(axis, g))) return false;
+  double w = *worst;  // only an axis that passes at every angle counts towards the worst accepted distance
   for (double g : {3.0, 2.0, 0.37, 1.13, 2.71})
-    if (!check.accepts(so3::about_axis(axis, g), worst)) return false;
+    if (!check.accepts(so3::about_axis(axis, g), &w)) return false;
+  *worst = w;
   return true;
 }
 
@@ -286,6 +288,13 @@ MeshSymmetry find_symmetries(const ObjectSurface& surface, const std::string& wh
 }
 
 MeshSymmetry find_symmetries(const ObjectSurface& surface, const SurfaceDistance& mesh, const SymmetrySearch& search) {
+  if (!(search.tolerance_fraction > 0.0 && search.tolerance_fraction < 1.0))
+    throw Error("symmetry search: the tolerance must be a fraction of the diameter in (0, 1), got " +
+                std::to_string(search.tolerance_fraction));
+  if (search.max_order < 2 || search.max_order > 360)
+    throw Error("symmetry search: the largest order must be 2 to 360, got " + std::to_string(search.max_order));
+  if (search.samples < 10)
+    throw Error("symmetry search: at least 10 surface points are needed, got " + std::to_string(search.samples));
   MeshSymmetry out;
   out.centre = mesh.centroid();
   out.diameter_mm = mesh.diameter();

@@ -8,6 +8,7 @@
 #include <sva/eval/confusion.hpp>
 #include <sva/eval/evaluation.hpp>
 #include <sva/eval/figure.hpp>
+#include <sva/eval/mesh_symmetry.hpp>
 #include <sva/eval/report.hpp>
 #include <sva/eval/results.hpp>
 #include <sva/eval/robustness.hpp>
@@ -259,7 +260,9 @@ int cmd_eval(const std::vector<std::string>& argv) {
          "Run recognition trials: each trial takes an object (cycling through the objects), a random pose from the "
          "map's pose space and that object's test readings, transformed by the pose, in random order; after every "
          "reading it records whether the object is right, the translational, angular (with the object's symmetries) "
-         "and inertial errors, and the update time. Prints the curve; see docs/evaluation.md.",
+         "and inertial errors, MSSD and ADD-S (with the symmetries found on the object's mesh; docs/pose-errors.md), "
+         "and the update time. Warns where the scene's declared symmetry and the mesh's disagree. Prints the curve; "
+         "see docs/evaluation.md.",
          argv);
   declare_eval_options(a);
   if (!a.parse()) return 0;
@@ -294,6 +297,9 @@ int cmd_eval(const std::vector<std::string>& argv) {
   const Dataset test = load_dataset(data_file);
   const Map map = Map::load(map_file);
   eval::check_compatible(map, test, map_file, data_file, o.unknown_objects);
+  // The scene's declared symmetries (the angle error's) against its meshes' (MSSD's): docs/pose-errors.md.
+  for (const std::string& w : eval::symmetry_warnings(test.scene))
+    std::fprintf(stderr, "sva eval: warning: %s\n", w.c_str());
   o.trials = trials_arg > 0 ? static_cast<std::size_t>(trials_arg) : 3 * test.scene.objects.size();
   if (o.policy == eval::Policy::active_sim) o.active.simulate = touch_simulator(test.scene, data_file);
   const std::vector<eval::Curve> others = compared_curves(compare_files, map, o);

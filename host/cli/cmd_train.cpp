@@ -1,5 +1,6 @@
 // sva train: build the SVA pair map from a training dataset.
 #include <sva/dataset.hpp>
+#include <sva/eval/mesh_symmetry.hpp>
 #include <sva/eval/report.hpp>
 #include <sva/map.hpp>
 #include <sva/sim/mesh.hpp>
@@ -137,6 +138,10 @@ int cmd_train(const std::vector<std::string>& argv) {
                   "contacts)");
     }
   }
+  // The scene's declared symmetries against its meshes' (docs/pose-errors.md): the evaluation's angle error reads
+  // the declared ones.
+  for (const std::string& w : eval::symmetry_warnings(data.scene))
+    std::fprintf(stderr, "sva train: warning: %s\n", w.c_str());
   TrainReport rep;
   const Map map = Map::train(data, o, &rep);
   map.save(out_file);

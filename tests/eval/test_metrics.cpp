@@ -15,7 +15,9 @@
 #include <sva/sim/simulate.hpp>
 
 #include <sva/base/so3.hpp>
+#include <sva/eval/mesh_symmetry.hpp>
 #include "eval/metrics.hpp"
+#include "eval/surface_distance.hpp"
 #include "map/map_access.hpp"
 #include "map/map_file.hpp"
 #include "map/pair_map.hpp"
@@ -282,4 +284,79 @@ TEST_CASE("readings until the true object holds 95%: per trial, a trial that nev
   CHECK(*c.median == Approx(2.0));
   CHECK(sva::eval::summarize(r).to_95.reached == 2);
   CHECK_FALSE(sva::eval::readings_to_confidence(sva::eval::EvalResult{}, 0.95).mean.has_value());
+}
+
+// MSSD and ADD-S (docs/pose-errors.md) on shapes whose symmetries are known by hand.
+namespace {
+
+ObjectSurface three_sided_box() {  // 40 x 30 x 20 mm: the identity and three half turns
+  ObjectSurface s;
+  for (int k = 0; k < 8; ++k)
+    s.positions.emplace_back(k & 1 ? 20.0f : -20.0f, k & 2 ? 15.0f : -15.0f, k & 4 ? 10.0f : -10.0f);
+  const unsigned q[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& f : q) {
+    s.triangles.emplace_back(f[0], f[1], f[2]);
+    s.triangles.emplace_back(f[0], f[2], f[3]);
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST_CASE("metrics: MSSD of a symmetric half turn is 0 while the angle error is 180 degrees, and ADD-S <= MSSD") {
+  const ObjectSurface surface = three_sided_box();
+  const MeshSymmetry found = find_symmetries(surface, "box");
+  REQUIRE(found.rotations.size() == 4);
+  const SurfaceDistance distance(surface, "box");
+  const std::vector<glm::dvec3> points = distance.sample(500, 2);
+  const std::vector<glm::dmat3> symmetries = symmetry_rotations(found);
+  util::Rng rng(5);
+  for (int trial = 0; trial < 20; ++trial) {
+    RigidPose truth;
+    truth.R = so3::exp({rng.uniform(-2, 2), rng.uniform(-2, 2), rng.uniform(-2, 2)});
+    truth.T = {rng.uniform(-50, 50), rng.uniform(-50, 50), rng.uniform(-50, 50)};
+    RigidPose flipped = truth;
+    flipped.R = truth.R * rot(std::numbers::pi, {0, 0, 1});  // the box turned half about its z axis
+    CHECK(angular_error(truth.R, flipped.R, Symmetry{}) == Approx(std::numbers::pi));
+    CHECK(mssd(truth, flipped, points, symmetries, found.centre) < 1e-9);
+    CHECK(adds(truth, flipped, points, distance) < 1e-9);
+    // A pose that is simply wrong: both errors positive, the mean closest-point distance at most the largest.
+    RigidPose wrong = truth;
+    wrong.R = truth.R * so3::exp({rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.5), rng.uniform(-0.5, 0.5)});
+    wrong.T += glm::dvec3(rng.uniform(-5, 5), rng.uniform(-5, 5), rng.uniform(-5, 5));
+    const double m = mssd(truth, wrong, points, symmetries, found.centre);
+    const double a = adds(truth, wrong, points, distance);
+    CHECK(m > 0.0);
+    CHECK(a <= m + 1e-12);
+  }
+}
+
+TEST_CASE("metrics: MSSD and ADD-S by hand") {
+  // Two points, no symmetry: a pure shift of (3, 4, 0) moves every point 5 mm.
+  const std::vector<glm::dvec3> points = {{10, 0, 0}, {0, 10, 0}};
+  RigidPose truth, shifted;
+  shifted.T = {3, 4, 0};
+  CHECK(mssd(truth, shifted, points, {glm::dmat3(1.0)}, glm::dvec3(0.0)) == Approx(5.0));
+  // A half turn about z through the origin: (10,0,0) lands 20 mm away; with that half turn a symmetry, 0.
+  RigidPose turned;
+  turned.R = rot(std::numbers::pi, {0, 0, 1});
+  CHECK(mssd(truth, turned, points, {glm::dmat3(1.0)}, glm::dvec3(0.0)) == Approx(20.0));
+  CHECK(mssd(truth, turned, points, {glm::dmat3(1.0), rot(std::numbers::pi, {0, 0, 1})}, glm::dvec3(0.0)) ==
+        Approx(0.0).margin(1e-12));
+  // About a centre off the origin, the copy's translation follows: S about c maps c to itself.
+  const glm::dvec3 c{5, 0, 0};
+  RigidPose about_c;
+  about_c.R = rot(std::numbers::pi, {0, 0, 1});
+  about_c.T = c - about_c.R * c;  // the half turn about the axis through c
+  CHECK(mssd(truth, about_c, points, {glm::dmat3(1.0), rot(std::numbers::pi, {0, 0, 1})}, c) ==
+        Approx(0.0).margin(1e-12));
+  // ADD-S: the box's points moved 3 mm out along +z: those on the top face are 3 mm off it, the others keep a
+  // nearer face only where one lies within 3 mm; the mean is between 0 and 3.
+  const SurfaceDistance box(three_sided_box(), "box");
+  RigidPose up;
+  up.T = {0, 0, 3};
+  const double a = adds(truth, up, box.sample(400, 3), box);
+  CHECK(a > 0.0);
+  CHECK(a < 3.0);
+  CHECK(adds(truth, truth, box.sample(400, 3), box) < 1e-9);
 }

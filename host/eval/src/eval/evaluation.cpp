@@ -13,6 +13,7 @@
 #include "backends/vote_backend_factory.hpp"
 #include "eval/active_trials.hpp"
 #include "eval/metrics.hpp"
+#include "eval/surface_errors.hpp"
 #include "eval/trial_runner.hpp"
 #include "map/map_access.hpp"
 #include "map/pair_map.hpp"
@@ -188,6 +189,7 @@ EvalResult run_checked_evaluation(const Map& map, const Dataset& test, const Eva
 EvalResult run_evaluation(const Map& map, const Dataset& test, const EvalOptions& options) {
   check_compatible(map, test, options.map_name, options.data_name, options.unknown_objects);
   EvalResult r = run_checked_evaluation(map, test, options);
+  add_surface_errors(r, test.scene, options.threads);
   r.map_objects = map.object_names();
   return r;
 }

@@ -29,6 +29,10 @@ const std::vector<Panel>& panels() {
        [](const CurvePoint& c) { return value(c.translation_mm.median); }, false},
       {"(d) angular error", "median angle (deg)", [](const CurvePoint& c) { return value(c.angular_deg.median); },
        false},
+      // The symmetry-aware surface errors (docs/pose-errors.md): empty without the objects' meshes.
+      {"(e) MSSD (symmetry-aware)", "median MSSD (mm)", [](const CurvePoint& c) { return value(c.mssd_mm.median); },
+       false},
+      {"(f) ADD-S", "median ADD-S (mm)", [](const CurvePoint& c) { return value(c.adds_mm.median); }, false},
   };
   return p;
 }
@@ -37,7 +41,8 @@ void write_panel_figure(const std::string& title, const std::string& x_label, do
                         const std::function<std::vector<plot::Series>(const Panel&)>& series_of,
                         const std::filesystem::path& file) {
   constexpr int kPanelW = 620, kPanelH = 430, kHeader = 34;
-  plot::Canvas canvas(2 * kPanelW, 2 * kPanelH + kHeader);
+  const int rows = static_cast<int>((panels().size() + 1) / 2);
+  plot::Canvas canvas(2 * kPanelW, rows * kPanelH + kHeader);
   canvas.text((canvas.width() - plot::Canvas::text_width(title, 2)) / 2, 10, title, plot::kBlack, 2);
   for (std::size_t k = 0; k < panels().size(); ++k) {
     const Panel& panel = panels()[k];

@@ -7,6 +7,8 @@
 #include <cassert>
 #include <cmath>
 
+#include "eval/surface_distance.hpp"
+
 namespace sva::eval {
 
 namespace {
@@ -93,6 +95,34 @@ PoseError pose_error(const RigidPose& truth, const RigidPose& estimate, const Sy
   e.angular_rad = angular_error(truth.R, estimate.R, symmetry);
   e.inertial_mm = inertial_distance(e.translation_mm, e.angular_rad, inertial_radius_mm);
   return e;
+}
+
+double mssd(const RigidPose& truth, const RigidPose& estimate, const std::vector<glm::dvec3>& points,
+            const std::vector<glm::dmat3>& symmetries, const glm::dvec3& centre) {
+  double best = 1e300;
+  for (const glm::dmat3& S : symmetries) {
+    // The truth's copy: x -> R_true (S (x - c) + c) + T_true.
+    const glm::dmat3 R = truth.R * S;
+    const glm::dvec3 T = truth.R * (centre - S * centre) + truth.T;
+    double worst = 0.0;  // squared
+    for (const glm::dvec3& x : points) {
+      const glm::dvec3 d = estimate.R * x + estimate.T - (R * x + T);
+      worst = std::max(worst, glm::dot(d, d));
+      if (worst >= best) break;  // this copy cannot be the nearest
+    }
+    best = std::min(best, worst);
+  }
+  return std::sqrt(best);
+}
+
+double adds(const RigidPose& truth, const RigidPose& estimate, const std::vector<glm::dvec3>& points,
+            const SurfaceDistance& surface) {
+  if (points.empty()) return 0.0;
+  // In the truth's object frame, where the surface is: y = R_true^T (R_est x + T_est - T_true).
+  const glm::dmat3 Rt = glm::transpose(truth.R);
+  double sum = 0.0;
+  for (const glm::dvec3& x : points) sum += surface.distance(Rt * (estimate.R * x + estimate.T - truth.T));
+  return sum / static_cast<double>(points.size());
 }
 
 std::optional<double> median(std::vector<double> values) { return percentile(std::move(values), 50.0); }

@@ -39,6 +39,19 @@ struct PoseError {
 PoseError pose_error(const RigidPose& truth, const RigidPose& estimate, const Symmetry& symmetry,
                      double inertial_radius_mm);
 
+// The surface errors of the BOP benchmark (docs/pose-errors.md), over `points` sampled on the object's surface
+// (object frame, mm). MSSD: the smallest, over the object's symmetries S (rotations about `centre`), of the
+// largest distance between a point carried by the estimate and the same point carried by the truth's copy
+// R_true S. Exact over the given rotations (each stops once it cannot beat the best so far).
+double mssd(const RigidPose& truth, const RigidPose& estimate, const std::vector<glm::dvec3>& points,
+            const std::vector<glm::dmat3>& symmetries, const glm::dvec3& centre);
+
+class SurfaceDistance;
+// ADD-S: the mean, over the points carried by the estimate, of their distance to the surface carried by the
+// truth (BOP measures it to the nearest model vertex; the surface itself is the same without the vertices' gaps).
+double adds(const RigidPose& truth, const RigidPose& estimate, const std::vector<glm::dvec3>& points,
+            const SurfaceDistance& surface);
+
 // Median (mean of the two middle values for an even count), the p-th
 // percentile (0..100, linear interpolation between closest ranks) and the
 // mean; nullopt for an empty set. The input is taken by value because it is sorted.

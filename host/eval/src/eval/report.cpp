@@ -222,6 +222,8 @@ std::string to_json(const EvalResult& result, const Curve& curve) {
     put_spread(q, "translation_error_mm", p.translation_mm);
     put_spread(q, "angular_error_deg", p.angular_deg);
     put_spread(q, "inertial_error_mm", p.inertial_mm);
+    put_spread(q, "mssd_mm", p.mssd_mm);
+    put_spread(q, "adds_mm", p.adds_mm);
     put_spread(q, "update_ms", p.update_ms);
     q["update_ms_p95"] = opt(p.update_ms_p95);
     q["votes"] = p.votes;
@@ -242,7 +244,7 @@ std::string to_csv(const EvalResult& result) {
   s << "trial,object,object_name,readings,sample,estimated_object,correct,true_object_probability,pose_valid,"
        "translation_error_mm,angular_error_deg,inertial_error_mm,update_ms,"
        "true_tx,true_ty,true_tz,true_rx,true_ry,true_rz,est_tx,est_ty,est_tz,est_rx,est_ry,est_rz,votes,votes_zero,"
-       "top_probability,p_unknown,known\n";
+       "top_probability,p_unknown,known,mssd_mm,adds_mm\n";
   for (const auto& t : result.trials) {
     const std::string name = t.object < result.objects.size() ? result.objects[t.object] : "";
     for (std::size_t k = 0; k < t.steps.size(); ++k) {
@@ -264,7 +266,8 @@ std::string to_csv(const EvalResult& result) {
       else
         s << ",,,,,";
       s << ',' << st.votes << ',' << st.votes_zero << ',' << num(st.top_probability) << ',' << num(st.p_unknown) << ','
-        << (t.known ? 1 : 0) << '\n';
+        << (t.known ? 1 : 0) << ',' << (st.mssd_mm ? num(*st.mssd_mm) : std::string()) << ','
+        << (st.adds_mm ? num(*st.adds_mm) : std::string()) << '\n';
     }
   }
   return s.str();
@@ -274,13 +277,17 @@ std::string format_table(const Curve& curve) {
   std::ostringstream s;
   s << "scene " << curve.scene << ", method " << curve.method << ", backend " << curve.backend << ", " << curve.trials
     << " trials (errors: median, mean and 90th percentile over trials with the right object)\n";
+  // MSSD and ADD-S only where the objects' meshes were read (a result without them prints as it always has).
+  bool surface = false;
+  for (const auto& p : curve.points) surface = surface || p.mssd_mm.median.has_value();
   char line[512];
-  std::snprintf(line, sizeof line, "%25s %-26s %-26s %-26s %s\n", "", " translation (mm)", " angle (deg)",
-                " inertial (mm)", " ms/update (all trials)");
+  std::snprintf(line, sizeof line, "%25s %-26s %-26s %-26s %s%s\n", "", " translation (mm)", " angle (deg)",
+                " inertial (mm)", surface ? " MSSD (mm)                  ADD-S (mm)                 " : "",
+                " ms/update (all trials)");
   s << line;
   const char* three = " %8s %8s %8s";
   std::string head = "readings  accuracy  posed";
-  for (int k = 0; k < 4; ++k) {
+  for (int k = 0; k < (surface ? 6 : 4); ++k) {
     char buf[64];
     std::snprintf(buf, sizeof buf, three, "median", "mean", "p90");
     head += buf;
@@ -289,7 +296,9 @@ std::string format_table(const Curve& curve) {
   for (const auto& p : curve.points) {
     std::snprintf(line, sizeof line, "%8zu %8.1f%% %6zu", p.readings, 100.0 * p.accuracy, p.pose_trials);
     s << line << spread_cells(p.translation_mm, "%.2f") << spread_cells(p.angular_deg, "%.2f")
-      << spread_cells(p.inertial_mm, "%.2f") << spread_cells(p.update_ms, "%.3f");
+      << spread_cells(p.inertial_mm, "%.2f");
+    if (surface) s << spread_cells(p.mssd_mm, "%.2f") << spread_cells(p.adds_mm, "%.2f");
+    s << spread_cells(p.update_ms, "%.3f");
     std::snprintf(line, sizeof line, " %8s\n", cell(p.update_ms_p95, "%.3f").c_str());
     s << line;
   }
@@ -361,6 +370,9 @@ Curve read_curve_json(const std::filesystem::path& file) {
     pt.translation_mm = spread("translation_error_mm");
     pt.angular_deg = spread("angular_error_deg");
     pt.inertial_mm = spread("inertial_error_mm");
+    // Summaries written before the surface errors have none.
+    if (p.contains("mssd_mm")) pt.mssd_mm = spread("mssd_mm");
+    if (p.contains("adds_mm")) pt.adds_mm = spread("adds_mm");
     pt.update_ms = spread("update_ms");
     pt.update_ms_p95 = number(p, "update_ms_p95", i);
     if (p.contains("pose_trials") && p["pose_trials"].is_number_unsigned())
@@ -375,8 +387,7 @@ std::string describe_surfaces(const MapSummary& map) {
   char line[256];
   std::snprintf(line, sizeof line, "%zu %s, %zu triangles, %zu vertices, %.2f MB (apart from the entries' bytes)",
                 map.surface_objects, map.surface_objects == 1 ? "mesh" : "meshes", map.surface_triangles,
-                map.surface_vertices,
-                static_cast<double>(map.surface_bytes) / 1e6);
+                map.surface_vertices, static_cast<double>(map.surface_bytes) / 1e6);
   return line;
 }
 

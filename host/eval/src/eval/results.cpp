@@ -51,7 +51,7 @@ Curve summarize(const EvalResult& result, std::optional<double> stop_at) {
     CurvePoint p;
     p.readings = n;
     std::size_t correct = 0, known = 0;
-    std::vector<double> t_err, a_err, i_err, ms;
+    std::vector<double> t_err, a_err, i_err, mssd_err, adds_err, ms;
     for (const auto& trial : result.trials) {
       assert(trial.steps.size() == result.max_readings);
       const StepResult& s = trial.steps[n - 1];
@@ -64,6 +64,8 @@ Curve summarize(const EvalResult& result, std::optional<double> stop_at) {
       t_err.push_back(s.translation_error_mm);
       a_err.push_back(s.angular_error_rad * 180.0 / std::numbers::pi);
       i_err.push_back(s.inertial_error_mm);
+      if (s.mssd_mm) mssd_err.push_back(*s.mssd_mm);
+      if (s.adds_mm) adds_err.push_back(*s.adds_mm);
     }
     // Over the trials whose object the map holds (all of them unless --unknown-objects).
     p.accuracy = known == 0 ? 0.0 : static_cast<double>(correct) / static_cast<double>(known);
@@ -71,6 +73,8 @@ Curve summarize(const EvalResult& result, std::optional<double> stop_at) {
     p.translation_mm = spread_of(t_err);
     p.angular_deg = spread_of(a_err);
     p.inertial_mm = spread_of(i_err);
+    p.mssd_mm = spread_of(mssd_err);
+    p.adds_mm = spread_of(adds_err);
     p.update_ms = spread_of(ms);
     p.update_ms_p95 = percentile(ms, 95.0);
     c.points.push_back(p);

@@ -12,7 +12,8 @@ namespace sva::eval {
 
 // {"scene", "backend", "method", "trials", "seed", "max_readings", "objects",
 //  "curve": [{"readings", "accuracy", "pose_trials", "translation_error_mm", "angular_error_deg",
-//             "inertial_error_mm", "update_ms" (medians; each also with _mean and _p90),
+//             "inertial_error_mm", "mssd_mm", "adds_mm", "update_ms" (medians; each also with _mean and _p90;
+//             MSSD and ADD-S null without the objects' meshes, docs/pose-errors.md),
 //             "update_ms_p95", "votes", "votes_zero"}]}
 // Everything but the update_ms* fields depends only on the inputs and seed.
 std::string to_json(const EvalResult& result, const Curve& curve);

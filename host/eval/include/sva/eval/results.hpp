@@ -24,6 +24,9 @@ struct StepResult {
   double translation_error_mm = 0.0;  // meaningful when correct && pose_valid
   double angular_error_rad = 0.0;
   double inertial_error_mm = 0.0;
+  // The surface errors of the BOP benchmark with the symmetries found on the mesh (docs/pose-errors.md): set with
+  // the errors above when the object's mesh could be read.
+  std::optional<double> mssd_mm, adds_mm;
   double update_ms = 0.0;        // add_reading + estimate (timing: varies run to run)
   double plan_ms = 0.0;          // choosing this reading (the active policies' plan; 0 for random)
   std::uint64_t votes = 0;       // votes cast inside the pose space by this reading's update
@@ -56,6 +59,7 @@ struct CurvePoint {
   double accuracy = 0.0;                            // fraction of trials with the right object, 0..1
   std::size_t pose_trials = 0;                      // trials the error statistics are over
   Spread translation_mm, angular_deg, inertial_mm;  // errors
+  Spread mssd_mm, adds_mm;                          // over the trials among those whose mesh could be read
   Spread update_ms;                                 // over all trials
   std::optional<double> update_ms_p95;
   std::uint64_t votes = 0, votes_zero = 0;  // summed over all trials at this step

@@ -13,56 +13,13 @@ mean. It also tries every third reading after the random first two, to show read
 RANDOM.csv is `sva eval --policy random --csv` of the same map, data and seed (its first readings and poses).
 """
 import argparse
-import csv
 import sys
-from collections import defaultdict
-
-import numpy as np
+from pathlib import Path
 
 import sva
 
-
-def rotation(rv):
-    """Rodrigues vector -> 3x3 rotation (the CSV's true_rx, true_ry, true_rz)."""
-    th = float(np.linalg.norm(rv))
-    if th < 1e-12:
-        return np.eye(3)
-    k = rv / th
-    K = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-    return np.eye(3) + np.sin(th) * K + (1 - np.cos(th)) * K @ K
-
-
-def placed(sample, R, T):
-    r = sample.reading
-    return sva.Reading(np.array(r.pressure), R @ np.array(r.position) + T, R @ np.array(r.normal),
-                       R @ np.array(r.x_axis))
-
-
-def random_trials(random_csv, count, test):
-    """The random run's trials, first `count` (0: all): (rows by reading, object, R, T, the object's converged test
-    readings)."""
-    trials = defaultdict(list)
-    with open(random_csv) as f:
-        for row in csv.DictReader(f):
-            trials[int(row["trial"])].append(row)
-    out = []
-    for t in sorted(trials)[: count or None]:
-        rows = sorted(trials[t], key=lambda r: int(r["readings"]))
-        obj = int(rows[0]["object"])
-        R = rotation(np.array([float(rows[0][k]) for k in ("true_rx", "true_ry", "true_rz")]))
-        T = np.array([float(rows[0][k]) for k in ("true_tx", "true_ty", "true_tz")])
-        pool = [i for i in range(len(test)) if test[i].object == obj
-                and test[i].reading.status == sva.ControllerStatus.converged]
-        out.append((t, rows, obj, R, T, pool))
-    return out
-
-
-def replay(rec, samples, test, R, T):
-    """A fresh session of the test readings `samples`, placed at (R, T); its estimate."""
-    rec.reset()
-    for s in samples:
-        rec.add_reading(placed(test[s], R, T))
-    return rec.estimate(1)
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "lib"))  # bench/lib: the helpers the scripts share
+from sva_bench import random_trials, replay  # noqa: E402
 
 
 def best_next(rec, shown, pool, test, obj, R, T):

@@ -14,25 +14,14 @@ RANDOM.csv is `sva eval --policy random --csv` of the same map, data and seed (i
 """
 import argparse
 import sys
+from pathlib import Path
 
 import numpy as np
 
 import sva
-from active_touch_bound import random_trials, replay
 
-
-def decision(est, threshold):
-    """None, "unknown" or the decided object's id."""
-    if est.p_unknown >= threshold:
-        return "unknown"
-    top = int(np.argmax(est.object_probability))
-    if (1.0 - est.p_unknown) * float(est.object_probability[top]) >= threshold:
-        return top
-    return None
-
-
-def score(est, obj):
-    return (1.0 - est.p_unknown) * float(est.object_probability[obj])
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "lib"))  # bench/lib: the helpers the scripts share
+from sva_bench import decision, random_trials, replay, score  # noqa: E402
 
 
 def run_trial(rec, test, pool, first, obj, R, T, a, rng):

@@ -34,49 +34,14 @@ is the same scene simulated with many test readings per object (`sva simulate --
 import argparse
 import multiprocessing
 import sys
+from pathlib import Path
 
 import numpy as np
 
 import sva
-from active_touch_bound import placed, random_trials, rotation
-from active_touch_oracle import decision, score
 
-
-def session(rec, readings, top_k=1):
-    """A fresh session of the placed readings; its estimate (top_k 8: every object's best mode too)."""
-    rec.reset()
-    for r in readings:
-        rec.add_reading(r)
-    return rec.estimate(top_k)
-
-
-class DenseSurface:
-    """Each object's converged dense readings (object frame), for the readings a hypothesis predicts at a place."""
-
-    def __init__(self, dense, objects):
-        self.dense, self.index = dense, {o: [] for o in range(objects)}
-        for i in range(len(dense)):
-            if dense[i].reading.status == sva.ControllerStatus.converged:
-                self.index[dense[i].object].append(i)
-        self.position = {o: np.array([dense[i].reading.position for i in ix]) for o, ix in self.index.items() if ix}
-        self.normal = {o: np.array([dense[i].reading.normal for i in ix]) for o, ix in self.index.items() if ix}
-
-    def nearest(self, obj, position, normal, max_mm=10.0, max_deg=60.0):
-        """The reading of obj nearest to a place in obj's frame, facing within max_deg of it, if within max_mm."""
-        if obj not in self.position:
-            return []
-        d = np.linalg.norm(self.position[obj] - position, axis=1)
-        d[self.normal[obj] @ normal <= np.cos(np.radians(max_deg))] = np.inf
-        j = int(np.argmin(d))
-        return [self.index[obj][j]] if d[j] <= max_mm else []
-
-    def near(self, obj, position, normal, near_mm, near_deg):
-        """The dense readings of obj within near_mm and near_deg of a place given in obj's frame."""
-        if obj not in self.position:
-            return []
-        ok = (np.linalg.norm(self.position[obj] - position, axis=1) < near_mm) & (
-            self.normal[obj] @ normal > np.cos(np.radians(near_deg)))
-        return [self.index[obj][j] for j in np.flatnonzero(ok)]
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "lib"))  # bench/lib: the helpers the scripts share
+from sva_bench import Surface, decision, placed, random_trials, rotation, score, session  # noqa: E402
 
 
 def neighbourhoods(places, obj, near_mm, near_deg):
@@ -98,12 +63,12 @@ def predicted_value(rec, surface, shown, predictors, place, a, rng):
     total, value = 0.0, 0.0
     for obj, weight, R, T in predictors:
         q, n = R.T @ (np.array(place.position) - T), R.T @ np.array(place.normal)
-        hood = surface.nearest(obj, q, n) if a.train else surface.near(obj, q, n, a.near_mm, a.near_deg)
+        hood = surface.nearest(obj, q, n, max_mm=10.0) if a.train else surface.near(obj, q, n, a.near_mm, a.near_deg)
         if not hood:
             continue
         if len(hood) > a.neighbours:
             hood = list(rng.choice(hood, size=a.neighbours, replace=False))
-        outcome = np.mean([float(session(rec, shown + [placed(surface.dense[j], R, T)]).object_probability[obj])
+        outcome = np.mean([float(session(rec, shown + [placed(surface.data[j], R, T)]).object_probability[obj])
                            for j in hood])
         total, value = total + weight, value + weight * outcome
     return value / total if total > 0 else 0.0
@@ -258,8 +223,8 @@ class NoPlace(ValueError):
 def start_worker(map_path, data_path, dense_path, train_path):
     m = sva.Map.load(map_path)
     dense = sva.Dataset.load(dense_path)
-    places = DenseSurface(dense, len(m.object_names))
-    outcomes = DenseSurface(sva.Dataset.load(train_path), len(m.object_names)) if train_path else places
+    places = Surface(dense)
+    outcomes = Surface(sva.Dataset.load(train_path)) if train_path else places
     worker.update(rec=sva.Recognizer(m, backend="cpu", threads=1), test=sva.Dataset.load(data_path), dense=dense,
                   places=places, outcomes=outcomes)
 

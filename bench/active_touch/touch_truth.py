@@ -27,11 +27,14 @@ RANDOM.csv is `sva eval --policy random --csv` of the same map, data and seed (i
 """
 import argparse
 import sys
+from pathlib import Path
 
 import numpy as np
 
 import sva
-from active_touch_bound import placed, random_trials
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "lib"))  # bench/lib: the helpers the scripts share
+from sva_bench import Surface, converged_rows, logit, placed, random_trials, session  # noqa: E402
 
 # Planner settings compared with the defaults (TouchPlanOptions; docs/api.md, "Choosing the next touch").
 SETTINGS = [("defaults", {}), ("position_sigma_mm 5", {"position_sigma_mm": 5.0}),
@@ -48,17 +51,9 @@ def rank_correlation(a, b):
     return float(np.corrcoef(rank(a), rank(b))[0, 1]) if np.std(a) > 0 and np.std(b) > 0 else 0.0
 
 
-def session(rec, readings):
-    """A fresh session of `readings`; its estimate of 8 hypotheses."""
-    rec.reset()
-    for r in readings:
-        rec.add_reading(r)
-    return rec.estimate(top_k=8)
-
-
 def truths(rec, shown, candidates, obj):
     """The true object's probability after `shown` and each candidate reading."""
-    return np.array([float(session(rec, shown + [c]).object_probability[obj]) for c in candidates])
+    return np.array([float(session(rec, shown + [c], top_k=8).object_probability[obj]) for c in candidates])
 
 
 def planner_scores(planner, est, shown, candidates, settings):
@@ -71,26 +66,12 @@ def planner_scores(planner, est, shown, candidates, settings):
     return score
 
 
-class TrainingSurface:
-    """Each object's converged training readings, by position and normal (object frame)."""
-
-    def __init__(self, train):
-        self.train, self.index = train, {}
-        for i in range(len(train)):
-            if train[i].reading.status == sva.ControllerStatus.converged:
-                self.index.setdefault(train[i].object, []).append(i)
-        self.position = {o: np.array([train[i].reading.position for i in ix]) for o, ix in self.index.items()}
-        self.normal = {o: np.array([train[i].reading.normal for i in ix]) for o, ix in self.index.items()}
-
-    def predict(self, obj, R, T, reading):
-        """The training reading of `obj` nearest to `reading` (robot frame) facing within 60 degrees of it, placed at
-        (R, T); None when the object has none."""
-        if obj not in self.index:
-            return None
-        q, n = R.T @ (np.array(reading.position) - T), R.T @ np.array(reading.normal)
-        d = np.linalg.norm(self.position[obj] - q, axis=1)
-        d[self.normal[obj] @ n <= 0.5] = np.inf
-        return placed(self.train[self.index[obj][int(np.argmin(d))]], R, T) if np.isfinite(d.min()) else None
+def predict(surface, obj, R, T, reading):
+    """The training reading of `obj` nearest to `reading` (robot frame) facing within 60 degrees of it, placed at
+    (R, T); None when the object has none."""
+    q, n = R.T @ (np.array(reading.position) - T), R.T @ np.array(reading.normal)
+    row = surface.nearest(obj, q, n, max_deg=60.0)
+    return placed(surface.data[row[0]], R, T) if row else None
 
 
 def predicted_reading_scores(rec, surface, est, shown, candidates):
@@ -101,9 +82,9 @@ def predicted_reading_scores(rec, surface, est, shown, candidates):
     score = np.zeros(len(candidates))
     for i, c in enumerate(candidates):
         for obj, R, T, p in objects:
-            predicted = surface.predict(obj, R, T, c)
+            predicted = predict(surface, obj, R, T, c)
             if predicted is not None:
-                after = float(session(rec, shown + [predicted]).object_probability[obj])
+                after = float(session(rec, shown + [predicted], top_k=8).object_probability[obj])
                 score[i] += (p / total) * np.log2(max(after, 1e-9) / (p / total))
     return score
 
@@ -128,7 +109,7 @@ def rank_study(rec, planner, test, trials, k, surface=None):
         candidates = [placed(test[i], R, T) for i in pool if i not in samples]
         if len(candidates) < 2:
             continue
-        cases.append((shown, candidates, truths(rec, shown, candidates, obj), session(rec, shown)))
+        cases.append((shown, candidates, truths(rec, shown, candidates, obj), session(rec, shown, top_k=8)))
     print(f"{len(cases)} trials after {k} readings; the truth: the true object's probability with each candidate added")
     for name, settings in SETTINGS:
         report(name, cases, [planner_scores(planner, c[3], c[0], c[1], settings) for c in cases])
@@ -139,19 +120,13 @@ def rank_study(rec, planner, test, trials, k, surface=None):
               f"{np.mean([c[2].max() - np.median(c[2]) for c in cases]):+.3f}")
 
 
-def logit(p):
-    p = np.clip(p, 1e-4, 1 - 1e-4)
-    return np.log(p / (1 - p))
-
-
 def place_study(rec, test, dense, trials, k, near_mm=3.0, near_deg=15.0):
     """The share of the truth's variance (logits) that near-identical places share."""
     variance, half_sq_diff, pairs = [], [], 0
     for t, rows, obj, R, T, pool in trials:
         shown = [placed(test[int(r["sample"])], R, T) for r in rows[:k]]
-        idx = [i for i in range(len(dense)) if dense[i].object == obj
-               and dense[i].reading.status == sva.ControllerStatus.converged]
-        y = logit(truths(rec, shown, [placed(dense[i], R, T) for i in idx], obj))
+        idx = converged_rows(dense).get(obj, [])
+        y = logit(truths(rec, shown, [placed(dense[i], R, T) for i in idx], obj), eps=1e-4)
         P = np.array([dense[i].reading.position for i in idx])
         N = np.array([dense[i].reading.normal for i in idx])
         iu = np.triu_indices(len(idx), 1)
@@ -212,7 +187,7 @@ def main():
     rec = sva.Recognizer(m, backend="cpu")
     if train is not None and train.scene.name != test.scene.name:
         ap.error(f"--train {a.train}: scene \"{train.scene.name}\", not the test set's \"{test.scene.name}\"")
-    rank_study(rec, sva.TouchPlanner(m), test, trials, a.readings, TrainingSurface(train) if train else None)
+    rank_study(rec, sva.TouchPlanner(m), test, trials, a.readings, Surface(train) if train else None)
     if dense is not None:
         place_study(rec, test, dense, trials, a.readings)
 

@@ -21,8 +21,13 @@ from __future__ import annotations
 
 import argparse
 import json
+import sys
+from pathlib import Path
 
 import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "lib"))  # bench/lib: the helpers the scripts share
+from sva_bench import logit  # noqa: E402
 
 RANGES = [(2, 5), (6, 10), (11, 20), (21, 30)]
 WEIGHTS = [0.0, 1 / 32, 1 / 16, 1 / 8, 1 / 4, 1 / 2, 1.0]
@@ -90,11 +95,6 @@ def fit_temperature(d, weights=WEIGHTS):
             if f < best[0]:
                 best = (f, 2.0 ** x, power, w)
     return best[1:]
-
-
-def logit(p):
-    p = np.clip(p, 1e-9, 1 - 1e-9)
-    return np.log(p / (1 - p))
 
 
 def top_and_right(d, t):

@@ -22,10 +22,14 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from pathlib import Path
 
 import numpy as np
 
 import sva
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "lib"))  # bench/lib: the helpers the scripts share
+from sva_bench import converged_rows  # noqa: E402
 
 DEPTH_MM = 1.0  # how far off the contact plane the pad still presses (the skin's indentation is 0.2 mm at 20 kPa)
 
@@ -126,14 +130,9 @@ def ceiling(tells: np.ndarray, n: int, draws: int, rng: np.random.Generator) -> 
 def readings_by_object(test) -> tuple[dict, dict, dict]:
     """The converged test readings' contacts and normals per object (object frame), and their rows in the dataset
     (in the same order)."""
-    position, normal, rows = {}, {}, {}
-    for i in range(len(test)):
-        s = test[i]
-        if s.converged:
-            position.setdefault(s.object, []).append(s.reading.position)
-            normal.setdefault(s.object, []).append(s.reading.normal)
-            rows.setdefault(s.object, []).append(i)
-    return ({o: np.array(v, float) for o, v in position.items()}, {o: np.array(v, float) for o, v in normal.items()},
+    rows = converged_rows(test)
+    return ({o: np.array([test[i].reading.position for i in v], float) for o, v in rows.items()},
+            {o: np.array([test[i].reading.normal for i in v], float) for o, v in rows.items()},
             {o: np.array(v) for o, v in rows.items()})
 
 

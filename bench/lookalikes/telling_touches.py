@@ -20,11 +20,15 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from pathlib import Path
 
 import numpy as np
 
 import sva
 from family_ceiling import family_gaps, readings_by_object
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "lib"))  # bench/lib: the helpers the scripts share
+from sva_bench import placed  # noqa: E402
 
 READINGS = 30  # per session; the telling readings land among the first EARLY
 EARLY = 15
@@ -48,17 +52,6 @@ def session_right(rec, readings, member: int) -> tuple[bool, bool]:
         if k in (EARLY, READINGS):
             right[k] = rec.estimate().object == member
     return right[EARLY], right[READINGS]
-
-
-def moved(test, rows, pose: tuple[np.ndarray, np.ndarray]) -> list:
-    """The test readings `rows` (object frame, as the dataset stores them) moved by pose = (rotation, translation)."""
-    rot, shift = pose
-    out = []
-    for i in rows:
-        r = test[int(i)].reading
-        out.append(sva.Reading(r.pressure, rot @ np.asarray(r.position) + shift, rot @ np.asarray(r.normal),
-                               x_axis=rot @ np.asarray(r.x_axis)))
-    return out
 
 
 def draw(variant: int, telling: np.ndarray, rng: np.random.Generator) -> np.ndarray | None:
@@ -139,7 +132,7 @@ def main() -> None:
                 for v in a.telling:
                     rows = draw(v, telling, rng)
                     if rows is not None:
-                        right[v].append(session_right(rec, moved(test, rows_of[o][rows], pose), o))
+                        right[v].append(session_right(rec, [placed(test[int(i)], *pose) for i in rows_of[o][rows]], o))
         shares = " ".join(f"{(gaps[o] > a.gap).any(1).mean():.2f}" for o in members)
         cells = [f"{label[v]} " + (f"{100 * np.mean([x[0] for x in right[v]]):3.0f} / "
                                    f"{100 * np.mean([x[1] for x in right[v]]):3.0f}% ({len(right[v])})"

@@ -26,7 +26,8 @@ def rss_mb() -> float:
 
 
 def readings_of(data: sva.Dataset, count: int) -> list[sva.Reading]:
-    """The first `count` converged readings of the dataset's first object with that many."""
+    """The first `count` converged readings of the dataset's first object with that many. Not bench/lib/sva_bench.py's
+    converged_rows: that module imports NumPy, which would add ~12 MiB to every resident set measured here."""
     by_object: dict[int, list[sva.Reading]] = {}
     for s in data:
         if s.converged:

@@ -10,6 +10,7 @@ find_sva
 THREADS="${THREADS:-2}"
 SEED="${SEED:-1}"
 OUT="${OUT:-$(mktemp -d /tmp/sva-bench-sim.XXXXXX)}"
+mkdir -p "$OUT"  # tee writes the summary there before the simulator makes the folder
 echo "== simulate paper3d: sva=$SVA threads=$THREADS seed=$SEED out=$OUT ($(nproc) cores)"
 t0=$(date +%s.%N)
 "$SVA" --quiet simulate --scene paper3d --out "$OUT" --seed "$SEED" --threads "$THREADS" | tee "$OUT/summary.txt"

@@ -4,10 +4,10 @@
 # nearest to the planned touch), on paper3d at the realistic default errors. Prints the readings until the true
 # object holds >= 95% (mean per trial), the median pose errors at 10 and 20 readings, the plan's time for 10, 100
 # and 1000 candidates beside an update's at 10 readings, and the issue's goals; draws both curves on one figure.
-#   usage: bench/active_touch/active_touch.sh    (DATA=dir with train.svad, test.svad [, map.svam]; TRIALS=30 READINGS=20;
-#                                    TIMING_TRIALS=10; SIM=1 adds the active-sim policy; BOUND=1 adds the oracle
-#                                    bound of bench/active_touch/active_touch_bound.py (needs the Python package in
-#                                    build-ci/python); SVA=... THREADS=2 OUT=dir)
+#   usage: bench/active_touch/active_touch.sh   (DATA=dir with train.svad, test.svad [, map.svam]; TRIALS=30
+#            READINGS=20; TIMING_TRIALS=10; SIM=1 adds the active-sim policy; BOUND=1 adds the oracle bound of
+#            bench/active_touch/active_touch_bound.py (needs the Python package in build-ci/python); SVA=... THREADS=2
+#            OUT=dir)
 # Without DATA it simulates paper3d (2 min) and trains the map (30 s) into OUT.
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/../lib/common.sh"

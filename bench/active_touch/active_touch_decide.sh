@@ -1,10 +1,11 @@
 #!/usr/bin/env bash
-# The next touch with a belief that can be trusted (issue 22): mean readings to a right decision at P (the top
-# object or "none of these" reaches P; a wrong or no decision counts READINGS + 1) for the random policy, the
-# active one (sva::plan_next_touch) and a greedy oracle that tries candidate next readings of the true object
-# (bench/active_touch/active_touch_oracle.py), on the same trials. Prints the share of the random-oracle gap active closes.
-#   usage: bench/active_touch/active_touch_decide.sh DIR   (DIR holds train.svad, test.svad and map.svam, a calibrated map;
-#          TRIALS=30 READINGS=20 P=0.95 CANDIDATES=20 SEED=1 THREADS=2 SVA=... PYTHON=.venv/bin/python)
+# The next touch with a belief that can be trusted (issue 22): mean readings to a right decision at P (the top object or
+# "none of these" reaches P; a wrong or no decision counts READINGS + 1) for the random policy, the active one
+# (sva::plan_next_touch) and a greedy oracle that tries candidate next readings of the true object
+# (bench/active_touch/active_touch_oracle.py), on the same trials. Prints the share of the random-oracle gap active
+# closes.
+#   usage: bench/active_touch/active_touch_decide.sh DIR   (DIR holds train.svad, test.svad and map.svam, a
+#          calibrated map; TRIALS=30 READINGS=20 P=0.95 CANDIDATES=20 SEED=1 THREADS=2 SVA=... PYTHON=.venv/bin/python)
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/../lib/common.sh"
 find_sva

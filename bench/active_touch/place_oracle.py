@@ -2,13 +2,13 @@
 """Readings to a right decision when every touch goes to the best place: how far any planner could go (issue 22,
 "The next touch").
 
-The greedy oracle of bench/active_touch/active_touch_oracle.py sees each candidate reading's own draw (its pressure image, its
-errors) before it chooses, which no planner can: a planner chooses a place, then touches. This oracle knows the true
-object and pose and, for each candidate place, the place's expected outcome: the mean true-object probability that
-the readings of a dense test set within --near-mm and --near-deg of it would give (what a perfect outcome model
-would predict). It touches the place of highest expected outcome and takes that place's own reading, whose outcome
-it did not see. With --see-draws it chooses among the same candidates by their own readings' outcomes instead (the
-greedy oracle's rule on the dense set), so the two differ only in what they know. Both are greedy (one touch ahead).
+The greedy oracle of bench/active_touch/active_touch_oracle.py sees each candidate reading's own draw (its pressure
+image, its errors) before it chooses, which no planner can: a planner chooses a place, then touches. This oracle knows
+the true object and pose and, for each candidate place, the place's expected outcome: the mean true-object probability
+that the readings of a dense test set within --near-mm and --near-deg of it would give (what a perfect outcome model
+would predict). It touches the place of highest expected outcome and takes that place's own reading, whose outcome it
+did not see. With --see-draws it chooses among the same candidates by their own readings' outcomes instead (the greedy
+oracle's rule on the dense set), so the two differ only in what they know. Both are greedy (one touch ahead).
 
 The candidates of a step are --candidates places drawn from the dense set's readings of the true object that have a
 neighbour there; the first reading of every trial is the random run's own (nothing is known before it), as for the

@@ -4,8 +4,8 @@
 # confidently wrong, decisions at --stop-at 0.95 and the accuracy curve; then "none of these" on held-out splits
 # (a map trained without HELD objects, the full test set with --unknown-objects): ROC area and the share of
 # unseen-object trials caught at <= 5% false rejection, at 15 readings.
-#   usage: bench/calibration/calibration.sh   (SCENES="paper3d household50" TRIALS=50 READINGS=30 SPLITS=3 HELD=0.2 UNKNOWN_TRIALS=100
-#                                  OUT=/tmp/sva-bench/calibration SVA=... THREADS=2 SEED=1)
+#   usage: bench/calibration/calibration.sh   (SCENES="paper3d household50" TRIALS=50 READINGS=30 SPLITS=3 HELD=0.2
+#                                  UNKNOWN_TRIALS=100 OUT=/tmp/sva-bench/calibration SVA=... THREADS=2 SEED=1)
 # Simulates and trains what OUT lacks (household50: about 5 min with the calibration).
 set -euo pipefail
 source "$(dirname "${BASH_SOURCE[0]}")/../lib/common.sh"

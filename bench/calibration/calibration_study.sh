@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Calibration families compared offline (docs/evaluation.md, "The temperature from a map of every object, and the top
-# label"): the held-out sessions `sva train` learns from, on a map missing a fifth of the objects and on a map of
-# every object, and sessions on the test set with the full map, every step's evidence written out
-# (bench/calibration/calibration_study.cpp); then bench/calibration/calibration_study.py fits the temperature alone or with the top label on
-# either kind of session, and the temperature on the test sessions themselves (its floor), and prints the ECE on the
-# test sessions by reading range.
+# label"): the held-out sessions `sva train` learns from, on a map missing a fifth of the objects and on a map of every
+# object, and sessions on the test set with the full map, every step's evidence written out
+# (bench/calibration/calibration_study.cpp); then bench/calibration/calibration_study.py fits the temperature alone or
+# with the top label on either kind of session, and the temperature on the test sessions themselves (its floor), and
+# prints the ECE on the test sessions by reading range.
 #   bench/calibration/calibration_study.sh DIR [SEED=1] [TEST_SESSIONS=200] [KNOWN_SESSIONS=60 [TEST_SEED=77]]
 # KNOWN_SESSIONS above 60: calibration_study.py also fits each disjoint block of 60 (the fit's noise).
 # DIR holds train.svad, test.svad and map.svam (trained with --seed SEED). BUILD_DIR (default build-ci); PYTHON (default

@@ -4,15 +4,15 @@
     PYTHONPATH=build-ci/python python3 bench/lookalikes/telling_touches.py MAP TEST.svad SCENE [--gap 1] [--telling 3,5]
         [--trials 8] [--families a,b] [--seed 11]
 
-bench/lookalikes/family_ceiling.py marks each test reading of a family's member that *tells* it from a sibling: the two surfaces
-lie more than GAP mm apart somewhere under the sensor's pad. Random touches rarely land there on the families that
-differ in one small region, which bounds any recognizer under random touches. This asks the question a touch planner
-depends on: if the touches did land there, would the recognizer use them? For every member, TRIALS sessions of 30 of
-its test readings: "random", the member's trials of `sva eval --seed SEED --max-readings 30` as eval runs them, and,
-for each K of --telling, K telling readings at random places among the first 15 and every other reading one that
-tells nothing, at the pose of the same eval trial. Prints the share of sessions whose estimate names the member at
-15 and at 30 readings, per family and variant. A variant needs K telling readings and 30 - K others; a member short
-of them skips it (the counts are printed).
+bench/lookalikes/family_ceiling.py marks each test reading of a family's member that *tells* it from a sibling: the two
+surfaces lie more than GAP mm apart somewhere under the sensor's pad. Random touches rarely land there on the families
+that differ in one small region, which bounds any recognizer under random touches. This asks the question a touch
+planner depends on: if the touches did land there, would the recognizer use them? For every member, TRIALS sessions of
+30 of its test readings: "random", the member's trials of `sva eval --seed SEED --max-readings 30` as eval runs them,
+and, for each K of --telling, K telling readings at random places among the first 15 and every other reading one that
+tells nothing, at the pose of the same eval trial. Prints the share of sessions whose estimate names the member at 15
+and at 30 readings, per family and variant. A variant needs K telling readings and 30 - K others; a member short of them
+skips it (the counts are printed).
 """
 
 from __future__ import annotations

@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Benchmark of map training: clustering time, map build time, entries, bytes.
-#   bench/speed/map_build.sh DATA.svad [BUILD_DIR]       train on a dataset file
-#   bench/speed/map_build.sh --synthetic [BUILD_DIR]     on a synthetic 11,000-reading dataset (bench/speed/map_synthetic.cpp)
-# BUILD_DIR: the build whose sva (and map_synthetic: SVA_BUILD_BENCH=ON) runs; default the first built (build, build-ci).
+#   bench/speed/map_build.sh DATA.svad [BUILD_DIR]      train on a dataset file
+#   bench/speed/map_build.sh --synthetic [BUILD_DIR]    on a synthetic 11,000-reading dataset
+#                                                       (bench/speed/map_synthetic.cpp)
+# BUILD_DIR: the build whose sva (and map_synthetic: SVA_BUILD_BENCH=ON) runs; default the first built (build,
+# build-ci).
 # Prints the train summary (it carries the timings: wall and process CPU, which
 # stays meaningful when other work shares the cores) and the inspect summary;
 # also checks that 1 and 2 threads give the same bytes.

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
-# bench/lookalikes/family_ceiling.py on two families of lookalikes' meshes: two copies of one ball (no touch can tell them apart:
-# a guess between two, 0.50) and a ball beside a cube with rounded edges (apart by more than a millimetre almost
-# everywhere: 1.00 once all six test readings are in). The figures for the full scene are docs/evaluation.md's.
+# bench/lookalikes/family_ceiling.py on two families of lookalikes' meshes: two copies of one ball (no touch can tell
+# them apart: a guess between two, 0.50) and a ball beside a cube with rounded edges (apart by more than a millimetre
+# almost everywhere: 1.00 once all six test readings are in). The figures for the full scene are docs/evaluation.md's.
 #   tests/bench/family_ceiling_smoke.sh SOURCE BUILD SVA PYTHON WORK
 set -euo pipefail
 source_dir=$1 build=$2 sva=$3 python=$4 work=$5

@@ -1,9 +1,8 @@
 #!/usr/bin/env bash
-# bench/active_touch/place_oracle.py on the tiny scene: every way of valuing a place (the truth, the draws, the belief's hypotheses
-# fitted and predicting from the training set, its modes, the true object at the belief's pose, at a noisy pose and
-# over poses drawn about it) runs each trial
-# to a decision and prints the summary (the figures themselves are docs/evaluation.md's, on household10); bad values
-# are refused by name.
+# bench/active_touch/place_oracle.py on the tiny scene: every way of valuing a place (the truth, the draws, the belief's
+# hypotheses fitted and predicting from the training set, its modes, the true object at the belief's pose, at a noisy
+# pose and over poses drawn about it) runs each trial to a decision and prints the summary (the figures themselves are
+# docs/evaluation.md's, on household10); bad values are refused by name.
 #   tests/bench/place_oracle_smoke.sh SOURCE BUILD SVA PYTHON WORK
 set -euo pipefail
 source_dir=$1 build=$2 sva=$3 python=$4 work=$5

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# bench/lookalikes/telling_touches.py on three families of lookalikes' meshes: two copies of one ball (no reading tells them
-# apart, so only the random sessions run), a ball beside a cube with rounded edges (every reading tells; random
+# bench/lookalikes/telling_touches.py on three families of lookalikes' meshes: two copies of one ball (no reading tells
+# them apart, so only the random sessions run), a ball beside a cube with rounded edges (every reading tells; random
 # sessions, at poses drawn as sva eval draws them, name the right one at 30 readings) and two cubes whose edge radii
 # differ (only readings at the edges tell: both kinds of session run). The figures for the full scene are
 # docs/evaluation.md's.

@@ -45,8 +45,8 @@ inline std::filesystem::path temp_dir(const std::string& name) {
 int run_sva(const std::string& arguments, std::string* output = nullptr);
 
 // Statistical tests (docs/reliability.md, "Margins"). A scenario draws its seeds through scenario_seed, which
-// SVA_TEST_SEED=k moves to another stream (0 or unset: the checked-in seed), so that bench/test_margins.sh can run
-// the same scenario at several seeds. margin() prints the statistic beside its threshold as one "margin:" line,
+// SVA_TEST_SEED=k moves to another stream (0 or unset: the checked-in seed), so that bench/reliability/test_margins.py
+// can run the same scenario at several seeds. margin() prints the statistic beside its threshold as one "margin:" line,
 // which that bench collects; the test still asserts the threshold itself.
 std::uint64_t scenario_seed(std::uint64_t base);
 void margin(const std::string& statistic, double value, const char* relation, double threshold);

@@ -247,7 +247,7 @@ void declare_eval_options(Args& a) {
            "(TouchPlanner::contact_estimate; default 6; 0: the second touch is random, as the first)");
   a.option("--sweep", "LEVEL=RUN.json",
            "report mode (no trials): a robustness sweep's runs, one per error level; prints a table of "
-           "accuracy and pose errors against the level, --plot draws them (bench/robustness_sweep.sh)",
+           "accuracy and pose errors against the level, --plot draws them (bench/accuracy/robustness_sweep.sh)",
            true);
   a.option("--sweep-readings", "LIST", "with --sweep: the reading counts to report (default 5,10,20,30)");
   a.option("--table", "OUT.md", "with --sweep: also write the table to this file");

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# bench/calibration_study.sh on the tiny scene: it builds against this build's libraries, writes the three kinds of
+# bench/calibration/calibration_study.sh on the tiny scene: this build's program writes the three kinds of
 # sessions and prints the families' ECE (the figures themselves are docs/evaluation.md's, on full-size scenes), and with
 # 120 known sessions the fits of its two blocks of 60, and the surface weights (--weights).
 #   tests/bench/calibration_study_smoke.sh SOURCE BUILD SVA PYTHON WORK
@@ -8,7 +8,7 @@ source_dir=$1 build=$2 sva=$3 python=$4 work=$5
 rm -rf "$work" && mkdir -p "$work"
 "$sva" --quiet simulate --scene tiny --out "$work" --train 20 --test 12 --seed 1 --threads 2
 "$sva" --quiet train --data "$work/train.svad" --out "$work/map.svam" --seed 1 --threads 2 > /dev/null
-out=$(BUILD_DIR="$build" PYTHON="$python" bash "$source_dir/bench/calibration_study.sh" "$work" 1 10 120 2>&1)
+out=$(BUILD_DIR="$build" PYTHON="$python" bash "$source_dir/bench/calibration/calibration_study.sh" "$work" 1 10 120 2>&1)
 echo "$out"
 for f in objects_held_out every_object test; do
   [[ -s $work/study.$f.jsonl ]] || { echo "no study.$f.jsonl" >&2; exit 1; }
@@ -17,7 +17,7 @@ done
 grep -q "^temperature from every_object" <<< "$out" && grep -q "+ top label" <<< "$out" &&
   grep -q "^temperature fitted to the test sessions" <<< "$out" || { echo "missing lines" >&2; exit 1; }
 [[ $(grep -c "^sessions [0-9]*-[0-9]*: " <<< "$out") -eq 2 ]] || { echo "expected the fits of 2 blocks of 60" >&2; exit 1; }
-weights=$("$python" "$source_dir/bench/calibration_study.py" "$work/study" --weights)
+weights=$("$python" "$source_dir/bench/calibration/calibration_study.py" "$work/study" --weights)
 [[ $(grep -c "^w [0-9.]*: right .*; held, refitted ECE" <<< "$weights") -eq 4 ]] &&
   [[ $(grep -c "^ranked at w [0-9.]*, calibrated at [0-9.]*: right .* ECE" <<< "$weights") -eq 2 ]] ||
   { echo "expected 4 surface weights and 2 ranking weights" >&2; exit 1; }

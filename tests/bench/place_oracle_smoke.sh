@@ -1,16 +1,15 @@
 #!/usr/bin/env bash
-# bench/place_oracle.py on the tiny scene: every way of valuing a place (the truth, the draws, the belief's hypotheses
-# fitted and predicting from the training set, its modes, the true object at the belief's pose, at a noisy pose and
-# over poses drawn about it) runs each trial
-# to a decision and prints the summary (the figures themselves are docs/evaluation.md's, on household10); bad values
-# are refused by name.
+# bench/active_touch/place_oracle.py on the tiny scene: every way of valuing a place (the truth, the draws, the belief's
+# hypotheses fitted and predicting from the training set, its modes, the true object at the belief's pose, at a noisy
+# pose and over poses drawn about it) runs each trial to a decision and prints the summary (the figures themselves are
+# docs/evaluation.md's, on household10); bad values are refused by name.
 #   tests/bench/place_oracle_smoke.sh SOURCE BUILD SVA PYTHON WORK
 set -euo pipefail
 source_dir=$1 build=$2 sva=$3 python=$4 work=$5
 source "$(dirname "$0")/tiny_session_data.sh"
 tiny_session_data "$sva" "$work" 150 4
 run() {
-  PYTHONPATH="$build/python:$source_dir/bench" "$python" "$source_dir/bench/place_oracle.py" --map "$work/map.svam" \
+  PYTHONPATH="$build/python" "$python" "$source_dir/bench/active_touch/place_oracle.py" --map "$work/map.svam" \
     --data "$work/test.svad" --dense "$work/dense/test.svad" --random-csv "$work/random.csv" --max-readings 6 \
     --threshold 0.7 --candidates 4 --near-mm 8 --near-deg 40 "$@"
 }

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# bench/telling_touches.py on three families of lookalikes' meshes: two copies of one ball (no reading tells them
-# apart, so only the random sessions run), a ball beside a cube with rounded edges (every reading tells; random
+# bench/lookalikes/telling_touches.py on three families of lookalikes' meshes: two copies of one ball (no reading tells
+# them apart, so only the random sessions run), a ball beside a cube with rounded edges (every reading tells; random
 # sessions, at poses drawn as sva eval draws them, name the right one at 30 readings) and two cubes whose edge radii
 # differ (only readings at the edges tell: both kinds of session run). The figures for the full scene are
 # docs/evaluation.md's.
@@ -13,7 +13,7 @@ rm -rf "$work" && mkdir -p "$work"
 "$sva" --quiet simulate --scene "$work/families.json" --out "$work" --train 200 --test 60 --seed 1 --threads 2
 "$sva" --quiet train --data "$work/train.svad" --out "$work/map.svam" --no-calibration --threads 2
 touches() {
-  PYTHONPATH="$build/python" "$python" "$source_dir/bench/telling_touches.py" "$work/map.svam" "$work/test.svad" \
+  PYTHONPATH="$build/python" "$python" "$source_dir/bench/lookalikes/telling_touches.py" "$work/map.svam" "$work/test.svad" \
     "$work/families.json" --trials 2 --points 4000 "$@"
 }
 out=$(touches --telling 3)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# bench/touch_truth.py on the tiny scene: the studies run and print their lines (the figures themselves are
+# bench/active_touch/touch_truth.py on the tiny scene: the studies run and print their lines (the figures themselves are
 # docs/evaluation.md's, on household10 and lookalikes).
 #   tests/bench/touch_truth_smoke.sh SOURCE BUILD SVA PYTHON WORK
 set -euo pipefail
@@ -7,7 +7,7 @@ source_dir=$1 build=$2 sva=$3 python=$4 work=$5
 source "$(dirname "$0")/tiny_session_data.sh"
 tiny_session_data "$sva" "$work" 60 3
 run() {
-  PYTHONPATH="$build/python:$source_dir/bench" "$python" "$source_dir/bench/touch_truth.py" \
+  PYTHONPATH="$build/python" "$python" "$source_dir/bench/active_touch/touch_truth.py" \
     --map "$work/map.svam" --data "$work/test.svad" --random-csv "$work/random.csv" "$@"
 }
 out=$(run --readings 2 --dense "$work/dense/test.svad" --train "$work/train.svad")
@@ -19,7 +19,7 @@ grep -q "^2 trials after 2 readings" <<< "$out" && grep -q "defaults *rank corre
 if err=$(run --readings 9 2>&1); then echo "--readings 9 was accepted" >&2; exit 1; fi
 grep -q "readings 9: .*fewer readings per trial" <<< "$err" || { echo "unclear refusal: $err" >&2; exit 1; }
 printf 'trial,object\n0,0\n' > "$work/bad.csv"
-if err=$(PYTHONPATH="$build/python:$source_dir/bench" "$python" "$source_dir/bench/touch_truth.py" \
+if err=$(PYTHONPATH="$build/python" "$python" "$source_dir/bench/active_touch/touch_truth.py" \
   --map "$work/map.svam" --data "$work/test.svad" --random-csv "$work/bad.csv" 2>&1); then
   echo "a CSV without readings was accepted" >&2; exit 1
 fi

@@ -299,7 +299,8 @@ TEST_CASE("fine pose end to end: on the simulated tiny scene, refinement lowers 
   // Trial by trial, where the histogram found the right mode (below 45 degrees): the die, a cube, is often taken
   // in another of its rotations, which its appearance on this small map does not tell apart and its shape cannot,
   // and there no refinement helps. The medians of the per-trial ratios, not ratios of medians: a handful of
-  // trials in the right mode make a median of errors jump (bench/test_margins.py, docs/reliability.md "Margins").
+  // trials in the right mode make a median of errors jump (bench/reliability/test_margins.py, docs/reliability.md
+  // "Margins").
   std::vector<double> translation_ratio, angle_ratio;
   for (std::size_t t = 0; t < on.trials.size(); ++t) {
     const eval::StepResult &a = on.trials[t].steps.back(), &b = off.trials[t].steps.back();
@@ -312,8 +313,8 @@ TEST_CASE("fine pose end to end: on the simulated tiny scene, refinement lowers 
   const double tr = *eval::median(translation_ratio), ar = *eval::median(angle_ratio);
   std::printf("tiny, 12 readings, right mode (%zu trials): median error refined / not: translation %.3f, angle %.3f\n",
               angle_ratio.size(), tr, ar);
-  // Over 10 seeds (bench/test_margins.py): 6 to 11 trials in the right mode; the angle ratio 0.11 to 0.60, so the
-  // refinement more than halves the angle; the translation ratio 0.17 to 1.07: the histogram's sub-bin peak
+  // Over 10 seeds (bench/reliability/test_margins.py): 6 to 11 trials in the right mode; the angle ratio 0.11 to 0.60,
+  // so the refinement more than halves the angle; the translation ratio 0.17 to 1.07: the histogram's sub-bin peak
   // already places tiny's objects within 1-2 mm, and 80 training contacts per object do not reliably do better
   // (paper3d's 1000 take it to 0.03 mm, docs/evaluation.md "Fine pose"), so here it may only not lose much.
   test::margin("tiny fine pose: median per-trial angle, refined / not", ar, "<", 0.8);

@@ -182,8 +182,8 @@ TEST_CASE("Touch planner: between two objects alike but for a cap, the best touc
 // and sends the sensor to the cap once the pose is known. Object 1 has nothing of its own to touch: there the
 // policy may only not lose much (its first plans check the cap for object 0 while random touches confirm object 1).
 // Totals over 8 placements, not trial by trial: a random order touches the cap first now and then, and then ties
-// or beats the plan. Over 10 seeds (bench/test_margins.py, docs/reliability.md "Margins") the total ratio was 0.44
-// to 0.82 and object 1's 0.50 to 0.91; object 0's alone was 0.34 to 0.75 but 1.11 at one seed, where one
+// or beats the plan. Over 10 seeds (bench/reliability/test_margins.py, docs/reliability.md "Margins") the total ratio
+// was 0.44 to 0.82 and object 1's 0.50 to 0.91; object 0's alone was 0.34 to 0.75 but 1.11 at one seed, where one
 // placement kept the overconfident belief on object 1 for 13 readings: it is printed, not asserted.
 TEST_CASE("Touch planner: touching where the plan says decides the object in fewer readings than at random") {
   std::size_t active[2] = {0, 0}, random[2] = {0, 0}, active_cap = 0, random_cap = 0;

@@ -66,7 +66,7 @@ TEST_CASE("errors: three objects are recognised and localised with the realistic
   const eval::Curve c = evaluate(1.0);
   REQUIRE(c.points.size() == 12);
   const eval::CurvePoint& last = c.points.back();
-  // Thresholds from bench/test_margins.py (docs/reliability.md, "Margins"): over 8 seeds the accuracy at 12
+  // Thresholds from bench/reliability/test_margins.py (docs/reliability.md, "Margins"): over 8 seeds the accuracy at 12
   // readings was never below 11/12 and the median translation never above 3.9 mm.
   test::margin("three objects: accuracy at 12 readings", last.accuracy, ">=", 10.0 / 12.0);
   CHECK(last.accuracy >= 10.0 / 12.0);

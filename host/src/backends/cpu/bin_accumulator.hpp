@@ -53,8 +53,8 @@ class BinTable {
     find(key, &v);
     return v;
   }
-  // The key in the slot a lookup of `key` reads first: one load, no probing (bench/hash_floor.cpp times these as the
-  // least an addition can cost).
+  // The key in the slot a lookup of `key` reads first: one load, no probing (bench/speed/hash_floor.cpp times these as
+  // the least an addition can cost).
   std::uint64_t home_key(std::uint64_t key) const { return slots_[home(key)].key; }
   // Loads the home slot of every key in [first, last) (key_of gives an element's key): independent loads, whose misses
   // overlap, so that additions or lookups of those keys right after find their slots in the cache (Belief::add says

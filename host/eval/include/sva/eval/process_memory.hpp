@@ -1,7 +1,7 @@
 #pragma once
 // Host memory of the benchmark process as Linux reports it (/proc/self/status,
 // getrusage): what a backend's run costs in RAM, next to the time and accuracy
-// it buys (`sva bench`, bench/filter_speed).
+// it buys (`sva bench`, bench/speed/filter_speed).
 #include <cstdint>
 #include <optional>
 

@@ -5,9 +5,10 @@
 #   3. the whole test suite, areas in parallel, while paper3d is simulated and its map trained (suite.txt);
 #   4. sva bench on paper3d: the Vulkan backend one session at a time (10, 30, 100 readings, 3 trials), then 64 per
 #      submission (10 and 30 readings), then the CPU reference on the same machine (bench-*.txt), then its scaling:
-#      one session on 8 and 16 threads, 64 sessions per update on 2 and 16 threads (on a host of 16 cores or more);
-#      each cut at the budget's end.
-# The per-test logs and the benchmarks' JSON go into details.tgz: 7 files in all, 11 on a host of 16 cores.
+#      one session on 8 and 16 threads, 64 sessions per update on 2 and 16 threads, and on the device 256 sessions
+#      per submission (what Engine::sessions_per_submission gives an 80-141 GB GPU at the default bound: 190-340)
+#      (on a host of 16 cores or more: a GPU machine); each cut at the budget's end.
+# The per-test logs and the benchmarks' JSON go into details.tgz: 7 files in all, 12 on a host of 16 cores.
 #
 #   run-device-check.sh OUT_DIR [SECONDS]    SECONDS: the budget for all of it (default 480)
 # Environment: VK_DRIVER_FILES (the caller's ICD, kept), WORK (paper3d's data and map, default OUT_DIR/paper3d:
@@ -108,6 +109,7 @@ if [[ -f $work/map.svam ]]; then
   # The CPU reference's scaling on the host's cores (issue 52's goals: one session on 16 threads >= 1.6x 8 threads,
   # 64 sessions on 16 threads >= 6x 2 threads), where the host has 16 of them.
   if (($(nproc) >= 16)); then
+    bench vulkan-batch-256 25 --backend vulkan --trials 256 --batch 256 --readings 10,30
     SVA_THREADS=8 bench cpu-t8 30 --backend cpu --trials 1 --batch 0 --readings 30,100
     SVA_THREADS=16 bench cpu-t16 45 --backend cpu --trials 1 --batch 0 --readings 30,100
     SVA_THREADS=2 bench cpu-batch-t2 50 --backend cpu --trials 64 --batch 64 --readings 10,30

@@ -27,7 +27,8 @@ struct StepFigures {
   std::size_t sessions = 0;
   std::uint64_t votes = 0, votes_zero = 0;
   double seconds = 0.0, estimate_seconds = 0.0;
-  std::vector<double> belief_bytes;  // per session of the update, after it
+  std::uint64_t estimate_submissions = 0;  // device round trips of the sessions' estimates (0 on the CPU)
+  std::vector<double> belief_bytes;        // per session of the update, after it
 };
 
 // The figures at one reading count, over all groups.
@@ -39,9 +40,10 @@ struct Checkpoint {
   std::size_t correct = 0, trials = 0;
   std::vector<double> translation_mm;
   std::vector<double> kernel_ms, backend_host_ms, fold_ms, belief_growth_ms;
-  std::vector<double> estimate_ms;   // per session: object, refined pose and top-1 after the update
-  BatchRecognizer::Work work;        // summed over the checkpoint's updates (all sessions of each)
-  std::vector<double> belief_bytes;  // per session after its update: a live session's memory
+  std::vector<double> estimate_ms;           // per session: object, refined pose and top-1 after the update
+  std::vector<double> estimate_submissions;  // per session: the device round trips of its estimate (a batch's share)
+  BatchRecognizer::Work work;                // summed over the checkpoint's updates (all sessions of each)
+  std::vector<double> belief_bytes;          // per session after its update: a live session's memory
 };
 
 double ratio(double a, double b) { return b > 0 ? a / b : 0.0; }
@@ -81,6 +83,7 @@ void record_checkpoint(Checkpoint& c, const BatchRecognizer& rec, const std::vec
   const auto n = static_cast<double>(f.sessions);
   c.update_ms.push_back(1e3 * f.seconds / n);
   c.estimate_ms.push_back(1e3 * f.estimate_seconds / n);
+  c.estimate_submissions.push_back(static_cast<double>(f.estimate_submissions) / n);
   c.votes += f.votes;
   c.votes_zero += f.votes_zero;
   c.belief_bytes.insert(c.belief_bytes.end(), f.belief_bytes.begin(), f.belief_bytes.end());
@@ -124,6 +127,7 @@ json checkpoint_json(std::size_t readings, const Checkpoint& c, bool device, std
       {"backend_belief_growth_ms", median_or_null(c.belief_growth_ms)},
       {"gpu_fold_ms", median_or_null(c.fold_ms)},
       {"estimate_ms", median_or_null(c.estimate_ms)},
+      {"estimate_device_submissions", device ? median_or_null(c.estimate_submissions) : json(nullptr)},
       {"accuracy", ratio(static_cast<double>(c.correct), static_cast<double>(c.trials))},
       {"translation_error_mm", median_or_null(c.translation_mm)},
       {"work_per_update", work},
@@ -161,7 +165,9 @@ class SpeedRecorder {
     f.seconds = s.update_ms / 1e3;
     std::vector<Estimate> est;
     const auto t1 = Clock::now();
+    const std::uint64_t submissions = rec_.device_submissions();
     est = rec_.estimates(s.sessions, 1);
+    f.estimate_submissions = rec_.device_submissions() - submissions;
     for (const Estimate& e : est) {
       f.votes += e.votes;
       f.votes_zero += e.votes_zero;

@@ -100,6 +100,13 @@ class VoteBackend {
   virtual void read_ahead(std::span<const BeliefState* const> beliefs, std::size_t best_bins) {
     (void)beliefs, (void)best_bins;
   }
+  // Looks up keys[i]'s offsets in beliefs[i] for all of them at once (a device: one submission), where each
+  // session's estimate made its own lookups; a belief's offsets() of keys among them then returns what came back,
+  // until it changes. The CPU reference: nothing to look up ahead.
+  virtual void look_up_ahead(std::span<const BeliefState* const> beliefs,
+                             std::span<const std::vector<std::uint64_t>> keys) {
+    (void)beliefs, (void)keys;
+  }
   virtual const char* name() const = 0;
   // What runs the votes, the last update's timings and the counters so far.
   virtual BackendStats statistics() const = 0;

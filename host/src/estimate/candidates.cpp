@@ -212,6 +212,11 @@ std::size_t best_bins_asked(const CandidateRequest& r) {
   return k;
 }
 
+std::vector<std::uint64_t> keys_read(const BeliefState& belief, const PoseSpace& space, const CandidateRequest& r) {
+  const std::size_t count = r.hypotheses ? r.top_k : 0;  // without hypotheses: the objects' best bins alone
+  return hypothesis_keys(belief, space, belief.summarise(), count, r.hypothesis_radius_bins, pose_prior_of(r));
+}
+
 Candidates find_candidates(const BeliefState& belief, const PoseSpace& space, const CandidateRequest& r) {
   Candidates c;
   c.summary = belief.summarise();

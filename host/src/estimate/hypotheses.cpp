@@ -204,16 +204,11 @@ std::vector<Hood> read_hoods(const BeliefState& belief, const PoseSpace& space, 
   return hoods;
 }
 
-}  // namespace
-
-HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, const BeliefSummary& summary,
-                         std::size_t count, int radius, std::span<const double> object_weight,
-                         const PoseWeighting& pose_weighting, unsigned threads) {
-  HypothesisSet set;
-  set.per_object.resize(space.objects());
-  set.per_object_valid.assign(space.objects(), false);
-  if (summary.max_offset == 0 && belief.touched() == 0) return set;
-  // The modes: greedy non-maximum suppression over the best bins (ties to the smaller key, as on every backend).
+// The hypotheses' centres: up to `count` distinct modes, greedy non-maximum suppression over the best bins (ties to
+// the smaller key, as on every backend), then every touched object's best bin; *modes is how many are modes.
+std::vector<BinIndex> centres_of(const BeliefState& belief, const PoseSpace& space, const BeliefSummary& summary,
+                                 std::size_t count, int radius, const PoseWeighting& pose_weighting,
+                                 std::size_t* modes) {
   std::vector<BinIndex> centres;
   // Candidates: the best bin alone for one mode; else as many as the fine pose's mode search reads (a request
   // beyond the bins near the maximum costs a pass over the whole belief).
@@ -226,14 +221,38 @@ HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, cons
     for (const BinIndex& c : centres) suppressed = suppressed || within(i, c, space, radius);
     if (!suppressed) centres.push_back(i);
   }
-  const std::size_t modes = centres.size();
+  *modes = centres.size();
   for (std::uint32_t o = 0; o < space.objects(); ++o)
-    if (summary.touched[o] > 0) {
-      set.per_object_valid[o] = true;
+    if (summary.touched[o] > 0)
       centres.push_back(space.unpack(pose_weighting.applies_to(o)
                                          ? best_bin_under_prior(belief, summary, o, pose_weighting)
                                          : summary.best_key[o]));
-    }
+  return centres;
+}
+
+}  // namespace
+
+std::vector<std::uint64_t> hypothesis_keys(const BeliefState& belief, const PoseSpace& space,
+                                           const BeliefSummary& summary, std::size_t count, int radius,
+                                           const PoseWeighting& pose_weighting) {
+  if (summary.max_offset == 0 && belief.touched() == 0) return {};
+  std::size_t modes = 0;
+  std::vector<std::uint64_t> keys;
+  for (const BinIndex& c : centres_of(belief, space, summary, count, radius, pose_weighting, &modes))
+    for (const BinIndex& b : neighbourhood(space, c, std::max(radius, 1))) keys.push_back(space.pack(b));
+  return keys;
+}
+
+HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, const BeliefSummary& summary,
+                         std::size_t count, int radius, std::span<const double> object_weight,
+                         const PoseWeighting& pose_weighting, unsigned threads) {
+  HypothesisSet set;
+  set.per_object.resize(space.objects());
+  set.per_object_valid.assign(space.objects(), false);
+  if (summary.max_offset == 0 && belief.touched() == 0) return set;
+  std::size_t modes = 0;
+  const std::vector<BinIndex> centres = centres_of(belief, space, summary, count, radius, pose_weighting, &modes);
+  for (std::uint32_t o = 0; o < space.objects(); ++o) set.per_object_valid[o] = summary.touched[o] > 0;
   const std::vector<Hood> hoods = read_hoods(belief, space, centres, radius, pose_weighting, threads);
   const double z = total_mass(summary, space, object_weight);
   const std::uint32_t mass_bits = belief_math::mass_bits(space.bins_per_object());

@@ -47,6 +47,13 @@ HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, cons
                          std::size_t count, int radius, std::span<const double> object_weight = {},
                          const PoseWeighting& pose_weighting = {}, unsigned threads = 0);
 
+// The bins hypotheses() reads by key for the same arguments (its centres' neighbourhoods, which also hold the
+// parabola's bins around each object's best bin that the candidates stage refines): what a device looks up for
+// many sessions at once before their estimates read them (VoteBackend::look_up_ahead).
+std::vector<std::uint64_t> hypothesis_keys(const BeliefState& belief, const PoseSpace& space,
+                                           const BeliefSummary& summary, std::size_t count, int radius,
+                                           const PoseWeighting& pose_weighting = {});
+
 // The covariance of a mode carried into the robot frame by the workspace rotation (both 3 x 3 blocks turn).
 std::array<double, 36> covariance_to_robot(const std::array<double, 36>& grid, const glm::dmat3& workspace);
 

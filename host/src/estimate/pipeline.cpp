@@ -41,6 +41,10 @@ std::size_t estimate_best_bins(const EstimateRequest& r, std::size_t readings) {
   return best_bins_asked(candidate_request(r, readings, 1.0));
 }
 
+std::vector<std::uint64_t> estimate_keys(const EstimateInput& in, const EstimateRequest& r) {
+  return keys_read(in.belief, in.space, candidate_request(r, in.readings.size(), 1.0));
+}
+
 Estimate estimate_from(const Candidates& c, std::span<const ObservedReading> readings, const PoseSpace& space,
                        const std::vector<MapObject>& objects, const EstimateRequest& r) {
   const std::size_t n = readings.size();

@@ -62,6 +62,8 @@ Estimate estimate_from(const Candidates& c, std::span<const ObservedReading> rea
                        const std::vector<MapObject>& objects, const EstimateRequest& r);
 // The most best bins stage 1 asks of a session's belief after `readings` readings (VoteBackend::read_ahead).
 std::size_t estimate_best_bins(const EstimateRequest& r, std::size_t readings);
+// The bins stage 1 reads by key (VoteBackend::look_up_ahead), after the belief's summary and best bins were read.
+std::vector<std::uint64_t> estimate_keys(const EstimateInput& in, const EstimateRequest& r);
 
 // What stage 4 reads after stages 1-3, without a prior, a temperature or the report: the calibration's
 // held-out sessions record it.

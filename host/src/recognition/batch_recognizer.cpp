@@ -253,7 +253,8 @@ std::vector<Estimate> BatchRecognizer::estimates(std::span<const std::size_t> se
                                         impl_->request(s, top_k, inner));
   };
   if (device) {
-    // Each belief pass once for every session (a round trip each), then each session's stage 1 from what came back.
+    // Each belief pass once for every session (a round trip each: the summaries, the best bins, then the bins read by
+    // key), then each session's stage 1 from what came back.
     std::vector<const BeliefState*> beliefs;
     std::size_t best_bins = 0;
     for (std::size_t i : piped) {
@@ -262,6 +263,13 @@ std::vector<Estimate> BatchRecognizer::estimates(std::span<const std::size_t> se
       best_bins = std::max(best_bins, estimate_best_bins(impl_->request(s, top_k, inner), s.filter->observed().size()));
     }
     impl_->backend->read_ahead(beliefs, best_bins);
+    std::vector<std::vector<std::uint64_t>> keys;
+    for (std::size_t i : piped) {
+      const Impl::Session& s = impl_->sessions[sessions[i]];
+      keys.push_back(estimate_keys({s.filter->belief(), s.filter->space(), s.filter->observed()},
+                                   impl_->request(s, top_k, inner)));
+    }
+    impl_->backend->look_up_ahead(beliefs, keys);
     for (std::size_t k = 0; k < piped.size(); ++k) read(k);
   } else {
     util::parallel_for(piped.size(), read, impl_->options.threads);

@@ -57,10 +57,10 @@ TEST_CASE("GPU batch: the estimates of 40 sessions at once equal estimate() and 
   CHECK(refined > 5);  // not vacuous: fine poses were fitted on the workers
 }
 
-TEST_CASE("GPU batch: a batch's estimates read every summary and best-bin list in three submissions") {
-  // The read-ahead (VoteBackend::read_ahead) runs each belief pass once for all sessions: the summaries and the best
-  // bins of 40 sessions cost three submissions where each session's estimate made its own; what stays per session
-  // is its few lookups of bins near its modes.
+TEST_CASE("GPU batch: a batch's estimates read every session's belief in four submissions") {
+  // The read-ahead (VoteBackend::read_ahead, look_up_ahead) runs each belief pass once for all sessions: the stale
+  // bands, the summaries, the best bins and the bins read by key of 40 sessions cost four submissions where each
+  // session's estimate made its own round trips.
   const Trained& t = trained();
   constexpr std::size_t kSessions = 40;
   RecognizerOptions vo;
@@ -78,8 +78,8 @@ TEST_CASE("GPU batch: a batch's estimates read every summary and best-bin list i
     std::iota(ids.begin(), ids.end(), std::size_t{0});
     std::vector<Reading> rd;
     for (std::size_t i = 0; i < kSessions; ++i)
-      rd.push_back(readings_at(static_cast<std::uint32_t>(i % 3), random_pose(900 + i, 100.0), util::Rng(900 + i, 5),
-                               4)[step]);
+      rd.push_back(
+          readings_at(static_cast<std::uint32_t>(i % 3), random_pose(900 + i, 100.0), util::Rng(900 + i, 5), 4)[step]);
     batch->add_readings(ids, rd);
     alone->add_readings(ids, rd);
   }
@@ -96,9 +96,7 @@ TEST_CASE("GPU batch: a batch's estimates read every summary and best-bin list i
   const std::uint64_t each = alone->device_submissions() - a0;
   INFO("submissions: " << batched << " for the batch, " << each << " one session at a time");
   CHECK(batched > 0);
-  // Alone, a session reads its summary and its best bins (a round trip each), then its lookups; in the batch the
-  // summaries and selections of all 40 take three submissions (stale bands, MASS and FLIP, selections).
+  // Alone, a session reads its summary, its best bins and its bins by key: three round trips or more each.
   CHECK(each >= 3 * kSessions);
-  REQUIRE(batched < each);
-  CHECK(each - batched >= 2 * kSessions - 3);
+  CHECK(batched <= 4);
 }

@@ -371,6 +371,7 @@ BeliefSummary GpuBelief::summarise() const {
 
 void GpuBelief::forget_cache() const {
   summary_cache_.reset();
+  looked_up_.clear();
   kept_best_.clear();
   kept_asked_ = 0;
 }
@@ -509,8 +510,7 @@ std::vector<BinOffset> GpuBelief::select_candidates(std::uint32_t pass, std::uin
   return read_candidates(n);
 }
 
-std::vector<std::uint64_t> GpuBelief::offsets(std::span<const std::uint64_t> keys) const {
-  if (keys.empty()) return {};
+vk::Dispatch GpuBelief::lookup_dispatch(std::span<const std::uint64_t> keys) const {
   ensure(*k_->ctx, queries_, keys.size() * sizeof(std::uint64_t));
   auto* q = queries_.as<std::uint64_t>();
   for (std::size_t i = 0; i < keys.size(); ++i) q[i] = k_->bins.linear(keys[i]);
@@ -519,10 +519,48 @@ std::vector<std::uint64_t> GpuBelief::offsets(std::span<const std::uint64_t> key
   const vk::Grid g = k_->ctx->grid(keys.size());
   vk::Dispatch d{k_->lookup, {&queries_}, push_bytes(p), g.x};
   d.groups_y = g.y;
-  std::vector<double> ms;
-  k_->ctx->run({d}, &ms);
-  for (double m : ms) k_->kernel_ms += m;
-  return std::vector<std::uint64_t>(q, q + keys.size());
+  return d;
+}
+
+std::vector<std::uint64_t> GpuBelief::read_lookup(std::size_t n) const {
+  const auto* q = queries_.as<std::uint64_t>();  // host-mapped (gpu::ensure): the kernel wrote the offsets in place
+  return std::vector<std::uint64_t>(q, q + n);
+}
+
+std::vector<std::uint64_t> GpuBelief::offsets(std::span<const std::uint64_t> keys) const {
+  if (keys.empty()) return {};
+  if (!looked_up_.empty()) {
+    std::vector<std::uint64_t> out;
+    for (std::uint64_t key : keys) {
+      const auto at = std::lower_bound(looked_up_.begin(), looked_up_.end(), std::pair{key, std::uint64_t{0}});
+      if (at == looked_up_.end() || at->first != key) break;
+      out.push_back(at->second);
+    }
+    if (out.size() == keys.size()) return out;
+  }
+  run(*k_, {lookup_dispatch(keys)}, {});
+  return read_lookup(keys.size());
+}
+
+void GpuBelief::look_up_ahead(std::span<const GpuBelief* const> beliefs,
+                              std::span<const std::vector<std::uint64_t>> keys) {
+  std::vector<vk::Dispatch> ds;
+  for (std::size_t i = 0; i < beliefs.size(); ++i)
+    if (!keys[i].empty()) ds.push_back(beliefs[i]->lookup_dispatch(keys[i]));
+  if (ds.empty()) return;
+  for (const GpuBelief* b : beliefs)
+    if (b->k_ != beliefs.front()->k_)
+      throw std::logic_error("GpuBelief::look_up_ahead: beliefs of two backends in one submission");
+  run(*beliefs.front()->k_, ds, {});
+  for (std::size_t i = 0; i < beliefs.size(); ++i) {
+    if (keys[i].empty()) continue;
+    const std::vector<std::uint64_t> offsets = beliefs[i]->read_lookup(keys[i].size());
+    auto& known = beliefs[i]->looked_up_;
+    known.clear();
+    for (std::size_t j = 0; j < offsets.size(); ++j) known.emplace_back(keys[i][j], offsets[j]);
+    std::sort(known.begin(), known.end());
+    known.erase(std::unique(known.begin(), known.end()), known.end());
+  }
 }
 
 std::vector<BinOffset> GpuBelief::unsorted_table() const {

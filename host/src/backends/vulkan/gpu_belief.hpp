@@ -78,6 +78,10 @@ class GpuBelief final : public BeliefState {
   // round trip per pass; later reads return what came back until the belief changes, the same answers as reading
   // one belief at a time. A belief whose band lost bins, or whose k best bins lie past its band, reads alone.
   static void read_ahead(std::span<const GpuBelief* const> beliefs, std::size_t k);
+  // Looks up keys[i] in beliefs[i] for all of them in one submission; offsets() of keys among them then returns
+  // what came back until the belief changes (a key not among them: every key of that call from the device).
+  static void look_up_ahead(std::span<const GpuBelief* const> beliefs,
+                            std::span<const std::vector<std::uint64_t>> keys);
   // The device memory a belief of `bins` touched bins holds at most: its table kept at most half full (a power of
   // two of slots: keys, offsets, band marks), a band list of two sides as long as the table, and its state words.
   static std::uint64_t bytes_at(std::uint64_t bins, std::uint32_t objects);
@@ -135,6 +139,9 @@ class GpuBelief final : public BeliefState {
   // The first bucket whose cumulative count reaches k, and that count (SVA_BELIEF_BUCKETS when none does).
   static std::pair<std::uint32_t, std::uint64_t> bucket_holding(std::span<const std::uint64_t> histogram,
                                                                 std::size_t k);
+  // The lookup of `keys` (in queries_) as a dispatch, and its answers read back.
+  vk::Dispatch lookup_dispatch(std::span<const std::uint64_t> keys) const;
+  std::vector<std::uint64_t> read_lookup(std::size_t n) const;
   // Every bin of the table, in slot order (table() sorts them by key).
   std::vector<BinOffset> unsorted_table() const;
   // The distance histogram of every bin of the table (a pass over every slot).
@@ -173,6 +180,8 @@ class GpuBelief final : public BeliefState {
   mutable std::vector<BinOffset> kept_best_;
   mutable std::size_t kept_asked_ = 0;
   mutable std::vector<std::uint64_t> histogram_;
+  // look_up_ahead's answers (key, offset), sorted by key, until the belief changes.
+  mutable std::vector<std::pair<std::uint64_t, std::uint64_t>> looked_up_;
 };
 
 }  // namespace sva

@@ -128,13 +128,13 @@ class VulkanVoteBackend final : public VoteBackend {
   }
 
   void read_ahead(std::span<const BeliefState* const> beliefs, std::size_t best_bins) override {
-    std::vector<const GpuBelief*> gb;
-    for (const BeliefState* b : beliefs) {
-      const auto* g = dynamic_cast<const GpuBelief*>(b);
-      if (!g) throw Error("vulkan backend: a session's belief was made by another backend");
-      gb.push_back(g);
-    }
-    GpuBelief::read_ahead(gb, best_bins);
+    GpuBelief::read_ahead(own(beliefs), best_bins);
+  }
+
+  void look_up_ahead(std::span<const BeliefState* const> beliefs,
+                     std::span<const std::vector<std::uint64_t>> keys) override {
+    if (keys.size() != beliefs.size()) throw std::logic_error("vulkan backend: look_up_ahead needs keys per belief");
+    GpuBelief::look_up_ahead(own(beliefs), keys);
   }
 
   // Device memory: what the engine's device holds (the map once, and the work buffers and beliefs of every
@@ -155,6 +155,17 @@ class VulkanVoteBackend final : public VoteBackend {
   }
 
  private:
+  // The beliefs as this backend's own (each made by make_belief).
+  static std::vector<const GpuBelief*> own(std::span<const BeliefState* const> beliefs) {
+    std::vector<const GpuBelief*> gb;
+    for (const BeliefState* b : beliefs) {
+      const auto* g = dynamic_cast<const GpuBelief*>(b);
+      if (!g) throw Error("vulkan backend: a session's belief was made by another backend");
+      gb.push_back(g);
+    }
+    return gb;
+  }
+
   // The last update's work: the device's counters, the ranges of map entries it found, the fold's vote-table entries
   // (the belief probes are not counted on the device: 0).
   BatchRecognizer::Work last_work_;

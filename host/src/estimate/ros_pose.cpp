@@ -1,5 +1,6 @@
-// to_ros (sva/recognizer.hpp): a hypothesis in geometry_msgs/PoseWithCovariance's units, the mapping docs/api.md
-// documents ("Mapping an Estimate onto vision_msgs/Detection3D").
+// to_ros (sva/recognizer.hpp), beside the report stage that makes the public Estimate: a hypothesis in
+// geometry_msgs/PoseWithCovariance's units, the mapping docs/api.md documents ("Mapping an Estimate onto
+// vision_msgs/Detection3D").
 #include <sva/recognizer.hpp>
 
 #include <glm/gtc/quaternion.hpp>

@@ -371,7 +371,8 @@ BeliefSummary GpuBelief::summarise() const {
 
 void GpuBelief::forget_cache() const {
   summary_cache_.reset();
-  looked_up_.clear();
+  looked_up_keys_.clear();
+  looked_up_offsets_.clear();
   kept_best_.clear();
   kept_asked_ = 0;
 }
@@ -529,17 +530,29 @@ std::vector<std::uint64_t> GpuBelief::read_lookup(std::size_t n) const {
 
 std::vector<std::uint64_t> GpuBelief::offsets(std::span<const std::uint64_t> keys) const {
   if (keys.empty()) return {};
-  if (!looked_up_.empty()) {
-    std::vector<std::uint64_t> out;
-    for (std::uint64_t key : keys) {
-      const auto at = std::lower_bound(looked_up_.begin(), looked_up_.end(), std::pair{key, std::uint64_t{0}});
-      if (at == looked_up_.end() || at->first != key) break;
-      out.push_back(at->second);
-    }
-    if (out.size() == keys.size()) return out;
-  }
+  std::vector<std::uint64_t> out;
+  if (looked_up(keys, &out)) return out;
   run(*k_, {lookup_dispatch(keys)}, {});
   return read_lookup(keys.size());
+}
+
+bool GpuBelief::looked_up(std::span<const std::uint64_t> keys, std::vector<std::uint64_t>* out) const {
+  // The hypotheses ask for exactly the keys looked up, in the same order; a parabola for a dozen of them. A sorted
+  // copy or a hash of the several thousand keys cost more host time than the round trip it saves on a GPU.
+  const std::span<const std::uint64_t> known(looked_up_keys_);
+  if (known.empty()) return false;
+  if (std::equal(keys.begin(), keys.end(), known.begin(), known.end())) {
+    *out = looked_up_offsets_;
+    return true;
+  }
+  constexpr std::size_t kScanned = 64;  // a few keys: found by a scan of the list
+  if (keys.size() > kScanned) return false;
+  for (std::uint64_t key : keys) {
+    const auto at = std::find(known.begin(), known.end(), key);
+    if (at == known.end()) return false;
+    out->push_back(looked_up_offsets_[static_cast<std::size_t>(at - known.begin())]);
+  }
+  return true;
 }
 
 void GpuBelief::look_up_ahead(std::span<const GpuBelief* const> beliefs,
@@ -554,12 +567,8 @@ void GpuBelief::look_up_ahead(std::span<const GpuBelief* const> beliefs,
   run(*beliefs.front()->k_, ds, {});
   for (std::size_t i = 0; i < beliefs.size(); ++i) {
     if (keys[i].empty()) continue;
-    const std::vector<std::uint64_t> offsets = beliefs[i]->read_lookup(keys[i].size());
-    auto& known = beliefs[i]->looked_up_;
-    known.clear();
-    for (std::size_t j = 0; j < offsets.size(); ++j) known.emplace_back(keys[i][j], offsets[j]);
-    std::sort(known.begin(), known.end());
-    known.erase(std::unique(known.begin(), known.end()), known.end());
+    beliefs[i]->looked_up_offsets_ = beliefs[i]->read_lookup(keys[i].size());
+    beliefs[i]->looked_up_keys_ = keys[i];
   }
 }
 

@@ -180,8 +180,10 @@ class GpuBelief final : public BeliefState {
   mutable std::vector<BinOffset> kept_best_;
   mutable std::size_t kept_asked_ = 0;
   mutable std::vector<std::uint64_t> histogram_;
-  // look_up_ahead's answers (key, offset), sorted by key, until the belief changes.
-  mutable std::vector<std::pair<std::uint64_t, std::uint64_t>> looked_up_;
+  // look_up_ahead's keys and their offsets, in the order asked, until the belief changes.
+  mutable std::vector<std::uint64_t> looked_up_keys_, looked_up_offsets_;
+  // The offsets of `keys` from look_up_ahead's answers; false when one is not among them.
+  bool looked_up(std::span<const std::uint64_t> keys, std::vector<std::uint64_t>* out) const;
 };
 
 }  // namespace sva

@@ -1,38 +1,14 @@
 #include "appearance/normal_confidence.hpp"
 
+#include <sva/base/symmetric_eigen3.hpp>
+
 #include <algorithm>
 #include <cmath>
 
 namespace sva::appearance {
 
 std::array<double, 3> symmetric_eigenvalues(const std::array<std::array<double, 3>, 3>& m) {
-  double a[3][3];
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) a[i][j] = 0.5 * (m[i][j] + m[j][i]);
-  for (int sweep = 0; sweep < 50; ++sweep) {
-    const double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
-    const double diag = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
-    if (off <= 1e-30 * diag || off == 0.0) break;
-    for (int p = 0; p < 2; ++p)
-      for (int q = p + 1; q < 3; ++q) {
-        if (a[p][q] == 0.0) continue;
-        // Rotation that zeroes a[p][q] (Golub & Van Loan 8.4, the stable form).
-        const double tau = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-        const double t = (tau >= 0 ? 1.0 : -1.0) / (std::fabs(tau) + std::sqrt(1.0 + tau * tau));
-        const double c = 1.0 / std::sqrt(1.0 + t * t), s = t * c;
-        for (int k = 0; k < 3; ++k) {
-          const double akp = a[k][p], akq = a[k][q];
-          a[k][p] = c * akp - s * akq;
-          a[k][q] = s * akp + c * akq;
-        }
-        for (int k = 0; k < 3; ++k) {
-          const double apk = a[p][k], aqk = a[q][k];
-          a[p][k] = c * apk - s * aqk;
-          a[q][k] = s * apk + c * aqk;
-        }
-      }
-  }
-  std::array<double, 3> ev{a[0][0], a[1][1], a[2][2]};
+  std::array<double, 3> ev = symmetric_eigen3(m).values;
   std::sort(ev.begin(), ev.end(), [](double x, double y) { return x > y; });
   return ev;
 }

@@ -9,8 +9,8 @@
 
 namespace sva::appearance {
 
-// Eigenvalues of a symmetric 3x3 matrix, largest first (cyclic Jacobi: slow
-// but unconditionally stable, and exact enough for a ratio of spreads).
+// Eigenvalues of a symmetric 3x3 matrix, largest first (sva/base/symmetric_eigen3.hpp: slow but unconditionally
+// stable, and exact enough for a ratio of spreads).
 std::array<double, 3> symmetric_eigenvalues(const std::array<std::array<double, 3>, 3>& m);
 
 // Contact points: elements above `threshold_kpa` at their centre (mm), depth

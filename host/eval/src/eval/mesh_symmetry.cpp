@@ -2,6 +2,7 @@
 
 #include <sva/base/portable_math.hpp>
 #include <sva/base/so3.hpp>
+#include <sva/base/symmetric_eigen3.hpp>
 #include <sva/error.hpp>
 
 #include <algorithm>
@@ -23,40 +24,14 @@ constexpr double kPi = std::numbers::pi;
 const double kSameAxisCos = pmath::cos(kPi / 180.0);
 constexpr double kSameRotation = kPi / 180.0;
 
-// Eigenvectors of the symmetric scatter (columns), by cyclic Jacobi in a fixed order (Golub & Van Loan 8.4): the
-// principal axes of the surface.
+// The eigenvectors of the symmetric scatter (columns): the principal axes of the surface.
 glm::dmat3 principal_axes(const glm::dmat3& m) {
-  double a[3][3], v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  std::array<std::array<double, 3>, 3> rows;
   for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) a[i][j] = 0.5 * (m[j][i] + m[i][j]);
-  for (int sweep = 0; sweep < 50; ++sweep) {
-    const double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
-    if (off == 0.0 || off <= 1e-30 * (a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2])) break;
-    for (int p = 0; p < 2; ++p)
-      for (int q = p + 1; q < 3; ++q) {
-        if (a[p][q] == 0.0) continue;
-        const double tau = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-        const double t = (tau >= 0 ? 1.0 : -1.0) / (std::fabs(tau) + std::sqrt(1.0 + tau * tau));
-        const double c = 1.0 / std::sqrt(1.0 + t * t), s = t * c;
-        for (int k = 0; k < 3; ++k) {
-          const double akp = a[k][p], akq = a[k][q];
-          a[k][p] = c * akp - s * akq;
-          a[k][q] = s * akp + c * akq;
-        }
-        for (int k = 0; k < 3; ++k) {
-          const double apk = a[p][k], aqk = a[q][k];
-          a[p][k] = c * apk - s * aqk;
-          a[q][k] = s * apk + c * aqk;
-        }
-        for (int k = 0; k < 3; ++k) {
-          const double vkp = v[k][p], vkq = v[k][q];
-          v[k][p] = c * vkp - s * vkq;
-          v[k][q] = s * vkp + c * vkq;
-        }
-      }
-  }
+    for (int j = 0; j < 3; ++j) rows[i][j] = m[j][i];  // glm is column-major: m[col][row]
+  const SymmetricEigen3 e = symmetric_eigen3(rows);
   glm::dmat3 axes;
-  for (int j = 0; j < 3; ++j) axes[j] = glm::normalize(glm::dvec3(v[0][j], v[1][j], v[2][j]));
+  for (int j = 0; j < 3; ++j) axes[j] = glm::normalize(glm::dvec3(e.vectors[0][j], e.vectors[1][j], e.vectors[2][j]));
   return axes;
 }
 

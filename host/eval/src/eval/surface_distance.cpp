@@ -1,5 +1,6 @@
 #include "eval/surface_distance.hpp"
 
+#include <sva/base/closest_point.hpp>
 #include <sva/base/finite.hpp>
 #include <sva/base/portable_math.hpp>
 #include <sva/base/rng.hpp>
@@ -17,28 +18,6 @@ namespace {
 
 double dot(const glm::dvec3& a, const glm::dvec3& b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
 double length2(const glm::dvec3& a) { return dot(a, a); }
-
-// The point of triangle abc nearest to p (Ericson, "Real-Time Collision Detection", 5.1.5): by the Voronoi
-// region of p among the corners, edges and face.
-glm::dvec3 closest_on_triangle(const glm::dvec3& p, const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c) {
-  const glm::dvec3 ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = dot(ab, ap), d2 = dot(ac, ap);
-  if (d1 <= 0.0 && d2 <= 0.0) return a;
-  const glm::dvec3 bp = p - b;
-  const double d3 = dot(ab, bp), d4 = dot(ac, bp);
-  if (d3 >= 0.0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return a + ab * (d1 / (d1 - d3));
-  const glm::dvec3 cp = p - c;
-  const double d5 = dot(ab, cp), d6 = dot(ac, cp);
-  if (d6 >= 0.0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return a + ac * (d2 / (d2 - d6));
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
-  const double denom = 1.0 / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
-}
 
 // The largest distance between two of `points`. Its ends are extreme points of the set: they are sought among the
 // farthest points along 400 directions spread over the sphere (a Fibonacci lattice), which keeps a mesh of many

@@ -20,6 +20,9 @@ namespace sva::python {
 namespace nb = nanobind;
 
 void bind_errors(nb::module_& m);
+// Translates sva::Error into `error` (the engine module's sva.Error, kept alive by the caller) and sva::Interrupted
+// into KeyboardInterrupt, for what this module's copy of the library throws.
+void translate_errors(nb::handle error);
 void bind_pose(nb::module_& m);
 void bind_pose_space(nb::module_& m);
 void bind_scene(nb::module_& m);

@@ -18,15 +18,7 @@ NB_MODULE(_sva_eval, m) {
   nb::module_ core = nb::module_::import_("sva._sva_core");
   // sva::Error and sva::Interrupted thrown by this module's copy of the library: the engine module's exception.
   static nb::object error = core.attr("Error");
-  nb::register_exception_translator([](const std::exception_ptr& p, void*) {
-    try {
-      std::rethrow_exception(p);
-    } catch (const Interrupted& e) {
-      PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
-    } catch (const Error& e) {
-      PyErr_SetString(error.ptr(), e.what());
-    }
-  });
+  translate_errors(error);
   util::Progress::set_quiet(!nb::cast<bool>(core.attr("_progress_shown")()));
   m.def("_show_progress", [](bool on) { util::Progress::set_quiet(!on); });
   bind_evaluate(m);

@@ -64,6 +64,9 @@ struct BatchRecognizer::Impl {
   EstimateRequest request(const Session& s, std::size_t top_k, unsigned threads) const;
   Estimate estimate_without_belief(const Session& s) const;
   Estimate finish(const Session& s, Estimate e) const;
+  // A device's reads of the sessions' beliefs ahead of their stage 1: each pass once for all of them (a round trip
+  // each: the summaries, the best bins, then the bins read by key), so that each stage 1 reads what came back.
+  void read_ahead(const std::vector<const Session*>& piped, std::size_t top_k, unsigned threads) const;
 
   const Session& at(std::size_t s) const {
     if (s >= sessions.size())
@@ -219,6 +222,22 @@ Estimate BatchRecognizer::Impl::finish(const Session& s, Estimate e) const {
   return e;
 }
 
+void BatchRecognizer::Impl::read_ahead(const std::vector<const Session*>& piped, std::size_t top_k,
+                                       unsigned threads) const {
+  std::vector<const BeliefState*> beliefs;
+  std::size_t best_bins = 0;
+  for (const Session* s : piped) {
+    beliefs.push_back(&s->filter->belief());
+    best_bins = std::max(best_bins, estimate_best_bins(request(*s, top_k, threads), s->filter->observed().size()));
+  }
+  backend->read_ahead(beliefs, best_bins);
+  std::vector<std::vector<std::uint64_t>> keys;
+  for (const Session* s : piped)
+    keys.push_back(
+        estimate_keys({s->filter->belief(), s->filter->space(), s->filter->observed()}, request(*s, top_k, threads)));
+  backend->look_up_ahead(beliefs, keys);
+}
+
 // One session's estimate is a batch's of one (which gives it every worker).
 Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const {
   return estimates(std::span(&session, 1), top_k).front();
@@ -239,8 +258,9 @@ std::vector<Estimate> BatchRecognizer::estimates(std::span<const std::size_t> se
   }
   if (piped.empty()) return out;
   // Each session's estimate on its share of the workers, the sessions across them: a session's fits are few, and
-  // its own split of them left most workers idle in a batch. Stage 1 reads the belief: a device's one session at a
-  // time (its queue is the backend's), the CPU reference's on the workers. The same answers for any thread count.
+  // its own split of them left most workers idle in a batch. Stage 1 reads the belief: a device's read ahead for all
+  // sessions, then one session at a time (its queue is the backend's); the CPU reference's on the workers. The same
+  // answers for any thread count.
   const auto& objects = impl_->pair_map->objects;
   const bool device = impl_->engine.backend() == BackendKind::vulkan;
   // Fewer sessions than workers (a robot's one session): each session's own stages split the rest.
@@ -253,23 +273,9 @@ std::vector<Estimate> BatchRecognizer::estimates(std::span<const std::size_t> se
                                         impl_->request(s, top_k, inner));
   };
   if (device) {
-    // Each belief pass once for every session (a round trip each: the summaries, the best bins, then the bins read by
-    // key), then each session's stage 1 from what came back.
-    std::vector<const BeliefState*> beliefs;
-    std::size_t best_bins = 0;
-    for (std::size_t i : piped) {
-      const Impl::Session& s = impl_->sessions[sessions[i]];
-      beliefs.push_back(&s.filter->belief());
-      best_bins = std::max(best_bins, estimate_best_bins(impl_->request(s, top_k, inner), s.filter->observed().size()));
-    }
-    impl_->backend->read_ahead(beliefs, best_bins);
-    std::vector<std::vector<std::uint64_t>> keys;
-    for (std::size_t i : piped) {
-      const Impl::Session& s = impl_->sessions[sessions[i]];
-      keys.push_back(estimate_keys({s.filter->belief(), s.filter->space(), s.filter->observed()},
-                                   impl_->request(s, top_k, inner)));
-    }
-    impl_->backend->look_up_ahead(beliefs, keys);
+    std::vector<const Impl::Session*> ahead;
+    for (std::size_t i : piped) ahead.push_back(&impl_->sessions[sessions[i]]);
+    impl_->read_ahead(ahead, top_k, inner);
     for (std::size_t k = 0; k < piped.size(); ++k) read(k);
   } else {
     util::parallel_for(piped.size(), read, impl_->options.threads);

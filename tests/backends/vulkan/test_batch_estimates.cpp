@@ -16,21 +16,34 @@
 using namespace sva;
 using namespace sva::test;
 
-TEST_CASE("GPU batch: the estimates of 40 sessions at once equal estimate() and the CPU reference's") {
-  const Trained& t = trained();
-  constexpr std::size_t kSessions = 40;
+namespace {
+
+constexpr std::size_t kSessions = 40;
+
+// The options of the tests' batches: Vulkan, two workers.
+RecognizerOptions gpu_options() {
   RecognizerOptions vo;
   vo.backend = BackendKind::vulkan;
   vo.threads = 2;
-  std::unique_ptr<BatchRecognizer> gpu;
+  return vo;
+}
+
+// A batch of kSessions on the Vulkan backend; the test is skipped where no device is usable.
+std::unique_ptr<BatchRecognizer> gpu_batch() {
   try {
-    gpu = std::make_unique<BatchRecognizer>(t.map, paper_space(), kSessions, vo);
+    return std::make_unique<BatchRecognizer>(trained().map, paper_space(), kSessions, gpu_options());
   } catch (const Error& e) {
     skip(e.what());
   }
-  RecognizerOptions co = vo;
+}
+
+}  // namespace
+
+TEST_CASE("GPU batch: the estimates of 40 sessions at once equal estimate() and the CPU reference's") {
+  const std::unique_ptr<BatchRecognizer> gpu = gpu_batch();
+  RecognizerOptions co = gpu_options();
   co.backend = BackendKind::cpu;
-  BatchRecognizer cpu(t.map, paper_space(), kSessions, co);
+  BatchRecognizer cpu(trained().map, paper_space(), kSessions, co);
   for (std::size_t step = 0; step < 7; ++step) {
     std::vector<std::size_t> ids;
     std::vector<Reading> rd;
@@ -61,18 +74,7 @@ TEST_CASE("GPU batch: a batch's estimates read every session's belief in four su
   // The read-ahead (VoteBackend::read_ahead, look_up_ahead) runs each belief pass once for all sessions: the stale
   // bands, the summaries, the best bins and the bins read by key of 40 sessions cost four submissions where each
   // session's estimate made its own round trips.
-  const Trained& t = trained();
-  constexpr std::size_t kSessions = 40;
-  RecognizerOptions vo;
-  vo.backend = BackendKind::vulkan;
-  vo.threads = 2;
-  std::unique_ptr<BatchRecognizer> batch, alone;
-  try {
-    batch = std::make_unique<BatchRecognizer>(t.map, paper_space(), kSessions, vo);
-    alone = std::make_unique<BatchRecognizer>(t.map, paper_space(), kSessions, vo);
-  } catch (const Error& e) {
-    skip(e.what());
-  }
+  const std::unique_ptr<BatchRecognizer> batch = gpu_batch(), alone = gpu_batch();
   for (std::size_t step = 0; step < 4; ++step) {
     std::vector<std::size_t> ids(kSessions);
     std::iota(ids.begin(), ids.end(), std::size_t{0});

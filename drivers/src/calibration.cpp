@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include <sva/io/json_limits.hpp>
+#include <sva/io/json.hpp>
 #include <sva/io/text_file.hpp>
 
 namespace sva::drivers {
@@ -47,7 +47,7 @@ Calibration Calibration::from_json(const std::string& text, const std::string& s
   if (io::json_depth(text) > io::kMaxJsonDepth) throw Error(source + ": " + io::json_too_deep_message());
   nlohmann::json j;
   try {
-    j = nlohmann::json::parse(text);
+    j = io::parse_json(text);
   } catch (const nlohmann::json::exception& e) {
     throw Error(source + ": invalid JSON: " + e.what());
   }
@@ -93,7 +93,7 @@ Calibration Calibration::load(const std::filesystem::path& file) {
 std::string Calibration::to_json() const {
   nlohmann::json j{{"rows", sensor.rows},        {"cols", sensor.cols}, {"pitch_mm", sensor.pitch_mm},
                    {"gain_kpa_per_count", gain}, {"zero_counts", zero}, {"saturation_counts", saturation_counts}};
-  return j.dump();
+  return io::dump_json(j);
 }
 
 void Calibration::save(const std::filesystem::path& file) const { io::write_text_file(file, to_json() + "\n"); }

@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <nlohmann/json.hpp>
 
-#include <sva/io/json_limits.hpp>
+#include <sva/io/json.hpp>
 
 namespace sva::drivers {
 
@@ -45,7 +45,7 @@ std::string seconds(double t) {
 PoseSample parse_pose_line(const std::string& line, const std::string& source) {
   PoseSample p;
   try {
-    const auto j = nlohmann::json::parse(line);
+    const auto j = io::parse_json(line);
     if (!j.is_object()) throw Error(source + ": a pose line must be a JSON object");
     p.time = j.at("time").get<double>();
     if (!std::isfinite(p.time)) throw Error(source + ": \"time\" must be finite");
@@ -71,7 +71,7 @@ std::string pose_line(const PoseSample& p) {
                    {"normal", {p.normal.x, p.normal.y, p.normal.z}},
                    {"x_axis", {p.x_axis.x, p.x_axis.y, p.x_axis.z}}};
   if (p.status) j["status"] = to_string(*p.status);
-  return j.dump();
+  return io::dump_json(j);
 }
 
 void SettleRule::validate() const {
@@ -85,20 +85,19 @@ void SettleRule::validate() const {
 }
 
 std::string SettleRule::to_json() const {
-  return nlohmann::json{{"frames", frames},
-                        {"target_kpa", target_kpa},
-                        {"tolerance_kpa", tolerance_kpa},
-                        {"stable_kpa", stable_kpa},
-                        {"contact_kpa", contact_kpa},
-                        {"max_pose_gap_s", max_pose_gap_s},
-                        {"pose_clock_offset_s", pose_clock_offset_s}}
-      .dump();
+  return io::dump_json(nlohmann::json{{"frames", frames},
+                                      {"target_kpa", target_kpa},
+                                      {"tolerance_kpa", tolerance_kpa},
+                                      {"stable_kpa", stable_kpa},
+                                      {"contact_kpa", contact_kpa},
+                                      {"max_pose_gap_s", max_pose_gap_s},
+                                      {"pose_clock_offset_s", pose_clock_offset_s}});
 }
 
 SettleRule SettleRule::from_json(const std::string& text, const std::string& source) {
   SettleRule r;
   try {
-    const auto j = nlohmann::json::parse(text);
+    const auto j = io::parse_json(text);
     if (j.contains("frames")) {  // range-checked as a double first: get<int>() of 1e300 is undefined
       const auto frames = io::json_int(j.at("frames"), 1, 10000);
       if (!frames) throw Error(source + ": bad settle rule: frames must be a whole number in [1, 10000]");

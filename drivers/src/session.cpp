@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 
 #include <sva/io/binary_file.hpp>
-#include <sva/io/json_limits.hpp>
+#include <sva/io/json.hpp>
 #include <sva/io/recording_file.hpp>
 
 namespace sva::drivers {
@@ -16,10 +16,10 @@ namespace {
 using io::RecordType;
 
 std::vector<std::uint8_t> settings_payload(const SessionSettings& s) {
-  nlohmann::json j{{"calibration", nlohmann::json::parse(s.calibration.to_json())},
-                   {"settle", nlohmann::json::parse(s.settle.to_json())},
+  nlohmann::json j{{"calibration", io::parse_json(s.calibration.to_json())},
+                   {"settle", io::parse_json(s.settle.to_json())},
                    {"device", s.device}};
-  const std::string text = j.dump();
+  const std::string text = io::dump_json(j);
   return {text.begin(), text.end()};
 }
 
@@ -28,10 +28,10 @@ SessionSettings parse_settings(const std::vector<std::uint8_t>& payload, const s
   if (io::json_depth(text) > io::kMaxJsonDepth)
     throw Error(source + ": bad settings record: " + io::json_too_deep_message());
   try {
-    const auto j = nlohmann::json::parse(payload.begin(), payload.end());
+    const auto j = io::parse_json(text);
     SessionSettings s;
-    s.calibration = Calibration::from_json(j.at("calibration").dump(), source + " (calibration)");
-    s.settle = SettleRule::from_json(j.at("settle").dump(), source + " (settle rule)");
+    s.calibration = Calibration::from_json(io::dump_json(j.at("calibration")), source + " (calibration)");
+    s.settle = SettleRule::from_json(io::dump_json(j.at("settle")), source + " (settle rule)");
     s.device = j.value("device", "");
     return s;
   } catch (const nlohmann::json::exception& e) {

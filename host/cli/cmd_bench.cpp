@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
+#include <sva/io/json.hpp>
 #include "args.hpp"
 
 namespace sva::cli {
@@ -241,7 +242,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
   print_run_summaries(out["runs"]);
   print_roofline(out);
   std::printf("peak RSS of the process: %s\n", mib(out["peak_rss_bytes"]).c_str());
-  if (auto path = a.get("--json")) io::write_text_file(*path, out.dump(2) + "\n");
+  if (auto path = a.get("--json")) io::write_text_file(*path, io::dump_json(out, 2) + "\n");
   return 0;
 }
 

@@ -13,6 +13,7 @@
 #include <optional>
 #include <span>
 
+#include <sva/io/json.hpp>
 #include "args.hpp"
 #include "sensor_output.hpp"
 
@@ -75,7 +76,7 @@ int cmd_replay(const std::vector<std::string>& argv_in) {
   if (auto out = a.get("--write-session")) {
     if (kept.readings.empty())
       throw Error("sva replay: " + file + " formed no converged reading: nothing to write to " + *out);
-    kept.truth = nlohmann::json{{"recording", file}, {"stamps_s", std::move(stamps)}}.dump();
+    kept.truth = io::dump_json(nlohmann::json{{"recording", file}, {"stamps_s", std::move(stamps)}});
     write_batch_sessions(*out, std::span<const BatchSession>(&kept, 1));
     std::fprintf(stderr, "sva replay: wrote %zu converged readings to %s\n", kept.readings.size(), out->c_str());
   }

@@ -14,6 +14,8 @@
 #include <cstdio>
 #include <optional>
 
+#include <nlohmann/json.hpp>
+#include <sva/io/json.hpp>
 #include "args.hpp"
 
 namespace sva::cli {
@@ -32,7 +34,7 @@ std::optional<std::uint32_t> map_object(const Map& map, const std::string& name)
 // its JSON text (the reader has parsed it once: it is JSON).
 std::optional<view::SessionTruth> truth_of(const Map& map, const std::string& text) {
   if (text.empty()) return std::nullopt;
-  const nlohmann::json t = nlohmann::json::parse(text);
+  const nlohmann::json t = io::parse_json(text);
   if (!t.is_object() || !t.contains("object") || !t.contains("R") || !t.contains("T")) return std::nullopt;
   const auto object = map_object(map, t["object"].get<std::string>());
   if (!object) return std::nullopt;

@@ -5,7 +5,7 @@
 #include <sva/map.hpp>
 #include <sva/recognizer.hpp>
 
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 

@@ -18,7 +18,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <sva/base/finite.hpp>
-#include <sva/io/json_limits.hpp>
+#include <sva/io/json.hpp>
 
 #include <sva/io/text_file.hpp>
 

@@ -7,6 +7,7 @@
 
 #include <cstdlib>
 #include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "test_support.hpp"
 
@@ -18,8 +19,13 @@ TEST_CASE("view page: hostile names stay inside the data's script and decode exa
   std::ofstream(dir / "three/examples/js/controls/OrbitControls.js") << "THREE.OrbitControls = function () {};\n";
   ::setenv("SVA_THREE_JS", (dir / "three").c_str(), 1);
 
-  const std::vector<std::string> names = {"</script><script>alert(1)</script>", "<!--<script>", "a & b > c",
-                                          "\"quoted\" 'single'", "\xe2\x80\xae" "gnp.exe", "bell\x07"};
+  const std::vector<std::string> names = {"</script><script>alert(1)</script>",
+                                          "<!--<script>",
+                                          "a & b > c",
+                                          "\"quoted\" 'single'",
+                                          "\xe2\x80\xae"
+                                          "gnp.exe",
+                                          "bell\x07"};
   nlohmann::json data = {{"title", "</SCRIPT >"}, {"objects", names}};
   sva::view::write_session_page(dir / "page.html", data);
   const std::string page = sva::io::read_text_file(dir / "page.html", "page");

@@ -12,6 +12,8 @@
 #include <numeric>
 #include <optional>
 
+#include <nlohmann/json.hpp>
+#include <sva/io/json.hpp>
 #include "recognition/batch_sessions.hpp"
 #include "recognition/lockstep.hpp"
 
@@ -80,7 +82,7 @@ void write_batch_sessions(const std::filesystem::path& file, std::span<const Bat
   io::write_text_file(file, batch::format_sessions(sessions));
 }
 
-std::string pose_json(const RigidPose& pose) { return batch::pose_value(pose).dump(); }
+std::string pose_json(const RigidPose& pose) { return io::dump_json(batch::pose_value(pose)); }
 
 BatchSessionsFile::BatchSessionsFile(std::filesystem::path file, int elements)
     : file_(std::move(file)), elements_(elements) {

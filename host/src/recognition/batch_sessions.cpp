@@ -3,12 +3,13 @@
 #include "recognition/batch_sessions.hpp"
 
 #include <sva/error.hpp>
-#include <sva/io/json_limits.hpp>
+#include <sva/io/json.hpp>
 
 #include <cmath>
 #include <fstream>
 #include <stdexcept>
 
+#include <nlohmann/json.hpp>
 #include <sva/base/so3.hpp>
 
 namespace sva::batch {
@@ -66,16 +67,16 @@ BatchSession session_of(const std::string& line, const std::string& where, std::
   if (io::json_depth(line) > io::kMaxJsonDepth) throw Error(where + ": " + io::json_too_deep_message());
   json j;
   try {
-    j = json::parse(line);
+    j = io::parse_json(line);
   } catch (const json::exception& e) {
     throw Error(where + ": invalid JSON: " + e.what());
   }
   if (!j.is_object()) throw Error(where + ": expected one JSON object per line");
   BatchSession s;
   s.id = std::to_string(number);
-  if (j.contains("id")) s.id = j["id"].is_string() ? j["id"].get<std::string>() : j["id"].dump();
+  if (j.contains("id")) s.id = j["id"].is_string() ? j["id"].get<std::string>() : io::dump_json(j["id"]);
   // Kept as text: the public type carries no JSON library. An explicit null is no truth, as an absent one.
-  if (j.contains("truth") && !j["truth"].is_null()) s.truth = j["truth"].dump();
+  if (j.contains("truth") && !j["truth"].is_null()) s.truth = io::dump_json(j["truth"]);
   if (!j.contains("readings") || !j["readings"].is_array() || j["readings"].empty())
     throw Error(where + ": \"readings\" must be a non-empty array");
   for (std::size_t r = 0; r < j["readings"].size(); ++r)
@@ -86,7 +87,7 @@ BatchSession session_of(const std::string& line, const std::string& where, std::
 // A session's truth as JSON; a caller's session (not one read from a file) may hold text that is not JSON.
 json truth_value(const BatchSession& s) {
   try {
-    return json::parse(s.truth);
+    return io::parse_json(s.truth);
   } catch (const json::exception&) {
     throw Error("session \"" + s.id + "\": its truth is not JSON text: " + s.truth.substr(0, 40));
   }
@@ -166,7 +167,7 @@ std::string format_sessions(std::span<const BatchSession> sessions) {
                           {"pressure", r.pressure}});
     json line = {{"id", s.id}, {"readings", readings}};
     if (!s.truth.empty()) line["truth"] = truth_value(s);
-    text += line.dump() + "\n";
+    text += io::dump_json(line) + "\n";
   }
   return text;
 }
@@ -176,7 +177,7 @@ std::string format_results(std::span<const BatchSession> sessions, std::span<con
   if (sessions.size() != estimates.size()) throw std::logic_error("format_results: one estimate per session is needed");
   std::string text;
   for (std::size_t i = 0; i < sessions.size(); ++i)
-    text += result_json(sessions[i], estimates[i], objects).dump() + "\n";
+    text += io::dump_json(result_json(sessions[i], estimates[i], objects)) + "\n";
   return text;
 }
 

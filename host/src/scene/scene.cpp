@@ -16,7 +16,7 @@
 #include <nlohmann/json.hpp>
 
 #include <sva/base/so3.hpp>
-#include <sva/io/json_limits.hpp>
+#include <sva/io/json.hpp>
 
 #ifndef SVA_SOURCE_ASSETS_DIR
 #define SVA_SOURCE_ASSETS_DIR ""
@@ -53,14 +53,15 @@ class Ctx {
     if (!j.is_number()) fail(path, "expected a number, got " + std::string(j.type_name()));
     double v = j.get<double>();
     if (!std::isfinite(v) || v < lo || v > hi)
-      fail(path, "value " + j.dump() + " is out of range [" + fmt(lo) + ", " + fmt(hi) + "]");
+      fail(path, "value " + io::dump_json(j) + " is out of range [" + fmt(lo) + ", " + fmt(hi) + "]");
     return v;
   }
   int integer(const json& j, const std::string& path, int lo, int hi) const {
-    if (!j.is_number_integer()) fail(path, "expected an integer, got " + j.dump());
+    if (!j.is_number_integer()) fail(path, "expected an integer, got " + io::dump_json(j));
     auto v = j.get<long long>();
     if (v < lo || v > hi)
-      fail(path, "value " + j.dump() + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+      fail(path,
+           "value " + io::dump_json(j) + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
     return static_cast<int>(v);
   }
   std::string string(const json& j, const std::string& path) const {
@@ -74,7 +75,7 @@ class Ctx {
     std::size_t character = 0;
     for (const unsigned char b : name) {
       if ((b & 0xC0) != 0x80) ++character;  // each character's first byte (UTF-8's continuation bytes are 10xxxxxx)
-      if (b < 0x20 || b == 0x7F) {  // never part of a multi-byte character
+      if (b < 0x20 || b == 0x7F) {          // never part of a multi-byte character
         char code[8];
         std::snprintf(code, sizeof code, "U+%04X", b);
         fail(path, "control character " + std::string(code) + " at character " + std::to_string(character) +
@@ -83,7 +84,7 @@ class Ctx {
     }
   }
   bool boolean(const json& j, const std::string& path) const {
-    if (!j.is_boolean()) fail(path, "expected true or false, got " + j.dump());
+    if (!j.is_boolean()) fail(path, "expected true or false, got " + io::dump_json(j));
     return j.get<bool>();
   }
   glm::dvec3 unit_vec3(const json& j, const std::string& path) const {
@@ -390,7 +391,7 @@ Scene parse_scene(const std::string& text, const std::filesystem::path& origin) 
   if (io::json_depth(text) > io::kMaxJsonDepth) c.fail("", io::json_too_deep_message());
   json j;
   try {
-    j = json::parse(text);
+    j = io::parse_json(text);
   } catch (const json::exception& e) {  // syntax, and numbers out of a double's range
     c.fail("", std::string("invalid JSON: ") + e.what());
   }
@@ -494,7 +495,7 @@ std::string scene_to_json(const Scene& s) {
   };
   // Only when set, so that the datasets of scenes that pair every reading keep their bytes.
   if (s.appearance.pair_readings > 0) j["appearance"]["pair_readings"] = s.appearance.pair_readings;
-  return j.dump(2);
+  return io::dump_json(j, 2);
 }
 
 }  // namespace sva

@@ -1,6 +1,7 @@
 #include "bench/gpu_model.hpp"
 
 #include <algorithm>
+#include <nlohmann/json.hpp>
 
 namespace sva::bench {
 

@@ -2,7 +2,7 @@
 // A model of a GPU's kernel time per update from the work an update did (docs/vulkan-backend.md, "Work and an
 // estimate for an H100"): the atomics on the hash tables at an assumed rate, the bytes at the device's published
 // memory bandwidth. An estimate to check against the first measurement on the device, not a measurement.
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 #include <string>
 
 namespace sva::bench {

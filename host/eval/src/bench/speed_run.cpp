@@ -6,6 +6,7 @@
 #include <chrono>
 #include <map>
 
+#include <nlohmann/json.hpp>
 #include <sva/base/parallel.hpp>
 #include <sva/base/progress.hpp>
 #include <sva/eval/evaluation.hpp>

@@ -6,6 +6,7 @@
 #include <cstdio>
 
 #include <nlohmann/json.hpp>
+#include <sva/io/json.hpp>
 
 namespace sva::eval {
 
@@ -222,7 +223,7 @@ std::string confusion_json(const std::vector<Confusion>& confusions) {
   j["confusion"] = std::move(matrices);
   j["objects"] = std::move(objects);
   j["families"] = std::move(families);
-  return j.dump(1) + "\n";
+  return io::dump_json(j, 1) + "\n";
 }
 
 }  // namespace sva::eval

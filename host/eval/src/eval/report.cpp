@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include <nlohmann/json.hpp>
+#include <sva/io/json.hpp>
 
 namespace sva::eval {
 
@@ -236,7 +237,7 @@ std::string to_json(const EvalResult& result, const Curve& curve) {
   j["calibration"] = calibration_json(curve.calibration);
   if (curve.stop) j["stop"] = stop_json(*curve.stop);
   if (curve.unknown) j["unknown_objects"] = unknown_json(*curve.unknown);
-  return j.dump(2) + "\n";
+  return io::dump_json(j, 2) + "\n";
 }
 
 std::string to_csv(const EvalResult& result) {
@@ -311,7 +312,7 @@ Curve read_curve_json(const std::filesystem::path& file) {
   const std::string text = io::read_text_file(file, "cannot open the evaluation summary");
   json j;
   try {
-    j = json::parse(text);
+    j = io::parse_json(text);
   } catch (const json::parse_error& e) {
     throw Error(name + ": invalid JSON: " + e.what());
   }

@@ -3,6 +3,8 @@
 
 #include <sva/eval/trials.hpp>
 
+#include <nlohmann/json.hpp>
+#include <sva/io/json.hpp>
 #include "recognition/batch_sessions.hpp"
 
 namespace sva::eval {
@@ -16,7 +18,7 @@ std::vector<BatchSession> trial_sessions(const Dataset& test, const PoseSpaceSpe
     Trial trial = gen.make(t);
     nlohmann::json truth = batch::pose_value(trial.pose);
     truth["object"] = test.scene.objects[trial.object].name;
-    sessions.push_back({"trial-" + std::to_string(t), std::move(trial.readings), truth.dump()});
+    sessions.push_back({"trial-" + std::to_string(t), std::move(trial.readings), io::dump_json(truth)});
   }
   return sessions;
 }

@@ -15,6 +15,8 @@
 #include <cstdlib>
 #include <ostream>
 
+#include <nlohmann/json.hpp>
+#include <sva/io/json.hpp>
 #include "eval/metrics.hpp"
 #include "recognition/batch_sessions.hpp"
 
@@ -152,7 +154,7 @@ std::string script(const std::string& text, const std::string& attributes = "") 
 // '&' occur in JSON text only inside strings, where \u003c and the rest decode to the same characters. A name that
 // is not UTF-8 (a map file's bytes are not checked) shows with U+FFFD instead of failing the page.
 std::string script_json(const json& data) {
-  const std::string text = data.dump(-1, ' ', false, json::error_handler_t::replace);
+  const std::string text = io::dump_json(data, -1, /*replace_invalid_utf8=*/true);
   std::string safe;
   safe.reserve(text.size());
   for (char c : text) {

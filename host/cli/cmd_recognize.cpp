@@ -48,7 +48,10 @@ int cmd_recognize(const std::vector<std::string>& argv) {
       .option("--backend", "auto|cpu|vulkan", "vote backend (default auto: Vulkan when a device exists, else CPU)")
       .option("--sessions-per-submission", "N",
               "sessions stepped together (default: on a GPU as many as half its memory holds at "
-              "--belief-budget, 64 to 4096; 64 on the CPU)")
+              "--belief-budget, shared by the groups in flight, 64 to 4096 each; 64 on the CPU)")
+      .option("--in-flight", "N",
+              "groups of sessions recognised at once, on one recognizer each, so that the host prepares one "
+              "group's update while the device runs another's (default: 2 on a GPU, 1 on the CPU)")
       .option("--device", "NAME|INDEX", "Vulkan device (default: prefer a discrete GPU; env SVA_VK_DEVICE)")
       .option("--top", "K", "hypotheses reported per session (default 3)")
       .option("--refine", "on|off", "fine pose: align the readings to the object's surface (default on)")
@@ -84,13 +87,21 @@ int cmd_recognize(const std::vector<std::string>& argv) {
   const Engine engine(map, {ro.backend, ro.vulkan_device});
   const auto per = static_cast<std::size_t>(
       a.integer("--sessions-per-submission", static_cast<long long>(engine.sessions_per_submission(ro)), 1, 1 << 20));
-  BatchRecognizer rec(engine, map.pose_space(), std::min(per, sessions.sessions()), ro);
+  const auto in_flight =
+      static_cast<std::size_t>(a.integer("--in-flight", static_cast<long long>(engine.submissions_in_flight()), 1, 8));
+  const std::size_t group = std::min(per, sessions.sessions());
+  std::vector<BatchRecognizer> recs;
+  std::vector<BatchRecognizer*> pointers;
+  for (std::size_t i = 0; i < std::min(in_flight, (sessions.sessions() + group - 1) / group); ++i)
+    recs.emplace_back(engine, map.pose_space(), group, ro);
+  for (BatchRecognizer& r : recs) pointers.push_back(&r);
+  const BatchRecognizer& rec = recs.front();
   if (!rec.backend_fallback_reason().empty())
     std::fprintf(stderr, "sva recognize: backend auto chose the CPU reference: %s\n",
                  rec.backend_fallback_reason().c_str());
-  sessions.recognize(rec, map, out_file, top_k, true);
-  std::fprintf(stderr, "recognised %zu sessions (%zu readings) with %s, %zu per submission; wrote %s\n",
-               sessions.sessions(), sessions.readings(), rec.backend_description().c_str(), rec.sessions(),
+  sessions.recognize(pointers, map, out_file, top_k, true);
+  std::fprintf(stderr, "recognised %zu sessions (%zu readings) with %s, %zu per submission, %zu in flight; wrote %s\n",
+               sessions.sessions(), sessions.readings(), rec.backend_description().c_str(), rec.sessions(), recs.size(),
                out_file.c_str());
   return 0;
 }

@@ -40,7 +40,11 @@ void bind_engine(nb::module_& m) {
           },
           "options"_a, nb::sig("def sessions_per_submission(self, *, " RECOGNIZER_OPTIONS_SIG ") -> int"),
           "The sessions a BatchRecognizer on this engine steps together by default (sva.recognize_batch): on a GPU "
-          "as many as half its memory holds with every belief at belief_budget_bins, 64 to 4096; 64 on the CPU.")
+          "as many as half its memory holds with every belief at belief_budget_bins, shared by the groups in "
+          "flight, 64 to 4096 each; 64 on the CPU.")
+      .def("submissions_in_flight", &Engine::submissions_in_flight,
+           "The groups of sessions sva.recognize_batch keeps in flight at once, one recognizer each: 2 on a GPU (the "
+           "host prepares one group's update while the device runs another's), 1 on the CPU.")
       .def("__repr__", [](const Engine& e) { return "Engine(" + e.backend_description() + ")"; });
 }
 

@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Iterator, Optional, Union
 
 from ._files import atomic_output
-from ._sva_core import BatchRecognizer, Engine, Error, Map
+from ._sva_core import BatchRecognizer, Engine, Error, Map, _recognize_shard_in_flight
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -90,6 +90,7 @@ def recognize_batch(
     out: Optional[PathLike] = None,
     *,
     sessions_per_submission: Optional[int] = None,
+    in_flight: Optional[int] = None,
     top: int = 3,
     **options,
 ) -> list[str]:
@@ -97,20 +98,30 @@ def recognize_batch(
     results (one JSON line per session, in input order; docs/batch-format.md) are returned as strings and, with
     ``out``, written there (byte for byte the command's file). ``options`` are the Recognizer's (backend="auto",
     refine_pose, vulkan_device, ...). ``sessions_per_submission`` defaults to the engine's
-    (``Engine.sessions_per_submission``: on a GPU as many as half its memory holds, 64 on the CPU)."""
+    (``Engine.sessions_per_submission``: on a GPU as many as half its memory holds, 64 on the CPU), and
+    ``in_flight``, the groups recognised at once (one recognizer each, so that the host prepares one group's update
+    while the device runs another's), to the engine's (``Engine.submissions_in_flight``: 2 on a GPU, 1 on the CPU).
+    The results do not depend on either."""
     if not isinstance(map, Map):
         map = Map.load(map)
     if sessions_per_submission is not None and sessions_per_submission < 1:
         raise Error(f"sessions_per_submission must be >= 1, got {sessions_per_submission}")
+    if in_flight is not None and in_flight < 1:
+        raise Error(f"in_flight must be >= 1, got {in_flight}")
     if out is not None:
         check_writable(out)
     file = SessionsFile(sessions)
+    engine = Engine(map, options.get("backend", "auto"), options.get("vulkan_device", ""))
     if sessions_per_submission is None:
-        engine = Engine(map, options.get("backend", "auto"), options.get("vulkan_device", ""))
         sessions_per_submission = engine.sessions_per_submission(**options)
+    if in_flight is None:
+        in_flight = engine.submissions_in_flight()
     (whole,) = file.shards(file.sessions)
-    rec = BatchRecognizer(map, min(sessions_per_submission, whole.sessions), **options)
-    results = rec._recognize_shard(map, whole.text, file.name, whole.first_line, whole.first_session, top)
+    group = min(sessions_per_submission, whole.sessions)
+    in_flight = min(in_flight, -(-whole.sessions // group))
+    results = _recognize_shard_in_flight(
+        engine, whole.text, file.name, whole.first_line, whole.first_session, top, group, in_flight, **options
+    )
     if out is not None:
         write_atomically(out, iter([results]))
     return results.decode("utf-8").splitlines()

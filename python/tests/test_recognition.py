@@ -89,13 +89,15 @@ def test_batch_recognizer_gives_the_cli_estimates(tiny, tiny_map):
     assert b.belief_bytes(0) == kept  # a reset keeps the table's allocation for the next session
 
 
-@pytest.mark.parametrize("per_submission, umask, mode", [(64, 0o022, 0o644), (4, 0o077, 0o600)])
-def test_recognize_batch_writes_the_cli_file(tiny, tiny_map, tmp_path, per_submission, umask, mode):
+# Groups of 2 on 3 recognizers in flight at once: the same bytes (on a GPU, the host works while the device runs).
+@pytest.mark.parametrize("per_submission, in_flight, umask, mode",
+                         [(64, None, 0o022, 0o644), (4, None, 0o077, 0o600), (2, 3, 0o022, 0o644)])
+def test_recognize_batch_writes_the_cli_file(tiny, tiny_map, tmp_path, per_submission, in_flight, umask, mode):
     out = tmp_path / "results.jsonl"
     old = os.umask(umask)
     try:
         lines = sva.recognize_batch(tiny_map, tiny.sessions, out, sessions_per_submission=per_submission,
-                                    backend="cpu")
+                                    in_flight=in_flight, backend="cpu")
     finally:
         os.umask(old)
     assert out.read_bytes() == tiny.results.read_bytes()
@@ -163,6 +165,9 @@ def test_sessions_per_submission_defaults_to_the_engines(tiny_map, tiny, tmp_pat
     # asking for it.
     engine = sva.Engine(tiny_map, backend="cpu")
     assert engine.sessions_per_submission() == 64
+    assert engine.submissions_in_flight() == 1  # the CPU's cores are busy with one group
+    with pytest.raises(sva.Error, match="in_flight must be >= 1"):
+        sva.recognize_batch(tiny_map, tiny.sessions, in_flight=0, backend="cpu")
     assert engine.sessions_per_submission(belief_budget_bins=0) == 64
     with pytest.raises(TypeError):
         engine.sessions_per_submission(no_such_option=1)

@@ -5,6 +5,7 @@
 
 #include <sva/batch_file.hpp>
 #include <sva/batch_recognizer.hpp>
+#include <sva/engine.hpp>
 #include <sva/error.hpp>
 
 #include <filesystem>
@@ -63,8 +64,9 @@ TEST_CASE("Batch recognition: a streamed file gives the whole file's result line
   CHECK(all[4].id == "4");
   CHECK(all[2].truth == R"({"note":[1,2.5],"object":"b"})");  // any JSON, kept as text
   BatchRecognizer whole(t.map, paper_space(), 7);
+  BatchRecognizer* one[] = {&whole};
   const std::string expected =
-      batch::format_results(all, batch::recognize_sessions(whole, all, 3, file.string()), t.map.object_names());
+      batch::format_results(all, batch::recognize_sessions(one, all, 3, file.string()), t.map.object_names());
   CHECK(expected.find(R"("truth":{"note":[1,2.5],"object":"b"})") != std::string::npos);
 
   const BatchSessionsFile checked(file, elements);
@@ -77,6 +79,20 @@ TEST_CASE("Batch recognition: a streamed file gives the whole file's result line
     BatchRecognizer rec(t.map, paper_space(), group);
     checked.recognize(rec, t.map, dir / "results.jsonl", 3);
     CHECK(read_all(dir / "results.jsonl") == expected);
+  }
+  // Groups in flight on two and three recognizers of one engine at once (a GPU's double buffering): the file is
+  // read and its results written in group order, the same bytes.
+  const Engine engine(t.map);
+  for (std::size_t in_flight : {2, 3}) {
+    INFO(in_flight << " recognizers, groups of 2");
+    std::vector<BatchRecognizer> recs;
+    std::vector<BatchRecognizer*> ptrs;
+    for (std::size_t i = 0; i < in_flight; ++i) recs.emplace_back(engine, paper_space(), 2);
+    for (BatchRecognizer& r : recs) ptrs.push_back(&r);
+    checked.recognize(ptrs, t.map, dir / "results.jsonl", 3);
+    CHECK(read_all(dir / "results.jsonl") == expected);
+    CHECK(batch::format_results(all, batch::recognize_sessions(ptrs, all, 3, file.string()), t.map.object_names()) ==
+          expected);
   }
   // Two shards cut at a line boundary (lines 1-5 hold sessions 0-2): their lines concatenated are the whole file's.
   const std::string text = read_all(file);

@@ -26,14 +26,16 @@ TEST_CASE("submission size: a GPU's memory holds the batch's beliefs at their bo
     const std::size_t n = submission_sessions({"discrete", memory, map, belief});
     REQUIRE(n >= kMinSubmission);
     REQUIRE(n <= kMaxSubmission);
-    // Half of what the map leaves holds them all; one more would not fit (unless the floor of 64 decided).
-    if (n > kMinSubmission) CHECK(n * belief <= (memory - map) / 2);
-    if (n > kMinSubmission && n < kMaxSubmission) CHECK((n + 1) * belief > (memory - map) / 2);
+    // Half of what the map leaves holds both groups in flight; one more session each would not fit (unless the
+    // floor of 64 decided).
+    CHECK(in_flight({"discrete", memory, map, belief}) == 2);
+    if (n > kMinSubmission) CHECK(2 * n * belief <= (memory - map) / 2);
+    if (n > kMinSubmission && n < kMaxSubmission) CHECK(2 * (n + 1) * belief > (memory - map) / 2);
   }
-  // An H100's 80 GiB holds a few hundred sessions at the default bound: more than today's 64 per submission.
+  // An H100's 80 GiB holds about a hundred sessions per group at the default bound, two groups in flight.
   const std::size_t h100 = submission_sessions({"discrete", 80 * kGiB, 90'000'000, belief});
-  CHECK(h100 > 100);
-  CHECK(h100 < 400);
+  CHECK(h100 > 64);
+  CHECK(h100 < 200);
   // A small bound fills a large device up to the ceiling.
   CHECK(submission_sessions({"discrete", 141 * kGiB, 0, GpuBelief::bytes_at(32768, 10)}) == kMaxSubmission);
 }
@@ -45,14 +47,20 @@ TEST_CASE("submission size: 64 on a CPU, without a bound, or when the map leaves
   CHECK(submission_sessions({"discrete", 64 * kGiB, 0, 0}) == kMinSubmission);         // no bound on a belief
   CHECK(submission_sessions({"discrete", kGiB, 2 * kGiB, belief}) == kMinSubmission);  // the map fills it
   CHECK(submission_sessions({"integrated", 4 * kGiB, 0, belief}) == kMinSubmission);   // the floor
+  // One group in flight on a CPU: the one already fills its cores.
+  CHECK(in_flight({"", 0, 0, 0}) == 1);
+  CHECK(in_flight({"cpu", 64 * kGiB, 0, belief}) == 1);
+  CHECK(in_flight({"integrated", 4 * kGiB, 0, belief}) == 2);
 }
 
 TEST_CASE("submission size: an engine on the CPU reference or on lavapipe steps 64 sessions together") {
   const sva::test::Trained& t = sva::test::trained();
   CHECK(Engine(t.map, {BackendKind::cpu, ""}).sessions_per_submission() == kMinSubmission);
+  CHECK(Engine(t.map, {BackendKind::cpu, ""}).submissions_in_flight() == 1);
   try {
     const Engine gpu(t.map, {BackendKind::vulkan, ""});
     CHECK(gpu.sessions_per_submission() == kMinSubmission);  // lavapipe is a CPU device
+    CHECK(gpu.submissions_in_flight() == 1);
   } catch (const Error& e) {
     WARN("no Vulkan device: " << e.what());
   }

@@ -55,6 +55,11 @@ class BatchSessionsFile {
   // (util::Progress). sva::Error names the file and the failing update's first session.
   void recognize(BatchRecognizer& rec, const Map& map, const std::filesystem::path& results, std::size_t top_k = 3,
                  bool progress = false) const;
+  // The same with groups in flight on several recognizers at once (made alike from `map`, on one Engine, with the
+  // same sessions()): while one group's update runs on the device, the next group's host work goes on
+  // (Engine::submissions_in_flight() recognizers: two on a GPU). The results file holds the same bytes as on one.
+  void recognize(std::span<BatchRecognizer* const> recs, const Map& map, const std::filesystem::path& results,
+                 std::size_t top_k = 3, bool progress = false) const;
 
  private:
   std::filesystem::path file_;
@@ -68,6 +73,10 @@ class BatchSessionsFile {
 // recognising the whole file writes for them, so that the shards' lines concatenated in input order are the whole
 // file's results. Errors name `source`:LINE as for the whole file.
 std::string recognize_batch_shard(BatchRecognizer& rec, const Map& map, std::string_view text,
+                                  const std::string& source, std::size_t first_line, std::size_t first_session,
+                                  std::size_t top_k = 3);
+// The same with groups in flight on several recognizers at once (as BatchSessionsFile::recognize).
+std::string recognize_batch_shard(std::span<BatchRecognizer* const> recs, const Map& map, std::string_view text,
                                   const std::string& source, std::size_t first_line, std::size_t first_session,
                                   std::size_t top_k = 3);
 

@@ -39,9 +39,13 @@ class Engine {
   std::string backend_description() const;
   // The sessions a BatchRecognizer on this engine steps together by default (`sva recognize`,
   // `sva.recognize_batch`). On a GPU: as many as half of its memory left by the map holds with every session's
-  // belief at its bound (`options.belief_budget_bins`), from 64 to 4096; on the CPU reference, lavapipe, or without
-  // a bound: 64 (the CPU's workers are busy from a few sessions on).
+  // belief at its bound (`options.belief_budget_bins`), shared by the submissions in flight, from 64 to 4096 each;
+  // on the CPU reference, lavapipe, or without a bound: 64 (the CPU's workers are busy from a few sessions on).
   std::size_t sessions_per_submission(const RecognizerOptions& options = {}) const;
+  // The recognizers whose groups a batch keeps in flight at once by default (BatchSessionsFile::recognize): two on a
+  // GPU, so that the host prepares one group's update while the device runs the other's; one on a CPU (the
+  // reference or lavapipe), whose cores the one already fills.
+  std::size_t submissions_in_flight() const;
 
   struct Impl;
 

@@ -15,6 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <sva/io/json.hpp>
 #include "recognition/batch_sessions.hpp"
+#include "recognition/group_turns.hpp"
 #include "recognition/lockstep.hpp"
 
 namespace sva {
@@ -23,42 +24,72 @@ namespace batch {
 
 namespace {
 
-// The lock-step loop over `sessions` sessions that `fetch(first, count)` supplies a group at a time (a span that
-// stays valid until the next call); `done(first, group, estimates)` takes each group's estimates as it ends. An
-// error names `source` and the failing update's first session, counted from `first_session`.
+// Every recognizer of a batch steps as many sessions together.
+std::size_t group_size(std::span<BatchRecognizer* const> recs) {
+  if (recs.empty()) throw std::logic_error("batch recognition: no recognizer");
+  for (const BatchRecognizer* r : recs)
+    if (!r || r->sessions() != recs[0]->sessions() || r->sessions() == 0)
+      throw std::logic_error("batch recognition: the recognizers differ in sessions (or have none)");
+  return recs[0]->sessions();
+}
+
+// One group, sessions [first, first + count), on `rec`: its sessions fetched in its turn, stepped in lock step, its
+// estimates read, and handed to `done` in its turn. An error names `source` and the group's first session, counted
+// from `first_session`.
 template <class Fetch, class Done>
-void recognize_groups(BatchRecognizer& rec, std::size_t sessions, std::size_t top_k, const std::string& source,
-                      std::size_t first_session, util::Progress* progress, Fetch fetch, Done done) {
-  std::span<const BatchSession> group;
+void recognize_group(BatchRecognizer& rec, std::size_t group, std::size_t first, std::size_t count, GroupTurns& turns,
+                     std::size_t top_k, const std::string& source, std::size_t first_session, util::Progress* progress,
+                     Fetch& fetch, Done& done) {
+  std::vector<BatchSession> storage;  // what fetch() read for this group, when it reads
+  turns.wait(GroupTurns::kFetch, group);
+  const std::span<const BatchSession> sessions = fetch(first, count, storage);
+  turns.pass(GroupTurns::kFetch);
   LockstepHooks hooks;
   hooks.progress = progress;
-  hooks.group = [&](std::size_t first, std::size_t count) {
-    group = fetch(first, count);
+  hooks.group = [&](std::size_t, std::size_t) {
     std::vector<std::span<const Reading>> readings;
-    for (const BatchSession& s : group) readings.emplace_back(s.readings);
+    for (const BatchSession& s : sessions) readings.emplace_back(s.readings);
     return readings;
   };
-  hooks.on_group_end = [&](std::size_t first, std::size_t count) {
-    std::vector<std::size_t> slots(count);
-    std::iota(slots.begin(), slots.end(), std::size_t{0});
-    done(first, group, rec.estimates(slots, top_k));
-  };
-  hooks.on_error = [&](const Error& e, const LockstepStep& s) {
-    return Error(source + ": " + e.what() + " (session numbers count from " + std::to_string(first_session + s.first) +
+  hooks.on_step = [&](const LockstepStep&) { turns.check(group); };
+  hooks.on_error = [&](const Error& e, const LockstepStep&) {
+    return Error(source + ": " + e.what() + " (session numbers count from " + std::to_string(first_session + first) +
                  ")");
   };
-  run_lockstep(rec, sessions, hooks);
+  run_lockstep(rec, count, hooks);
+  std::vector<std::size_t> slots(count);
+  std::iota(slots.begin(), slots.end(), std::size_t{0});
+  std::vector<Estimate> estimates = rec.estimates(slots, top_k);
+  turns.wait(GroupTurns::kDone, group);
+  done(first, sessions, std::move(estimates));
+  turns.pass(GroupTurns::kDone);
+}
+
+// The lock-step loop over `sessions` sessions that `fetch(first, count, storage)` supplies a group at a time (a
+// span into `storage` or into what the caller keeps); `done(first, group, estimates)` takes each group's estimates
+// in group order. Group g runs on recs[g % recs.size()], the groups of different recognizers at once.
+template <class Fetch, class Done>
+void recognize_groups(std::span<BatchRecognizer* const> recs, std::size_t sessions, std::size_t top_k,
+                      const std::string& source, std::size_t first_session, util::Progress* progress, Fetch fetch,
+                      Done done) {
+  const std::size_t per = group_size(recs);
+  GroupTurns turns;
+  run_groups((sessions + per - 1) / per, recs.size(), turns, [&](std::size_t g, std::size_t w) {
+    const std::size_t first = g * per;
+    recognize_group(*recs[w], g, first, std::min(per, sessions - first), turns, top_k, source, first_session, progress,
+                    fetch, done);
+  });
 }
 
 }  // namespace
 
-std::vector<Estimate> recognize_sessions(BatchRecognizer& rec, std::span<const BatchSession> sessions,
+std::vector<Estimate> recognize_sessions(std::span<BatchRecognizer* const> recs, std::span<const BatchSession> sessions,
                                          std::size_t top_k, const std::string& source, std::size_t first_session,
                                          util::Progress* progress) {
   std::vector<Estimate> out(sessions.size());
   recognize_groups(
-      rec, sessions.size(), top_k, source, first_session, progress,
-      [&](std::size_t first, std::size_t count) { return sessions.subspan(first, count); },
+      recs, sessions.size(), top_k, source, first_session, progress,
+      [&](std::size_t first, std::size_t count, std::vector<BatchSession>&) { return sessions.subspan(first, count); },
       [&](std::size_t first, std::span<const BatchSession>, std::vector<Estimate> estimates) {
         std::move(estimates.begin(), estimates.end(), out.begin() + static_cast<std::ptrdiff_t>(first));
       });
@@ -95,18 +126,23 @@ BatchSessionsFile::BatchSessionsFile(std::filesystem::path file, int elements)
 
 void BatchSessionsFile::recognize(BatchRecognizer& rec, const Map& map, const std::filesystem::path& results,
                                   std::size_t top_k, bool progress) const {
+  BatchRecognizer* one[] = {&rec};
+  recognize(one, map, results, top_k, progress);
+}
+
+void BatchSessionsFile::recognize(std::span<BatchRecognizer* const> recs, const Map& map,
+                                  const std::filesystem::path& results, std::size_t top_k, bool progress) const {
   const std::string source = file_.string();
   const std::vector<std::string> objects = map.object_names();
   std::optional<util::Progress> shown;
   if (progress) shown.emplace("recognize", readings_);
   // Each group's result lines go to the results file's temporary as the group ends; the rename comes last.
   io::write_file_atomically(results, [&](std::ostream& out) {
-    batch::SessionReader reader(source, elements_);
-    std::vector<BatchSession> held;  // the group being recognised: all the memory the file's sessions take
+    batch::SessionReader reader(source, elements_);  // read in group order (the fetch turn)
     batch::recognize_groups(
-        rec, sessions_, top_k, source, 0, shown ? &*shown : nullptr,
-        [&](std::size_t first, std::size_t count) {
-          held = reader.next(count);
+        recs, sessions_, top_k, source, 0, shown ? &*shown : nullptr,
+        [&](std::size_t first, std::size_t count, std::vector<BatchSession>& held) {
+          held = reader.next(count);  // the groups in flight: all the memory the file's sessions take
           if (held.size() != count)
             throw Error(source + ": the file changed while it was read (session " +
                         std::to_string(first + held.size()) + " is missing)");
@@ -122,8 +158,15 @@ void BatchSessionsFile::recognize(BatchRecognizer& rec, const Map& map, const st
 std::string recognize_batch_shard(BatchRecognizer& rec, const Map& map, std::string_view text,
                                   const std::string& source, std::size_t first_line, std::size_t first_session,
                                   std::size_t top_k) {
+  BatchRecognizer* one[] = {&rec};
+  return recognize_batch_shard(one, map, text, source, first_line, first_session, top_k);
+}
+
+std::string recognize_batch_shard(std::span<BatchRecognizer* const> recs, const Map& map, std::string_view text,
+                                  const std::string& source, std::size_t first_line, std::size_t first_session,
+                                  std::size_t top_k) {
   const auto sessions = batch::parse_sessions(text, source, first_line, first_session, map.sensor().elements());
-  const auto estimates = batch::recognize_sessions(rec, sessions, top_k, source, first_session);
+  const auto estimates = batch::recognize_sessions(recs, sessions, top_k, source, first_session);
   return batch::format_results(sessions, estimates, map.object_names());
 }
 

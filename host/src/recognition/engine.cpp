@@ -37,10 +37,16 @@ std::size_t Engine::sessions_per_submission(const RecognizerOptions& options) co
   return submission_sessions(d);
 }
 
+std::size_t Engine::submissions_in_flight() const {
+  return in_flight({impl_->device_type, impl_->device_memory_bytes, impl_->map_device_bytes, 0});
+}
+
+std::size_t in_flight(const DeviceMemoryInfo& d) { return !d.type.empty() && d.type != "cpu" ? 2 : 1; }
+
 std::size_t submission_sessions(const DeviceMemoryInfo& d) {
   const bool gpu = !d.type.empty() && d.type != "cpu";
   if (!gpu || d.belief_bytes == 0 || d.bytes <= d.map_bytes) return kMinSubmission;
-  const std::uint64_t fits = (d.bytes - d.map_bytes) / 2 / d.belief_bytes;
+  const std::uint64_t fits = (d.bytes - d.map_bytes) / 2 / in_flight(d) / d.belief_bytes;
   return static_cast<std::size_t>(std::clamp<std::uint64_t>(fits, kMinSubmission, kMaxSubmission));
 }
 

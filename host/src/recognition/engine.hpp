@@ -53,5 +53,7 @@ struct DeviceMemoryInfo {
 // leaves, from kMinSubmission to kMaxSubmission; kMinSubmission on a CPU (the reference or lavapipe) or unbounded.
 constexpr std::size_t kMinSubmission = 64, kMaxSubmission = 4096;
 std::size_t submission_sessions(const DeviceMemoryInfo& device);
+// The groups a batch keeps in flight on `device`: 2 on a GPU, 1 on a CPU (Engine::submissions_in_flight).
+std::size_t in_flight(const DeviceMemoryInfo& device);
 
 }  // namespace sva

@@ -3,11 +3,14 @@
 // estimate() gives and what the CPU reference's batch gives, bit for bit.
 #include <catch2/catch.hpp>
 
+#include <sva/batch_file.hpp>
 #include <sva/batch_recognizer.hpp>
+#include <sva/engine.hpp>
 #include <sva/error.hpp>
 
 #include <numeric>
 
+#include "recognition/batch_sessions.hpp"
 #include "recognition/fixture.hpp"
 #include "recognition/same_estimate.hpp"
 #include "recognition/trained_map.hpp"
@@ -101,4 +104,37 @@ TEST_CASE("GPU batch: a batch's estimates read every session's belief in four su
   // Alone, a session reads its summary, its best bins and its bins by key: three round trips or more each.
   CHECK(each >= 3 * kSessions);
   CHECK(batched <= 4);
+}
+
+TEST_CASE(
+    "GPU batch: groups in flight on two recognizers of one device give each session the one recognizer's answer") {
+  // 30 sessions in groups of 8 on two recognizers of one Vulkan engine at once (their submissions take turns on the
+  // device's queue while the other's host work runs), against one recognizer on the CPU reference.
+  std::vector<BatchSession> sessions(30);
+  for (std::size_t i = 0; i < sessions.size(); ++i) {
+    sessions[i].id = std::to_string(i);
+    sessions[i].readings = readings_at(static_cast<std::uint32_t>(i % 3), random_pose(900 + i, 100.0),
+                                       util::Rng(900 + i, 5), 2 + static_cast<int>(i % 5));
+  }
+  std::unique_ptr<Engine> engine;
+  try {
+    engine = std::make_unique<Engine>(trained().map, EngineOptions{BackendKind::vulkan, ""});
+  } catch (const Error& e) {
+    skip(e.what());
+  }
+  std::vector<BatchRecognizer> gpu;
+  for (int i = 0; i < 2; ++i) gpu.emplace_back(*engine, paper_space(), 8, gpu_options());
+  BatchRecognizer* in_flight[] = {&gpu[0], &gpu[1]};
+  RecognizerOptions co = gpu_options();
+  co.backend = BackendKind::cpu;
+  BatchRecognizer cpu(trained().map, paper_space(), 8, co);
+  BatchRecognizer* one[] = {&cpu};
+  const auto a = batch::recognize_sessions(in_flight, sessions, 3, "gpu");
+  const auto b = batch::recognize_sessions(one, sessions, 3, "cpu");
+  REQUIRE(a.size() == sessions.size());
+  for (std::size_t i = 0; i < sessions.size(); ++i) {
+    INFO("session " << i);
+    CHECK(same(a[i], b[i]));
+  }
+  CHECK(gpu[1].readings(0) == sessions[24].readings.size());  // not vacuous: the second ran groups 1 and 3
 }

@@ -6,9 +6,12 @@
 #   4. sva bench on paper3d: the Vulkan backend one session at a time (10, 30, 100 readings, 3 trials), then 64 per
 #      submission (10 and 30 readings), then the CPU reference on the same machine (bench-*.txt), then its scaling:
 #      one session on 8 and 16 threads, 64 sessions per update on 2 and 16 threads, and on the device 256 sessions
-#      per submission (what Engine::sessions_per_submission gives an 80-141 GB GPU at the default bound: 190-340)
-#      (on a host of 16 cores or more: a GPU machine); each cut at the budget's end.
-# The per-test logs and the benchmarks' JSON go into details.tgz: 7 files in all, 12 on a host of 16 cores.
+#      per submission (the two groups in flight together that Engine::sessions_per_submission gives an 80-141 GB GPU
+#      at the default bound, 105-184 each)
+#      (on a host of 16 cores or more: a GPU machine); each cut at the budget's end;
+#      before the CPU's scaling: sva recognize of 512 sessions with one group in flight and with two (the double
+#      buffering), wall times and whether the results are the same bytes (recognize-in-flight.txt).
+# The per-test logs and the benchmarks' JSON go into details.tgz: 7 files in all, 13 on a host of 16 cores.
 #
 #   run-device-check.sh OUT_DIR [SECONDS]    SECONDS: the budget for all of it (default 480)
 # Environment: VK_DRIVER_FILES (the caller's ICD, kept), WORK (paper3d's data and map, default OUT_DIR/paper3d:
@@ -88,6 +91,27 @@ cat "$out"/.suite/*.out >"$out/suite.txt"
 grep -hE '^[a-z_]+: [0-9]+ passed|FAILED' "$out/suite.txt"
 suite_failed=$(($(grep -cE '^  FAILED' "$out/suite.txt") + agreement_failed))
 
+# sva recognize with 1 and 2 groups of 64 sessions in flight: the double buffering's gain on this device, and the same
+# bytes (recognize-in-flight.txt).
+recognize_in_flight() {
+  local t=$(($(left) * 30 / 100)) n r
+  if ((t < 40)); then echo "recognize in flight: no time left" | tee "$out/recognize-in-flight.txt"; return; fi
+  say "sva recognize, 1 and 2 groups in flight ($t s at most)"
+  {
+    "$BUNDLE/sva" --quiet recognize --write-sessions "$out/.suite/sessions.jsonl" --map "$work/map.svam" \
+      --data "$work/test.svad" --trials 512 --max-readings 10
+    for n in 1 2; do
+      r=$SECONDS
+      timeout $((t / 2)) "$BUNDLE/sva" --quiet recognize --map "$work/map.svam" --batch "$out/.suite/sessions.jsonl" \
+        --out "$out/.suite/results-$n.jsonl" --backend vulkan --sessions-per-submission 64 --in-flight "$n"
+      echo "in flight $n: exit $?, $((SECONDS - r)) s for 512 sessions of 10 readings"
+    done
+    cmp -s "$out/.suite/results-1.jsonl" "$out/.suite/results-2.jsonl" && echo "results: the same bytes" ||
+      echo "results: DIFFER"
+  } >"$out/recognize-in-flight.txt" 2>&1
+  cat "$out/recognize-in-flight.txt"
+}
+
 bench() {  # NAME SHARE-OF-WHAT-IS-LEFT sva-bench-options...
   local name=$1 share=$2 t
   shift 2
@@ -110,6 +134,7 @@ if [[ -f $work/map.svam ]]; then
   # 64 sessions on 16 threads >= 6x 2 threads), where the host has 16 of them.
   if (($(nproc) >= 16)); then
     bench vulkan-batch-256 25 --backend vulkan --trials 256 --batch 256 --readings 10,30
+    recognize_in_flight
     SVA_THREADS=8 bench cpu-t8 30 --backend cpu --trials 1 --batch 0 --readings 30,100
     SVA_THREADS=16 bench cpu-t16 45 --backend cpu --trials 1 --batch 0 --readings 30,100
     SVA_THREADS=2 bench cpu-batch-t2 50 --backend cpu --trials 64 --batch 64 --readings 10,30

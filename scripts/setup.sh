@@ -2,13 +2,16 @@
 # Installs every Debian 12 package sva needs to build, test and run. Idempotent; run as root.
 #   scripts/setup.sh              # the x86-64 build, its tests and the Python package
 #   scripts/setup.sh --aarch64    # and the cross build for aarch64 (the aarch64 preset; scripts/aarch64-check.sh)
+#   scripts/setup.sh --no-python  # without the Python package's virtual environment: the sva command line needs
+#                                 # none (the README's first command: 25 s of downloads and installs saved)
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
-aarch64=0
+aarch64=0 python=1
 for arg in "$@"; do
   case "$arg" in
     --aarch64) aarch64=1 ;;
-    -h | --help) sed -n '2,4p' "$0"; exit 0 ;;
+    --no-python) python=0 ;;
+    -h | --help) sed -n '2,6p' "$0"; exit 0 ;;
     *) echo "setup.sh: unknown option $arg (see --help)" >&2; exit 2 ;;
   esac
 done
@@ -44,6 +47,8 @@ if [ ${#missing[@]} -gt 0 ] || [ "${force_update:-0}" = 1 ]; then
   $SUDO apt-get update
   $SUDO apt-get install -y --no-install-recommends "${missing[@]}"
 fi
+
+[ "$python" = 1 ] || exit 0
 
 # The Python package's build and test tools, in a virtual environment at .venv made with Debian's python3 (not
 # whatever python3 comes first on PATH): nanobind and scikit-build-core to build, NumPy, pytest, matplotlib and

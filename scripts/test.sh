@@ -91,7 +91,8 @@ PY
 # 11,000 readings) takes minutes to simulate and train, which the test command's budget has no room for. Its work
 # folder is build/, so the run leaves no cached data where a user's `sva demo` would find it.
 first_command() {
-  cmake --preset default && cmake --build --preset default && ./build/sva demo --scene tiny --work build/demo-tiny
+  bash scripts/setup.sh --no-python && cmake --preset default && cmake --build --preset default &&
+    ./build/sva demo --scene tiny --work build/demo-tiny
 }
 
 # AddressSanitizer and UBSan (the asan preset, leak detection on) over the suites that run in seconds; the slow

@@ -231,10 +231,15 @@ void BatchRecognizer::Impl::read_ahead(const std::vector<const Session*>& piped,
     best_bins = std::max(best_bins, estimate_best_bins(request(*s, top_k, threads), s->filter->observed().size()));
   }
   backend->read_ahead(beliefs, best_bins);
-  std::vector<std::vector<std::uint64_t>> keys;
-  for (const Session* s : piped)
-    keys.push_back(
-        estimate_keys({s->filter->belief(), s->filter->space(), s->filter->observed()}, request(*s, top_k, threads)));
+  std::vector<std::vector<std::uint64_t>> keys(piped.size());
+  util::parallel_for(
+      piped.size(),
+      [&](std::size_t k) {
+        const Session& s = *piped[k];
+        keys[k] =
+            estimate_keys({s.filter->belief(), s.filter->space(), s.filter->observed()}, request(s, top_k, threads));
+      },
+      options.threads);
   backend->look_up_ahead(beliefs, keys);
 }
 
@@ -259,33 +264,28 @@ std::vector<Estimate> BatchRecognizer::estimates(std::span<const std::size_t> se
   if (piped.empty()) return out;
   // Each session's estimate on its share of the workers, the sessions across them: a session's fits are few, and
   // its own split of them left most workers idle in a batch. Stage 1 reads the belief: a device's read ahead for all
-  // sessions, then one session at a time (its queue is the backend's); the CPU reference's on the workers. The same
-  // answers for any thread count.
+  // sessions (a few submissions), then each session's stage 1 from what came back, on the workers as the CPU
+  // reference's (a read the read-ahead missed takes its turn on the device's queue). The same answers for any
+  // thread count.
   const auto& objects = impl_->pair_map->objects;
   const bool device = impl_->engine.backend() == BackendKind::vulkan;
   // Fewer sessions than workers (a robot's one session): each session's own stages split the rest.
   const unsigned workers = impl_->options.threads ? impl_->options.threads : util::default_threads();
   const unsigned inner = static_cast<unsigned>(std::max<std::size_t>(1, workers / piped.size()));
-  std::vector<Candidates> candidates(piped.size());
-  const auto read = [&](std::size_t k) {
-    const Impl::Session& s = impl_->sessions[sessions[piped[k]]];
-    candidates[k] = estimate_candidates({s.filter->belief(), s.filter->space(), s.filter->observed()},
-                                        impl_->request(s, top_k, inner));
-  };
   if (device) {
     std::vector<const Impl::Session*> ahead;
     for (std::size_t i : piped) ahead.push_back(&impl_->sessions[sessions[i]]);
     impl_->read_ahead(ahead, top_k, inner);
-    for (std::size_t k = 0; k < piped.size(); ++k) read(k);
-  } else {
-    util::parallel_for(piped.size(), read, impl_->options.threads);
   }
   util::parallel_for(
       piped.size(),
       [&](std::size_t k) {
         const Impl::Session& s = impl_->sessions[sessions[piped[k]]];
-        out[piped[k]] = impl_->finish(s, estimate_from(candidates[k], s.filter->observed(), s.filter->space(), objects,
-                                                       impl_->request(s, top_k, inner)));
+        const EstimateRequest request = impl_->request(s, top_k, inner);
+        const Candidates candidates =
+            estimate_candidates({s.filter->belief(), s.filter->space(), s.filter->observed()}, request);
+        out[piped[k]] =
+            impl_->finish(s, estimate_from(candidates, s.filter->observed(), s.filter->space(), objects, request));
       },
       impl_->options.threads);
   return out;

@@ -8,6 +8,7 @@
 // and lookups a few bins (belief_lookup.comp). Only the state's few integers
 // come back to the host, which finishes the estimate with the same code as
 // the CPU reference.
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -33,8 +34,9 @@ struct GpuBeliefKernels {
   const vk::Pipeline* reduce = nullptr;
   const vk::Pipeline* lookup = nullptr;
   std::size_t initial_slots = 1 << 12;
-  double kernel_ms = 0.0;      // GPU time of belief work since the backend last reset it
-  unsigned band_rebuilds = 0;  // band lists rebuilt from a whole table (BackendStats::band_rebuilds)
+  // Counted by the beliefs of many sessions at once: a batch's estimates read their beliefs on the workers.
+  std::atomic<double> kernel_ms = 0.0;      // GPU time of belief work since the backend last reset it
+  std::atomic<unsigned> band_rebuilds = 0;  // band lists rebuilt from a whole table (BackendStats::band_rebuilds)
 };
 
 class GpuBelief final : public BeliefState {

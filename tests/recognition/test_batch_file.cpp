@@ -94,6 +94,15 @@ TEST_CASE("Batch recognition: a streamed file gives the whole file's result line
     CHECK(batch::format_results(all, batch::recognize_sessions(ptrs, all, 3, file.string()), t.map.object_names()) ==
           expected);
   }
+  // Recognizers that cannot share a batch are refused by name, before any recognition.
+  BatchRecognizer three(engine, paper_space(), 3);
+  BatchRecognizer* uneven[] = {&whole, &three};
+  CHECK_THROWS_WITH(checked.recognize(uneven, t.map, dir / "results.jsonl", 3),
+                    Catch::Contains("recognizer 1 of 2 steps 3 sessions, the first 7"));
+  BatchRecognizer* twice[] = {&whole, &whole};
+  CHECK_THROWS_WITH(checked.recognize(twice, t.map, dir / "results.jsonl", 3),
+                    Catch::Contains("recognizers 0 and 1 are the same one"));
+  CHECK(read_all(dir / "results.jsonl") == expected);  // the earlier results file is untouched
   // Two shards cut at a line boundary (lines 1-5 hold sessions 0-2): their lines concatenated are the whole file's.
   const std::string text = read_all(file);
   std::size_t cut = 0;

@@ -24,12 +24,21 @@ namespace batch {
 
 namespace {
 
-// Every recognizer of a batch steps as many sessions together.
+// Every recognizer of a batch steps as many sessions together, and each is a different one: two groups stepping
+// one recognizer's sessions at once would mix their readings.
 std::size_t group_size(std::span<BatchRecognizer* const> recs) {
-  if (recs.empty()) throw std::logic_error("batch recognition: no recognizer");
-  for (const BatchRecognizer* r : recs)
-    if (!r || r->sessions() != recs[0]->sessions() || r->sessions() == 0)
-      throw std::logic_error("batch recognition: the recognizers differ in sessions (or have none)");
+  if (recs.empty() || !recs[0]) throw Error("batch recognition: no recognizer given");
+  for (std::size_t i = 0; i < recs.size(); ++i) {
+    if (!recs[i] || recs[i]->sessions() != recs[0]->sessions())
+      throw Error("batch recognition: recognizer " + std::to_string(i) + " of " + std::to_string(recs.size()) +
+                  (recs[i] ? " steps " + std::to_string(recs[i]->sessions()) + " sessions, the first " +
+                                 std::to_string(recs[0]->sessions()) + " (they must step as many)"
+                           : " is missing"));
+    for (std::size_t j = 0; j < i; ++j)
+      if (recs[j] == recs[i])
+        throw Error("batch recognition: recognizers " + std::to_string(j) + " and " + std::to_string(i) +
+                    " are the same one (groups in flight need one recognizer each)");
+  }
   return recs[0]->sessions();
 }
 

@@ -89,17 +89,12 @@ int cmd_recognize(const std::vector<std::string>& argv) {
       a.integer("--sessions-per-submission", static_cast<long long>(engine.sessions_per_submission(ro)), 1, 1 << 20));
   const auto in_flight =
       static_cast<std::size_t>(a.integer("--in-flight", static_cast<long long>(engine.submissions_in_flight()), 1, 8));
-  const std::size_t group = std::min(per, sessions.sessions());
-  std::vector<BatchRecognizer> recs;
-  std::vector<BatchRecognizer*> pointers;
-  for (std::size_t i = 0; i < std::min(in_flight, (sessions.sessions() + group - 1) / group); ++i)
-    recs.emplace_back(engine, map.pose_space(), group, ro);
-  for (BatchRecognizer& r : recs) pointers.push_back(&r);
+  std::vector<BatchRecognizer> recs = batch_recognizers(engine, sessions.sessions(), per, in_flight, ro);
   const BatchRecognizer& rec = recs.front();
   if (!rec.backend_fallback_reason().empty())
     std::fprintf(stderr, "sva recognize: backend auto chose the CPU reference: %s\n",
                  rec.backend_fallback_reason().c_str());
-  sessions.recognize(pointers, map, out_file, top_k, true);
+  sessions.recognize(recs, map, out_file, top_k, true);
   std::fprintf(stderr, "recognised %zu sessions (%zu readings) with %s, %zu per submission, %zu in flight; wrote %s\n",
                sessions.sessions(), sessions.readings(), rec.backend_description().c_str(), rec.sessions(), recs.size(),
                out_file.c_str());

@@ -51,22 +51,19 @@ nb::bytes recognize_shard(PyBatchRecognizer& b, const Map& map, nb::bytes text, 
   return nb::bytes(results.data(), results.size());
 }
 
-// One shard of a sessions file on `in_flight` recognizers of `engine`, `sessions` each, their groups in flight at
-// once (sva.recognize_batch; host/include/sva/batch_file.hpp).
+// One shard of a sessions file (`total` sessions) on up to `in_flight` recognizers of `engine`, `sessions` each, their
+// groups in flight at once (sva.recognize_batch; host/include/sva/batch_file.hpp).
 nb::bytes recognize_shard_in_flight(const Engine& engine, nb::bytes text, const std::string& source,
                                     std::size_t first_line, std::size_t first_session, std::size_t top_k,
-                                    std::size_t sessions, std::size_t in_flight, const nb::kwargs& options) {
-  if (sessions == 0 || in_flight == 0) throw Error("sva.recognize_batch: sessions and in_flight must be >= 1");
+                                    std::size_t total, std::size_t sessions, std::size_t in_flight,
+                                    const nb::kwargs& options) {
   const RecognizerOptions o = recognizer_options(options, "sva.recognize_batch");
   std::string results;
   {
     const std::string_view lines(text.c_str(), text.size());
     EngineScope scope(true);
-    std::vector<BatchRecognizer> recs;
-    std::vector<BatchRecognizer*> pointers;
-    for (std::size_t i = 0; i < in_flight; ++i) recs.emplace_back(engine, engine.map().pose_space(), sessions, o);
-    for (BatchRecognizer& r : recs) pointers.push_back(&r);
-    results = recognize_batch_shard(pointers, engine.map(), lines, source, first_line, first_session, top_k);
+    std::vector<BatchRecognizer> recs = batch_recognizers(engine, total, sessions, in_flight, o);
+    results = recognize_batch_shard(recs, engine.map(), lines, source, first_line, first_session, top_k);
   }
   return nb::bytes(results.data(), results.size());
 }
@@ -75,7 +72,7 @@ nb::bytes recognize_shard_in_flight(const Engine& engine, nb::bytes text, const 
 
 void bind_batch_recognizer(nb::module_& m) {
   m.def("_recognize_shard_in_flight", &recognize_shard_in_flight, "engine"_a, "text"_a, "source"_a, "first_line"_a,
-        "first_session"_a, "top_k"_a, "sessions"_a, "in_flight"_a, "options"_a,
+        "first_session"_a, "top_k"_a, "total"_a, "sessions"_a, "in_flight"_a, "options"_a,
         "Result lines (bytes) of the sessions in `text` (as BatchRecognizer._recognize_shard), on `in_flight` "
         "recognizers of `engine` at once, `sessions` sessions each (sva.recognize_batch).");
   nb::class_<PyBatchRecognizer>(m, "BatchRecognizer",

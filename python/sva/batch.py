@@ -117,10 +117,9 @@ def recognize_batch(
     if in_flight is None:
         in_flight = engine.submissions_in_flight()
     (whole,) = file.shards(file.sessions)
-    group = min(sessions_per_submission, whole.sessions)
-    in_flight = min(in_flight, -(-whole.sessions // group))
     results = _recognize_shard_in_flight(
-        engine, whole.text, file.name, whole.first_line, whole.first_session, top, group, in_flight, **options
+        engine, whole.text, file.name, whole.first_line, whole.first_session, top, whole.sessions,
+        sessions_per_submission, in_flight, **options
     )
     if out is not None:
         write_atomically(out, iter([results]))

@@ -64,9 +64,8 @@ TEST_CASE("Batch recognition: a streamed file gives the whole file's result line
   CHECK(all[4].id == "4");
   CHECK(all[2].truth == R"({"note":[1,2.5],"object":"b"})");  // any JSON, kept as text
   BatchRecognizer whole(t.map, paper_space(), 7);
-  BatchRecognizer* one[] = {&whole};
-  const std::string expected =
-      batch::format_results(all, batch::recognize_sessions(one, all, 3, file.string()), t.map.object_names());
+  const std::string expected = batch::format_results(
+      all, batch::recognize_sessions(std::span(&whole, 1), all, 3, file.string()), t.map.object_names());
   CHECK(expected.find(R"("truth":{"note":[1,2.5],"object":"b"})") != std::string::npos);
 
   const BatchSessionsFile checked(file, elements);
@@ -85,23 +84,19 @@ TEST_CASE("Batch recognition: a streamed file gives the whole file's result line
   const Engine engine(t.map);
   for (std::size_t in_flight : {2, 3}) {
     INFO(in_flight << " recognizers, groups of 2");
-    std::vector<BatchRecognizer> recs;
-    std::vector<BatchRecognizer*> ptrs;
-    for (std::size_t i = 0; i < in_flight; ++i) recs.emplace_back(engine, paper_space(), 2);
-    for (BatchRecognizer& r : recs) ptrs.push_back(&r);
-    checked.recognize(ptrs, t.map, dir / "results.jsonl", 3);
+    std::vector<BatchRecognizer> recs = batch_recognizers(engine, all.size(), 2, in_flight);
+    REQUIRE(recs.size() == in_flight);
+    checked.recognize(recs, t.map, dir / "results.jsonl", 3);
     CHECK(read_all(dir / "results.jsonl") == expected);
-    CHECK(batch::format_results(all, batch::recognize_sessions(ptrs, all, 3, file.string()), t.map.object_names()) ==
+    CHECK(batch::format_results(all, batch::recognize_sessions(recs, all, 3, file.string()), t.map.object_names()) ==
           expected);
   }
   // Recognizers that cannot share a batch are refused by name, before any recognition.
-  BatchRecognizer three(engine, paper_space(), 3);
-  BatchRecognizer* uneven[] = {&whole, &three};
+  std::vector<BatchRecognizer> uneven;
+  uneven.emplace_back(engine, paper_space(), 7);
+  uneven.emplace_back(engine, paper_space(), 3);
   CHECK_THROWS_WITH(checked.recognize(uneven, t.map, dir / "results.jsonl", 3),
                     Catch::Contains("recognizer 1 of 2 steps 3 sessions, the first 7"));
-  BatchRecognizer* twice[] = {&whole, &whole};
-  CHECK_THROWS_WITH(checked.recognize(twice, t.map, dir / "results.jsonl", 3),
-                    Catch::Contains("recognizers 0 and 1 are the same one"));
   CHECK(read_all(dir / "results.jsonl") == expected);  // the earlier results file is untouched
   // Two shards cut at a line boundary (lines 1-5 hold sessions 0-2): their lines concatenated are the whole file's.
   const std::string text = read_all(file);
@@ -114,6 +109,20 @@ TEST_CASE("Batch recognition: a streamed file gives the whole file's result line
   CHECK_THROWS_WITH(recognize_batch_shard(shard_rec, t.map, "{\"readings\": 1}\n", "part.jsonl", 40, 9, 3),
                     Catch::Contains("part.jsonl:40") && Catch::Contains("\"readings\""));
   std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("Batch recognition: a batch's recognizers, one per group in flight, no more than its groups") {
+  const Engine engine(trained().map);
+  const auto sizes = [](const std::vector<BatchRecognizer>& recs) {
+    std::vector<std::size_t> out;
+    for (const BatchRecognizer& r : recs) out.push_back(r.sessions());
+    return out;
+  };
+  CHECK(sizes(batch_recognizers(engine, 30, 8, 3)) == std::vector<std::size_t>{8, 8, 8});
+  CHECK(sizes(batch_recognizers(engine, 12, 8, 3)) == std::vector<std::size_t>{8, 8});  // two groups
+  CHECK(sizes(batch_recognizers(engine, 5, 8, 2)) == std::vector<std::size_t>{5});      // one group, smaller
+  CHECK_THROWS_WITH(batch_recognizers(engine, 5, 8, 0), Catch::Contains("groups in flight must be >= 1"));
+  CHECK_THROWS_WITH(batch_recognizers(engine, 0, 8, 1), Catch::Contains("have 0, 8, 1"));
 }
 
 TEST_CASE("Batch recognition: the check refuses a bad line anywhere, naming it, and a file without sessions") {

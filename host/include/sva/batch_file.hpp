@@ -9,6 +9,7 @@
 //   sva::BatchRecognizer rec(map, map.pose_space(), std::min<std::size_t>(64, file.sessions()));
 //   file.recognize(rec, map, "results.jsonl");
 #include <sva/batch_recognizer.hpp>
+#include <sva/engine.hpp>
 #include <sva/map.hpp>
 #include <sva/pose.hpp>
 #include <sva/reading.hpp>
@@ -55,10 +56,10 @@ class BatchSessionsFile {
   // (util::Progress). sva::Error names the file and the failing update's first session.
   void recognize(BatchRecognizer& rec, const Map& map, const std::filesystem::path& results, std::size_t top_k = 3,
                  bool progress = false) const;
-  // The same with groups in flight on several recognizers at once (made alike from `map`, on one Engine, with the
-  // same sessions()): while one group's update runs on the device, the next group's host work goes on
-  // (Engine::submissions_in_flight() recognizers: two on a GPU). The results file holds the same bytes as on one.
-  void recognize(std::span<BatchRecognizer* const> recs, const Map& map, const std::filesystem::path& results,
+  // The same with groups in flight on several recognizers at once, one thread each (batch_recognizers() makes them,
+  // on one Engine, as many sessions each): while one group's update runs on the device, the next group's host work
+  // goes on. The results file holds the same bytes as on one.
+  void recognize(std::span<BatchRecognizer> recs, const Map& map, const std::filesystem::path& results,
                  std::size_t top_k = 3, bool progress = false) const;
 
  private:
@@ -76,8 +77,14 @@ std::string recognize_batch_shard(BatchRecognizer& rec, const Map& map, std::str
                                   const std::string& source, std::size_t first_line, std::size_t first_session,
                                   std::size_t top_k = 3);
 // The same with groups in flight on several recognizers at once (as BatchSessionsFile::recognize).
-std::string recognize_batch_shard(std::span<BatchRecognizer* const> recs, const Map& map, std::string_view text,
+std::string recognize_batch_shard(std::span<BatchRecognizer> recs, const Map& map, std::string_view text,
                                   const std::string& source, std::size_t first_line, std::size_t first_session,
                                   std::size_t top_k = 3);
+
+// The recognizers of a batch of `sessions` sessions with `in_flight` groups of `per_group` at once (the defaults:
+// engine.sessions_per_submission(options), engine.submissions_in_flight()): as many as there are groups, at most
+// `in_flight`, each stepping min(per_group, sessions) sessions on `engine` with the map's pose space.
+std::vector<BatchRecognizer> batch_recognizers(const Engine& engine, std::size_t sessions, std::size_t per_group,
+                                               std::size_t in_flight, const RecognizerOptions& options = {});
 
 }  // namespace sva

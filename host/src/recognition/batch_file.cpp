@@ -24,22 +24,15 @@ namespace batch {
 
 namespace {
 
-// Every recognizer of a batch steps as many sessions together, and each is a different one: two groups stepping
-// one recognizer's sessions at once would mix their readings.
-std::size_t group_size(std::span<BatchRecognizer* const> recs) {
-  if (recs.empty() || !recs[0]) throw Error("batch recognition: no recognizer given");
-  for (std::size_t i = 0; i < recs.size(); ++i) {
-    if (!recs[i] || recs[i]->sessions() != recs[0]->sessions())
+// Every recognizer of a batch steps as many sessions together.
+std::size_t group_size(std::span<BatchRecognizer> recs) {
+  if (recs.empty()) throw Error("batch recognition: no recognizer given");
+  for (std::size_t i = 1; i < recs.size(); ++i)
+    if (recs[i].sessions() != recs[0].sessions())
       throw Error("batch recognition: recognizer " + std::to_string(i) + " of " + std::to_string(recs.size()) +
-                  (recs[i] ? " steps " + std::to_string(recs[i]->sessions()) + " sessions, the first " +
-                                 std::to_string(recs[0]->sessions()) + " (they must step as many)"
-                           : " is missing"));
-    for (std::size_t j = 0; j < i; ++j)
-      if (recs[j] == recs[i])
-        throw Error("batch recognition: recognizers " + std::to_string(j) + " and " + std::to_string(i) +
-                    " are the same one (groups in flight need one recognizer each)");
-  }
-  return recs[0]->sessions();
+                  " steps " + std::to_string(recs[i].sessions()) + " sessions, the first " +
+                  std::to_string(recs[0].sessions()) + " (they must step as many)");
+  return recs[0].sessions();
 }
 
 // One group, sessions [first, first + count), on `rec`: its sessions fetched in its turn, stepped in lock step, its
@@ -78,21 +71,21 @@ void recognize_group(BatchRecognizer& rec, std::size_t group, std::size_t first,
 // span into `storage` or into what the caller keeps); `done(first, group, estimates)` takes each group's estimates
 // in group order. Group g runs on recs[g % recs.size()], the groups of different recognizers at once.
 template <class Fetch, class Done>
-void recognize_groups(std::span<BatchRecognizer* const> recs, std::size_t sessions, std::size_t top_k,
+void recognize_groups(std::span<BatchRecognizer> recs, std::size_t sessions, std::size_t top_k,
                       const std::string& source, std::size_t first_session, util::Progress* progress, Fetch fetch,
                       Done done) {
   const std::size_t per = group_size(recs);
   GroupTurns turns;
   run_groups((sessions + per - 1) / per, recs.size(), turns, [&](std::size_t g, std::size_t w) {
     const std::size_t first = g * per;
-    recognize_group(*recs[w], g, first, std::min(per, sessions - first), turns, top_k, source, first_session, progress,
+    recognize_group(recs[w], g, first, std::min(per, sessions - first), turns, top_k, source, first_session, progress,
                     fetch, done);
   });
 }
 
 }  // namespace
 
-std::vector<Estimate> recognize_sessions(std::span<BatchRecognizer* const> recs, std::span<const BatchSession> sessions,
+std::vector<Estimate> recognize_sessions(std::span<BatchRecognizer> recs, std::span<const BatchSession> sessions,
                                          std::size_t top_k, const std::string& source, std::size_t first_session,
                                          util::Progress* progress) {
   std::vector<Estimate> out(sessions.size());
@@ -135,12 +128,11 @@ BatchSessionsFile::BatchSessionsFile(std::filesystem::path file, int elements)
 
 void BatchSessionsFile::recognize(BatchRecognizer& rec, const Map& map, const std::filesystem::path& results,
                                   std::size_t top_k, bool progress) const {
-  BatchRecognizer* one[] = {&rec};
-  recognize(one, map, results, top_k, progress);
+  recognize(std::span(&rec, 1), map, results, top_k, progress);
 }
 
-void BatchSessionsFile::recognize(std::span<BatchRecognizer* const> recs, const Map& map,
-                                  const std::filesystem::path& results, std::size_t top_k, bool progress) const {
+void BatchSessionsFile::recognize(std::span<BatchRecognizer> recs, const Map& map, const std::filesystem::path& results,
+                                  std::size_t top_k, bool progress) const {
   const std::string source = file_.string();
   const std::vector<std::string> objects = map.object_names();
   std::optional<util::Progress> shown;
@@ -167,16 +159,27 @@ void BatchSessionsFile::recognize(std::span<BatchRecognizer* const> recs, const 
 std::string recognize_batch_shard(BatchRecognizer& rec, const Map& map, std::string_view text,
                                   const std::string& source, std::size_t first_line, std::size_t first_session,
                                   std::size_t top_k) {
-  BatchRecognizer* one[] = {&rec};
-  return recognize_batch_shard(one, map, text, source, first_line, first_session, top_k);
+  return recognize_batch_shard(std::span(&rec, 1), map, text, source, first_line, first_session, top_k);
 }
 
-std::string recognize_batch_shard(std::span<BatchRecognizer* const> recs, const Map& map, std::string_view text,
+std::string recognize_batch_shard(std::span<BatchRecognizer> recs, const Map& map, std::string_view text,
                                   const std::string& source, std::size_t first_line, std::size_t first_session,
                                   std::size_t top_k) {
   const auto sessions = batch::parse_sessions(text, source, first_line, first_session, map.sensor().elements());
   const auto estimates = batch::recognize_sessions(recs, sessions, top_k, source, first_session);
   return batch::format_results(sessions, estimates, map.object_names());
+}
+
+std::vector<BatchRecognizer> batch_recognizers(const Engine& engine, std::size_t sessions, std::size_t per_group,
+                                               std::size_t in_flight, const RecognizerOptions& options) {
+  if (sessions == 0 || per_group == 0 || in_flight == 0)
+    throw Error("batch recognition: sessions, sessions per group and groups in flight must be >= 1 (have " +
+                std::to_string(sessions) + ", " + std::to_string(per_group) + ", " + std::to_string(in_flight) + ")");
+  const std::size_t group = std::min(per_group, sessions);
+  std::vector<BatchRecognizer> recs;
+  for (std::size_t i = 0; i < std::min(in_flight, (sessions + group - 1) / group); ++i)
+    recs.emplace_back(engine, engine.map().pose_space(), group, options);
+  return recs;
 }
 
 }  // namespace sva

@@ -57,7 +57,7 @@ class SessionReader {
 // them together (its sessions are reset first), the recognizers' groups in flight at once (group_turns.hpp). An
 // error names `source` and the failing update's first session, counted from `first_session` (the shard's place in
 // the whole file).
-std::vector<Estimate> recognize_sessions(std::span<BatchRecognizer* const> recs, std::span<const BatchSession> sessions,
+std::vector<Estimate> recognize_sessions(std::span<BatchRecognizer> recs, std::span<const BatchSession> sessions,
                                          std::size_t top_k, const std::string& source, std::size_t first_session = 0,
                                          util::Progress* progress = nullptr);
 

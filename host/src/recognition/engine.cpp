@@ -41,11 +41,15 @@ std::size_t Engine::submissions_in_flight() const {
   return in_flight({impl_->device_type, impl_->device_memory_bytes, impl_->map_device_bytes, 0});
 }
 
-std::size_t in_flight(const DeviceMemoryInfo& d) { return !d.type.empty() && d.type != "cpu" ? 2 : 1; }
+namespace {
+// A GPU, not the CPU reference ("") nor a CPU device (lavapipe: "cpu").
+bool on_gpu(const DeviceMemoryInfo& d) { return !d.type.empty() && d.type != "cpu"; }
+}  // namespace
+
+std::size_t in_flight(const DeviceMemoryInfo& d) { return on_gpu(d) ? 2 : 1; }
 
 std::size_t submission_sessions(const DeviceMemoryInfo& d) {
-  const bool gpu = !d.type.empty() && d.type != "cpu";
-  if (!gpu || d.belief_bytes == 0 || d.bytes <= d.map_bytes) return kMinSubmission;
+  if (!on_gpu(d) || d.belief_bytes == 0 || d.bytes <= d.map_bytes) return kMinSubmission;
   const std::uint64_t fits = (d.bytes - d.map_bytes) / 2 / in_flight(d) / d.belief_bytes;
   return static_cast<std::size_t>(std::clamp<std::uint64_t>(fits, kMinSubmission, kMaxSubmission));
 }

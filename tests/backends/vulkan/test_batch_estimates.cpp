@@ -122,15 +122,13 @@ TEST_CASE(
   } catch (const Error& e) {
     skip(e.what());
   }
-  std::vector<BatchRecognizer> gpu;
-  for (int i = 0; i < 2; ++i) gpu.emplace_back(*engine, paper_space(), 8, gpu_options());
-  BatchRecognizer* in_flight[] = {&gpu[0], &gpu[1]};
+  std::vector<BatchRecognizer> gpu = batch_recognizers(*engine, sessions.size(), 8, 2, gpu_options());
+  REQUIRE(gpu.size() == 2);
   RecognizerOptions co = gpu_options();
   co.backend = BackendKind::cpu;
   BatchRecognizer cpu(trained().map, paper_space(), 8, co);
-  BatchRecognizer* one[] = {&cpu};
-  const auto a = batch::recognize_sessions(in_flight, sessions, 3, "gpu");
-  const auto b = batch::recognize_sessions(one, sessions, 3, "cpu");
+  const auto a = batch::recognize_sessions(gpu, sessions, 3, "gpu");
+  const auto b = batch::recognize_sessions(std::span(&cpu, 1), sessions, 3, "cpu");
   REQUIRE(a.size() == sessions.size());
   for (std::size_t i = 0; i < sessions.size(); ++i) {
     INFO("session " << i);

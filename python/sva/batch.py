@@ -1,7 +1,7 @@
 """Batch recognition of a sessions file (docs/batch-format.md) on this machine: what ``sva recognize`` does.
 
 The file is split into shards of consecutive sessions (whole lines); each shard is recognised by the engine
-(``BatchRecognizer._recognize_shard``) and yields the result lines of its sessions, so the results file is the
+(``_recognize_shard_in_flight`` here, ``BatchRecognizer._recognize_shard`` on a Dask worker) and yields the result lines of its sessions, so the results file is the
 shards' lines concatenated in input order. :mod:`sva.distributed` runs the same shards on a Dask cluster.
 """
 
@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Iterator, Optional, Union
 
 from ._files import atomic_output
-from ._sva_core import BatchRecognizer, Engine, Error, Map, _recognize_shard_in_flight
+from ._sva_core import Engine, Error, Map, _recognize_shard_in_flight
 
 PathLike = Union[str, "os.PathLike[str]"]
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import sva
-from conftest import reading_of
+from conftest import reading_of, run_sva
 
 
 def pose_of(j: dict) -> tuple[np.ndarray, np.ndarray]:
@@ -191,3 +191,12 @@ def test_belief_budget_bins_is_an_option(tiny, tiny_map):
     assert sva.Engine(tiny_map, backend="cpu").sessions_per_submission(belief_budget_bins=256) == 64
     with pytest.raises(TypeError, match="belief_budget_bins"):
         sva.BatchRecognizer(tiny_map, 1, backend="cpu", belief_budget_bins=-1)
+
+
+def test_sva_recognize_groups_in_flight_give_the_same_file(tiny, tmp_path):
+    # The command line's --in-flight: three groups of 2 sessions at once on three recognizers, the file's bytes as one
+    # group of all (the GPU's double buffering, here on the CPU reference).
+    out = tmp_path / "in-flight.jsonl"
+    run_sva("recognize", "--map", str(tiny.map), "--batch", str(tiny.sessions), "--out", str(out),
+            "--backend", "cpu", "--top", "3", "--sessions-per-submission", "2", "--in-flight", "3")
+    assert out.read_bytes() == tiny.results.read_bytes()

@@ -11,7 +11,7 @@ namespace sva::io {
 
 namespace {
 constexpr char kMagic[8] = {'S', 'V', 'A', 'R', 'E', 'C', '\r', '\n'};
-constexpr std::size_t kHeaderBytes = 16, kRecordHeader = 8, kRecordTrailer = 8;
+constexpr std::size_t kFileHeader = 16, kRecordHeader = 8, kRecordTrailer = 8;
 constexpr std::uint32_t kMaxPayload = 64u << 20;
 
 std::uint64_t record_checksum(std::uint32_t type, std::uint32_t size, const std::uint8_t* payload) {
@@ -67,14 +67,14 @@ RecordingContents read_recording(const std::filesystem::path& file) {
   std::ifstream in(file, std::ios::binary);
   if (!in) throw Error(file.string() + ": cannot read recording");
   std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (bytes.size() < kHeaderBytes || std::memcmp(bytes.data(), kMagic, 8) != 0)
+  if (bytes.size() < kFileHeader || std::memcmp(bytes.data(), kMagic, 8) != 0)
     throw Error(file.string() + ": not an sva recording (bad magic)");
   RecordingContents out;
   std::memcpy(&out.version, bytes.data() + 8, 4);
   if (out.version < 1 || out.version > kRecordingVersion)
     throw Error(file.string() + ": recording version " + std::to_string(out.version) + " (this sva reads 1.." +
                 std::to_string(kRecordingVersion) + ")");
-  std::size_t at = kHeaderBytes;
+  std::size_t at = kFileHeader;
   while (at < bytes.size()) {
     if (bytes.size() - at < kRecordHeader + kRecordTrailer) {
       out.tail_problem = "truncated record header at byte " + std::to_string(at);

@@ -24,8 +24,6 @@ namespace sva {
 
 namespace {
 
-// Key spaces above this would need count tables too large to be sensible.
-constexpr std::uint64_t kMaxKeySpace = kMaxPairKeySpace;
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -108,9 +106,9 @@ TrainParameters resolve_train_parameters(const Scene& scene, const TrainOptions&
     throw Error("pair readings " + std::to_string(pair) + " per object: expected 0 (all) or at least 2");
   p.pair_readings = static_cast<std::size_t>(pair);
   const std::uint64_t space = static_cast<std::uint64_t>(p.clusters) * p.clusters * p.distance.count;
-  if (space > kMaxKeySpace)
+  if (space > kMaxPairKeySpace)
     throw Error("clusters x clusters x distance bins = " + std::to_string(space) + " keys: more than the supported " +
-                std::to_string(kMaxKeySpace));
+                std::to_string(kMaxPairKeySpace));
   p.seed = o.seed;
   p.threads = o.threads;
   p.progress = o.progress;

@@ -17,7 +17,6 @@ namespace {
 constexpr std::size_t kMaxObjects = 1 << 16;
 constexpr std::uint32_t kMaxClasses = 4096;
 constexpr std::uint32_t kMaxBins = 100000;
-constexpr std::uint64_t kMaxKeySpace = kMaxPairKeySpace;
 
 void put_symmetry(io::BinaryWriter& w, const Symmetry& s, std::uint32_t version) {
   w.put<std::uint8_t>(static_cast<std::uint8_t>(s.kind));
@@ -405,7 +404,7 @@ std::uint64_t validate_key_space(const PairMap& m, const std::string& origin) {
   if (!std::isfinite(d.min_mm) || !std::isfinite(d.max_mm) || d.min_mm < 0 || d.min_mm >= d.max_mm)
     fail("distance range is invalid");
   const std::uint64_t space = static_cast<std::uint64_t>(k) * k * d.count;
-  if (space > kMaxKeySpace) fail("key space is too large");
+  if (space > kMaxPairKeySpace) fail("key space is too large");
   return space;
 }
 

@@ -14,6 +14,7 @@
 #include <optional>
 
 #include "calibration/calibration.hpp"
+#include "map/map_builder.hpp"
 #include "test_support.hpp"
 #include "training/calibration_fit.hpp"
 #include "training/held_out_sessions.hpp"
@@ -218,4 +219,51 @@ TEST_CASE("fit_unknown: the evidence before the fine pose, the fit after it, coe
   for (CalibrationSession& s : sessions) s.known = true;
   fit_unknown(sessions, &c);
   CHECK(c.unknown.empty());
+}
+
+TEST_CASE("held-out sessions run side by side give every session's evidence whatever the thread count") {
+  const Scene scene = load_scene("tiny");
+  sim::SimulateOptions so;
+  so.train_per_object = 60;
+  so.test_per_object = 1;
+  so.seed = 4;
+  const Dataset data = sim::simulate(scene, so).train;
+  TrainOptions to;
+  to.clusters = 6;
+  const TrainParameters params = resolve_train_parameters(scene, to);
+  const CalibrationSplit split = split_for_calibration(data, 0.3, 7, false);
+  const std::shared_ptr<PairMap> map = train_pair_map(split.map_part, params, nullptr);
+  HeldOutSessionOptions options;
+  options.known_sessions = 7;
+  options.readings = 5;
+  options.seed = 9;
+  auto run = [&](unsigned threads) {
+    HeldOutSessionOptions o = options;
+    o.threads = threads;
+    return run_held_out_sessions(*map, split, o);
+  };
+  const std::vector<CalibrationSession> one = run(1);
+  REQUIRE(one.size() == 7);
+  std::size_t objects_seen = 0;
+  for (std::uint32_t o = 0; o < map->objects.size(); ++o)
+    objects_seen += std::any_of(one.begin(), one.end(), [&](const CalibrationSession& s) { return s.object == o; });
+  CHECK(objects_seen == map->objects.size());  // sessions cycle through the objects
+  for (unsigned threads : {2u, 3u}) {
+    const std::vector<CalibrationSession> many = run(threads);
+    REQUIRE(many.size() == one.size());
+    for (std::size_t t = 0; t < one.size(); ++t) {
+      INFO("threads " << threads << ", session " << t);
+      CHECK(many[t].known == one[t].known);
+      CHECK(many[t].object == one[t].object);
+      REQUIRE(many[t].steps.size() == options.readings);
+      for (std::size_t n = 0; n < options.readings; ++n) {
+        const EvidenceLevel &a = one[t].steps[n], &b = many[t].steps[n];
+        CHECK(b.readings == a.readings);
+        CHECK(b.object_log2_mass == a.object_log2_mass);  // exact: the same bits
+        CHECK(b.best_bits_per_pair == a.best_bits_per_pair);
+        CHECK(b.fit_cost_share == a.fit_cost_share);
+        CHECK(b.surface_log2_fit == a.surface_log2_fit);
+      }
+    }
+  }
 }

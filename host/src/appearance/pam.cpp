@@ -263,28 +263,36 @@ PamResult pam(const std::vector<float>& points, std::uint32_t dim, const PamOpti
   // BUILD reads the whole matrix k times: cheap when it is cached, k full
   // passes of n^2 inner products when not. Then start from seeded random
   // medoids instead, as FasterPAM does; the swaps and restarts do the rest.
-  std::unique_ptr<util::Progress> bar;
-  if (opt.progress && !dis.cached())
-    bar = std::make_unique<util::Progress>("clustering: FasterPAM (rows on the fly)", 1 + opt.restarts);
-  PamResult best = swap_search(dis, dis.cached() ? build(dis, k, opt.threads, opt.progress) : random_medoids(0), order);
+  const std::vector<std::uint32_t> first = dis.cached() ? build(dis, k, opt.threads, opt.progress) : random_medoids(0);
   // Swap search stops in a local optimum, as classic PAM does; restarts from
   // seeded random medoids keep the best, which finds the global optimum of
-  // small sets far more often than one descent.
-  if (opt.progress && dis.cached() && opt.restarts)
-    bar = std::make_unique<util::Progress>("clustering: FasterPAM restarts", opt.restarts);
-  else if (bar)
-    bar->advance();
-  for (std::uint32_t r = 1; r <= opt.restarts && k < n; ++r) {
-    PamResult res = swap_search(dis, random_medoids(r), order);
+  // small sets far more often than one descent. The searches are independent
+  // (each its own start, the same visiting order), so they run side by side
+  // and are then compared in order, as one after another would be.
+  const std::size_t searches = k < n ? 1 + std::size_t{opt.restarts} : 1;
+  std::unique_ptr<util::Progress> bar;
+  if (opt.progress && searches > 1)
+    bar = std::make_unique<util::Progress>(
+        dis.cached() ? "clustering: FasterPAM swap searches" : "clustering: FasterPAM (rows on the fly)", searches);
+  std::vector<PamResult> found(searches);
+  util::parallel_for(
+      searches,
+      [&](std::size_t r) {
+        found[r] = swap_search(dis, r == 0 ? first : random_medoids(static_cast<std::uint32_t>(r)), order);
+        if (bar) bar->advance();
+      },
+      opt.threads);
+  if (bar) bar->finish();
+  PamResult best = std::move(found[0]);
+  for (std::size_t r = 1; r < searches; ++r) {
+    PamResult& res = found[r];
     res.swaps += best.swaps;
     res.passes += best.passes;
     if (res.loss < best.loss - kMinGain)
       best = std::move(res);
     else
       best.swaps = res.swaps, best.passes = res.passes;
-    if (bar) bar->advance();
   }
-  if (bar) bar->finish();
   return best;
 }
 

@@ -16,7 +16,7 @@ struct PamOptions {
   // Up to this many points the n x n float dissimilarity matrix is kept in
   // memory (n = 16384: 1 GiB); beyond, rows are recomputed on the fly.
   std::size_t max_matrix_points = 16384;
-  unsigned threads = 0;  // matrix and BUILD; results do not depend on it
+  unsigned threads = 0;  // matrix, BUILD and the swap searches side by side; results do not depend on it
   bool progress = false;
 };
 

@@ -24,7 +24,6 @@ namespace sva {
 
 namespace {
 
-
 double seconds_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
 }

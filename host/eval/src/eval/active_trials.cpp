@@ -4,6 +4,7 @@
 
 #include <sva/base/interrupt.hpp>
 #include <sva/base/parallel.hpp>
+#include <sva/base/pool.hpp>
 #include <sva/base/progress.hpp>
 #include <sva/base/rng.hpp>
 #include <sva/error.hpp>
@@ -13,8 +14,6 @@
 #include <limits>
 #include <optional>
 #include <vector>
-
-#include "eval/session_pool.hpp"
 
 namespace sva::eval {
 
@@ -184,7 +183,7 @@ EvalResult run_trials_active(const Dataset& test, const TrialSetup& setup, const
   result.policy = policy_name(active.policy);
   const TrialGenerator generator(test, setup.pose_space, setup.seed, setup.max_readings, setup.source);
   const Chooser chooser{planner, active, setup.seed};
-  SessionPool pool(make_session);
+  util::Pool<Session> pool(make_session);
   std::optional<util::Progress> progress;
   if (setup.progress) progress.emplace("eval " + setup.method + " " + result.policy, setup.trials);
   util::parallel_for(

@@ -3,6 +3,7 @@
 #include <sva/base/finite.hpp>
 #include <sva/base/interrupt.hpp>
 #include <sva/base/parallel.hpp>
+#include <sva/base/pool.hpp>
 #include <sva/base/progress.hpp>
 #include <sva/error.hpp>
 #include <sva/eval/trials.hpp>
@@ -15,7 +16,6 @@
 #include <vector>
 
 #include "eval/metrics.hpp"
-#include "eval/session_pool.hpp"
 
 namespace sva::eval {
 
@@ -79,7 +79,7 @@ EvalResult run_trials(const Dataset& test, const TrialSetup& setup, const Sessio
   EvalResult result = empty_result(test, setup);
   const TrialGenerator generator(test, setup.pose_space, setup.seed, setup.max_readings, setup.source);
 
-  SessionPool pool(make_session);
+  util::Pool<Session> pool(make_session);
   std::optional<util::Progress> progress;
   if (setup.progress) progress.emplace("eval " + setup.method, setup.trials);
 

@@ -3,9 +3,12 @@
 // twins differ decides.
 #include <catch2/catch.hpp>
 
+#include <sva/base/closest_point.hpp>
+#include <sva/base/rng.hpp>
 #include <sva/base/so3.hpp>
 
 #include <cmath>
+#include <cstdint>
 
 #include "estimate/fit.hpp"
 #include "estimate/heightfield.hpp"
@@ -102,6 +105,55 @@ TEST_CASE("surface model: the nearest point is the closest on any triangle, ties
   const SurfaceModel::Nearest corner = model.nearest(0, {10.0, 10.0, 0.5}, 4.0);
   REQUIRE(corner.found);
   CHECK(corner.triangle == 2 * (1 * 8 + 1));  // the first triangle of cell (1, 1), which holds vertex (2, 2)
+}
+
+TEST_CASE(
+    "surface model: the nearest point found through the cells, nearest first, is the search of every triangle's") {
+  // A closed, finely cut surface (a sphere of 12 mm, 1,600 triangles of about 1 mm, each in several 4 mm cells) and
+  // queries in and around it: the cells visited nearest first and those past the best so far passed over must give
+  // the smallest (distance, index) of all triangles within the radius, bit for bit.
+  ObjectSurface ball;
+  const int rings = 20, segments = 40;
+  const double radius = 12.0, pi = std::acos(-1.0);
+  for (int i = 0; i <= rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const double th = pi * i / rings, ph = 2.0 * pi * j / segments;
+      ball.positions.emplace_back(radius * std::sin(th) * std::cos(ph), radius * std::sin(th) * std::sin(ph),
+                                  radius * std::cos(th));
+    }
+  for (int i = 0; i < rings; ++i)
+    for (int j = 0; j < segments; ++j) {
+      const auto at = [&](int r, int k) { return static_cast<unsigned>(r * segments + (k % segments)); };
+      ball.triangles.emplace_back(at(i, j), at(i + 1, j), at(i + 1, j + 1));
+      ball.triangles.emplace_back(at(i, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+  const SurfaceModel model({ball}, 4.0);
+  util::Rng rng(11);
+  std::size_t found = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const glm::dvec3 dir = glm::normalize(glm::dvec3(rng.normal(), rng.normal(), rng.normal()));
+    const glm::dvec3 p = dir * (radius + 6.0 * rng.uniform() - 3.0);
+    const double reach = k % 3 == 0 ? 1.0 : 4.0;
+    // Every triangle, the smallest (squared distance, index) within the reach.
+    double best_d2 = reach * reach;
+    std::int64_t best = -1;
+    for (std::size_t t = 0; t < ball.triangles.size(); ++t) {
+      const glm::uvec3 tri = ball.triangles[t];
+      const glm::dvec3 a(ball.positions[tri.x]), b(ball.positions[tri.y]), c(ball.positions[tri.z]);
+      if (!(glm::length(glm::cross(b - a, c - a)) > 0.0)) continue;  // the poles' degenerate triangles
+      const glm::dvec3 q = closest_on_triangle(p, a, b, c);
+      const double d2 = glm::dot(q - p, q - p);
+      if (d2 < best_d2) best_d2 = d2, best = static_cast<std::int64_t>(t);
+    }
+    const SurfaceModel::Nearest got = model.nearest(0, p, reach);
+    INFO("query " << k << " at (" << p.x << ", " << p.y << ", " << p.z << "), reach " << reach);
+    REQUIRE(got.found == (best >= 0));
+    if (best < 0) continue;
+    ++found;
+    CHECK(got.triangle == static_cast<std::uint32_t>(best));
+    CHECK(got.distance == std::sqrt(best_d2));
+  }
+  CHECK(found > 1500);  // most queries lie within the reach
 }
 
 TEST_CASE("surface model: a mesh far larger than its cells is refused, not gridded into all memory") {

@@ -1,6 +1,12 @@
 #include <catch2/catch.hpp>
 
+#include <sys/stat.h>
+
+#include <filesystem>
 #include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
 
 #include <sva/io/binary_file.hpp>
 #include "test_support.hpp"
@@ -78,4 +84,40 @@ TEST_CASE("atomic write: a refused rename reports its own error, not the clean-u
   CHECK_THROWS_WITH(w.write_file(dir / "folder", "SVATEST1", 3),
                     Catch::Contains("cannot rename the temporary file into place (Is a directory)"));
   std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("a binary file whose size the stream cannot tell (a pipe) is read and checked as a stream") {
+  auto dir = sva::test::temp_dir("binary-pipe");
+  BinaryWriter w;
+  w.put<std::uint32_t>(7);
+  w.put_vector(std::vector<float>(1000, 0.25f));
+  w.write_file(dir / "x.bin", "SVATEST1", 3);
+  std::string bytes;
+  {
+    std::ifstream in(dir / "x.bin", std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  const auto fifo = dir / "pipe";
+  auto read_through_pipe = [&](const std::string& content) {
+    std::filesystem::remove(fifo);
+    REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+    std::thread writer([&] { std::ofstream(fifo, std::ios::binary) << content; });
+    try {
+      BinaryReader r(fifo, "SVATEST1", 3, "test");
+      writer.join();
+      return r;
+    } catch (...) {
+      writer.join();
+      throw;
+    }
+  };
+  BinaryReader r = read_through_pipe(bytes);
+  CHECK(r.get<std::uint32_t>() == 7);
+  CHECK(r.get_vector<float>() == std::vector<float>(1000, 0.25f));
+  r.expect_end();
+  std::string corrupt = bytes;
+  corrupt[100] ^= 0x5a;
+  CHECK_THROWS_WITH(read_through_pipe(corrupt), Catch::Contains("checksum"));
+  CHECK_THROWS_WITH(read_through_pipe(bytes.substr(0, 20)), Catch::Contains("truncated test file: 20 bytes"));
+  CHECK_THROWS_WITH(read_through_pipe(""), Catch::Contains("empty file"));
 }

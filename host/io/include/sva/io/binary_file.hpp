@@ -90,6 +90,8 @@ class BinaryReader {
   const std::string& name() const { return name_; }
 
  private:
+  void check_header(const std::vector<char>& head, std::size_t file_size, std::string_view magic8, std::uint32_t oldest,
+                    std::uint32_t version, std::string_view what);
   const std::uint8_t* take(std::size_t n);
   std::vector<std::uint8_t> payload_;
   std::size_t pos_ = 0;

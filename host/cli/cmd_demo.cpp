@@ -179,10 +179,10 @@ void stage_evaluate(const DemoConfig& cfg, const Map& map, const DemoData& data)
     const eval::EvalResult r = eval::run_evaluation(map, data.test, o);
     const double secs = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
     const eval::Curve c = eval::summarize(r);
-    const auto json = cfg.work / ("eval_" + std::string(eval::method_name(method)) + ".json");
-    io::write_text_file(json, eval::to_json(r, c));
+    const auto eval_file = cfg.work / ("eval_" + std::string(eval::method_name(method)) + ".json");
+    io::write_text_file(eval_file, eval::to_json(r, c));
     std::printf("[evaluate] %s: %zu trials x %zu readings in %.1f s (%s backend) -> %s\n", eval::method_name(method),
-                o.trials, o.max_readings, secs, r.backend.c_str(), json.c_str());
+                o.trials, o.max_readings, secs, r.backend.c_str(), eval_file.c_str());
     std::fputs(eval::format_table(c).c_str(), stdout);
     if (method == Method::sva) {
       print_headline(c);

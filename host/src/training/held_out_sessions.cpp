@@ -147,7 +147,8 @@ std::vector<CalibrationSession> run_held_out_sessions(const PairMap& map, const 
   const PoseSpace space(map.pose_space, static_cast<std::uint32_t>(map.objects.size()));
   const SurfaceIndex surface(map.readings, map.objects.size());
   const std::unique_ptr<SurfaceModel> model = surface_model_of(map);
-  const RefineSettings refine = refine_settings(space, options.fine_pose_from);
+  RefineSettings refine = refine_settings(space, options.fine_pose_from);
+  refine.threads = 1;  // the sessions side by side use the workers (below); the fits' answers do not depend on it
   const std::size_t total = options.known_sessions + (unknown.empty() ? 0 : options.unknown_sessions);
   // The sessions run side by side, one per worker, each on one thread: a 12-reading session on every worker spent a
   // quarter of 2 cores waiting (2026-11-29: 28.6 s on 2 threads against 42.7 s on 1, paper3d), and sessions are

@@ -58,7 +58,6 @@ SurfaceModel::SurfaceModel(const std::vector<ObjectSurface>& surfaces, double ce
     m.origin = glm::dvec3(s.positions.front());
     for (const glm::vec3& v : s.positions) m.origin = glm::min(m.origin, glm::dvec3(v));
     std::unordered_map<std::uint64_t, std::vector<std::uint32_t>> filed;  // each cell's kept triangles, in order
-    std::vector<CellEntry> spheres;                                       // each kept triangle's
     for (std::uint32_t t = 0; t < s.triangles.size(); ++t) {
       const glm::uvec3 tri = s.triangles[t];
       const glm::dvec3 a(s.positions[tri.x]), b(s.positions[tri.y]), c(s.positions[tri.z]);
@@ -67,7 +66,7 @@ SurfaceModel::SurfaceModel(const std::vector<ObjectSurface>& surfaces, double ce
       if (!(len > 0.0)) continue;  // a degenerate triangle has no side to touch
       const std::uint32_t kept = static_cast<std::uint32_t>(m.a.size());
       m.a.push_back(a), m.b.push_back(b), m.c.push_back(c), m.normal.push_back(n / len), m.index.push_back(t);
-      spheres.push_back(bounding_sphere(a, b, c));
+      m.sphere.push_back(bounding_sphere(a, b, c));
       const glm::ivec3 lo = cell_of(m, glm::min(a, glm::min(b, c))), hi = cell_of(m, glm::max(a, glm::max(b, c)));
       const glm::dvec3 span = glm::dvec3(hi - lo) + 1.0;
       if (span.x * span.y * span.z > kMaxCellsPerTriangle)
@@ -78,23 +77,25 @@ SurfaceModel::SurfaceModel(const std::vector<ObjectSurface>& surfaces, double ce
         for (int y = lo.y; y <= hi.y; ++y)
           for (int z = lo.z; z <= hi.z; ++z) filed[cell_key({x, y, z})].push_back(kept);
     }
-    file_cells(filed, spheres, &m);
+    file_cells(filed, &m);
   }
 }
 
-// Each cell's triangles side by side with their spheres, so that a query reads a cell's spheres in one sweep.
-void SurfaceModel::file_cells(const std::unordered_map<std::uint64_t, std::vector<std::uint32_t>>& filed,
-                              const std::vector<CellEntry>& spheres, Mesh* m) {
+// Every cell's triangles in one array, the cells' ranges of it by key: one allocation, where a list per cell was one
+// each.
+void SurfaceModel::file_cells(const std::unordered_map<std::uint64_t, std::vector<std::uint32_t>>& filed, Mesh* m) {
   std::vector<std::uint64_t> keys;
   keys.reserve(filed.size());
-  for (const auto& [key, list] : filed) keys.push_back(key);
+  std::size_t entries = 0;
+  for (const auto& [key, list] : filed) keys.push_back(key), entries += list.size();
   std::sort(keys.begin(), keys.end());
+  m->filed.reserve(entries);
   m->cells.reserve(keys.size());
   for (std::uint64_t key : keys) {
     const std::vector<std::uint32_t>& list = filed.at(key);
-    const auto begin = static_cast<std::uint32_t>(m->entry.size());
-    for (std::uint32_t kept : list) m->entry.push_back(spheres[kept]), m->entry_kept.push_back(kept);
-    m->cells.emplace(key, std::make_pair(begin, static_cast<std::uint32_t>(m->entry.size())));
+    const std::size_t begin = m->filed.size();
+    m->filed.insert(m->filed.end(), list.begin(), list.end());
+    m->cells.emplace(key, std::make_pair(begin, m->filed.size()));
   }
 }
 
@@ -120,17 +121,18 @@ double box_distance2(const glm::dvec3& p, const glm::dvec3& lo, double size) {
 
 }  // namespace
 
-// The triangle of cell entries [range.first, range.second) whose sphere's centre lies nearest to p (the first such).
-std::uint32_t SurfaceModel::nearest_sphere(const Mesh& m, std::pair<std::uint32_t, std::uint32_t> range,
+// The triangle of filed[range.first, range.second) whose sphere's centre lies nearest to p (the first such).
+std::uint32_t SurfaceModel::nearest_sphere(const Mesh& m, std::pair<std::size_t, std::size_t> range,
                                            const glm::dvec3& p) {
-  std::uint32_t best = range.first;
+  std::uint32_t best = m.filed[range.first];
   double best_d2 = std::numeric_limits<double>::infinity();
-  for (std::uint32_t e = range.first; e < range.second; ++e) {
-    const glm::dvec3 d = p - glm::dvec3(m.entry[e].x, m.entry[e].y, m.entry[e].z);
+  for (std::size_t e = range.first; e < range.second; ++e) {
+    const CellEntry& s = m.sphere[m.filed[e]];
+    const glm::dvec3 d = p - glm::dvec3(s.x, s.y, s.z);
     const double d2 = glm::dot(d, d);
-    if (d2 < best_d2) best_d2 = d2, best = e;
+    if (d2 < best_d2) best_d2 = d2, best = m.filed[e];
   }
-  return m.entry_kept[best];
+  return best;
 }
 
 SurfaceModel::Nearest SurfaceModel::nearest(std::uint32_t object, const glm::dvec3& p, double radius) const {
@@ -175,15 +177,16 @@ SurfaceModel::Nearest SurfaceModel::nearest(std::uint32_t object, const glm::dve
     if (cells[i].d2 > reach_cell * reach_cell) break;
     const auto it = m.cells.find(cells[i].key);
     if (it == m.cells.end()) continue;
-    for (std::uint32_t e = it->second.first; e < it->second.second; ++e) {
+    for (std::size_t e = it->second.first; e < it->second.second; ++e) {
+      const std::uint32_t t = m.filed[e];
       // Every point of the triangle lies farther than best_d when its sphere does: passing over it changes nothing
       // (the sphere holds the triangle, bounding_sphere), and saves the closest point, which most triangles of the
       // cells searched would fail.
-      const CellEntry& sphere = m.entry[e];
+      const CellEntry& sphere = m.sphere[t];
       const glm::dvec3 to_centre = p - glm::dvec3(sphere.x, sphere.y, sphere.z);
       const double reach = best_d + sphere.bound;
       if (glm::dot(to_centre, to_centre) > reach * reach) continue;
-      visit(m.entry_kept[e]);
+      visit(t);
     }
   }
   if (!best.found) return best;

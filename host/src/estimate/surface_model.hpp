@@ -85,8 +85,8 @@ class SurfaceModel {
   bool has_pad() const { return pad_.rows > 0; }
 
  private:
-  // A triangle's bounding sphere, as a cell lists it (bounding_sphere): nearest() passes over a triangle the sphere
-  // shows to be farther than the best so far.
+  // A triangle's bounding sphere (bounding_sphere): nearest() passes over a triangle the sphere shows to be farther
+  // than the best so far.
   struct CellEntry {
     float x, y, z, bound;
   };
@@ -94,18 +94,15 @@ class SurfaceModel {
     std::vector<glm::dvec3> a, b, c;  // triangle corners (degenerate triangles dropped, their indices kept)
     std::vector<glm::dvec3> normal;
     std::vector<std::uint32_t> index;  // each kept triangle's index in the object's surface
+    std::vector<CellEntry> sphere;     // each kept triangle's
     glm::dvec3 origin{0.0};            // the grid's corner
-    // Each cell's triangles: entries [first, second) of `entry` (their spheres) and `entry_kept` (which triangle). A
-    // triangle is filed under every cell its bounding box meets.
-    std::unordered_map<std::uint64_t, std::pair<std::uint32_t, std::uint32_t>> cells;
-    std::vector<CellEntry> entry;
-    std::vector<std::uint32_t> entry_kept;
+    // Each cell's kept triangles: filed[first, second). A triangle is filed under every cell its bounding box meets.
+    std::unordered_map<std::uint64_t, std::pair<std::size_t, std::size_t>> cells;
+    std::vector<std::uint32_t> filed;
   };
   static CellEntry bounding_sphere(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);
-  static void file_cells(const std::unordered_map<std::uint64_t, std::vector<std::uint32_t>>& filed,
-                         const std::vector<CellEntry>& spheres, Mesh* m);
-  static std::uint32_t nearest_sphere(const Mesh& m, std::pair<std::uint32_t, std::uint32_t> range,
-                                      const glm::dvec3& p);
+  static void file_cells(const std::unordered_map<std::uint64_t, std::vector<std::uint32_t>>& filed, Mesh* m);
+  static std::uint32_t nearest_sphere(const Mesh& m, std::pair<std::size_t, std::size_t> range, const glm::dvec3& p);
   std::uint64_t cell_key(const glm::ivec3& c) const;
   glm::ivec3 cell_of(const Mesh& m, const glm::dvec3& p) const;
   std::vector<Mesh> meshes_;

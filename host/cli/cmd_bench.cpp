@@ -68,6 +68,23 @@ void print_table(const json& runs) {
     }
 }
 
+// Where a session's estimate went (BatchRecognizer::EstimateTiming, per session): reading the belief (stage 1, a
+// device's reads included), the fine poses, the surface check, the posterior and the report.
+void print_estimate_stages(const json& runs) {
+  std::printf(
+      "\nestimate per session by stage, ms (docs/architecture.md: 1 belief, 2 fits, 3 verify, 4-5 posterior):\n%-14s "
+      "%-9s %9s %9s "
+      "%9s %10s %9s\n",
+      "run", "readings", "est. ms", "belief", "fits", "verify", "posterior");
+  for (const auto& r : runs)
+    for (const auto& p : r["curve"]) {
+      auto num = [](const json& v) { return v.is_null() ? 0.0 : v.get<double>(); };
+      const json& st = p["estimate_stage_ms"];
+      std::printf("%-14s %-9zu %9.2f %9.2f %9.2f %10.2f %9.2f\n", run_name(r).c_str(), p["readings"].get<std::size_t>(),
+                  num(p["estimate_ms"]), num(st["belief"]), num(st["fits"]), num(st["verify"]), num(st["posterior"]));
+    }
+}
+
 std::string count_or_na(const json& v) {
   if (v.is_null()) return "n/a";
   char buf[32];
@@ -237,6 +254,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
   out["data"] = data_file;
 
   print_table(out["runs"]);
+  print_estimate_stages(out["runs"]);
   print_work(out["runs"]);
   print_model(out["runs"]);
   print_run_summaries(out["runs"]);

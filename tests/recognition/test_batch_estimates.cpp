@@ -6,6 +6,7 @@
 #include <sva/batch_recognizer.hpp>
 #include <sva/recognizer.hpp>
 
+#include <cmath>
 #include <numeric>
 
 #include "recognition/fixture.hpp"
@@ -75,4 +76,36 @@ TEST_CASE("a batch of several hundred sessions gives each session what it gets a
   CHECK(refined > 5);
   CHECK_FALSE(at_once[0].ready);
   CHECK(at_once[14].ready);
+}
+
+TEST_CASE("a batch's estimates say where their time went, stage by stage, over the sessions that ran the stages") {
+  const Trained& t = trained();
+  RecognizerOptions options;
+  options.backend = BackendKind::cpu;
+  options.threads = 2;
+  BatchRecognizer batch(t.map, paper_space(), 4, options);
+  CHECK(batch.last_estimate_timing().sessions == 0);  // no estimate yet
+  // Sessions 0-2 get 7 readings (the fine pose and the surface check run from 6), session 3 none.
+  for (std::size_t step = 0; step < 7; ++step) {
+    std::vector<std::size_t> ids{0, 1, 2};
+    std::vector<Reading> rd;
+    for (std::size_t i : ids) rd.push_back(session_readings(7 + 8 * i)[step]);
+    batch.add_readings(ids, rd);
+  }
+  const std::vector<std::size_t> all{0, 1, 2, 3};
+  const std::vector<Estimate> est = batch.estimates(all, 3);
+  REQUIRE(est.size() == 4);
+  REQUIRE(est[0].pose_refined);
+  const BatchRecognizer::EstimateTiming took = batch.last_estimate_timing();
+  CHECK(took.sessions == 3);  // the session without readings runs no stage
+  for (double ms : {took.belief_ms, took.fit_ms, took.verify_ms, took.posterior_ms}) {
+    CHECK(std::isfinite(ms));
+    CHECK(ms >= 0.0);
+  }
+  CHECK(took.belief_ms > 0.0);
+  CHECK(took.fit_ms > 0.0);     // three fine poses
+  CHECK(took.verify_ms > 0.0);  // and their surface checks
+  // Another call replaces the figures: one session alone.
+  (void)batch.estimate(1, 3);
+  CHECK(batch.last_estimate_timing().sessions == 1);
 }

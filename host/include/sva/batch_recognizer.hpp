@@ -66,6 +66,17 @@ class BatchRecognizer {
     double belief_growth_ms = 0.0;
   };
   Timing last_backend_timing() const;
+  // Where the last estimates()'s time went, in ms summed over its sessions (run side by side, so the sum can exceed
+  // the call's time): reading the belief (the estimate's stage 1, with a device's reads ahead), the fine poses, the
+  // surface check, and the calibrated posterior with the report (docs/architecture.md, the estimate's stages 1-5).
+  struct EstimateTiming {
+    std::size_t sessions = 0;  // that ran the stages (a session without readings does not)
+    double belief_ms = 0.0;
+    double fit_ms = 0.0;
+    double verify_ms = 0.0;
+    double posterior_ms = 0.0;
+  };
+  EstimateTiming last_estimate_timing() const;
   // Device submissions so far (each a round trip to the device: submit, then wait), the estimates' reads of the
   // beliefs included: what `sva bench` divides by the estimates made. With an Engine shared by recognizers, of
   // every recognizer on its device. 0 on the CPU.

@@ -1,5 +1,7 @@
 #include "estimate/pipeline.hpp"
 
+#include <chrono>
+
 #include "estimate/calibrate.hpp"
 #include "estimate/candidates.hpp"
 #include "estimate/fit.hpp"
@@ -45,21 +47,44 @@ std::vector<std::uint64_t> estimate_keys(const EstimateInput& in, const Estimate
   return keys_read(in.belief, in.space, candidate_request(r, in.readings.size(), 1.0));
 }
 
+namespace {
+
+// Milliseconds since `t0`, and restarts it.
+double lap_ms(std::chrono::steady_clock::time_point* t0) {
+  const auto now = std::chrono::steady_clock::now();
+  const double ms = std::chrono::duration<double, std::milli>(now - *t0).count();
+  *t0 = now;
+  return ms;
+}
+
+}  // namespace
+
 Estimate estimate_from(const Candidates& c, std::span<const ObservedReading> readings, const PoseSpace& space,
                        const std::vector<MapObject>& objects, const EstimateRequest& r) {
   const std::size_t n = readings.size();
   const double temperature = r.calibration ? r.calibration->temperature(n) : 1.0;
+  auto t0 = std::chrono::steady_clock::now();
+  EstimateStageTimes took;
   const Fits fits = fit_candidates(c, readings, r.surface, r.refine, r.pose_weighting.empty());
+  took.fit_ms = lap_ms(&t0);
   const Verification v = r.surface
                              ? verify_candidates(fits, readings, *r.surface, r.refine, objects.size(), r.surface_model)
                              : Verification{};
+  took.verify_ms = lap_ms(&t0);
   const EvidenceLevel level = evidence_after(c, fits, v, n, r.refine);
   const CalibratedPosterior p = calibrate(c, fits, v, level,
                                           {.calibration = r.calibration,
                                            .temperature = temperature,
                                            .object_weight = r.object_weight,
                                            .unknown_prior = r.unknown_prior});
-  return report(c, fits, p, space, objects, {.hypotheses = r.top_k > 0, .fine_pose = r.refine_pose});
+  Estimate out = report(c, fits, p, space, objects, {.hypotheses = r.top_k > 0, .fine_pose = r.refine_pose});
+  took.posterior_ms = lap_ms(&t0);
+  if (r.times) {
+    r.times->fit_ms += took.fit_ms;
+    r.times->verify_ms += took.verify_ms;
+    r.times->posterior_ms += took.posterior_ms;
+  }
+  return out;
 }
 
 EvidenceLevel estimate_evidence(const EstimateInput& in, const SurfaceIndex& surface, const RefineSettings& settings,

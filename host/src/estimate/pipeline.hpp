@@ -37,6 +37,15 @@ struct EstimateInput {
   std::span<const ObservedReading> readings;
 };
 
+// Where estimates' time went, in ms, summed over those that add to it: stage 1 (reading the belief) is timed by
+// whoever calls it; stages 2, 3 and 4-5 by estimate_from.
+struct EstimateStageTimes {
+  double belief_ms = 0.0;     // 1: candidates (with a device's reads)
+  double fit_ms = 0.0;        // 2: the fine poses
+  double verify_ms = 0.0;     // 3: the surface check
+  double posterior_ms = 0.0;  // 4-5: the calibrated posterior and the report
+};
+
 // What a session's estimate asks.
 struct EstimateRequest {
   std::size_t top_k = 5;  // best bins and distinct hypotheses (0: neither)
@@ -51,6 +60,7 @@ struct EstimateRequest {
   const SurfaceModel* surface_model = nullptr;  // the map's meshes (verify's measurement model); none: the contacts
   const Calibration* calibration = nullptr;     // none: Eq 5's raw posterior and p_unknown = 0
   double unknown_prior = 0.1;
+  EstimateStageTimes* times = nullptr;  // when given, estimate_from adds its stages' times to it
 };
 
 // The estimate of a session with at least one reading (stages 1-5).

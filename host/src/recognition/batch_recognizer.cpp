@@ -6,6 +6,7 @@
 #include <sva/error.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <mutex>
 #include <set>
@@ -54,6 +55,7 @@ struct BatchRecognizer::Impl {
   // Every public call takes it: a recognizer may be shared between threads (and a const estimate() runs GPU
   // work that writes caches of the belief).
   mutable std::mutex mutex;
+  mutable EstimateTiming last_estimate_timing;  // of the last estimates() (under `mutex`)
 
   Impl(const Engine& e, const PoseSpaceSpec& spec, const RecognizerOptions& o)
       : engine(e),
@@ -272,23 +274,43 @@ std::vector<Estimate> BatchRecognizer::estimates(std::span<const std::size_t> se
   // Fewer sessions than workers (a robot's one session): each session's own stages split the rest.
   const unsigned workers = impl_->options.threads ? impl_->options.threads : util::default_threads();
   const unsigned inner = static_cast<unsigned>(std::max<std::size_t>(1, workers / piped.size()));
+  const auto ahead_start = std::chrono::steady_clock::now();
   if (device) {
     std::vector<const Impl::Session*> ahead;
     for (std::size_t i : piped) ahead.push_back(&impl_->sessions[sessions[i]]);
     impl_->read_ahead(ahead, top_k, inner);
   }
+  std::vector<EstimateStageTimes> took(piped.size());
+  took.front().belief_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - ahead_start).count();
   util::parallel_for(
       piped.size(),
       [&](std::size_t k) {
         const Impl::Session& s = impl_->sessions[sessions[piped[k]]];
-        const EstimateRequest request = impl_->request(s, top_k, inner);
+        EstimateRequest request = impl_->request(s, top_k, inner);
+        request.times = &took[k];
+        const auto start = std::chrono::steady_clock::now();
         const Candidates candidates =
             estimate_candidates({s.filter->belief(), s.filter->space(), s.filter->observed()}, request);
+        took[k].belief_ms +=
+            std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
         out[piped[k]] =
             impl_->finish(s, estimate_from(candidates, s.filter->observed(), s.filter->space(), objects, request));
       },
       impl_->options.threads);
+  EstimateTiming& sum = impl_->last_estimate_timing;
+  sum = EstimateTiming{};
+  sum.sessions = piped.size();
+  for (const EstimateStageTimes& t : took) {
+    sum.belief_ms += t.belief_ms, sum.fit_ms += t.fit_ms, sum.verify_ms += t.verify_ms;
+    sum.posterior_ms += t.posterior_ms;
+  }
   return out;
+}
+
+BatchRecognizer::EstimateTiming BatchRecognizer::last_estimate_timing() const {
+  const std::lock_guard lock(impl_->mutex);
+  return impl_->last_estimate_timing;
 }
 
 void BatchRecognizer::set_prior(std::size_t session, const Prior& prior) {

@@ -28,8 +28,9 @@ struct StepFigures {
   std::size_t sessions = 0;
   std::uint64_t votes = 0, votes_zero = 0;
   double seconds = 0.0, estimate_seconds = 0.0;
-  std::uint64_t estimate_submissions = 0;  // device round trips of the sessions' estimates (0 on the CPU)
-  std::vector<double> belief_bytes;        // per session of the update, after it
+  std::uint64_t estimate_submissions = 0;           // device round trips of the sessions' estimates (0 on the CPU)
+  BatchRecognizer::EstimateTiming estimate_stages;  // where the estimates' time went, summed over the sessions
+  std::vector<double> belief_bytes;                 // per session of the update, after it
 };
 
 // The figures at one reading count, over all groups.
@@ -43,8 +44,10 @@ struct Checkpoint {
   std::vector<double> kernel_ms, backend_host_ms, fold_ms, belief_growth_ms;
   std::vector<double> estimate_ms;           // per session: object, refined pose and top-1 after the update
   std::vector<double> estimate_submissions;  // per session: the device round trips of its estimate (a batch's share)
-  BatchRecognizer::Work work;                // summed over the checkpoint's updates (all sessions of each)
-  std::vector<double> belief_bytes;          // per session after its update: a live session's memory
+  // Per session: each stage's ms of its estimate (the sessions' sum divided by them; BatchRecognizer::EstimateTiming).
+  std::vector<double> stage_belief_ms, stage_fit_ms, stage_verify_ms, stage_posterior_ms;
+  BatchRecognizer::Work work;        // summed over the checkpoint's updates (all sessions of each)
+  std::vector<double> belief_bytes;  // per session after its update: a live session's memory
 };
 
 double ratio(double a, double b) { return b > 0 ? a / b : 0.0; }
@@ -85,6 +88,14 @@ void record_checkpoint(Checkpoint& c, const BatchRecognizer& rec, const std::vec
   c.update_ms.push_back(1e3 * f.seconds / n);
   c.estimate_ms.push_back(1e3 * f.estimate_seconds / n);
   c.estimate_submissions.push_back(static_cast<double>(f.estimate_submissions) / n);
+  const BatchRecognizer::EstimateTiming& st = f.estimate_stages;
+  if (st.sessions > 0) {
+    const auto per = static_cast<double>(st.sessions);
+    c.stage_belief_ms.push_back(st.belief_ms / per);
+    c.stage_fit_ms.push_back(st.fit_ms / per);
+    c.stage_verify_ms.push_back(st.verify_ms / per);
+    c.stage_posterior_ms.push_back(st.posterior_ms / per);
+  }
   c.votes += f.votes;
   c.votes_zero += f.votes_zero;
   c.belief_bytes.insert(c.belief_bytes.end(), f.belief_bytes.begin(), f.belief_bytes.end());
@@ -129,6 +140,11 @@ json checkpoint_json(std::size_t readings, const Checkpoint& c, bool device, std
       {"gpu_fold_ms", median_or_null(c.fold_ms)},
       {"estimate_ms", median_or_null(c.estimate_ms)},
       {"estimate_device_submissions", device ? median_or_null(c.estimate_submissions) : json(nullptr)},
+      {"estimate_stage_ms",
+       {{"belief", median_or_null(c.stage_belief_ms)},
+        {"fits", median_or_null(c.stage_fit_ms)},
+        {"verify", median_or_null(c.stage_verify_ms)},
+        {"posterior", median_or_null(c.stage_posterior_ms)}}},
       {"accuracy", ratio(static_cast<double>(c.correct), static_cast<double>(c.trials))},
       {"translation_error_mm", median_or_null(c.translation_mm)},
       {"work_per_update", work},
@@ -169,6 +185,7 @@ class SpeedRecorder {
     const std::uint64_t submissions = rec_.device_submissions();
     est = rec_.estimates(s.sessions, 1);
     f.estimate_submissions = rec_.device_submissions() - submissions;
+    f.estimate_stages = rec_.last_estimate_timing();
     for (const Estimate& e : est) {
       f.votes += e.votes;
       f.votes_zero += e.votes_zero;

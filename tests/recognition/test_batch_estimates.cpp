@@ -108,4 +108,7 @@ TEST_CASE("a batch's estimates say where their time went, stage by stage, over t
   // Another call replaces the figures: one session alone.
   (void)batch.estimate(1, 3);
   CHECK(batch.last_estimate_timing().sessions == 1);
+  (void)batch.estimate(3, 3);  // no readings: no stage ran, none is left from the call before
+  CHECK(batch.last_estimate_timing().sessions == 0);
+  CHECK(batch.last_estimate_timing().fit_ms == 0.0);
 }

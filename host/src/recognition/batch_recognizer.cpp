@@ -263,6 +263,7 @@ std::vector<Estimate> BatchRecognizer::estimates(std::span<const std::size_t> se
       piped.push_back(i);
     }
   }
+  impl_->last_estimate_timing = EstimateTiming{};  // this call's, even when no session runs the stages
   if (piped.empty()) return out;
   // Each session's estimate on its share of the workers, the sessions across them: a session's fits are few, and
   // its own split of them left most workers idle in a batch. Stage 1 reads the belief: a device's read ahead for all
@@ -299,7 +300,6 @@ std::vector<Estimate> BatchRecognizer::estimates(std::span<const std::size_t> se
       },
       impl_->options.threads);
   EstimateTiming& sum = impl_->last_estimate_timing;
-  sum = EstimateTiming{};
   sum.sessions = piped.size();
   for (const EstimateStageTimes& t : took) {
     sum.belief_ms += t.belief_ms, sum.fit_ms += t.fit_ms, sum.verify_ms += t.verify_ms;

@@ -7,6 +7,7 @@
 //   surface_nearest MAP [queries per object] [repeats]
 #include <sva/base/rng.hpp>
 #include <sva/error.hpp>
+#include <sva/eval/process_memory.hpp>
 
 #include <algorithm>
 #include <chrono>
@@ -51,16 +52,6 @@ std::vector<Query> make_queries(const sva::PairMap& map, std::size_t per_object)
 
 std::uint64_t mix(std::uint64_t h, std::uint64_t v) { return (h ^ v) * 0x100000001b3ULL; }
 
-// The process's resident memory in MB (Linux), to show what the model holds.
-double resident_mb() {
-  std::FILE* f = std::fopen("/proc/self/statm", "r");
-  if (!f) return 0.0;
-  unsigned long size = 0, resident = 0;
-  const int got = std::fscanf(f, "%lu %lu", &size, &resident);
-  std::fclose(f);
-  return got == 2 ? double(resident) * 4096.0 / 1e6 : 0.0;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -72,9 +63,9 @@ int main(int argc, char** argv) {
     const std::size_t per_object = argc > 2 ? std::stoul(argv[2]) : 20000;
     const int repeats = argc > 3 ? std::stoi(argv[3]) : 5;
     const auto map = sva::load_pair_map(argv[1]);
-    const double before_mb = resident_mb();
+    const double before_mb = double(sva::bench::resident_memory().rss_bytes) / 1e6;
     const auto model = sva::surface_model_of(*map);
-    const double model_mb = resident_mb() - before_mb;
+    const double model_mb = double(sva::bench::resident_memory().rss_bytes) / 1e6 - before_mb;
     if (!model) throw sva::Error(std::string(argv[1]) + ": the map carries no meshes (trained with --no-surfaces)");
     const std::vector<Query> queries = make_queries(*map, per_object);
     double best_ns = 1e300;

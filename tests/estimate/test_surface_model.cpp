@@ -228,3 +228,52 @@ TEST_CASE("surface model: the pad's image tells twins apart where the contact po
   PadGeometry none;
   CHECK_THROWS_WITH(SurfaceModel({heightfield(false)}, reach, none), Catch::Contains("the pad needs rows"));
 }
+
+TEST_CASE("surface check: every object polished from every leading start, side by side, gives the bits in turn gives") {
+  // verify_candidates runs its leading objects x starts polishes as one task each (issue 52: a many-core host had one
+  // worker per object). The bits must be each object's best start by the contacts, then that pose with the pad, for
+  // any thread count: computed here one object and one start at a time.
+  PadGeometry pad;
+  pad.rows = pad.cols = 6, pad.pitch_mm = 2.0, pad.contact_depth_mm = 0.02;
+  const SurfaceModel model({heightfield(false), heightfield(true), heightfield(true)},
+                           contact_noise(paper_settings()).reach_mm, pad);
+  const RigidPose truth = placed();
+  std::vector<RigidPose> starts(3, truth);  // each leading object's fit from its contacts, each a little off
+  starts[1].T += glm::dvec3(0.9, -0.4, 0.3);
+  starts[2].R = so3::exp(glm::dvec3(0.02, -0.03, 0.05)) * starts[2].R;
+  Fits fits;
+  fits.leading.resize(3);
+  for (std::uint32_t i = 0; i < 3; ++i) fits.leading[i].object = 2 - i, fits.leading[i].fine.pose = starts[i];
+  std::vector<ObservedReading> readings;
+  for (int k = 0; k < 10; ++k) {
+    ObservedReading r = touch(truth, 3.0 + 3.4 * k, 35.0 - 3.1 * k);
+    r.x_axis = truth.rotate(glm::dvec3(1.0, 0.0, 0.0));
+    r.depth_mm.assign(36, 0.1f + 0.01f * static_cast<float>(k));
+    readings.push_back(r);
+  }
+  ContactNoise noise = contact_noise(paper_settings());
+  noise.pad_sigma_mm = kPadSigmaMm;
+  ContactNoise contacts = noise;
+  contacts.pad_sigma_mm = 0.0;
+  std::vector<double> expected(3, 0.0);
+  for (std::uint32_t o = 0; o < 3; ++o) {
+    double best = 0.0;
+    RigidPose best_pose;
+    for (std::size_t j = 0; j < 3; ++j) {
+      const RigidPose p = polish_on_mesh(model, o, readings, starts[j], paper_settings(), contacts);
+      const double b = model.log2_likelihood(o, readings, p, contacts);
+      if (j == 0 || b > best) best = b, best_pose = p;
+    }
+    expected[o] = model.log2_likelihood(o, readings, best_pose, noise);
+  }
+  const SurfaceIndex no_contacts(MapReadings{}, 3);
+  for (unsigned threads : {1u, 3u}) {
+    INFO(threads << " threads");
+    RefineSettings s = paper_settings();
+    s.threads = threads;
+    const Verification v = verify_candidates(fits, readings, no_contacts, s, 3, &model);
+    REQUIRE(v.log2_fit.size() == 3);
+    for (std::uint32_t o = 0; o < 3; ++o) CHECK(v.log2_fit[o] == expected[o]);
+  }
+  CHECK(expected[0] != expected[1]);  // not vacuous: the flat and raised twins score apart
+}

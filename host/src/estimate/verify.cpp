@@ -35,22 +35,42 @@ std::unique_ptr<SurfaceModel> surface_model_of(const PairMap& map) {
 
 namespace {
 
-// The measurement model's bits for one leading object: each leading fit's pose polished on the object's own mesh
-// (the same starts for every object, so that copies of one mesh still score alike), the best of them by the contacts,
-// then that one with the pad's images too (36 surface queries a reading: only at the pose that counts).
-double model_bits(const SurfaceModel& model, std::uint32_t object, const Fits& fits,
-                  std::span<const ObservedReading> readings, const RefineSettings& settings,
-                  const ContactNoise& noise) {
+// The measurement model's bits for the leading objects: each leading fit's pose polished on each object's own mesh
+// (the same starts for every object, so that copies of one mesh still score alike), the best start by the contacts,
+// then that pose with the pad's images too (36 surface queries a reading: only at the pose that counts). The
+// polishes, leading objects times starts, are the surface check's work: they run side by side on the workers, one
+// task each (a many-core host had one worker per object, each polishing its starts in turn), and are weighed in the
+// starts' order afterwards, so the bits do not depend on the thread count.
+std::vector<double> model_bits(const SurfaceModel& model, const Fits& fits, std::span<const ObservedReading> readings,
+                               const RefineSettings& settings, const ContactNoise& noise) {
   ContactNoise contacts = noise;
   contacts.pad_sigma_mm = 0.0;
-  double best = 0.0;
-  RigidPose best_pose;
-  for (std::size_t j = 0; j < fits.leading.size(); ++j) {
-    const RigidPose pose = polish_on_mesh(model, object, readings, fits.leading[j].fine.pose, settings, contacts);
-    const double b = model.log2_likelihood(object, readings, pose, contacts);
-    if (j == 0 || b > best) best = b, best_pose = pose;
+  const std::size_t n = fits.leading.size();
+  std::vector<RigidPose> pose(n * n);  // [object i * n + start j]
+  std::vector<double> bits(n * n, 0.0);
+  util::parallel_for(
+      n * n,
+      [&](std::size_t t) {
+        const std::uint32_t object = fits.leading[t / n].object;
+        pose[t] = polish_on_mesh(model, object, readings, fits.leading[t % n].fine.pose, settings, contacts);
+        bits[t] = model.log2_likelihood(object, readings, pose[t], contacts);
+      },
+      settings.threads);
+  std::vector<double> out(n, 0.0);
+  std::vector<std::size_t> best(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = 1; j < n; ++j)
+      if (bits[i * n + j] > bits[i * n + best[i]]) best[i] = j;
+    out[i] = bits[i * n + best[i]];
   }
-  return noise.pad_sigma_mm > 0.0 ? model.log2_likelihood(object, readings, best_pose, noise) : best;
+  if (noise.pad_sigma_mm > 0.0)
+    util::parallel_for(
+        n,
+        [&](std::size_t i) {
+          out[i] = model.log2_likelihood(fits.leading[i].object, readings, pose[i * n + best[i]], noise);
+        },
+        settings.threads);
+  return out;
 }
 
 }  // namespace
@@ -60,16 +80,18 @@ Verification verify_candidates(const Fits& fits, std::span<const ObservedReading
   Verification v;
   if (fits.leading.empty()) return v;
   const double sigma = kSurfaceSigmaOfScale * settings.scale_final_mm;
-  const ContactNoise noise = contact_noise(settings);
   std::vector<double> bits(fits.leading.size(), 0.0);
-  util::parallel_for(
-      fits.leading.size(),
-      [&](std::size_t i) {
-        const FittedObject& f = fits.leading[i];
-        bits[i] = model ? model_bits(*model, f.object, fits, readings, settings, noise)
-                        : surface_log2_fit(surface, f.object, readings, f.fine.pose, settings, sigma, kSurfaceFloor);
-      },
-      settings.threads);
+  if (model) {
+    bits = model_bits(*model, fits, readings, settings, contact_noise(settings));
+  } else {
+    util::parallel_for(
+        fits.leading.size(),
+        [&](std::size_t i) {
+          const FittedObject& f = fits.leading[i];
+          bits[i] = surface_log2_fit(surface, f.object, readings, f.fine.pose, settings, sigma, kSurfaceFloor);
+        },
+        settings.threads);
+  }
   v.log2_fit.assign(objects, 0.0);
   double worst = 0.0;
   for (std::size_t i = 0; i < bits.size(); ++i) {

@@ -29,7 +29,8 @@ BeliefTerms BeliefTerms::grouped(std::span<const BinOffset> terms) {
   return out;
 }
 
-Belief::Belief(const PoseSpace& space, double eps) : space_(&space), eps_units_(belief_math::eps_units(eps)) {
+Belief::Belief(const PoseSpace& space, double eps, unsigned threads)
+    : space_(&space), eps_units_(belief_math::eps_units(eps)), threads_(threads) {
   const std::uint32_t mass_bits = belief_math::mass_bits(space.bins_per_object());
   shards_.reserve(kBeliefShards);
   for (std::size_t s = 0; s < kBeliefShards; ++s) shards_.emplace_back(space.objects(), mass_bits, kShardStart);
@@ -168,6 +169,12 @@ BeliefSummary Belief::summarise() const {
   s.best_key.assign(objects, 0);
   s.touched_mass.assign(objects, 0);
   for (const BeliefShard& shard : shards_) s.max_offset = std::max(s.max_offset, shard.max_offset());
+  // Each shard's band mass on its own worker (an exp2 per bin in the band), summed in integers afterwards.
+  std::vector<std::vector<std::uint64_t>> mass(kBeliefShards, std::vector<std::uint64_t>(objects, 0));
+  util::parallel_for(
+      kBeliefShards, [&](std::size_t i) { shards_[i].add_band_mass(s.max_offset, &mass[i]); }, threads_);
+  for (const std::vector<std::uint64_t>& m : mass)
+    for (std::uint32_t o = 0; o < objects; ++o) s.touched_mass[o] += m[o];
   for (const BeliefShard& shard : shards_) {
     for (std::uint32_t o = 0; o < objects; ++o) {
       const std::uint64_t n = shard.touched_per_object()[o];
@@ -179,7 +186,6 @@ BeliefSummary Belief::summarise() const {
       }
       s.touched[o] += n;
     }
-    shard.add_band_mass(s.max_offset, &s.touched_mass);  // integers: the order of shards does not matter
   }
   return s;
 }
@@ -233,8 +239,10 @@ std::vector<BinOffset> Belief::best_bins(std::size_t k) const {
     return {best_.bins.begin(), best_.bins.begin() + static_cast<std::ptrdiff_t>(std::min(k, best_.bins.size()))};
   // First from the bands alone; a shard that the merge needs past its band (a sharp belief, an estimate's next
   // modes) then gives its top k, from a pass over its table.
+  // Each shard's pass on its own worker (a shard's kept upper set is its own).
   std::vector<std::vector<BinOffset>> tops(kBeliefShards);
-  for (std::size_t s = 0; s < kBeliefShards; ++s) tops[s] = shards_[s].band_top(std::max(k, kKeptPerShard));
+  util::parallel_for(
+      kBeliefShards, [&](std::size_t s) { tops[s] = shards_[s].band_top(std::max(k, kKeptPerShard)); }, threads_);
   std::vector<BinOffset> best = merge_tops(tops, shards_);
   // Each shard holds about k / 32 of the top k (bins fall in shards by their hash): asked for twice that, a shard
   // past its band makes an upper set of its own share, not of all k; asked again for twice as many while the merge
@@ -242,9 +250,13 @@ std::vector<BinOffset> Belief::best_bins(std::size_t k) const {
   const std::size_t bins = touched();
   for (std::size_t want = 2 * ((k + kBeliefShards - 1) / kBeliefShards) + 8; best.size() < std::min(k, bins);
        want *= 2) {
-    for (std::size_t s = 0; s < kBeliefShards; ++s)
-      if (tops[s].size() < std::min(want, k) && tops[s].size() < shards_[s].size())
-        tops[s] = shards_[s].top(std::min(want, k));
+    util::parallel_for(
+        kBeliefShards,
+        [&](std::size_t s) {
+          if (tops[s].size() < std::min(want, k) && tops[s].size() < shards_[s].size())
+            tops[s] = shards_[s].top(std::min(want, k));
+        },
+        threads_);
     best = merge_tops(tops, shards_);
   }
   best_.asked = best.size() < bins ? best.size() : std::numeric_limits<std::size_t>::max();

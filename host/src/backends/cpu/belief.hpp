@@ -43,7 +43,9 @@ struct BeliefTerms {
 // The CPU reference belief.
 class Belief final : public BeliefState {
  public:
-  Belief(const PoseSpace& space, double eps);
+  // `threads`: the workers an estimate's passes over the shards use (0: the pool's default); the answers do not
+  // depend on it.
+  Belief(const PoseSpace& space, double eps, unsigned threads = 0);
 
   // Multiplies in one pair factor `count` times (count 2: both orders of Eq 5,
   // which cast the same votes). A pair with no vote mass leaves the belief
@@ -83,6 +85,7 @@ class Belief final : public BeliefState {
   std::uint64_t eps_units_;
   std::vector<BeliefShard> shards_;
   std::size_t pairs_ = 0;
+  unsigned threads_ = 0;
   // best_bins' last answer: the best `asked` bins (or all, if fewer), until the belief changes. A moved belief
   // starts without one (it is only a cache).
   struct KeptBest {

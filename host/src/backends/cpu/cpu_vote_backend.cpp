@@ -77,7 +77,7 @@ class CpuVoteBackend final : public VoteBackend {
   }
 
   std::unique_ptr<BeliefState> make_belief(const PoseSpace& space, double eps) override {
-    return std::make_unique<Belief>(space, eps);
+    return std::make_unique<Belief>(space, eps, settings_.threads);
   }
 
   // Pairs vote and compute their fold terms in parallel on the worker pool. One session's pairs then add their terms

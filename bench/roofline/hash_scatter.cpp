@@ -8,9 +8,9 @@
 
 #include <sva/error.hpp>
 
-#include "votes/fixed_point.hpp"
-#include "votes/bin_hash.hpp"
 #include "spv/hash_scatter.h"
+#include "votes/bin_hash.hpp"
+#include "votes/fixed_point.hpp"
 
 namespace sva::bench {
 

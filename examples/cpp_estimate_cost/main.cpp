@@ -4,8 +4,8 @@
 //
 //   cpp_estimate_cost MAP.svam TEST.svad N [OBJECT]
 #include <chrono>
-#include <cstdio>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <sva/dataset.hpp>
 #include <sva/engine.hpp>

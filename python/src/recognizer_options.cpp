@@ -51,11 +51,11 @@ RecognizerOptions recognizer_options(const nb::kwargs& kwargs, const std::string
     } else if (key == "unknown_prior") {
       o.unknown_prior = keyword_value<double>(v, what, "unknown_prior", "a number in (0, 1)");
     } else {
-      throw nb::type_error(
-          (what + ": unknown option \"" + key +
-           "\" (options: backend, method, eps, likelihood_cutoff, object_prune_probability, "
-           "max_pairs_per_update, belief_budget_bins, threads, vulkan_device, refine_pose, surface_check, calibrate, unknown_prior)")
-              .c_str());
+      throw nb::type_error((what + ": unknown option \"" + key +
+                            "\" (options: backend, method, eps, likelihood_cutoff, object_prune_probability, "
+                            "max_pairs_per_update, belief_budget_bins, threads, vulkan_device, refine_pose, "
+                            "surface_check, calibrate, unknown_prior)")
+                               .c_str());
     }
   }
   return o;

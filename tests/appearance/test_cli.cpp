@@ -72,9 +72,8 @@ TEST_CASE("cli: sva train and sva inspect on a map") {
 TEST_CASE("cli: bad maps and bad options exit non-zero with a message") {
   const auto dir = test::temp_dir("cli-bad");
   save_dataset(test::synthetic_dataset(2, 20), dir / "train.svad");
-  const std::string base =
-      "train --no-surfaces --data " + (dir / "train.svad").string() + " --out " + (dir / "m.svamap").string() +
-      " --no-calibration";
+  const std::string base = "train --no-surfaces --data " + (dir / "train.svad").string() + " --out " +
+                           (dir / "m.svamap").string() + " --no-calibration";
   std::string out;
   REQUIRE(run(base, &out) == 0);
   auto bytes = bytes_of(dir / "m.svamap");

@@ -11,8 +11,8 @@
 
 #include "backends/vulkan/context.hpp"
 #include "backends/vulkan/vk_test_support.hpp"
-#include "votes/fixed_point.hpp"
 #include "spv/fixed_point_scatter.h"
+#include "votes/fixed_point.hpp"
 
 namespace {
 

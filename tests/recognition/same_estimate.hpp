@@ -8,18 +8,18 @@ inline bool same_pose(const RigidPose& a, const RigidPose& b) { return a.R == b.
 
 // Every figure of two estimates, bit for bit.
 inline bool same(const Estimate& a, const Estimate& b) {
-  bool ok = a.ready == b.ready && a.readings == b.readings && a.object == b.object &&
-            a.object_name == b.object_name && a.object_probability == b.object_probability &&
-            a.p_unknown == b.p_unknown && same_pose(a.pose, b.pose) && same_pose(a.parabolic_pose, b.parabolic_pose) &&
-            same_pose(a.bin_pose, b.bin_pose) && a.pose_refined == b.pose_refined && a.pose_valid == b.pose_valid &&
-            a.top.size() == b.top.size() && a.hypotheses.size() == b.hypotheses.size() &&
-            a.object_hypotheses.size() == b.object_hypotheses.size() && a.votes == b.votes &&
-            a.votes_outside == b.votes_outside && a.votes_zero == b.votes_zero;
+  bool ok = a.ready == b.ready && a.readings == b.readings && a.object == b.object && a.object_name == b.object_name &&
+            a.object_probability == b.object_probability && a.p_unknown == b.p_unknown && same_pose(a.pose, b.pose) &&
+            same_pose(a.parabolic_pose, b.parabolic_pose) && same_pose(a.bin_pose, b.bin_pose) &&
+            a.pose_refined == b.pose_refined && a.pose_valid == b.pose_valid && a.top.size() == b.top.size() &&
+            a.hypotheses.size() == b.hypotheses.size() && a.object_hypotheses.size() == b.object_hypotheses.size() &&
+            a.votes == b.votes && a.votes_outside == b.votes_outside && a.votes_zero == b.votes_zero;
   for (std::size_t i = 0; ok && i < a.top.size(); ++i)
     ok = a.top[i].object == b.top[i].object && a.top[i].probability == b.top[i].probability &&
          same_pose(a.top[i].pose, b.top[i].pose);
   for (std::size_t i = 0; ok && i < a.hypotheses.size(); ++i)
-    ok = a.hypotheses[i].object == b.hypotheses[i].object && a.hypotheses[i].probability == b.hypotheses[i].probability &&
+    ok = a.hypotheses[i].object == b.hypotheses[i].object &&
+         a.hypotheses[i].probability == b.hypotheses[i].probability &&
          same_pose(a.hypotheses[i].pose, b.hypotheses[i].pose);
   return ok;
 }

@@ -73,9 +73,9 @@ TEST_CASE("Groups in flight: the first failing group's error, though a later gro
     Recorded r;
     // Group 4 fails after 60 ms, group 5 at once: with several workers 5 fails first in time; 4's error is the one
     // one worker would have met, and groups before 4 still finish and are written.
-    CHECK_THROWS_WITH(batch::run_groups(12, workers, turns,
-                                        [&](std::size_t g, std::size_t w) { run_group(turns, r, g, w, 5, 4); }),
-                      "group 4 failed");
+    CHECK_THROWS_WITH(
+        batch::run_groups(12, workers, turns, [&](std::size_t g, std::size_t w) { run_group(turns, r, g, w, 5, 4); }),
+        "group 4 failed");
     CHECK(r.done == upto(4));
     for (std::size_t g : r.fetched) CHECK(g <= 4 + workers);  // no group after the failure began later on
   }

@@ -91,8 +91,8 @@ TEST_CASE("scene JSON: names refuse control characters and take any other Unicod
                     Contains("objects[0].name: control character U+0009"));
   // Markup, quotes, an RTL override, emoji and U+0080 (a C1 control, not refused): as written.
   const std::string hostile = "<img src=x onerror=\"alert('x')\"></script>\u202e\u00e9\U0001F600\u0080";
-  const nlohmann::json scene = {{"name", hostile}, {"objects", {{{"mesh", "a.glb"}, {"name", hostile},
-                                                                 {"family", hostile}}}}};
+  const nlohmann::json scene = {{"name", hostile},
+                                {"objects", {{{"mesh", "a.glb"}, {"name", hostile}, {"family", hostile}}}}};
   const sva::Scene s = parse(scene.dump());
   CHECK(s.name == hostile);
   CHECK(s.objects[0].name == hostile);

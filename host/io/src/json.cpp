@@ -23,8 +23,9 @@ std::optional<float> json_float(const nlohmann::json& v) {
 nlohmann::json parse_json(std::string_view text) { return nlohmann::json::parse(text); }
 
 std::string dump_json(const nlohmann::json& v, int indent, bool replace_invalid_utf8) {
-  return v.dump(indent, ' ', false,
-                replace_invalid_utf8 ? nlohmann::json::error_handler_t::replace : nlohmann::json::error_handler_t::strict);
+  return v.dump(
+      indent, ' ', false,
+      replace_invalid_utf8 ? nlohmann::json::error_handler_t::replace : nlohmann::json::error_handler_t::strict);
 }
 
 }  // namespace sva::io

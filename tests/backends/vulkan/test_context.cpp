@@ -9,8 +9,8 @@
 
 #include "backends/vulkan/context.hpp"
 #include "backends/vulkan/faults.hpp"
-#include "votes/fixed_point.hpp"
 #include "vk_test_support.hpp"
+#include "votes/fixed_point.hpp"
 
 TEST_CASE("to_fixed quantises, clamps and rejects NaN") {
   CHECK(sva::to_fixed(1.0f) == SVA_FIXED_ONE);

@@ -97,8 +97,9 @@ bool Belief::add(const BeliefTerms& terms, std::uint32_t count) {
 
 void Belief::add_all(std::span<const BeliefTerms> terms, std::span<const std::uint32_t> counts, unsigned threads,
                      std::vector<std::uint8_t>* folded, std::vector<std::uint64_t>* probes) {
-  if (counts.size() != terms.size()) throw Error("belief: " + std::to_string(terms.size()) + " pairs' terms but " +
-                                                 std::to_string(counts.size()) + " counts");
+  if (counts.size() != terms.size())
+    throw Error("belief: " + std::to_string(terms.size()) + " pairs' terms but " + std::to_string(counts.size()) +
+                " counts");
   forget_best();
   // Each shard's additions per pair, so that a pair's probes are its own whichever worker made them.
   std::vector<std::uint64_t> shard_probes(terms.size() * kBeliefShards, 0);
@@ -278,7 +279,8 @@ std::vector<std::uint64_t> Belief::offsets(std::span<const std::uint64_t> keys) 
 std::vector<BinOffset> Belief::table() const {
   std::vector<BinOffset> out;
   out.reserve(touched());
-  for (const BeliefShard& s : shards_) s.for_each([&](std::uint64_t key, std::uint64_t off) { out.push_back({key, off}); });
+  for (const BeliefShard& s : shards_)
+    s.for_each([&](std::uint64_t key, std::uint64_t off) { out.push_back({key, off}); });
   std::sort(out.begin(), out.end(), [](const BinOffset& a, const BinOffset& b) { return a.key < b.key; });
   return out;
 }

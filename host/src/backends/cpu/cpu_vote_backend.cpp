@@ -19,10 +19,10 @@
 #include "backends/cpu/align_lanes.hpp"
 #include "backends/cpu/belief.hpp"
 #include "backends/cpu/bin_accumulator.hpp"
+#include "backends/cpu/hot_path.hpp"
 #include "backends/cpu/key_ranges.hpp"
 #include "backends/cpu/sample_votes.hpp"
 #include "backends/vote_backend.hpp"
-#include "backends/cpu/hot_path.hpp"
 #include "votes/vote_math.hpp"
 
 namespace sva {
@@ -188,7 +188,8 @@ class CpuVoteBackend final : public VoteBackend {
   }
 
   // Runs fn(i) for every pair on the workers, the pairs with the most map entries first, from one counter.
-  void largest_first(const std::vector<std::vector<KeyRange>>& ranges, const std::function<void(std::size_t)>& fn) const {
+  void largest_first(const std::vector<std::vector<KeyRange>>& ranges,
+                     const std::function<void(std::size_t)>& fn) const {
     std::vector<std::uint64_t> entries(ranges.size());
     for (std::size_t i = 0; i < ranges.size(); ++i) entries[i] = map_entries(ranges[i]);
     std::vector<std::size_t> order(ranges.size());

@@ -5,8 +5,8 @@
 
 #include <algorithm>
 
-#include "belief/belief_math.hpp"
 #include "backends/cpu/hot_path.hpp"
+#include "belief/belief_math.hpp"
 
 namespace sva::cpu {
 

@@ -63,13 +63,22 @@ std::vector<double> model_bits(const SurfaceModel& model, const Fits& fits, std:
       if (bits[i * n + j] > bits[i * n + best[i]]) best[i] = j;
     out[i] = bits[i * n + best[i]];
   }
-  if (noise.pad_sigma_mm > 0.0)
-    util::parallel_for(
-        n,
-        [&](std::size_t i) {
-          out[i] = model.log2_likelihood(fits.leading[i].object, readings, pose[i * n + best[i]], noise);
-        },
-        settings.threads);
+  if (!(noise.pad_sigma_mm > 0.0)) return out;
+  // The pad's images: 36 surface queries a reading, each (object, reading) a task of its own, summed in the readings'
+  // order as SurfaceModel::log2_likelihood sums them.
+  const std::size_t m = readings.size();
+  std::vector<double> term(n * m, 0.0);
+  util::parallel_for(
+      n * m,
+      [&](std::size_t t) {
+        const std::size_t i = t / m;
+        term[t] = model.log2_likelihood(fits.leading[i].object, readings[t % m], pose[i * n + best[i]], noise);
+      },
+      settings.threads);
+  for (std::size_t i = 0; i < n; ++i) {
+    out[i] = 0.0;
+    for (std::size_t k = 0; k < m; ++k) out[i] += term[i * m + k];
+  }
   return out;
 }
 

@@ -8,6 +8,7 @@
 #include <sva/engine.hpp>
 #include <sva/error.hpp>
 
+#include <cstdlib>
 #include <numeric>
 
 #include "recognition/batch_sessions.hpp"
@@ -76,8 +77,19 @@ TEST_CASE("GPU batch: the estimates of 40 sessions at once equal estimate() and 
 TEST_CASE("GPU batch: a batch's estimates read every session's belief in four submissions") {
   // The read-ahead (VoteBackend::read_ahead, look_up_ahead) runs each belief pass once for all sessions: the stale
   // bands, the summaries, the best bins and the bins read by key of 40 sessions cost four submissions where each
-  // session's estimate made its own round trips.
-  const std::unique_ptr<BatchRecognizer> batch = gpu_batch(), alone = gpu_batch();
+  // session's estimate made its own round trips. Staged too, as on a discrete GPU, whose device memory the host does
+  // not map: each pass's results come back in its own submission, not in a download per session after it.
+  const bool staged = GENERATE(false, true);
+  INFO((staged ? "staged" : "mapped") << " device memory");
+  if (staged) ::setenv("SVA_VK_STAGING", "1", 1);
+  std::unique_ptr<BatchRecognizer> batch, alone;
+  try {
+    batch = gpu_batch(), alone = gpu_batch();
+  } catch (...) {
+    ::unsetenv("SVA_VK_STAGING");
+    throw;
+  }
+  ::unsetenv("SVA_VK_STAGING");
   for (std::size_t step = 0; step < 4; ++step) {
     std::vector<std::size_t> ids(kSessions);
     std::iota(ids.begin(), ids.end(), std::size_t{0});
@@ -101,8 +113,10 @@ TEST_CASE("GPU batch: a batch's estimates read every session's belief in four su
   const std::uint64_t each = alone->device_submissions() - a0;
   INFO("submissions: " << batched << " for the batch, " << each << " one session at a time");
   CHECK(batched > 0);
-  // Alone, a session reads its summary, its best bins and its bins by key: three round trips or more each.
-  CHECK(each >= 3 * kSessions);
+  // Alone, a session reads its summary and its bins by key, and, staged, its table's histogram and its best bins
+  // past the band (on lavapipe's mapped memory the host reads that table itself): two or four round trips each.
+  // Staged, a batch took two round trips a session before its reads came back in the passes' submissions.
+  CHECK(each >= (staged ? 4 : 2) * kSessions);
   CHECK(batched <= 4);
 }
 

@@ -30,8 +30,8 @@ CommandRunner::~CommandRunner() {
 }
 
 void CommandRunner::run(const std::vector<Dispatch>& dispatches, std::vector<double>* kernel_ms,
-                        const std::vector<Fill>& fills) {
-  if (dispatches.empty() && fills.empty()) return;
+                        const std::vector<Fill>& fills, const std::vector<Copy>& reads) {
+  if (dispatches.empty() && fills.empty() && reads.empty()) return;
   const bool timing = kernel_ms && device_.info().timestamps && !dispatches.empty();
   if (kernel_ms) kernel_ms->clear();
   const auto n_queries = static_cast<std::uint32_t>(2 * dispatches.size());
@@ -47,6 +47,7 @@ void CommandRunner::run(const std::vector<Dispatch>& dispatches, std::vector<dou
     VkMemoryBarrier hb{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr, VK_ACCESS_SHADER_WRITE_BIT, VK_ACCESS_HOST_READ_BIT};
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &hb, 0, nullptr,
                          0, nullptr);
+    record_copies(cmd, reads);
   } catch (...) {
     vkFreeCommandBuffers(device_.handle(), command_pool_, 1, &cmd);
     throw;
@@ -83,10 +84,21 @@ void CommandRunner::end_submit_free(VkCommandBuffer cmd) {
 
 void CommandRunner::copy(const std::vector<Copy>& copies) {
   if (copies.empty()) return;
+  VkCommandBuffer cmd = begin();
+  try {
+    record_copies(cmd, copies);
+  } catch (...) {
+    vkFreeCommandBuffers(device_.handle(), command_pool_, 1, &cmd);
+    throw;
+  }
+  end_submit_free(cmd);
+}
+
+void CommandRunner::record_copies(VkCommandBuffer cmd, const std::vector<Copy>& copies) const {
+  if (copies.empty()) return;
   for (const Copy& c : copies)
     if (c.src_offset + c.bytes > c.src->size() || c.dst_offset + c.bytes > c.dst->size())
       throw std::logic_error("Copy: range not in the buffers");
-  VkCommandBuffer cmd = begin();
   // Earlier kernels' writes (a download) are complete before the copy reads them.
   VkMemoryBarrier before{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr,
                          VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_HOST_WRITE_BIT,
@@ -103,7 +115,6 @@ void CommandRunner::copy(const std::vector<Copy>& copies) {
   vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_TRANSFER_BIT,
                        VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT | VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &after, 0, nullptr, 0,
                        nullptr);
-  end_submit_free(cmd);
 }
 
 void CommandRunner::ensure_queries(std::uint32_t count) {

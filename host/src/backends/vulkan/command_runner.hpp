@@ -54,11 +54,11 @@ class CommandRunner {
   CommandRunner(const CommandRunner&) = delete;
   CommandRunner& operator=(const CommandRunner&) = delete;
 
-  // Records the fills, then the dispatches, submits and waits. When
-  // `kernel_ms` is given and the device supports timestamps, it receives the
+  // Records the fills, then the dispatches, then the `reads` (copies of what the dispatches wrote into buffers the
+  // host reads), submits and waits. When `kernel_ms` is given and the device supports timestamps, it receives the
   // GPU time of each dispatch (for "where does the time go").
   void run(const std::vector<Dispatch>& dispatches, std::vector<double>* kernel_ms = nullptr,
-           const std::vector<Fill>& fills = {});
+           const std::vector<Fill>& fills = {}, const std::vector<Copy>& reads = {});
   // Records the copies, submits and waits; their writes are visible to later
   // runs and to the host's mapped reads.
   void copy(const std::vector<Copy>& copies);
@@ -72,6 +72,7 @@ class CommandRunner {
   void reset_descriptor_pool(const std::vector<Dispatch>& dispatches);
   VkDescriptorSet bind_buffers(const Dispatch& d);
   void record_fills(VkCommandBuffer cmd, const std::vector<Fill>& fills) const;
+  void record_copies(VkCommandBuffer cmd, const std::vector<Copy>& copies) const;
   void record_dispatch(VkCommandBuffer cmd, const Dispatch& d, std::uint32_t index, bool timing);
   void submit_and_wait(VkCommandBuffer cmd);
   void read_kernel_ms(std::size_t dispatches, std::vector<double>& kernel_ms) const;

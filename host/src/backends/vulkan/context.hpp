@@ -63,16 +63,19 @@ class Context {
   Pipeline create_pipeline(std::span<const std::uint32_t> spirv, std::uint32_t bindings, std::uint32_t push_bytes) {
     return Pipeline(device_, spirv, bindings, push_bytes);
   }
-  // Records the fills, then the dispatches, into one command buffer, submits
-  // and waits. When `kernel_ms` is given and the device supports timestamps,
-  // it receives the GPU time of each dispatch (for "where does the time go").
-  // Thread-safe: runs of several users of one context (recognizers sharing a
-  // VulkanEngine) take turns on its queue.
+  // Records the fills, then the dispatches, then the `reads` (copies of their results into readback buffers, so that
+  // a result comes back in the submission that computed it, not in a staged download of its own), into one command
+  // buffer, submits and waits. When `kernel_ms` is given and the device supports timestamps, it receives the GPU
+  // time of each dispatch (for "where does the time go"). Thread-safe: runs of several users of one context
+  // (recognizers sharing a VulkanEngine) take turns on its queue.
   void run(const std::vector<Dispatch>& dispatches, std::vector<double>* kernel_ms = nullptr,
-           const std::vector<Fill>& fills = {}) {
+           const std::vector<Fill>& fills = {}, const std::vector<Copy>& reads = {}) {
     std::lock_guard lock(mutex_);
-    commands_.run(dispatches, kernel_ms, fills);
+    commands_.run(dispatches, kernel_ms, fills, reads);
   }
+  // A host-mapped buffer in memory the host reads fast (cached where the device offers it): where a run's `reads`
+  // put the results of kernels that write device memory.
+  Buffer create_readback_buffer(std::size_t bytes) { return Buffer(device_, bytes, Memory::readback); }
   bool force_staging() const { return force_staging_; }
   // Submissions so far, runs and staged transfers alike (each a round trip to the device).
   std::uint64_t submissions() {

@@ -250,16 +250,31 @@ std::vector<vk::Dispatch> GpuBelief::reduce_dispatches(const std::vector<std::ui
   return ds;
 }
 
-void GpuBelief::run(GpuBeliefKernels& k, const std::vector<vk::Dispatch>& ds, const std::vector<vk::Fill>& fills) {
-  if (ds.empty() && fills.empty()) return;
+void GpuBelief::run(GpuBeliefKernels& k, const std::vector<vk::Dispatch>& ds, const std::vector<vk::Fill>& fills,
+                    const std::vector<vk::Copy>& reads) {
+  if (ds.empty() && fills.empty() && reads.empty()) return;
   std::vector<double> ms;
-  k.ctx->run(ds, &ms, fills);
+  k.ctx->run(ds, &ms, fills, reads);
   for (double m : ms) k.kernel_ms += m;
 }
 
 void GpuBelief::run_reduce(const std::vector<std::uint32_t>& passes, std::uint64_t entries,
-                           std::vector<vk::Fill> fills) const {
-  run(*k_, reduce_dispatches(passes, entries), fills);
+                           std::vector<vk::Fill> fills, const std::vector<vk::Copy>& reads) const {
+  run(*k_, reduce_dispatches(passes, entries), fills, reads);
+}
+
+std::vector<vk::Copy> GpuBelief::state_reads(std::size_t word, std::size_t words) const {
+  if (state_.mapped()) return {};
+  if (state_mirror_.size() < state_.size()) state_mirror_ = k_->ctx->create_readback_buffer(state_.size());
+  const std::size_t at = word * sizeof(std::uint64_t);
+  return {{&state_, &state_mirror_, at, at, words * sizeof(std::uint64_t)}};
+}
+
+void GpuBelief::read_state_words(std::uint64_t* out, std::size_t word, std::size_t words) const {
+  const vk::Buffer& from = state_.mapped() ? state_ : state_mirror_;
+  if (from.size() < (word + words) * sizeof(std::uint64_t))
+    throw std::logic_error("GPU belief: state words read before a submission copied them");
+  std::memcpy(out, from.as<std::uint64_t>() + word, words * sizeof(std::uint64_t));
 }
 
 std::vector<vk::Fill> GpuBelief::prepare_rebuild(std::uint64_t entries) const {
@@ -295,7 +310,7 @@ bool GpuBelief::read_state() const {
   const std::uint32_t objects = k_->space->objects();
   const std::size_t words = state_words(objects);
   std::vector<std::uint64_t> w(words);
-  k_->ctx->download(state_, w.data(), words * sizeof(std::uint64_t));
+  read_state_words(w.data(), 0, words);  // copied by the submission of the passes (state_reads)
   if (w[SVA_STATE_BAND_LOST] != 0) return false;
   BeliefSummary s;
   s.max_offset = w[SVA_STATE_MAX];
@@ -323,8 +338,9 @@ void GpuBelief::enlarge_band() const {
 void GpuBelief::reduce() const {
   for (int attempt = 0;; ++attempt) {
     if (band_stale_) rebuild_band(band_capacity_);
-    // Masses and histogram from 0, then the passes over the band.
-    run_reduce({SVA_REDUCE_MASS, SVA_REDUCE_FLIP}, band_capacity_, mass_fills());
+    // Masses and histogram from 0, then the passes over the band, and their words back in the same submission.
+    run_reduce({SVA_REDUCE_MASS, SVA_REDUCE_FLIP}, band_capacity_, mass_fills(),
+               state_reads(0, state_words(k_->space->objects())));
     if (read_state()) return;
     // A fold found the list full: what the passes read was incomplete. Rebuild it larger and read again.
     if (attempt > 0 && band_capacity_ >= capacity_)
@@ -347,18 +363,22 @@ void GpuBelief::read_ahead(std::span<const GpuBelief* const> beliefs, std::size_
     ds.insert(ds.end(), std::make_move_iterator(d.begin()), std::make_move_iterator(d.end()));
     fills.insert(fills.end(), f.begin(), f.end());
   };
-  // The stale bands first (a table moved since the last estimate: each growth of an update's sessions).
+  // One submission: a stale band rebuilt first (a table moved since the last estimate: each growth of an update's
+  // sessions), then every belief's MASS and FLIP passes, and their state words back. The rebuild's fills (the band's
+  // marks and counts) and the passes' (the masses) touch different words, and every fill precedes every pass.
+  std::vector<vk::Copy> reads;
   for (const GpuBelief* b : stale) {
     std::vector<vk::Fill> f = b->prepare_rebuild(b->band_capacity_);
     add(b->reduce_dispatches({SVA_REDUCE_REBUILD}, b->capacity_), std::move(f));
   }
-  run(kernels, ds, fills);
-  for (const GpuBelief* b : stale) b->rebuilt();
-  ds.clear(), fills.clear();
   unread.insert(unread.end(), stale.begin(), stale.end());
-  for (const GpuBelief* b : unread)
+  for (const GpuBelief* b : unread) {
     add(b->reduce_dispatches({SVA_REDUCE_MASS, SVA_REDUCE_FLIP}, b->band_capacity_), b->mass_fills());
-  run(kernels, ds, fills);
+    const std::vector<vk::Copy> r = b->state_reads(0, state_words(kernels.space->objects()));
+    reads.insert(reads.end(), r.begin(), r.end());
+  }
+  run(kernels, ds, fills, reads);
+  for (const GpuBelief* b : stale) b->rebuilt();
   for (const GpuBelief* b : unread)
     if (!b->read_state()) b->enlarge_band();  // its summarise() reads again, alone
   read_best_ahead(beliefs, k);
@@ -436,29 +456,53 @@ std::vector<BinOffset> GpuBelief::select_best(std::size_t k) const {
 }
 
 void GpuBelief::read_best_ahead(std::span<const GpuBelief* const> beliefs, std::size_t k) {
-  struct Selection {
-    const GpuBelief* belief;
-    std::size_t k;
-    std::uint64_t n;
-  };
-  std::vector<Selection> sel;
-  std::vector<vk::Dispatch> ds;
-  std::vector<vk::Fill> fills;
+  std::vector<BestRead> sel;
   for (const GpuBelief* b : beliefs) {
     const std::size_t kb = std::min(k, b->count_);
     // One bin is the summary's; a belief read alone, or already read this far, needs no selection.
-    if (kb <= 1 || !b->summary_cache_ || kb <= b->kept_asked_) continue;
-    const auto [bucket, n] = bucket_holding(b->histogram_, kb);
-    // Past the band (a pass over every slot first) or past one binding: best_bins' own ways, alone.
-    if (bucket == SVA_BELIEF_BUCKETS || n * 2 * sizeof(std::uint64_t) > b->k_->ctx->info().max_storage_buffer_range)
-      continue;
-    ds.push_back(b->select_dispatch(SVA_REDUCE_SELECT, bucket, n, b->band_capacity_));
-    fills.push_back(b->select_fill());
-    sel.push_back({b, kb, n});
+    if (kb > 1 && b->summary_cache_ && kb > b->kept_asked_) sel.push_back({b, kb, b->histogram_});
   }
   if (sel.empty()) return;
-  run(*sel.front().belief->k_, ds, fills);
-  for (const Selection& s : sel) s.belief->keep_best(s.belief->read_candidates(s.n), s.k);
+  read_table_histograms_ahead(sel);
+  std::vector<vk::Dispatch> ds;
+  std::vector<vk::Fill> fills;
+  std::vector<vk::Copy> reads;  // each selection's count comes back in the same submission
+  std::vector<std::pair<const BestRead*, std::uint64_t>> made;
+  for (const BestRead& s : sel) {
+    const GpuBelief& b = *s.belief;
+    const auto [bucket, n] = bucket_holding(s.histogram, s.k);
+    // Past every bucket, or past one binding: best_bins' own ways, alone.
+    if (bucket == SVA_BELIEF_BUCKETS || n * 2 * sizeof(std::uint64_t) > b.k_->ctx->info().max_storage_buffer_range)
+      continue;
+    ds.push_back(b.select_dispatch(s.pass, bucket, n, s.pass == SVA_REDUCE_SELECT ? b.band_capacity_ : b.capacity_));
+    fills.push_back(b.select_fill());
+    for (const vk::Copy& c : b.state_reads(SVA_STATE_CANDIDATES, 1)) reads.push_back(c);
+    made.emplace_back(&s, n);
+  }
+  if (made.empty()) return;
+  run(*made.front().first->belief->k_, ds, fills, reads);
+  for (const auto& [s, n] : made) s->belief->keep_best(s->belief->read_candidates(n), s->k);
+}
+
+void GpuBelief::read_table_histograms_ahead(std::vector<BestRead>& sel) {
+  // A CPU device reads its table on the host instead (best_bins' own way, alone): its passes run on the same cores.
+  GpuBeliefKernels& kernels = *sel.front().belief->k_;
+  if (kernels.ctx->info().type == "cpu" && !kernels.ctx->force_staging()) return;
+  std::vector<BestRead*> past;
+  std::vector<vk::Dispatch> ds;
+  std::vector<vk::Fill> fills;
+  std::vector<vk::Copy> reads;
+  for (BestRead& s : sel) {
+    if (bucket_holding(s.histogram, s.k).first != SVA_BELIEF_BUCKETS) continue;
+    s.belief->add_table_histogram(&ds, &fills, &reads);
+    past.push_back(&s);
+  }
+  if (past.empty()) return;
+  run(kernels, ds, fills, reads);
+  for (BestRead* s : past) {
+    s->histogram = s->belief->read_table_histogram();
+    s->pass = SVA_REDUCE_TABLE_SELECT;
+  }
 }
 
 std::pair<std::uint32_t, std::uint64_t> GpuBelief::bucket_holding(std::span<const std::uint64_t> histogram,
@@ -470,13 +514,26 @@ std::pair<std::uint32_t, std::uint64_t> GpuBelief::bucket_holding(std::span<cons
 }
 
 std::vector<std::uint64_t> GpuBelief::table_histogram() const {
-  const std::uint32_t objects = k_->space->objects();
-  const std::size_t at = object_word(SVA_STATE_ARRAYS, objects) * sizeof(std::uint64_t);
-  const std::size_t bytes = SVA_BELIEF_BUCKETS * sizeof(std::uint64_t);
+  std::vector<vk::Dispatch> ds;
+  std::vector<vk::Fill> fills;
+  std::vector<vk::Copy> reads;
+  add_table_histogram(&ds, &fills, &reads);
+  run(*k_, ds, fills, reads);
+  return read_table_histogram();
+}
+
+void GpuBelief::add_table_histogram(std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills,
+                                    std::vector<vk::Copy>* reads) const {
   // The band's histogram words are reused: reduce() clears them before its next pass, and histogram_ keeps the band's.
-  run_reduce({SVA_REDUCE_TABLE_HISTOGRAM}, capacity_, {{&state_, 0u, at, bytes}});
+  const std::size_t word = object_word(SVA_STATE_ARRAYS, k_->space->objects());
+  for (vk::Dispatch& d : reduce_dispatches({SVA_REDUCE_TABLE_HISTOGRAM}, capacity_)) ds->push_back(std::move(d));
+  fills->push_back({&state_, 0u, word * sizeof(std::uint64_t), SVA_BELIEF_BUCKETS * sizeof(std::uint64_t)});
+  for (const vk::Copy& c : state_reads(word, SVA_BELIEF_BUCKETS)) reads->push_back(c);
+}
+
+std::vector<std::uint64_t> GpuBelief::read_table_histogram() const {
   std::vector<std::uint64_t> h(SVA_BELIEF_BUCKETS);
-  k_->ctx->download(state_, h.data(), bytes, at);
+  read_state_words(h.data(), object_word(SVA_STATE_ARRAYS, k_->space->objects()), SVA_BELIEF_BUCKETS);
   return h;
 }
 
@@ -496,7 +553,7 @@ vk::Fill GpuBelief::select_fill() const { return {&state_, 0u, SVA_STATE_CANDIDA
 
 std::vector<BinOffset> GpuBelief::read_candidates(std::uint64_t n) const {
   std::uint64_t found = 0;
-  k_->ctx->download(state_, &found, sizeof found, SVA_STATE_CANDIDATES * sizeof(std::uint64_t));
+  read_state_words(&found, SVA_STATE_CANDIDATES, 1);  // copied by the selection's submission
   if (found != n)
     throw std::logic_error("GPU belief: top-k selection found a different number of bins than its histogram");
   const auto* c = candidates_.as<std::uint64_t>();  // host-mapped (gpu::ensure)
@@ -507,7 +564,7 @@ std::vector<BinOffset> GpuBelief::read_candidates(std::uint64_t n) const {
 
 std::vector<BinOffset> GpuBelief::select_candidates(std::uint32_t pass, std::uint32_t bucket, std::uint64_t n,
                                                     std::uint64_t entries) const {
-  run(*k_, {select_dispatch(pass, bucket, n, entries)}, {select_fill()});
+  run(*k_, {select_dispatch(pass, bucket, n, entries)}, {select_fill()}, state_reads(SVA_STATE_CANDIDATES, 1));
   return read_candidates(n);
 }
 

@@ -117,10 +117,18 @@ class GpuBelief final : public BeliefState {
   // Passes of belief_reduce.comp over `entries` entries (or slots) each, for a submission.
   std::vector<vk::Dispatch> reduce_dispatches(const std::vector<std::uint32_t>& passes, std::uint64_t entries) const;
   // Runs passes of belief_reduce.comp over `invocations` entries (or slots) each.
-  void run_reduce(const std::vector<std::uint32_t>& passes, std::uint64_t entries,
-                  std::vector<vk::Fill> fills = {}) const;
-  // Runs one submission (of one belief's passes or of many beliefs'), its GPU time counted.
-  static void run(GpuBeliefKernels& k, const std::vector<vk::Dispatch>& ds, const std::vector<vk::Fill>& fills);
+  void run_reduce(const std::vector<std::uint32_t>& passes, std::uint64_t entries, std::vector<vk::Fill> fills = {},
+                  const std::vector<vk::Copy>& reads = {}) const;
+  // Runs one submission (of one belief's passes or of many beliefs'), its GPU time counted; `reads` bring back what
+  // the passes wrote (state_reads) in the same submission.
+  static void run(GpuBeliefKernels& k, const std::vector<vk::Dispatch>& ds, const std::vector<vk::Fill>& fills,
+                  const std::vector<vk::Copy>& reads = {});
+  // The state's words [word, word + words) as the host reads them. Where the state is not host-mapped (a discrete
+  // GPU), a copy into its readback mirror, for the submission of the passes that write them: one staged download per
+  // belief after it cost every session of a batch a round trip of its own. Empty where the state is mapped.
+  std::vector<vk::Copy> state_reads(std::size_t word, std::size_t words) const;
+  // Those words after that submission: from the mapped state or from the mirror its copy filled.
+  void read_state_words(std::uint64_t* out, std::size_t word, std::size_t words) const;
   // The band list from scratch, on a side of at least `entries` entries: the list made large enough and the fills
   // that empty it (prepare_rebuild), the REBUILD pass, then the list is current (rebuilt).
   std::vector<vk::Fill> prepare_rebuild(std::uint64_t entries) const;
@@ -146,8 +154,12 @@ class GpuBelief final : public BeliefState {
   std::vector<std::uint64_t> read_lookup(std::size_t n) const;
   // Every bin of the table, in slot order (table() sorts them by key).
   std::vector<BinOffset> unsorted_table() const;
-  // The distance histogram of every bin of the table (a pass over every slot).
+  // The distance histogram of every bin of the table (a pass over every slot); its pass, fill and read for a
+  // submission of the caller's, and what it read after it.
   std::vector<std::uint64_t> table_histogram() const;
+  void add_table_histogram(std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills,
+                           std::vector<vk::Copy>* reads) const;
+  std::vector<std::uint64_t> read_table_histogram() const;
   // The bins up to `bucket` (n of them, from the histogram) of the band list or of the whole table.
   std::vector<BinOffset> select_candidates(std::uint32_t pass, std::uint32_t bucket, std::uint64_t n,
                                            std::uint64_t entries) const;
@@ -157,8 +169,16 @@ class GpuBelief final : public BeliefState {
   std::vector<BinOffset> read_candidates(std::uint64_t n) const;
   // The best k of `out` (candidates holding them), best first, kept as best_bins' answer for k.
   std::vector<BinOffset> keep_best(std::vector<BinOffset> out, std::size_t k) const;
-  // read_ahead's selections: each belief's best k bins where its band's histogram holds them, in one submission.
+  // read_ahead's selections: each belief's best k bins in one submission, from its band where the band's histogram
+  // holds them, else (on a GPU) from its whole table, whose histograms come first in one submission of their own.
+  struct BestRead {
+    const GpuBelief* belief;
+    std::size_t k;
+    std::vector<std::uint64_t> histogram;  // the band's, or the table's for a selection past the band
+    std::uint32_t pass = SVA_REDUCE_SELECT;
+  };
   static void read_best_ahead(std::span<const GpuBelief* const> beliefs, std::size_t k);
+  static void read_table_histograms_ahead(std::vector<BestRead>& sel);
 
   GpuBeliefKernels* k_;
   std::uint64_t eps_units_;
@@ -171,6 +191,7 @@ class GpuBelief final : public BeliefState {
   std::size_t count_ = 0, pairs_ = 0;
   // The estimate's state (SVA_STATE_* words) and the band list's two sides.
   mutable vk::Buffer state_, band_;
+  mutable vk::Buffer state_mirror_;  // state_reads' copies of the state words (a readback buffer), where unmapped
   mutable std::uint32_t band_capacity_ = 0;
   mutable bool band_stale_ = false;  // the table moved (its slots changed): rebuild before reading the list
   mutable vk::Buffer candidates_, queries_;

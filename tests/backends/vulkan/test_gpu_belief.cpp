@@ -271,3 +271,43 @@ TEST_CASE("Bounded beliefs: a margin inside the band is refused") {
   CHECK_THROWS_WITH(BayesFilter(*w.map, space, FilterOptions{.forget_margin_bits = 8}, *cpu),
                     Catch::Contains("forget_margin_bits = 8"));
 }
+
+TEST_CASE("GPU beliefs: tables grow together in one submission, and one that does not fit is named, none moved") {
+  // GpuBelief::grow_all is how a batch's sessions whose fold found their tables full grow (issue 52: one submission
+  // each was a round trip per session on a GPU). Out of memory, the callback names the belief that did not fit (the
+  // backend names its session from it), and no table moves: what the others prepared is let go.
+  struct BudgetCleared {
+    ~BudgetCleared() { vk::faults::set_memory_budget(0); }
+  } cleared;
+  test::WorldSpec spec;
+  auto w = test::make_world(spec);
+  PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
+  VulkanBackendOptions vo;
+  vo.initial_belief_slots = 64;
+  const std::unique_ptr<VoteBackend> gpu = test::vulkan_backend_or_skip(*w.map, space, {}, vo);
+  std::vector<std::unique_ptr<BeliefState>> owned;
+  std::vector<GpuBelief*> beliefs;
+  for (int i = 0; i < 3; ++i) {
+    owned.push_back(gpu->make_belief(space, 1e-6));
+    beliefs.push_back(dynamic_cast<GpuBelief*>(owned.back().get()));
+    REQUIRE(beliefs.back());
+  }
+  const std::vector<std::uint64_t> slots{1000, 5000, 300};
+  GpuBelief::grow_all(beliefs, slots, [](std::size_t i, const vk::OutOfMemory&) { FAIL("belief " << i); });
+  CHECK(beliefs[0]->capacity() == 1024);
+  CHECK(beliefs[1]->capacity() == 8192);
+  CHECK(beliefs[2]->capacity() == 512);
+  for (const GpuBelief* b : beliefs) CHECK(b->table().empty());
+  // Room for one more table of 2^14 slots (keys, offsets and band marks) and a little: the first fits, the second not.
+  const std::uint64_t table = 2 * 16384 * sizeof(std::uint64_t) + 16384 / 32 * sizeof(std::uint32_t);
+  vk::faults::set_memory_budget(gpu->statistics().device_bytes + table + table / 2);
+  std::vector<std::size_t> named;
+  const std::vector<std::uint64_t> larger(3, 16384);
+  CHECK_THROWS_AS(
+      GpuBelief::grow_all(beliefs, larger, [&](std::size_t i, const vk::OutOfMemory&) { named.push_back(i); }),
+      vk::OutOfMemory);
+  vk::faults::set_memory_budget(0);
+  CHECK(named == std::vector<std::size_t>{1});
+  CHECK(beliefs[0]->capacity() == 1024);
+  CHECK(beliefs[1]->capacity() == 8192);
+}

@@ -6,6 +6,7 @@
 #include <bit>
 #include <cassert>
 #include <cstring>
+#include <functional>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -174,26 +175,44 @@ void GpuBelief::move_to(std::uint64_t slots, bool forget, std::uint64_t below) {
 
 void GpuBelief::keep_half_empty(std::span<GpuBelief* const> beliefs) {
   std::vector<GpuBelief*> growing;
+  std::vector<std::uint64_t> slots;
   for (GpuBelief* b : beliefs)
-    if (2 * b->count_ > b->capacity_) growing.push_back(b);
-  if (growing.empty()) return;
-  std::vector<Move> moves(growing.size());  // sized once: the dispatches and fills point into it
+    if (2 * b->count_ > b->capacity_) growing.push_back(b), slots.push_back(2 * b->count_);
+  grow_all(growing, slots, [](std::size_t, const vk::OutOfMemory&) {});
+}
+
+void GpuBelief::grow_all(std::span<GpuBelief* const> beliefs, std::span<const std::uint64_t> slots,
+                         const std::function<void(std::size_t, const vk::OutOfMemory&)>& out_of_memory) {
+  if (beliefs.empty()) return;
+  std::vector<Move> moves(beliefs.size());  // sized once: the dispatches and fills point into it
   std::vector<vk::Dispatch> ds;
   std::vector<vk::Fill> fills;
-  for (std::size_t i = 0; i < growing.size(); ++i) {
-    GpuBelief& b = *growing[i];
-    b.prepare_move(&moves[i], b.grown_slots(2 * b.count_), false, 0);
+  for (std::size_t i = 0; i < beliefs.size(); ++i) {
+    GpuBelief& b = *beliefs[i];
+    if (b.k_ != beliefs.front()->k_)
+      throw std::logic_error("GpuBelief::grow_all: beliefs of two backends in one submission");
+    try {
+      b.prepare_move(&moves[i], b.grown_slots(slots[i]), false, 0);
+    } catch (const vk::OutOfMemory& e) {
+      out_of_memory(i, e);
+      throw;
+    }
     ds.push_back(moves[i].rehash);
     fills.insert(fills.end(), moves[i].fills.begin(), moves[i].fills.end());
   }
-  GpuBeliefKernels& k = *growing.front()->k_;
-  for (const GpuBelief* b : growing)
-    if (b->k_ != &k) throw std::logic_error("GpuBelief::keep_half_empty: beliefs of two backends in one submission");
+  GpuBeliefKernels& k = *beliefs.front()->k_;
   std::vector<double> ms;
   k.ctx->run(ds, &ms, fills);
   for (double t : ms) k.kernel_ms += t;
-  for (std::size_t i = 0; i < growing.size(); ++i)
-    if (!growing[i]->adopt(moves[i])) growing[i]->move_to(2 * moves[i].slots, false, 0);
+  for (std::size_t i = 0; i < beliefs.size(); ++i) {
+    if (beliefs[i]->adopt(moves[i])) continue;
+    try {
+      beliefs[i]->move_to(2 * moves[i].slots, false, 0);  // a probe ran too long: spread further, alone
+    } catch (const vk::OutOfMemory& e) {
+      out_of_memory(i, e);
+      throw;
+    }
+  }
 }
 
 std::size_t GpuBelief::forget_below(std::uint64_t below, std::span<const std::uint64_t> keep) {
@@ -258,8 +277,8 @@ void GpuBelief::run(GpuBeliefKernels& k, const std::vector<vk::Dispatch>& ds, co
   for (double m : ms) k.kernel_ms += m;
 }
 
-void GpuBelief::run_reduce(const std::vector<std::uint32_t>& passes, std::uint64_t entries,
-                           std::vector<vk::Fill> fills, const std::vector<vk::Copy>& reads) const {
+void GpuBelief::run_reduce(const std::vector<std::uint32_t>& passes, std::uint64_t entries, std::vector<vk::Fill> fills,
+                           const std::vector<vk::Copy>& reads) const {
   run(*k_, reduce_dispatches(passes, entries), fills, reads);
 }
 

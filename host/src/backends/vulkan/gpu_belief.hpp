@@ -10,6 +10,7 @@
 // the CPU reference.
 #include <atomic>
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <span>
 #include <utility>
@@ -18,6 +19,7 @@
 #include "backends/vulkan/context.hpp"
 #include "backends/vulkan/gpu_layout.hpp"
 #include "backends/vulkan/linear_bins.hpp"
+#include "backends/vulkan/vk_check.hpp"
 #include "belief/belief_state.hpp"
 
 namespace sva {
@@ -74,6 +76,11 @@ class GpuBelief final : public BeliefState {
   // tables moved in one submission: in a batch many sessions outgrow their half together, and two submissions each
   // were a suspect for the batch's host time on a GPU (docs/vulkan-backend.md, "The fifth GPU run").
   static void keep_half_empty(std::span<GpuBelief* const> beliefs);
+  // Moves each belief's table into one of at least slots[i] slots, all in one submission (a batch's sessions whose
+  // fold found their tables full grow together; one submission each was a round trip per session on a GPU). A table
+  // that does not fit calls out_of_memory(i, error) (to name its session) before the error goes on.
+  static void grow_all(std::span<GpuBelief* const> beliefs, std::span<const std::uint64_t> slots,
+                       const std::function<void(std::size_t, const vk::OutOfMemory&)>& out_of_memory);
   // Reads ahead, for every belief of `beliefs` (one backend's), what an estimate asks first: the summary, and the
   // best k bins where the band's histogram holds them. Each pass runs once for all the beliefs (the stale bands'
   // rebuilds, the MASS and FLIP passes, the selections: three submissions) where each session's estimate made a

@@ -531,21 +531,19 @@ class VulkanVoteBackend final : public VoteBackend {
       if (fold.pending[s]) entries += st[s].vote_entries;
     fold_bins_ += entries;
     for (;;) {
-      bool again = false;
+      std::vector<std::size_t> full;  // sessions whose table overflowed: they grow together, then fold again
       for (std::size_t s = 0; s < S; ++s) {
         if (!fold.pending[s]) continue;
         if (st[s].missing) throw std::logic_error("belief_fold: a reserved key was not found");
         beliefs[s]->record(st[s].inserted, 0);
-        if (st[s].overflow) {
-          // Room for every key the session's pairs voted for, at half load.
-          growing([&] { grow_belief(*beliefs[s], s, 2 * (beliefs[s]->touched() + st[s].vote_entries)); });
-          ++stats_.table_grows;
-          again = true;
-        } else {
+        if (st[s].overflow)
+          full.push_back(s);
+        else
           fold.pending[s] = 0;
-        }
       }
-      if (!again) break;
+      if (full.empty()) break;
+      growing([&] { grow_beliefs(beliefs, full, st); });
+      stats_.table_grows += full.size();
       util::throw_if_interrupted();
       std::vector<double> ms;
       ctx_.run(fold_dispatches(P, beliefs, fold), &ms);
@@ -557,17 +555,24 @@ class VulkanVoteBackend final : public VoteBackend {
     keep_vote_table_half_empty(entries);
   }
 
-  // A session's belief cannot be split: when its table does not fit, say how large it is and what bounds it.
-  static void grow_belief(GpuBelief& belief, std::size_t session, std::size_t slots) {
-    try {
-      belief.grow(slots);
-    } catch (const vk::OutOfMemory& e) {
+  // The sessions `full` of a fold that found their tables full, grown together to hold every key their pairs voted
+  // for at half load. A session's belief cannot be split: when its table does not fit, say how large it is and what
+  // bounds it.
+  static void grow_beliefs(const std::vector<GpuBelief*>& beliefs, const std::vector<std::size_t>& full,
+                           const gpu::SvaGpuSessionStatus* st) {
+    std::vector<GpuBelief*> grow;
+    std::vector<std::uint64_t> slots;
+    for (std::size_t s : full) {
+      grow.push_back(beliefs[s]);
+      slots.push_back(2 * (beliefs[s]->touched() + st[s].vote_entries));
+    }
+    GpuBelief::grow_all(grow, slots, [&](std::size_t i, const vk::OutOfMemory& e) {
       throw vk::OutOfMemory(
-          "the GPU belief of session " + std::to_string(session) + " (" + std::to_string(belief.touched()) +
-              " touched pose bins, growing to " + std::to_string(slots) +
+          "the GPU belief of session " + std::to_string(full[i]) + " (" + std::to_string(grow[i]->touched()) +
+              " touched pose bins, growing to " + std::to_string(slots[i]) +
               " slots) does not fit; a smaller RecognizerOptions::belief_budget_bins bounds it: " + e.what(),
           e.bytes());
-    }
+    });
   }
 
   void split(const VoteBatch& batch, std::size_t first, std::size_t last, const Consumer& consume) {

@@ -28,7 +28,8 @@ struct StepFigures {
   std::size_t sessions = 0;
   std::uint64_t votes = 0, votes_zero = 0;
   double seconds = 0.0, estimate_seconds = 0.0;
-  std::uint64_t estimate_submissions = 0;           // device round trips of the sessions' estimates (0 on the CPU)
+  std::uint64_t estimate_submissions = 0;  // device round trips of the sessions' estimates (0 on the CPU)
+  std::uint64_t update_submissions = 0;    // of the update since the last estimate (a group's first: its resets too)
   BatchRecognizer::EstimateTiming estimate_stages;  // where the estimates' time went, summed over the sessions
   std::vector<double> belief_bytes;                 // per session of the update, after it
 };
@@ -44,6 +45,7 @@ struct Checkpoint {
   std::vector<double> kernel_ms, backend_host_ms, fold_ms, belief_growth_ms;
   std::vector<double> estimate_ms;           // per session: object, refined pose and top-1 after the update
   std::vector<double> estimate_submissions;  // per session: the device round trips of its estimate (a batch's share)
+  std::vector<double> update_submissions;    // per session: the device round trips of its update (a batch's share)
   // Per session: each stage's ms of its estimate (the sessions' sum divided by them; BatchRecognizer::EstimateTiming).
   std::vector<double> stage_belief_ms, stage_fit_ms, stage_verify_ms, stage_posterior_ms;
   BatchRecognizer::Work work;        // summed over the checkpoint's updates (all sessions of each)
@@ -88,6 +90,7 @@ void record_checkpoint(Checkpoint& c, const BatchRecognizer& rec, const std::vec
   c.update_ms.push_back(1e3 * f.seconds / n);
   c.estimate_ms.push_back(1e3 * f.estimate_seconds / n);
   c.estimate_submissions.push_back(static_cast<double>(f.estimate_submissions) / n);
+  c.update_submissions.push_back(static_cast<double>(f.update_submissions) / n);
   const BatchRecognizer::EstimateTiming& st = f.estimate_stages;
   if (st.sessions > 0) {
     const auto per = static_cast<double>(st.sessions);
@@ -140,6 +143,7 @@ json checkpoint_json(std::size_t readings, const Checkpoint& c, bool device, std
       {"gpu_fold_ms", median_or_null(c.fold_ms)},
       {"estimate_ms", median_or_null(c.estimate_ms)},
       {"estimate_device_submissions", device ? median_or_null(c.estimate_submissions) : json(nullptr)},
+      {"update_device_submissions", device ? median_or_null(c.update_submissions) : json(nullptr)},
       {"estimate_stage_ms",
        {{"belief", median_or_null(c.stage_belief_ms)},
         {"fits", median_or_null(c.stage_fit_ms)},
@@ -174,7 +178,7 @@ json memory_json(const RunMemory& m, const BatchRecognizer& rec) {
 class SpeedRecorder {
  public:
   SpeedRecorder(BatchRecognizer& rec, const std::vector<std::size_t>& checkpoints)
-      : rec_(rec), checkpoints_(checkpoints), sessions_(rec.sessions()) {}
+      : rec_(rec), checkpoints_(checkpoints), sessions_(rec.sessions()), after_last_(rec.device_submissions()) {}
 
   void on_step(const LockstepStep& s, const std::vector<eval::Trial>& tr) {
     StepFigures f;
@@ -183,8 +187,10 @@ class SpeedRecorder {
     std::vector<Estimate> est;
     const auto t1 = Clock::now();
     const std::uint64_t submissions = rec_.device_submissions();
+    f.update_submissions = submissions - after_last_;
     est = rec_.estimates(s.sessions, 1);
-    f.estimate_submissions = rec_.device_submissions() - submissions;
+    after_last_ = rec_.device_submissions();
+    f.estimate_submissions = after_last_ - submissions;
     f.estimate_stages = rec_.last_estimate_timing();
     for (const Estimate& e : est) {
       f.votes += e.votes;
@@ -219,8 +225,9 @@ class SpeedRecorder {
   BatchRecognizer& rec_;
   const std::vector<std::size_t>& checkpoints_;
   std::map<std::size_t, Checkpoint> cp_;
-  std::size_t sessions_;  // per submission
-  StepFigures all_;       // every update of the run; sessions = session-updates
+  std::size_t sessions_;      // per submission
+  std::uint64_t after_last_;  // the device's submissions after the last step's estimates
+  StepFigures all_;           // every update of the run; sessions = session-updates
 };
 
 }  // namespace

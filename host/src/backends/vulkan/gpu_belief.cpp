@@ -301,7 +301,8 @@ std::vector<vk::Fill> GpuBelief::prepare_rebuild(std::uint64_t entries) const {
   const std::uint64_t want = std::min<std::uint64_t>(std::bit_ceil(std::max<std::uint64_t>(entries, 64)), capacity_);
   if (want > band_capacity_ || band_.size() == 0) {
     band_capacity_ = static_cast<std::uint32_t>(want);
-    band_ = k_->ctx->create_device_buffer(2 * std::size_t{band_capacity_} * sizeof(std::uint32_t));
+    // Uncleared: the list is read only up to its count, which the fills below set (a cleared one cost a submission).
+    band_ = k_->ctx->create_uncleared_device_buffer(2 * std::size_t{band_capacity_} * sizeof(std::uint32_t));
   }
   // Empty list on side 0, no marks, then every bin in the band joins.
   const std::size_t marks = 2 * std::size_t{capacity_} * sizeof(std::uint64_t);
@@ -312,12 +313,6 @@ std::vector<vk::Fill> GpuBelief::prepare_rebuild(std::uint64_t entries) const {
 void GpuBelief::rebuilt() const {
   band_stale_ = false;
   ++k_->band_rebuilds;
-}
-
-void GpuBelief::rebuild_band(std::uint64_t entries) const {
-  std::vector<vk::Fill> fills = prepare_rebuild(entries);
-  run_reduce({SVA_REDUCE_REBUILD}, capacity_, std::move(fills));
-  rebuilt();
 }
 
 std::vector<vk::Fill> GpuBelief::mass_fills() const {
@@ -355,51 +350,58 @@ void GpuBelief::enlarge_band() const {
 }
 
 void GpuBelief::reduce() const {
-  for (int attempt = 0;; ++attempt) {
-    if (band_stale_) rebuild_band(band_capacity_);
-    // Masses and histogram from 0, then the passes over the band, and their words back in the same submission.
-    run_reduce({SVA_REDUCE_MASS, SVA_REDUCE_FLIP}, band_capacity_, mass_fills(),
-               state_reads(0, state_words(k_->space->objects())));
-    if (read_state()) return;
-    // A fold found the list full: what the passes read was incomplete. Rebuild it larger and read again.
-    if (attempt > 0 && band_capacity_ >= capacity_)
-      throw std::logic_error("GPU belief: the band list lost bins at full size");
-    enlarge_band();
+  const GpuBelief* self = this;
+  read_summaries(std::vector<const GpuBelief*>{self});
+}
+
+void GpuBelief::read_summaries(std::vector<const GpuBelief*> pending) {
+  for (int attempt = 0; !pending.empty(); ++attempt) {
+    GpuBeliefKernels& kernels = *pending.front()->k_;
+    std::vector<vk::Dispatch> ds;
+    std::vector<vk::Fill> fills;
+    std::vector<vk::Copy> reads;
+    // One submission: a stale band rebuilt first (a table moved since the last estimate: each growth of an update's
+    // sessions), then every belief's MASS and FLIP passes, and their state words back. The rebuild's fills (the
+    // band's marks and counts) and the passes' (the masses) touch different words, and every fill precedes every pass.
+    for (const GpuBelief* b : pending) {
+      if (!b->band_stale_) continue;
+      const std::vector<vk::Fill> f = b->prepare_rebuild(b->band_capacity_);
+      fills.insert(fills.end(), f.begin(), f.end());
+      for (vk::Dispatch& d : b->reduce_dispatches({SVA_REDUCE_REBUILD}, b->capacity_)) ds.push_back(std::move(d));
+    }
+    for (const GpuBelief* b : pending) {
+      const std::vector<vk::Fill> f = b->mass_fills();
+      fills.insert(fills.end(), f.begin(), f.end());
+      for (vk::Dispatch& d : b->reduce_dispatches({SVA_REDUCE_MASS, SVA_REDUCE_FLIP}, b->band_capacity_))
+        ds.push_back(std::move(d));
+      for (const vk::Copy& c : b->state_reads(0, state_words(kernels.space->objects()))) reads.push_back(c);
+    }
+    run(kernels, ds, fills, reads);
+    std::vector<const GpuBelief*> lost;
+    for (const GpuBelief* b : pending) {
+      if (b->band_stale_) b->rebuilt();
+      if (!b->read_state()) lost.push_back(b);
+    }
+    // A fold found those lists full: what the passes read was incomplete. Rebuilt larger, they are read again together
+    // (early in a batch every session's list fills at the same update).
+    for (const GpuBelief* b : lost) {
+      if (attempt > 0 && b->band_capacity_ >= b->capacity_)
+        throw std::logic_error("GPU belief: the band list lost bins at full size");
+      b->enlarge_band();
+    }
+    pending = std::move(lost);
   }
 }
 
 void GpuBelief::read_ahead(std::span<const GpuBelief* const> beliefs, std::size_t k) {
   if (beliefs.empty()) return;
-  GpuBeliefKernels& kernels = *beliefs.front()->k_;
   for (const GpuBelief* b : beliefs)
-    if (b->k_ != &kernels) throw std::logic_error("GpuBelief::read_ahead: beliefs of two backends in one submission");
-  std::vector<const GpuBelief*> unread, stale;
+    if (b->k_ != beliefs.front()->k_)
+      throw std::logic_error("GpuBelief::read_ahead: beliefs of two backends in one submission");
+  std::vector<const GpuBelief*> unread;
   for (const GpuBelief* b : beliefs)
-    if (!b->summary_cache_) (b->band_stale_ ? stale : unread).push_back(b);
-  std::vector<vk::Dispatch> ds;
-  std::vector<vk::Fill> fills;
-  const auto add = [&](std::vector<vk::Dispatch> d, std::vector<vk::Fill> f) {
-    ds.insert(ds.end(), std::make_move_iterator(d.begin()), std::make_move_iterator(d.end()));
-    fills.insert(fills.end(), f.begin(), f.end());
-  };
-  // One submission: a stale band rebuilt first (a table moved since the last estimate: each growth of an update's
-  // sessions), then every belief's MASS and FLIP passes, and their state words back. The rebuild's fills (the band's
-  // marks and counts) and the passes' (the masses) touch different words, and every fill precedes every pass.
-  std::vector<vk::Copy> reads;
-  for (const GpuBelief* b : stale) {
-    std::vector<vk::Fill> f = b->prepare_rebuild(b->band_capacity_);
-    add(b->reduce_dispatches({SVA_REDUCE_REBUILD}, b->capacity_), std::move(f));
-  }
-  unread.insert(unread.end(), stale.begin(), stale.end());
-  for (const GpuBelief* b : unread) {
-    add(b->reduce_dispatches({SVA_REDUCE_MASS, SVA_REDUCE_FLIP}, b->band_capacity_), b->mass_fills());
-    const std::vector<vk::Copy> r = b->state_reads(0, state_words(kernels.space->objects()));
-    reads.insert(reads.end(), r.begin(), r.end());
-  }
-  run(kernels, ds, fills, reads);
-  for (const GpuBelief* b : stale) b->rebuilt();
-  for (const GpuBelief* b : unread)
-    if (!b->read_state()) b->enlarge_band();  // its summarise() reads again, alone
+    if (!b->summary_cache_) unread.push_back(b);
+  read_summaries(std::move(unread));
   read_best_ahead(beliefs, k);
 }
 

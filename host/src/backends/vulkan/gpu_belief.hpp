@@ -137,10 +137,9 @@ class GpuBelief final : public BeliefState {
   // Those words after that submission: from the mapped state or from the mirror its copy filled.
   void read_state_words(std::uint64_t* out, std::size_t word, std::size_t words) const;
   // The band list from scratch, on a side of at least `entries` entries: the list made large enough and the fills
-  // that empty it (prepare_rebuild), the REBUILD pass, then the list is current (rebuilt).
+  // that empty it (prepare_rebuild), the REBUILD pass in the caller's submission, then the list is current (rebuilt).
   std::vector<vk::Fill> prepare_rebuild(std::uint64_t entries) const;
   void rebuilt() const;
-  void rebuild_band(std::uint64_t entries) const;
   // The fills that zero the masses and histogram before the MASS pass.
   std::vector<vk::Fill> mass_fills() const;
   // The state's words after the MASS and FLIP passes, to the summary; false when a fold found the band list full
@@ -149,6 +148,8 @@ class GpuBelief final : public BeliefState {
   void enlarge_band() const;
   // The MASS and FLIP passes, then the state's words to the host.
   void reduce() const;
+  // The same for every belief of `pending` (one backend's), each pass in one submission for all of them.
+  static void read_summaries(std::vector<const GpuBelief*> pending);
   // The belief changed: its summary and best bins are to be read again.
   void forget_cache() const;
   // best_bins without the kept answer: the k best bins from the device.

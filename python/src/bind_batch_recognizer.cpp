@@ -116,7 +116,17 @@ void bind_batch_recognizer(nb::module_& m) {
             std::lock_guard lock(b.mutex);
             b.rec.reset(session);
           },
-          "session"_a)
+          "session"_a, "Forgets the session's readings and prior.")
+      .def(
+          "reset",
+          [](PyBatchRecognizer& b, const std::vector<std::size_t>& sessions) {
+            EngineScope scope;
+            std::lock_guard lock(b.mutex);
+            b.rec.reset(sessions);
+          },
+          "sessions"_a,
+          "Forgets these sessions' readings and priors at once (a group's start): on a GPU their beliefs are emptied "
+          "in one submission. Every id is checked before any session changes.")
       .def(
           "readings",
           [](const PyBatchRecognizer& b, std::size_t session) {

@@ -87,6 +87,12 @@ def test_batch_recognizer_gives_the_cli_estimates(tiny, tiny_map):
     kept = b.belief_bytes(0)
     b.reset(0)
     assert b.belief_bytes(0) == kept  # a reset keeps the table's allocation for the next session
+    assert b.readings(0) == 0 and b.readings(1) > 0
+    with pytest.raises(sva.Error, match="out of range"):
+        b.reset([1, len(sessions)])  # every id checked first: session 1 keeps its readings
+    assert b.readings(1) > 0
+    b.reset(list(range(len(sessions))))  # a group's start, all at once
+    assert all(b.readings(i) == 0 for i in range(len(sessions)))
 
 
 # Groups of 2 on 3 recognizers in flight at once: the same bytes (on a GPU, the host works while the device runs).

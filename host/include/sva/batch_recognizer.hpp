@@ -41,6 +41,8 @@ class BatchRecognizer {
   void set_prior(std::size_t session, const Prior& prior);
   // Forgets the session's readings and prior.
   void reset(std::size_t session);
+  // The same for many sessions at once (a group's start): on a GPU their beliefs are emptied in one submission.
+  void reset(std::span<const std::size_t> sessions);
   // Recognizer::save_session and restore_session, for one session.
   void save_session(std::size_t session, const std::filesystem::path& file) const;
   void restore_session(std::size_t session, const std::filesystem::path& file);

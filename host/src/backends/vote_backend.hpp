@@ -107,6 +107,12 @@ class VoteBackend {
                              std::span<const std::vector<std::uint64_t>> keys) {
     (void)beliefs, (void)keys;
   }
+  // Empties many sessions' beliefs (each made by this backend) for new sessions, as BeliefState::reset() does each:
+  // a device empties them all in one submission, where each reset was a round trip of its own (a batch's group
+  // starts with one for every session).
+  virtual void reset_beliefs(std::span<BeliefState* const> beliefs) {
+    for (BeliefState* b : beliefs) b->reset();
+  }
   virtual const char* name() const = 0;
   // What runs the votes, the last update's timings and the counters so far.
   virtual BackendStats statistics() const = 0;

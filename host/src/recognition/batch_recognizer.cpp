@@ -352,17 +352,24 @@ void BatchRecognizer::restore_session(std::size_t session, const std::filesystem
   }
 }
 
-void BatchRecognizer::reset(std::size_t session) {
+void BatchRecognizer::reset(std::size_t session) { reset(std::span(&session, 1)); }
+
+void BatchRecognizer::reset(std::span<const std::size_t> sessions) {
   const std::lock_guard lock(impl_->mutex);
-  Impl::Session& s = impl_->at(session);
-  s.prior_weight.clear();
-  s.prior = {};
-  s.pose_prior = {};
-  s.taken.clear();  // keeps its capacity
-  s.readings = 0;
-  s.last_votes = 0;
-  if (s.filter) s.filter->reset();
-  std::fill(s.appearance_log_posterior.begin(), s.appearance_log_posterior.end(), 0.0);
+  for (std::size_t session : sessions) impl_->at(session);  // every id checked before any session changes
+  std::vector<BayesFilter*> filters;
+  for (std::size_t session : sessions) {
+    Impl::Session& s = impl_->sessions[session];
+    s.prior_weight.clear();
+    s.prior = {};
+    s.pose_prior = {};
+    s.taken.clear();  // keeps its capacity
+    s.readings = 0;
+    s.last_votes = 0;
+    if (s.filter) filters.push_back(s.filter.get());
+    std::fill(s.appearance_log_posterior.begin(), s.appearance_log_posterior.end(), 0.0);
+  }
+  BayesFilter::reset_all(filters);
 }
 
 std::size_t BatchRecognizer::readings(std::size_t session) const {

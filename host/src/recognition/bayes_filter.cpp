@@ -36,11 +36,31 @@ BayesFilter::BayesFilter(const PairMap& map, const PoseSpace& space, const Filte
 }
 
 void BayesFilter::reset() {
-  belief_->reset();
-  kept_after_forget_ = 0;
-  readings_.clear();
-  last_ = {};
-  incomplete_ = false;
+  BayesFilter* self = this;
+  reset_all(std::span(&self, 1));
+}
+
+void BayesFilter::reset_all(std::span<BayesFilter* const> sessions) {
+  if (sessions.empty()) return;
+  std::vector<BeliefState*> beliefs;
+  for (BayesFilter* f : sessions) {
+    if (f->backend_ != sessions.front()->backend_)
+      throw std::logic_error("BayesFilter::reset_all: sessions of two backends");
+    beliefs.push_back(f->belief_.get());
+  }
+  try {
+    sessions.front()->backend_->reset_beliefs(beliefs);
+  } catch (...) {
+    // Some beliefs may be emptied and others not, beside readings kept: each session refuses use until a reset works.
+    for (BayesFilter* f : sessions) f->incomplete_ = true;
+    throw;
+  }
+  for (BayesFilter* f : sessions) {
+    f->kept_after_forget_ = 0;
+    f->readings_.clear();
+    f->last_ = {};
+    f->incomplete_ = false;
+  }
 }
 
 void BayesFilter::require_complete() const {

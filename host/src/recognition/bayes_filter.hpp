@@ -7,6 +7,7 @@
 // one backend call (update_sessions), which is how batch evaluation keeps a
 // GPU busy.
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "backends/vote_backend.hpp"
@@ -50,6 +51,8 @@ class BayesFilter {
   // Adds one reading (as describe_reading and to_grid make it: checked, grid frame) and updates the belief.
   UpdateStats add(const ObservedReading& reading);
   void reset();
+  // reset() of many sessions of one backend, their beliefs emptied together (VoteBackend::reset_beliefs).
+  static void reset_all(std::span<BayesFilter* const> sessions);
 
   std::size_t readings() const { return readings_.size(); }
   // The session's readings so far (robot frame, validated), oldest first.

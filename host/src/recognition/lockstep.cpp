@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <numeric>
 #include <stdexcept>
 
 namespace sva {
@@ -18,7 +19,9 @@ class RecognizerSessions final : public LockstepSessions {
     batch_.add_readings(sessions, readings);
   }
   void reset() override {
-    for (std::size_t s = 0; s < batch_.sessions(); ++s) batch_.reset(s);
+    std::vector<std::size_t> all(batch_.sessions());
+    std::iota(all.begin(), all.end(), std::size_t{0});
+    batch_.reset(all);  // one submission for every session's belief on a GPU
   }
 
  private:

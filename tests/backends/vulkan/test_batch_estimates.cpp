@@ -150,3 +150,44 @@ TEST_CASE(
   }
   CHECK(gpu[1].readings(0) == sessions[24].readings.size());  // not vacuous: the second ran groups 1 and 3
 }
+
+TEST_CASE("GPU batch: a group's sessions reset together in one submission, then recognise as new sessions do") {
+  // BatchRecognizer::reset of many sessions (a group's start in sva recognize and sva eval): their beliefs are emptied
+  // in one submission, where each session's reset was one or two round trips of its own (issue 52). Staged, as on a
+  // discrete GPU. A bad id changes nothing.
+  ::setenv("SVA_VK_STAGING", "1", 1);
+  std::unique_ptr<BatchRecognizer> used, fresh;
+  try {
+    used = gpu_batch(), fresh = gpu_batch();
+  } catch (...) {
+    ::unsetenv("SVA_VK_STAGING");
+    throw;
+  }
+  ::unsetenv("SVA_VK_STAGING");
+  std::vector<std::size_t> all(kSessions);
+  std::iota(all.begin(), all.end(), std::size_t{0});
+  const auto feed = [&](BatchRecognizer& b, std::uint64_t seed, int steps) {
+    for (int step = 0; step < steps; ++step) {
+      std::vector<Reading> rd;
+      for (std::size_t i = 0; i < kSessions; ++i)
+        rd.push_back(readings_at(static_cast<std::uint32_t>(i % 3), random_pose(seed + i, 100.0),
+                                 util::Rng(seed + i, 5), steps)[static_cast<std::size_t>(step)]);
+      b.add_readings(all, rd);
+    }
+  };
+  feed(*used, 500, 4);
+  const std::vector<std::size_t> bad{3, kSessions};
+  CHECK_THROWS_AS(used->reset(bad), Error);
+  CHECK(used->readings(3) == 4);  // untouched: every id is checked first
+  const std::uint64_t before = used->device_submissions();
+  used->reset(all);
+  CHECK(used->device_submissions() - before == 1);
+  for (std::size_t i : all) CHECK(used->readings(i) == 0);
+  feed(*used, 1100, 3);
+  feed(*fresh, 1100, 3);
+  const std::vector<Estimate> a = used->estimates(all, 3), b = fresh->estimates(all, 3);
+  for (std::size_t i = 0; i < kSessions; ++i) {
+    INFO("session " << i);
+    CHECK(same(a[i], b[i]));
+  }
+}

@@ -69,45 +69,57 @@ void GpuBelief::allocate_uncleared(vk::Buffer& b, std::uint32_t capacity) const 
   ++table_allocations_;
 }
 
-void GpuBelief::allocate(vk::Buffer& b, std::uint32_t capacity) const {
-  allocate_uncleared(b, capacity);
-  clear_table(b, capacity);
-}
-
 std::vector<vk::Fill> GpuBelief::clear_fills(vk::Buffer& b, std::uint64_t capacity) {
   const std::size_t keys = static_cast<std::size_t>(capacity) * sizeof(std::uint64_t);
   return {{&b, 0xffffffffu, 0, keys}, {&b, 0u, keys, 0}};
 }
 
-void GpuBelief::clear_table(vk::Buffer& b, std::uint32_t capacity) const {
-  k_->ctx->run({}, nullptr, clear_fills(b, capacity));
+void GpuBelief::reset() {
+  GpuBelief* self = this;
+  reset_all(std::span(&self, 1));
 }
 
-void GpuBelief::reset() {
+void GpuBelief::reset_all(std::span<GpuBelief* const> beliefs) {
+  if (beliefs.empty()) return;
+  std::vector<vk::Fill> fills;
+  for (GpuBelief* b : beliefs) {
+    if (b->k_ != beliefs.front()->k_)
+      throw std::logic_error("GpuBelief::reset_all: beliefs of two backends in one submission");
+    const std::vector<vk::Fill> f = b->prepare_reset();
+    fills.insert(fills.end(), f.begin(), f.end());
+  }
+  run(*beliefs.front()->k_, {}, fills);
+  for (GpuBelief* b : beliefs) {
+    b->band_stale_ = false;
+    b->count_ = 0;
+    b->pairs_ = 0;
+    b->forget_cache();
+  }
+}
+
+std::vector<vk::Fill> GpuBelief::prepare_reset() {
   // A reset session keeps its table and band list (emptied): the next session allocates none until it outgrows them.
+  // New buffers are left uncleared: the fills below write every word that is read (the band list is read only up to
+  // its count, a state word), and a cleared buffer cost a submission of its own on a GPU.
   if (table_.size() == 0) {
     capacity_ = static_cast<std::uint32_t>(std::bit_ceil(std::max<std::size_t>(k_->initial_slots, 64)));
-    allocate(table_, capacity_);
-  } else {
-    clear_table(table_, capacity_);
+    allocate_uncleared(table_, capacity_);
   }
+  std::vector<vk::Fill> fills = clear_fills(table_, capacity_);
   const std::uint32_t objects = k_->space->objects();
-  if (state_.size() == 0) state_ = k_->ctx->create_device_buffer(state_words(objects) * sizeof(std::uint64_t));
+  if (state_.size() == 0)
+    state_ = k_->ctx->create_uncleared_device_buffer(state_words(objects) * sizeof(std::uint64_t));
   if (band_.size() == 0) {
     band_capacity_ = std::min<std::uint32_t>(kInitialBand, capacity_);
-    band_ = k_->ctx->create_device_buffer(2 * std::size_t{band_capacity_} * sizeof(std::uint32_t));
+    band_ = k_->ctx->create_uncleared_device_buffer(2 * std::size_t{band_capacity_} * sizeof(std::uint32_t));
   }
-  // Every word 0 but the best keys (none yet: the largest key, so that atomicMin finds the first).
+  // Every state word 0 but the best keys (none yet: the largest key, so that atomicMin finds the first).
   const std::size_t best_key = object_word(kBestKey, objects) * sizeof(std::uint64_t);
   const std::size_t best_key_bytes = std::size_t{objects} * sizeof(std::uint64_t);
-  k_->ctx->run({}, nullptr,
-               {{&state_, 0u, 0, best_key},
-                {&state_, 0xffffffffu, best_key, best_key_bytes},
-                {&state_, 0u, best_key + best_key_bytes, 0}});
-  band_stale_ = false;
-  count_ = 0;
-  pairs_ = 0;
-  forget_cache();
+  fills.push_back({&state_, 0u, 0, best_key});
+  fills.push_back({&state_, 0xffffffffu, best_key, best_key_bytes});
+  fills.push_back({&state_, 0u, best_key + best_key_bytes, 0});
+  return fills;
 }
 
 void GpuBelief::record(std::uint64_t inserted, std::size_t folded) {

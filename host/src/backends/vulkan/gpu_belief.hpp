@@ -46,6 +46,8 @@ class GpuBelief final : public BeliefState {
   GpuBelief(GpuBeliefKernels& kernels, double eps);
 
   void reset() override;
+  // reset() of many beliefs of one backend (a batch's group), all in one submission.
+  static void reset_all(std::span<GpuBelief* const> beliefs);
   std::size_t table_allocations() const override { return table_allocations_; }
   std::size_t pairs_folded() const override { return pairs_; }
   std::size_t touched() const override { return count_; }
@@ -112,11 +114,11 @@ class GpuBelief final : public BeliefState {
   bool adopt(Move& m);
   // The new table of a move, not yet cleared (its fills clear it).
   void allocate_uncleared(vk::Buffer& b, std::uint32_t capacity) const;
-  void allocate(vk::Buffer& b, std::uint32_t capacity) const;
-  // Empties a table of `capacity` slots in place: keys empty, offsets and band marks 0.
-  void clear_table(vk::Buffer& b, std::uint32_t capacity) const;
-  // The fills that do it, for a submission of the caller's.
+  // The fills that empty a table of `capacity` slots in place (keys empty, offsets and band marks 0), for a
+  // submission of the caller's.
   static std::vector<vk::Fill> clear_fills(vk::Buffer& b, std::uint64_t capacity);
+  // reset_all's part for this belief: its buffers made where it has none, and the fills that empty them.
+  std::vector<vk::Fill> prepare_reset();
   // Moves the table into one of at least `slots` slots (a power of two); with
   // `forget`, only the bins at or above `below` and those in `keep_` (sorted linear keys).
   void move_to(std::uint64_t slots, bool forget, std::uint64_t below);

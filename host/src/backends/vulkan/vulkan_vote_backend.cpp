@@ -137,6 +137,16 @@ class VulkanVoteBackend final : public VoteBackend {
     GpuBelief::look_up_ahead(own(beliefs), keys);
   }
 
+  void reset_beliefs(std::span<BeliefState* const> beliefs) override {
+    std::vector<GpuBelief*> gb;
+    for (BeliefState* b : beliefs) {
+      auto* g = dynamic_cast<GpuBelief*>(b);
+      if (!g) throw Error("vulkan backend: a session's belief was made by another backend");
+      gb.push_back(g);
+    }
+    GpuBelief::reset_all(gb);
+  }
+
   // Device memory: what the engine's device holds (the map once, and the work buffers and beliefs of every
   // backend sharing the engine; tables only grow, so this is the peak of the run so far).
   BackendStats statistics() const override {

@@ -41,6 +41,19 @@ std::unique_ptr<BatchRecognizer> gpu_batch() {
   }
 }
 
+// The same with the device's memory staged, as on a discrete GPU (SVA_VK_STAGING, read when the engine is made).
+std::unique_ptr<BatchRecognizer> staged_gpu_batch() {
+  ::setenv("SVA_VK_STAGING", "1", 1);
+  try {
+    std::unique_ptr<BatchRecognizer> b = gpu_batch();
+    ::unsetenv("SVA_VK_STAGING");
+    return b;
+  } catch (...) {
+    ::unsetenv("SVA_VK_STAGING");
+    throw;
+  }
+}
+
 }  // namespace
 
 TEST_CASE("GPU batch: the estimates of 40 sessions at once equal estimate() and the CPU reference's") {
@@ -81,15 +94,8 @@ TEST_CASE("GPU batch: a batch's estimates read every session's belief in four su
   // not map: each pass's results come back in its own submission, not in a download per session after it.
   const bool staged = GENERATE(false, true);
   INFO((staged ? "staged" : "mapped") << " device memory");
-  if (staged) ::setenv("SVA_VK_STAGING", "1", 1);
-  std::unique_ptr<BatchRecognizer> batch, alone;
-  try {
-    batch = gpu_batch(), alone = gpu_batch();
-  } catch (...) {
-    ::unsetenv("SVA_VK_STAGING");
-    throw;
-  }
-  ::unsetenv("SVA_VK_STAGING");
+  const std::unique_ptr<BatchRecognizer> batch = staged ? staged_gpu_batch() : gpu_batch();
+  const std::unique_ptr<BatchRecognizer> alone = staged ? staged_gpu_batch() : gpu_batch();
   for (std::size_t step = 0; step < 4; ++step) {
     std::vector<std::size_t> ids(kSessions);
     std::iota(ids.begin(), ids.end(), std::size_t{0});
@@ -155,15 +161,7 @@ TEST_CASE("GPU batch: a group's sessions reset together in one submission, then 
   // BatchRecognizer::reset of many sessions (a group's start in sva recognize and sva eval): their beliefs are emptied
   // in one submission, where each session's reset was one or two round trips of its own (issue 52). Staged, as on a
   // discrete GPU. A bad id changes nothing.
-  ::setenv("SVA_VK_STAGING", "1", 1);
-  std::unique_ptr<BatchRecognizer> used, fresh;
-  try {
-    used = gpu_batch(), fresh = gpu_batch();
-  } catch (...) {
-    ::unsetenv("SVA_VK_STAGING");
-    throw;
-  }
-  ::unsetenv("SVA_VK_STAGING");
+  const std::unique_ptr<BatchRecognizer> used = staged_gpu_batch(), fresh = staged_gpu_batch();
   std::vector<std::size_t> all(kSessions);
   std::iota(all.begin(), all.end(), std::size_t{0});
   const auto feed = [&](BatchRecognizer& b, std::uint64_t seed, int steps) {

@@ -103,12 +103,7 @@ class VulkanVoteBackend final : public VoteBackend {
   }
 
   std::vector<PairStats> vote_and_fold(const VoteBatch& batch, std::span<BeliefState* const> beliefs) override {
-    std::vector<GpuBelief*> gb;
-    for (BeliefState* b : beliefs) {
-      auto* g = dynamic_cast<GpuBelief*>(b);
-      if (!g) throw Error("vulkan backend: a session's belief was made by another backend");
-      gb.push_back(g);
-    }
+    const std::vector<GpuBelief*> gb = own<GpuBelief>(beliefs);
     for (const PairQuery& q : batch.pairs)
       if (q.session >= gb.size())
         throw Error("vulkan backend: pair of session " + std::to_string(q.session) + " has no belief");
@@ -128,24 +123,16 @@ class VulkanVoteBackend final : public VoteBackend {
   }
 
   void read_ahead(std::span<const BeliefState* const> beliefs, std::size_t best_bins) override {
-    GpuBelief::read_ahead(own(beliefs), best_bins);
+    GpuBelief::read_ahead(own<const GpuBelief>(beliefs), best_bins);
   }
 
   void look_up_ahead(std::span<const BeliefState* const> beliefs,
                      std::span<const std::vector<std::uint64_t>> keys) override {
     if (keys.size() != beliefs.size()) throw std::logic_error("vulkan backend: look_up_ahead needs keys per belief");
-    GpuBelief::look_up_ahead(own(beliefs), keys);
+    GpuBelief::look_up_ahead(own<const GpuBelief>(beliefs), keys);
   }
 
-  void reset_beliefs(std::span<BeliefState* const> beliefs) override {
-    std::vector<GpuBelief*> gb;
-    for (BeliefState* b : beliefs) {
-      auto* g = dynamic_cast<GpuBelief*>(b);
-      if (!g) throw Error("vulkan backend: a session's belief was made by another backend");
-      gb.push_back(g);
-    }
-    GpuBelief::reset_all(gb);
-  }
+  void reset_beliefs(std::span<BeliefState* const> beliefs) override { GpuBelief::reset_all(own<GpuBelief>(beliefs)); }
 
   // Device memory: what the engine's device holds (the map once, and the work buffers and beliefs of every
   // backend sharing the engine; tables only grow, so this is the peak of the run so far).
@@ -165,11 +152,12 @@ class VulkanVoteBackend final : public VoteBackend {
   }
 
  private:
-  // The beliefs as this backend's own (each made by make_belief).
-  static std::vector<const GpuBelief*> own(std::span<const BeliefState* const> beliefs) {
-    std::vector<const GpuBelief*> gb;
-    for (const BeliefState* b : beliefs) {
-      const auto* g = dynamic_cast<const GpuBelief*>(b);
+  // The beliefs as this backend's own (each made by make_belief); G is GpuBelief or const GpuBelief.
+  template <class G, class State>
+  static std::vector<G*> own(std::span<State* const> beliefs) {
+    std::vector<G*> gb;
+    for (State* b : beliefs) {
+      G* g = dynamic_cast<G*>(b);
       if (!g) throw Error("vulkan backend: a session's belief was made by another backend");
       gb.push_back(g);
     }

@@ -48,10 +48,12 @@ std::string run_name(const json& r) {
 
 void print_table(const json& runs) {
   // growth ms: of host ms, growing the sessions' belief tables (Vulkan). upd. subm., est. subm.: an update's and an
-  // estimate's device round trips (a batch's divided by its sessions; 0 on the CPU).
-  std::printf("%-14s %-9s %9s %10s %12s %9s %14s %10s %12s %10s %9s %9s %9s %9s %10s %10s %10s\n", "run", "readings",
-              "ms/update", "upd/s", "votes/update", "zero %", "votes/s", "accuracy", "trans. mm", "kernel ms",
-              "fold ms", "host ms", "growth ms", "est. ms", "upd. subm.", "est. subm.", "belief MB");
+  // estimate's device round trips; upd. alloc., est. alloc.: their device memory allocations (each a batch's divided
+  // by its sessions; 0 on the CPU).
+  std::printf("%-14s %-9s %9s %10s %12s %9s %14s %10s %12s %10s %9s %9s %9s %9s %10s %10s %11s %11s %10s\n", "run",
+              "readings", "ms/update", "upd/s", "votes/update", "zero %", "votes/s", "accuracy", "trans. mm",
+              "kernel ms", "fold ms", "host ms", "growth ms", "est. ms", "upd. subm.", "est. subm.", "upd. alloc.",
+              "est. alloc.", "belief MB");
   for (const auto& r : runs)
     for (const auto& p : r["curve"]) {
       auto num = [&](const char* key) { return p[key].is_null() ? 0.0 : p[key].get<double>(); };
@@ -60,12 +62,13 @@ void print_table(const json& runs) {
       // belief MB: the median session's belief tables after the update (a live session's memory).
       std::printf(
           "%-14s %-9zu %9.2f %10.3g %12.0f %9.3g %14.3g %10.2f %12s %10.2f %9.2f %9.2f %9.2f %9.2f %10.2f %10.2f "
-          "%10.2f\n",
+          "%11.2f %11.2f %10.2f\n",
           run_name(r).c_str(), p["readings"].get<std::size_t>(), num("update_ms"), num("session_updates_per_second"),
           num("votes_per_update"), 100.0 * num("votes_zero_fraction"), num("votes_per_second"), num("accuracy"),
           trans.c_str(), num("gpu_kernel_ms"), num("gpu_fold_ms"), num("backend_host_ms"),
           num("backend_belief_growth_ms"), num("estimate_ms"), num("update_device_submissions"),
-          num("estimate_device_submissions"), num("belief_bytes_per_session") / 1e6);
+          num("estimate_device_submissions"), num("update_device_allocations"), num("estimate_device_allocations"),
+          num("belief_bytes_per_session") / 1e6);
     }
 }
 

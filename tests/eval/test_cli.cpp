@@ -335,6 +335,10 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
   CHECK(batch["memory"]["map_device_bytes"] == 0);
   CHECK(j["peak_rss_bytes"].get<std::uint64_t>() >= batch["memory"]["peak_rss_bytes"].get<std::uint64_t>());
   CHECK_FALSE(j.contains("roofline"));  // no device measured
+  for (const auto& p : batch["curve"])  // the device's round trips and allocations: none on the CPU, null not 0
+    for (const char* key : {"update_device_submissions", "estimate_device_submissions", "update_device_allocations",
+                            "estimate_device_allocations"})
+      CHECK(p[key].is_null());
 
   REQUIRE(sva::test::run_sva(bench + "--backend cpu --batch 0 --json " + f.path("single.json"), &out) == 0);
   CHECK(nlohmann::json::parse(read_file(f.path("single.json")))["runs"].size() == 1);
@@ -401,6 +405,15 @@ TEST_CASE("sva bench on the Vulkan backend reports device memory (n/a until the 
   }
   if (batch["memory"]["device_bytes"].is_null()) CHECK(out.find("device: n/a") != std::string::npos);
   CHECK(j["roofline"]["votes_per_second"].get<double>() > 0);
+  // Round trips and memory allocations per session, counted: the batch's first updates make its vote tables and
+  // input buffers, and each session's first estimate its selections' buffers.
+  for (const auto& point : batch["curve"])
+    for (const char* key : {"update_device_submissions", "estimate_device_submissions", "update_device_allocations",
+                            "estimate_device_allocations"})
+      CHECK(point[key].get<double>() >= 0.0);
+  CHECK(batch["curve"][0]["update_device_allocations"].get<double>() > 0.0);
+  CHECK(batch["curve"][0]["estimate_device_allocations"].get<double>() > 0.0);
+  CHECK(out.find("upd. alloc.") != std::string::npos);
   // The device counts its work: the vote tables' atomics (a compare-and-swap per probe, an add per pre-aggregated
   // vote), not its belief probes; the model of an H100 reads the device's count.
   for (const auto& point : batch["curve"]) {

@@ -32,6 +32,8 @@ struct BackendStats {
   // Device submissions so far (each a round trip: submit, then wait), the estimates' reads of the beliefs included;
   // with a shared engine, of every backend on its device. 0 on the CPU.
   std::uint64_t device_submissions = 0;
+  // Device memory allocations so far (one per buffer made), likewise of the device; 0 on the CPU.
+  std::uint64_t device_allocations = 0;
   // The device: its kind ("discrete", "integrated", "cpu" for lavapipe; "" on the CPU reference) and its largest
   // device-local heap (0 on the CPU).
   std::string device_type;

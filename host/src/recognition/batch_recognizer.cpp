@@ -411,6 +411,11 @@ std::uint64_t BatchRecognizer::device_submissions() const {
   return impl_->backend ? impl_->backend->statistics().device_submissions : 0;
 }
 
+std::uint64_t BatchRecognizer::device_allocations() const {
+  const std::lock_guard lock(impl_->mutex);
+  return impl_->backend ? impl_->backend->statistics().device_allocations : 0;
+}
+
 BatchRecognizer::Work BatchRecognizer::last_update_work() const {
   const std::lock_guard lock(impl_->mutex);
   return impl_->backend ? impl_->backend->statistics().last_work : Work{};

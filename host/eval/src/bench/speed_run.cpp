@@ -30,6 +30,8 @@ struct StepFigures {
   double seconds = 0.0, estimate_seconds = 0.0;
   std::uint64_t estimate_submissions = 0;  // device round trips of the sessions' estimates (0 on the CPU)
   std::uint64_t update_submissions = 0;    // of the update since the last estimate (a group's first: its resets too)
+  std::uint64_t estimate_allocations = 0;  // device memory allocations of the estimates, and of the update (0 on the CPU)
+  std::uint64_t update_allocations = 0;
   BatchRecognizer::EstimateTiming estimate_stages;  // where the estimates' time went, summed over the sessions
   std::vector<double> belief_bytes;                 // per session of the update, after it
 };
@@ -46,6 +48,7 @@ struct Checkpoint {
   std::vector<double> estimate_ms;           // per session: object, refined pose and top-1 after the update
   std::vector<double> estimate_submissions;  // per session: the device round trips of its estimate (a batch's share)
   std::vector<double> update_submissions;    // per session: the device round trips of its update (a batch's share)
+  std::vector<double> estimate_allocations, update_allocations;  // per session: device memory allocations, likewise
   // Per session: each stage's ms of its estimate (the sessions' sum divided by them; BatchRecognizer::EstimateTiming).
   std::vector<double> stage_belief_ms, stage_fit_ms, stage_verify_ms, stage_posterior_ms;
   BatchRecognizer::Work work;        // summed over the checkpoint's updates (all sessions of each)
@@ -91,6 +94,8 @@ void record_checkpoint(Checkpoint& c, const BatchRecognizer& rec, const std::vec
   c.estimate_ms.push_back(1e3 * f.estimate_seconds / n);
   c.estimate_submissions.push_back(static_cast<double>(f.estimate_submissions) / n);
   c.update_submissions.push_back(static_cast<double>(f.update_submissions) / n);
+  c.estimate_allocations.push_back(static_cast<double>(f.estimate_allocations) / n);
+  c.update_allocations.push_back(static_cast<double>(f.update_allocations) / n);
   const BatchRecognizer::EstimateTiming& st = f.estimate_stages;
   if (st.sessions > 0) {
     const auto per = static_cast<double>(st.sessions);
@@ -144,6 +149,8 @@ json checkpoint_json(std::size_t readings, const Checkpoint& c, bool device, std
       {"estimate_ms", median_or_null(c.estimate_ms)},
       {"estimate_device_submissions", device ? median_or_null(c.estimate_submissions) : json(nullptr)},
       {"update_device_submissions", device ? median_or_null(c.update_submissions) : json(nullptr)},
+      {"estimate_device_allocations", device ? median_or_null(c.estimate_allocations) : json(nullptr)},
+      {"update_device_allocations", device ? median_or_null(c.update_allocations) : json(nullptr)},
       {"estimate_stage_ms",
        {{"belief", median_or_null(c.stage_belief_ms)},
         {"fits", median_or_null(c.stage_fit_ms)},
@@ -178,7 +185,7 @@ json memory_json(const RunMemory& m, const BatchRecognizer& rec) {
 class SpeedRecorder {
  public:
   SpeedRecorder(BatchRecognizer& rec, const std::vector<std::size_t>& checkpoints)
-      : rec_(rec), checkpoints_(checkpoints), sessions_(rec.sessions()), after_last_(rec.device_submissions()) {}
+      : rec_(rec), checkpoints_(checkpoints), sessions_(rec.sessions()), after_last_(device_counts()) {}
 
   void on_step(const LockstepStep& s, const std::vector<eval::Trial>& tr) {
     StepFigures f;
@@ -186,11 +193,13 @@ class SpeedRecorder {
     f.seconds = s.update_ms / 1e3;
     std::vector<Estimate> est;
     const auto t1 = Clock::now();
-    const std::uint64_t submissions = rec_.device_submissions();
-    f.update_submissions = submissions - after_last_;
+    const DeviceCounts updated = device_counts();
+    f.update_submissions = updated.submissions - after_last_.submissions;
+    f.update_allocations = updated.allocations - after_last_.allocations;
     est = rec_.estimates(s.sessions, 1);
-    after_last_ = rec_.device_submissions();
-    f.estimate_submissions = after_last_ - submissions;
+    after_last_ = device_counts();
+    f.estimate_submissions = after_last_.submissions - updated.submissions;
+    f.estimate_allocations = after_last_.allocations - updated.allocations;
     f.estimate_stages = rec_.last_estimate_timing();
     for (const Estimate& e : est) {
       f.votes += e.votes;
@@ -225,8 +234,14 @@ class SpeedRecorder {
   BatchRecognizer& rec_;
   const std::vector<std::size_t>& checkpoints_;
   std::map<std::size_t, Checkpoint> cp_;
-  std::size_t sessions_;      // per submission
-  std::uint64_t after_last_;  // the device's submissions after the last step's estimates
+  // The device's round trips and memory allocations so far.
+  struct DeviceCounts {
+    std::uint64_t submissions = 0, allocations = 0;
+  };
+  DeviceCounts device_counts() const { return {rec_.device_submissions(), rec_.device_allocations()}; }
+
+  std::size_t sessions_;     // per submission
+  DeviceCounts after_last_;  // the device's counts after the last step's estimates
   StepFigures all_;           // every update of the run; sessions = session-updates
 };
 

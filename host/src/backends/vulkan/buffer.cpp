@@ -122,6 +122,7 @@ void Buffer::allocate(const Device& device, Memory kind, bool never_map, Content
     r = local && over_budget(device, req.size) ? VK_ERROR_OUT_OF_DEVICE_MEMORY
                                                : vkAllocateMemory(device_, &mai, nullptr, &memory_);
     if (r == VK_SUCCESS) {
+      device.count_allocation();
       device_local_ = local;
       host_visible = (f & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) != 0;
       if (device_local_) {

@@ -83,6 +83,9 @@ class Context {
     return commands_.submissions();
   }
 
+  // Memory allocations so far (one per buffer made).
+  std::uint64_t allocations() const { return device_.allocations(); }
+
   const Instance& instance() const { return instance_; }
   const Device& device() const { return device_; }
 

@@ -52,6 +52,10 @@ class Device {
   std::uint64_t device_bytes() const { return device_bytes_.load(); }
   std::uint64_t peak_device_bytes() const { return peak_device_bytes_.load(); }
   void count_device_bytes(std::int64_t delta) const;
+  // Memory allocations made so far (vkAllocateMemory, one per buffer): on a GPU each is a call into the driver's
+  // kernel side, which `sva bench` counts per update beside the submissions.
+  std::uint64_t allocations() const { return allocations_.load(); }
+  void count_allocation() const { allocations_.fetch_add(1); }
   // A 2-D grid of SVA_WORKGROUP_SIZE-wide workgroups covering `invocations`
   // (x is capped at maxComputeWorkGroupCount[0]); shaders flatten it back.
   Grid grid(std::uint64_t invocations) const;
@@ -67,7 +71,7 @@ class Device {
   std::uint32_t queue_family_ = 0;
   DeviceInfo info_;
   VkPhysicalDeviceMemoryProperties memory_{};
-  mutable std::atomic<std::uint64_t> device_bytes_{0}, peak_device_bytes_{0};
+  mutable std::atomic<std::uint64_t> device_bytes_{0}, peak_device_bytes_{0}, allocations_{0};
   mutable std::atomic<bool> lost_{false};
 };
 

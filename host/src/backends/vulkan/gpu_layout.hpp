@@ -2,11 +2,13 @@
 // The GPU buffer layouts and push constants (shaders/include/sva_gpu_layout.h)
 // as C++, and the small helpers every kernel launcher needs.
 #include <algorithm>
+#include <bit>
 #include <cstdint>
 #include <cstring>
 #include <vector>
 
 #include "backends/vulkan/context.hpp"
+#include "backends/vulkan/vk_check.hpp"
 
 namespace sva::gpu {
 using uint = std::uint32_t;
@@ -21,9 +23,25 @@ std::vector<std::uint8_t> push_bytes(const T& p) {
   return b;
 }
 
-// Keeps a buffer at least `bytes` large, reallocating only to grow.
+// Keeps a buffer at least `bytes` large, reallocating only to grow, and then to a power of two: a batch's inputs grow
+// with every update (each session's new pairs) and an estimate's selections with every touch, and on a GPU each new
+// buffer is a memory allocation in its driver (counted by `sva bench`; docs/vulkan-backend.md). Exactly `bytes`
+// where the power of two would pass one binding's range or the largest allocation, or does not fit.
 inline void ensure(vk::Context& ctx, vk::Buffer& b, std::size_t bytes) {
-  if (b.size() < std::max<std::size_t>(bytes, 16)) b = ctx.create_buffer(std::max<std::size_t>(bytes, 16));
+  const std::size_t need = std::max<std::size_t>(bytes, 16);
+  if (b.size() >= need) return;
+  const std::size_t cap = std::min<std::size_t>(ctx.info().max_storage_buffer_range, ctx.info().max_allocation);
+  const std::size_t want = need < cap ? std::min(std::bit_ceil(need), cap) : need;
+  b = {};  // the old one's memory is free for the new one
+  if (want > need) {
+    try {
+      b = ctx.create_buffer(want);
+      return;
+    } catch (const vk::OutOfMemory&) {
+      // the exact size may still fit
+    }
+  }
+  b = ctx.create_buffer(need);
 }
 
 // The halves of a 64-bit value, for push constants of 4-byte scalars.

@@ -146,6 +146,7 @@ class VulkanVoteBackend final : public VoteBackend {
     s.last_work = last_work_;
     s.last_belief_growth_ms = stats_.last_belief_growth_ms;
     s.device_submissions = ctx_.submissions();
+    s.device_allocations = ctx_.allocations();
     s.device_type = ctx_.info().type;
     s.device_memory_bytes = ctx_.info().device_local_bytes;
     return s;

@@ -112,8 +112,7 @@ TEST_CASE("gpu::ensure grows a work buffer to a power of two, allocating only wh
   CHECK(b.size() == 256);
   CHECK(ctx->allocations() == a0 + 2);
   // The power of two never passes one binding's range (a dispatch would refuse the buffer): the range itself.
-  const std::size_t cap =
-      std::min<std::size_t>(ctx->info().max_storage_buffer_range, ctx->info().max_allocation);
+  const std::size_t cap = std::min<std::size_t>(ctx->info().max_storage_buffer_range, ctx->info().max_allocation);
   if (cap <= (std::size_t{1} << 28)) {  // lavapipe: 2^27 bytes
     sva::vk::Buffer big;
     sva::gpu::ensure(*ctx, big, cap - 4);

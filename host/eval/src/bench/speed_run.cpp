@@ -30,9 +30,8 @@ struct StepFigures {
   double seconds = 0.0, estimate_seconds = 0.0;
   std::uint64_t estimate_submissions = 0;  // device round trips of the sessions' estimates (0 on the CPU)
   std::uint64_t update_submissions = 0;    // of the update since the last estimate (a group's first: its resets too)
-  std::uint64_t estimate_allocations =
-      0;  // device memory allocations of the estimates, and of the update (0 on the CPU)
-  std::uint64_t update_allocations = 0;
+  // Device memory allocations of the estimates, and of the update (0 on the CPU).
+  std::uint64_t estimate_allocations = 0, update_allocations = 0;
   BatchRecognizer::EstimateTiming estimate_stages;  // where the estimates' time went, summed over the sessions
   std::vector<double> belief_bytes;                 // per session of the update, after it
 };

@@ -89,6 +89,31 @@ void print_estimate_stages(const json& runs) {
     }
 }
 
+// Where a device update's time went (speed_run.cpp's update_split_json), per submission of its sessions.
+void print_update_split(const json& runs) {
+  bool header = false;
+  for (const auto& r : runs)
+    for (const auto& p : r["curve"]) {
+      const json& u = p["update_split_ms"];
+      if (u.is_null()) continue;
+      if (!header)
+        std::printf(
+            "\nan update's time by part, ms per submission (docs/evaluation.md, \"update_split_ms\"):\n%-14s %-9s "
+            "%9s %15s %12s %10s %13s %11s\n",
+            "run", "readings", "kernels", "between kernels", "wait past", "recording", "host outside", "of it growth");
+      header = true;
+      auto num = [](const json& v) {
+        char b[32];
+        std::snprintf(b, sizeof b, "%.3f", v.is_null() ? 0.0 : v.get<double>());
+        return v.is_null() ? std::string("n/a") : std::string(b);
+      };
+      std::printf("%-14s %-9zu %9s %15s %12s %10s %13s %11s\n", run_name(r).c_str(), p["readings"].get<std::size_t>(),
+                  num(u["kernels"]).c_str(), num(u["device_between_kernels"]).c_str(),
+                  num(u["wait_past_device"]).c_str(), num(u["recording"]).c_str(),
+                  num(u["host_outside_submissions"]).c_str(), num(u["belief_growth"]).c_str());
+    }
+}
+
 std::string count_or_na(const json& v) {
   if (v.is_null()) return "n/a";
   char buf[32];
@@ -259,6 +284,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
 
   print_table(out["runs"]);
   print_estimate_stages(out["runs"]);
+  print_update_split(out["runs"]);
   print_work(out["runs"]);
   print_model(out["runs"]);
   print_run_summaries(out["runs"]);

@@ -339,6 +339,7 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
     for (const char* key : {"update_device_submissions", "estimate_device_submissions", "update_device_allocations",
                             "estimate_device_allocations"})
       CHECK(p[key].is_null());
+  for (const auto& p : batch["curve"]) CHECK(p["update_split_ms"].is_null());
 
   REQUIRE(sva::test::run_sva(bench + "--backend cpu --batch 0 --json " + f.path("single.json"), &out) == 0);
   CHECK(nlohmann::json::parse(read_file(f.path("single.json")))["runs"].size() == 1);
@@ -412,6 +413,18 @@ TEST_CASE("sva bench on the Vulkan backend reports device memory (n/a until the 
                             "estimate_device_allocations"})
       CHECK(point[key].get<double>() >= 0.0);
   CHECK(batch["curve"][0]["update_device_allocations"].get<double>() > 0.0);
+  // An update's time by part: every update records and waits for its submissions; the parts that need the device's
+  // timestamps are null without them, never negative.
+  for (const auto& point : batch["curve"]) {
+    const auto& u = point["update_split_ms"];
+    REQUIRE(u.is_object());
+    CHECK(u["kernels"].get<double>() > 0.0);
+    CHECK(u["recording"].get<double>() > 0.0);
+    for (const char* key : {"host_outside_submissions", "belief_growth"}) CHECK(u[key].get<double>() >= 0.0);
+    for (const char* key : {"device_between_kernels", "wait_past_device"})
+      CHECK((u[key].is_null() || u[key].get<double>() >= 0.0));
+  }
+  CHECK(out.find("an update's time by part") != std::string::npos);
   CHECK(batch["curve"][0]["estimate_device_allocations"].get<double>() > 0.0);
   CHECK(out.find("upd. alloc.") != std::string::npos);
   // The device counts its work: the vote tables' atomics (a compare-and-swap per probe, an add per pre-aggregated

@@ -66,6 +66,12 @@ class BatchRecognizer {
     // Of host_ms: growing the sessions' belief tables (Vulkan: a new device buffer and its submissions per session
     // that grows; 0 on the CPU, whose growth is part of the fold).
     double belief_growth_ms = 0.0;
+    // Where a device's host_ms went (0 on the CPU): recording its submissions, waiting for them (the device's span
+    // from each one's first command to its last, device_span_ms, and the latency around it), and the rest outside
+    // them. kernel_ms + host_ms = record_ms + wait_ms + the time outside the submissions.
+    double record_ms = 0.0;
+    double wait_ms = 0.0;
+    double device_span_ms = 0.0;  // 0 where the device has no timestamps
   };
   Timing last_backend_timing() const;
   // Where the last estimates()'s time went, in ms summed over its sessions (run side by side, so the sum can exceed

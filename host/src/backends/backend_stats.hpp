@@ -29,6 +29,12 @@ struct BackendStats {
   unsigned band_rebuilds = 0;       // GPU band lists rebuilt from whole belief tables (after a growth or a full list)
   BatchRecognizer::Work last_work;  // what the last vote or vote_and_fold did (the backend's counts; 0 elsewhere)
   double last_belief_growth_ms = 0.0;  // of last_host_ms: growing the beliefs' tables (Vulkan; 0 on the CPU)
+  // The last update's submissions (vk::SubmitTimes; 0 on the CPU): recording them, waiting for them, and the device's
+  // span from each one's first command to its last (0 without timestamps). With a shared engine, of every backend
+  // that submitted meanwhile.
+  double last_record_ms = 0.0;
+  double last_wait_ms = 0.0;
+  double last_device_span_ms = 0.0;
   // Device submissions so far (each a round trip: submit, then wait), the estimates' reads of the beliefs included;
   // with a shared engine, of every backend on its device. 0 on the CPU.
   std::uint64_t device_submissions = 0;

@@ -402,6 +402,9 @@ BatchRecognizer::Timing BatchRecognizer::last_backend_timing() const {
     t.host_ms = st.last_host_ms;
     t.fold_ms = st.last_fold_ms;
     t.belief_growth_ms = st.last_belief_growth_ms;
+    t.record_ms = st.last_record_ms;
+    t.wait_ms = st.last_wait_ms;
+    t.device_span_ms = st.last_device_span_ms;
   }
   return t;
 }

@@ -54,6 +54,20 @@ TEST_CASE("buffers have device addresses and fills clear exactly their range") {
   CHECK(ctx->validation_messages() == 0);
 }
 
+TEST_CASE("a submission's time is counted: recording it and waiting for it, the device's span only where timed") {
+  auto ctx = sva::test::vulkan_context_or_skip();
+  auto a = ctx->create_buffer(1 << 20);
+  const sva::vk::SubmitTimes t0 = ctx->submit_times();
+  const std::uint64_t s0 = ctx->submissions();
+  ctx->run({}, nullptr, {{&a, 1u}});
+  const sva::vk::SubmitTimes t1 = ctx->submit_times();
+  CHECK(ctx->submissions() == s0 + 1);
+  CHECK(t1.record_ms > t0.record_ms);
+  CHECK(t1.wait_ms > t0.wait_ms);
+  CHECK(t1.span_ms == t0.span_ms);  // no timed dispatch: no span
+  CHECK(a.as<std::uint32_t>()[(1 << 18) - 1] == 1u);
+}
+
 TEST_CASE("a device buffer of undefined contents is poisoned on demand, a zeroed one never") {
   auto ctx = sva::test::vulkan_context_or_skip();
   struct PoisonOff {

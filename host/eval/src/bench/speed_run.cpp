@@ -45,6 +45,9 @@ struct Checkpoint {
   std::size_t correct = 0, trials = 0;
   std::vector<double> translation_mm;
   std::vector<double> kernel_ms, backend_host_ms, fold_ms, belief_growth_ms;
+  // A device update's time by part (update_split_json), each update's own: the device between its kernels, the wait
+  // past the device's span, recording the submissions, the host outside them.
+  std::vector<double> between_kernels_ms, wait_past_ms, record_ms, outside_ms;
   std::vector<double> estimate_ms;           // per session: object, refined pose and top-1 after the update
   std::vector<double> estimate_submissions;  // per session: the device round trips of its estimate (a batch's share)
   std::vector<double> update_submissions;    // per session: the device round trips of its update (a batch's share)
@@ -114,6 +117,12 @@ void record_checkpoint(Checkpoint& c, const BatchRecognizer& rec, const std::vec
   c.backend_host_ms.push_back(t.host_ms);
   c.fold_ms.push_back(t.fold_ms);
   c.belief_growth_ms.push_back(t.belief_growth_ms);
+  c.record_ms.push_back(t.record_ms);
+  c.outside_ms.push_back(std::max(0.0, t.kernel_ms + t.host_ms - t.record_ms - t.wait_ms));  // two clocks: never < 0
+  if (t.device_span_ms > 0.0) {  // the device has timestamps
+    c.between_kernels_ms.push_back(std::max(0.0, t.device_span_ms - t.kernel_ms));
+    c.wait_past_ms.push_back(std::max(0.0, t.wait_ms - t.device_span_ms));
+  }
   const BatchRecognizer::Work w = rec.last_update_work();
   for (auto [sum, v] : {std::pair{&c.work.pairs, w.pairs},
                         {&c.work.entries, w.entries},
@@ -132,6 +141,21 @@ void record_checkpoint(Checkpoint& c, const BatchRecognizer& rec, const std::vec
   }
 }
 
+// A device update's time by part, each the median over the checkpoint's updates (ms per submission of its
+// sessions): the kernels; the device between them (barriers, fills, copies: its span less the kernels); the wait
+// past the device's span (submitting, the fence, untimed transfers); recording the submissions; and the host's work
+// outside them (of which the beliefs' growth). One update's parts sum to its time. Null on the CPU; the parts that
+// need the device's timestamps are null without them.
+json update_split_json(const Checkpoint& c, bool device) {
+  if (!device || c.kernel_ms.empty()) return nullptr;
+  return {{"kernels", median_or_null(c.kernel_ms)},
+          {"device_between_kernels", median_or_null(c.between_kernels_ms)},
+          {"wait_past_device", median_or_null(c.wait_past_ms)},
+          {"recording", median_or_null(c.record_ms)},
+          {"host_outside_submissions", median_or_null(c.outside_ms)},
+          {"belief_growth", median_or_null(c.belief_growth_ms)}};
+}
+
 json checkpoint_json(std::size_t readings, const Checkpoint& c, bool device, std::size_t sessions) {
   const json work = work_json(c.work, c.session_updates, device);
   return {
@@ -146,6 +170,7 @@ json checkpoint_json(std::size_t readings, const Checkpoint& c, bool device, std
       {"backend_host_ms", median_or_null(c.backend_host_ms)},
       {"backend_belief_growth_ms", median_or_null(c.belief_growth_ms)},
       {"gpu_fold_ms", median_or_null(c.fold_ms)},
+      {"update_split_ms", update_split_json(c, device)},
       {"estimate_ms", median_or_null(c.estimate_ms)},
       {"estimate_device_submissions", device ? median_or_null(c.estimate_submissions) : json(nullptr)},
       {"update_device_submissions", device ? median_or_null(c.update_submissions) : json(nullptr)},

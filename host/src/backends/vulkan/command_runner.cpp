@@ -32,15 +32,20 @@ CommandRunner::~CommandRunner() {
 void CommandRunner::run(const std::vector<Dispatch>& dispatches, std::vector<double>* kernel_ms,
                         const std::vector<Fill>& fills, const std::vector<Copy>& reads) {
   if (dispatches.empty() && fills.empty() && reads.empty()) return;
+  const auto started = std::chrono::steady_clock::now();
   const bool timing = kernel_ms && device_.info().timestamps && !dispatches.empty();
   if (kernel_ms) kernel_ms->clear();
-  const auto n_queries = static_cast<std::uint32_t>(2 * dispatches.size());
+  // Two per dispatch, then the run's first and last command.
+  const auto n_queries = static_cast<std::uint32_t>(2 * dispatches.size() + 2);
   if (timing) ensure_queries(n_queries);
   reset_descriptor_pool(dispatches);
 
   VkCommandBuffer cmd = begin();
   try {
-    if (timing) vkCmdResetQueryPool(cmd, queries_, 0, n_queries);
+    if (timing) {
+      vkCmdResetQueryPool(cmd, queries_, 0, n_queries);
+      vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_TOP_OF_PIPE_BIT, queries_, n_queries - 2);
+    }
     record_fills(cmd, fills);
     for (std::uint32_t i = 0; i < dispatches.size(); ++i) record_dispatch(cmd, dispatches[i], i, timing);
     // Make shader writes visible to the host's mapped reads.
@@ -48,11 +53,12 @@ void CommandRunner::run(const std::vector<Dispatch>& dispatches, std::vector<dou
     vkCmdPipelineBarrier(cmd, VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_PIPELINE_STAGE_HOST_BIT, 0, 1, &hb, 0, nullptr,
                          0, nullptr);
     record_copies(cmd, reads);
+    if (timing) vkCmdWriteTimestamp(cmd, VK_PIPELINE_STAGE_BOTTOM_OF_PIPE_BIT, queries_, n_queries - 1);
   } catch (...) {
     vkFreeCommandBuffers(device_.handle(), command_pool_, 1, &cmd);
     throw;
   }
-  end_submit_free(cmd);
+  end_submit_free(cmd, started);
   if (timing) read_kernel_ms(dispatches.size(), *kernel_ms);
 }
 
@@ -71,10 +77,14 @@ VkCommandBuffer CommandRunner::begin() {
   return cmd;
 }
 
-void CommandRunner::end_submit_free(VkCommandBuffer cmd) {
+void CommandRunner::end_submit_free(VkCommandBuffer cmd, std::chrono::steady_clock::time_point started) {
+  using ms = std::chrono::duration<double, std::milli>;
   try {
     check(vkEndCommandBuffer(cmd), "vkEndCommandBuffer");
+    const auto submitted = std::chrono::steady_clock::now();
+    times_.record_ms += ms(submitted - started).count();
     submit_and_wait(cmd);
+    times_.wait_ms += ms(std::chrono::steady_clock::now() - submitted).count();
   } catch (...) {
     vkFreeCommandBuffers(device_.handle(), command_pool_, 1, &cmd);
     throw;
@@ -84,6 +94,7 @@ void CommandRunner::end_submit_free(VkCommandBuffer cmd) {
 
 void CommandRunner::copy(const std::vector<Copy>& copies) {
   if (copies.empty()) return;
+  const auto started = std::chrono::steady_clock::now();
   VkCommandBuffer cmd = begin();
   try {
     record_copies(cmd, copies);
@@ -91,7 +102,7 @@ void CommandRunner::copy(const std::vector<Copy>& copies) {
     vkFreeCommandBuffers(device_.handle(), command_pool_, 1, &cmd);
     throw;
   }
-  end_submit_free(cmd);
+  end_submit_free(cmd, started);
 }
 
 void CommandRunner::record_copies(VkCommandBuffer cmd, const std::vector<Copy>& copies) const {
@@ -231,8 +242,8 @@ void CommandRunner::submit_and_wait(VkCommandBuffer cmd) {
   }
 }
 
-void CommandRunner::read_kernel_ms(std::size_t dispatches, std::vector<double>& kernel_ms) const {
-  const auto n_queries = static_cast<std::uint32_t>(2 * dispatches);
+void CommandRunner::read_kernel_ms(std::size_t dispatches, std::vector<double>& kernel_ms) {
+  const auto n_queries = static_cast<std::uint32_t>(2 * dispatches + 2);
   std::vector<std::uint64_t> ticks(n_queries);
   check(vkGetQueryPoolResults(device_.handle(), queries_, 0, n_queries, ticks.size() * sizeof(std::uint64_t),
                               ticks.data(), sizeof(std::uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
@@ -241,6 +252,8 @@ void CommandRunner::read_kernel_ms(std::size_t dispatches, std::vector<double>& 
   for (std::size_t i = 0; i < dispatches; ++i)
     kernel_ms.push_back(static_cast<double>(ticks[2 * i + 1] - ticks[2 * i]) * device_.info().timestamp_period_ns *
                         1e-6);
+  times_.span_ms +=
+      static_cast<double>(ticks[n_queries - 1] - ticks[n_queries - 2]) * device_.info().timestamp_period_ns * 1e-6;
 }
 
 }  // namespace sva::vk

@@ -5,6 +5,7 @@
 // set per dispatch, remade each run) and the timestamp queries.
 #include <vulkan/vulkan.h>
 
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -47,6 +48,16 @@ struct Dispatch {
   Buffer* indirect = nullptr;
 };
 
+// Where the submissions' time went, summed over them: the host recording each (descriptor sets, commands), the wait
+// from its submission until its fence (the device's work and the latency around it), and the device's span from its
+// first command to its last, where the device has timestamps (in runs whose kernels are timed; 0 elsewhere). A
+// batch's host time on a GPU is what the kernels' own times leave (docs/vulkan-backend.md): this says which part.
+struct SubmitTimes {
+  double record_ms = 0.0;
+  double wait_ms = 0.0;
+  double span_ms = 0.0;
+};
+
 class CommandRunner {
  public:
   explicit CommandRunner(const Device& device);
@@ -64,10 +75,12 @@ class CommandRunner {
   void copy(const std::vector<Copy>& copies);
   // Submissions so far (each a round trip: submit, then wait for the fence): what a batch's reads save.
   std::uint64_t submissions() const { return submissions_; }
+  const SubmitTimes& times() const { return times_; }
 
  private:
   VkCommandBuffer begin();
-  void end_submit_free(VkCommandBuffer cmd);
+  // Ends, submits and waits for cmd, recorded since `started` (its host time), then frees it.
+  void end_submit_free(VkCommandBuffer cmd, std::chrono::steady_clock::time_point started);
   void ensure_queries(std::uint32_t count);
   void reset_descriptor_pool(const std::vector<Dispatch>& dispatches);
   VkDescriptorSet bind_buffers(const Dispatch& d);
@@ -75,7 +88,8 @@ class CommandRunner {
   void record_copies(VkCommandBuffer cmd, const std::vector<Copy>& copies) const;
   void record_dispatch(VkCommandBuffer cmd, const Dispatch& d, std::uint32_t index, bool timing);
   void submit_and_wait(VkCommandBuffer cmd);
-  void read_kernel_ms(std::size_t dispatches, std::vector<double>& kernel_ms) const;
+  // The dispatches' times, and the run's span (its queries past theirs) into times_.
+  void read_kernel_ms(std::size_t dispatches, std::vector<double>& kernel_ms);
 
   const Device& device_;
   VkCommandPool command_pool_ = VK_NULL_HANDLE;
@@ -84,6 +98,7 @@ class CommandRunner {
   VkQueryPool queries_ = VK_NULL_HANDLE;
   std::uint32_t query_capacity_ = 0;
   std::uint64_t submissions_ = 0;  // the Context's lock orders every run and copy
+  SubmitTimes times_;
 };
 
 }  // namespace sva::vk

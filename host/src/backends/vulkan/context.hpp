@@ -83,6 +83,11 @@ class Context {
     return commands_.submissions();
   }
 
+  // Where the submissions' time went so far (CommandRunner's SubmitTimes).
+  SubmitTimes submit_times() {
+    std::lock_guard lock(mutex_);
+    return commands_.times();
+  }
   // Memory allocations so far (one per buffer made).
   std::uint64_t allocations() const { return device_.allocations(); }
 

@@ -145,6 +145,9 @@ class VulkanVoteBackend final : public VoteBackend {
     s.band_rebuilds = beliefs_.band_rebuilds;
     s.last_work = last_work_;
     s.last_belief_growth_ms = stats_.last_belief_growth_ms;
+    s.last_record_ms = stats_.last_record_ms;
+    s.last_wait_ms = stats_.last_wait_ms;
+    s.last_device_span_ms = stats_.last_device_span_ms;
     s.device_submissions = ctx_.submissions();
     s.device_allocations = ctx_.allocations();
     s.device_type = ctx_.info().type;
@@ -196,13 +199,18 @@ class VulkanVoteBackend final : public VoteBackend {
     fold_ms_ = 0.0;
     growth_ms_ = 0.0;
     beliefs_.kernel_ms = 0.0;
+    const vk::SubmitTimes s0 = ctx_.submit_times();
     fn();
+    const vk::SubmitTimes s1 = ctx_.submit_times();
     fold_ms_ += beliefs_.kernel_ms;  // table growth during the fold
     kernel_ms_ += fold_ms_;
     stats_.last_fold_ms = fold_ms_;
     stats_.table_slots = slots_;
     stats_.last_kernel_ms = kernel_ms_;
     stats_.last_host_ms = std::chrono::duration<double, std::milli>(Clock::now() - t0).count() - kernel_ms_;
+    stats_.last_record_ms = s1.record_ms - s0.record_ms;
+    stats_.last_wait_ms = s1.wait_ms - s0.wait_ms;
+    stats_.last_device_span_ms = s1.span_ms - s0.span_ms;
     stats_.last_belief_growth_ms = growth_ms_;
     stats_.validation_messages = ctx_.validation_messages();
   }

@@ -32,10 +32,11 @@ struct VulkanBackendStats {
   std::size_t chunks = 0;    // map chunks
   unsigned table_grows = 0;  // overflow reruns so far
   std::size_t table_slots = 0;
-  double last_kernel_ms = 0.0;            // GPU time of the last batch: vote kernels and fold kernels
-  double last_fold_ms = 0.0;              // of which the fold into the beliefs (belief_fold.comp, growth)
-  double last_host_ms = 0.0;              // host time of the last batch: preparation and read-back
-  double last_belief_growth_ms = 0.0;     // of which growing the sessions' belief tables (buffers, submissions)
+  double last_kernel_ms = 0.0;         // GPU time of the last batch: vote kernels and fold kernels
+  double last_fold_ms = 0.0;           // of which the fold into the beliefs (belief_fold.comp, growth)
+  double last_host_ms = 0.0;           // host time of the last batch: preparation and read-back
+  double last_belief_growth_ms = 0.0;  // of which growing the sessions' belief tables (buffers, submissions)
+  double last_record_ms = 0.0, last_wait_ms = 0.0, last_device_span_ms = 0.0;  // its submissions (vk::SubmitTimes)
   std::uint32_t validation_messages = 0;  // Vulkan validation-layer warnings and errors (SVA_VK_VALIDATION=1)
 };
 

@@ -72,18 +72,21 @@ SvaPatch patch_of_reading(uint r) {
 
 #include "sva_hash_scatter.glsl"
 
-// Map entry i (global index) of any chunk, through the chunks' device addresses.
+// Map entry i (global index) of any chunk, through the chunks' device addresses. A chunk holds a power of two of
+// entries, so the owner rule's searches (several reads per step) shift and mask where a division by a value known
+// only at run time cost a GPU some twenty instructions per read.
+uint sva_entry_in_chunk(uint i) { return i & ((1u << pc.chunk_shift) - 1u); }
 uint sva_entry_a(uint i) {
-  SvaGpuChunk c = chunks[i / pc.chunk_entries];
-  return SvaU32s(uint64_t(c.a_lo) | (uint64_t(c.a_hi) << 32)).v[i % pc.chunk_entries];
+  SvaGpuChunk c = chunks[i >> pc.chunk_shift];
+  return SvaU32s(uint64_t(c.a_lo) | (uint64_t(c.a_hi) << 32)).v[sva_entry_in_chunk(i)];
 }
 uint sva_entry_b(uint i) {
-  SvaGpuChunk c = chunks[i / pc.chunk_entries];
-  return SvaU32s(uint64_t(c.b_lo) | (uint64_t(c.b_hi) << 32)).v[i % pc.chunk_entries];
+  SvaGpuChunk c = chunks[i >> pc.chunk_shift];
+  return SvaU32s(uint64_t(c.b_lo) | (uint64_t(c.b_hi) << 32)).v[sva_entry_in_chunk(i)];
 }
 float sva_entry_weight(uint i) {
-  SvaGpuChunk c = chunks[i / pc.chunk_entries];
-  return SvaF32s(uint64_t(c.w_lo) | (uint64_t(c.w_hi) << 32)).v[i % pc.chunk_entries];
+  SvaGpuChunk c = chunks[i >> pc.chunk_shift];
+  return SvaF32s(uint64_t(c.w_lo) | (uint64_t(c.w_hi) << 32)).v[sva_entry_in_chunk(i)];
 }
 // Key item k: its map range (expand_pair_keys.comp), orientation and weight.
 uint sva_item_begin(uint k) { return ranges[k].begin; }

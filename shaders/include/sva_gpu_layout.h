@@ -86,7 +86,7 @@ struct SvaMatchParams {
   uint dim_rxy;          // 1 for planar spaces
   uint object_shift;     // linear bin = object << object_shift | index within the object
   uint pair_shift;       // vote key = pair << pair_shift | linear bin
-  uint chunk_entries;    // entries per map chunk (the last may hold fewer)
+  uint chunk_shift;      // log2 of the entries per map chunk (the last may hold fewer)
 };
 // Counters per pair written by match_votes.comp.
 // Per pair: matches, votes inside, votes outside, votes inside of zero mass, and the vote table's atomics (the

@@ -91,7 +91,7 @@ TEST_CASE("Vulkan backend: tiny map chunks and a tiny table still give the exact
   PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
   VoteBatch batch = make_batch(w, space, spec, 2, 4, nullptr);
   VulkanBackendOptions o;
-  o.max_chunk_entries = 97;    // the map split into many chunks (lavapipe's 128 MiB rule, exercised small)
+  o.max_chunk_entries = 97;    // 64-entry chunks (a power of two): many (lavapipe's 128 MiB rule, exercised small)
   o.initial_table_slots = 64;  // overflow: the table grows and the batch reruns
   auto gpu = test::vulkan_backend_or_skip(*w.map, space, {}, o);
   auto cpu = make_cpu_vote_backend(*w.map, space, {});

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <bit>
 #include <map>
 #include <mutex>
 #include <tuple>
@@ -96,7 +97,8 @@ VulkanEngine::~VulkanEngine() { --g_alive; }
 void VulkanEngine::upload_map(const PairMap& map, std::size_t max_chunk_entries) {
   const std::size_t range = ctx.info().max_storage_buffer_range;
   const std::size_t range_entries = range / sizeof(std::uint32_t);
-  chunk_entries = max_chunk_entries ? std::min(max_chunk_entries, range_entries) : range_entries;
+  // A power of two: the match kernel finds an entry's chunk by a shift (match_votes.glsl).
+  chunk_entries = std::bit_floor(max_chunk_entries ? std::min(max_chunk_entries, range_entries) : range_entries);
   const auto& r = map.readings;
   if (r.size() * sizeof(gpu::SvaGpuReading) > range)
     throw Error("map has too many readings for one GPU binding (" + std::to_string(r.size()) + ")");

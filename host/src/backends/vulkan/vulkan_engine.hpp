@@ -45,7 +45,7 @@ class VulkanEngine {
   vk::Pipeline expand, scan, match, fold, rehash, reduce, lookup;
   vk::Buffer readings, keys, offsets, chunk_table;
   std::vector<MapChunk> chunks;
-  std::size_t chunk_entries = 0;      // entries per chunk (the last may hold fewer)
+  std::size_t chunk_entries = 0;      // entries per chunk, a power of two (the last may hold fewer)
   std::size_t map_bytes = 0;          // device memory the map holds
   bool subgroup_aggregation = false;  // the vote kernel pre-aggregates equal keys per subgroup
 

@@ -287,7 +287,7 @@ class VulkanVoteBackend final : public VoteBackend {
     p.dim_rxy = bins_.dim_rxy();
     p.object_shift = bins_.object_shift();
     p.pair_shift = bins_.pair_shift();
-    p.chunk_entries = static_cast<std::uint32_t>(engine_->chunk_entries);
+    p.chunk_shift = static_cast<std::uint32_t>(std::countr_zero(engine_->chunk_entries));
     return p;
   }
 

@@ -17,8 +17,10 @@
 namespace sva {
 
 struct VulkanBackendOptions {
-  std::string device;                          // "" = prefer a discrete GPU (env SVA_VK_DEVICE)
-  std::size_t max_chunk_entries = 0;           // 0 = as large as one binding allows (tests force tiny chunks)
+  std::string device;  // "" = prefer a discrete GPU (env SVA_VK_DEVICE)
+  // Entries per map chunk, rounded down to a power of two; 0 = as large as one binding allows (tests force tiny
+  // chunks).
+  std::size_t max_chunk_entries = 0;
   std::size_t initial_table_slots = 1 << 14;   // vote table (grows on overflow)
   std::size_t initial_belief_slots = 1 << 12;  // each session's belief table (grows at half load and on overflow)
   bool force_staging = false;                  // device buffers unmapped, uploads staged (env SVA_VK_STAGING=1; tests)

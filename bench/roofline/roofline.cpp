@@ -92,6 +92,10 @@ Roofline measure_roofline(std::size_t votes, std::size_t bins, const std::string
   r.votes_per_second = 1e3 * static_cast<double>(votes) / r.kernel_ms;
   r.hash_kernel_ms = hash_scatter_ms(ctx, w, b, votes, bins);
   if (r.hash_kernel_ms > 0) r.hash_votes_per_second = 1e3 * static_cast<double>(votes) / r.hash_kernel_ms;
+  // About a vote per sample on a GPU (a match casts 10-20); a CPU device (lavapipe) runs the math on the host's
+  // cores, where a sixteenth of that already times it.
+  const std::size_t matches = votes / (ctx.info().type == "cpu" ? 256 : 16);
+  r.vote_math = measure_vote_math(ctx, std::max<std::size_t>(matches, 64));
   return r;
 }
 

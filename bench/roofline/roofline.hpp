@@ -4,9 +4,12 @@
 // into M bins (bench/roofline/fixed_point_scatter.comp), and the same votes are
 // scattered through the 64-bit-key hash table the vote kernel uses, without
 // the vote math (hash_scatter.comp). Speed claims for the vote kernel are
-// ratios against these, measured on the same device (DESIGN 5).
+// ratios against these, measured on the same device (DESIGN 5). Beside them the vote math alone
+// (roofline/vote_math.hpp): whether the math or the table bounds the vote kernel.
 #include <cstddef>
 #include <string>
+
+#include "roofline/vote_math.hpp"
 
 namespace sva::bench {
 
@@ -17,6 +20,7 @@ struct Roofline {
   double votes_per_second = 0.0;
   double hash_kernel_ms = 0.0;         // bare hash scatter: best of three; 0 without timestamps
   double hash_votes_per_second = 0.0;  // 0 without timestamps
+  VoteMathRoofline vote_math;          // votes / 16 matches (a CPU device: / 256)
 };
 
 // device: "" = the Vulkan default (env SVA_VK_DEVICE, else prefer a discrete GPU).

@@ -216,6 +216,17 @@ void print_roofline(const json& out) {
   if (roof.contains("hash_votes_per_second"))
     std::printf("bare hash scatter (the vote kernel's table, no vote math): %.3g votes/s\n",
                 roof["hash_votes_per_second"].get<double>());
+  if (roof.contains("vote_math") && !roof["vote_math"]["exact_samples_per_second"].is_null()) {
+    // The math alone, exact (the engine's) and with the device's own division and square root: what bounds the
+    // vote kernel, beside the table's bare scatter.
+    const json& m = roof["vote_math"];
+    std::printf(
+        "vote math alone (no map, owner rule or table): %.3g samples/s exact%s, %.3g with the device's own "
+        "division and square root\n",
+        m["exact_samples_per_second"].get<double>(),
+        m["exact_agrees_with_cpu"].get<bool>() ? " (the CPU's bits)" : " (NOT the CPU's bits)",
+        m["device_division_samples_per_second"].get<double>());
+  }
   for (const auto& r : out["runs"]) {
     if (r.contains("fraction_of_roofline"))
       std::printf("%s (%zu per submission): %.3g votes/s = %.1f%% of the roofline\n",

@@ -36,6 +36,9 @@
 SVA_FN float sva_div(float a, float b) { return a / b; }
 SVA_FN float sva_sqrt(float x) { return sqrt(x); }
 #else
+// bench/roofline/vote_math_device_division.comp defines SVA_ROOFLINE_DIVISION and brings the device's own division and
+// square root instead, to weigh what the exact ones cost a device (`sva bench`); never the engine's kernels.
+#ifndef SVA_ROOFLINE_DIVISION
 #define SVA_F32_INF 0x7f800000u
 #define SVA_F32_NAN 0x7fc00000u
 
@@ -180,6 +183,7 @@ float sva_sqrt(float x) {
   }
   return uintBitsToFloat((uint(be) << 23) | (mant & 0x7fffffu));
 }
+#endif  // SVA_ROOFLINE_DIVISION
 #endif
 
 SVA_FN float sva_dot(vec3 a, vec3 b) {

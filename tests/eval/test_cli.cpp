@@ -406,6 +406,8 @@ TEST_CASE("sva bench on the Vulkan backend reports device memory (n/a until the 
   }
   if (batch["memory"]["device_bytes"].is_null()) CHECK(out.find("device: n/a") != std::string::npos);
   CHECK(j["roofline"]["votes_per_second"].get<double>() > 0);
+  CHECK(j["roofline"]["vote_math"]["exact_agrees_with_cpu"] == true);  // the math alone, the engine's bits
+  CHECK(j["roofline"]["vote_math"]["samples"].get<std::uint64_t>() > 0);
   // Round trips and memory allocations per session, counted: the batch's first updates make its vote tables and
   // input buffers, and each session's first estimate its selections' buffers.
   for (const auto& point : batch["curve"])

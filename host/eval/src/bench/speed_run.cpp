@@ -318,6 +318,13 @@ json roofline_json(std::size_t votes, std::size_t bins, const std::string& devic
     j["hash_kernel_ms"] = r.hash_kernel_ms;
     j["hash_votes_per_second"] = r.hash_votes_per_second;
   }
+  const VoteMathRoofline& m = r.vote_math;
+  const auto per_second = [](double v) { return v > 0 ? json(v) : json(nullptr); };  // null without timestamps
+  j["vote_math"] = {{"matches", m.matches},
+                    {"samples", m.samples},
+                    {"exact_agrees_with_cpu", m.exact_agrees},
+                    {"exact_samples_per_second", per_second(m.exact_samples_per_second())},
+                    {"device_division_samples_per_second", per_second(m.device_division_samples_per_second())}};
   return j;
 }
 

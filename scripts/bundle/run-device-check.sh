@@ -123,7 +123,7 @@ bench() {  # NAME SHARE-OF-WHAT-IS-LEFT sva-bench-options...
   local rc=$?
   if ((rc == 124)); then echo "(stopped at the budget's end)" >>"$out/bench-$name.txt"
   elif ((rc != 0)); then echo "(failed: exit $rc)" >>"$out/bench-$name.txt"; suite_failed=$((suite_failed + 1)); fi
-  grep -vE '^(cpu|vulkan)( batch)?: [0-9]+/' "$out/bench-$name.txt" | head -30
+  grep -vE '^(cpu|vulkan)( batch)?: [0-9]+/' "$out/bench-$name.txt" | head -50
 }
 [[ -f $work/map.svam ]] || { echo "no paper3d map in $work: no benchmark" >&2; suite_failed=$((suite_failed + 1)); }
 if [[ -f $work/map.svam ]]; then

@@ -11,6 +11,9 @@
 //  FLIP:    one invocation: the other side becomes the current one;
 //  SELECT:  the band's bins whose distance bucket is at most select_bucket,
 //           appended to the candidate list (the host sorts the few it gets);
+//  BUCKET:  one invocation: the bucket that SELECT needs for the best k bins,
+//           from the histogram MASS made, so that the summary and the best
+//           bins come back in one submission (the host checks it again);
 //  REBUILD: per table slot: every bin in the band joins an empty list.
 //  TABLE_HISTOGRAM, TABLE_SELECT: the histogram and the selection over every
 //           slot, for a top-k that reaches past the band (an estimate's
@@ -68,8 +71,10 @@ void select_slot(uint slot) {
   if (slot >= pc.capacity) return;
   if (sva_table_keys(pc.table_lo, pc.table_hi).w[slot] == SVA_HASH_EMPTY_KEY) return;
   SvaWords st = state();
+  uint bucket = pc.select_bucket == SVA_SELECT_FROM_STATE ? uint(st.w[SVA_STATE_SELECT_BUCKET]) : pc.select_bucket;
+  if (bucket >= SVA_BELIEF_BUCKETS) return;  // the band holds fewer bins than asked: the host selects past it
   uint64_t offset = sva_table_offsets(pc.table_lo, pc.table_hi, pc.capacity).w[slot];
-  if (sva_distance_bucket(st.w[SVA_STATE_MAX] - offset) > pc.select_bucket) return;
+  if (sva_distance_bucket(st.w[SVA_STATE_MAX] - offset) > bucket) return;
   uint64_t n = atomicAdd(st.w[SVA_STATE_CANDIDATES], 1ul);
   if (n < uint64_t(pc.select_capacity)) {
     candidate[2u * uint(n)] = sva_table_keys(pc.table_lo, pc.table_hi).w[slot];
@@ -85,6 +90,21 @@ void histogram_slot(uint slot) {
   atomicAdd(st.w[sva_state_bucket(pc.objects, sva_distance_bucket(d))], 1ul);
 }
 
+// The first bucket whose cumulative count reaches select_capacity bins (GpuBelief::bucket_holding on the host).
+void choose_bucket() {
+  SvaWords st = state();
+  uint64_t n = 0ul;
+  uint chosen = SVA_BELIEF_BUCKETS;
+  for (uint b = 0u; b < SVA_BELIEF_BUCKETS; ++b) {
+    n += st.w[sva_state_bucket(pc.objects, b)];
+    if (n >= uint64_t(pc.select_capacity)) {
+      chosen = b;
+      break;
+    }
+  }
+  st.w[SVA_STATE_SELECT_BUCKET] = uint64_t(chosen);
+}
+
 void rebuild_slot(uint slot) {
   if (slot >= pc.capacity) return;
   if (sva_table_keys(pc.table_lo, pc.table_hi).w[slot] == SVA_HASH_EMPTY_KEY) return;
@@ -93,6 +113,10 @@ void rebuild_slot(uint slot) {
 }
 
 void main() {
+  if (pc.pass == SVA_REDUCE_BUCKET) {
+    if (sva_flat_index() == 0u) choose_bucket();
+    return;
+  }
   if (pc.pass == SVA_REDUCE_FLIP) {
     if (sva_flat_index() != 0u) return;
     SvaWords st = state();

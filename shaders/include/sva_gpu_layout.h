@@ -148,7 +148,8 @@ struct SvaFoldParams {
 #define SVA_STATE_NEXT_COUNT 3   // entries on the other side, during the estimate's compaction
 #define SVA_STATE_BAND_LOST 4    // 1: an append found the list full; the host rebuilds it larger
 #define SVA_STATE_CANDIDATES 5   // top-k candidates found by SVA_REDUCE_SELECT
-#define SVA_STATE_OBJECTS 6      // then touched[o], best_offset[o], best_key[o], raised[o], mass[o]
+#define SVA_STATE_SELECT_BUCKET 6  // the bucket SVA_REDUCE_BUCKET chose for a SELECT in the same submission
+#define SVA_STATE_OBJECTS 7      // then touched[o], best_offset[o], best_key[o], raised[o], mass[o]
 #define SVA_STATE_ARRAYS 5
 #define SVA_BELIEF_BUCKETS 1025  // 0 for d = 0, then 16 per bit of the highest set bit of d
 
@@ -187,6 +188,11 @@ struct SvaReduceParams {
 #define SVA_REDUCE_REBUILD 3u  // per table slot: the band list from scratch (after a growth or a lost append)
 #define SVA_REDUCE_TABLE_HISTOGRAM 4u  // per table slot: the distance histogram of every bin (top-k past the band)
 #define SVA_REDUCE_TABLE_SELECT 5u     // per table slot: the bins up to select_bucket into the candidate list
+// One invocation: the first bucket of the band's histogram at which select_capacity bins are reached, into
+// SVA_STATE_SELECT_BUCKET (SVA_BELIEF_BUCKETS: the band holds fewer), so that a SELECT after the MASS pass needs no
+// round trip to the host between them.
+#define SVA_REDUCE_BUCKET 6u
+#define SVA_SELECT_FROM_STATE 0xffffffffu  // SELECT's select_bucket: the one SVA_REDUCE_BUCKET chose
 
 // Push constants of belief_lookup.comp.
 struct SvaLookupParams {

@@ -363,10 +363,33 @@ void GpuBelief::enlarge_band() const {
 
 void GpuBelief::reduce() const {
   const GpuBelief* self = this;
-  read_summaries(std::vector<const GpuBelief*>{self});
+  read_summaries(std::vector<const GpuBelief*>{self}, 0);
 }
 
-void GpuBelief::read_summaries(std::vector<const GpuBelief*> pending) {
+std::uint64_t GpuBelief::selection_room(std::size_t k) {
+  // Room for the bins of the buckets up to the k-th best: the bucket holding it holds more (ties and neighbours).
+  return std::max<std::uint64_t>(8 * std::uint64_t{k}, 1024);
+}
+
+void GpuBelief::add_selection_ahead(std::size_t k, std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills) const {
+  gpu::SvaReduceParams p = reduce_params(SVA_REDUCE_BUCKET);
+  p.select_capacity = static_cast<std::uint32_t>(k);
+  const vk::Grid g = k_->ctx->grid(1);
+  vk::Dispatch bucket{k_->reduce, {&candidates_}, push_bytes(p), g.x};
+  bucket.groups_y = g.y;
+  ds->push_back(std::move(bucket));
+  ds->push_back(select_dispatch(SVA_REDUCE_SELECT, SVA_SELECT_FROM_STATE, selection_room(k), band_capacity_));
+  fills->push_back(select_fill());
+}
+
+void GpuBelief::keep_selection_ahead(std::size_t k) const {
+  const auto [bucket, n] = bucket_holding(histogram_, k);
+  // Past the band, or more candidates than the room: best_bins' own ways (read_best_ahead, or alone).
+  if (bucket == SVA_BELIEF_BUCKETS || n > selection_room(k)) return;
+  keep_best(read_candidates(n), k);
+}
+
+void GpuBelief::read_summaries(std::vector<const GpuBelief*> pending, std::size_t k) {
   for (int attempt = 0; !pending.empty(); ++attempt) {
     GpuBeliefKernels& kernels = *pending.front()->k_;
     std::vector<vk::Dispatch> ds;
@@ -381,18 +404,25 @@ void GpuBelief::read_summaries(std::vector<const GpuBelief*> pending) {
       fills.insert(fills.end(), f.begin(), f.end());
       for (vk::Dispatch& d : b->reduce_dispatches({SVA_REDUCE_REBUILD}, b->capacity_)) ds.push_back(std::move(d));
     }
+    // With k, each belief's best k bins are selected in the same submission, from the bucket its histogram gives on
+    // the device (the BUCKET pass): the summary and the best bins in one round trip, where they took two.
+    const auto asked = [k](const GpuBelief* b) { return std::min(k, b->count_); };
     for (const GpuBelief* b : pending) {
       const std::vector<vk::Fill> f = b->mass_fills();
       fills.insert(fills.end(), f.begin(), f.end());
       for (vk::Dispatch& d : b->reduce_dispatches({SVA_REDUCE_MASS, SVA_REDUCE_FLIP}, b->band_capacity_))
         ds.push_back(std::move(d));
+      if (asked(b) > 1) b->add_selection_ahead(asked(b), &ds, &fills);
       for (const vk::Copy& c : b->state_reads(0, state_words(kernels.space->objects()))) reads.push_back(c);
     }
     run(kernels, ds, fills, reads);
     std::vector<const GpuBelief*> lost;
     for (const GpuBelief* b : pending) {
       if (b->band_stale_) b->rebuilt();
-      if (!b->read_state()) lost.push_back(b);
+      if (!b->read_state())
+        lost.push_back(b);
+      else if (asked(b) > 1)
+        b->keep_selection_ahead(asked(b));
     }
     // A fold found those lists full: what the passes read was incomplete. Rebuilt larger, they are read again together
     // (early in a batch every session's list fills at the same update).
@@ -413,8 +443,8 @@ void GpuBelief::read_ahead(std::span<const GpuBelief* const> beliefs, std::size_
   std::vector<const GpuBelief*> unread;
   for (const GpuBelief* b : beliefs)
     if (!b->summary_cache_) unread.push_back(b);
-  read_summaries(std::move(unread));
-  read_best_ahead(beliefs, k);
+  read_summaries(std::move(unread), k);
+  read_best_ahead(beliefs, k);  // those whose best bins lie past the band, or did not fit the room
 }
 
 BeliefSummary GpuBelief::summarise() const {

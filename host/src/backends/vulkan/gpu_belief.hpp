@@ -150,8 +150,16 @@ class GpuBelief final : public BeliefState {
   void enlarge_band() const;
   // The MASS and FLIP passes, then the state's words to the host.
   void reduce() const;
-  // The same for every belief of `pending` (one backend's), each pass in one submission for all of them.
-  static void read_summaries(std::vector<const GpuBelief*> pending);
+  // The same for every belief of `pending` (one backend's), each pass in one submission for all of them; with k > 1,
+  // each one's best k bins in that submission too, where the band holds them (add_selection_ahead).
+  static void read_summaries(std::vector<const GpuBelief*> pending, std::size_t k);
+  // The candidates' room of a selection made ahead of the host's bucket: when the bucket holds more bins, the host
+  // selects again with the exact count.
+  static std::uint64_t selection_room(std::size_t k);
+  // The BUCKET and SELECT passes for the best k bins, after this belief's MASS and FLIP in one submission; then, from
+  // what came back, the best k kept (keep_selection_ahead) unless they lie past the band or the room was short.
+  void add_selection_ahead(std::size_t k, std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills) const;
+  void keep_selection_ahead(std::size_t k) const;
   // The belief changed: its summary and best bins are to be read again.
   void forget_cache() const;
   // best_bins without the kept answer: the k best bins from the device.

@@ -14,6 +14,8 @@
 //  BUCKET:  one invocation: the bucket that SELECT needs for the best k bins,
 //           from the histogram MASS made, so that the summary and the best
 //           bins come back in one submission (the host checks it again);
+//           TABLE_BUCKET the same from the table's histogram, where the band
+//           held fewer than k bins;
 //  REBUILD: per table slot: every bin in the band joins an empty list.
 //  TABLE_HISTOGRAM, TABLE_SELECT: the histogram and the selection over every
 //           slot, for a top-k that reaches past the band (an estimate's
@@ -69,10 +71,12 @@ void mass_entry(uint i) {
 
 void select_slot(uint slot) {
   if (slot >= pc.capacity) return;
-  if (sva_table_keys(pc.table_lo, pc.table_hi).w[slot] == SVA_HASH_EMPTY_KEY) return;
+  // A bucket chosen on the device (ahead of the host) is checked first: where there is none, the pass reads nothing.
   SvaWords st = state();
-  uint bucket = pc.select_bucket == SVA_SELECT_FROM_STATE ? uint(st.w[SVA_STATE_SELECT_BUCKET]) : pc.select_bucket;
-  if (bucket >= SVA_BELIEF_BUCKETS) return;  // the band holds fewer bins than asked: the host selects past it
+  uint chosen = uint(st.w[pc.pass == SVA_REDUCE_TABLE_SELECT ? SVA_STATE_TABLE_BUCKET : SVA_STATE_SELECT_BUCKET]);
+  uint bucket = pc.select_bucket == SVA_SELECT_FROM_STATE ? chosen : pc.select_bucket;
+  if (bucket >= SVA_BELIEF_BUCKETS) return;  // too few bins for k here: another selection or the host's
+  if (sva_table_keys(pc.table_lo, pc.table_hi).w[slot] == SVA_HASH_EMPTY_KEY) return;
   uint64_t offset = sva_table_offsets(pc.table_lo, pc.table_hi, pc.capacity).w[slot];
   if (sva_distance_bucket(st.w[SVA_STATE_MAX] - offset) > bucket) return;
   uint64_t n = atomicAdd(st.w[SVA_STATE_CANDIDATES], 1ul);
@@ -84,25 +88,34 @@ void select_slot(uint slot) {
 
 void histogram_slot(uint slot) {
   if (slot >= pc.capacity) return;
-  if (sva_table_keys(pc.table_lo, pc.table_hi).w[slot] == SVA_HASH_EMPTY_KEY) return;
   SvaWords st = state();
+  // Ahead of the host (in the summary's submission): only where the band held too few bins.
+  if (pc.select_bucket == SVA_SELECT_FROM_STATE && st.w[SVA_STATE_SELECT_BUCKET] < uint64_t(SVA_BELIEF_BUCKETS)) return;
+  if (sva_table_keys(pc.table_lo, pc.table_hi).w[slot] == SVA_HASH_EMPTY_KEY) return;
   uint64_t d = st.w[SVA_STATE_MAX] - sva_table_offsets(pc.table_lo, pc.table_hi, pc.capacity).w[slot];
-  atomicAdd(st.w[sva_state_bucket(pc.objects, sva_distance_bucket(d))], 1ul);
+  atomicAdd(st.w[sva_state_table_bucket(pc.objects, sva_distance_bucket(d))], 1ul);
 }
 
-// The first bucket whose cumulative count reaches select_capacity bins (GpuBelief::bucket_holding on the host).
-void choose_bucket() {
+// The first bucket of the band's histogram (or, `table`, of the table's) whose cumulative count reaches
+// select_capacity bins (GpuBelief::bucket_holding on the host); SVA_BELIEF_BUCKETS when none does.
+uint first_bucket_holding(bool table) {
   SvaWords st = state();
   uint64_t n = 0ul;
-  uint chosen = SVA_BELIEF_BUCKETS;
   for (uint b = 0u; b < SVA_BELIEF_BUCKETS; ++b) {
-    n += st.w[sva_state_bucket(pc.objects, b)];
-    if (n >= uint64_t(pc.select_capacity)) {
-      chosen = b;
-      break;
-    }
+    n += st.w[table ? sva_state_table_bucket(pc.objects, b) : sva_state_bucket(pc.objects, b)];
+    if (n >= uint64_t(pc.select_capacity)) return b;
   }
-  st.w[SVA_STATE_SELECT_BUCKET] = uint64_t(chosen);
+  return SVA_BELIEF_BUCKETS;
+}
+
+void choose_bucket() {
+  SvaWords st = state();
+  if (pc.pass == SVA_REDUCE_BUCKET) {
+    st.w[SVA_STATE_SELECT_BUCKET] = uint64_t(first_bucket_holding(false));
+    return;
+  }
+  bool band_short = st.w[SVA_STATE_SELECT_BUCKET] >= uint64_t(SVA_BELIEF_BUCKETS);
+  st.w[SVA_STATE_TABLE_BUCKET] = uint64_t(band_short ? first_bucket_holding(true) : SVA_BELIEF_BUCKETS);
 }
 
 void rebuild_slot(uint slot) {
@@ -113,7 +126,7 @@ void rebuild_slot(uint slot) {
 }
 
 void main() {
-  if (pc.pass == SVA_REDUCE_BUCKET) {
+  if (pc.pass == SVA_REDUCE_BUCKET || pc.pass == SVA_REDUCE_TABLE_BUCKET) {
     if (sva_flat_index() == 0u) choose_bucket();
     return;
   }

@@ -25,6 +25,7 @@ SvaWords32 sva_table_marks(uint lo, uint hi, uint capacity) {
 // raised, 4 mass) of a session's estimate state, and of histogram bucket b.
 uint sva_state_object(uint a, uint objects, uint object) { return SVA_STATE_OBJECTS + a * objects + object; }
 uint sva_state_bucket(uint objects, uint b) { return SVA_STATE_OBJECTS + SVA_STATE_ARRAYS * objects + b; }
+uint sva_state_table_bucket(uint objects, uint b) { return sva_state_bucket(objects, SVA_BELIEF_BUCKETS + b); }
 #define SVA_STATE_TOUCHED 0u
 #define SVA_STATE_BEST_OFFSET 1u
 #define SVA_STATE_BEST_KEY 2u

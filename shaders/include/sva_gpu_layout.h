@@ -149,9 +149,11 @@ struct SvaFoldParams {
 #define SVA_STATE_BAND_LOST 4    // 1: an append found the list full; the host rebuilds it larger
 #define SVA_STATE_CANDIDATES 5   // top-k candidates found by SVA_REDUCE_SELECT
 #define SVA_STATE_SELECT_BUCKET 6  // the bucket SVA_REDUCE_BUCKET chose for a SELECT in the same submission
-#define SVA_STATE_OBJECTS 7      // then touched[o], best_offset[o], best_key[o], raised[o], mass[o]
+#define SVA_STATE_TABLE_BUCKET 7   // and SVA_REDUCE_TABLE_BUCKET for a TABLE_SELECT (when the band held too few)
+#define SVA_STATE_OBJECTS 8      // then touched[o], best_offset[o], best_key[o], raised[o], mass[o]
 #define SVA_STATE_ARRAYS 5
 #define SVA_BELIEF_BUCKETS 1025  // 0 for d = 0, then 16 per bit of the highest set bit of d
+// After the band's histogram, the whole table's (SVA_REDUCE_TABLE_HISTOGRAM), as many words.
 
 // Push constants of belief_rehash.comp: move every key of the old table into
 // the new one; with `forget`, only the bins at or above keep_lo/hi and those
@@ -193,6 +195,10 @@ struct SvaReduceParams {
 // round trip to the host between them.
 #define SVA_REDUCE_BUCKET 6u
 #define SVA_SELECT_FROM_STATE 0xffffffffu  // SELECT's select_bucket: the one SVA_REDUCE_BUCKET chose
+// For a top-k past the band in the same submission: TABLE_HISTOGRAM with select_bucket SVA_SELECT_FROM_STATE runs
+// only where BUCKET found the band short; TABLE_BUCKET (one invocation) picks the bucket from the table's histogram
+// there (SVA_BELIEF_BUCKETS elsewhere); TABLE_SELECT with SVA_SELECT_FROM_STATE selects with it.
+#define SVA_REDUCE_TABLE_BUCKET 7u
 
 // Push constants of belief_lookup.comp.
 struct SvaLookupParams {

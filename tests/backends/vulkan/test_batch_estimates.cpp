@@ -87,10 +87,10 @@ TEST_CASE("GPU batch: the estimates of 40 sessions at once equal estimate() and 
   CHECK(refined > 5);  // not vacuous: fine poses were fitted on the workers
 }
 
-TEST_CASE("GPU batch: a batch's estimates read every session's belief in four submissions") {
+TEST_CASE("GPU batch: a batch's estimates read every session's belief in two submissions") {
   // The read-ahead (VoteBackend::read_ahead, look_up_ahead) runs each belief pass once for all sessions: the stale
-  // bands, the summaries, the best bins and the bins read by key of 40 sessions cost four submissions where each
-  // session's estimate made its own round trips. Staged too, as on a discrete GPU, whose device memory the host does
+  // bands, the summaries with the best bins (the device picks their bucket), then the bins read by key of 40 sessions
+  // cost two submissions where each session's estimate made its own round trips. Staged too, as on a discrete GPU, whose device memory the host does
   // not map: each pass's results come back in its own submission, not in a download per session after it.
   const bool staged = GENERATE(false, true);
   INFO((staged ? "staged" : "mapped") << " device memory");
@@ -119,11 +119,12 @@ TEST_CASE("GPU batch: a batch's estimates read every session's belief in four su
   const std::uint64_t each = alone->device_submissions() - a0;
   INFO("submissions: " << batched << " for the batch, " << each << " one session at a time");
   CHECK(batched > 0);
-  // Alone, a session reads its summary and its bins by key, and, staged, its table's histogram and its best bins
-  // past the band (on lavapipe's mapped memory the host reads that table itself): two or four round trips each.
-  // Staged, a batch took two round trips a session before its reads came back in the passes' submissions.
-  CHECK(each >= (staged ? 4 : 2) * kSessions);
-  CHECK(batched <= 4);
+  // Alone, a session reads its summary with its best bins (past the band too: the table's passes join them, staged;
+  // on lavapipe's mapped memory the host reads that table itself), then its bins by key: two round trips each.
+  // Staged, a batch took two round trips a session before its reads came back in the passes' submissions, and four
+  // in all before the device picked the best bins' bucket; a third where a band list was lost and read again.
+  CHECK(each >= 2 * kSessions);
+  CHECK(batched <= 3);
 }
 
 TEST_CASE(

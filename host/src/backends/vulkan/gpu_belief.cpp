@@ -26,11 +26,16 @@ using gpu::push_bytes;
 // The most slots a table may have (its index is a 32-bit uint in the shaders).
 constexpr std::uint64_t kMaxSlots = std::uint64_t{1} << 31;
 
+// The state's words: the fixed ones, the per-object arrays, the band's histogram and the table's.
 std::size_t state_words(std::uint32_t objects) {
-  return SVA_STATE_OBJECTS + SVA_STATE_ARRAYS * std::size_t{objects} + SVA_BELIEF_BUCKETS;
+  return SVA_STATE_OBJECTS + SVA_STATE_ARRAYS * std::size_t{objects} + 2 * SVA_BELIEF_BUCKETS;
 }
 std::size_t object_word(std::uint32_t array, std::uint32_t objects) {
   return SVA_STATE_OBJECTS + std::size_t{array} * objects;
+}
+// The first word of the table's histogram (sva_state_table_bucket).
+std::size_t table_histogram_word(std::uint32_t objects) {
+  return object_word(SVA_STATE_ARRAYS, objects) + SVA_BELIEF_BUCKETS;
 }
 // Per-object arrays of the state (sva_belief_table.glsl).
 constexpr std::uint32_t kTouched = 0, kBestOffset = 1, kBestKey = 2, kMass = 4;
@@ -371,20 +376,41 @@ std::uint64_t GpuBelief::selection_room(std::size_t k) {
   return std::max<std::uint64_t>(8 * std::uint64_t{k}, 1024);
 }
 
-void GpuBelief::add_selection_ahead(std::size_t k, std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills) const {
-  gpu::SvaReduceParams p = reduce_params(SVA_REDUCE_BUCKET);
+bool GpuBelief::passes_over_table() const { return k_->ctx->info().type != "cpu" || k_->ctx->force_staging(); }
+
+vk::Dispatch GpuBelief::bucket_dispatch(std::uint32_t pass, std::size_t k) const {
+  gpu::SvaReduceParams p = reduce_params(pass);
   p.select_capacity = static_cast<std::uint32_t>(k);
   const vk::Grid g = k_->ctx->grid(1);
-  vk::Dispatch bucket{k_->reduce, {&candidates_}, push_bytes(p), g.x};
-  bucket.groups_y = g.y;
-  ds->push_back(std::move(bucket));
-  ds->push_back(select_dispatch(SVA_REDUCE_SELECT, SVA_SELECT_FROM_STATE, selection_room(k), band_capacity_));
+  vk::Dispatch d{k_->reduce, {&candidates_}, push_bytes(p), g.x};
+  d.groups_y = g.y;
+  return d;
+}
+
+void GpuBelief::add_selection_ahead(std::size_t k, std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills) const {
+  const std::uint64_t room = selection_room(k);
+  ds->push_back(bucket_dispatch(SVA_REDUCE_BUCKET, k));
+  ds->push_back(select_dispatch(SVA_REDUCE_SELECT, SVA_SELECT_FROM_STATE, room, band_capacity_));
   fills->push_back(select_fill());
+  if (!passes_over_table()) return;  // a CPU device reads its table on the host instead
+  // Where the band holds fewer than k bins (a sharp belief asked for its next modes): the table's histogram and its
+  // selection, each pass a no-op elsewhere.
+  fills->push_back(table_histogram_fill());
+  for (vk::Dispatch& d : reduce_dispatches({SVA_REDUCE_TABLE_HISTOGRAM}, capacity_)) {
+    gpu::SvaReduceParams p = reduce_params(SVA_REDUCE_TABLE_HISTOGRAM);
+    p.select_bucket = SVA_SELECT_FROM_STATE;
+    d.push = push_bytes(p);
+    ds->push_back(std::move(d));
+  }
+  ds->push_back(bucket_dispatch(SVA_REDUCE_TABLE_BUCKET, k));
+  ds->push_back(select_dispatch(SVA_REDUCE_TABLE_SELECT, SVA_SELECT_FROM_STATE, room, capacity_));
 }
 
 void GpuBelief::keep_selection_ahead(std::size_t k) const {
-  const auto [bucket, n] = bucket_holding(histogram_, k);
-  // Past the band, or more candidates than the room: best_bins' own ways (read_best_ahead, or alone).
+  auto [bucket, n] = bucket_holding(histogram_, k);
+  if (bucket == SVA_BELIEF_BUCKETS && passes_over_table())
+    std::tie(bucket, n) = bucket_holding(read_table_histogram(), k);
+  // Past every bucket, or more candidates than the room: best_bins' own ways (read_best_ahead, or alone).
   if (bucket == SVA_BELIEF_BUCKETS || n > selection_room(k)) return;
   keep_best(read_candidates(n), k);
 }
@@ -505,7 +531,7 @@ std::vector<BinOffset> GpuBelief::select_best(std::size_t k) const {
   std::uint32_t pass = SVA_REDUCE_SELECT;
   std::uint64_t entries = band_capacity_;
   auto [bucket, n] = bucket_holding(histogram_, k);
-  if (bucket == SVA_BELIEF_BUCKETS && (k_->ctx->info().type != "cpu" || k_->ctx->force_staging())) {
+  if (bucket == SVA_BELIEF_BUCKETS && passes_over_table()) {
     std::tie(bucket, n) = bucket_holding(table_histogram(), k);
     pass = SVA_REDUCE_TABLE_SELECT;
     entries = capacity_;
@@ -550,7 +576,7 @@ void GpuBelief::read_best_ahead(std::span<const GpuBelief* const> beliefs, std::
 void GpuBelief::read_table_histograms_ahead(std::vector<BestRead>& sel) {
   // A CPU device reads its table on the host instead (best_bins' own way, alone): its passes run on the same cores.
   GpuBeliefKernels& kernels = *sel.front().belief->k_;
-  if (kernels.ctx->info().type == "cpu" && !kernels.ctx->force_staging()) return;
+  if (!sel.front().belief->passes_over_table()) return;
   std::vector<BestRead*> past;
   std::vector<vk::Dispatch> ds;
   std::vector<vk::Fill> fills;
@@ -587,16 +613,20 @@ std::vector<std::uint64_t> GpuBelief::table_histogram() const {
 
 void GpuBelief::add_table_histogram(std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills,
                                     std::vector<vk::Copy>* reads) const {
-  // The band's histogram words are reused: reduce() clears them before its next pass, and histogram_ keeps the band's.
-  const std::size_t word = object_word(SVA_STATE_ARRAYS, k_->space->objects());
   for (vk::Dispatch& d : reduce_dispatches({SVA_REDUCE_TABLE_HISTOGRAM}, capacity_)) ds->push_back(std::move(d));
-  fills->push_back({&state_, 0u, word * sizeof(std::uint64_t), SVA_BELIEF_BUCKETS * sizeof(std::uint64_t)});
-  for (const vk::Copy& c : state_reads(word, SVA_BELIEF_BUCKETS)) reads->push_back(c);
+  fills->push_back(table_histogram_fill());
+  for (const vk::Copy& c : state_reads(table_histogram_word(k_->space->objects()), SVA_BELIEF_BUCKETS))
+    reads->push_back(c);
+}
+
+vk::Fill GpuBelief::table_histogram_fill() const {
+  return {&state_, 0u, table_histogram_word(k_->space->objects()) * sizeof(std::uint64_t),
+          SVA_BELIEF_BUCKETS * sizeof(std::uint64_t)};
 }
 
 std::vector<std::uint64_t> GpuBelief::read_table_histogram() const {
   std::vector<std::uint64_t> h(SVA_BELIEF_BUCKETS);
-  read_state_words(h.data(), object_word(SVA_STATE_ARRAYS, k_->space->objects()), SVA_BELIEF_BUCKETS);
+  read_state_words(h.data(), table_histogram_word(k_->space->objects()), SVA_BELIEF_BUCKETS);
   return h;
 }
 
@@ -618,7 +648,8 @@ std::vector<BinOffset> GpuBelief::read_candidates(std::uint64_t n) const {
   std::uint64_t found = 0;
   read_state_words(&found, SVA_STATE_CANDIDATES, 1);  // copied by the selection's submission
   if (found != n)
-    throw std::logic_error("GPU belief: top-k selection found a different number of bins than its histogram");
+    throw std::logic_error("GPU belief: top-k selection found " + std::to_string(found) +
+                           " bins where its histogram has " + std::to_string(n));
   const auto* c = candidates_.as<std::uint64_t>();  // host-mapped (gpu::ensure)
   std::vector<BinOffset> out(n);
   for (std::size_t i = 0; i < n; ++i) out[i] = {k_->bins.key(c[2 * i]), c[2 * i + 1]};

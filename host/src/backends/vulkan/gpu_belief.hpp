@@ -160,6 +160,13 @@ class GpuBelief final : public BeliefState {
   // what came back, the best k kept (keep_selection_ahead) unless they lie past the band or the room was short.
   void add_selection_ahead(std::size_t k, std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills) const;
   void keep_selection_ahead(std::size_t k) const;
+  // Whether a top-k past the band takes passes over the table's slots (a GPU, or staged), or the host reads the table
+  // (a CPU device, whose passes would run on the same cores).
+  bool passes_over_table() const;
+  // The BUCKET or TABLE_BUCKET pass for the best k bins.
+  vk::Dispatch bucket_dispatch(std::uint32_t pass, std::size_t k) const;
+  // The fill that empties the table's histogram (its own words, after the band's).
+  vk::Fill table_histogram_fill() const;
   // The belief changed: its summary and best bins are to be read again.
   void forget_cache() const;
   // best_bins without the kept answer: the k best bins from the device.
@@ -172,8 +179,8 @@ class GpuBelief final : public BeliefState {
   std::vector<std::uint64_t> read_lookup(std::size_t n) const;
   // Every bin of the table, in slot order (table() sorts them by key).
   std::vector<BinOffset> unsorted_table() const;
-  // The distance histogram of every bin of the table (a pass over every slot); its pass, fill and read for a
-  // submission of the caller's, and what it read after it.
+  // The distance histogram of every bin of the table (a pass over every slot, into the state's words for it); its
+  // pass, fill and read for a submission of the caller's, and what it read after it.
   std::vector<std::uint64_t> table_histogram() const;
   void add_table_histogram(std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills,
                            std::vector<vk::Copy>* reads) const;

@@ -84,7 +84,7 @@ std::vector<float> vote_math_matches(std::size_t matches, std::uint64_t seed) {
   return in;
 }
 
-void vote_math_checksum(const float* f, std::uint32_t out[3]) {
+std::uint32_t vote_math_checksum(const float* f, std::uint32_t out[3]) {
   const GridPush g;
   const vm::SvaAlignment al = vm::sva_align(patch_at(f), patch_at(f + 7), patch_at(f + 14), patch_at(f + 21));
   const vm::SvaPoseGrid grid = vm::sva_pose_grid(g.kind, g.translation_bins, g.translation_min, g.translation_width,
@@ -102,30 +102,22 @@ void vote_math_checksum(const float* f, std::uint32_t out[3]) {
   out[0] = keys;
   out[1] = masses;
   out[2] = inside;
+  return static_cast<std::uint32_t>(plan.n);
 }
 
 VoteMathRoofline measure_vote_math(vk::Context& ctx, std::size_t matches) {
   const std::vector<float> in = vote_math_matches(matches, 9);
   VoteMathRoofline r;
   r.matches = matches;
-  for (std::size_t c = 0; c < matches; ++c) {
-    const float* f = &in[c * kMatchFloats];
-    const vm::SvaAlignment al = vm::sva_align(patch_at(f), patch_at(f + 7), patch_at(f + 14), patch_at(f + 21));
-    const GridPush g;
-    r.samples += static_cast<std::uint64_t>(
-        vm::sva_beta_plan(al, vm::sva_pose_grid(g.kind, g.translation_bins, g.translation_min, g.translation_width,
-                                                g.rotation_bins, g.rotation_width))
-            .n);
-  }
   auto bin = ctx.create_buffer(in.size() * sizeof(float));
   auto bout = ctx.create_buffer(matches * 3 * sizeof(std::uint32_t));
   std::memcpy(bin.data(), in.data(), in.size() * sizeof(float));
   r.exact_ms = run_kernel(ctx, sva_spv_vote_math, bin, bout, matches);
   r.exact_agrees = true;
-  for (std::size_t c = 0; c < matches && r.exact_agrees; ++c) {
+  for (std::size_t c = 0; c < matches; ++c) {  // every match: its samples are counted here too
     std::uint32_t want[3];
-    vote_math_checksum(&in[c * kMatchFloats], want);
-    r.exact_agrees = std::memcmp(want, bout.as<std::uint32_t>() + 3 * c, sizeof want) == 0;
+    r.samples += vote_math_checksum(&in[c * kMatchFloats], want);
+    r.exact_agrees = r.exact_agrees && std::memcmp(want, bout.as<std::uint32_t>() + 3 * c, sizeof want) == 0;
   }
   r.device_division_ms = run_kernel(ctx, sva_spv_vote_math_device_division, bin, bout, matches);
   return r;

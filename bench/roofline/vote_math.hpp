@@ -26,8 +26,9 @@ struct VoteMathRoofline {
 
 // Random matches (an observed and a map pair of similar reach, as the stage tests make them), `floats` per match.
 std::vector<float> vote_math_matches(std::size_t matches, std::uint64_t seed);
-// The checksums of one match as the kernels write them (3 words), from the engine's math compiled as C++.
-void vote_math_checksum(const float* match, std::uint32_t out[3]);
+// The checksums of one match as the kernels write them (3 words), from the engine's math compiled as C++; returns
+// its beta samples.
+std::uint32_t vote_math_checksum(const float* match, std::uint32_t out[3]);
 
 VoteMathRoofline measure_vote_math(vk::Context& ctx, std::size_t matches);
 

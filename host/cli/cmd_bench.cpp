@@ -89,6 +89,14 @@ void print_estimate_stages(const json& runs) {
     }
 }
 
+// A figure of the JSON printed with `format`, or "n/a" where it is null (not counted, not measured).
+std::string number_or_na(const json& v, const char* format = "%.0f") {
+  if (v.is_null()) return "n/a";
+  char buf[32];
+  std::snprintf(buf, sizeof buf, format, v.get<double>());
+  return buf;
+}
+
 // Where a device update's time went (speed_run.cpp's update_split_json), per submission of its sessions.
 void print_update_split(const json& runs) {
   bool header = false;
@@ -102,23 +110,12 @@ void print_update_split(const json& runs) {
             "%9s %15s %12s %10s %13s %11s\n",
             "run", "readings", "kernels", "between kernels", "wait past", "recording", "host outside", "of it growth");
       header = true;
-      auto num = [](const json& v) {
-        char b[32];
-        std::snprintf(b, sizeof b, "%.3f", v.is_null() ? 0.0 : v.get<double>());
-        return v.is_null() ? std::string("n/a") : std::string(b);
-      };
+      auto num = [](const json& v) { return number_or_na(v, "%.3f"); };
       std::printf("%-14s %-9zu %9s %15s %12s %10s %13s %11s\n", run_name(r).c_str(), p["readings"].get<std::size_t>(),
                   num(u["kernels"]).c_str(), num(u["device_between_kernels"]).c_str(),
                   num(u["wait_past_device"]).c_str(), num(u["recording"]).c_str(),
                   num(u["host_outside_submissions"]).c_str(), num(u["belief_growth"]).c_str());
     }
-}
-
-std::string count_or_na(const json& v) {
-  if (v.is_null()) return "n/a";
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.0f", v.get<double>());
-  return buf;
 }
 
 // The work per update as the backend counts it (the CPU reference: all but device atomics; Vulkan: all but the
@@ -140,8 +137,8 @@ void print_work(const json& runs) {
       std::printf("%-14s %-9zu %7.0f %12.0f %10.0f %11.0f %13.0f %11s %10.0f %13s %9.2f %11.2f %9.2f\n",
                   run_name(r).c_str(), p["readings"].get<std::size_t>(), w["pairs"].get<double>(),
                   w["map_entries"].get<double>(), w["matches"].get<double>(), w["votes"].get<double>(),
-                  w["vote_table_probes"].get<double>(), count_or_na(w["vote_table_atomics"]).c_str(),
-                  w["bins"].get<double>(), count_or_na(w["belief_probes"]).c_str(), b["map"].get<double>() / 1e6,
+                  w["vote_table_probes"].get<double>(), number_or_na(w["vote_table_atomics"]).c_str(),
+                  w["bins"].get<double>(), number_or_na(w["belief_probes"]).c_str(), b["map"].get<double>() / 1e6,
                   b["vote_tables"].get<double>() / 1e6, b["fold"].get<double>() / 1e6);
     }
 }

@@ -97,13 +97,18 @@ void histogram_slot(uint slot) {
 }
 
 // The first bucket of the band's histogram (or, `table`, of the table's) whose cumulative count reaches
-// select_capacity bins (GpuBelief::bucket_holding on the host); SVA_BELIEF_BUCKETS when none does.
+// select_capacity bins, or every touched bin where there are fewer (GpuBelief::bucket_holding of min(k, touched) on
+// the host: an update's reads ahead ask for the k of the last estimate before its fold touched more bins);
+// SVA_BELIEF_BUCKETS when none does.
 uint first_bucket_holding(bool table) {
   SvaWords st = state();
+  uint64_t touched = 0ul;
+  for (uint o = 0u; o < pc.objects; ++o) touched += st.w[sva_state_object(SVA_STATE_TOUCHED, pc.objects, o)];
+  uint64_t want = min(uint64_t(pc.select_capacity), touched);
   uint64_t n = 0ul;
   for (uint b = 0u; b < SVA_BELIEF_BUCKETS; ++b) {
     n += st.w[table ? sva_state_table_bucket(pc.objects, b) : sva_state_bucket(pc.objects, b)];
-    if (n >= uint64_t(pc.select_capacity)) return b;
+    if (n >= want) return b;
   }
   return SVA_BELIEF_BUCKETS;
 }

@@ -308,9 +308,50 @@ TEST_CASE("GPU beliefs: the summary and the best bins the band holds come back i
     CHECK(t.gpu->statistics().device_submissions == s0 + 1);  // kept: no round trip more
     // Past the band: its own passes (staged) or the table read on the host (mapped lavapipe), the same bins.
     CHECK(g.best_bins(table.size()) == c.best_bins(table.size()));
+    g.end_update();  // the next update reads nothing ahead: each read above is the estimate's own
     ++checked;
   }
   CHECK(checked >= 2);
+}
+
+TEST_CASE("GPU beliefs: after an estimate, the next update's submission brings the next estimate's summary") {
+  // A robot's touch is an update and an estimate. Once an estimate has read its belief, the next update adds the
+  // same reads after its fold, in its own submission: the estimate then reads nothing, and its answers are the CPU's.
+  // An update without an estimate between stops that, so a session that is not estimated pays no passes.
+  test::WorldSpec spec;
+  auto w = test::make_world(spec);
+  PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
+  VulkanBackendOptions vo;
+  vo.initial_belief_slots = std::size_t{1} << 16;  // no growth: a moved table's reads ahead are forgotten
+  vo.force_staging = GENERATE(false, true);
+  INFO("staged " << vo.force_staging);
+  Twin t(w, space, 1, {}, {}, vo);
+  const RigidPose pose = test::random_pose(47, 150.0);
+  const auto& g = dynamic_cast<const GpuBelief&>(t.fg[0]->belief());
+  const BeliefState& c = t.fc[0]->belief();
+  const GpuBelief* one[] = {&g};
+  const std::size_t k = 16;
+  int ahead = 0, own = 0;
+  bool estimated_last = false;  // an estimate read the belief after the previous update
+  for (int r = 0; r < 9; ++r) {
+    t.add({test::observe(w.objects[1][static_cast<std::size_t>(r * 5 + 2) % w.objects[1].size()], pose)});
+    const bool after_estimate = estimated_last;
+    estimated_last = r % 3 != 1 && c.touched() >= k;  // no estimate after updates 1, 4 and 7
+    if (!estimated_last) continue;
+    INFO("update " << r << ", " << c.touched() << " bins");
+    const std::uint64_t s0 = t.gpu->statistics().device_submissions;
+    GpuBelief::read_ahead(one, k);
+    const std::uint64_t reads = t.gpu->statistics().device_submissions - s0;
+    CHECK(reads == (after_estimate ? 0u : 1u));
+    (reads == 0 ? ahead : own) += 1;
+    CHECK(g.summarise() == c.summarise());
+    CHECK(g.best_bins(k) == c.best_bins(k));
+    CHECK(g.best_bins(3) == c.best_bins(3));
+    CHECK(t.gpu->statistics().device_submissions == s0 + reads);  // kept: no round trip more
+  }
+  CHECK(ahead >= 2);
+  CHECK(own >= 2);
+  CHECK(t.gpu->statistics().validation_messages == 0);
 }
 
 TEST_CASE("GPU beliefs: tables grow together in one submission, and one that does not fit is named, none moved") {

@@ -144,6 +144,7 @@ void GpuBelief::prepare_move(Move* m, std::uint64_t slots, bool forget, std::uin
     throw Error("GPU belief table would need more than 2^31 slots (" + std::to_string(count_) + " touched bins)");
   const std::uint32_t objects = k_->space->objects();
   m->slots = slots;
+  m->forget = forget;
   allocate_uncleared(m->next, static_cast<std::uint32_t>(slots));
   if (move_status_.size() == 0) move_status_ = k_->ctx->create_buffer(sizeof(std::uint32_t));
   *move_status_.as<std::uint32_t>() = 0;
@@ -173,9 +174,10 @@ bool GpuBelief::adopt(Move& m) {
   table_ = std::move(m.next);
   capacity_ = static_cast<std::uint32_t>(m.slots);
   // The band list names slots of the old table; later folds append to it
-  // harmlessly (the rebuild starts it afresh).
+  // harmlessly (the rebuild starts it afresh). A move that forgot no bin keeps what was read: the same bins, the
+  // same offsets (a batch's reads ahead, made before its tables grew).
   band_stale_ = true;
-  forget_cache();
+  if (m.forget) forget_cache();
   return true;
 }
 
@@ -313,6 +315,13 @@ void GpuBelief::read_state_words(std::uint64_t* out, std::size_t word, std::size
   std::memcpy(out, from.as<std::uint64_t>() + word, words * sizeof(std::uint64_t));
 }
 
+void GpuBelief::add_rebuild_if_stale(std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills) const {
+  if (!band_stale_) return;
+  const std::vector<vk::Fill> f = prepare_rebuild(band_capacity_);
+  fills->insert(fills->end(), f.begin(), f.end());
+  for (vk::Dispatch& d : reduce_dispatches({SVA_REDUCE_REBUILD}, capacity_)) ds->push_back(std::move(d));
+}
+
 std::vector<vk::Fill> GpuBelief::prepare_rebuild(std::uint64_t entries) const {
   // A side never needs more entries than the table has slots.
   const std::uint64_t want = std::min<std::uint64_t>(std::bit_ceil(std::max<std::uint64_t>(entries, 64)), capacity_);
@@ -424,12 +433,7 @@ void GpuBelief::read_summaries(std::vector<const GpuBelief*> pending, std::size_
     // One submission: a stale band rebuilt first (a table moved since the last estimate: each growth of an update's
     // sessions), then every belief's MASS and FLIP passes, and their state words back. The rebuild's fills (the
     // band's marks and counts) and the passes' (the masses) touch different words, and every fill precedes every pass.
-    for (const GpuBelief* b : pending) {
-      if (!b->band_stale_) continue;
-      const std::vector<vk::Fill> f = b->prepare_rebuild(b->band_capacity_);
-      fills.insert(fills.end(), f.begin(), f.end());
-      for (vk::Dispatch& d : b->reduce_dispatches({SVA_REDUCE_REBUILD}, b->capacity_)) ds.push_back(std::move(d));
-    }
+    for (const GpuBelief* b : pending) b->add_rebuild_if_stale(&ds, &fills);
     // With k, each belief's best k bins are selected in the same submission, from the bucket its histogram gives on
     // the device (the BUCKET pass): the summary and the best bins in one round trip, where they took two.
     const auto asked = [k](const GpuBelief* b) { return std::min(k, b->count_); };
@@ -463,14 +467,55 @@ void GpuBelief::read_summaries(std::vector<const GpuBelief*> pending, std::size_
 
 void GpuBelief::read_ahead(std::span<const GpuBelief* const> beliefs, std::size_t k) {
   if (beliefs.empty()) return;
-  for (const GpuBelief* b : beliefs)
+  for (const GpuBelief* b : beliefs) {
     if (b->k_ != beliefs.front()->k_)
       throw std::logic_error("GpuBelief::read_ahead: beliefs of two backends in one submission");
+    b->ahead_k_ = std::max<std::size_t>(k, 1);  // the next update reads the same ahead
+  }
   std::vector<const GpuBelief*> unread;
   for (const GpuBelief* b : beliefs)
     if (!b->summary_cache_) unread.push_back(b);
   read_summaries(std::move(unread), k);
   read_best_ahead(beliefs, k);  // those whose best bins lie past the band, or did not fit the room
+}
+
+bool GpuBelief::add_reads_after_fold(std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills,
+                                     std::vector<vk::Copy>* reads) const {
+  if (ahead_k_ == 0 || band_.size() == 0) return false;
+  // Every fill precedes the fold: the words they clear are ones the fold never writes (masses, histograms, the
+  // selection's count), or, where the table moved since the list was built, the list itself, which the fold then
+  // joins afresh and the REBUILD pass after it completes (the marks keep each bin on it once).
+  std::vector<vk::Fill> f = mass_fills();
+  if (band_stale_) {
+    const std::vector<vk::Fill> r = prepare_rebuild(band_capacity_);  // the same list: no new buffer to name
+    f.insert(f.end(), r.begin(), r.end());
+    for (vk::Dispatch& d : reduce_dispatches({SVA_REDUCE_REBUILD}, capacity_)) ds->push_back(std::move(d));
+  }
+  fills->insert(fills->end(), f.begin(), f.end());
+  for (vk::Dispatch& d : reduce_dispatches({SVA_REDUCE_MASS, SVA_REDUCE_FLIP}, band_capacity_))
+    ds->push_back(std::move(d));
+  if (ahead_k_ > 1) add_selection_ahead(ahead_k_, ds, fills);
+  for (const vk::Copy& c : state_reads(0, state_words(k_->space->objects()))) reads->push_back(c);
+  return true;
+}
+
+void GpuBelief::keep_reads_after_fold(std::span<const GpuBelief* const> beliefs) {
+  std::vector<const GpuBelief*> lost;
+  std::size_t k = 0;
+  for (const GpuBelief* b : beliefs) {
+    if (b->band_stale_) b->rebuilt();
+    const std::size_t kb = std::min(b->ahead_k_, b->count_);
+    if (!b->read_state()) {
+      b->enlarge_band();
+      lost.push_back(b);
+      k = std::max(k, b->ahead_k_);
+    } else if (kb > 1) {
+      b->keep_selection_ahead(kb);  // the device chose the bucket for as many of the best bins as the fold left
+    }
+  }
+  // A fold found those lists full: rebuilt larger now, together, as an estimate's read would, before a later fold
+  // writes to them.
+  if (!lost.empty()) read_summaries(std::move(lost), k);
 }
 
 BeliefSummary GpuBelief::summarise() const {
@@ -563,6 +608,7 @@ void GpuBelief::read_best_ahead(std::span<const GpuBelief* const> beliefs, std::
     // Past every bucket, or past one binding: best_bins' own ways, alone.
     if (bucket == SVA_BELIEF_BUCKETS || n * 2 * sizeof(std::uint64_t) > b.k_->ctx->info().max_storage_buffer_range)
       continue;
+    if (s.pass == SVA_REDUCE_SELECT) b.add_rebuild_if_stale(&ds, &fills);  // its table moved since it was read
     ds.push_back(b.select_dispatch(s.pass, bucket, n, s.pass == SVA_REDUCE_SELECT ? b.band_capacity_ : b.capacity_));
     fills.push_back(b.select_fill());
     for (const vk::Copy& c : b.state_reads(SVA_STATE_CANDIDATES, 1)) reads.push_back(c);
@@ -570,7 +616,10 @@ void GpuBelief::read_best_ahead(std::span<const GpuBelief* const> beliefs, std::
   }
   if (made.empty()) return;
   run(*made.front().first->belief->k_, ds, fills, reads);
-  for (const auto& [s, n] : made) s->belief->keep_best(s->belief->read_candidates(n), s->k);
+  for (const auto& [s, n] : made) {
+    if (s->pass == SVA_REDUCE_SELECT && s->belief->band_stale_) s->belief->rebuilt();
+    s->belief->keep_best(s->belief->read_candidates(n), s->k);
+  }
 }
 
 void GpuBelief::read_table_histograms_ahead(std::vector<BestRead>& sel) {
@@ -658,7 +707,14 @@ std::vector<BinOffset> GpuBelief::read_candidates(std::uint64_t n) const {
 
 std::vector<BinOffset> GpuBelief::select_candidates(std::uint32_t pass, std::uint32_t bucket, std::uint64_t n,
                                                     std::uint64_t entries) const {
-  run(*k_, {select_dispatch(pass, bucket, n, entries)}, {select_fill()}, state_reads(SVA_STATE_CANDIDATES, 1));
+  std::vector<vk::Dispatch> ds;
+  std::vector<vk::Fill> fills;
+  const bool rebuild = pass == SVA_REDUCE_SELECT && band_stale_;  // its table moved since it was read
+  if (rebuild) add_rebuild_if_stale(&ds, &fills);
+  ds.push_back(select_dispatch(pass, bucket, n, entries));
+  fills.push_back(select_fill());
+  run(*k_, ds, fills, state_reads(SVA_STATE_CANDIDATES, 1));
+  if (rebuild) rebuilt();
   return read_candidates(n);
 }
 
@@ -715,7 +771,13 @@ void GpuBelief::look_up_ahead(std::span<const GpuBelief* const> beliefs,
   for (const GpuBelief* b : beliefs)
     if (b->k_ != beliefs.front()->k_)
       throw std::logic_error("GpuBelief::look_up_ahead: beliefs of two backends in one submission");
-  run(*beliefs.front()->k_, ds, {});
+  // A band list that a table's move left stale (its summary read before the move) is rebuilt here, in a submission
+  // the estimate makes anyway, so that the next update reads that belief ahead again.
+  std::vector<vk::Fill> fills;
+  for (const GpuBelief* b : beliefs) b->add_rebuild_if_stale(&ds, &fills);
+  run(*beliefs.front()->k_, ds, fills);
+  for (const GpuBelief* b : beliefs)
+    if (b->band_stale_) b->rebuilt();
   for (std::size_t i = 0; i < beliefs.size(); ++i) {
     if (keys[i].empty()) continue;
     beliefs[i]->looked_up_offsets_ = beliefs[i]->read_lookup(keys[i].size());

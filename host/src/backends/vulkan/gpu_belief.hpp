@@ -89,6 +89,17 @@ class GpuBelief final : public BeliefState {
   // round trip per pass; later reads return what came back until the belief changes, the same answers as reading
   // one belief at a time. A belief whose band lost bins, or whose k best bins lie past its band, reads alone.
   static void read_ahead(std::span<const GpuBelief* const> beliefs, std::size_t k);
+  // An estimate's first reads made in the next update's submission (a robot's touch: the update and the estimate's
+  // summary in one round trip, where they took two). read_ahead marks each belief it read with its k; the next fold
+  // of a marked belief adds the passes read_summaries runs (add_reads_after_fold: a stale list's rebuild, MASS, FLIP
+  // and the best k's selection) after its own, and once that fold is complete keeps what came back
+  // (keep_reads_after_fold) as the estimate's answers until the belief changes: the same answers as a read after the
+  // update. A fold that found its table full runs again after the growth, its reads with it. The mark lasts one
+  // update (end_update): a session updated without an estimate is not read ahead again until one asks.
+  bool add_reads_after_fold(std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills,
+                            std::vector<vk::Copy>* reads) const;
+  static void keep_reads_after_fold(std::span<const GpuBelief* const> beliefs);
+  void end_update() const { ahead_k_ = 0; }
   // Looks up keys[i] in beliefs[i] for all of them in one submission; offsets() of keys among them then returns
   // what came back until the belief changes (a key not among them: every key of that call from the device).
   static void look_up_ahead(std::span<const GpuBelief* const> beliefs,
@@ -105,6 +116,7 @@ class GpuBelief final : public BeliefState {
   struct Move {
     vk::Buffer next;
     std::uint64_t slots = 0;
+    bool forget = false;  // forget_below's: the bins change, and what was read of them is forgotten
     std::vector<vk::Fill> fills;
     vk::Dispatch rehash;
   };
@@ -142,6 +154,9 @@ class GpuBelief final : public BeliefState {
   // that empty it (prepare_rebuild), the REBUILD pass in the caller's submission, then the list is current (rebuilt).
   std::vector<vk::Fill> prepare_rebuild(std::uint64_t entries) const;
   void rebuilt() const;
+  // Where the table moved since the list was built: its rebuild (fills and pass) for the caller's submission, ahead
+  // of a pass that reads the list; rebuilt() after it.
+  void add_rebuild_if_stale(std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills) const;
   // The fills that zero the masses and histogram before the MASS pass.
   std::vector<vk::Fill> mass_fills() const;
   // The state's words after the MASS and FLIP passes, to the summary; false when a fold found the band list full
@@ -228,6 +243,8 @@ class GpuBelief final : public BeliefState {
   mutable std::vector<BinOffset> kept_best_;
   mutable std::size_t kept_asked_ = 0;
   mutable std::vector<std::uint64_t> histogram_;
+  // The best bins the last read_ahead asked (0: none since the last update): what the next fold reads ahead.
+  mutable std::size_t ahead_k_ = 0;
   // look_up_ahead's keys and their offsets, in the order asked, until the belief changes.
   mutable std::vector<std::uint64_t> looked_up_keys_, looked_up_offsets_;
   // The offsets of `keys` from look_up_ahead's answers; false when one is not among them.

@@ -115,8 +115,9 @@ class VulkanVoteBackend final : public VoteBackend {
       c.finish = [&](std::size_t first, std::size_t last) { finish_fold(batch, first, last, gb, fold, out); };
       fold_bins_ = 0;
       vote_pairs(batch, 0, batch.pairs.size(), c);
-      growing([&] { GpuBelief::keep_half_empty(gb); });
+      growing([&] { GpuBelief::keep_half_empty(gb); });  // a moved table's reads ahead are forgotten
     });
+    for (const PairQuery& q : batch.pairs) gb[q.session]->end_update();
     last_work_ = work_of(out);
     last_work_.bins = fold_bins_;  // counted per session by the fold's RESERVE pass
     return out;
@@ -179,16 +180,24 @@ class VulkanVoteBackend final : public VoteBackend {
     vk::Buffer offsets, scan;
   };
 
-  // What a sub-batch's consumer adds to the vote submission (prepare: more
-  // dispatches, run right after the votes) and does once it succeeded (finish).
+  // What a consumer adds to a sub-batch's vote submission: dispatches run right after the votes, fills before them
+  // and copies of results after them.
+  struct Added {
+    std::vector<vk::Dispatch> dispatches;
+    std::vector<vk::Fill> fills;
+    std::vector<vk::Copy> reads;
+  };
+
+  // What a sub-batch's consumer adds to the vote submission (prepare) and does once it succeeded (finish).
   struct Consumer {
-    std::function<std::vector<vk::Dispatch>(std::size_t, std::size_t)> prepare;
+    std::function<Added(std::size_t, std::size_t)> prepare;
     std::function<void(std::size_t, std::size_t)> finish;
   };
 
-  // The fold of one sub-batch: which sessions still fold, and their eps.
+  // The fold of one sub-batch: which sessions still fold, and their eps; which read their estimate's summary ahead in
+  // its submission (GpuBelief::add_reads_after_fold).
   struct Fold {
-    std::vector<std::uint8_t> pending;
+    std::vector<std::uint8_t> pending, read_ahead;
     std::uint64_t eps = 0;
   };
 
@@ -372,11 +381,13 @@ class VulkanVoteBackend final : public VoteBackend {
       std::vector<vk::Dispatch> ds;
       if (K > 0) ds = vote_dispatches(K);
       const std::size_t votes = ds.size();
-      if (consume.prepare)
-        for (vk::Dispatch& d : consume.prepare(first, last)) ds.push_back(std::move(d));
+      Added added;
+      if (consume.prepare) added = consume.prepare(first, last);
+      for (vk::Dispatch& d : added.dispatches) ds.push_back(std::move(d));
+      clear.insert(clear.end(), added.fills.begin(), added.fills.end());
       table_dirty_ = true;  // until a fold has cleared what the votes wrote
       std::vector<double> ms;
-      ctx_.run(ds, &ms, clear);
+      ctx_.run(ds, &ms, clear, added.reads);
       for (std::size_t i = 0; i < ms.size(); ++i) (i < votes ? kernel_ms_ : fold_ms_) += ms[i];
       bool too_many = false;
       for (std::size_t c = 0; c < work_.size() && K > 0; ++c)
@@ -500,9 +511,9 @@ class VulkanVoteBackend final : public VoteBackend {
 
   // vote_and_fold(), before the vote submission: the sessions with pairs in
   // [first, last) fold, with their common eps; the first fold runs in the
-  // votes' submission.
-  std::vector<vk::Dispatch> start_fold(const VoteBatch& batch, std::size_t first, std::size_t last,
-                                       const std::vector<GpuBelief*>& beliefs, Fold& fold) {
+  // votes' submission, and after it the reads ahead of the sessions whose last estimate asked for them.
+  Added start_fold(const VoteBatch& batch, std::size_t first, std::size_t last, const std::vector<GpuBelief*>& beliefs,
+                   Fold& fold) {
     const std::size_t P = last - first, S = beliefs.size();
     ensure(ctx_, sessions_, S * sizeof(gpu::SvaGpuSession));
     ensure(ctx_, session_status_, S * sizeof(gpu::SvaGpuSessionStatus));
@@ -516,7 +527,13 @@ class VulkanVoteBackend final : public VoteBackend {
         throw Error("vulkan backend: all sessions of one update must use the same eps");
       fold.eps = beliefs[s]->eps_units();
     }
-    return fold_dispatches(P, beliefs, fold);
+    Added a;
+    a.dispatches = fold_dispatches(P, beliefs, fold);
+    fold.read_ahead.assign(S, 0);
+    for (std::size_t s = 0; s < S; ++s)
+      if (fold.pending[s] && beliefs[s]->add_reads_after_fold(&a.dispatches, &a.fills, &a.reads))
+        fold.read_ahead[s] = 1;
+    return a;
   }
 
   // After the submission: a session whose belief table overflowed (a key found
@@ -543,21 +560,31 @@ class VulkanVoteBackend final : public VoteBackend {
         if (!fold.pending[s]) continue;
         if (st[s].missing) throw std::logic_error("belief_fold: a reserved key was not found");
         beliefs[s]->record(st[s].inserted, 0);
-        if (st[s].overflow)
+        if (st[s].overflow) {
           full.push_back(s);
-        else
+          fold.read_ahead[s] = 0;  // its reads ran before its fold was complete
+        } else {
           fold.pending[s] = 0;
+        }
       }
       if (full.empty()) break;
       growing([&] { grow_beliefs(beliefs, full, st); });
       stats_.table_grows += full.size();
       util::throw_if_interrupted();
+      Added again;  // the grown sessions' fold, and their reads ahead after it
+      again.dispatches = fold_dispatches(P, beliefs, fold);
+      for (std::size_t s : full)
+        if (beliefs[s]->add_reads_after_fold(&again.dispatches, &again.fills, &again.reads)) fold.read_ahead[s] = 1;
       std::vector<double> ms;
-      ctx_.run(fold_dispatches(P, beliefs, fold), &ms);
+      ctx_.run(again.dispatches, &ms, again.fills, again.reads);
       for (double m : ms) fold_ms_ += m;
     }
-    for (std::size_t s = 0; s < S; ++s)
+    std::vector<const GpuBelief*> read;
+    for (std::size_t s = 0; s < S; ++s) {
       if (folded[s]) beliefs[s]->record(0, folded[s]);
+      if (fold.read_ahead[s]) read.push_back(beliefs[s]);
+    }
+    GpuBelief::keep_reads_after_fold(read);
     table_dirty_ = false;  // every slot was folded, and cleared
     keep_vote_table_half_empty(entries);
   }

@@ -354,6 +354,48 @@ TEST_CASE("GPU beliefs: after an estimate, the next update's submission brings t
   CHECK(t.gpu->statistics().validation_messages == 0);
 }
 
+TEST_CASE("GPU beliefs: a batch's reads ahead in its updates hold through growth, a second fold and a lost band") {
+  // Small tables: the folds find them full (the grown sessions fold again, their reads with that fold), plain moves
+  // after the update leave their band lists stale (rebuilt in the next update's submission), and the first lists fill
+  // (rebuilt larger in the update). Every estimate after the first then reads nothing, and equals the CPU's.
+  test::WorldSpec spec;
+  auto w = test::make_world(spec);
+  PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
+  VulkanBackendOptions vo;
+  vo.initial_belief_slots = 64;
+  vo.force_staging = GENERATE(false, true);
+  INFO("staged " << vo.force_staging);
+  const int sessions = 3;
+  Twin t(w, space, sessions, {}, {}, vo);
+  std::vector<const GpuBelief*> beliefs;
+  for (int s = 0; s < sessions; ++s) beliefs.push_back(&dynamic_cast<const GpuBelief&>(t.fg[s]->belief()));
+  const std::size_t k = 24;
+  const unsigned rebuilds0 = t.gpu->statistics().band_rebuilds;
+  std::uint64_t grows = t.gpu->statistics().table_grows;
+  for (int r = 0; r < 7; ++r) {
+    std::vector<ObservedReading> obs;
+    for (int s = 0; s < sessions; ++s) {
+      const auto& o = w.objects[static_cast<std::size_t>(s)];
+      obs.push_back(test::observe(o[static_cast<std::size_t>(r * 5 + s) % o.size()], test::random_pose(60 + s, 150.0)));
+    }
+    t.add(obs);
+    INFO("update " << r);
+    const std::uint64_t s0 = t.gpu->statistics().device_submissions;
+    GpuBelief::read_ahead(beliefs, k);
+    if (r >= 2) CHECK(t.gpu->statistics().device_submissions == s0);  // read in the update's submission
+    for (int s = 0; s < sessions; ++s) {
+      const BeliefState& c = t.fc[static_cast<std::size_t>(s)]->belief();
+      CHECK(beliefs[static_cast<std::size_t>(s)]->summarise() == c.summarise());
+      CHECK(beliefs[static_cast<std::size_t>(s)]->best_bins(k) == c.best_bins(k));
+    }
+    if (r >= 2) CHECK(t.gpu->statistics().device_submissions == s0);
+  }
+  CHECK(t.gpu->statistics().table_grows > grows);        // folds found tables full
+  CHECK(t.gpu->statistics().band_rebuilds > rebuilds0);  // stale lists rebuilt
+  for (int s = 0; s < sessions; ++s) t.require_same(static_cast<std::size_t>(s));
+  CHECK(t.gpu->statistics().validation_messages == 0);
+}
+
 TEST_CASE("GPU beliefs: tables grow together in one submission, and one that does not fit is named, none moved") {
   // GpuBelief::grow_all is how a batch's sessions whose fold found their tables full grow (issue 52: one submission
   // each was a round trip per session on a GPU). Out of memory, the callback names the belief that did not fit (the

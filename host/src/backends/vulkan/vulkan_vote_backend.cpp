@@ -115,7 +115,7 @@ class VulkanVoteBackend final : public VoteBackend {
       c.finish = [&](std::size_t first, std::size_t last) { finish_fold(batch, first, last, gb, fold, out); };
       fold_bins_ = 0;
       vote_pairs(batch, 0, batch.pairs.size(), c);
-      growing([&] { GpuBelief::keep_half_empty(gb); });  // a moved table's reads ahead are forgotten
+      growing([&] { GpuBelief::keep_half_empty(gb); });  // a moved table keeps its reads ahead (the same bins)
     });
     for (const PairQuery& q : batch.pairs) gb[q.session]->end_update();
     last_work_ = work_of(out);

@@ -200,6 +200,31 @@ struct SvaReduceParams {
 // there (SVA_BELIEF_BUCKETS elsewhere); TABLE_SELECT with SVA_SELECT_FROM_STATE selects with it.
 #define SVA_REDUCE_TABLE_BUCKET 7u
 
+// Push constants of belief_hoods.comp: what an estimate reads by key (host/src/estimate/hypotheses.cpp's
+// hypothesis_keys), chosen on the device after an update's fold and its best bins' selection, so that the estimate
+// after a touch needs no round trip of its own: up to `modes` distinct modes among the best `best` bins (greedy,
+// no two within `suppress` grid steps of one object), then every touched object's best bin, and the neighbourhood of
+// each (within `radius` steps, the centre first), with their offsets, in the host's order.
+struct SvaHoodParams {
+  uint table_lo, table_hi, capacity;
+  uint state_lo, state_hi;
+  uint pass;  // SVA_HOODS_*
+  uint objects, object_shift;
+  uint room;  // entries of the candidate list (SELECT's select_capacity)
+  uint best, modes, suppress, radius;
+  uint translation_bins, rotation_bins, planar;
+  uint keys;   // room for keys in the output
+  uint steps;  // neighbour steps per centre, the grid's edges ignored (the KEYS pass's invocations per centre)
+};
+#define SVA_HOODS_RANK 0u     // per candidate: its place among them (offset descending, key ascending); the best kept
+#define SVA_HOODS_CENTRES 1u  // one invocation: the centres and the place of each one's neighbourhood
+#define SVA_HOODS_KEYS 2u     // per (centre, step): the neighbour's packed key and offset at its place
+// The output's u64 words: [0] keys in all (SVA_HOODS_NONE: not chosen here, the host reads them), [1] centres, then
+// the best `best` (linear key, offset) pairs in order, then per centre its linear key and the place of its first key,
+// then the (packed key, offset) pairs.
+#define SVA_HOODS_HEADER 2
+#define SVA_HOODS_NONE 0xffffffffffffffffUL
+
 // Push constants of belief_lookup.comp.
 struct SvaLookupParams {
   uint table_lo, table_hi, capacity;

@@ -96,9 +96,11 @@ class VoteBackend {
   // Reads ahead, for many sessions' beliefs (each made by this backend), what their estimates read first: the
   // summary and the `best_bins` best bins. A device runs each pass once for all of them, where each session's
   // estimate made a round trip per pass; the beliefs' reads after it return what came back (the same answers).
-  // The CPU reference reads its own memory: nothing to read ahead.
-  virtual void read_ahead(std::span<const BeliefState* const> beliefs, std::size_t best_bins) {
-    (void)beliefs, (void)best_bins;
+  // The CPU reference reads its own memory: nothing to read ahead. `keys` (one per belief, or none): how each
+  // estimate chooses the bins it reads by key, for a device to choose them in the next update too.
+  virtual void read_ahead(std::span<const BeliefState* const> beliefs, std::size_t best_bins,
+                          std::span<const KeyChoice> keys = {}) {
+    (void)beliefs, (void)best_bins, (void)keys;
   }
   // Looks up keys[i]'s offsets in beliefs[i] for all of them at once (a device: one submission), where each
   // session's estimate made its own lookups; a belief's offsets() of keys among them then returns what came back,

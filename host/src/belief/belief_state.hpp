@@ -34,6 +34,17 @@ struct BeliefSummary {
   bool operator==(const BeliefSummary&) const = default;
 };
 
+// What stage 1 of an estimate reads by key, as estimate/hypotheses.hpp's hypothesis_keys chooses it without a pose
+// prior: up to `modes` distinct modes among the `best` best bins (no two of one object within `suppress` grid steps),
+// then every touched object's best bin, and the neighbourhood of each within `radius` steps (at least 1). A device
+// chooses the same keys after an update, in its submission (belief_hoods.comp), so that the estimate after it reads
+// nothing more; `on` false: not asked (a pose prior orders the modes on the host).
+struct KeyChoice {
+  bool on = false;
+  std::uint32_t modes = 0, best = 0;
+  int suppress = 0, radius = 1;
+};
+
 class BeliefState {
  public:
   virtual ~BeliefState() = default;

@@ -207,9 +207,21 @@ std::size_t best_bins_asked(const CandidateRequest& r) {
   // next_modes' candidates for the best object's modes after the first, and for a leading object's (as many).
   if (r.modes > 1) k = std::max(k, 16 * r.modes);
   const bool prior = r.pose_weighting && !r.pose_weighting->empty();
-  if (r.hypotheses && r.top_k > 0) k = std::max(k, r.top_k <= 1 && !prior ? r.top_k : 16 * (r.top_k + 1));
+  if (r.hypotheses && r.top_k > 0) k = std::max(k, mode_candidates(r.top_k, prior));
   if (prior) k = std::max(k, kPosePriorCandidates);
   return k;
+}
+
+KeyChoice key_choice(const CandidateRequest& r) {
+  KeyChoice c;
+  if (r.pose_weighting && !r.pose_weighting->empty()) return c;  // the prior orders the modes: the host's to choose
+  const std::size_t count = r.hypotheses ? r.top_k : 0;          // as keys_read
+  c.on = true;
+  c.modes = static_cast<std::uint32_t>(count);
+  c.best = static_cast<std::uint32_t>(mode_candidates(count, false));
+  c.suppress = r.hypothesis_radius_bins;
+  c.radius = std::max(r.hypothesis_radius_bins, 1);
+  return c;
 }
 
 std::vector<std::uint64_t> keys_read(const BeliefState& belief, const PoseSpace& space, const CandidateRequest& r) {

@@ -212,9 +212,8 @@ std::vector<BinIndex> centres_of(const BeliefState& belief, const PoseSpace& spa
   std::vector<BinIndex> centres;
   // Candidates: the best bin alone for one mode; else as many as the fine pose's mode search reads (a request
   // beyond the bins near the maximum costs a pass over the whole belief).
-  const bool prior = !pose_weighting.empty();
   for (const BinOffset& b :
-       order_by_pose_prior(belief.best_bins(count <= 1 && !prior ? count : 16 * (count + 1)), pose_weighting)) {
+       order_by_pose_prior(belief.best_bins(mode_candidates(count, !pose_weighting.empty())), pose_weighting)) {
     if (centres.size() >= count) break;
     const BinIndex i = space.unpack(b.key);
     bool suppressed = false;
@@ -231,6 +230,10 @@ std::vector<BinIndex> centres_of(const BeliefState& belief, const PoseSpace& spa
 }
 
 }  // namespace
+
+std::size_t mode_candidates(std::size_t count, bool pose_prior) {
+  return count <= 1 && !pose_prior ? count : 16 * (count + 1);
+}
 
 std::vector<std::uint64_t> hypothesis_keys(const BeliefState& belief, const PoseSpace& space,
                                            const BeliefSummary& summary, std::size_t count, int radius,

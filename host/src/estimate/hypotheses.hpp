@@ -54,6 +54,9 @@ std::vector<std::uint64_t> hypothesis_keys(const BeliefState& belief, const Pose
                                            const BeliefSummary& summary, std::size_t count, int radius,
                                            const PoseWeighting& pose_weighting = {});
 
+// The best bins the hypotheses' `count` modes are chosen from (the best bin alone for one mode without a prior).
+std::size_t mode_candidates(std::size_t count, bool pose_prior);
+
 // The covariance of a mode carried into the robot frame by the workspace rotation (both 3 x 3 blocks turn).
 std::array<double, 36> covariance_to_robot(const std::array<double, 36>& grid, const glm::dmat3& workspace);
 

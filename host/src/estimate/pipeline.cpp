@@ -43,6 +43,10 @@ std::size_t estimate_best_bins(const EstimateRequest& r, std::size_t readings) {
   return best_bins_asked(candidate_request(r, readings, 1.0));
 }
 
+KeyChoice estimate_key_choice(const EstimateRequest& r, std::size_t readings) {
+  return key_choice(candidate_request(r, readings, 1.0));
+}
+
 std::vector<std::uint64_t> estimate_keys(const EstimateInput& in, const EstimateRequest& r) {
   return keys_read(in.belief, in.space, candidate_request(r, in.readings.size(), 1.0));
 }

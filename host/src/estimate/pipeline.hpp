@@ -72,6 +72,9 @@ Estimate estimate_from(const Candidates& c, std::span<const ObservedReading> rea
                        const std::vector<MapObject>& objects, const EstimateRequest& r);
 // The most best bins stage 1 asks of a session's belief after `readings` readings (VoteBackend::read_ahead).
 std::size_t estimate_best_bins(const EstimateRequest& r, std::size_t readings);
+// How stage 1 chooses the bins it reads by key, for a device to choose them in the next update
+// (VoteBackend::read_ahead).
+KeyChoice estimate_key_choice(const EstimateRequest& r, std::size_t readings);
 // The bins stage 1 reads by key (VoteBackend::look_up_ahead), after the belief's summary and best bins were read.
 std::vector<std::uint64_t> estimate_keys(const EstimateInput& in, const EstimateRequest& r);
 

@@ -227,12 +227,15 @@ Estimate BatchRecognizer::Impl::finish(const Session& s, Estimate e) const {
 void BatchRecognizer::Impl::read_ahead(const std::vector<const Session*>& piped, std::size_t top_k,
                                        unsigned threads) const {
   std::vector<const BeliefState*> beliefs;
+  std::vector<KeyChoice> choices;  // for the next update to choose each session's keys on a device
   std::size_t best_bins = 0;
   for (const Session* s : piped) {
     beliefs.push_back(&s->filter->belief());
-    best_bins = std::max(best_bins, estimate_best_bins(request(*s, top_k, threads), s->filter->observed().size()));
+    const std::size_t readings = s->filter->observed().size();
+    best_bins = std::max(best_bins, estimate_best_bins(request(*s, top_k, threads), readings));
+    choices.push_back(estimate_key_choice(request(*s, top_k, threads), readings + 1));
   }
-  backend->read_ahead(beliefs, best_bins);
+  backend->read_ahead(beliefs, best_bins, choices);
   std::vector<std::vector<std::uint64_t>> keys(piped.size());
   util::parallel_for(
       piped.size(),

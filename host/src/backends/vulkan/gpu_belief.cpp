@@ -465,12 +465,14 @@ void GpuBelief::read_summaries(std::vector<const GpuBelief*> pending, std::size_
   }
 }
 
-void GpuBelief::read_ahead(std::span<const GpuBelief* const> beliefs, std::size_t k) {
+void GpuBelief::read_ahead(std::span<const GpuBelief* const> beliefs, std::size_t k, std::span<const KeyChoice> keys) {
   if (beliefs.empty()) return;
-  for (const GpuBelief* b : beliefs) {
+  for (std::size_t i = 0; i < beliefs.size(); ++i) {
+    const GpuBelief* b = beliefs[i];
     if (b->k_ != beliefs.front()->k_)
       throw std::logic_error("GpuBelief::read_ahead: beliefs of two backends in one submission");
     b->ahead_k_ = std::max<std::size_t>(k, 1);  // the next update reads the same ahead
+    b->ahead_keys_ = i < keys.size() ? keys[i] : KeyChoice{};
   }
   std::vector<const GpuBelief*> unread;
   for (const GpuBelief* b : beliefs)
@@ -481,6 +483,7 @@ void GpuBelief::read_ahead(std::span<const GpuBelief* const> beliefs, std::size_
 
 bool GpuBelief::add_reads_after_fold(std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills,
                                      std::vector<vk::Copy>* reads) const {
+  keys_chosen_ = false;
   if (ahead_k_ == 0 || band_.size() == 0) return false;
   // Every fill precedes the fold: the words they clear are ones the fold never writes (masses, histograms, the
   // selection's count), or, where the table moved since the list was built, the list itself, which the fold then
@@ -496,7 +499,78 @@ bool GpuBelief::add_reads_after_fold(std::vector<vk::Dispatch>* ds, std::vector<
     ds->push_back(std::move(d));
   if (ahead_k_ > 1) add_selection_ahead(ahead_k_, ds, fills);
   for (const vk::Copy& c : state_reads(0, state_words(k_->space->objects()))) reads->push_back(c);
+  keys_chosen_ = ahead_keys_.on && add_key_choice(ds);
   return true;
+}
+
+gpu::SvaHoodParams GpuBelief::hood_params(std::uint32_t pass, std::uint64_t steps, std::uint64_t keys) const {
+  const PoseSpaceSpec& spec = k_->space->spec();
+  gpu::SvaHoodParams p{};
+  p.table_lo = lo(table_.device_address());
+  p.table_hi = hi(table_.device_address());
+  p.capacity = capacity_;
+  p.state_lo = lo(state_.device_address());
+  p.state_hi = hi(state_.device_address());
+  p.pass = pass;
+  p.objects = k_->space->objects();
+  p.object_shift = k_->bins.object_shift();
+  p.room = static_cast<std::uint32_t>(selection_room(ahead_k_));
+  p.best = ahead_keys_.best;
+  p.modes = ahead_keys_.modes;
+  p.suppress = static_cast<std::uint32_t>(ahead_keys_.suppress);
+  p.radius = static_cast<std::uint32_t>(ahead_keys_.radius);
+  p.translation_bins = static_cast<std::uint32_t>(spec.translation_bins);
+  p.rotation_bins = static_cast<std::uint32_t>(spec.rotation_bins);
+  p.planar = k_->space->planar() ? 1u : 0u;
+  p.keys = static_cast<std::uint32_t>(keys);
+  p.steps = static_cast<std::uint32_t>(steps);
+  return p;
+}
+
+bool GpuBelief::add_key_choice(std::vector<vk::Dispatch>* ds) const {
+  const KeyChoice& c = ahead_keys_;
+  // The modes come from the best bins this submission selects: no more than it selects.
+  if (c.best > 1 && c.best > ahead_k_) return false;
+  const bool planar = k_->space->planar();
+  const int rb = k_->space->spec().rotation_bins;
+  const std::uint64_t side = 2 * static_cast<std::uint64_t>(c.radius) + 1;
+  // The steps of a neighbourhood, the grid's edges ignored (belief_hoods.comp's axis_steps).
+  const std::uint64_t angle =
+      planar
+          ? static_cast<std::uint64_t>(std::min(c.radius, (rb - 1) / 2) + std::min(c.radius, rb - 1 - (rb - 1) / 2) + 1)
+          : side;
+  const std::uint64_t steps = side * side * (planar ? 1 : side * side * side) * angle;
+  const std::uint64_t centres = std::uint64_t{c.modes} + k_->space->objects();
+  // Room for every centre's every step, or, once an estimate has read its keys, for as many and a quarter and two
+  // neighbourhoods more (a batch's sessions each hold one list); a longer list is not chosen here, and the estimate
+  // looks its keys up itself.
+  const std::uint64_t bound = centres * steps;
+  const std::uint64_t keys = last_keys_ == 0 ? bound : std::min(bound, last_keys_ + last_keys_ / 4 + 2 * steps);
+  constexpr std::uint64_t kMostKeys = std::uint64_t{1} << 22;  // 64 MiB of keys and offsets
+  if (keys > kMostKeys) return false;
+  ensure(*k_->ctx, hoods_, (SVA_HOODS_HEADER + 2 * (c.best + centres + keys)) * sizeof(std::uint64_t));
+  const auto dispatch = [&](std::uint32_t pass, std::uint64_t invocations) {
+    const vk::Grid g = k_->ctx->grid(invocations);
+    vk::Dispatch d{k_->hoods, {&candidates_, &hoods_}, push_bytes(hood_params(pass, steps, keys)), g.x};
+    d.groups_y = g.y;
+    ds->push_back(std::move(d));
+  };
+  if (c.best > 1) dispatch(SVA_HOODS_RANK, selection_room(ahead_k_));
+  dispatch(SVA_HOODS_CENTRES, 1);
+  dispatch(SVA_HOODS_KEYS, keys);
+  return true;
+}
+
+void GpuBelief::keep_key_choice() const {
+  const auto* h = hoods_.as<std::uint64_t>();  // host-mapped (gpu::ensure): the kernels wrote it in place
+  if (h[0] == SVA_HOODS_NONE) return;          // not chosen on the device: the estimate looks its keys up
+  const std::size_t first = SVA_HOODS_HEADER + 2 * (ahead_keys_.best + ahead_keys_.modes + k_->space->objects());
+  looked_up_keys_.resize(h[0]);
+  looked_up_offsets_.resize(h[0]);
+  for (std::size_t i = 0; i < h[0]; ++i) {
+    looked_up_keys_[i] = h[first + 2 * i];
+    looked_up_offsets_[i] = h[first + 2 * i + 1];
+  }
 }
 
 void GpuBelief::keep_reads_after_fold(std::span<const GpuBelief* const> beliefs) {
@@ -509,8 +583,9 @@ void GpuBelief::keep_reads_after_fold(std::span<const GpuBelief* const> beliefs)
       b->enlarge_band();
       lost.push_back(b);
       k = std::max(k, b->ahead_k_);
-    } else if (kb > 1) {
-      b->keep_selection_ahead(kb);  // the device chose the bucket for as many of the best bins as the fold left
+    } else {
+      if (kb > 1) b->keep_selection_ahead(kb);  // the device chose the bucket for as many bins as the fold left
+      if (b->keys_chosen_) b->keep_key_choice();
     }
   }
   // A fold found those lists full: rebuilt larger now, together, as an estimate's read would, before a later fold
@@ -765,8 +840,14 @@ bool GpuBelief::looked_up(std::span<const std::uint64_t> keys, std::vector<std::
 void GpuBelief::look_up_ahead(std::span<const GpuBelief* const> beliefs,
                               std::span<const std::vector<std::uint64_t>> keys) {
   std::vector<vk::Dispatch> ds;
-  for (std::size_t i = 0; i < beliefs.size(); ++i)
-    if (!keys[i].empty()) ds.push_back(beliefs[i]->lookup_dispatch(keys[i]));
+  std::vector<std::uint8_t> asked(beliefs.size(), 0);
+  for (std::size_t i = 0; i < beliefs.size(); ++i) {
+    beliefs[i]->last_keys_ = keys[i].size();  // the room of the next update's choice
+    // Chosen and looked up already, in the update's submission (belief_hoods.comp): the same keys, read nothing.
+    if (keys[i].empty() || keys[i] == beliefs[i]->looked_up_keys_) continue;
+    ds.push_back(beliefs[i]->lookup_dispatch(keys[i]));
+    asked[i] = 1;
+  }
   if (ds.empty()) return;
   for (const GpuBelief* b : beliefs)
     if (b->k_ != beliefs.front()->k_)
@@ -779,7 +860,7 @@ void GpuBelief::look_up_ahead(std::span<const GpuBelief* const> beliefs,
   for (const GpuBelief* b : beliefs)
     if (b->band_stale_) b->rebuilt();
   for (std::size_t i = 0; i < beliefs.size(); ++i) {
-    if (keys[i].empty()) continue;
+    if (!asked[i]) continue;
     beliefs[i]->looked_up_offsets_ = beliefs[i]->read_lookup(keys[i].size());
     beliefs[i]->looked_up_keys_ = keys[i];
   }

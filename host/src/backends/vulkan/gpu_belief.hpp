@@ -35,6 +35,7 @@ struct GpuBeliefKernels {
   const vk::Pipeline* rehash = nullptr;  // the engine's (backends/vulkan/vulkan_engine.hpp)
   const vk::Pipeline* reduce = nullptr;
   const vk::Pipeline* lookup = nullptr;
+  const vk::Pipeline* hoods = nullptr;  // belief_hoods.comp: the keys an estimate reads, chosen after an update
   std::size_t initial_slots = 1 << 12;
   // Counted by the beliefs of many sessions at once: a batch's estimates read their beliefs on the workers.
   std::atomic<double> kernel_ms = 0.0;      // GPU time of belief work since the backend last reset it
@@ -88,18 +89,24 @@ class GpuBelief final : public BeliefState {
   // rebuilds, the MASS and FLIP passes, the selections: three submissions) where each session's estimate made a
   // round trip per pass; later reads return what came back until the belief changes, the same answers as reading
   // one belief at a time. A belief whose band lost bins, or whose k best bins lie past its band, reads alone.
-  static void read_ahead(std::span<const GpuBelief* const> beliefs, std::size_t k);
+  static void read_ahead(std::span<const GpuBelief* const> beliefs, std::size_t k,
+                         std::span<const KeyChoice> keys = {});
   // An estimate's first reads made in the next update's submission (a robot's touch: the update and the estimate's
   // summary in one round trip, where they took two). read_ahead marks each belief it read with its k; the next fold
   // of a marked belief adds the passes read_summaries runs (add_reads_after_fold: a stale list's rebuild, MASS, FLIP
   // and the best k's selection) after its own, and once that fold is complete keeps what came back
   // (keep_reads_after_fold) as the estimate's answers until the belief changes: the same answers as a read after the
   // update. A fold that found its table full runs again after the growth, its reads with it. The mark lasts one
-  // update (end_update): a session updated without an estimate is not read ahead again until one asks.
+  // update (end_update): a session updated without an estimate is not read ahead again until one asks. With a key
+  // choice (keys[i]), the fold's submission also chooses the keys the estimate will read and looks them up
+  // (belief_hoods.comp); the estimate that asks for exactly those keys then reads nothing (a touch: one round trip).
   bool add_reads_after_fold(std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills,
                             std::vector<vk::Copy>* reads) const;
   static void keep_reads_after_fold(std::span<const GpuBelief* const> beliefs);
-  void end_update() const { ahead_k_ = 0; }
+  void end_update() const {
+    ahead_k_ = 0;
+    ahead_keys_ = {};
+  }
   // Looks up keys[i] in beliefs[i] for all of them in one submission; offsets() of keys among them then returns
   // what came back until the belief changes (a key not among them: every key of that call from the device).
   static void look_up_ahead(std::span<const GpuBelief* const> beliefs,
@@ -243,8 +250,18 @@ class GpuBelief final : public BeliefState {
   mutable std::vector<BinOffset> kept_best_;
   mutable std::size_t kept_asked_ = 0;
   mutable std::vector<std::uint64_t> histogram_;
-  // The best bins the last read_ahead asked (0: none since the last update): what the next fold reads ahead.
+  // The best bins the last read_ahead asked (0: none since the last update) and how its keys are chosen: what the next
+  // fold reads ahead; whether that fold's submission chose the keys (hoods_ holds them).
   mutable std::size_t ahead_k_ = 0;
+  mutable KeyChoice ahead_keys_;
+  mutable bool keys_chosen_ = false;
+  mutable std::size_t last_keys_ = 0;  // how many keys the last estimate read
+  mutable vk::Buffer hoods_;  // belief_hoods.comp's output (host-mapped)
+  // The key choice's dispatches, after the selection in the fold's submission; false where it cannot be made there.
+  bool add_key_choice(std::vector<vk::Dispatch>* ds) const;
+  gpu::SvaHoodParams hood_params(std::uint32_t pass, std::uint64_t steps, std::uint64_t keys) const;
+  // The keys it chose and their offsets, as look_up_ahead's answers.
+  void keep_key_choice() const;
   // look_up_ahead's keys and their offsets, in the order asked, until the belief changes.
   mutable std::vector<std::uint64_t> looked_up_keys_, looked_up_offsets_;
   // The offsets of `keys` from look_up_ahead's answers; false when one is not among them.

@@ -12,6 +12,7 @@
 #include "backends/vulkan/gpu_layout.hpp"
 #include "backends/vulkan/vk_check.hpp"
 #include "spv/belief_fold.h"
+#include "spv/belief_hoods.h"
 #include "spv/belief_lookup.h"
 #include "spv/belief_reduce.h"
 #include "spv/belief_rehash.h"
@@ -78,7 +79,8 @@ VulkanEngine::VulkanEngine(const PairMap& map, const vk::ContextOptions& context
       fold(ctx.create_pipeline(sva_spv_belief_fold, 7, sizeof(gpu::SvaFoldParams))),
       rehash(ctx.create_pipeline(sva_spv_belief_rehash, 2, sizeof(gpu::SvaRehashParams))),
       reduce(ctx.create_pipeline(sva_spv_belief_reduce, 1, sizeof(gpu::SvaReduceParams))),
-      lookup(ctx.create_pipeline(sva_spv_belief_lookup, 1, sizeof(gpu::SvaLookupParams))) {
+      lookup(ctx.create_pipeline(sva_spv_belief_lookup, 1, sizeof(gpu::SvaLookupParams))),
+      hoods(ctx.create_pipeline(sva_spv_belief_hoods, 2, sizeof(gpu::SvaHoodParams))) {
   subgroup_aggregation = use_subgroups(ctx, portable_kernel);
   try {
     upload_map(map, max_chunk_entries);

@@ -42,7 +42,7 @@ class VulkanEngine {
   VulkanEngine& operator=(const VulkanEngine&) = delete;
 
   vk::Context ctx;
-  vk::Pipeline expand, scan, match, fold, rehash, reduce, lookup;
+  vk::Pipeline expand, scan, match, fold, rehash, reduce, lookup, hoods;
   vk::Buffer readings, keys, offsets, chunk_table;
   std::vector<MapChunk> chunks;
   std::size_t chunk_entries = 0;      // entries per chunk, a power of two (the last may hold fewer)

@@ -75,6 +75,7 @@ class VulkanVoteBackend final : public VoteBackend {
                  &engine_->rehash,
                  &engine_->reduce,
                  &engine_->lookup,
+                 &engine_->hoods,
                  std::max<std::size_t>(options.initial_belief_slots, 64),
                  0.0} {
     stats_.device = ctx_.info().name + " (" + ctx_.info().type +
@@ -123,8 +124,11 @@ class VulkanVoteBackend final : public VoteBackend {
     return out;
   }
 
-  void read_ahead(std::span<const BeliefState* const> beliefs, std::size_t best_bins) override {
-    GpuBelief::read_ahead(own<const GpuBelief>(beliefs), best_bins);
+  void read_ahead(std::span<const BeliefState* const> beliefs, std::size_t best_bins,
+                  std::span<const KeyChoice> keys) override {
+    if (!keys.empty() && keys.size() != beliefs.size())
+      throw std::logic_error("vulkan backend: read_ahead needs a key choice per belief");
+    GpuBelief::read_ahead(own<const GpuBelief>(beliefs), best_bins, keys);
   }
 
   void look_up_ahead(std::span<const BeliefState* const> beliefs,

@@ -1,0 +1,235 @@
+#version 460
+// What an estimate reads by key, chosen on the device in an update's submission (after its fold, the summary's
+// passes and the best bins' selection, belief_reduce.comp), so that a robot's touch is one round trip: the
+// hypotheses' centres and their neighbourhoods' offsets, listed as host/src/estimate/hypotheses.cpp's
+// hypothesis_keys lists them. The host still computes that list from what came back and uses these answers only
+// where the two lists are equal; elsewhere it looks the keys up as before.
+//  RANK:     per candidate of the selection: its place among them (offset descending, then key ascending, as the
+//            host's best_bins), the first `best` written in order;
+//  CENTRES:  one invocation: up to `modes` distinct modes, greedily from the best bins (a bin within `suppress` grid
+//            steps of a mode of its object is not one), then every touched object's best bin; for each, where its
+//            neighbourhood starts in the list, and the list's length;
+//  KEYS:     per (centre, step): the neighbour's packed key and its offset (0 untouched) at its place in the list.
+// The neighbourhood of a centre: the centre, then every step of (tx, ty, tz, rx, ry, rz) within `radius`, rz
+// fastest, that stays in the grid (a planar space steps tx, ty and its angle only, the angle round the circle and
+// cut to distinct bins). In-grid steps form a box, so a step's place is a mixed-radix count.
+#extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
+#extension GL_EXT_shader_atomic_int64 : require
+#extension GL_EXT_buffer_reference : require
+#extension GL_GOOGLE_include_directive : require
+#include "sva_shared.h"
+#include "sva_hash.h"
+#include "sva_belief_math.h"
+#include "sva_gpu_layout.h"
+#include "sva_belief_table.glsl"
+#include "sva_pose_bins.h"
+
+layout(local_size_x = SVA_WORKGROUP_SIZE) in;
+
+layout(std430, set = 0, binding = 0) readonly buffer Candidates { uint64_t candidate[]; };  // (key, offset) pairs
+layout(std430, set = 0, binding = 1) buffer Hoods { uint64_t hood[]; };
+
+layout(push_constant) uniform Push { SvaHoodParams pc; };
+
+SvaWords state() { return SvaWords(sva_address(pc.state_lo, pc.state_hi)); }
+uint sorted_word(uint r) { return SVA_HOODS_HEADER + 2u * r; }
+uint centre_word(uint c) { return SVA_HOODS_HEADER + 2u * pc.best + 2u * c; }
+uint key_word(uint64_t i) { return centre_word(pc.modes + pc.objects) + 2u * uint(i); }
+
+// The candidates the selection found (more than its room: none, the host selects again).
+uint candidates_found() {
+  uint64_t n = state().w[SVA_STATE_CANDIDATES];
+  return n > uint64_t(pc.room) ? 0u : uint(n);
+}
+
+bool better(uint64_t ka, uint64_t oa, uint64_t kb, uint64_t ob) { return oa != ob ? oa > ob : ka < kb; }
+
+void rank_candidate(uint i) {
+  uint n = candidates_found();
+  if (i >= n) return;
+  uint64_t key = candidate[2u * i], offset = candidate[2u * i + 1u];
+  uint r = 0u;
+  for (uint j = 0u; j < n; ++j)
+    if (better(candidate[2u * j], candidate[2u * j + 1u], key, offset)) ++r;
+  if (r >= pc.best) return;
+  hood[sorted_word(r)] = key;
+  hood[sorted_word(r) + 1u] = offset;
+}
+
+// A bin's grid indices from its linear key (host/src/backends/vulkan/linear_bins.hpp's key()): t[0..2], r[0..2].
+void indices(uint64_t linear, out int t[3], out int r[3]) {
+  uint64_t tb = uint64_t(pc.translation_bins), rb = uint64_t(pc.rotation_bins);
+  uint64_t tz = pc.planar != 0u ? 1ul : tb, rxy = pc.planar != 0u ? 1ul : rb;
+  uint64_t i = linear & ((uint64_t(1) << pc.object_shift) - 1ul);
+  r[2] = int(i % rb);
+  i /= rb;
+  r[1] = int(i % rxy);
+  i /= rxy;
+  r[0] = int(i % rxy);
+  i /= rxy;
+  t[2] = int(i % tz);
+  i /= tz;
+  t[1] = int(i % tb);
+  t[0] = int(i / tb);
+}
+
+// The steps of axis a (tx, ty, tz, rx, ry, rz) a neighbourhood takes, the grid ignored: [lo, hi].
+void axis_steps(uint a, out int lo, out int hi) {
+  int rad = int(pc.radius);
+  bool still = pc.planar != 0u && (a == 2u || a == 3u || a == 4u);
+  lo = still ? 0 : -rad;
+  hi = still ? 0 : rad;
+  if (pc.planar != 0u && a == 5u) {  // the angle: cut to distinct bins round the circle (rotation_steps)
+    int rb = int(pc.rotation_bins);
+    lo = -min(rad, (rb - 1) / 2);
+    hi = min(rad, rb - 1 - (rb - 1) / 2);
+  }
+}
+
+// The steps of axis a that stay in the grid from index c: [lo, hi] (the planar angle wraps: all of them).
+void inside_steps(uint a, int c, out int lo, out int hi) {
+  axis_steps(a, lo, hi);
+  if (pc.planar != 0u && a == 5u) return;
+  int bins = int(a < 3u ? pc.translation_bins : pc.rotation_bins);
+  lo = max(lo, -c);
+  hi = min(hi, bins - 1 - c);
+}
+
+int axis_index(int t[3], int r[3], uint a) { return a < 3u ? t[a] : r[a - 3u]; }
+
+// Keys in the neighbourhood of the bin with indices (t, r), the centre included.
+uint64_t hood_size(int t[3], int r[3]) {
+  uint64_t n = 1ul;
+  for (uint a = 0u; a < 6u; ++a) {
+    int lo, hi;
+    inside_steps(a, axis_index(t, r, a), lo, hi);
+    n *= uint64_t(hi - lo + 1);
+  }
+  return n;
+}
+
+// Two bins of one object within `suppress` steps on every axis (the planar angle round the circle).
+bool within(uint64_t a, uint64_t b) {
+  if ((a >> pc.object_shift) != (b >> pc.object_shift)) return false;
+  int ta[3], ra[3], tb[3], rb[3];
+  indices(a, ta, ra);
+  indices(b, tb, rb);
+  int s = int(pc.suppress), bins = int(pc.rotation_bins);
+  for (uint k = 0u; k < 3u; ++k) {
+    if (abs(ta[k] - tb[k]) > s) return false;
+    int dr = abs(ra[k] - rb[k]);
+    if (pc.planar != 0u && k == 2u) dr = min(dr, bins - dr);
+    if (dr > s) return false;
+  }
+  return true;
+}
+
+// The best bin overall: the best of the objects' best bins (the host's best_bins(1)); none when nothing is touched.
+bool best_bin(out uint64_t key) {
+  SvaWords st = state();
+  bool found = false;
+  uint64_t offset = 0ul;
+  key = 0ul;
+  for (uint o = 0u; o < pc.objects; ++o) {
+    if (st.w[sva_state_object(SVA_STATE_TOUCHED, pc.objects, o)] == 0ul) continue;
+    uint64_t k = st.w[sva_state_object(SVA_STATE_BEST_KEY, pc.objects, o)];
+    uint64_t off = st.w[sva_state_object(SVA_STATE_BEST_OFFSET, pc.objects, o)];
+    if (!found || better(k, off, key, offset)) key = k, offset = off;
+    found = true;
+  }
+  return found;
+}
+
+// Adds the centre `key` after `c` others, its neighbourhood starting at *next.
+void add_centre(uint c, uint64_t key, inout uint64_t next) {
+  int t[3], r[3];
+  indices(key, t, r);
+  hood[centre_word(c)] = key;
+  hood[centre_word(c) + 1u] = next;
+  next += hood_size(t, r);
+}
+
+void choose_centres() {
+  SvaWords st = state();
+  uint64_t touched = 0ul;
+  for (uint o = 0u; o < pc.objects; ++o) touched += st.w[sva_state_object(SVA_STATE_TOUCHED, pc.objects, o)];
+  hood[0] = SVA_HOODS_NONE;
+  hood[1] = 0ul;
+  if (touched == 0ul) {  // nothing to read
+    hood[0] = 0ul;
+    return;
+  }
+  uint c = 0u;
+  uint64_t next = 0ul;
+  if (pc.best <= 1u) {  // one mode at most: the best bin itself
+    uint64_t key;
+    if (pc.modes > 0u && best_bin(key)) add_centre(c++, key, next);
+  } else {
+    uint n = min(candidates_found(), pc.best);
+    if (uint64_t(n) < min(uint64_t(pc.best), touched)) return;  // the selection missed bins: the host reads them
+    for (uint i = 0u; i < n && c < pc.modes; ++i) {
+      uint64_t key = hood[sorted_word(i)];
+      bool suppressed = false;
+      for (uint m = 0u; m < c && !suppressed; ++m) suppressed = within(key, hood[centre_word(m)]);
+      if (!suppressed) add_centre(c++, key, next);
+    }
+  }
+  for (uint o = 0u; o < pc.objects; ++o)
+    if (st.w[sva_state_object(SVA_STATE_TOUCHED, pc.objects, o)] > 0ul)
+      add_centre(c++, st.w[sva_state_object(SVA_STATE_BEST_KEY, pc.objects, o)], next);
+  if (next > uint64_t(pc.keys)) return;  // more keys than the output holds: the host reads them
+  hood[1] = uint64_t(c);
+  hood[0] = next;
+}
+
+// Step s of a centre's neighbourhood (mixed radix over the axes' steps, rz fastest) and its place after the centre.
+void neighbour(uint i) {
+  uint c = i / pc.steps, s = i % pc.steps;
+  if (hood[0] == SVA_HOODS_NONE || uint64_t(c) >= hood[1]) return;
+  uint64_t key = hood[centre_word(c)];
+  int t[3], r[3];
+  indices(key, t, r);
+  int d[6];
+  for (int a = 5; a >= 0; --a) {
+    int lo, hi;
+    axis_steps(uint(a), lo, hi);
+    uint span = uint(hi - lo + 1);
+    d[a] = lo + int(s % span);
+    s /= span;
+  }
+  // Its place among the in-grid steps (the centre's own step included), then after the centre.
+  uint64_t place = 0ul, zero = 0ul;
+  bool centre = true;
+  for (uint a = 0u; a < 6u; ++a) {
+    int c0 = axis_index(t, r, a), lo, hi;
+    inside_steps(a, c0, lo, hi);
+    if (d[a] < lo || d[a] > hi) return;  // outside the grid
+    uint64_t span = uint64_t(hi - lo + 1);
+    place = place * span + uint64_t(d[a] - lo);
+    zero = zero * span + uint64_t(-lo);
+    centre = centre && d[a] == 0;
+  }
+  uint64_t at = hood[centre_word(c) + 1u] + (centre ? 0ul : (place < zero ? place + 1ul : place));
+  int n[6];
+  for (uint a = 0u; a < 6u; ++a) n[a] = axis_index(t, r, a) + d[a];
+  if (pc.planar != 0u) n[5] = (n[5] + int(pc.rotation_bins)) % int(pc.rotation_bins);
+  uint object = uint(key >> pc.object_shift);
+  uint64_t packed = sva_pack_bin_key(object, n[0], n[1], n[2], n[3], n[4], n[5]);
+  uint dim_tz = pc.planar != 0u ? 1u : pc.translation_bins, dim_rxy = pc.planar != 0u ? 1u : pc.rotation_bins;
+  uint64_t linear =
+      sva_linear_bin(packed, pc.translation_bins, pc.rotation_bins, dim_tz, dim_rxy, pc.object_shift);
+  uint slot = sva_table_find(sva_table_keys(pc.table_lo, pc.table_hi), pc.capacity, linear);
+  hood[key_word(at)] = packed;
+  hood[key_word(at) + 1u] = slot == pc.capacity ? 0ul : sva_table_offsets(pc.table_lo, pc.table_hi, pc.capacity).w[slot];
+}
+
+void main() {
+  uint i = sva_flat_index();
+  if (pc.pass == SVA_HOODS_RANK) {
+    rank_candidate(i);
+  } else if (pc.pass == SVA_HOODS_CENTRES) {
+    if (i == 0u) choose_centres();
+  } else {
+    neighbour(i);
+  }
+}

@@ -408,8 +408,8 @@ TEST_CASE("sva bench on the Vulkan backend reports device memory (n/a until the 
   CHECK(j["roofline"]["votes_per_second"].get<double>() > 0);
   CHECK(j["roofline"]["vote_math"]["exact_agrees_with_cpu"] == true);  // the math alone, the engine's bits
   CHECK(j["roofline"]["vote_math"]["samples"].get<std::uint64_t>() > 0);
-  // Round trips and memory allocations per session, counted: the batch's first updates make its vote tables and
-  // input buffers, and each session's first estimate its selections' buffers.
+  // Round trips and memory allocations per session, counted: the batch's first updates make its vote tables, input
+  // buffers and, after the sessions' first estimates, the buffers of the estimates' reads made in the update.
   for (const auto& point : batch["curve"])
     for (const char* key : {"update_device_submissions", "estimate_device_submissions", "update_device_allocations",
                             "estimate_device_allocations"})
@@ -427,8 +427,8 @@ TEST_CASE("sva bench on the Vulkan backend reports device memory (n/a until the 
       CHECK((u[key].is_null() || u[key].get<double>() >= 0.0));
   }
   CHECK(out.find("an update's time by part") != std::string::npos);
-  CHECK(batch["curve"][0]["estimate_device_allocations"].get<double>() > 0.0);
   CHECK(out.find("upd. alloc.") != std::string::npos);
+  CHECK(out.find("est. alloc.") != std::string::npos);
   // The device counts its work: the vote tables' atomics (a compare-and-swap per probe, an add per pre-aggregated
   // vote), not its belief probes; the model of an H100 reads the device's count.
   for (const auto& point : batch["curve"]) {

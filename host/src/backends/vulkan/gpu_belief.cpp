@@ -499,7 +499,7 @@ bool GpuBelief::add_reads_after_fold(std::vector<vk::Dispatch>* ds, std::vector<
     ds->push_back(std::move(d));
   if (ahead_k_ > 1) add_selection_ahead(ahead_k_, ds, fills);
   for (const vk::Copy& c : state_reads(0, state_words(k_->space->objects()))) reads->push_back(c);
-  keys_chosen_ = ahead_keys_.on && add_key_choice(ds);
+  keys_chosen_ = ahead_keys_.on && add_key_choice(ds, reads);
   return true;
 }
 
@@ -527,7 +527,7 @@ gpu::SvaHoodParams GpuBelief::hood_params(std::uint32_t pass, std::uint64_t step
   return p;
 }
 
-bool GpuBelief::add_key_choice(std::vector<vk::Dispatch>* ds) const {
+bool GpuBelief::add_key_choice(std::vector<vk::Dispatch>* ds, std::vector<vk::Copy>* reads) const {
   const KeyChoice& c = ahead_keys_;
   // The modes come from the best bins this submission selects: no more than it selects.
   if (c.best > 1 && c.best > ahead_k_) return false;
@@ -548,7 +548,14 @@ bool GpuBelief::add_key_choice(std::vector<vk::Dispatch>* ds) const {
   const std::uint64_t keys = last_keys_ == 0 ? bound : std::min(bound, last_keys_ + last_keys_ / 4 + 2 * steps);
   constexpr std::uint64_t kMostKeys = std::uint64_t{1} << 22;  // 64 MiB of keys and offsets
   if (keys > kMostKeys) return false;
-  ensure(*k_->ctx, hoods_, (SVA_HOODS_HEADER + 2 * (c.best + centres + keys)) * sizeof(std::uint64_t));
+  // In the device's memory, where the kernels read their own lists at its speed; on a discrete GPU its words come
+  // back by a copy into cached host memory in the same submission (as the state's: state_reads).
+  const std::size_t bytes = (SVA_HOODS_HEADER + 2 * (c.best + centres + keys)) * sizeof(std::uint64_t);
+  if (hoods_.size() < bytes) hoods_ = k_->ctx->create_uncleared_device_buffer(std::bit_ceil(bytes));
+  if (!hoods_.mapped()) {
+    if (hoods_mirror_.size() < hoods_.size()) hoods_mirror_ = k_->ctx->create_readback_buffer(hoods_.size());
+    reads->push_back({&hoods_, &hoods_mirror_, 0, 0, bytes});
+  }
   const auto dispatch = [&](std::uint32_t pass, std::uint64_t invocations) {
     const vk::Grid g = k_->ctx->grid(invocations);
     vk::Dispatch d{k_->hoods, {&candidates_, &hoods_}, push_bytes(hood_params(pass, steps, keys)), g.x};
@@ -562,8 +569,8 @@ bool GpuBelief::add_key_choice(std::vector<vk::Dispatch>* ds) const {
 }
 
 void GpuBelief::keep_key_choice() const {
-  const auto* h = hoods_.as<std::uint64_t>();  // host-mapped (gpu::ensure): the kernels wrote it in place
-  if (h[0] == SVA_HOODS_NONE) return;          // not chosen on the device: the estimate looks its keys up
+  const auto* h = (hoods_.mapped() ? hoods_ : hoods_mirror_).as<std::uint64_t>();
+  if (h[0] == SVA_HOODS_NONE) return;  // not chosen on the device: the estimate looks its keys up
   const std::size_t first = SVA_HOODS_HEADER + 2 * (ahead_keys_.best + ahead_keys_.modes + k_->space->objects());
   looked_up_keys_.resize(h[0]);
   looked_up_offsets_.resize(h[0]);

@@ -79,7 +79,7 @@ void axis_steps(uint a, out int lo, out int hi) {
   bool still = pc.planar != 0u && (a == 2u || a == 3u || a == 4u);
   lo = still ? 0 : -rad;
   hi = still ? 0 : rad;
-  if (pc.planar != 0u && a == 5u) {  // the angle: cut to distinct bins round the circle (rotation_steps)
+  if (pc.planar != 0u && a == 5u) {  // the angle: cut to distinct bins round the circle (votes/neighbourhood_steps.hpp)
     int rb = int(pc.rotation_bins);
     lo = -min(rad, (rb - 1) / 2);
     hi = min(rad, rb - 1 - (rb - 1) / 2);

@@ -13,25 +13,18 @@
 #include "belief/belief_math.hpp"
 #include "belief/object_mass.hpp"
 #include "estimate/pose_prior.hpp"
+#include "votes/neighbourhood_steps.hpp"
 
 namespace sva {
 
 namespace {
-
-// The grid steps of a neighbourhood along one rotation axis. The planar angle wraps around, so its range is cut
-// to distinct bins when the radius would go round the circle.
-void rotation_steps(const PoseSpace& space, int radius, int* lo, int* hi) {
-  const int rb = space.spec().rotation_bins;
-  *lo = -std::min(radius, (rb - 1) / 2);
-  *hi = std::min(radius, rb - 1 - (rb - 1) / 2);
-}
 
 // Every bin within `radius` grid steps (Chebyshev) of `centre` that lies in the grid, `centre` first.
 std::vector<BinIndex> neighbourhood(const PoseSpace& space, const BinIndex& centre, int radius) {
   const PoseSpaceSpec& spec = space.spec();
   const bool planar = space.planar();
   int rlo = -radius, rhi = radius;
-  if (planar) rotation_steps(space, radius, &rlo, &rhi);
+  if (planar) angle_steps(space, radius, &rlo, &rhi);
   const int tz = planar ? 0 : radius, rxy = planar ? 0 : radius;
   std::vector<BinIndex> out{centre};
   for (int dx = -radius; dx <= radius; ++dx)

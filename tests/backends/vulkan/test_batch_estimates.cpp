@@ -133,8 +133,7 @@ TEST_CASE("GPU batch: a robot's touch is one round trip once an estimate has rea
   // best bins) and chooses the bins it reads by key on the device (belief_hoods.comp): the estimate then reads
   // nothing. Each answer is the CPU reference's; top_k 5 chooses modes among the best bins, 1 the best bin alone, 0
   // none. Staged, as on a discrete GPU; a touch that grows its table (early on) costs a submission more.
-  const bool staged = GENERATE(false, true);
-  const std::size_t top_k = GENERATE(std::size_t{5}, std::size_t{1}, std::size_t{0});
+  const auto [staged, top_k] = GENERATE(table<bool, std::size_t>({{true, 5}, {true, 0}, {false, 1}}));
   INFO((staged ? "staged" : "mapped") << ", top_k " << top_k);
   const std::unique_ptr<BatchRecognizer> gpu = staged ? staged_gpu_batch() : gpu_batch();
   RecognizerOptions co = gpu_options();

@@ -13,6 +13,7 @@
 
 #include "backends/vulkan/gpu_layout.hpp"
 #include "belief/belief_math.hpp"
+#include "votes/neighbourhood_steps.hpp"
 
 namespace sva {
 
@@ -531,15 +532,7 @@ bool GpuBelief::add_key_choice(std::vector<vk::Dispatch>* ds, std::vector<vk::Co
   const KeyChoice& c = ahead_keys_;
   // The modes come from the best bins this submission selects: no more than it selects.
   if (c.best > 1 && c.best > ahead_k_) return false;
-  const bool planar = k_->space->planar();
-  const int rb = k_->space->spec().rotation_bins;
-  const std::uint64_t side = 2 * static_cast<std::uint64_t>(c.radius) + 1;
-  // The steps of a neighbourhood, the grid's edges ignored (belief_hoods.comp's axis_steps).
-  const std::uint64_t angle =
-      planar
-          ? static_cast<std::uint64_t>(std::min(c.radius, (rb - 1) / 2) + std::min(c.radius, rb - 1 - (rb - 1) / 2) + 1)
-          : side;
-  const std::uint64_t steps = side * side * (planar ? 1 : side * side * side) * angle;
+  const std::uint64_t steps = neighbourhood_steps(*k_->space, c.radius);  // belief_hoods.comp's axis_steps
   const std::uint64_t centres = std::uint64_t{c.modes} + k_->space->objects();
   // Room for every centre's every step, or, once an estimate has read its keys, for as many and a quarter and two
   // neighbourhoods more (a batch's sessions each hold one list); a longer list is not chosen here, and the estimate

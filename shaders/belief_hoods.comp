@@ -23,6 +23,7 @@
 #include "sva_gpu_layout.h"
 #include "sva_belief_table.glsl"
 #include "sva_pose_bins.h"
+#include "sva_neighbourhood.h"
 
 layout(local_size_x = SVA_WORKGROUP_SIZE) in;
 
@@ -75,15 +76,8 @@ void indices(uint64_t linear, out int t[3], out int r[3]) {
 
 // The steps of axis a (tx, ty, tz, rx, ry, rz) a neighbourhood takes, the grid ignored: [lo, hi].
 void axis_steps(uint a, out int lo, out int hi) {
-  int rad = int(pc.radius);
-  bool still = pc.planar != 0u && (a == 2u || a == 3u || a == 4u);
-  lo = still ? 0 : -rad;
-  hi = still ? 0 : rad;
-  if (pc.planar != 0u && a == 5u) {  // the angle: cut to distinct bins round the circle (votes/neighbourhood_steps.hpp)
-    int rb = int(pc.rotation_bins);
-    lo = -min(rad, (rb - 1) / 2);
-    hi = min(rad, rb - 1 - (rb - 1) / 2);
-  }
+  lo = sva_hood_step_lo(a, int(pc.radius), pc.planar != 0u, int(pc.rotation_bins));
+  hi = sva_hood_step_hi(a, int(pc.radius), pc.planar != 0u, int(pc.rotation_bins));
 }
 
 // The steps of axis a that stay in the grid from index c: [lo, hi] (the planar angle wraps: all of them).
@@ -114,12 +108,9 @@ bool within(uint64_t a, uint64_t b) {
   int ta[3], ra[3], tb[3], rb[3];
   indices(a, ta, ra);
   indices(b, tb, rb);
-  int s = int(pc.suppress), bins = int(pc.rotation_bins);
-  for (uint k = 0u; k < 3u; ++k) {
-    if (abs(ta[k] - tb[k]) > s) return false;
-    int dr = abs(ra[k] - rb[k]);
-    if (pc.planar != 0u && k == 2u) dr = min(dr, bins - dr);
-    if (dr > s) return false;
+  for (uint k = 0u; k < 6u; ++k) {
+    int d = k < 3u ? ta[k] - tb[k] : ra[k - 3u] - rb[k - 3u];
+    if (!sva_hood_axis_within(k, d, int(pc.suppress), pc.planar != 0u, int(pc.rotation_bins))) return false;
   }
   return true;
 }

@@ -10,6 +10,7 @@
 
 #include "belief/belief_math.hpp"
 #include "belief/object_mass.hpp"
+#include "votes/neighbourhood_steps.hpp"
 
 namespace sva {
 
@@ -80,19 +81,6 @@ RigidPose refine(const BeliefState& belief, const PoseSpace& space, std::uint64_
   return pose;
 }
 
-// Two bins of one object are the same mode when every grid index differs by at
-// most one (the planar angle wraps around).
-bool same_mode(const BinIndex& a, const BinIndex& b, const PoseSpace& space) {
-  const int rb = space.spec().rotation_bins;
-  for (int k = 0; k < 3; ++k) {
-    if (std::abs(a.t[k] - b.t[k]) > 1) return false;
-    int dr = std::abs(a.r[k] - b.r[k]);
-    if (space.planar() && k == 2) dr = std::min(dr, rb - dr);
-    if (dr > 1) return false;
-  }
-  return true;
-}
-
 // The best object's distinct modes after the first: the best bins of that
 // object, skipping neighbours of a mode already taken. Candidates come from the
 // top bins over all objects (the same on every backend: ties to the smaller key).
@@ -108,7 +96,7 @@ std::vector<RigidPose> next_modes(const BeliefState& belief, const PoseSpace& sp
     if (PoseSpace::object_of(b.key) != object) continue;
     const BinIndex i = space.unpack(b.key);
     bool near = false;
-    for (const BinIndex& t : taken) near = near || same_mode(i, t, space);
+    for (const BinIndex& t : taken) near = near || within_steps(i, t, space, 1);  // one mode: every index within 1
     if (near) continue;
     taken.push_back(i);
     out.push_back(space.centre(b.key));

@@ -19,20 +19,19 @@ namespace sva {
 
 namespace {
 
-// Every bin within `radius` grid steps (Chebyshev) of `centre` that lies in the grid, `centre` first.
+// Every bin within `radius` grid steps (Chebyshev) of `centre` that lies in the grid, `centre` first, then the
+// steps in order along (tx, ty, tz, rx, ry, rz), rz fastest (belief_hoods.comp lists them the same way).
 std::vector<BinIndex> neighbourhood(const PoseSpace& space, const BinIndex& centre, int radius) {
   const PoseSpaceSpec& spec = space.spec();
-  const bool planar = space.planar();
-  int rlo = -radius, rhi = radius;
-  if (planar) angle_steps(space, radius, &rlo, &rhi);
-  const int tz = planar ? 0 : radius, rxy = planar ? 0 : radius;
+  int lo[6], hi[6];
+  for (std::uint32_t a = 0; a < 6; ++a) lo[a] = hood_step_lo(space, a, radius), hi[a] = hood_step_hi(space, a, radius);
   std::vector<BinIndex> out{centre};
-  for (int dx = -radius; dx <= radius; ++dx)
-    for (int dy = -radius; dy <= radius; ++dy)
-      for (int dz = -tz; dz <= tz; ++dz)
-        for (int ex = -rxy; ex <= rxy; ++ex)
-          for (int ey = -rxy; ey <= rxy; ++ey)
-            for (int ez = rlo; ez <= rhi; ++ez) {
+  for (int dx = lo[0]; dx <= hi[0]; ++dx)
+    for (int dy = lo[1]; dy <= hi[1]; ++dy)
+      for (int dz = lo[2]; dz <= hi[2]; ++dz)
+        for (int ex = lo[3]; ex <= hi[3]; ++ex)
+          for (int ey = lo[4]; ey <= hi[4]; ++ey)
+            for (int ez = lo[5]; ez <= hi[5]; ++ez) {
               if (dx == 0 && dy == 0 && dz == 0 && ex == 0 && ey == 0 && ez == 0) continue;
               BinIndex n = centre;
               const int dt[3] = {dx, dy, dz}, dr[3] = {ex, ey, ez};
@@ -42,7 +41,7 @@ std::vector<BinIndex> neighbourhood(const PoseSpace& space, const BinIndex& cent
                 n.r[k] += dr[k];
                 inside = inside && n.t[k] >= 0 && n.t[k] < spec.translation_bins;
               }
-              if (planar) {
+              if (space.planar()) {
                 n.r[2] = (n.r[2] + spec.rotation_bins) % spec.rotation_bins;
               } else {
                 for (int k = 0; k < 3; ++k) inside = inside && n.r[k] >= 0 && n.r[k] < spec.rotation_bins;
@@ -50,19 +49,6 @@ std::vector<BinIndex> neighbourhood(const PoseSpace& space, const BinIndex& cent
               if (inside) out.push_back(n);
             }
   return out;
-}
-
-// Two bins of one object within `radius` grid steps on every axis (the planar angle wraps around).
-bool within(const BinIndex& a, const BinIndex& b, const PoseSpace& space, int radius) {
-  if (a.object != b.object) return false;
-  const int rb = space.spec().rotation_bins;
-  for (int k = 0; k < 3; ++k) {
-    if (std::abs(a.t[k] - b.t[k]) > radius) return false;
-    int dr = std::abs(a.r[k] - b.r[k]);
-    if (space.planar() && k == 2) dr = std::min(dr, rb - dr);
-    if (dr > radius) return false;
-  }
-  return true;
 }
 
 // A mode's neighbourhood: its bins (the centre first), their keys and offsets, and the pose prior's log2 weight
@@ -210,7 +196,7 @@ std::vector<BinIndex> centres_of(const BeliefState& belief, const PoseSpace& spa
     if (centres.size() >= count) break;
     const BinIndex i = space.unpack(b.key);
     bool suppressed = false;
-    for (const BinIndex& c : centres) suppressed = suppressed || within(i, c, space, radius);
+    for (const BinIndex& c : centres) suppressed = suppressed || within_steps(i, c, space, radius);
     if (!suppressed) centres.push_back(i);
   }
   *modes = centres.size();

@@ -438,14 +438,7 @@ void GpuBelief::read_summaries(std::vector<const GpuBelief*> pending, std::size_
     // With k, each belief's best k bins are selected in the same submission, from the bucket its histogram gives on
     // the device (the BUCKET pass): the summary and the best bins in one round trip, where they took two.
     const auto asked = [k](const GpuBelief* b) { return std::min(k, b->count_); };
-    for (const GpuBelief* b : pending) {
-      const std::vector<vk::Fill> f = b->mass_fills();
-      fills.insert(fills.end(), f.begin(), f.end());
-      for (vk::Dispatch& d : b->reduce_dispatches({SVA_REDUCE_MASS, SVA_REDUCE_FLIP}, b->band_capacity_))
-        ds.push_back(std::move(d));
-      if (asked(b) > 1) b->add_selection_ahead(asked(b), &ds, &fills);
-      for (const vk::Copy& c : b->state_reads(0, state_words(kernels.space->objects()))) reads.push_back(c);
-    }
+    for (const GpuBelief* b : pending) b->add_summary_reads(asked(b), &ds, &fills, &reads);
     run(kernels, ds, fills, reads);
     std::vector<const GpuBelief*> lost;
     for (const GpuBelief* b : pending) {
@@ -487,19 +480,11 @@ bool GpuBelief::add_reads_after_fold(std::vector<vk::Dispatch>* ds, std::vector<
   keys_chosen_ = false;
   if (ahead_k_ == 0 || band_.size() == 0) return false;
   // Every fill precedes the fold: the words they clear are ones the fold never writes (masses, histograms, the
-  // selection's count), or, where the table moved since the list was built, the list itself, which the fold then
-  // joins afresh and the REBUILD pass after it completes (the marks keep each bin on it once).
-  std::vector<vk::Fill> f = mass_fills();
-  if (band_stale_) {
-    const std::vector<vk::Fill> r = prepare_rebuild(band_capacity_);  // the same list: no new buffer to name
-    f.insert(f.end(), r.begin(), r.end());
-    for (vk::Dispatch& d : reduce_dispatches({SVA_REDUCE_REBUILD}, capacity_)) ds->push_back(std::move(d));
-  }
-  fills->insert(fills->end(), f.begin(), f.end());
-  for (vk::Dispatch& d : reduce_dispatches({SVA_REDUCE_MASS, SVA_REDUCE_FLIP}, band_capacity_))
-    ds->push_back(std::move(d));
-  if (ahead_k_ > 1) add_selection_ahead(ahead_k_, ds, fills);
-  for (const vk::Copy& c : state_reads(0, state_words(k_->space->objects()))) reads->push_back(c);
+  // selection's count), or, where the table moved since the list was built, the list itself (the same list: no new
+  // buffer to name), which the fold then joins afresh and the REBUILD pass after it completes (the marks keep each bin
+  // on it once).
+  add_rebuild_if_stale(ds, fills);
+  add_summary_reads(ahead_k_, ds, fills, reads);
   keys_chosen_ = ahead_keys_.on && add_key_choice(ds, reads);
   return true;
 }
@@ -571,6 +556,16 @@ void GpuBelief::keep_key_choice() const {
     looked_up_keys_[i] = h[first + 2 * i];
     looked_up_offsets_[i] = h[first + 2 * i + 1];
   }
+}
+
+void GpuBelief::add_summary_reads(std::size_t k, std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills,
+                                  std::vector<vk::Copy>* reads) const {
+  const std::vector<vk::Fill> f = mass_fills();
+  fills->insert(fills->end(), f.begin(), f.end());
+  for (vk::Dispatch& d : reduce_dispatches({SVA_REDUCE_MASS, SVA_REDUCE_FLIP}, band_capacity_))
+    ds->push_back(std::move(d));
+  if (k > 1) add_selection_ahead(k, ds, fills);
+  for (const vk::Copy& c : state_reads(0, state_words(k_->space->objects()))) reads->push_back(c);
 }
 
 void GpuBelief::keep_reads_after_fold(std::span<const GpuBelief* const> beliefs) {

@@ -172,6 +172,10 @@ class GpuBelief final : public BeliefState {
   void enlarge_band() const;
   // The MASS and FLIP passes, then the state's words to the host.
   void reduce() const;
+  // The summary's passes for a submission of the caller's (read_summaries', or after an update's fold): the MASS and
+  // FLIP passes with their fills, the best k bins' selection where k > 1, and the state's words back.
+  void add_summary_reads(std::size_t k, std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills,
+                         std::vector<vk::Copy>* reads) const;
   // The same for every belief of `pending` (one backend's), each pass in one submission for all of them; with k > 1,
   // each one's best k bins in that submission too, where the band holds them (add_selection_ahead).
   static void read_summaries(std::vector<const GpuBelief*> pending, std::size_t k);

@@ -50,8 +50,10 @@ SVA_FN SvaAlignment sva_align(SvaPatch a1, SvaPatch b1, SvaPatch a2, SvaPatch b2
   // Written as selects (every value computed, the invalid case's kept where the points coincide): the CPU aligns
   // several matches in SIMD lanes (host/src/backends/cpu/align_lanes.cpp); the kept values are the same either way.
   bool valid = l1 >= SVA_MIN_PAIR_SEPARATION_MM && l2 >= SVA_MIN_PAIR_SEPARATION_MM;
-  SVA_PRECISE vec3 u1 = vec3(sva_div(d1.x, l1), sva_div(d1.y, l1), sva_div(d1.z, l1));
-  SVA_PRECISE vec3 u2 = vec3(sva_div(d2.x, l2), sva_div(d2.y, l2), sva_div(d2.z, l2));
+  // One exact division per vector, and three products: on a GPU each division is an estimate and an integer
+  // correction (sva_div), several times a product's cost.
+  SVA_PRECISE vec3 u1 = d1 * sva_div(1.0f, l1);
+  SVA_PRECISE vec3 u2 = d2 * sva_div(1.0f, l2);
   SVA_PRECISE vec4 q1 = sva_quat_between(u2, u1);
   SVA_PRECISE vec3 pn_a = a1.n - sva_dot(a1.n, u1) * u1;
   SVA_PRECISE vec3 pn_b = b1.n - sva_dot(b1.n, u1) * u1;

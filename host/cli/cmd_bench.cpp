@@ -191,9 +191,9 @@ void print_run_summaries(const json& runs) {
   for (const auto& r : runs) {
     const json& m = r["memory"];
     std::printf(
-        "%s (%zu per submission): %.3g session-updates/s, %.3g votes/s; "
+        "%s (%zu per submission, top %zu per estimate): %.3g session-updates/s, %.3g votes/s; "
         "votes of mass 0: %llu of %llu (%.3g%%)\n",
-        run_name(r).c_str(), r["sessions_per_submission"].get<std::size_t>(),
+        run_name(r).c_str(), r["sessions_per_submission"].get<std::size_t>(), r["top_k"].get<std::size_t>(),
         r["session_updates_per_second"].get<double>(), r["votes_per_second"].get<double>(),
         r["votes_zero"].get<unsigned long long>(), r["votes"].get<unsigned long long>(),
         100.0 * r["votes_zero_fraction"].get<double>());
@@ -250,6 +250,7 @@ bench::BenchPlan parse_plan(const Args& a) {
   plan.max_pairs_per_update = static_cast<int>(a.integer("--max-pairs", 0, 0, 1 << 20));
   plan.belief_budget_bins = static_cast<std::size_t>(
       a.integer("--belief-budget", static_cast<long long>(plan.belief_budget_bins), 0, 1ll << 40));
+  plan.top_k = static_cast<std::size_t>(a.integer("--top-k", 1, 1, 1000));
   return plan;
 }
 
@@ -277,6 +278,9 @@ int cmd_bench(const std::vector<std::string>& argv) {
       .option("--belief-budget", "BINS",
               "touched pose bins per session before hopeless ones are forgotten (default 4194304; 0 = no bound; "
               "docs/recognition.md, \"Bounded memory\")")
+      .option("--top-k", "K",
+              "hypotheses per estimate after every update (default 1; sva recognize's default is 3, which takes the "
+              "estimate's modes)")
       .option("--device", "NAME|INDEX", "Vulkan device (default: prefer a discrete GPU; env SVA_VK_DEVICE)")
       .option("--roofline-votes", "N", "votes in the bare-scatter measurement (default 4194304)");
   if (!a.parse()) return 0;

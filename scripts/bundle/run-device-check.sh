@@ -3,7 +3,8 @@
 #   1. the device and the machine (device.txt);
 #   2. the agreement tests first, whose printed lines locate a disagreement with the CPU reference (agreement.txt);
 #   3. the whole test suite, areas in parallel, while paper3d is simulated and its map trained (suite.txt);
-#   4. sva bench on paper3d: the Vulkan backend one session at a time (10, 30, 100 readings, 3 trials), then 64 per
+#   4. sva bench on paper3d: the Vulkan backend one session at a time (10, 30, 100 readings, 3 trials), the same
+#      with 3 hypotheses per estimate as sva recognize asks (10 and 30 readings: the modes' path), then 64 per
 #      submission (10 and 30 readings), then the CPU reference on the same machine (bench-*.txt), then its scaling:
 #      one session on 8 and 16 threads, 64 sessions per update on 2 and 16 threads, and on the device 256 sessions
 #      per submission (the two groups in flight together that Engine::sessions_per_submission gives an 80-141 GB GPU
@@ -11,7 +12,7 @@
 #      (on a host of 16 cores or more: a GPU machine); each cut at the budget's end;
 #      before the CPU's scaling: sva recognize of 512 sessions with one group in flight and with two (the double
 #      buffering), wall times and whether the results are the same bytes (recognize-in-flight.txt).
-# The per-test logs and the benchmarks' JSON go into details.tgz: 7 files in all, 13 on a host of 16 cores.
+# The per-test logs and the benchmarks' JSON go into details.tgz: 8 files in all, 14 on a host of 16 cores.
 #
 #   run-device-check.sh OUT_DIR [SECONDS]    SECONDS: the budget for all of it (default 480)
 # Environment: VK_DRIVER_FILES (the caller's ICD, kept), WORK (paper3d's data and map, default OUT_DIR/paper3d:
@@ -128,6 +129,7 @@ bench() {  # NAME SHARE-OF-WHAT-IS-LEFT sva-bench-options...
 [[ -f $work/map.svam ]] || { echo "no paper3d map in $work: no benchmark" >&2; suite_failed=$((suite_failed + 1)); }
 if [[ -f $work/map.svam ]]; then
   bench vulkan 40 --backend vulkan --trials 3 --batch 0 --readings 10,30,100
+  bench vulkan-top3 15 --backend vulkan --trials 3 --batch 0 --readings 10,30 --top-k 3
   bench vulkan-batch 50 --backend vulkan --trials 64 --batch 64 --readings 10,30
   bench cpu 95 --backend cpu --trials 1 --batch 0 --readings 10,30,100
   # The CPU reference's scaling on the host's cores (issue 52's goals: one session on 16 threads >= 1.6x 8 threads,

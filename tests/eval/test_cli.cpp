@@ -342,7 +342,19 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
   for (const auto& p : batch["curve"]) CHECK(p["update_split_ms"].is_null());
 
   REQUIRE(sva::test::run_sva(bench + "--backend cpu --batch 0 --json " + f.path("single.json"), &out) == 0);
-  CHECK(nlohmann::json::parse(read_file(f.path("single.json")))["runs"].size() == 1);
+  const auto single = nlohmann::json::parse(read_file(f.path("single.json")))["runs"];
+  REQUIRE(single.size() == 1);
+  // --top-k: hypotheses per estimate (1 by default). More of them cost estimate time, not the first one's answer.
+  REQUIRE(sva::test::run_sva(bench + "--backend cpu --batch 0 --top-k 3 --json " + f.path("top3.json"), &out) == 0);
+  CHECK(out.find("top 3 per estimate") != std::string::npos);
+  const auto top3 = nlohmann::json::parse(read_file(f.path("top3.json")))["runs"];
+  REQUIRE(top3.size() == 1);
+  CHECK(single[0]["top_k"] == 1);
+  CHECK(top3[0]["top_k"] == 3);
+  REQUIRE(top3[0]["curve"].size() == single[0]["curve"].size());
+  for (std::size_t i = 0; i < single[0]["curve"].size(); ++i)
+    for (const char* key : {"accuracy", "translation_error_mm", "votes_per_update"})
+      CHECK(top3[0]["curve"][i][key] == single[0]["curve"][i][key]);
   // --max-pairs bounds the pairs per update: the new reading with the most recent one only (2 pairs, both orders)
   // casts fewer votes at 6 readings than with all 5 earlier ones, and the report says which ran.
   const std::string six = base + "--readings 2,6 --backend cpu --batch 0 ";
@@ -377,7 +389,8 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
         exact["curve"][0]["belief_bytes_per_session"].get<double>());
   CHECK(bounded["curve"][1]["work_per_update"]["pairs"].get<double>() ==
         1.0);  // 2 pairs: one order voted, folded twice
-  for (const std::string bad : {"--batch -1", "--batch x", "--backend gpu", "--readings 0", "--max-pairs -1"}) {
+  for (const std::string bad :
+       {"--batch -1", "--batch x", "--backend gpu", "--readings 0", "--max-pairs -1", "--top-k 0"}) {
     INFO(bad);
     CHECK(sva::test::run_sva(base + bad, &out) != 0);
     CHECK(out.find(bad.substr(bad.find(' ') + 1)) != std::string::npos);

@@ -209,8 +209,8 @@ json memory_json(const RunMemory& m, const BatchRecognizer& rec) {
 // update and of the checkpoints.
 class SpeedRecorder {
  public:
-  SpeedRecorder(BatchRecognizer& rec, const std::vector<std::size_t>& checkpoints)
-      : rec_(rec), checkpoints_(checkpoints), sessions_(rec.sessions()), after_last_(device_counts()) {}
+  SpeedRecorder(BatchRecognizer& rec, const std::vector<std::size_t>& checkpoints, std::size_t top_k)
+      : rec_(rec), checkpoints_(checkpoints), top_k_(top_k), sessions_(rec.sessions()), after_last_(device_counts()) {}
 
   void on_step(const LockstepStep& s, const std::vector<eval::Trial>& tr) {
     StepFigures f;
@@ -221,7 +221,7 @@ class SpeedRecorder {
     const DeviceCounts updated = device_counts();
     f.update_submissions = updated.submissions - after_last_.submissions;
     f.update_allocations = updated.allocations - after_last_.allocations;
-    est = rec_.estimates(s.sessions, 1);
+    est = rec_.estimates(s.sessions, top_k_);
     after_last_ = device_counts();
     f.estimate_submissions = after_last_.submissions - updated.submissions;
     f.estimate_allocations = after_last_.allocations - updated.allocations;
@@ -258,6 +258,7 @@ class SpeedRecorder {
  private:
   BatchRecognizer& rec_;
   const std::vector<std::size_t>& checkpoints_;
+  std::size_t top_k_;  // hypotheses per estimate (SpeedRunSpec::top_k)
   std::map<std::size_t, Checkpoint> cp_;
   // The device's round trips and memory allocations so far.
   struct DeviceCounts {
@@ -284,7 +285,7 @@ json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, Me
   meter.start();
   util::Progress progress(spec.label, spec.trials * max_readings);
   BatchRecognizer rec(map, map.pose_space(), std::min(spec.sessions, spec.trials), ro);
-  SpeedRecorder recorder(rec, spec.checkpoints);
+  SpeedRecorder recorder(rec, spec.checkpoints, spec.top_k);
   std::vector<eval::Trial> tr;
   LockstepHooks hooks;
   hooks.progress = &progress;
@@ -299,9 +300,13 @@ json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, Me
   run_lockstep(rec, spec.trials, hooks);
   progress.finish();
   const RunMemory memory = meter.stop();
-  json j = {{"backend", eval::backend_name(spec.backend)},       {"device", rec.backend_description()},
-            {"sessions_per_submission", spec.sessions},          {"trials", spec.trials},
-            {"max_pairs_per_update", spec.max_pairs_per_update}, {"belief_budget_bins", spec.belief_budget_bins}};
+  json j = {{"backend", eval::backend_name(spec.backend)},
+            {"device", rec.backend_description()},
+            {"sessions_per_submission", spec.sessions},
+            {"trials", spec.trials},
+            {"max_pairs_per_update", spec.max_pairs_per_update},
+            {"belief_budget_bins", spec.belief_budget_bins},
+            {"top_k", spec.top_k}};
   j.update(recorder.figures());
   j["memory"] = memory_json(memory, rec);
   return j;
@@ -342,6 +347,7 @@ nlohmann::json run_all(const Map& map, const Dataset& test, const BenchPlan& pla
     spec.refine_pose = plan.refine_pose;
     spec.max_pairs_per_update = plan.max_pairs_per_update;
     spec.belief_budget_bins = plan.belief_budget_bins;
+    spec.top_k = plan.top_k;
     spec.label = eval::backend_name(backend);
     runs.push_back(run_speed(map, test, spec, meter));
     if (plan.batch <= 1) continue;

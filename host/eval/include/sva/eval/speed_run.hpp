@@ -29,6 +29,9 @@ struct SpeedRunSpec {
   bool refine_pose = true;       // RecognizerOptions::refine_pose (its cost shows in estimate_ms)
   int max_pairs_per_update = 0;  // RecognizerOptions::max_pairs_per_update (0: the exact filter)
   std::size_t belief_budget_bins = RecognizerOptions{}.belief_budget_bins;  // RecognizerOptions::belief_budget_bins
+  // Hypotheses per estimate after every update. 1 measures what the GPU runs so far measured; sva recognize's
+  // default, 3, takes the estimate's modes (the device's key choice ranks its selection: belief_hoods.comp's RANK).
+  std::size_t top_k = 1;
 };
 
 // One run, as the JSON report gives it (docs/evaluation.md, "sva bench").
@@ -49,6 +52,7 @@ struct BenchPlan {
   bool refine_pose = true;
   int max_pairs_per_update = 0;
   std::size_t belief_budget_bins = RecognizerOptions{}.belief_budget_bins;
+  std::size_t top_k = 1;  // SpeedRunSpec::top_k
 };
 
 // The whole report of `sva bench` (docs/evaluation.md, "sva bench"): the scene, the map's size and the threads;

@@ -41,7 +41,9 @@ ci_build() {
 
 # The Vulkan suite again at lavapipe's subgroup sizes 4 and 32 (the default width gives 8 on x86-64 with AVX): a
 # kernel that assumes one subgroup size fails here without a GPU. The presets set LP_NATIVE_VECTOR_WIDTH and the
-# size the suite must see (tests/backends/vulkan/test_subgroup_size.cpp checks it).
+# size the suite must see (tests/backends/vulkan/test_subgroup_size.cpp checks it). At size 4 every transfer is also
+# staged (SVA_VK_STAGING=1), as on a discrete GPU: uploads through staging buffers, and the host reads the kernels'
+# results from host-cached copies, never from the device's BAR (gpu::add_mirror_read).
 subgroups() {
   ctest --preset ci-subgroup-4 --parallel "$cores"
   ctest --preset ci-subgroup-32 --parallel "$cores"

@@ -77,6 +77,11 @@ class Context {
   // put the results of kernels that write device memory.
   Buffer create_readback_buffer(std::size_t bytes) { return Buffer(device_, bytes, Memory::readback); }
   bool force_staging() const { return force_staging_; }
+  // Whether the host reads what kernels wrote into mapped buffers from host-cached copies made at the end of the
+  // submission (gpu::add_mirror_read): on a discrete GPU a mapped buffer is the device's memory behind its PCI BAR,
+  // which the host reads uncached, one bus round trip per load; and where staging is forced, so that lavapipe's tests
+  // take that path too. Elsewhere (lavapipe, integrated GPUs) mapped memory is the host's own: read in place.
+  bool reads_through_copies() const { return info().type == "discrete" || force_staging_; }
   // Submissions so far, runs and staged transfers alike (each a round trip to the device).
   std::uint64_t submissions() {
     std::lock_guard lock(mutex_);

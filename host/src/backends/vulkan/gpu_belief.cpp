@@ -397,11 +397,14 @@ vk::Dispatch GpuBelief::bucket_dispatch(std::uint32_t pass, std::size_t k) const
   return d;
 }
 
-void GpuBelief::add_selection_ahead(std::size_t k, std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills) const {
+void GpuBelief::add_selection_ahead(std::size_t k, std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills,
+                                    std::vector<vk::Copy>* reads) const {
   const std::uint64_t room = selection_room(k);
   ds->push_back(bucket_dispatch(SVA_REDUCE_BUCKET, k));
   ds->push_back(select_dispatch(SVA_REDUCE_SELECT, SVA_SELECT_FROM_STATE, room, band_capacity_));
   fills->push_back(select_fill());
+  // The count is the device's choice: the room comes back, of which the host reads what the count says.
+  gpu::add_mirror_read(*k_->ctx, candidates_, candidates_mirror_, room * 2 * sizeof(std::uint64_t), reads);
   if (!passes_over_table()) return;  // a CPU device reads its table on the host instead
   // Where the band holds fewer than k bins (a sharp belief asked for its next modes): the table's histogram and its
   // selection, each pass a no-op elsewhere.
@@ -564,7 +567,7 @@ void GpuBelief::add_summary_reads(std::size_t k, std::vector<vk::Dispatch>* ds, 
   fills->insert(fills->end(), f.begin(), f.end());
   for (vk::Dispatch& d : reduce_dispatches({SVA_REDUCE_MASS, SVA_REDUCE_FLIP}, band_capacity_))
     ds->push_back(std::move(d));
-  if (k > 1) add_selection_ahead(k, ds, fills);
+  if (k > 1) add_selection_ahead(k, ds, fills, reads);
   for (const vk::Copy& c : state_reads(0, state_words(k_->space->objects()))) reads->push_back(c);
 }
 
@@ -682,6 +685,7 @@ void GpuBelief::read_best_ahead(std::span<const GpuBelief* const> beliefs, std::
     ds.push_back(b.select_dispatch(s.pass, bucket, n, s.pass == SVA_REDUCE_SELECT ? b.band_capacity_ : b.capacity_));
     fills.push_back(b.select_fill());
     for (const vk::Copy& c : b.state_reads(SVA_STATE_CANDIDATES, 1)) reads.push_back(c);
+    gpu::add_mirror_read(*b.k_->ctx, b.candidates_, b.candidates_mirror_, n * 2 * sizeof(std::uint64_t), &reads);
     made.emplace_back(&s, n);
   }
   if (made.empty()) return;
@@ -769,7 +773,7 @@ std::vector<BinOffset> GpuBelief::read_candidates(std::uint64_t n) const {
   if (found != n)
     throw std::logic_error("GPU belief: top-k selection found " + std::to_string(found) +
                            " bins where its histogram has " + std::to_string(n));
-  const auto* c = candidates_.as<std::uint64_t>();  // host-mapped (gpu::ensure)
+  const auto* c = gpu::mirror_of(*k_->ctx, candidates_, candidates_mirror_).as<std::uint64_t>();
   std::vector<BinOffset> out(n);
   for (std::size_t i = 0; i < n; ++i) out[i] = {k_->bins.key(c[2 * i]), c[2 * i + 1]};
   return out;
@@ -783,13 +787,16 @@ std::vector<BinOffset> GpuBelief::select_candidates(std::uint32_t pass, std::uin
   if (rebuild) add_rebuild_if_stale(&ds, &fills);
   ds.push_back(select_dispatch(pass, bucket, n, entries));
   fills.push_back(select_fill());
-  run(*k_, ds, fills, state_reads(SVA_STATE_CANDIDATES, 1));
+  std::vector<vk::Copy> reads = state_reads(SVA_STATE_CANDIDATES, 1);
+  gpu::add_mirror_read(*k_->ctx, candidates_, candidates_mirror_, n * 2 * sizeof(std::uint64_t), &reads);
+  run(*k_, ds, fills, reads);
   if (rebuild) rebuilt();
   return read_candidates(n);
 }
 
-vk::Dispatch GpuBelief::lookup_dispatch(std::span<const std::uint64_t> keys) const {
+vk::Dispatch GpuBelief::lookup_dispatch(std::span<const std::uint64_t> keys, std::vector<vk::Copy>* reads) const {
   ensure(*k_->ctx, queries_, keys.size() * sizeof(std::uint64_t));
+  gpu::add_mirror_read(*k_->ctx, queries_, queries_mirror_, keys.size() * sizeof(std::uint64_t), reads);
   auto* q = queries_.as<std::uint64_t>();
   for (std::size_t i = 0; i < keys.size(); ++i) q[i] = k_->bins.linear(keys[i]);
   gpu::SvaLookupParams p{lo(table_.device_address()), hi(table_.device_address()), capacity_,
@@ -801,7 +808,8 @@ vk::Dispatch GpuBelief::lookup_dispatch(std::span<const std::uint64_t> keys) con
 }
 
 std::vector<std::uint64_t> GpuBelief::read_lookup(std::size_t n) const {
-  const auto* q = queries_.as<std::uint64_t>();  // host-mapped (gpu::ensure): the kernel wrote the offsets in place
+  // The kernel wrote the offsets over the keys, in place.
+  const auto* q = gpu::mirror_of(*k_->ctx, queries_, queries_mirror_).as<std::uint64_t>();
   return std::vector<std::uint64_t>(q, q + n);
 }
 
@@ -809,7 +817,9 @@ std::vector<std::uint64_t> GpuBelief::offsets(std::span<const std::uint64_t> key
   if (keys.empty()) return {};
   std::vector<std::uint64_t> out;
   if (looked_up(keys, &out)) return out;
-  run(*k_, {lookup_dispatch(keys)}, {});
+  std::vector<vk::Copy> reads;
+  const vk::Dispatch d = lookup_dispatch(keys, &reads);
+  run(*k_, {d}, {}, reads);
   return read_lookup(keys.size());
 }
 
@@ -835,12 +845,13 @@ bool GpuBelief::looked_up(std::span<const std::uint64_t> keys, std::vector<std::
 void GpuBelief::look_up_ahead(std::span<const GpuBelief* const> beliefs,
                               std::span<const std::vector<std::uint64_t>> keys) {
   std::vector<vk::Dispatch> ds;
+  std::vector<vk::Copy> reads;
   std::vector<std::uint8_t> asked(beliefs.size(), 0);
   for (std::size_t i = 0; i < beliefs.size(); ++i) {
     beliefs[i]->last_keys_ = keys[i].size();  // the room of the next update's choice
     // Chosen and looked up already, in the update's submission (belief_hoods.comp): the same keys, read nothing.
     if (keys[i].empty() || keys[i] == beliefs[i]->looked_up_keys_) continue;
-    ds.push_back(beliefs[i]->lookup_dispatch(keys[i]));
+    ds.push_back(beliefs[i]->lookup_dispatch(keys[i], &reads));
     asked[i] = 1;
   }
   if (ds.empty()) return;
@@ -851,7 +862,7 @@ void GpuBelief::look_up_ahead(std::span<const GpuBelief* const> beliefs,
   // the estimate makes anyway, so that the next update reads that belief ahead again.
   std::vector<vk::Fill> fills;
   for (const GpuBelief* b : beliefs) b->add_rebuild_if_stale(&ds, &fills);
-  run(*beliefs.front()->k_, ds, fills);
+  run(*beliefs.front()->k_, ds, fills, reads);
   for (const GpuBelief* b : beliefs)
     if (b->band_stale_) b->rebuilt();
   for (std::size_t i = 0; i < beliefs.size(); ++i) {

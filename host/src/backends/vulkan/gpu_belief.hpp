@@ -184,7 +184,8 @@ class GpuBelief final : public BeliefState {
   static std::uint64_t selection_room(std::size_t k);
   // The BUCKET and SELECT passes for the best k bins, after this belief's MASS and FLIP in one submission; then, from
   // what came back, the best k kept (keep_selection_ahead) unless they lie past the band or the room was short.
-  void add_selection_ahead(std::size_t k, std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills) const;
+  void add_selection_ahead(std::size_t k, std::vector<vk::Dispatch>* ds, std::vector<vk::Fill>* fills,
+                           std::vector<vk::Copy>* reads) const;
   void keep_selection_ahead(std::size_t k) const;
   // Whether a top-k past the band takes passes over the table's slots (a GPU, or staged), or the host reads the table
   // (a CPU device, whose passes would run on the same cores).
@@ -201,7 +202,7 @@ class GpuBelief final : public BeliefState {
   static std::pair<std::uint32_t, std::uint64_t> bucket_holding(std::span<const std::uint64_t> histogram,
                                                                 std::size_t k);
   // The lookup of `keys` (in queries_) as a dispatch, and its answers read back.
-  vk::Dispatch lookup_dispatch(std::span<const std::uint64_t> keys) const;
+  vk::Dispatch lookup_dispatch(std::span<const std::uint64_t> keys, std::vector<vk::Copy>* reads) const;
   std::vector<std::uint64_t> read_lookup(std::size_t n) const;
   // Every bin of the table, in slot order (table() sorts them by key).
   std::vector<BinOffset> unsorted_table() const;
@@ -246,6 +247,8 @@ class GpuBelief final : public BeliefState {
   mutable std::uint32_t band_capacity_ = 0;
   mutable bool band_stale_ = false;  // the table moved (its slots changed): rebuild before reading the list
   mutable vk::Buffer candidates_, queries_;
+  // Where the host reads the two on a discrete GPU: host-cached copies made in the submission (gpu::add_mirror_read).
+  mutable vk::Buffer candidates_mirror_, queries_mirror_;
   vk::Buffer keep_;         // forget_below's kept keys
   vk::Buffer move_status_;  // a move's rehash: nonzero when a probe ran too long (one word, kept between moves)
   std::uint32_t keep_count_ = 0;

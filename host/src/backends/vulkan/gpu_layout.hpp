@@ -44,6 +44,22 @@ inline void ensure(vk::Context& ctx, vk::Buffer& b, std::size_t bytes) {
   b = ctx.create_buffer(need);
 }
 
+// Where the host reads the first `bytes` of a mapped buffer `b` that the run's kernels write: `b` itself where mapped
+// memory is the host's (Context::reads_through_copies), else `mirror`, a host-cached buffer kept as large as `b`, into
+// which the copy added to `reads` puts them at the end of the same submission. Reading a discrete GPU's BAR in place
+// costs a bus round trip per load: a batch update's counters, key ranges and statuses are tens of thousands of loads.
+inline void add_mirror_read(vk::Context& ctx, const vk::Buffer& b, vk::Buffer& mirror, std::size_t bytes,
+                            std::vector<vk::Copy>* reads) {
+  if (!ctx.reads_through_copies()) return;
+  if (mirror.size() < b.size()) mirror = ctx.create_readback_buffer(b.size());
+  if (bytes > 0) reads->push_back({&b, &mirror, 0, 0, bytes});
+}
+
+// Where the host reads what add_mirror_read asked for, once its submission ran.
+inline const vk::Buffer& mirror_of(const vk::Context& ctx, const vk::Buffer& b, const vk::Buffer& mirror) {
+  return ctx.reads_through_copies() ? mirror : b;
+}
+
 // The halves of a 64-bit value, for push constants of 4-byte scalars.
 inline std::uint32_t lo(std::uint64_t v) { return static_cast<std::uint32_t>(v & 0xffffffffu); }
 inline std::uint32_t hi(std::uint64_t v) { return static_cast<std::uint32_t>(v >> 32); }

@@ -182,6 +182,7 @@ class VulkanVoteBackend final : public VoteBackend {
   // Per map chunk: the scan of a batch's matches and its indirect dispatch.
   struct ChunkWork {
     vk::Buffer offsets, scan;
+    vk::Buffer scan_mirror;  // where the host reads `scan` (gpu::add_mirror_read)
   };
 
   // What a consumer adds to a sub-batch's vote submission: dispatches run right after the votes, fills before them
@@ -254,6 +255,8 @@ class VulkanVoteBackend final : public VoteBackend {
     }
     *key_items = items.size();
     key_items_count_ = items.size();
+    item_pairs_.resize(items.size());  // set_counters' view of the items: the host's own, not the mapped buffer
+    for (std::size_t k = 0; k < items.size(); ++k) item_pairs_[k] = items[k].pair;
     if ((items.size() > SVA_MAX_KEY_ITEMS || P > bins_.max_pairs()) && P > 1) return false;
     if (items.size() > SVA_MAX_KEY_ITEMS)
       throw Error("one observed pair has more map keys than the GPU backend handles");
@@ -390,26 +393,45 @@ class VulkanVoteBackend final : public VoteBackend {
       for (vk::Dispatch& d : added.dispatches) ds.push_back(std::move(d));
       clear.insert(clear.end(), added.fills.begin(), added.fills.end());
       table_dirty_ = true;  // until a fold has cleared what the votes wrote
+      std::vector<vk::Copy> reads = vote_reads(P, K);
+      reads.insert(reads.end(), added.reads.begin(), added.reads.end());
       std::vector<double> ms;
-      ctx_.run(ds, &ms, clear, added.reads);
+      ctx_.run(ds, &ms, clear, reads);
       for (std::size_t i = 0; i < ms.size(); ++i) (i < votes ? kernel_ms_ : fold_ms_) += ms[i];
       bool too_many = false;
       for (std::size_t c = 0; c < work_.size() && K > 0; ++c)
-        if (engine_->chunks[c].count && work_[c].scan.as<gpu::SvaScanResult>()->too_many) too_many = true;
+        if (engine_->chunks[c].count && read(work_[c].scan, work_[c].scan_mirror).as<gpu::SvaScanResult>()->too_many)
+          too_many = true;
       if (too_many) {
         if (P == 1) throw Error("one observed pair matches more than 2^32 map entries in one chunk");
         return split(batch, first, last, consume);
       }
-      if (*status_.as<std::uint32_t>() == 0) break;
+      if (*read(status_, status_mirror_).as<std::uint32_t>() == 0) break;
       slots_ *= 4;  // overflow: the fold passes saw the flag and did nothing; grow and rerun
       ++stats_.table_grows;
     }
     consume.finish(first, last);
   }
 
+  // The copies of the votes' results that the host reads after their submission (gpu::add_mirror_read): the
+  // overflow flag, each pair's counters, each key item's map range and each chunk's scan.
+  std::vector<vk::Copy> vote_reads(std::size_t P, std::size_t key_items) {
+    std::vector<vk::Copy> r;
+    gpu::add_mirror_read(ctx_, status_, status_mirror_, sizeof(std::uint32_t), &r);
+    gpu::add_mirror_read(ctx_, counters_, counters_mirror_, P * SVA_PAIR_COUNTERS * sizeof(std::uint64_t), &r);
+    gpu::add_mirror_read(ctx_, ranges_, ranges_mirror_, key_items * sizeof(gpu::SvaGpuRange), &r);
+    for (ChunkWork& w : work_) gpu::add_mirror_read(ctx_, w.scan, w.scan_mirror, sizeof(gpu::SvaScanResult), &r);
+    return r;
+  }
+
+  // Where the host reads what the last submission wrote into the mapped buffer `b` (its mirror on a discrete GPU).
+  const vk::Buffer& read(const vk::Buffer& b, const vk::Buffer& mirror) const {
+    return gpu::mirror_of(ctx_, b, mirror);
+  }
+
   template <class Stats>  // PairStats or PairVotes
   void set_counters(std::size_t first, std::size_t last, std::vector<Stats>& out) const {
-    const auto* cnt = counters_.as<std::uint64_t>();
+    const auto* cnt = read(counters_, counters_mirror_).as<std::uint64_t>();
     for (std::size_t q = 0; q < last - first; ++q) {
       const std::uint64_t* c = cnt + SVA_PAIR_COUNTERS * q;
       out[first + q].matches = c[0];
@@ -420,10 +442,9 @@ class VulkanVoteBackend final : public VoteBackend {
       out[first + q].atomics = c[4] + c[5];
     }
     // The map entries under each pair's keys: the ranges expand_pair_keys found.
-    const auto* items = key_items_.as<gpu::SvaGpuKeyItem>();
-    const auto* ranges = ranges_.as<gpu::SvaGpuRange>();
+    const auto* ranges = read(ranges_, ranges_mirror_).as<gpu::SvaGpuRange>();
     for (std::size_t k = 0; k < key_items_count_; ++k)
-      out[first + items[k].pair].entries += ranges[k].end - ranges[k].begin;
+      out[first + item_pairs_[k]].entries += ranges[k].end - ranges[k].begin;
   }
 
   // vote(): the table's sums, sorted by (pair, pose bin), as the CPU reference returns them.
@@ -533,11 +554,19 @@ class VulkanVoteBackend final : public VoteBackend {
     }
     Added a;
     a.dispatches = fold_dispatches(P, beliefs, fold);
+    fold_reads(P, S, &a.reads);
     fold.read_ahead.assign(S, 0);
     for (std::size_t s = 0; s < S; ++s)
       if (fold.pending[s] && beliefs[s]->add_reads_after_fold(&a.dispatches, &a.fills, &a.reads))
         fold.read_ahead[s] = 1;
     return a;
+  }
+
+  // The copies of the fold's results that finish_fold reads (gpu::add_mirror_read): each session's status and each
+  // pair's total.
+  void fold_reads(std::size_t P, std::size_t S, std::vector<vk::Copy>* reads) {
+    gpu::add_mirror_read(ctx_, session_status_, session_status_mirror_, S * sizeof(gpu::SvaGpuSessionStatus), reads);
+    gpu::add_mirror_read(ctx_, pair_totals_, pair_totals_mirror_, P * sizeof(std::uint64_t), reads);
   }
 
   // After the submission: a session whose belief table overflowed (a key found
@@ -547,18 +576,19 @@ class VulkanVoteBackend final : public VoteBackend {
                    Fold& fold, std::vector<PairStats>& out) {
     const std::size_t P = last - first, S = beliefs.size();
     set_counters(first, last, out);
-    const auto* st = session_status_.as<gpu::SvaGpuSessionStatus>();
-    const auto* totals = pair_totals_.as<std::uint64_t>();
+    const auto* totals = read(pair_totals_, pair_totals_mirror_).as<std::uint64_t>();
     std::vector<std::size_t> folded(S, 0);
     for (std::size_t q = 0; q < P; ++q) {
       out[first + q].folded = totals[q] > 0;
       if (totals[q] > 0) folded[batch.pairs[first + q].session] += batch.pairs[first + q].fold_count;
     }
+    const auto statuses = [&] { return read(session_status_, session_status_mirror_).as<gpu::SvaGpuSessionStatus>(); };
     std::size_t entries = 0;  // vote-table entries, counted by the first RESERVE pass
     for (std::size_t s = 0; s < S; ++s)
-      if (fold.pending[s]) entries += st[s].vote_entries;
+      if (fold.pending[s]) entries += statuses()[s].vote_entries;
     fold_bins_ += entries;
     for (;;) {
+      const gpu::SvaGpuSessionStatus* st = statuses();  // this round's fold's
       std::vector<std::size_t> full;  // sessions whose table overflowed: they grow together, then fold again
       for (std::size_t s = 0; s < S; ++s) {
         if (!fold.pending[s]) continue;
@@ -577,18 +607,19 @@ class VulkanVoteBackend final : public VoteBackend {
       util::throw_if_interrupted();
       Added again;  // the grown sessions' fold, and their reads ahead after it
       again.dispatches = fold_dispatches(P, beliefs, fold);
+      fold_reads(P, S, &again.reads);
       for (std::size_t s : full)
         if (beliefs[s]->add_reads_after_fold(&again.dispatches, &again.fills, &again.reads)) fold.read_ahead[s] = 1;
       std::vector<double> ms;
       ctx_.run(again.dispatches, &ms, again.fills, again.reads);
       for (double m : ms) fold_ms_ += m;
     }
-    std::vector<const GpuBelief*> read;
+    std::vector<const GpuBelief*> ahead;
     for (std::size_t s = 0; s < S; ++s) {
       if (folded[s]) beliefs[s]->record(0, folded[s]);
-      if (fold.read_ahead[s]) read.push_back(beliefs[s]);
+      if (fold.read_ahead[s]) ahead.push_back(beliefs[s]);
     }
-    GpuBelief::keep_reads_after_fold(read);
+    GpuBelief::keep_reads_after_fold(ahead);
     table_dirty_ = false;  // every slot was folded, and cleared
     keep_vote_table_half_empty(entries);
   }
@@ -636,7 +667,10 @@ class VulkanVoteBackend final : public VoteBackend {
   vk::Buffer pairs_, key_items_, ranges_, active_, counters_, status_;  // a batch's inputs and outputs (mapped)
   vk::Buffer table_keys_, table_sums_;                                  // the vote table (device memory)
   vk::Buffer sessions_, session_status_, pair_totals_;
-  bool table_dirty_ = true;  // the vote table may hold keys: clear it before the next votes
+  // Host-cached copies of the mapped outputs above, where the host reads them on a discrete GPU (gpu::add_mirror_read).
+  vk::Buffer status_mirror_, counters_mirror_, ranges_mirror_, session_status_mirror_, pair_totals_mirror_;
+  std::vector<std::uint32_t> item_pairs_;  // each key item's pair (of the last upload_inputs)
+  bool table_dirty_ = true;                // the vote table may hold keys: clear it before the next votes
   double kernel_ms_ = 0.0, fold_ms_ = 0.0, growth_ms_ = 0.0;
   std::vector<ChunkWork> work_;
   std::size_t slots_ = 0;

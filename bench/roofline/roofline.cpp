@@ -96,6 +96,7 @@ Roofline measure_roofline(std::size_t votes, std::size_t bins, const std::string
   // cores, where a sixteenth of that already times it.
   const std::size_t matches = votes / (ctx.info().type == "cpu" ? 256 : 16);
   r.vote_math = measure_vote_math(ctx, std::max<std::size_t>(matches, 64));
+  r.host_reads = measure_host_reads(ctx);
   return r;
 }
 

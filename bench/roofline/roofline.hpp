@@ -9,6 +9,7 @@
 #include <cstddef>
 #include <string>
 
+#include "roofline/host_reads.hpp"
 #include "roofline/vote_math.hpp"
 
 namespace sva::bench {
@@ -21,6 +22,7 @@ struct Roofline {
   double hash_kernel_ms = 0.0;         // bare hash scatter: best of three; 0 without timestamps
   double hash_votes_per_second = 0.0;  // 0 without timestamps
   VoteMathRoofline vote_math;          // votes / 16 matches (a CPU device: / 256)
+  HostReads host_reads;                // a kernel's result read by the host in place and from a host-cached copy
 };
 
 // device: "" = the Vulkan default (env SVA_VK_DEVICE, else prefer a discrete GPU).

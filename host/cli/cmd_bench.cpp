@@ -224,6 +224,17 @@ void print_roofline(const json& out) {
         m["exact_agrees_with_cpu"].get<bool>() ? " (the CPU's bits)" : " (NOT the CPU's bits)",
         m["device_division_samples_per_second"].get<double>());
   }
+  if (roof.contains("host_reads")) {
+    // What the host pays per load of a kernel's result: in place (on a discrete GPU its BAR, uncached) and from the
+    // host-cached copy that the engine reads there instead (gpu::add_mirror_read).
+    const json& h = roof["host_reads"];
+    std::printf(
+        "host reads of a kernel's result: %.3g ns per 8-byte load in place (mapped, %s), %.3g ns from a "
+        "host-cached copy%s\n",
+        h["mapped_ns_per_load"].get<double>(),
+        h["mapped_device_local"].get<bool>() ? "the device's memory" : "host memory",
+        h["readback_ns_per_load"].get<double>(), h["sums_agree"].get<bool>() ? "" : " (WRONG WORDS READ)");
+  }
   for (const auto& r : out["runs"]) {
     if (r.contains("fraction_of_roofline"))
       std::printf("%s (%zu per submission): %.3g votes/s = %.1f%% of the roofline\n",

@@ -421,6 +421,13 @@ TEST_CASE("sva bench on the Vulkan backend reports device memory (n/a until the 
   CHECK(j["roofline"]["votes_per_second"].get<double>() > 0);
   CHECK(j["roofline"]["vote_math"]["exact_agrees_with_cpu"] == true);  // the math alone, the engine's bits
   CHECK(j["roofline"]["vote_math"]["samples"].get<std::uint64_t>() > 0);
+  // A kernel's result read by the host in place and from a host-cached copy: the same words, each pass timed.
+  const auto& host_reads = j["roofline"]["host_reads"];
+  CHECK(host_reads["sums_agree"] == true);
+  CHECK(host_reads["loads"].get<std::uint64_t>() > 0);
+  CHECK(host_reads["mapped_ns_per_load"].get<double>() > 0.0);
+  CHECK(host_reads["readback_ns_per_load"].get<double>() > 0.0);
+  CHECK(out.find("host reads of a kernel's result") != std::string::npos);
   // Round trips and memory allocations per session, counted: the batch's first updates make its vote tables, input
   // buffers and, after the sessions' first estimates, the buffers of the estimates' reads made in the update.
   for (const auto& point : batch["curve"])

@@ -330,6 +330,12 @@ json roofline_json(std::size_t votes, std::size_t bins, const std::string& devic
                     {"exact_agrees_with_cpu", m.exact_agrees},
                     {"exact_samples_per_second", per_second(m.exact_samples_per_second())},
                     {"device_division_samples_per_second", per_second(m.device_division_samples_per_second())}};
+  const HostReads& h = r.host_reads;
+  j["host_reads"] = {{"loads", h.loads},
+                     {"mapped_ns_per_load", h.mapped_ns_per_load},
+                     {"readback_ns_per_load", h.readback_ns_per_load},
+                     {"mapped_device_local", h.mapped_device_local},
+                     {"sums_agree", h.sums_agree}};
   return j;
 }
 

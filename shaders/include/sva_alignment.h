@@ -8,6 +8,7 @@
 
 // Spread of beta for a fully confident alignment (paper Sec 4.3: 0.1 rad).
 #define SVA_SIGMA_INIT 0.1f
+#define SVA_INV_SIGMA_INIT 10.0f  // 1 / SVA_SIGMA_INIT
 // alignConf below this counts as "no constraint": sigma = SIGMA_INIT / this is
 // far wider than the circle, so the vote is (numerically) uniform in beta.
 #define SVA_MIN_ALIGN_CONF 1.0e-4f

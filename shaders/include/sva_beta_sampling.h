@@ -8,13 +8,15 @@
 // Samples of beta per match: at most this many (odd, so that a narrow Gaussian
 // is sampled at its mean). A uniform circle uses at most SVA_MAX_BETA_SAMPLES-1.
 #define SVA_MAX_BETA_SAMPLES 65
-// How finely beta is sampled: half a rotation bin, and half a translation bin
-// at the lever arm of the map midpoint about the axis (rotating by beta moves
-// the translation by |lever| * beta).
-SVA_FN float sva_beta_step(SvaAlignment al, SvaPoseGrid grid) {
+// How finely beta is sampled, as samples per radian (the step's inverse): two per rotation bin, and two per
+// translation bin at the lever arm of the map midpoint about the axis (rotating by beta moves the translation by
+// |lever| * beta). From the grid's bins per radian and per mm, so that no exact division is needed (on a GPU each
+// is an estimate and an integer correction, sva_div).
+SVA_FN float sva_beta_density(SvaAlignment al, SvaPoseGrid grid) {
   SVA_PRECISE vec3 lever = al.c_map_r - sva_dot(al.c_map_r, al.axis) * al.axis;
   SVA_PRECISE float arm = max(sva_length(lever), 1.0e-3f);
-  return 0.5f * min(grid.rotation_width, sva_div(grid.translation_width, arm));
+  SVA_PRECISE float density = 2.0f * max(grid.rotation_scale, arm * grid.translation_scale);
+  return density;
 }
 
 // How one match samples beta, worked out once per match so that each sample
@@ -31,13 +33,14 @@ struct SvaBetaPlan {
 SVA_FN SvaBetaPlan sva_beta_plan(SvaAlignment al, SvaPoseGrid grid) {
   // Written as selects (both plans worked out, one kept; an invalid alignment's plan is all zeros): the CPU plans a
   // block of matches in SIMD lanes (host/src/backends/cpu/align_lanes.cpp).
-  SVA_PRECISE float step = sva_beta_step(al, grid);
-  SVA_PRECISE float inv_sigma = sva_div(1.0f, al.sigma);
+  SVA_PRECISE float density = sva_beta_density(al, grid);
+  // 1 / sigma from alignConf itself (sigma = SIGMA_INIT / alignConf, floored): a product, not a division.
+  SVA_PRECISE float inv_sigma = max(al.align_conf, SVA_MIN_ALIGN_CONF) * SVA_INV_SIGMA_INIT;
   bool circle = 3.0f * al.sigma >= SVA_PI;
-  int n_circle = int(min(ceil(sva_div(SVA_TWO_PI, step)), float(SVA_MAX_BETA_SAMPLES - 1)));
+  int n_circle = int(min(ceil(SVA_TWO_PI * density), float(SVA_MAX_BETA_SAMPLES - 1)));
   SVA_PRECISE float unit_circle = sva_div(SVA_PI, float(n_circle));
   SVA_PRECISE float h = 3.0f * al.sigma;
-  SVA_PRECISE float m = min(ceil(sva_div(h, step)), float((SVA_MAX_BETA_SAMPLES - 1) / 2));
+  SVA_PRECISE float m = min(ceil(h * density), float((SVA_MAX_BETA_SAMPLES - 1) / 2));
   int n_gaussian = 2 * int(m) + 1;
   SVA_PRECISE float unit_gaussian = m > 0.0f ? sva_div(h, m) : 0.0f;
   bool valid = al.valid != 0;

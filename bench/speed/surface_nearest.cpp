@@ -76,7 +76,7 @@ int main(int argc, char** argv) {
       std::size_t f = 0;
       const auto t0 = std::chrono::steady_clock::now();
       for (const Query& q : queries) {
-        const sva::SurfaceModel::Nearest n = model->nearest(q.object, q.p, model->cell_mm());
+        const sva::SurfaceModel::Nearest n = model->nearest(q.object, q.p, model->reach_mm());
         if (!n.found) continue;
         ++f;
         std::uint64_t bits;
@@ -90,7 +90,7 @@ int main(int argc, char** argv) {
     std::printf(
         "%zu queries on %zu meshes within %.2f mm: %.1f ns per query (best of %d), %.1f%% found, digest "
         "%016llx; the model %.1f MB resident\n",
-        queries.size(), map->surfaces.size(), model->cell_mm(), best_ns, repeats,
+        queries.size(), map->surfaces.size(), model->reach_mm(), best_ns, repeats,
         100.0 * double(found) / double(queries.size()), static_cast<unsigned long long>(digest), model_mb);
     return 0;
   } catch (const std::exception& e) {

@@ -101,17 +101,16 @@ TEST_CASE("surface model: the nearest point is the closest on any triangle, ties
   REQUIRE(edge.found);
   CHECK(edge.distance == Approx(2.0));
   CHECK_FALSE(model.nearest(0, {20.0, 20.0, 9.0}, 4.0).found);
-  // A vertex shared by six triangles: the smallest index among them, whatever order the cells hold them in.
+  // A vertex shared by six triangles: the smallest index among them, whatever order the tree holds them in.
   const SurfaceModel::Nearest corner = model.nearest(0, {10.0, 10.0, 0.5}, 4.0);
   REQUIRE(corner.found);
   CHECK(corner.triangle == 2 * (1 * 8 + 1));  // the first triangle of cell (1, 1), which holds vertex (2, 2)
 }
 
-TEST_CASE(
-    "surface model: the nearest point found through the cells, nearest first, is the search of every triangle's") {
-  // A closed, finely cut surface (a sphere of 12 mm, 1,600 triangles of about 1 mm, each in several 4 mm cells) and
-  // queries in and around it: the cells visited nearest first and those past the best so far passed over must give
-  // the smallest (distance, index) of all triangles within the radius, bit for bit.
+TEST_CASE("surface model: the nearest point found through the tree is the search of every triangle's") {
+  // A closed, finely cut surface (a sphere of 12 mm, 1,600 triangles of about 1 mm, its poles' degenerate ones
+  // dropped) and queries in and around it: the boxes visited nearest first and those past the best so far passed
+  // over must give the smallest (distance, index) of all triangles within the radius, bit for bit.
   ObjectSurface ball;
   const int rings = 20, segments = 40;
   const double radius = 12.0, pi = std::acos(-1.0);
@@ -156,12 +155,25 @@ TEST_CASE(
   CHECK(found > 1500);  // most queries lie within the reach
 }
 
-TEST_CASE("surface model: a mesh far larger than its cells is refused, not gridded into all memory") {
+TEST_CASE("surface model: a triangle far larger than the reach is searched as any other, a broken one refused") {
+  // A letter's face is hundreds of mm across against a reach of half a millimetre: one entry of the tree, found.
   ObjectSurface huge;
-  huge.positions = {{0, 0, 0}, {9e5f, 0, 0}, {0, 9e5f, 9e5f}};
+  huge.positions = {{0, 0, 0}, {9e5f, 0, 0}, {0, 9e5f, 0}};
   huge.triangles = {{0, 1, 2}};
-  CHECK_THROWS_WITH(SurfaceModel({huge}, 0.5), Catch::Contains("triangle 0 of object 0") && Catch::Contains("cells"));
-  CHECK_NOTHROW(SurfaceModel({heightfield(true)}, 0.5));  // a 40 mm field at half-millimetre cells is fine
+  const SurfaceModel model({huge}, 0.5);
+  const SurfaceModel::Nearest on = model.nearest(0, {1000.0, 2000.0, 0.25}, 0.5);
+  REQUIRE(on.found);
+  CHECK(on.distance == Approx(0.25));
+  CHECK_FALSE(model.nearest(0, {1000.0, 2000.0, 0.75}, 0.5).found);
+  ObjectSurface broken = huge;
+  broken.positions[1].y = std::nanf("");
+  CHECK_THROWS_WITH(SurfaceModel({broken}, 0.5),
+                    Catch::Contains("triangle 0 of object 0") && Catch::Contains("not finite"));
+  broken = huge;
+  broken.triangles = {{0, 1, 3}};
+  CHECK_THROWS_WITH(SurfaceModel({broken}, 0.5),
+                    Catch::Contains("triangle 0 of object 0") && Catch::Contains("vertex"));
+  CHECK_THROWS_WITH(SurfaceModel({huge}, 0.0), Catch::Contains("reach"));
 }
 
 TEST_CASE("surface model: a pose a little off is polished onto the mesh before it is scored") {

@@ -10,6 +10,7 @@
 // With the map's pad (PadGeometry), the image joins the comparison: the penetration each element felt against the
 // hypothesis's surface under it, so a slot, a ridge or a rim under the pad tells twins apart even where the contact
 // point and normal agree. Not modelled: the skin's elastic spread (the simulator's sim/ alone, docs/architecture.md).
+#include <sva/base/triangle_tree.hpp>
 #include <sva/map.hpp>
 #include <sva/pose.hpp>
 
@@ -17,8 +18,6 @@
 
 #include <cstdint>
 #include <span>
-#include <unordered_map>
-#include <utility>
 #include <vector>
 
 #include "reading/observed_reading.hpp"
@@ -49,14 +48,14 @@ struct PadGeometry {
 
 class SurfaceModel {
  public:
-  // One uniform grid of triangles per object (cells of `cell_mm`, at least the reach the queries use, so that a
-  // query visits at most 27 cells). Throws sva::Error on a surface that is not one per object.
-  SurfaceModel(const std::vector<ObjectSurface>& surfaces, double cell_mm);
+  // One tree of triangles per object (sva/base/triangle_tree.hpp); no query looks farther than `reach_mm`. Throws
+  // sva::Error on a reach that is not positive or a corner that is not finite.
+  SurfaceModel(const std::vector<ObjectSurface>& surfaces, double reach_mm);
   // With the pad the readings were taken with, the model also compares each reading's image (pad_misfit).
-  SurfaceModel(const std::vector<ObjectSurface>& surfaces, double cell_mm, const PadGeometry& pad);
+  SurfaceModel(const std::vector<ObjectSurface>& surfaces, double reach_mm, const PadGeometry& pad);
 
   std::size_t objects() const { return meshes_.size(); }
-  double cell_mm() const { return cell_; }  // also the farthest a query looks
+  double reach_mm() const { return reach_; }  // the farthest a query looks
 
   struct Nearest {
     bool found = false;
@@ -65,8 +64,8 @@ class SurfaceModel {
     double distance = 0.0;
     std::uint32_t triangle = 0;
   };
-  // The point of `object`'s surface nearest to `p` (object frame) within `radius` (at most the cell size); ties go
-  // to the smaller triangle index, so the answer is one and the same on every machine.
+  // The point of `object`'s surface nearest to `p` (object frame) within `radius` (at most the reach); ties go to
+  // the smaller triangle index, so the answer is one and the same on every machine.
   Nearest nearest(std::uint32_t object, const glm::dvec3& p, double radius) const;
 
   // log2 p(readings | object, pose), each reading once (grid frame: the readings and the pose alike).
@@ -85,28 +84,13 @@ class SurfaceModel {
   bool has_pad() const { return pad_.rows > 0; }
 
  private:
-  // A triangle's bounding sphere (bounding_sphere): nearest() passes over a triangle the sphere shows to be farther
-  // than the best so far.
-  struct CellEntry {
-    float x, y, z, bound;
-  };
   struct Mesh {
-    std::vector<glm::dvec3> a, b, c;  // triangle corners (degenerate triangles dropped, their indices kept)
-    std::vector<glm::dvec3> normal;
+    TriangleTree tree;                 // the kept triangles (degenerate ones dropped), searched by their kept number
+    std::vector<glm::dvec3> normal;    // each kept triangle's unit normal
     std::vector<std::uint32_t> index;  // each kept triangle's index in the object's surface
-    std::vector<CellEntry> sphere;     // each kept triangle's
-    glm::dvec3 origin{0.0};            // the grid's corner
-    // Each cell's kept triangles: filed[first, second). A triangle is filed under every cell its bounding box meets.
-    std::unordered_map<std::uint64_t, std::pair<std::size_t, std::size_t>> cells;
-    std::vector<std::uint32_t> filed;
   };
-  static CellEntry bounding_sphere(const glm::dvec3& a, const glm::dvec3& b, const glm::dvec3& c);
-  static void file_cells(const std::unordered_map<std::uint64_t, std::vector<std::uint32_t>>& filed, Mesh* m);
-  static std::uint32_t nearest_sphere(const Mesh& m, std::pair<std::size_t, std::size_t> range, const glm::dvec3& p);
-  std::uint64_t cell_key(const glm::ivec3& c) const;
-  glm::ivec3 cell_of(const Mesh& m, const glm::dvec3& p) const;
   std::vector<Mesh> meshes_;
-  double cell_ = 1.0;
+  double reach_ = 1.0;
   PadGeometry pad_;
 };
 

@@ -42,9 +42,9 @@ struct Verification {
 };
 
 // The measurement model's noise at `settings` (the fine pose's final scale, the normal at kMeshTiltSigma), its reach 4
-// sigma: past it a reading's Gaussian term is 3% of the floor. A map's surface model takes the reach as its cell.
+// sigma: past it a reading's Gaussian term is 3% of the floor. A map's surface model looks no farther.
 ContactNoise contact_noise(const RefineSettings& settings);
-// The measurement model of `map`'s surfaces, its cells the reach of the map's own pose space; none when the map
+// The measurement model of `map`'s surfaces, its reach the map's own pose space's; none when the map
 // carries no surfaces.
 std::unique_ptr<SurfaceModel> surface_model_of(const PairMap& map);
 

@@ -142,7 +142,7 @@ struct Resolved {
 // call touches telling where they are not.
 Outcome predict_on_mesh(const SurfaceModel& model, const Weighed& h, const glm::dvec3& q, const glm::dvec3& facing,
                         const Resolved& r) {
-  const SurfaceModel::Nearest n = model.nearest(h.object, q, std::min(r.tolerance_mm, model.cell_mm()));
+  const SurfaceModel::Nearest n = model.nearest(h.object, q, std::min(r.tolerance_mm, model.reach_mm()));
   if (!n.found || glm::dot(n.normal, facing) < r.cos_normal) return {};
   return {true, h.pose.apply(n.point), h.pose.rotate(n.normal), nullptr};
 }

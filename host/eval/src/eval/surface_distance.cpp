@@ -1,6 +1,5 @@
 #include "eval/surface_distance.hpp"
 
-#include <sva/base/closest_point.hpp>
 #include <sva/base/finite.hpp>
 #include <sva/base/portable_math.hpp>
 #include <sva/base/rng.hpp>
@@ -8,8 +7,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
-#include <numeric>
 #include <string>
 
 namespace sva::eval {
@@ -52,7 +49,8 @@ double diameter_of(const std::vector<glm::dvec3>& points) {
 }  // namespace
 
 SurfaceDistance::SurfaceDistance(const ObjectSurface& surface, const std::string& what) {
-  glm::dvec3 lo(1e300), hi(-1e300), first_moment(0.0);
+  glm::dvec3 first_moment(0.0);
+  std::vector<TriangleTree::Triangle> searched;
   glm::dmat3 second(0.0);
   for (const glm::vec3& v : surface.positions) {
     const glm::dvec3 p(v);
@@ -64,7 +62,9 @@ SurfaceDistance::SurfaceDistance(const ObjectSurface& surface, const std::string
       throw Error(what + ": a triangle index is out of range (" + std::to_string(vertices_.size()) + " vertices)");
     const Triangle tri{vertices_[t.x], vertices_[t.y], vertices_[t.z]};
     const double area = 0.5 * std::sqrt(length2(glm::cross(tri.b - tri.a, tri.c - tri.a)));
-    if (!(area > 0.0)) continue;  // degenerate: no surface, and it would only slow the grid
+    if (!(area > 0.0)) continue;  // degenerate: no surface, and it would only slow the search
+    searched.push_back({surface.positions[t.x], surface.positions[t.y], surface.positions[t.z],
+                        static_cast<std::uint32_t>(triangles_.size())});
     triangles_.push_back(tri);
     total_area_ += area;
     cumulative_area_.push_back(total_area_);
@@ -74,133 +74,18 @@ SurfaceDistance::SurfaceDistance(const ObjectSurface& surface, const std::string
     second += (glm::outerProduct(tri.a, tri.a) + glm::outerProduct(tri.b, tri.b) + glm::outerProduct(tri.c, tri.c) +
                glm::outerProduct(sum, sum)) *
               (area / 12.0);
-    lo = glm::min(lo, glm::min(tri.a, glm::min(tri.b, tri.c)));
-    hi = glm::max(hi, glm::max(tri.a, glm::max(tri.b, tri.c)));
   }
   if (!(total_area_ > 0.0) || !std::isfinite(total_area_))
     throw Error(what + ": the mesh has no triangle of positive area");
   centroid_ = first_moment / total_area_;
   scatter_ = second - glm::outerProduct(centroid_, centroid_) * total_area_;
   diameter_ = diameter_of(vertices_);
-  build_grid(lo, hi);
-}
-
-void SurfaceDistance::build_grid(const glm::dvec3& lo, const glm::dvec3& hi) {
-  // A surface of n cells along its longest side crosses some 6 n^2 cells: n = sqrt(triangles / 12) puts about two
-  // triangles in each (a query then tests tens of triangles, not hundreds).
-  const glm::dvec3 extent = hi - lo;
-  const double per_side = std::clamp(std::sqrt(static_cast<double>(triangles_.size()) / 12.0), 8.0, 160.0);
-  cell_ = std::max({extent.x, extent.y, extent.z, 1e-9}) / per_side;
-  origin_ = lo;
-  for (int k = 0; k < 3; ++k) dims_[k] = std::max(1, static_cast<int>(std::ceil(extent[k] / cell_)));
-  const auto cell_of = [&](const glm::dvec3& p) {
-    glm::ivec3 c;
-    for (int k = 0; k < 3; ++k)
-      c[k] = std::clamp(static_cast<int>(std::floor((p[k] - origin_[k]) / cell_)), 0, dims_[k] - 1);
-    return c;
-  };
-  const std::size_t cells = static_cast<std::size_t>(dims_.x) * dims_.y * dims_.z;
-  // Two passes over the triangles' cells (count, then place): one flat list, triangles in index order per cell.
-  const auto for_each_cell = [&](const Triangle& t, auto&& visit) {
-    const glm::ivec3 a = cell_of(glm::min(t.a, glm::min(t.b, t.c))), b = cell_of(glm::max(t.a, glm::max(t.b, t.c)));
-    for (int z = a.z; z <= b.z; ++z)
-      for (int y = a.y; y <= b.y; ++y)
-        for (int x = a.x; x <= b.x; ++x) visit((static_cast<std::size_t>(z) * dims_.y + y) * dims_.x + x);
-  };
-  cell_start_.assign(cells + 1, 0);
-  for (const Triangle& t : triangles_) for_each_cell(t, [&](std::size_t c) { ++cell_start_[c + 1]; });
-  for (std::size_t c = 0; c < cells; ++c) cell_start_[c + 1] += cell_start_[c];
-  cell_items_.resize(cell_start_[cells]);
-  std::vector<std::uint32_t> next(cell_start_.begin(), cell_start_.end() - 1);
-  for (std::size_t i = 0; i < triangles_.size(); ++i)
-    for_each_cell(triangles_[i], [&](std::size_t c) { cell_items_[next[c]++] = static_cast<std::uint32_t>(i); });
-  find_empty_rings();
-}
-
-void SurfaceDistance::find_empty_rings() {
-  // Breadth first from every cell that holds a triangle over the 26 neighbours: the number of steps is the
-  // Chebyshev distance in cells, the shells a query may skip.
-  const std::size_t cells = cell_start_.size() - 1;
-  empty_rings_.assign(cells, std::numeric_limits<std::uint32_t>::max());
-  std::vector<std::size_t> frontier;
-  for (std::size_t c = 0; c < cells; ++c)
-    if (cell_start_[c + 1] > cell_start_[c]) {
-      empty_rings_[c] = 0;
-      frontier.push_back(c);
-    }
-  for (std::uint32_t ring = 1; !frontier.empty(); ++ring) {
-    std::vector<std::size_t> next;
-    for (const std::size_t c : frontier) {
-      const int x = static_cast<int>(c % static_cast<std::size_t>(dims_.x));
-      const int y = static_cast<int>((c / static_cast<std::size_t>(dims_.x)) % static_cast<std::size_t>(dims_.y));
-      const int z = static_cast<int>(c / (static_cast<std::size_t>(dims_.x) * static_cast<std::size_t>(dims_.y)));
-      for (int dz = -1; dz <= 1; ++dz)
-        for (int dy = -1; dy <= 1; ++dy)
-          for (int dx = -1; dx <= 1; ++dx) {
-            const int nx = x + dx, ny = y + dy, nz = z + dz;
-            if (nx < 0 || ny < 0 || nz < 0 || nx >= dims_.x || ny >= dims_.y || nz >= dims_.z) continue;
-            const std::size_t n = (static_cast<std::size_t>(nz) * dims_.y + ny) * dims_.x + nx;
-            if (empty_rings_[n] > ring) {
-              empty_rings_[n] = ring;
-              next.push_back(n);
-            }
-          }
-    }
-    frontier = std::move(next);
-  }
-}
-
-double SurfaceDistance::nearest_in_cell(std::size_t cell, const glm::dvec3& p, double best) const {
-  for (std::uint32_t k = cell_start_[cell]; k < cell_start_[cell + 1]; ++k) {
-    const Triangle& t = triangles_[cell_items_[k]];
-    best = std::min(best, length2(p - closest_on_triangle(p, t.a, t.b, t.c)));
-  }
-  return best;
+  tree_ = TriangleTree(std::move(searched));
 }
 
 double SurfaceDistance::distance(const glm::dvec3& p, double cap) const {
-  // Shells of cells around the cell nearest to p, nearer first. After shell s every triangle in the block of cells
-  // within s of it has been seen; any other one lies outside the block, at least as far from p's projection q onto
-  // the grid's box as q is from the block's faces (the projection onto a convex set brings no point of it nearer).
-  glm::ivec3 c;
-  glm::dvec3 q;
-  for (int k = 0; k < 3; ++k) {
-    c[k] = std::clamp(static_cast<int>(std::floor((p[k] - origin_[k]) / cell_)), 0, dims_[k] - 1);
-    q[k] = std::clamp(p[k], origin_[k], origin_[k] + dims_[k] * cell_);
-  }
-  const int max_shell = std::max({dims_.x, dims_.y, dims_.z});
-  double best = 1e300;  // squared
-  // The shells nearer than the nearest cell with a triangle are empty: start at it.
-  const std::size_t home = (static_cast<std::size_t>(c.z) * dims_.y + c.y) * dims_.x + c.x;
-  for (int s = static_cast<int>(std::min<std::uint32_t>(empty_rings_[home], static_cast<std::uint32_t>(max_shell)));
-       s <= max_shell; ++s) {
-    for (int z = c.z - s; z <= c.z + s; ++z) {
-      if (z < 0 || z >= dims_.z) continue;
-      for (int y = c.y - s; y <= c.y + s; ++y) {
-        if (y < 0 || y >= dims_.y) continue;
-        const bool face = std::abs(z - c.z) == s || std::abs(y - c.y) == s;
-        for (int x = c.x - s; x <= c.x + s; x += (face || s == 0) ? 1 : 2 * s) {
-          if (x < 0 || x >= dims_.x) continue;
-          // A cell whose box lies no nearer than the best so far holds no nearer triangle.
-          const glm::ivec3 cell(x, y, z);
-          double box = 0.0;
-          for (int k = 0; k < 3; ++k) {
-            const double lo = origin_[k] + cell[k] * cell_, gap = std::max({lo - p[k], p[k] - (lo + cell_), 0.0});
-            box += gap * gap;
-          }
-          if (box < best) best = nearest_in_cell((static_cast<std::size_t>(z) * dims_.y + y) * dims_.x + x, p, best);
-        }
-      }
-    }
-    double reach = 1e300;
-    for (int k = 0; k < 3; ++k) {
-      // A face of the block on the grid's boundary has nothing beyond it.
-      if (c[k] - s > 0) reach = std::min(reach, q[k] - (origin_[k] + (c[k] - s) * cell_));
-      if (c[k] + s + 1 < dims_[k]) reach = std::min(reach, origin_[k] + (c[k] + s + 1) * cell_ - q[k]);
-    }
-    if (best <= reach * reach || reach >= cap) break;
-  }
-  return std::sqrt(best);
+  const TriangleTree::Hit hit = tree_.nearest(p, cap);
+  return hit.found ? std::sqrt(hit.d2) : cap;
 }
 
 std::vector<glm::dvec3> SurfaceDistance::sample(std::size_t count, std::uint64_t seed) const {

@@ -2,9 +2,10 @@
 // An object's mesh as the pose errors measure it (docs/pose-errors.md): the
 // distance from any point to the nearest point of the surface, and points
 // sampled evenly over it. Both are computed by our own code in a fixed order
-// from +, -, *, / and sqrt, so the answers are the same bits on every CPU and
-// for any thread count (DESIGN 4: Embree's point queries walk a BVH built by
-// kernels chosen per CPU).
+// from +, -, *, / and sqrt (the distance through sva/base/triangle_tree.hpp), so
+// the answers are the same bits on every CPU and for any thread count (DESIGN 4:
+// Embree's point queries walk a BVH built by kernels chosen per CPU).
+#include <sva/base/triangle_tree.hpp>
 #include <sva/eval/mesh_symmetry.hpp>
 #include <sva/map.hpp>
 
@@ -40,22 +41,13 @@ class SurfaceDistance {
   struct Triangle {
     glm::dvec3 a, b, c;
   };
-  double nearest_in_cell(std::size_t cell, const glm::dvec3& p, double best) const;
-  void build_grid(const glm::dvec3& lo, const glm::dvec3& hi);
-  void find_empty_rings();
-
   std::vector<glm::dvec3> vertices_;
   std::vector<Triangle> triangles_;  // those of positive area
   std::vector<double> cumulative_area_;
   double total_area_ = 0.0, diameter_ = 0.0;
   glm::dvec3 centroid_{0.0};
   glm::dmat3 scatter_{0.0};
-  // A uniform grid over the bounding box; every cell lists the triangles whose bounding box overlaps it.
-  glm::dvec3 origin_{0.0};
-  double cell_ = 1.0;
-  glm::ivec3 dims_{1};
-  std::vector<std::uint32_t> cell_start_, cell_items_;
-  std::vector<std::uint32_t> empty_rings_;  // per cell: Chebyshev distance (cells) to the nearest with a triangle
+  TriangleTree tree_;  // the triangles_ of positive area, numbered as there
 };
 
 // find_symmetries on a surface already built (`mesh` is `surface`'s): the evaluation keeps it for ADD-S.

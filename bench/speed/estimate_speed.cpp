@@ -1,0 +1,159 @@
+// The estimate's host stages timed on fixed sessions (bench/speed/estimate_speed.sh): a batch of sessions is fed
+// its readings once, then the same estimates are asked for again and again, so that each repeat does the same work
+// and the best of the repeats is the stages' time free of the first run's cold caches. Prints the ms per session of
+// each stage (docs/architecture.md: 1 belief, 2 fits, 3 verify, 4-5 posterior), the process's CPU time per session
+// (steadier than wall time on a shared machine), and a digest of every answer (object, probabilities, poses,
+// hypotheses), which must not change when a stage is made faster.
+//   estimate_speed MAP TEST [sessions (default 6)] [readings (default 30)] [repeats (default 5)] [threads (default 1)]
+//                  [top_k (default 3)]
+// Session t touches object t % objects at a random pose, as `sva bench`'s trials do (seed 1).
+#include <sva/base/rng.hpp>
+#include <sva/base/so3.hpp>
+#include <sva/batch_recognizer.hpp>
+#include <sva/dataset.hpp>
+#include <sva/error.hpp>
+#include <sva/map.hpp>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <ctime>
+#include <exception>
+#include <numbers>
+#include <string>
+#include <vector>
+
+namespace {
+
+double process_cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+std::uint64_t mix(std::uint64_t h, std::uint64_t v) { return (h ^ v) * 0x100000001b3ULL; }
+std::uint64_t mix(std::uint64_t h, double v) {
+  std::uint64_t bits;
+  std::memcpy(&bits, &v, sizeof bits);
+  return mix(h, bits);
+}
+std::uint64_t mix(std::uint64_t h, const sva::RigidPose& p) {
+  for (int c = 0; c < 3; ++c) {
+    h = mix(h, p.T[c]);
+    for (int r = 0; r < 3; ++r) h = mix(h, p.R[c][r]);
+  }
+  return h;
+}
+
+// Every number an estimate reports that the stages decide.
+std::uint64_t digest(std::uint64_t h, const sva::Estimate& e) {
+  h = mix(mix(h, static_cast<std::uint64_t>(e.object)), e.p_unknown);
+  for (double p : e.object_probability) h = mix(h, p);
+  h = mix(mix(mix(h, e.pose), e.parabolic_pose), static_cast<std::uint64_t>(e.pose_refined));
+  for (const sva::PoseHypothesis& m : e.hypotheses)
+    h = mix(mix(mix(h, static_cast<std::uint64_t>(m.object)), m.pose), m.probability);
+  return h;
+}
+
+// Session t's readings: object t % objects, moved by a random pose of the map's space.
+std::vector<sva::Reading> session_readings(const std::vector<std::vector<const sva::Reading*>>& by_object,
+                                           const sva::PoseSpaceSpec& space, std::size_t t, std::size_t readings) {
+  const auto& pool = by_object[t % by_object.size()];
+  std::vector<sva::Reading> out;
+  if (pool.empty()) return out;
+  sva::util::Rng rng(1, t);
+  sva::RigidPose truth;
+  const double lo = space.translation_min_mm, hi = space.translation_max_mm;
+  if (space.kind == sva::PoseSpaceSpec::Kind::planar) {
+    truth.R = sva::so3::about_z(rng.uniform(-3.1, 3.1));
+    truth.T = {rng.uniform(lo, hi), rng.uniform(lo, hi), 0.0};
+  } else {
+    const glm::dvec3 axis = glm::normalize(glm::dvec3(rng.normal(), rng.normal(), rng.normal()));
+    truth.R = sva::so3::exp(axis * rng.uniform(0.0, std::numbers::pi));
+    truth.T = {rng.uniform(lo, hi), rng.uniform(lo, hi), rng.uniform(lo, hi)};
+  }
+  for (std::size_t i = 0; i < readings; ++i) {
+    sva::Reading r = *pool[rng.below(pool.size())];
+    r.position = truth.apply(r.position);
+    r.normal = truth.rotate(r.normal);
+    r.x_axis = truth.rotate(r.x_axis);
+    out.push_back(r);
+  }
+  return out;
+}
+
+// Argument i as a whole number in lo..hi, or `fallback` when not given; anything else ends the program naming it.
+std::size_t arg(int argc, char** argv, int i, std::size_t fallback, std::size_t lo, std::size_t hi) {
+  if (argc <= i) return fallback;
+  char* end = nullptr;
+  const unsigned long long v = std::strtoull(argv[i], &end, 10);
+  if (argv[i][0] == '-' || !end || *end != '\0' || v < lo || v > hi) {
+    std::fprintf(stderr, "estimate_speed: argument %d (\"%s\") is not a whole number in %zu..%zu\n", i, argv[i], lo,
+                 hi);
+    std::exit(2);
+  }
+  return static_cast<std::size_t>(v);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) try {
+  if (argc < 3 || std::strcmp(argv[1], "--help") == 0) {
+    std::fprintf(stderr,
+                 "usage: estimate_speed MAP TEST [sessions=6] [readings=30] [repeats=5] [threads=1] [top_k=3]\n");
+    return argc < 3 ? 2 : 0;
+  }
+  const std::size_t sessions = arg(argc, argv, 3, 6, 1, 4096);
+  const std::size_t readings = arg(argc, argv, 4, 30, 1, 100000);
+  const int repeats = static_cast<int>(arg(argc, argv, 5, 5, 1, 1000));
+  sva::RecognizerOptions options;
+  options.backend = sva::BackendKind::cpu;
+  options.threads = static_cast<unsigned>(arg(argc, argv, 6, 1, 1, 1024));
+  const std::size_t top_k = arg(argc, argv, 7, 3, 0, 100);
+  const sva::Map map = sva::Map::load(argv[1]);
+  const sva::Dataset test = sva::load_dataset(argv[2]);
+  std::vector<std::vector<const sva::Reading*>> by_object(map.objects());
+  for (const sva::Sample& s : test.samples)
+    if (s.reading.status == sva::ControllerStatus::converged && s.object < map.objects())
+      by_object[s.object].push_back(&s.reading);
+  sva::BatchRecognizer batch(map, map.pose_space(), sessions, options);
+  std::vector<std::size_t> ids(sessions);
+  std::vector<std::vector<sva::Reading>> per_session(sessions);
+  for (std::size_t t = 0; t < sessions; ++t) {
+    ids[t] = t;
+    per_session[t] = session_readings(by_object, map.pose_space(), t, readings);
+    if (per_session[t].size() != readings) throw sva::Error(std::string(argv[2]) + ": an object has no test readings");
+  }
+  for (std::size_t i = 0; i < readings; ++i) {
+    std::vector<sva::Reading> step;
+    for (std::size_t t = 0; t < sessions; ++t) step.push_back(per_session[t][i]);
+    batch.add_readings(ids, step);
+  }
+  sva::BatchRecognizer::EstimateTiming best{};
+  double best_total = 1e300, best_cpu = 1e300;
+  std::uint64_t answers = 0;
+  for (int r = 0; r < repeats; ++r) {
+    const double c0 = process_cpu_seconds();
+    const std::vector<sva::Estimate> e = batch.estimates(ids, top_k);
+    best_cpu = std::min(best_cpu, process_cpu_seconds() - c0);
+    const sva::BatchRecognizer::EstimateTiming t = batch.last_estimate_timing();
+    const double total = t.belief_ms + t.fit_ms + t.verify_ms + t.posterior_ms;
+    if (total < best_total) best_total = total, best = t;
+    std::uint64_t h = 0xcbf29ce484222325ULL;
+    for (const sva::Estimate& x : e) h = digest(h, x);
+    if (r > 0 && h != answers) throw sva::Error("the same estimates asked again gave other answers");
+    answers = h;
+  }
+  const double n = static_cast<double>(sessions);
+  std::printf(
+      "%zu sessions at %zu readings, top %zu, %u thread(s), best of %d: ms per session: estimate %.2f = belief %.2f + "
+      "fits %.2f + verify %.2f + posterior %.2f; CPU %.2f ms per session; digest %016llx\n",
+      sessions, readings, top_k, options.threads, repeats, best_total / n, best.belief_ms / n, best.fit_ms / n,
+      best.verify_ms / n, best.posterior_ms / n, 1e3 * best_cpu / n, static_cast<unsigned long long>(answers));
+  return 0;
+} catch (const std::exception& e) {
+  std::fprintf(stderr, "estimate_speed: %s\n", e.what());
+  return 1;
+}

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# bench/speed/estimate_speed.sh on the tiny scene: the stages' line with its digest, the same digest on 1 and 2
+# threads (the estimate's answers do not depend on the thread count), and a bad argument refused with its position.
+#   tests/bench/estimate_speed_smoke.sh SOURCE BUILD SVA PYTHON WORK
+set -euo pipefail
+source_dir=$1 sva=$3 work=$5
+export BUILD_DIR=$2  # this build's bench program, not another build folder's
+rm -rf "$work" && mkdir -p "$work"
+"$sva" --quiet simulate --scene tiny --out "$work" --train 20 --test 12 --seed 1 --threads 2
+"$sva" --quiet train --data "$work/train.svad" --out "$work/map.svam" --seed 1 --threads 2 > /dev/null
+line='^3 sessions at 8 readings, top 3, [12] thread\(s\), best of 2: ms per session: estimate [0-9.]+ = belief [0-9.]+ \+ fits [0-9.]+ \+ verify [0-9.]+ \+ posterior [0-9.]+; CPU [0-9.]+ ms per session; digest [0-9a-f]{16}$'
+one=$(bash "$source_dir/bench/speed/estimate_speed.sh" "$work/map.svam" "$work/test.svad" 3 8 2 1 3)
+two=$(bash "$source_dir/bench/speed/estimate_speed.sh" "$work/map.svam" "$work/test.svad" 3 8 2 2 3)
+echo "$one"
+echo "$two"
+grep -Eq "$line" <<< "$one" && grep -Eq "$line" <<< "$two" || { echo "missing or malformed line" >&2; exit 1; }
+[ "${one##*digest }" = "${two##*digest }" ] || { echo "other answers on 2 threads" >&2; exit 1; }
+if err=$(bash "$source_dir/bench/speed/estimate_speed.sh" "$work/map.svam" "$work/test.svad" 0 2>&1); then
+  echo "accepted 0 sessions" >&2
+  exit 1
+fi
+grep -q 'argument 3 ("0") is not a whole number in 1..4096' <<< "$err" || { echo "unclear refusal: $err" >&2; exit 1; }

@@ -186,15 +186,21 @@ std::string peak_during(const json& m) {
   return "peak during the run " + mib(peak) + " (" + mib(peak - m["rss_before_bytes"].get<double>(), "%+.1f MiB") + ")";
 }
 
+// The estimate's host stages the run asked for (--refine, --surface-check).
+std::string estimate_kind(const json& r) {
+  return std::string("refine ") + (r["refine_pose"].get<bool>() ? "on" : "off") + ", surface check " +
+         (r["surface_check"].get<bool>() ? "on" : "off");
+}
+
 // Per run: throughput and zero-mass votes over all its updates, then memory.
 void print_run_summaries(const json& runs) {
   for (const auto& r : runs) {
     const json& m = r["memory"];
     std::printf(
-        "%s (%zu per submission, top %zu per estimate): %.3g session-updates/s, %.3g votes/s; "
+        "%s (%zu per submission, top %zu per estimate, %s): %.3g session-updates/s, %.3g votes/s; "
         "votes of mass 0: %llu of %llu (%.3g%%)\n",
         run_name(r).c_str(), r["sessions_per_submission"].get<std::size_t>(), r["top_k"].get<std::size_t>(),
-        r["session_updates_per_second"].get<double>(), r["votes_per_second"].get<double>(),
+        estimate_kind(r).c_str(), r["session_updates_per_second"].get<double>(), r["votes_per_second"].get<double>(),
         r["votes_zero"].get<unsigned long long>(), r["votes"].get<unsigned long long>(),
         100.0 * r["votes_zero_fraction"].get<double>());
     const bool cpu = r["backend"] == "cpu";
@@ -258,6 +264,7 @@ bench::BenchPlan parse_plan(const Args& a) {
   plan.roofline_votes = static_cast<std::size_t>(a.integer("--roofline-votes", 1 << 22, 1024, 1 << 26));
   plan.device = a.get_or("--device", "");
   plan.refine_pose = a.on_off("--refine", true);
+  plan.surface_check = a.on_off("--surface-check", true);
   plan.max_pairs_per_update = static_cast<int>(a.integer("--max-pairs", 0, 0, 1 << 20));
   plan.belief_budget_bins = static_cast<std::size_t>(
       a.integer("--belief-budget", static_cast<long long>(plan.belief_budget_bins), 0, 1ll << 40));
@@ -283,6 +290,9 @@ int cmd_bench(const std::vector<std::string>& argv) {
       .option("--batch", "N", "sessions per update in each backend's batched run (default 64; 0 = none)")
       .option("--seed", "S", "trial seed (default 1)")
       .option("--refine", "on|off", "fine pose after every update, timed in estimate_ms (default on)")
+      .option("--surface-check", "on|off",
+              "verify the leading objects against their surfaces after every update (default on; off, with --refine "
+              "off: the host fits the best object alone, where the map's calibration says \"none of these\")")
       .option("--max-pairs", "N",
               "bounded cost per update: pairs per update, both orders counted (58: the new reading with the 29 most "
               "recent ones; default 0, every earlier reading: the exact filter; docs/recognition.md)")

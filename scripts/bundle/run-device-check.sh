@@ -5,14 +5,15 @@
 #   3. the whole test suite, areas in parallel, while paper3d is simulated and its map trained (suite.txt);
 #   4. sva bench on paper3d: the Vulkan backend one session at a time (10, 30, 100 readings, 3 trials), the same
 #      with 3 hypotheses per estimate as sva recognize asks (10 and 30 readings: the modes' path), then 64 per
-#      submission (10 and 30 readings), then the CPU reference on the same machine (bench-*.txt), then its scaling:
+#      submission (10 and 30 readings; again with the fine pose and the surface check off), then the CPU reference
+#      on the same machine (bench-*.txt), then its scaling:
 #      one session on 8 and 16 threads, 64 sessions per update on 2 and 16 threads, and on the device 256 sessions
 #      per submission (the two groups in flight together that Engine::sessions_per_submission gives an 80-141 GB GPU
 #      at the default bound, 105-184 each)
 #      (on a host of 16 cores or more: a GPU machine); each cut at the budget's end;
 #      before the CPU's scaling: sva recognize of 512 sessions with one group in flight and with two (the double
 #      buffering), wall times and whether the results are the same bytes (recognize-in-flight.txt).
-# The per-test logs and the benchmarks' JSON go into details.tgz: 8 files in all, 14 on a host of 16 cores.
+# The per-test logs and the benchmarks' JSON go into details.tgz: 9 files in all, 15 on a host of 16 cores.
 #
 #   run-device-check.sh OUT_DIR [SECONDS]    SECONDS: the budget for all of it (default 480)
 # Environment: VK_DRIVER_FILES (the caller's ICD, kept), WORK (paper3d's data and map, default OUT_DIR/paper3d:
@@ -131,6 +132,10 @@ if [[ -f $work/map.svam ]]; then
   bench vulkan 40 --backend vulkan --trials 3 --batch 0 --readings 10,30,100
   bench vulkan-top3 15 --backend vulkan --trials 3 --batch 0 --readings 10,30 --top-k 3
   bench vulkan-batch 50 --backend vulkan --trials 64 --batch 64 --readings 10,30
+  # The same batch with the host's fits asked for least (no fine pose, no surface check: the best object's fit
+  # alone, for "none of these"): how near the device comes to issue 52's 10,000 session-updates/s when the host's
+  # fits after every reading, which bound it on 16 cores to about 1,600/s at 30 readings, are not asked.
+  bench vulkan-batch-light 15 --backend vulkan --trials 64 --batch 64 --readings 10,30 --refine off --surface-check off
   bench cpu 95 --backend cpu --trials 1 --batch 0 --readings 10,30,100
   # The CPU reference's scaling on the host's cores (issue 52's goals: one session on 16 threads >= 1.6x 8 threads,
   # 64 sessions on 16 threads >= 6x 2 threads), where the host has 16 of them.

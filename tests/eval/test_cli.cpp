@@ -355,6 +355,21 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
   for (std::size_t i = 0; i < single[0]["curve"].size(); ++i)
     for (const char* key : {"accuracy", "translation_error_mm", "votes_per_update"})
       CHECK(top3[0]["curve"][i][key] == single[0]["curve"][i][key]);
+  // --refine off --surface-check off: the estimate's host stages asked for are recorded and printed; the votes are
+  // the same.
+  REQUIRE(sva::test::run_sva(
+              bench + "--backend cpu --batch 0 --refine off --surface-check off --json " + f.path("light.json"),
+              &out) == 0);
+  CHECK(out.find("top 1 per estimate, refine off, surface check off)") != std::string::npos);
+  const auto light = nlohmann::json::parse(read_file(f.path("light.json")))["runs"];
+  REQUIRE(light.size() == 1);
+  CHECK(single[0]["refine_pose"] == true);
+  CHECK(single[0]["surface_check"] == true);
+  CHECK(light[0]["refine_pose"] == false);
+  CHECK(light[0]["surface_check"] == false);
+  REQUIRE(light[0]["curve"].size() == single[0]["curve"].size());
+  for (std::size_t i = 0; i < single[0]["curve"].size(); ++i)
+    CHECK(light[0]["curve"][i]["votes_per_update"] == single[0]["curve"][i]["votes_per_update"]);
   // --max-pairs bounds the pairs per update: the new reading with the most recent one only (2 pairs, both orders)
   // casts fewer votes at 6 readings than with all 5 earlier ones, and the report says which ran.
   const std::string six = base + "--readings 2,6 --backend cpu --batch 0 ";
@@ -389,8 +404,8 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
         exact["curve"][0]["belief_bytes_per_session"].get<double>());
   CHECK(bounded["curve"][1]["work_per_update"]["pairs"].get<double>() ==
         1.0);  // 2 pairs: one order voted, folded twice
-  for (const std::string bad :
-       {"--batch -1", "--batch x", "--backend gpu", "--readings 0", "--max-pairs -1", "--top-k 0"}) {
+  for (const std::string bad : {"--batch -1", "--batch x", "--backend gpu", "--readings 0", "--max-pairs -1",
+                                "--top-k 0", "--surface-check maybe"}) {
     INFO(bad);
     CHECK(sva::test::run_sva(base + bad, &out) != 0);
     CHECK(out.find(bad.substr(bad.find(' ') + 1)) != std::string::npos);

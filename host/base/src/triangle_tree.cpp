@@ -59,15 +59,15 @@ TriangleTree::Node TriangleTree::build(std::span<Triangle> triangles, std::uint3
 
 namespace {
 
-// Inlined: two calls a visited node, the search's most frequent step.
+// One axis's gap between p and the box [lo, hi] (0 inside).
+[[gnu::always_inline]] inline double gap(float lo, float hi, double p) {
+  return std::max(std::max(static_cast<double>(lo) - p, p - static_cast<double>(hi)), 0.0);
+}
+
+// Inlined and written out by axis: two calls a visited node, the search's most frequent step.
 [[gnu::always_inline]] inline double box_distance2(const float* lo, const float* hi, const glm::dvec3& p) {
-  double d2 = 0.0;
-  for (int k = 0; k < 3; ++k) {
-    const double below = static_cast<double>(lo[k]) - p[k], above = p[k] - static_cast<double>(hi[k]);
-    const double d = std::max(std::max(below, above), 0.0);
-    d2 += d * d;
-  }
-  return d2;
+  const double x = gap(lo[0], hi[0], p.x), y = gap(lo[1], hi[1], p.y), z = gap(lo[2], hi[2], p.z);
+  return x * x + y * y + z * z;
 }
 
 }  // namespace

@@ -280,6 +280,7 @@ json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, Me
   ro.backend = spec.backend;
   ro.vulkan_device = spec.vulkan_device;
   ro.refine_pose = spec.refine_pose;
+  ro.surface_check = spec.surface_check;
   ro.max_pairs_per_update = spec.max_pairs_per_update;
   ro.belief_budget_bins = spec.belief_budget_bins;
   meter.start();
@@ -306,7 +307,9 @@ json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, Me
             {"trials", spec.trials},
             {"max_pairs_per_update", spec.max_pairs_per_update},
             {"belief_budget_bins", spec.belief_budget_bins},
-            {"top_k", spec.top_k}};
+            {"top_k", spec.top_k},
+            {"refine_pose", spec.refine_pose},
+            {"surface_check", spec.surface_check}};
   j.update(recorder.figures());
   j["memory"] = memory_json(memory, rec);
   return j;
@@ -351,6 +354,7 @@ nlohmann::json run_all(const Map& map, const Dataset& test, const BenchPlan& pla
     spec.seed = plan.seed;
     spec.vulkan_device = plan.device;
     spec.refine_pose = plan.refine_pose;
+    spec.surface_check = plan.surface_check;
     spec.max_pairs_per_update = plan.max_pairs_per_update;
     spec.belief_budget_bins = plan.belief_budget_bins;
     spec.top_k = plan.top_k;

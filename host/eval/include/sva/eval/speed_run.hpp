@@ -24,9 +24,13 @@ struct SpeedRunSpec {
   std::size_t sessions = 1;              // per update; 1 measures the single-session latency
   std::vector<std::size_t> checkpoints;  // reading counts to report, increasing
   std::uint64_t seed = 1;
-  std::string label;             // progress text
-  std::string vulkan_device;     // "" = the default choice
-  bool refine_pose = true;       // RecognizerOptions::refine_pose (its cost shows in estimate_ms)
+  std::string label;          // progress text
+  std::string vulkan_device;  // "" = the default choice
+  bool refine_pose = true;    // RecognizerOptions::refine_pose (its cost shows in estimate_ms)
+  // RecognizerOptions::surface_check. Off, with refine_pose off, the host fits only the best object after every
+  // update (and only where the map's calibration says "none of these", from that fit): what a batch study that
+  // checks surfaces only at its sessions' ends pays.
+  bool surface_check = true;
   int max_pairs_per_update = 0;  // RecognizerOptions::max_pairs_per_update (0: the exact filter)
   std::size_t belief_budget_bins = RecognizerOptions{}.belief_budget_bins;  // RecognizerOptions::belief_budget_bins
   // Hypotheses per estimate after every update. 1 measures what the GPU runs so far measured; sva recognize's
@@ -50,6 +54,7 @@ struct BenchPlan {
   std::uint64_t seed = 1;
   std::string device;
   bool refine_pose = true;
+  bool surface_check = true;
   int max_pairs_per_update = 0;
   std::size_t belief_budget_bins = RecognizerOptions{}.belief_budget_bins;
   std::size_t top_k = 1;  // SpeedRunSpec::top_k

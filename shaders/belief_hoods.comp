@@ -8,7 +8,10 @@
 //            host's best_bins), the first `best` written in order;
 //  CENTRES:  one invocation: up to `modes` distinct modes, greedily from the best bins (a bin within `suppress` grid
 //            steps of a mode of its object is not one), then every touched object's best bin; for each, where its
-//            neighbourhood starts in the list, and the list's length;
+//            neighbourhood starts in the list, and the list's length. With pose priors, the modes' candidates in
+//            the order of evidence plus prior, and each object's best bin under its prior (estimate/pose_prior.hpp),
+//            in floats: where a near tie orders otherwise than the host's doubles, the lists differ and the host
+//            looks its own keys up;
 //  KEYS:     per (centre, step): the neighbour's packed key and its offset (0 untouched) at its place in the list.
 // The neighbourhood of a centre: the centre, then every step of (tx, ty, tz, rx, ry, rz) within `radius`, rz
 // fastest, that stays in the grid (a planar space steps tx, ty and its angle only, the angle round the circle and
@@ -29,6 +32,7 @@ layout(local_size_x = SVA_WORKGROUP_SIZE) in;
 
 layout(std430, set = 0, binding = 0) readonly buffer Candidates { uint64_t candidate[]; };  // (key, offset) pairs
 layout(std430, set = 0, binding = 1) buffer Hoods { uint64_t hood[]; };
+layout(std430, set = 0, binding = 2) readonly buffer Priors { float prior[]; };  // SVA_PRIOR_FLOATS per object
 
 layout(push_constant) uniform Push { SvaHoodParams pc; };
 
@@ -102,6 +106,41 @@ uint64_t hood_size(int t[3], int r[3]) {
   return n;
 }
 
+// The pose prior's log2 weight at the centre of the bin with linear key `key` (PoseWeighting::log2_weight, in floats):
+// 0 for an object without one.
+float prior_log2_weight(uint64_t key) {
+  uint object = uint(key >> pc.object_shift), at = object * uint(SVA_PRIOR_FLOATS);
+  if (prior[at] == 0.0f) return 0.0f;
+  int t[3], r[3];
+  indices(key, t, r);
+  const float pi = 3.14159265358979f, rw = 2.0f * pi / float(pc.rotation_bins);
+  vec3 position, turn;
+  for (int k = 0; k < 3; ++k) {
+    position[k] = pc.translation_min_mm + (float(t[k]) + 0.5f) * pc.translation_bin_mm;
+    turn[k] = -pi + (float(r[k]) + 0.5f) * rw;
+  }
+  if (pc.planar != 0u) position.z = 0.0f, turn.x = 0.0f, turn.y = 0.0f;
+  vec3 d = position - vec3(prior[at + 1u], prior[at + 2u], prior[at + 3u]);
+  float nats_bits = prior[at + 4u] * dot(d, d);  // already per ln 2: bits
+  if (prior[at + 5u] > 0.0f) {
+    // The bin's rotation exp(turn), and its angle from the prior's mean: trace(M^T R) = sum of elementwise products.
+    float a = length(turn);
+    mat3 k = mat3(0.0f, turn.z, -turn.y, -turn.z, 0.0f, turn.x, turn.y, -turn.x, 0.0f);
+    mat3 rot = a < 1e-6f ? mat3(1.0f) + k : mat3(1.0f) + (sin(a) / a) * k + ((1.0f - cos(a)) / (a * a)) * (k * k);
+    float trace = 0.0f;
+    for (uint c = 0u; c < 3u; ++c)
+      for (uint j = 0u; j < 3u; ++j) trace += prior[at + 6u + 3u * c + j] * rot[c][j];
+    float angle = acos(clamp(0.5f * (trace - 1.0f), -1.0f, 1.0f));
+    nats_bits += prior[at + 5u] * angle * angle;
+  }
+  return -nats_bits;
+}
+
+// Evidence plus prior in bits, relative to the offset `top` (the best candidate's): floats order them.
+float prior_score(uint64_t key, uint64_t offset, uint64_t top) {
+  return -float(top - offset) / float(1ul << SVA_BELIEF_FRAC_BITS) + prior_log2_weight(key);
+}
+
 // Two bins of one object within `suppress` steps on every axis (the planar angle round the circle).
 bool within(uint64_t a, uint64_t b) {
   if ((a >> pc.object_shift) != (b >> pc.object_shift)) return false;
@@ -140,6 +179,36 @@ void add_centre(uint c, uint64_t key, inout uint64_t next) {
   next += hood_size(t, r);
 }
 
+// The first m candidates' places in the order of evidence plus prior, best first (a stable insertion sort: equal
+// scores keep the offsets' order, as the host's stable sort does).
+void order_by_prior(uint m, out uint order[SVA_PRIOR_MOST_CANDIDATES]) {
+  float score[SVA_PRIOR_MOST_CANDIDATES];
+  uint64_t top = hood[sorted_word(0u) + 1u];
+  for (uint i = 0u; i < m; ++i) {
+    float s = prior_score(hood[sorted_word(i)], hood[sorted_word(i) + 1u], top);
+    uint j = i;
+    for (; j > 0u && score[j - 1u] < s; --j) score[j] = score[j - 1u], order[j] = order[j - 1u];
+    score[j] = s, order[j] = i;
+  }
+}
+
+// Object o's best bin: its summary's, or under a prior the best by evidence plus prior among it and its bins among
+// the first `n` candidates' `prior_best` (ties to the smaller key), as best_bin_under_prior chooses.
+uint64_t object_best(uint o, uint n) {
+  SvaWords st = state();
+  uint64_t best = st.w[sva_state_object(SVA_STATE_BEST_KEY, pc.objects, o)];
+  if (pc.priors == 0u || prior[o * uint(SVA_PRIOR_FLOATS)] == 0.0f) return best;
+  uint64_t top = hood[sorted_word(0u) + 1u];
+  float score = prior_score(best, st.w[sva_state_object(SVA_STATE_BEST_OFFSET, pc.objects, o)], top);
+  for (uint i = 0u; i < min(n, pc.prior_best); ++i) {
+    uint64_t key = hood[sorted_word(i)];
+    if (uint(key >> pc.object_shift) != o) continue;
+    float s = prior_score(key, hood[sorted_word(i) + 1u], top);
+    if (s > score || (s == score && key < best)) best = key, score = s;
+  }
+  return best;
+}
+
 void choose_centres() {
   SvaWords st = state();
   uint64_t touched = 0ul;
@@ -158,16 +227,22 @@ void choose_centres() {
   } else {
     uint n = min(candidates_found(), pc.best);
     if (uint64_t(n) < min(uint64_t(pc.best), touched)) return;  // the selection missed bins: the host reads them
-    for (uint i = 0u; i < n && c < pc.modes; ++i) {
-      uint64_t key = hood[sorted_word(i)];
+    uint m = min(n, pc.mode_best);
+    uint order[SVA_PRIOR_MOST_CANDIDATES];
+    if (pc.priors != 0u) {
+      if (m > SVA_PRIOR_MOST_CANDIDATES) return;  // more than one invocation sorts: the host chooses (key_choice)
+      order_by_prior(m, order);
+    }
+    for (uint i = 0u; i < m && c < pc.modes; ++i) {
+      uint64_t key = hood[sorted_word(pc.priors != 0u ? order[i] : i)];
       bool suppressed = false;
-      for (uint m = 0u; m < c && !suppressed; ++m) suppressed = within(key, hood[centre_word(m)]);
+      for (uint j = 0u; j < c && !suppressed; ++j) suppressed = within(key, hood[centre_word(j)]);
       if (!suppressed) add_centre(c++, key, next);
     }
   }
   for (uint o = 0u; o < pc.objects; ++o)
     if (st.w[sva_state_object(SVA_STATE_TOUCHED, pc.objects, o)] > 0ul)
-      add_centre(c++, st.w[sva_state_object(SVA_STATE_BEST_KEY, pc.objects, o)], next);
+      add_centre(c++, object_best(o, min(candidates_found(), pc.best)), next);
   if (next > uint64_t(pc.keys)) return;  // more keys than the output holds: the host reads them
   hood[1] = uint64_t(c);
   hood[0] = next;

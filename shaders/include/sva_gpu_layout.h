@@ -204,7 +204,11 @@ struct SvaReduceParams {
 // hypothesis_keys), chosen on the device after an update's fold and its best bins' selection, so that the estimate
 // after a touch needs no round trip of its own: up to `modes` distinct modes among the best `best` bins (greedy,
 // no two within `suppress` grid steps of one object), then every touched object's best bin, and the neighbourhood of
-// each (within `radius` steps, the centre first), with their offsets, in the host's order.
+// each (within `radius` steps, the centre first), with their offsets, in the host's order. With pose priors
+// (`priors` 1: the third buffer holds SVA_PRIOR_FLOATS per object, PoseWeighting::device_terms), the modes' `mode_best`
+// candidates are ordered by evidence plus prior first, and an object's best bin is the best under its prior among the
+// `prior_best` best bins (host/src/estimate/pose_prior.hpp), each in floats: a near tie that floats order otherwise
+// makes the host's list differ, and the host then reads its keys itself.
 struct SvaHoodParams {
   uint table_lo, table_hi, capacity;
   uint state_lo, state_hi;
@@ -215,7 +219,17 @@ struct SvaHoodParams {
   uint translation_bins, rotation_bins, planar;
   uint keys;   // room for keys in the output
   uint steps;  // neighbour steps per centre, the grid's edges ignored (the KEYS pass's invocations per centre)
+  uint mode_best;   // of the best `best`, the modes' candidates (`best` without priors)
+  uint prior_best;  // of the best `best`, an object's best bin's under its prior
+  uint priors;      // 1: pose priors in the third buffer
+  float translation_min_mm, translation_bin_mm;  // the grid's corner and bin width (a bin's centre, for the priors)
 };
+// A pose prior's terms per object, in floats (PoseWeighting::device_terms): [0] 1 where the object has one, [1..3]
+// its mean position in the grid's frame, [4] log2 weight per mm^2 of distance, [5] per rad^2 of turn (0: position
+// only), [6..14] its mean rotation in the grid's frame (column-major), [15] unused.
+#define SVA_PRIOR_FLOATS 16
+// The most candidates a prior orders on the device (one invocation sorts them); more: the host chooses the keys.
+#define SVA_PRIOR_MOST_CANDIDATES 256u
 #define SVA_HOODS_RANK 0u     // per candidate: its place among them (offset descending, key ascending); the best kept
 #define SVA_HOODS_CENTRES 1u  // one invocation: the centres and the place of each one's neighbourhood
 #define SVA_HOODS_KEYS 2u     // per (centre, step): the neighbour's packed key and offset at its place

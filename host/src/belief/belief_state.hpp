@@ -11,6 +11,7 @@
 // reference, device memory for Vulkan) and every backend answers alike:
 // BeliefState is the interface, `Belief` the CPU reference, and the estimate
 // is computed once, from a BeliefState's reductions (estimate/candidates.hpp).
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -34,16 +35,25 @@ struct BeliefSummary {
   bool operator==(const BeliefSummary&) const = default;
 };
 
-// What stage 1 of an estimate reads by key, as estimate/hypotheses.hpp's hypothesis_keys chooses it without a pose
-// prior: up to `modes` distinct modes among the `best` best bins (no two of one object within `suppress` grid steps),
-// then every touched object's best bin, and the neighbourhood of each within `radius` steps (at least 1). A device
-// chooses the same keys after an update, in its submission (belief_hoods.comp), so that the estimate after it reads
-// nothing more; `on` false: not asked (a pose prior orders the modes on the host).
+// What stage 1 of an estimate reads by key, as estimate/hypotheses.hpp's hypothesis_keys chooses it: up to `modes`
+// distinct modes among the `mode_best` best bins (no two of one object within `suppress` grid steps), then every
+// touched object's best bin, and the neighbourhood of each within `radius` steps (at least 1). A device chooses the
+// same keys after an update, in its submission (belief_hoods.comp), so that the estimate after it reads nothing more;
+// `on` false: not asked. With pose priors (`prior`: PoseWeighting::device_terms, kPriorDeviceFloats per object), the
+// modes' candidates are ordered by evidence plus prior, and an object's best bin is its best under its prior among
+// the `prior_best` best bins.
 struct KeyChoice {
   bool on = false;
   std::uint32_t modes = 0, best = 0;
   int suppress = 0, radius = 1;
+  std::uint32_t mode_best = 0;   // of `best`, the modes' candidates (0: all `best`)
+  std::uint32_t prior_best = 0;  // of `best`, an object's best bin's under its prior
+  std::vector<float> prior;      // empty: no pose prior
 };
+// Floats per object of KeyChoice::prior (SVA_PRIOR_FLOATS), and the most candidates a device orders by a prior in
+// its one invocation (SVA_PRIOR_MOST_CANDIDATES): a longer list is the host's to choose.
+inline constexpr std::size_t kPriorDeviceFloats = 16;
+inline constexpr std::size_t kPriorMostCandidates = 256;
 
 class BeliefState {
  public:

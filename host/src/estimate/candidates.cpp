@@ -202,13 +202,19 @@ std::size_t best_bins_asked(const CandidateRequest& r) {
 
 KeyChoice key_choice(const CandidateRequest& r) {
   KeyChoice c;
-  if (r.pose_weighting && !r.pose_weighting->empty()) return c;  // the prior orders the modes: the host's to choose
-  const std::size_t count = r.hypotheses ? r.top_k : 0;          // as keys_read
+  const bool prior = r.pose_weighting && !r.pose_weighting->empty();
+  const std::size_t count = r.hypotheses ? r.top_k : 0;  // as keys_read
+  c.mode_best = static_cast<std::uint32_t>(mode_candidates(count, prior));
+  // With a prior, the objects' best bins under it come from the kPosePriorCandidates best bins too; a device sorts
+  // the candidates in one invocation, so a longer list is the host's to choose.
+  c.prior_best = prior ? static_cast<std::uint32_t>(kPosePriorCandidates) : 0u;
+  c.best = std::max(c.mode_best, c.prior_best);
+  if (prior && c.best > kPriorMostCandidates) return c;
   c.on = true;
   c.modes = static_cast<std::uint32_t>(count);
-  c.best = static_cast<std::uint32_t>(mode_candidates(count, false));
   c.suppress = r.hypothesis_radius_bins;
   c.radius = std::max(r.hypothesis_radius_bins, 1);
+  if (prior) c.prior = r.pose_weighting->device_terms();
   return c;
 }
 

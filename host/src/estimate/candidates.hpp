@@ -78,7 +78,8 @@ Candidates find_candidates(const BeliefState& belief, const PoseSpace& space, co
 // The most best bins find_candidates asks of a belief for `request` (its top bins, the modes' and hypotheses'
 // candidates, a pose prior's): what a device reads ahead for many sessions at once (VoteBackend::read_ahead).
 std::size_t best_bins_asked(const CandidateRequest& request);
-// How keys_read chooses its keys for `request`, for a device to choose them after an update (off with a pose prior).
+// How keys_read chooses its keys for `request`, for a device to choose them after an update (off where a pose prior
+// orders more candidates than one device invocation sorts: kPriorMostCandidates).
 KeyChoice key_choice(const CandidateRequest& request);
 // The bins find_candidates reads by key (BeliefState::offsets) for `request`, from what the belief's summary and best
 // bins say: the neighbourhoods of the hypotheses' centres, which hold every parabola's bins (VoteBackend::

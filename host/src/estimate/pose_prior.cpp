@@ -51,6 +51,32 @@ double PoseWeighting::log2_weight(std::uint32_t object, const RigidPose& grid_po
   return -nats / std::numbers::ln2;
 }
 
+std::vector<float> PoseWeighting::device_terms() const {
+  std::vector<float> out;
+  if (empty()) return out;
+  out.assign(per_object_.size() * kPriorDeviceFloats, 0.0f);
+  // The robot frame is the workspace times the grid's: a mean moved into the grid's frame keeps every distance and
+  // every angle (log2_weight measures in the robot's).
+  const RigidPose& w = space_->spec().workspace;
+  const glm::dmat3 wt = glm::transpose(w.R);
+  for (std::size_t o = 0; o < per_object_.size(); ++o) {
+    if (!per_object_[o]) continue;
+    const PosePrior& p = *per_object_[o];
+    float* t = out.data() + o * kPriorDeviceFloats;
+    const glm::dvec3 mean = wt * (p.position - w.T);
+    t[0] = 1.0f;
+    for (int k = 0; k < 3; ++k) t[1 + k] = static_cast<float>(mean[k]);
+    t[4] = static_cast<float>(0.5 / (p.position_sigma_mm * p.position_sigma_mm) / std::numbers::ln2);
+    if (p.has_rotation) {
+      t[5] = static_cast<float>(0.5 / (p.rotation_sigma_rad * p.rotation_sigma_rad) / std::numbers::ln2);
+      const glm::dmat3 r = wt * p.rotation;
+      for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 3; ++k) t[6 + 3 * c + k] = static_cast<float>(r[c][k]);
+    }
+  }
+  return out;
+}
+
 double PoseWeighting::log2_weight(std::uint64_t key) const {
   const std::uint32_t object = PoseSpace::object_of(key);
   return applies_to(object) ? log2_weight(object, space_->centre(key)) : 0.0;

@@ -26,6 +26,9 @@ class PoseWeighting {
   // log2 of the prior's weight at `grid_pose` (the grid's frame) of `object`, or at the centre of bin `key`.
   double log2_weight(std::uint32_t object, const RigidPose& grid_pose) const;
   double log2_weight(std::uint64_t key) const;
+  // The same Gaussians as a device evaluates them (belief_hoods.comp), kPriorDeviceFloats floats per object in the
+  // grid's frame (shaders/include/sva_gpu_layout.h, SVA_PRIOR_FLOATS, says which): empty without priors.
+  std::vector<float> device_terms() const;
 
  private:
   std::vector<std::optional<PosePrior>> per_object_;

@@ -133,14 +133,35 @@ TEST_CASE("GPU batch: a robot's touch is one round trip once an estimate has rea
   // best bins) and chooses the bins it reads by key on the device (belief_hoods.comp): the estimate then reads
   // nothing. Each answer is the CPU reference's; top_k 5 chooses modes among the best bins, 1 the best bin alone, 0
   // none. Staged, as on a discrete GPU; a touch that grows its table (early on) costs a submission more.
-  const auto [staged, top_k] = GENERATE(table<bool, std::size_t>({{true, 5}, {true, 0}, {false, 1}}));
-  INFO((staged ? "staged" : "mapped") << ", top_k " << top_k);
+  // With a pose prior (a robot that knows roughly where the object lies) the device orders the modes and picks the
+  // objects' best bins under it too, in floats: the host checks its list against the device's.
+  const auto [staged, top_k, with_prior] = GENERATE(
+      table<bool, std::size_t, bool>({{true, 5, false}, {true, 0, false}, {false, 1, false}, {true, 3, true}}));
+  INFO((staged ? "staged" : "mapped") << ", top_k " << top_k << (with_prior ? ", pose prior" : ""));
   const std::unique_ptr<BatchRecognizer> gpu = staged ? staged_gpu_batch() : gpu_batch();
   RecognizerOptions co = gpu_options();
   co.backend = BackendKind::cpu;
   BatchRecognizer cpu(trained().map, paper_space(), 1, co);
   const std::size_t session = 0;
-  const std::vector<Reading> rd = readings_at(1, random_pose(950, 100.0), util::Rng(950, 5), 9);
+  const RigidPose truth = random_pose(950, 100.0);
+  const std::vector<Reading> rd = readings_at(1, truth, util::Rng(950, 5), 9);
+  if (with_prior) {
+    Prior prior;
+    prior.object_pose.resize(3);
+    PosePrior near;
+    near.position = truth.T + glm::dvec3(15.0, -10.0, 5.0);
+    near.position_sigma_mm = 20.0;
+    near.has_rotation = true;
+    near.rotation = truth.R;
+    near.rotation_sigma_rad = 0.4;
+    prior.object_pose[1] = near;
+    PosePrior elsewhere;
+    elsewhere.position = truth.T - glm::dvec3(40.0, 30.0, 0.0);
+    elsewhere.position_sigma_mm = 25.0;
+    prior.object_pose[2] = elsewhere;
+    gpu->set_prior(session, prior);
+    cpu.set_prior(session, prior);
+  }
   std::size_t read_nothing = 0, touches = 0;
   for (std::size_t r = 0; r < rd.size(); ++r) {
     INFO("reading " << r + 1);

@@ -2,8 +2,12 @@
 // covariances and poses, spatial and planar, at every suppression radius.
 #include <catch2/catch.hpp>
 
+#include <optional>
+
 #include "backends/vulkan/gpu_belief.hpp"
+#include "estimate/candidates.hpp"
 #include "estimate/hypotheses.hpp"
+#include "estimate/pose_prior.hpp"
 #include "recognition/fixture.hpp"
 #include "vk_test_support.hpp"
 
@@ -92,7 +96,81 @@ void keys_chosen_on_device(const test::WorldSpec& spec, const PoseSpaceSpec& spa
   CHECK(gpu->statistics().validation_messages == 0);
 }
 
+// The same with pose priors (key_choice of a request that carries them): the modes' candidates ordered by evidence
+// plus prior and the objects' best bins under their priors, chosen in the update's submission as the host chooses
+// them, so that a robot's session with a prior is one round trip too. The priors move the choice: some lists differ
+// from the ones without them.
+void keys_chosen_with_priors(const test::WorldSpec& spec, const PoseSpaceSpec& space_spec, double t_range) {
+  auto w = test::make_world(spec);
+  PoseSpace space(space_spec, static_cast<std::uint32_t>(spec.objects));
+  VulkanBackendOptions vo;
+  vo.force_staging = true;  // a mapped CPU device reads the candidates past the band on the host
+  auto gpu = test::vulkan_backend_or_skip(*w.map, space, {}, vo);
+  auto cpu = make_cpu_vote_backend(*w.map, space, {});
+  BayesFilter fc(*w.map, space, {}, *cpu), fg(*w.map, space, {}, *gpu);
+  const auto& g = dynamic_cast<const GpuBelief&>(fg.belief());
+  const GpuBelief* one[] = {&g};
+  const RigidPose truth = test::random_pose(829, t_range, spec.planar);
+  // The touched object near where the prior puts it, another object's prior elsewhere and position only.
+  std::vector<std::optional<PosePrior>> per(static_cast<std::size_t>(spec.objects));
+  PosePrior near;
+  near.position = truth.T + glm::dvec3(0.2 * t_range, -0.15 * t_range, 0.0);
+  near.position_sigma_mm = 0.1 * t_range;
+  near.has_rotation = true;
+  near.rotation = truth.R;
+  near.rotation_sigma_rad = 0.3;
+  PosePrior far;
+  far.position = truth.T - glm::dvec3(0.3 * t_range, 0.2 * t_range, 0.0);
+  far.position_sigma_mm = 0.1 * t_range;
+  per[2] = near, per[0] = far, per[1] = far;
+  const PoseWeighting weighting(per, space);
+  int chosen = 0, moved = 0, moved_and_chosen = 0;
+  constexpr std::array<std::pair<std::size_t, int>, 6> choices{{{4, 0}, {0, 1}, {1, 2}, {6, 1}, {3, 0}, {1, 1}}};
+  for (int r = 0; r < 12; ++r) {
+    const auto [modes, radius] = choices[static_cast<std::size_t>(r / 2)];
+    CandidateRequest request;
+    request.top_k = modes;
+    request.hypotheses = true;
+    request.hypothesis_radius_bins = radius;
+    request.pose_weighting = &weighting;
+    const KeyChoice c = key_choice(request);
+    REQUIRE(c.on);
+    REQUIRE(c.prior.size() == kPriorDeviceFloats * static_cast<std::size_t>(spec.objects));
+    GpuBelief::read_ahead(one, best_bins_asked(request), std::span(&c, 1));  // as an estimate marks it
+    const ObservedReading o =
+        test::observe(w.objects[2][static_cast<std::size_t>(r * 5 + 1) % w.objects[2].size()], truth);
+    fc.add(o);
+    fg.add(o);
+    if (fc.belief().touched() == 0) continue;
+    INFO("update " << r << ", modes " << modes << ", radius " << radius);
+    const std::uint64_t s0 = gpu->statistics().device_submissions;
+    const std::vector<std::uint64_t> keys = hypothesis_keys(g, space, g.summarise(), modes, radius, weighting);
+    REQUIRE(keys == hypothesis_keys(fc.belief(), space, fc.belief().summarise(), modes, radius, weighting));
+    const bool prior_moved = keys != hypothesis_keys(fc.belief(), space, fc.belief().summarise(), modes, radius);
+    moved += prior_moved;
+    GpuBelief::look_up_ahead(one, std::span(&keys, 1));
+    CHECK(g.offsets(keys) == fc.belief().offsets(keys));
+    if (r % 2 == 1 && gpu->statistics().device_submissions == s0) {
+      ++chosen;
+      moved_and_chosen += prior_moved;  // chosen by the device's prior, not by the order without one
+    }
+  }
+  INFO("moved " << moved << ", chosen " << chosen << ", of them moved " << moved_and_chosen);
+  CHECK(moved >= 3);
+  CHECK(chosen >= 4);
+  CHECK(moved_and_chosen >= 2);
+  CHECK(gpu->statistics().validation_messages == 0);
+}
+
 }  // namespace
+
+TEST_CASE("GPU hypotheses: with pose priors, an update chooses the keys the next estimate reads (spatial)") {
+  keys_chosen_with_priors(test::WorldSpec{}, test::paper_space(), 120.0);
+}
+
+TEST_CASE("GPU hypotheses: with pose priors, an update chooses the keys the next estimate reads (planar)") {
+  keys_chosen_with_priors(test::planar_spec(), test::letters_space(), 6.0);
+}
 
 TEST_CASE("GPU hypotheses: an update chooses the keys the next estimate reads, as the host does (spatial)") {
   keys_chosen_on_device(test::WorldSpec{}, test::paper_space(), 120.0);

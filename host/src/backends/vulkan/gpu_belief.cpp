@@ -15,6 +15,9 @@
 #include "belief/belief_math.hpp"
 #include "votes/neighbourhood_steps.hpp"
 
+static_assert(sva::kPriorDeviceFloats == SVA_PRIOR_FLOATS && sva::kPriorMostCandidates == SVA_PRIOR_MOST_CANDIDATES,
+              "KeyChoice's priors as belief_hoods.comp reads them");
+
 namespace sva {
 
 namespace {
@@ -513,7 +516,30 @@ gpu::SvaHoodParams GpuBelief::hood_params(std::uint32_t pass, std::uint64_t step
   p.planar = k_->space->planar() ? 1u : 0u;
   p.keys = static_cast<std::uint32_t>(keys);
   p.steps = static_cast<std::uint32_t>(steps);
+  p.mode_best = ahead_keys_.mode_best ? ahead_keys_.mode_best : ahead_keys_.best;
+  p.prior_best = ahead_keys_.prior_best;
+  p.priors = ahead_keys_.prior.empty() ? 0u : 1u;
+  p.translation_min_mm = static_cast<float>(spec.translation_min_mm);
+  p.translation_bin_mm =
+      static_cast<float>((spec.translation_max_mm - spec.translation_min_mm) / spec.translation_bins);
   return p;
+}
+
+// The pose priors' terms where belief_hoods.comp reads them (its third buffer, bound with or without priors), written
+// when they changed: a session's prior changes rarely, and its last submission has finished before this one is
+// recorded.
+vk::Buffer& GpuBelief::priors_buffer() const {
+  const std::vector<float>& terms = ahead_keys_.prior;
+  const std::size_t bytes = std::max<std::size_t>(terms.size() * sizeof(float), 64);
+  if (priors_.size() < bytes) {
+    priors_ = k_->ctx->create_buffer(std::bit_ceil(bytes));
+    priors_written_.clear();
+  }
+  if (terms != priors_written_) {
+    std::memcpy(priors_.as<float>(), terms.data(), terms.size() * sizeof(float));
+    priors_written_ = terms;
+  }
+  return priors_;
 }
 
 bool GpuBelief::add_key_choice(std::vector<vk::Dispatch>* ds, std::vector<vk::Copy>* reads) const {
@@ -537,9 +563,10 @@ bool GpuBelief::add_key_choice(std::vector<vk::Dispatch>* ds, std::vector<vk::Co
     if (hoods_mirror_.size() < hoods_.size()) hoods_mirror_ = k_->ctx->create_readback_buffer(hoods_.size());
     reads->push_back({&hoods_, &hoods_mirror_, 0, 0, bytes});
   }
+  vk::Buffer& priors = priors_buffer();
   const auto dispatch = [&](std::uint32_t pass, std::uint64_t invocations) {
     const vk::Grid g = k_->ctx->grid(invocations);
-    vk::Dispatch d{k_->hoods, {&candidates_, &hoods_}, push_bytes(hood_params(pass, steps, keys)), g.x};
+    vk::Dispatch d{k_->hoods, {&candidates_, &hoods_, &priors}, push_bytes(hood_params(pass, steps, keys)), g.x};
     d.groups_y = g.y;
     ds->push_back(std::move(d));
   };

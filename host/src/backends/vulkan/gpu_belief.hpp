@@ -262,11 +262,14 @@ class GpuBelief final : public BeliefState {
   mutable std::size_t ahead_k_ = 0;
   mutable KeyChoice ahead_keys_;
   mutable bool keys_chosen_ = false;
-  mutable std::size_t last_keys_ = 0;        // how many keys the last estimate read
-  mutable vk::Buffer hoods_, hoods_mirror_;  // belief_hoods.comp's output, and its copy where unmapped
+  mutable std::size_t last_keys_ = 0;          // how many keys the last estimate read
+  mutable vk::Buffer hoods_, hoods_mirror_;    // belief_hoods.comp's output, and its copy where unmapped
+  mutable vk::Buffer priors_;                  // its pose priors' terms (KeyChoice::prior), mapped
+  mutable std::vector<float> priors_written_;  // what priors_ holds
   // The key choice's dispatches, after the selection in the fold's submission; false where it cannot be made there.
   bool add_key_choice(std::vector<vk::Dispatch>* ds, std::vector<vk::Copy>* reads) const;
   gpu::SvaHoodParams hood_params(std::uint32_t pass, std::uint64_t steps, std::uint64_t keys) const;
+  vk::Buffer& priors_buffer() const;
   // The keys it chose and their offsets, as look_up_ahead's answers.
   void keep_key_choice() const;
   // look_up_ahead's keys and their offsets, in the order asked, until the belief changes.

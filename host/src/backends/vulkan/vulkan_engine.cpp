@@ -80,7 +80,7 @@ VulkanEngine::VulkanEngine(const PairMap& map, const vk::ContextOptions& context
       rehash(ctx.create_pipeline(sva_spv_belief_rehash, 2, sizeof(gpu::SvaRehashParams))),
       reduce(ctx.create_pipeline(sva_spv_belief_reduce, 1, sizeof(gpu::SvaReduceParams))),
       lookup(ctx.create_pipeline(sva_spv_belief_lookup, 1, sizeof(gpu::SvaLookupParams))),
-      hoods(ctx.create_pipeline(sva_spv_belief_hoods, 2, sizeof(gpu::SvaHoodParams))) {
+      hoods(ctx.create_pipeline(sva_spv_belief_hoods, 3, sizeof(gpu::SvaHoodParams))) {
   subgroup_aggregation = use_subgroups(ctx, portable_kernel);
   try {
     upload_map(map, max_chunk_entries);

@@ -525,11 +525,13 @@ gpu::SvaHoodParams GpuBelief::hood_params(std::uint32_t pass, std::uint64_t step
   return p;
 }
 
-// The pose priors' terms where belief_hoods.comp reads them (its third buffer, bound with or without priors), written
-// when they changed: a session's prior changes rarely, and its last submission has finished before this one is
-// recorded.
+// The pose priors' terms where belief_hoods.comp reads them (its third buffer, bound with or without priors): the
+// engine's zeros for a session without any (no allocation per session of a batch), else the session's own, written
+// when they changed (a session's prior changes rarely, and its last submission has finished before this one is
+// recorded).
 vk::Buffer& GpuBelief::priors_buffer() const {
   const std::vector<float>& terms = ahead_keys_.prior;
+  if (terms.empty() && k_->no_priors) return *k_->no_priors;
   const std::size_t bytes = std::max<std::size_t>(terms.size() * sizeof(float), 64);
   if (priors_.size() < bytes) {
     priors_ = k_->ctx->create_buffer(std::bit_ceil(bytes));

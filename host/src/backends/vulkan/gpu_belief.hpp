@@ -36,6 +36,7 @@ struct GpuBeliefKernels {
   const vk::Pipeline* reduce = nullptr;
   const vk::Pipeline* lookup = nullptr;
   const vk::Pipeline* hoods = nullptr;  // belief_hoods.comp: the keys an estimate reads, chosen after an update
+  vk::Buffer* no_priors = nullptr;      // its priors buffer for a session without any: one for all (zeros)
   std::size_t initial_slots = 1 << 12;
   // Counted by the beliefs of many sessions at once: a batch's estimates read their beliefs on the workers.
   std::atomic<double> kernel_ms = 0.0;      // GPU time of belief work since the backend last reset it

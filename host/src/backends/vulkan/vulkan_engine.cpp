@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <bit>
+#include <cstring>
 #include <map>
 #include <mutex>
 #include <tuple>
@@ -82,6 +83,8 @@ VulkanEngine::VulkanEngine(const PairMap& map, const vk::ContextOptions& context
       lookup(ctx.create_pipeline(sva_spv_belief_lookup, 1, sizeof(gpu::SvaLookupParams))),
       hoods(ctx.create_pipeline(sva_spv_belief_hoods, 3, sizeof(gpu::SvaHoodParams))) {
   subgroup_aggregation = use_subgroups(ctx, portable_kernel);
+  no_priors = ctx.create_buffer(64);
+  std::memset(no_priors.as<std::uint8_t>(), 0, 64);
   try {
     upload_map(map, max_chunk_entries);
   } catch (const vk::OutOfMemory& e) {

@@ -44,6 +44,7 @@ class VulkanEngine {
   vk::Context ctx;
   vk::Pipeline expand, scan, match, fold, rehash, reduce, lookup, hoods;
   vk::Buffer readings, keys, offsets, chunk_table;
+  vk::Buffer no_priors;  // belief_hoods.comp's priors for every session without a pose prior (zeros: none)
   std::vector<MapChunk> chunks;
   std::size_t chunk_entries = 0;      // entries per chunk, a power of two (the last may hold fewer)
   std::size_t map_bytes = 0;          // device memory the map holds

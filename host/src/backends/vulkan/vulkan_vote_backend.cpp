@@ -76,6 +76,7 @@ class VulkanVoteBackend final : public VoteBackend {
                  &engine_->reduce,
                  &engine_->lookup,
                  &engine_->hoods,
+                 &engine_->no_priors,
                  std::max<std::size_t>(options.initial_belief_slots, 64),
                  0.0} {
     stats_.device = ctx_.info().name + " (" + ctx_.info().type +

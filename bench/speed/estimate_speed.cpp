@@ -25,6 +25,8 @@
 #include <string>
 #include <vector>
 
+#include "whole_number_arg.hpp"
+
 namespace {
 
 double process_cpu_seconds() {
@@ -84,17 +86,8 @@ std::vector<sva::Reading> session_readings(const std::vector<std::vector<const s
   return out;
 }
 
-// Argument i as a whole number in lo..hi, or `fallback` when not given; anything else ends the program naming it.
 std::size_t arg(int argc, char** argv, int i, std::size_t fallback, std::size_t lo, std::size_t hi) {
-  if (argc <= i) return fallback;
-  char* end = nullptr;
-  const unsigned long long v = std::strtoull(argv[i], &end, 10);
-  if (argv[i][0] == '-' || !end || *end != '\0' || v < lo || v > hi) {
-    std::fprintf(stderr, "estimate_speed: argument %d (\"%s\") is not a whole number in %zu..%zu\n", i, argv[i], lo,
-                 hi);
-    std::exit(2);
-  }
-  return static_cast<std::size_t>(v);
+  return sva::bench::whole_number_arg("estimate_speed", argc, argv, i, fallback, lo, hi);
 }
 
 }  // namespace

@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "backends/cpu/bin_accumulator.hpp"
+#include "whole_number_arg.hpp"
 
 namespace {
 
@@ -115,14 +116,7 @@ BeliefFigures belief_ns(const Sizes& z) {
 }
 
 std::size_t arg(int argc, char** argv, int i, std::size_t fallback, std::size_t lo, std::size_t hi) {
-  if (argc <= i) return fallback;
-  char* end = nullptr;
-  const unsigned long long v = std::strtoull(argv[i], &end, 10);
-  if (argv[i][0] == '-' || !end || *end != '\0' || v < lo || v > hi) {
-    std::fprintf(stderr, "hash_floor: argument %d (\"%s\") is not a whole number in %zu..%zu\n", i, argv[i], lo, hi);
-    std::exit(2);
-  }
-  return static_cast<std::size_t>(v);
+  return sva::bench::whole_number_arg("hash_floor", argc, argv, i, fallback, lo, hi);
 }
 
 }  // namespace

@@ -113,11 +113,11 @@ float prior_log2_weight(uint64_t key) {
   if (prior[at] == 0.0f) return 0.0f;
   int t[3], r[3];
   indices(key, t, r);
-  const float pi = 3.14159265358979f, rw = 2.0f * pi / float(pc.rotation_bins);
+  const float rw = SVA_TWO_PI / float(pc.rotation_bins);
   vec3 position, turn;
   for (int k = 0; k < 3; ++k) {
     position[k] = pc.translation_min_mm + (float(t[k]) + 0.5f) * pc.translation_bin_mm;
-    turn[k] = -pi + (float(r[k]) + 0.5f) * rw;
+    turn[k] = -SVA_PI + (float(r[k]) + 0.5f) * rw;
   }
   if (pc.planar != 0u) position.z = 0.0f, turn.x = 0.0f, turn.y = 0.0f;
   vec3 d = position - vec3(prior[at + 1u], prior[at + 2u], prior[at + 3u]);

@@ -1,6 +1,4 @@
-// An object mesh in Embree. Embree reports errors through a callback that may
-// not throw (it is called from C); the message is kept per thread and turned
-// into sva::Error right after the Embree call that raised it.
+// An object mesh in Embree, on the process's one device (sva/base/embree.hpp).
 //
 // Embree only finds the candidate triangles; which one is hit, where and with
 // what normal is decided by ray_triangle.hpp in double precision. Embree picks
@@ -12,7 +10,7 @@
 // candidate's boundary, the triangles around its corners join them: a triangle
 // that one kernel misses at its edge is then still a candidate through the
 // neighbour that kernel hits (robust mode is watertight).
-#include <sva/base/parallel.hpp>
+#include <sva/base/embree.hpp>
 #include <sva/error.hpp>
 #include <sva/sim/tactile_sensor.hpp>
 
@@ -21,7 +19,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdlib>
 #include <limits>
 #include <mutex>
 #include <span>
@@ -33,62 +30,19 @@ namespace sva::sim {
 
 namespace {
 
-thread_local std::string t_embree_error;
-
-extern "C" void on_embree_error(void*, RTCError code, const char* message) {
-  t_embree_error =
-      "Embree error " + std::to_string(static_cast<int>(code)) + ": " + (message ? message : "(no message)");
-}
-
-void check(const std::string& what) {
-  if (!t_embree_error.empty()) {
-    std::string e = std::move(t_embree_error);
-    t_embree_error.clear();
-    throw Error(what + ": " + e);
-  }
-}
-
-// The device configuration: SVA_EMBREE_ISA forces Embree's kernels (sse2, sse4.2, avx, avx2, avx512), so that one
-// machine can show that the simulation does not depend on them (tests/determinism).
-std::string device_config() {
-  // No "threads=N": with TBB tasking, Embree turns a thread count into a process-wide TBB limit
-  // (global_control), which capped every parallel loop of the process, the simulator's included, at that many
-  // threads. Builds may use the pool; hits do not depend on the BVH (the filter collects every candidate).
-  std::string config = "set_affinity=0";
-  // SVA_THREADS (util::default_threads) caps Embree's pool too: a run asked for one thread starts no workers (under
-  // qemu-user, oneTBB's worker start spins: scripts/aarch64-check.sh runs with SVA_THREADS=1).
-  if (std::getenv("SVA_THREADS")) config += ",threads=" + std::to_string(util::default_threads());
-  const char* isa = std::getenv("SVA_EMBREE_ISA");
-  if (!isa || !*isa) return config;
-  static const std::array<std::string, 5> known{"sse2", "sse4.2", "avx", "avx2", "avx512"};
-  if (std::find(known.begin(), known.end(), isa) == known.end())
-    throw Error(std::string("SVA_EMBREE_ISA=") + isa + ": not an Embree ISA (sse2, sse4.2, avx, avx2 or avx512)");
-  return config + ",isa=" + isa;
-}
-
-// One device per process: creating devices is expensive and they are thread-safe.
+// The simulator's device: the process's one (sva/base/embree.hpp), which must have the filter functions the exact
+// hits need.
 RTCDevice device() {
-  static std::mutex mutex;
-  static RTCDevice dev = nullptr;
-  std::lock_guard lock(mutex);
-  if (!dev) {
-    const std::string config = device_config();
-    dev = rtcNewDevice(config.c_str());
-    if (!dev) {
-      const RTCError e = rtcGetDeviceError(nullptr);
-      throw Error("cannot create an Embree device with \"" + config + "\" (error " +
-                  std::to_string(static_cast<int>(e)) + ")" +
-                  (e == RTC_ERROR_UNSUPPORTED_CPU ? ": this CPU lacks the instruction set SVA_EMBREE_ISA names" : ""));
-    }
-    if (!rtcGetDeviceProperty(dev, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED)) {
-      rtcReleaseDevice(dev);
-      dev = nullptr;
+  static std::once_flag checked;
+  RTCDevice dev = embree::device();
+  std::call_once(checked, [dev] {
+    if (!rtcGetDeviceProperty(dev, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED))
       throw Error("this Embree was built without filter functions, which the simulator's exact hits need");
-    }
-    rtcSetDeviceErrorFunction(dev, on_embree_error, nullptr);
-  }
+  });
   return dev;
 }
+
+void check(const std::string& what) { embree::check(what); }
 
 // The rays' context: where the filter collects every triangle Embree reports (for a stream of rays, tagged with the
 // ray's id).
@@ -127,7 +81,7 @@ ObjectGeometry::ObjectGeometry(Mesh mesh) : impl_(std::make_unique<Impl>()) {
   const Mesh& m = impl_->mesh;
   if (m.triangles.empty()) throw Error("object geometry: mesh has no triangles");
   RTCDevice dev = device();
-  t_embree_error.clear();
+  embree::clear_error();
   impl_->scene = rtcNewScene(dev);
   check("creating the Embree scene");
   rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);  // rays along shared edges must not slip through

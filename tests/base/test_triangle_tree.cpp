@@ -9,6 +9,8 @@
 
 #include <cmath>
 #include <cstdint>
+#include <limits>
+#include <thread>
 #include <vector>
 
 using namespace sva;
@@ -93,4 +95,71 @@ TEST_CASE("triangle tree: exact ties go to the smaller index, and nothing lies a
   CHECK_FALSE(tree.nearest({0.5, 0.5, 1.0}, 1.0).found);  // strictly within: at exactly 1 mm it is not
   CHECK_FALSE(tree.nearest({0.5, 0.5, 1.0}, 0.0).found);
   CHECK_FALSE(TriangleTree().nearest({0, 0, 0}, 10.0).found);
+}
+
+TEST_CASE("triangle tree: far from the origin, where Embree's float query rounds by hundredths of a mm, bit for bit") {
+  // The awkward mesh moved a quarter of a kilometre: a float coordinate there is a multiple of 1/64 mm, so the query
+  // Embree sees lies up to 0.008 mm off each axis, more than the gaps of the stacked triangles.
+  const glm::vec3 offset(1.0e5f, -2.5e5f, 4.0e4f);
+  std::vector<Tri> mesh = awkward_mesh();
+  for (Tri& t : mesh) t.a += offset, t.b += offset, t.c += offset;
+  const TriangleTree tree(mesh);
+  util::Rng rng(23);
+  std::size_t found = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const glm::dvec3 p = glm::dvec3(offset) + glm::dvec3(40.0 * rng.uniform() - 5.0, 40.0 * rng.uniform() - 5.0,
+                                                         8.0 * rng.uniform() - 4.0);
+    const double radius = k % 3 == 0 ? 0.05 : (k % 3 == 1 ? 1.0 : 6.0);
+    const TriangleTree::Hit want = every_triangle(mesh, p, radius);
+    const TriangleTree::Hit got = tree.nearest(p, radius);
+    INFO("query " << k << ", radius " << radius);
+    REQUIRE(got.found == want.found);
+    if (!want.found) continue;
+    ++found;
+    CHECK(got.index == want.index);
+    CHECK(got.d2 == want.d2);
+  }
+  CHECK(found > 1000);
+}
+
+TEST_CASE("triangle tree: many threads at once find what one thread finds") {
+  const std::vector<Tri> mesh = awkward_mesh();
+  const TriangleTree tree(mesh);
+  std::vector<glm::dvec3> points;
+  util::Rng rng(29);
+  for (int k = 0; k < 2000; ++k)
+    points.emplace_back(40.0 * rng.uniform() - 5.0, 40.0 * rng.uniform() - 5.0, 8.0 * rng.uniform() - 4.0);
+  std::vector<std::uint64_t> want;
+  for (const glm::dvec3& p : points) {
+    const TriangleTree::Hit h = tree.nearest(p, 3.0);
+    want.push_back(h.found ? h.index : ~0ull);
+  }
+  std::vector<std::vector<std::uint64_t>> got(8);
+  std::vector<std::thread> workers;
+  for (std::size_t w = 0; w < got.size(); ++w)
+    workers.emplace_back([&, w] {
+      for (std::size_t i = 0; i < points.size(); ++i) {
+        const glm::dvec3& p = points[(i + 250 * w) % points.size()];  // each thread its own order
+        const TriangleTree::Hit h = tree.nearest(p, 3.0);
+        got[w].push_back(h.found ? h.index : ~0ull);
+      }
+    });
+  for (std::thread& t : workers) t.join();
+  for (std::size_t w = 0; w < got.size(); ++w)
+    for (std::size_t i = 0; i < points.size(); ++i) REQUIRE(got[w][i] == want[(i + 250 * w) % points.size()]);
+}
+
+TEST_CASE("triangle tree: moved, it searches as before, and points it cannot search find nothing") {
+  std::vector<Tri> mesh{{{0, 0, 0}, {2, 0, 0}, {0, 2, 0}, 4u}};
+  TriangleTree tree(mesh);
+  TriangleTree moved(std::move(tree));
+  REQUIRE(moved.nearest({0.5, 0.5, 1.0}, 2.0).found);
+  TriangleTree assigned;
+  assigned = std::move(moved);
+  CHECK(assigned.nearest({0.5, 0.5, 1.0}, 2.0).index == 4u);
+  CHECK(assigned.nearest({0.5, 0.5, 1.0}, std::numeric_limits<double>::infinity()).found);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  CHECK_FALSE(assigned.nearest({nan, 0.5, 1.0}, 2.0).found);
+  CHECK_FALSE(assigned.nearest({1e31, 0.5, 1.0}, 2.0).found);
+  CHECK_FALSE(assigned.nearest({0.5, 0.5, 1.0}, nan).found);
 }

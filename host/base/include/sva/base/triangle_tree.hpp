@@ -1,16 +1,17 @@
 #pragma once
 // The triangle of a mesh nearest to a point, the one home of the search (the verify stage's measurement model, the
-// fine pose on the mesh, the touch planner). A bounding-volume tree: boxes halved at the median of their triangles'
-// centres down to a few triangles a leaf, searched nearest box first, passing over every box wholly farther than the
-// best triangle so far. Its answer is the smallest (squared distance, index) of all triangles within the radius,
-// each distance from closest_on_triangle in double: it does not depend on the order of the visits, so the tree's
-// shape (and the standard library's partition) changes the time, never the bits. Its memory is linear in the
-// triangles, whatever their size: a letter's 400 mm face is one entry, as a sub-millimetre facet of a scanned mug is.
+// fine pose on the mesh, the touch planner, the pose errors). Embree's bounding-volume hierarchy finds the
+// triangles whose boxes reach within the best distance so far (rtcPointQuery); each is weighed by
+// closest_on_triangle in double. The answer is the smallest (squared distance, index) of all triangles within the
+// radius: it does not depend on the order of the visits, nor on Embree's tree, its ISA or its threads, since every
+// box Embree passes over lies farther than the best triangle by a margin above the rounding of its float query.
 #include <glm/glm.hpp>
 
 #include <cstdint>
-#include <span>
+#include <memory>
 #include <vector>
+
+struct RTCSceneTy;
 
 namespace sva {
 
@@ -22,9 +23,13 @@ class TriangleTree {
     glm::vec3 a, b, c;
     std::uint32_t index;
   };
-  TriangleTree() = default;
-  // Corners finite (the caller checks).
-  explicit TriangleTree(std::vector<Triangle> triangles);
+
+  TriangleTree();
+  // Corners finite (the caller checks). Throws sva::Error when Embree cannot build the tree (out of memory).
+  explicit TriangleTree(const std::vector<Triangle>& triangles);
+  ~TriangleTree();
+  TriangleTree(TriangleTree&&) noexcept;
+  TriangleTree& operator=(TriangleTree&&) noexcept;
 
   struct Hit {
     bool found = false;
@@ -32,29 +37,19 @@ class TriangleTree {
     glm::dvec3 point{0.0};    // closest_on_triangle(p, its corners)
     double d2 = 0.0;          // |point - p|^2
   };
-  // The triangle with the smallest (squared distance, index) among those strictly within `radius` of p.
+  // The triangle with the smallest (squared distance, index) among those strictly within `radius` of p; none for a
+  // point that is not finite or lies past 1e30 mm (Embree's query is in floats). Safe from many threads at once.
   Hit nearest(const glm::dvec3& p, double radius) const;
 
-  std::size_t size() const { return triangles_.size(); }
+  std::size_t size() const { return index_.size(); }
 
  private:
-  // A box and what it holds: a leaf's triangles are triangles_[first, first + count); an inner node's (count 0)
-  // children are the pair pairs_[first]. Bounds are the corners' own floats, so a box holds its triangles exactly.
-  struct Node {
-    float lo[3];
-    std::uint32_t first;
-    float hi[3];
-    std::uint32_t count;
+  struct SceneRelease {
+    void operator()(RTCSceneTy* scene) const;
   };
-  // Two siblings in one cache line: a visit reads both children's boxes at once.
-  struct alignas(64) Pair {
-    Node child[2];
-  };
-  Node build(std::span<Triangle> triangles, std::uint32_t begin);
-
-  Node root_{};
-  std::vector<Pair> pairs_;
-  std::vector<Triangle> triangles_;  // in the leaves' order
+  std::vector<float> corners_;        // 9 a triangle (a, b, c): Embree's vertex buffer, shared, and the search's
+  std::vector<std::uint32_t> index_;  // each triangle's Triangle::index
+  std::unique_ptr<RTCSceneTy, SceneRelease> scene_;
 };
 
 }  // namespace sva

@@ -107,8 +107,8 @@ TEST_CASE("triangle tree: far from the origin, where Embree's float query rounds
   util::Rng rng(23);
   std::size_t found = 0;
   for (int k = 0; k < 3000; ++k) {
-    const glm::dvec3 p = glm::dvec3(offset) + glm::dvec3(40.0 * rng.uniform() - 5.0, 40.0 * rng.uniform() - 5.0,
-                                                         8.0 * rng.uniform() - 4.0);
+    const glm::dvec3 p = glm::dvec3(offset) +
+                         glm::dvec3(40.0 * rng.uniform() - 5.0, 40.0 * rng.uniform() - 5.0, 8.0 * rng.uniform() - 4.0);
     const double radius = k % 3 == 0 ? 0.05 : (k % 3 == 1 ? 1.0 : 6.0);
     const TriangleTree::Hit want = every_triangle(mesh, p, radius);
     const TriangleTree::Hit got = tree.nearest(p, radius);

@@ -47,8 +47,8 @@ RTCDeviceTy* device() {
   dev = rtcNewDevice(config.c_str());
   if (!dev) {
     const RTCError e = rtcGetDeviceError(nullptr);
-    throw Error("cannot create an Embree device with \"" + config + "\" (error " +
-                std::to_string(static_cast<int>(e)) + ")" +
+    throw Error("cannot create an Embree device with \"" + config + "\" (error " + std::to_string(static_cast<int>(e)) +
+                ")" +
                 (e == RTC_ERROR_UNSUPPORTED_CPU ? ": this CPU lacks the instruction set SVA_EMBREE_ISA names" : ""));
   }
   rtcSetDeviceErrorFunction(dev, on_error, nullptr);

@@ -76,7 +76,7 @@ TriangleTree::TriangleTree(const std::vector<Triangle>& triangles) {
   rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, corners_.data(), 0, 3 * sizeof(float),
                              3 * triangles.size());
   auto* ib = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                  3 * sizeof(std::uint32_t), triangles.size()));
+                                                                 3 * sizeof(std::uint32_t), triangles.size()));
   if (!ib) {
     rtcReleaseGeometry(g);
     embree::check("triangle tree: the triangles' buffer");

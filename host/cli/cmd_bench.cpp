@@ -13,7 +13,9 @@
 #include <sva/map.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <nlohmann/json.hpp>
 #include <sstream>
 
@@ -40,6 +42,30 @@ std::vector<std::size_t> parse_checkpoints(const std::string& text) {
   std::sort(out.begin(), out.end());
   out.erase(std::unique(out.begin(), out.end()), out.end());
   return out;
+}
+
+// --pose-prior MM[,DEG]: the position's sigma, and the rotation's when given.
+bench::BenchPosePrior parse_pose_prior(const std::string& text) {
+  const auto fail = [&] {
+    return Error("sva bench: --pose-prior expects MM or MM,DEG (sigmas > 0, e.g. 5,10), got \"" + text + "\"");
+  };
+  bench::BenchPosePrior p;
+  std::stringstream ss(text);
+  std::string item;
+  std::vector<double> v;
+  while (std::getline(ss, item, ',')) {
+    char* end = nullptr;
+    const double x = std::strtod(item.c_str(), &end);
+    if (item.empty() || *end != '\0' || !std::isfinite(x) || !(x > 0.0) || x > 1e6) throw fail();
+    v.push_back(x);
+  }
+  if (v.empty() || v.size() > 2 || text.back() == ',') throw fail();
+  p.position_sigma_mm = v[0];
+  if (v.size() == 2) {
+    if (v[1] > 180.0) throw fail();
+    p.rotation_sigma_deg = v[1];
+  }
+  return p;
 }
 
 std::string run_name(const json& r) {
@@ -188,8 +214,18 @@ std::string peak_during(const json& m) {
 
 // The estimate's host stages the run asked for (--refine, --surface-check).
 std::string estimate_kind(const json& r) {
-  return std::string("refine ") + (r["refine_pose"].get<bool>() ? "on" : "off") + ", surface check " +
-         (r["surface_check"].get<bool>() ? "on" : "off");
+  std::string kind = std::string("refine ") + (r["refine_pose"].get<bool>() ? "on" : "off") + ", surface check " +
+                     (r["surface_check"].get<bool>() ? "on" : "off");
+  const json& p = r["pose_prior"];
+  if (p.is_null()) return kind;
+  char text[96];
+  std::snprintf(text, sizeof text, ", pose prior %.3g mm", p["position_sigma_mm"].get<double>());
+  kind += text;
+  if (!p["rotation_sigma_deg"].is_null()) {
+    std::snprintf(text, sizeof text, " and %.3g deg", p["rotation_sigma_deg"].get<double>());
+    kind += text;
+  }
+  return kind;
 }
 
 // Per run: throughput and zero-mass votes over all its updates, then memory.
@@ -269,6 +305,7 @@ bench::BenchPlan parse_plan(const Args& a) {
   plan.belief_budget_bins = static_cast<std::size_t>(
       a.integer("--belief-budget", static_cast<long long>(plan.belief_budget_bins), 0, 1ll << 40));
   plan.top_k = static_cast<std::size_t>(a.integer("--top-k", 1, 1, 1000));
+  if (auto p = a.get("--pose-prior")) plan.pose_prior = parse_pose_prior(*p);
   return plan;
 }
 
@@ -302,6 +339,9 @@ int cmd_bench(const std::vector<std::string>& argv) {
       .option("--top-k", "K",
               "hypotheses per estimate after every update (default 1; sva recognize's default is 3, which takes the "
               "estimate's modes)")
+      .option("--pose-prior", "MM[,DEG]",
+              "give every session a camera's pose prior: every object at the trial's true pose, with these sigmas "
+              "of position and rotation (default none; sva/prior.hpp)")
       .option("--device", "NAME|INDEX", "Vulkan device (default: prefer a discrete GPU; env SVA_VK_DEVICE)")
       .option("--roofline-votes", "N", "votes in the bare-scatter measurement (default 4194304)");
   if (!a.parse()) return 0;

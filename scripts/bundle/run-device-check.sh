@@ -131,10 +131,13 @@ bench() {  # NAME SHARE-OF-WHAT-IS-LEFT sva-bench-options...
 if [[ -f $work/map.svam ]]; then
   bench vulkan 40 --backend vulkan --trials 3 --batch 0 --readings 10,30,100
   bench vulkan-top3 15 --backend vulkan --trials 3 --batch 0 --readings 10,30 --top-k 3
+  # The same with a camera's pose prior per session: est. subm. shows whether the device's key choice under a prior
+  # keeps a robot's touch to one round trip, as lavapipe's tests say.
+  bench vulkan-top3-prior 10 --backend vulkan --trials 3 --batch 0 --readings 10,30 --top-k 3 --pose-prior 5,10
   bench vulkan-batch 50 --backend vulkan --trials 64 --batch 64 --readings 10,30
   # The same batch with the host's fits asked for least (no fine pose, no surface check: the best object's fit
   # alone, for "none of these"): how near the device comes to issue 52's 10,000 session-updates/s when the host's
-  # fits after every reading, which bound it on 16 cores to about 1,600/s at 30 readings, are not asked.
+  # fits after every reading, which bound it on 16 cores to about 2,300/s at 30 readings, are not asked.
   bench vulkan-batch-light 15 --backend vulkan --trials 64 --batch 64 --readings 10,30 --refine off --surface-check off
   bench cpu 95 --backend cpu --trials 1 --batch 0 --readings 10,30,100
   # The CPU reference's scaling on the host's cores (issue 52's goals: one session on 16 threads >= 1.6x 8 threads,

@@ -370,6 +370,23 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
   REQUIRE(light[0]["curve"].size() == single[0]["curve"].size());
   for (std::size_t i = 0; i < single[0]["curve"].size(); ++i)
     CHECK(light[0]["curve"][i]["votes_per_update"] == single[0]["curve"][i]["votes_per_update"]);
+  // --pose-prior: every session gets a camera's prior at its trial's true pose, recorded and printed. It reweights
+  // the bins the estimate reads, never the votes: the same votes, other poses (a 1 mm prior pulls them).
+  REQUIRE(sva::test::run_sva(bench + "--backend cpu --batch 0 --pose-prior 1,10 --json " + f.path("prior.json"),
+                             &out) == 0);
+  CHECK(out.find("surface check on, pose prior 1 mm and 10 deg)") != std::string::npos);
+  const auto prior = nlohmann::json::parse(read_file(f.path("prior.json")))["runs"];
+  REQUIRE(prior.size() == 1);
+  CHECK(single[0]["pose_prior"].is_null());
+  CHECK(prior[0]["pose_prior"]["position_sigma_mm"] == 1.0);
+  CHECK(prior[0]["pose_prior"]["rotation_sigma_deg"] == 10.0);
+  REQUIRE(prior[0]["curve"].size() == single[0]["curve"].size());
+  bool moved = false;
+  for (std::size_t i = 0; i < single[0]["curve"].size(); ++i) {
+    CHECK(prior[0]["curve"][i]["votes_per_update"] == single[0]["curve"][i]["votes_per_update"]);
+    moved = moved || prior[0]["curve"][i]["translation_error_mm"] != single[0]["curve"][i]["translation_error_mm"];
+  }
+  CHECK(moved);
   // --max-pairs bounds the pairs per update: the new reading with the most recent one only (2 pairs, both orders)
   // casts fewer votes at 6 readings than with all 5 earlier ones, and the report says which ran.
   const std::string six = base + "--readings 2,6 --backend cpu --batch 0 ";
@@ -404,8 +421,9 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
         exact["curve"][0]["belief_bytes_per_session"].get<double>());
   CHECK(bounded["curve"][1]["work_per_update"]["pairs"].get<double>() ==
         1.0);  // 2 pairs: one order voted, folded twice
-  for (const std::string bad : {"--batch -1", "--batch x", "--backend gpu", "--readings 0", "--max-pairs -1",
-                                "--top-k 0", "--surface-check maybe"}) {
+  for (const std::string bad :
+       {"--batch -1", "--batch x", "--backend gpu", "--readings 0", "--max-pairs -1", "--top-k 0",
+        "--surface-check maybe", "--pose-prior 0", "--pose-prior 5,200", "--pose-prior 5,", "--pose-prior x"}) {
     INFO(bad);
     CHECK(sva::test::run_sva(base + bad, &out) != 0);
     CHECK(out.find(bad.substr(bad.find(' ') + 1)) != std::string::npos);

@@ -67,6 +67,7 @@ void run_lockstep(LockstepSessions& batch, std::size_t sessions, const LockstepH
     std::size_t longest = 0;
     for (const auto& r : readings) longest = std::max(longest, r.size());
     batch.reset();
+    if (hooks.on_group_start) hooks.on_group_start(first, step.count);
     for (step.step = 0; step.step < longest; ++step.step) {
       util::throw_if_interrupted();
       update(batch, readings, step, hooks);

@@ -47,6 +47,8 @@ struct LockstepHooks {
   // Required: the readings of sessions [first, first + count), in order; the
   // caller keeps them alive until the next call.
   std::function<std::vector<std::span<const Reading>>(std::size_t first, std::size_t count)> group;
+  // After the batch is reset for group [first, first + count), before its first update (a session's prior).
+  std::function<void(std::size_t first, std::size_t count)> on_group_start;
   // After every update (estimates, timings, checkpoints).
   std::function<void(const LockstepStep&)> on_step;
   // After a group's last update, before the batch is reset for the next group.

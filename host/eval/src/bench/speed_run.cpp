@@ -1,10 +1,12 @@
 #include <sva/eval/speed_run.hpp>
 
 #include <sva/batch_recognizer.hpp>
+#include <sva/prior.hpp>
 
 #include <algorithm>
 #include <chrono>
 #include <map>
+#include <numbers>
 
 #include <nlohmann/json.hpp>
 #include <sva/base/parallel.hpp>
@@ -271,6 +273,25 @@ class SpeedRecorder {
   StepFigures all_;          // every update of the run; sessions = session-updates
 };
 
+// The prior of a trial's session: every object of the map at the trial's true pose (BenchPosePrior).
+Prior prior_of(const eval::Trial& t, const BenchPosePrior& p, std::size_t objects) {
+  PosePrior g;
+  g.position = t.pose.T;
+  g.position_sigma_mm = p.position_sigma_mm;
+  g.has_rotation = p.rotation_sigma_deg > 0.0;
+  g.rotation = t.pose.R;
+  g.rotation_sigma_rad = p.rotation_sigma_deg * std::numbers::pi / 180.0;
+  Prior out;
+  out.object_pose.assign(objects, g);
+  return out;
+}
+
+json pose_prior_json(const BenchPosePrior& p) {
+  if (!p.on()) return nullptr;
+  return {{"position_sigma_mm", p.position_sigma_mm},
+          {"rotation_sigma_deg", p.rotation_sigma_deg > 0.0 ? json(p.rotation_sigma_deg) : json(nullptr)}};
+}
+
 }  // namespace
 
 json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, MemoryMeter& meter) {
@@ -297,6 +318,10 @@ json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, Me
     for (const auto& t : tr) readings.emplace_back(t.readings);
     return readings;
   };
+  if (spec.pose_prior.on())
+    hooks.on_group_start = [&](std::size_t, std::size_t count) {
+      for (std::size_t i = 0; i < count; ++i) rec.set_prior(i, prior_of(tr[i], spec.pose_prior, map.objects()));
+    };
   hooks.on_step = [&](const LockstepStep& s) { recorder.on_step(s, tr); };
   run_lockstep(rec, spec.trials, hooks);
   progress.finish();
@@ -309,7 +334,8 @@ json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, Me
             {"belief_budget_bins", spec.belief_budget_bins},
             {"top_k", spec.top_k},
             {"refine_pose", spec.refine_pose},
-            {"surface_check", spec.surface_check}};
+            {"surface_check", spec.surface_check},
+            {"pose_prior", pose_prior_json(spec.pose_prior)}};
   j.update(recorder.figures());
   j["memory"] = memory_json(memory, rec);
   return j;
@@ -358,6 +384,7 @@ nlohmann::json run_all(const Map& map, const Dataset& test, const BenchPlan& pla
     spec.max_pairs_per_update = plan.max_pairs_per_update;
     spec.belief_budget_bins = plan.belief_budget_bins;
     spec.top_k = plan.top_k;
+    spec.pose_prior = plan.pose_prior;
     spec.label = eval::backend_name(backend);
     runs.push_back(run_speed(map, test, spec, meter));
     if (plan.batch <= 1) continue;

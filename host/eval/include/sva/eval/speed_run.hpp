@@ -18,6 +18,15 @@
 
 namespace sva::bench {
 
+// A camera's detection for every session (`sva bench --pose-prior`): a Gaussian pose prior (sva/prior.hpp) at the
+// trial's true pose, the same for every object of the map (a camera that sees where the object is, not which one),
+// over the position and, with rotation_sigma_deg > 0, the rotation. position_sigma_mm 0: no prior.
+struct BenchPosePrior {
+  double position_sigma_mm = 0.0;
+  double rotation_sigma_deg = 0.0;
+  bool on() const { return position_sigma_mm > 0.0; }
+};
+
 struct SpeedRunSpec {
   BackendKind backend = BackendKind::cpu;  // cpu or vulkan (never automatic: a report names what ran)
   std::size_t trials = 1;
@@ -36,6 +45,7 @@ struct SpeedRunSpec {
   // Hypotheses per estimate after every update. 1 measures what the GPU runs so far measured; sva recognize's
   // default, 3, takes the estimate's modes (the device's key choice ranks its selection: belief_hoods.comp's RANK).
   std::size_t top_k = 1;
+  BenchPosePrior pose_prior;  // each session's, set after its batch slot is reset
 };
 
 // One run, as the JSON report gives it (docs/evaluation.md, "sva bench").
@@ -58,6 +68,7 @@ struct BenchPlan {
   int max_pairs_per_update = 0;
   std::size_t belief_budget_bins = RecognizerOptions{}.belief_budget_bins;
   std::size_t top_k = 1;  // SpeedRunSpec::top_k
+  BenchPosePrior pose_prior;
 };
 
 // The whole report of `sva bench` (docs/evaluation.md, "sva bench"): the scene, the map's size and the threads;

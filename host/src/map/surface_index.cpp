@@ -1,7 +1,6 @@
 #include "map/surface_index.hpp"
 
 #include <algorithm>
-#include <array>
 #include <numeric>
 
 namespace sva {
@@ -81,38 +80,26 @@ SurfaceIndex::SurfaceIndex(const MapReadings& readings, std::size_t objects) : t
     } builder{t, order, work.points};
     builder.run(0, static_cast<std::uint32_t>(order.size()));
     for (std::size_t i = 0; i < order.size(); ++i) t.points[i] = work.points[order[i]];
-    t.positions.resize(t.points.size());
-    for (std::size_t i = 0; i < t.points.size(); ++i) t.positions[i] = t.points[i].position;
   }
 }
 
-// Depth first, the near side before the far one, as a recursion would go (the far side's test waits until the near
-// side is done). The median split makes the tree at most 32 deep, and the stack holds one pending far side a level.
-void SurfaceIndex::search(const Tree& tree, const glm::dvec3& q, std::size_t k, std::vector<SurfaceNeighbour>* best) {
-  struct Pending {
-    std::int32_t node;
-    double plane_sq;  // the squared distance to the split plane that separates it from q; 0 for the near side
-  };
-  std::array<Pending, 64> stack;
-  std::size_t top = 0;
-  stack[top++] = {0, 0.0};
-  while (top > 0) {
-    const Pending at = stack[--top];
-    // Points on the split plane may sit on either side: the far side is searched whenever the plane is no farther
-    // than the k-th best (ties included).
-    if (at.plane_sq > 0.0 && best->size() == k && at.plane_sq > best->back().distance_sq) continue;
-    const Node& n = tree.nodes[static_cast<std::size_t>(at.node)];
-    if (n.left < 0) {
-      for (std::uint32_t i = n.begin; i < n.end; ++i) {
-        const glm::dvec3 d = tree.positions[i] - q;
-        insert_neighbour(best, k, {i, glm::dot(d, d)});
-      }
-      continue;
+void SurfaceIndex::search(const Tree& tree, std::int32_t id, const glm::dvec3& q, std::size_t k,
+                          std::vector<SurfaceNeighbour>* best) {
+  const Node& n = tree.nodes[static_cast<std::size_t>(id)];
+  if (n.left < 0) {
+    for (std::uint32_t i = n.begin; i < n.end; ++i) {
+      const glm::dvec3 d = tree.points[i].position - q;
+      insert_neighbour(best, k, {i, glm::dot(d, d)});
     }
-    const double diff = q[n.axis] - n.split;
-    stack[top++] = {diff < 0.0 ? n.right : n.left, diff * diff};
-    stack[top++] = {diff < 0.0 ? n.left : n.right, 0.0};
+    return;
   }
+  // Points on the split plane may sit on either side: the far side is searched
+  // whenever the plane is no farther than the k-th best (ties included).
+  const double diff = q[n.axis] - n.split;
+  const std::int32_t near = diff < 0.0 ? n.left : n.right;
+  const std::int32_t far = diff < 0.0 ? n.right : n.left;
+  search(tree, near, q, k, best);
+  if (best->size() < k || diff * diff <= best->back().distance_sq) search(tree, far, q, k, best);
 }
 
 void SurfaceIndex::nearest(std::uint32_t object, const glm::dvec3& q, std::size_t k,
@@ -121,7 +108,7 @@ void SurfaceIndex::nearest(std::uint32_t object, const glm::dvec3& q, std::size_
   if (object >= trees_.size() || k == 0) return;
   const Tree& t = trees_[object];
   if (t.nodes.empty()) return;
-  search(t, q, k, out);
+  search(t, 0, q, k, out);
 }
 
 }  // namespace sva

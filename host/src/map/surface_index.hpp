@@ -46,11 +46,11 @@ class SurfaceIndex {
     double split = 0.0;
   };
   struct Tree {
-    std::vector<SurfacePoint> points;   // reordered so that every node's points are contiguous
-    std::vector<glm::dvec3> positions;  // the points' positions alone, as the search reads them (a leaf's in a row)
-    std::vector<Node> nodes;            // nodes[0] is the root (when there are points)
+    std::vector<SurfacePoint> points;  // reordered so that every node's points are contiguous
+    std::vector<Node> nodes;           // nodes[0] is the root (when there are points)
   };
-  static void search(const Tree& tree, const glm::dvec3& q, std::size_t k, std::vector<SurfaceNeighbour>* best);
+  static void search(const Tree& tree, std::int32_t node, const glm::dvec3& q, std::size_t k,
+                     std::vector<SurfaceNeighbour>* best);
 
   std::vector<Tree> trees_;
 };

@@ -57,6 +57,8 @@ RTCDeviceTy* device() {
 
 void clear_error() { t_error.clear(); }
 
+void SceneRelease::operator()(RTCSceneTy* scene) const { rtcReleaseScene(scene); }
+
 void check(const std::string& what) {
   if (t_error.empty()) return;
   std::string e = std::move(t_error);

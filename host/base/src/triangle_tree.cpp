@@ -1,27 +1,12 @@
 #include <sva/base/triangle_tree.hpp>
 
-#include <embree3/rtcore.h>
 #include <sva/base/closest_point.hpp>
-#include <sva/base/embree.hpp>
-#include <sva/error.hpp>
 
-#include <algorithm>
-#include <cmath>
-#include <limits>
-#include <string>
+#include "embree_search.hpp"
 
 namespace sva {
 
 namespace {
-
-// `size`: the query point's largest coordinate (at least 1 mm); r: the distance searched.
-float culling_radius(double size, double r) {
-  const double margin = 1e-6 + 8.0 * static_cast<double>(std::numeric_limits<float>::epsilon()) * (size + r);
-  return std::nextafter(static_cast<float>(r + margin), std::numeric_limits<float>::infinity());
-}
-
-// Query points past this (mm) are not searched: Embree's query is in floats (3.4e38 at most).
-constexpr double kFarthest = 1e30;
 
 struct Search {
   const float* corners;
@@ -31,6 +16,7 @@ struct Search {
   TriangleTree::Hit best;
 };
 
+// One triangle Embree's walk reached: weighed in double, and the radius shrunk to the best so far.
 bool visit(RTCPointQueryFunctionArguments* args) {
   Search& s = *static_cast<Search*>(args->userPtr);
   const float* c = s.corners + 9 * static_cast<std::size_t>(args->primID);
@@ -40,15 +26,13 @@ bool visit(RTCPointQueryFunctionArguments* args) {
   const std::uint32_t index = s.index[args->primID];
   if (!(d2 < s.best.d2 || (d2 == s.best.d2 && s.best.found && index < s.best.index))) return false;
   s.best.found = true, s.best.index = index, s.best.point = q, s.best.d2 = d2;
-  const float r = culling_radius(s.size, std::sqrt(d2));
+  const float r = embree::culling_radius(s.size, std::sqrt(d2));
   if (!(r < args->query->radius)) return false;
   args->query->radius = r;
   return true;
 }
 
 }  // namespace
-
-void TriangleTree::SceneRelease::operator()(RTCSceneTy* scene) const { rtcReleaseScene(scene); }
 
 TriangleTree::TriangleTree() = default;
 TriangleTree::~TriangleTree() = default;
@@ -64,14 +48,8 @@ TriangleTree::TriangleTree(const std::vector<Triangle>& triangles) {
     index_.push_back(t.index);
   }
   corners_.insert(corners_.end(), {0.0f, 0.0f, 0.0f});
-  const RTCDevice device = embree::device();
   embree::clear_error();
-  scene_.reset(rtcNewScene(device));
-  embree::check("triangle tree: a scene");
-  // Compact nodes: a third less memory than Embree's default at the same speed of these queries.
-  rtcSetSceneFlags(scene_.get(), RTC_SCENE_FLAG_COMPACT);
-  rtcSetSceneBuildQuality(scene_.get(), RTC_BUILD_QUALITY_MEDIUM);
-  RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+  RTCGeometry g = rtcNewGeometry(embree::device(), RTC_GEOMETRY_TYPE_TRIANGLE);
   embree::check("triangle tree: a mesh");
   rtcSetSharedGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, corners_.data(), 0, 3 * sizeof(float),
                              3 * triangles.size());
@@ -83,21 +61,17 @@ TriangleTree::TriangleTree(const std::vector<Triangle>& triangles) {
     throw Error("triangle tree: Embree could not allocate the triangles' buffer");
   }
   for (std::uint32_t k = 0; k < 3 * triangles.size(); ++k) ib[k] = k;  // each triangle its own three corners
-  rtcCommitGeometry(g);
-  rtcAttachGeometry(scene_.get(), g);
-  rtcReleaseGeometry(g);
-  rtcCommitScene(scene_.get());
-  embree::check("triangle tree: building the tree of " + std::to_string(triangles.size()) + " triangles");
+  scene_ = embree::scene_of(g, "triangle tree of " + std::to_string(triangles.size()) + " triangles");
 }
 
 TriangleTree::Hit TriangleTree::nearest(const glm::dvec3& p, double radius) const {
-  Search s{corners_.data(), index_.data(), p, std::max({std::fabs(p.x), std::fabs(p.y), std::fabs(p.z), 1.0}), {}};
-  if (!scene_ || !(radius > 0.0) || !(s.size < kFarthest)) return s.best;
+  Search s{corners_.data(), index_.data(), p, embree::query_size(p), {}};
+  if (!scene_ || !(radius > 0.0) || !(s.size < embree::kFarthest)) return s.best;
   s.best.d2 = radius * radius;
   RTCPointQuery q;
   q.x = static_cast<float>(p.x), q.y = static_cast<float>(p.y), q.z = static_cast<float>(p.z);
   q.time = 0.0f;
-  q.radius = culling_radius(s.size, radius);
+  q.radius = embree::culling_radius(s.size, radius);
   RTCPointQueryContext context;
   rtcInitPointQueryContext(&context);
   rtcPointQuery(scene_.get(), &q, &context, visit, &s);

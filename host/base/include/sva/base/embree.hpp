@@ -3,9 +3,11 @@
 // mesh (sva/base/triangle_tree.hpp) share it. Embree reports errors through a callback that may not throw (it is
 // called from C); the message is kept per thread and turned into sva::Error by check() right after the call that
 // raised it.
+#include <memory>
 #include <string>
 
 struct RTCDeviceTy;
+struct RTCSceneTy;
 
 namespace sva::embree {
 
@@ -21,5 +23,11 @@ void clear_error();
 // Throws sva::Error("<what>: Embree error <code>: <message>") when an Embree call on this thread reported an error
 // since the last check or clear_error().
 void check(const std::string& what);
+
+// A committed scene, released with its owner (the search of triangle_tree.hpp).
+struct SceneRelease {
+  void operator()(RTCSceneTy* scene) const;
+};
+using Scene = std::unique_ptr<RTCSceneTy, SceneRelease>;
 
 }  // namespace sva::embree

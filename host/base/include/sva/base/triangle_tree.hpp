@@ -5,13 +5,12 @@
 // closest_on_triangle in double. The answer is the smallest (squared distance, index) of all triangles within the
 // radius: it does not depend on the order of the visits, nor on Embree's tree, its ISA or its threads, since every
 // box Embree passes over lies farther than the best triangle by a margin above the rounding of its float query.
+#include <sva/base/embree.hpp>
+
 #include <glm/glm.hpp>
 
 #include <cstdint>
-#include <memory>
 #include <vector>
-
-struct RTCSceneTy;
 
 namespace sva {
 
@@ -44,12 +43,9 @@ class TriangleTree {
   std::size_t size() const { return index_.size(); }
 
  private:
-  struct SceneRelease {
-    void operator()(RTCSceneTy* scene) const;
-  };
   std::vector<float> corners_;        // 9 a triangle (a, b, c): Embree's vertex buffer, shared, and the search's
   std::vector<std::uint32_t> index_;  // each triangle's Triangle::index
-  std::unique_ptr<RTCSceneTy, SceneRelease> scene_;
+  embree::Scene scene_;
 };
 
 }  // namespace sva

@@ -42,8 +42,6 @@ RTCDevice device() {
   return dev;
 }
 
-void check(const std::string& what) { embree::check(what); }
-
 // The rays' context: where the filter collects every triangle Embree reports (for a stream of rays, tagged with the
 // ray's id).
 struct CandidateContext {
@@ -83,18 +81,18 @@ ObjectGeometry::ObjectGeometry(Mesh mesh) : impl_(std::make_unique<Impl>()) {
   RTCDevice dev = device();
   embree::clear_error();
   impl_->scene = rtcNewScene(dev);
-  check("creating the Embree scene");
+  embree::check("creating the Embree scene");
   rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);  // rays along shared edges must not slip through
   rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
   RTCGeometry geom = rtcNewGeometry(dev, RTC_GEOMETRY_TYPE_TRIANGLE);
-  check("creating the Embree geometry");
+  embree::check("creating the Embree geometry");
   auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
                                                         3 * sizeof(float), m.positions.size()));
   auto* t = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geom, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
                                                            3 * sizeof(unsigned), m.triangles.size()));
   if (!v || !t) {
     rtcReleaseGeometry(geom);
-    check("allocating Embree buffers");
+    embree::check("allocating Embree buffers");
     throw Error("cannot allocate Embree buffers");
   }
   for (std::size_t i = 0; i < m.positions.size(); ++i) {
@@ -113,7 +111,7 @@ ObjectGeometry::ObjectGeometry(Mesh mesh) : impl_(std::make_unique<Impl>()) {
   rtcReleaseGeometry(geom);
   rtcCommitScene(impl_->scene);
   try {
-    check("building the Embree scene");
+    embree::check("building the Embree scene");
   } catch (...) {
     rtcReleaseScene(impl_->scene);
     throw;

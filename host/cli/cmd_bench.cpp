@@ -212,10 +212,12 @@ std::string peak_during(const json& m) {
   return "peak during the run " + mib(peak) + " (" + mib(peak - m["rss_before_bytes"].get<double>(), "%+.1f MiB") + ")";
 }
 
-// The estimate's host stages the run asked for (--refine, --surface-check).
+// The estimate's host stages the run asked for (--estimate, --refine, --surface-check).
 std::string estimate_kind(const json& r) {
-  std::string kind = std::string("refine ") + (r["refine_pose"].get<bool>() ? "on" : "off") + ", surface check " +
-                     (r["surface_check"].get<bool>() ? "on" : "off");
+  std::string kind = r.value("estimate", "full") == "light"
+                         ? std::string("light estimates (no host fits)")
+                         : std::string("refine ") + (r["refine_pose"].get<bool>() ? "on" : "off") + ", surface check " +
+                               (r["surface_check"].get<bool>() ? "on" : "off");
   const json& p = r["pose_prior"];
   if (p.is_null()) return kind;
   char text[96];
@@ -301,6 +303,7 @@ bench::BenchPlan parse_plan(const Args& a) {
   plan.device = a.get_or("--device", "");
   plan.refine_pose = a.on_off("--refine", true);
   plan.surface_check = a.on_off("--surface-check", true);
+  plan.estimate = parse_estimate_depth(a.get_or("--estimate", "full"), "sva bench: --estimate");
   plan.max_pairs_per_update = static_cast<int>(a.integer("--max-pairs", 0, 0, 1 << 20));
   plan.belief_budget_bins = static_cast<std::size_t>(
       a.integer("--belief-budget", static_cast<long long>(plan.belief_budget_bins), 0, 1ll << 40));
@@ -330,6 +333,9 @@ int cmd_bench(const std::vector<std::string>& argv) {
       .option("--surface-check", "on|off",
               "verify the leading objects against their surfaces after every update (default on; off, with --refine "
               "off: the host fits the best object alone, where the map's calibration says \"none of these\")")
+      .option("--estimate", "full|light",
+              "the estimate after every update: full (default) or light, the belief's answer without the host's fits "
+              "(docs/recognition.md, \"Light and full estimates\")")
       .option("--max-pairs", "N",
               "bounded cost per update: pairs per update, both orders counted (58: the new reading with the 29 most "
               "recent ones; default 0, every earlier reading: the exact filter; docs/recognition.md)")

@@ -144,6 +144,7 @@ eval::EvalOptions eval_options(const Args& a) {
   if (a.has("--eps") && !(o.recognizer.eps > 0)) throw Error("sva eval: --eps must be positive");
   o.recognizer.refine_pose = a.on_off("--refine", o.recognizer.refine_pose);
   o.recognizer.surface_check = a.on_off("--surface-check", o.recognizer.surface_check);
+  o.estimate = parse_estimate_depth(a.get_or("--estimate", "full"), "sva eval: --estimate");
   o.recognizer.belief_budget_bins = static_cast<std::size_t>(
       a.integer("--belief-budget", static_cast<long long>(o.recognizer.belief_budget_bins), 0, 1ll << 40));
   o.recognizer.max_pairs_per_update = static_cast<int>(a.integer("--max-pairs", 0, 0, 1 << 20));
@@ -226,6 +227,9 @@ void declare_eval_options(Args& a) {
            "(default on; docs/recognition.md, \"Surface check\")");
   a.option("--refine", "on|off",
            "fine pose: align the readings to the object's surface (default on; docs/recognition.md)");
+  a.option("--estimate", "full|light",
+           "each step's estimate: full (default) or light, the belief's answer without the host's fits (the "
+           "parabolic pose, no surface check; docs/recognition.md, \"Light and full estimates\")");
   a.option("--max-pairs", "N",
            "bounded cost per update: pairs per update, both orders counted (58: the new reading with the 29 most "
            "recent ones; default 0, every earlier reading: the exact filter; docs/recognition.md)");

@@ -93,20 +93,23 @@ void bind_batch_recognizer(nb::module_& m) {
            "Adds readings[i] to session sessions[i] (distinct sessions) in one update; on error nothing changes.")
       .def(
           "estimate",
-          [](const PyBatchRecognizer& b, std::size_t session, std::size_t top_k) {
+          [](const PyBatchRecognizer& b, std::size_t session, std::size_t top_k, const std::string& depth) {
+            const EstimateDepth d = parse_estimate_depth(depth, "BatchRecognizer.estimate: depth");
             EngineScope scope;
             std::lock_guard lock(b.mutex);
-            return b.rec.estimate(session, top_k);
+            return b.rec.estimate(session, top_k, d);
           },
-          "session"_a, "top_k"_a = 5)
+          "session"_a, "top_k"_a = 5, "depth"_a = "full", "Recognizer.estimate, for one session.")
       .def(
           "estimates",
-          [](const PyBatchRecognizer& b, const std::vector<std::size_t>& sessions, std::size_t top_k) {
+          [](const PyBatchRecognizer& b, const std::vector<std::size_t>& sessions, std::size_t top_k,
+             const std::string& depth) {
+            const EstimateDepth d = parse_estimate_depth(depth, "BatchRecognizer.estimates: depth");
             EngineScope scope;
             std::lock_guard lock(b.mutex);
-            return b.rec.estimates(sessions, top_k);
+            return b.rec.estimates(sessions, top_k, d);
           },
-          "sessions"_a, "top_k"_a = 5,
+          "sessions"_a, "top_k"_a = 5, "depth"_a = "full",
           "The estimates of many sessions at once (the i-th is sessions[i]'s), each equal to estimate()'s: the "
           "sessions' fits run side by side on the recognizer's threads.")
       .def(

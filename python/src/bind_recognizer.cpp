@@ -231,15 +231,18 @@ void bind_recognizer(nb::module_& m) {
           "be described (sva.Error).")
       .def(
           "estimate",
-          [](const PyRecognizer& r, std::size_t top_k) {
+          [](const PyRecognizer& r, std::size_t top_k, const std::string& depth) {
+            const EstimateDepth d = parse_estimate_depth(depth, "Recognizer.estimate: depth");
             EngineScope scope;
             std::lock_guard lock(r.mutex);
-            return r.rec.estimate(top_k);
+            return r.rec.estimate(top_k, d);
           },
-          "top_k"_a = 5,
+          "top_k"_a = 5, "depth"_a = "full",
           "The belief after the readings so far (sva.Estimate): the object posterior, the best object's pose, the "
           "top_k best bins (top) and distinct modes (hypotheses). Before the first reading est.ready is False and "
-          "est.object is None: there is no answer yet.")
+          "est.object is None: there is no answer yet. depth=\"light\": the belief's answer without the host's fits "
+          "(the parabolic pose, no surface check; docs/recognition.md, \"Light and full estimates\"), for an answer "
+          "after every touch.")
       .def(
           "reset",
           [](PyRecognizer& r) {

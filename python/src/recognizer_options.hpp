@@ -16,7 +16,7 @@ namespace sva::python {
   "backend: str = 'auto', method: str = 'sva', eps: float = 1e-06, likelihood_cutoff: float = 0.0, " \
   "object_prune_probability: float = 0.0, max_pairs_per_update: int = 0, "                           \
   "belief_budget_bins: int = 4194304, vulkan_device: str = '', "                                     \
-  "refine_pose: bool = True, calibrate: bool = True, unknown_prior: float = 0.1"
+  "refine_pose: bool = True, surface_check: bool = True, calibrate: bool = True, unknown_prior: float = 0.1"
 #define RECOGNIZER_OPTIONS_SIG RECOGNIZER_OPTIONS_SIG_NO_THREADS ", threads: int = 0"
 
 // Unknown keywords raise TypeError, bad values sva.Error; `what` names the caller in both.

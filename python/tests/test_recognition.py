@@ -69,6 +69,43 @@ def test_estimate_arrays(tiny, tiny_map):
     assert np.allclose(est.pose.apply(x), est.pose.R @ x + est.pose.T)
 
 
+def test_light_estimate_is_the_beliefs_answer(tiny, tiny_map):
+    """depth="light": the parabolic pose, no fit; what a recognizer built without fits says (calibration off on both,
+    so that neither fits for "none of these"); a full estimate after it is the full estimate alone."""
+    sessions = tiny.session_lines()
+    rec = sva.Recognizer(tiny_map, backend="cpu", calibrate=False)
+    bare = sva.Recognizer(tiny_map, backend="cpu", calibrate=False, refine_pose=False, surface_check=False)
+    alone = sva.Recognizer(tiny_map, backend="cpu", calibrate=False)
+    refined = 0
+    for s in sessions:
+        for r in (rec, bare, alone):
+            r.reset()
+        for reading in s["readings"]:
+            for r in (rec, bare, alone):
+                r.add_reading(reading_of(reading))
+        light = rec.estimate(top_k=3, depth="light")
+        assert not light.pose_refined
+        assert np.array_equal(light.pose.R, light.parabolic_pose.R)
+        assert np.array_equal(light.pose.T, light.parabolic_pose.T)
+        want = bare.estimate(top_k=3)
+        assert light.object_probability.tolist() == want.object_probability.tolist()
+        assert [h.probability for h in light.top] == [h.probability for h in want.top]
+        full, full_alone = rec.estimate(top_k=3), alone.estimate(top_k=3)
+        assert full.object_probability.tolist() == full_alone.object_probability.tolist()
+        assert np.array_equal(full.pose.T, full_alone.pose.T)
+        refined += full.pose_refined
+    assert refined > 0  # not vacuous: 6 readings, the full estimates fitted
+    b = sva.BatchRecognizer(tiny_map, 2, backend="cpu", calibrate=False)
+    b.add_readings([0, 1], [reading_of(sessions[0]["readings"][0])] * 2)
+    b.add_readings([0, 1], [reading_of(sessions[0]["readings"][1])] * 2)
+    both = b.estimates([0, 1], top_k=3, depth="light")
+    assert both[0].object_probability.tolist() == b.estimate(1, top_k=3, depth="light").object_probability.tolist()
+    with pytest.raises(sva.Error, match='depth expects full or light, got "fine"'):
+        rec.estimate(depth="fine")
+    with pytest.raises(sva.Error, match="depth"):
+        b.estimates([0], depth="")
+
+
 def test_batch_recognizer_gives_the_cli_estimates(tiny, tiny_map):
     sessions = tiny.session_lines()
     results = tiny.result_lines()

@@ -162,6 +162,31 @@ TEST_CASE(
   CHECK(c["seed"] == 8);
 }
 
+TEST_CASE("sva eval --estimate light: the full curve until the fits start, recorded and printed, bad depths named") {
+  Fixture f;
+  std::string out;
+  const std::string common = f.base() + "--backend cpu --trials 4 --max-readings 8 --seed 7 ";
+  REQUIRE(sva::test::run_sva(common + "--json " + f.path("full.json"), &out) == 0);
+  CHECK(out.find("light estimates") == std::string::npos);
+  REQUIRE(sva::test::run_sva(common + "--estimate light --json " + f.path("light.json"), &out) == 0);
+  CHECK(out.find("backend cpu, light estimates, 4 trials") != std::string::npos);
+  auto full = without_timing(f.path("full.json")), light = without_timing(f.path("light.json"));
+  CHECK(full["estimate"] == "full");
+  CHECK(light["estimate"] == "light");
+  REQUIRE(light["curve"].size() == 8);
+  // Before the fine pose (6 readings on this map) the two depths compute the same stages: the same points.
+  for (std::size_t i = 0; i < 5; ++i) CHECK(light["curve"][i] == full["curve"][i]);
+  bool differs = false;  // from 6 on the full estimate's fine pose moves the errors
+  for (std::size_t i = 5; i < 8; ++i) differs = differs || light["curve"][i] != full["curve"][i];
+  CHECK(differs);
+  for (const std::string bad : {"--estimate fine", "--estimate "}) {
+    INFO(bad);
+    CHECK(sva::test::run_sva(common + bad, &out) != 0);
+    CHECK(out.find("--estimate") != std::string::npos);
+    CHECK(out.find("internal error") == std::string::npos);
+  }
+}
+
 TEST_CASE("sva eval overlays another method's curve with --compare") {
   Fixture f;
   std::string out;
@@ -370,6 +395,17 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
   REQUIRE(light[0]["curve"].size() == single[0]["curve"].size());
   for (std::size_t i = 0; i < single[0]["curve"].size(); ++i)
     CHECK(light[0]["curve"][i]["votes_per_update"] == single[0]["curve"][i]["votes_per_update"]);
+  // --estimate light: the belief's answer after every update, no host fits; recorded and printed, the same votes.
+  REQUIRE(sva::test::run_sva(bench + "--backend cpu --batch 0 --estimate light --json " + f.path("belief.json"),
+                             &out) == 0);
+  CHECK(out.find("top 1 per estimate, light estimates (no host fits))") != std::string::npos);
+  const auto belief = nlohmann::json::parse(read_file(f.path("belief.json")))["runs"];
+  REQUIRE(belief.size() == 1);
+  CHECK(single[0]["estimate"] == "full");
+  CHECK(belief[0]["estimate"] == "light");
+  REQUIRE(belief[0]["curve"].size() == single[0]["curve"].size());
+  for (std::size_t i = 0; i < single[0]["curve"].size(); ++i)
+    CHECK(belief[0]["curve"][i]["votes_per_update"] == single[0]["curve"][i]["votes_per_update"]);
   // --pose-prior: every session gets a camera's prior at its trial's true pose, recorded and printed. It reweights
   // the bins the estimate reads, never the votes: the same votes, other poses (a 1 mm prior pulls them).
   REQUIRE(sva::test::run_sva(bench + "--backend cpu --batch 0 --pose-prior 1,10 --json " + f.path("prior.json"),
@@ -421,9 +457,9 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
         exact["curve"][0]["belief_bytes_per_session"].get<double>());
   CHECK(bounded["curve"][1]["work_per_update"]["pairs"].get<double>() ==
         1.0);  // 2 pairs: one order voted, folded twice
-  for (const std::string bad :
-       {"--batch -1", "--batch x", "--backend gpu", "--readings 0", "--max-pairs -1", "--top-k 0",
-        "--surface-check maybe", "--pose-prior 0", "--pose-prior 5,200", "--pose-prior 5,", "--pose-prior x"}) {
+  for (const std::string bad : {"--batch -1", "--batch x", "--backend gpu", "--readings 0", "--max-pairs -1",
+                                "--top-k 0", "--surface-check maybe", "--estimate fine", "--pose-prior 0",
+                                "--pose-prior 5,200", "--pose-prior 5,", "--pose-prior x"}) {
     INFO(bad);
     CHECK(sva::test::run_sva(base + bad, &out) != 0);
     CHECK(out.find(bad.substr(bad.find(' ') + 1)) != std::string::npos);

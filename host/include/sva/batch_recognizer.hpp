@@ -32,11 +32,13 @@ class BatchRecognizer {
   // update. Every reading is checked before any session changes: on error
   // (sva::Error naming the session and reading) nothing is updated.
   void add_readings(std::span<const std::size_t> sessions, std::span<const Reading> readings);
-  Estimate estimate(std::size_t session, std::size_t top_k = 5) const;
+  // Recognizer::estimate, for one session.
+  Estimate estimate(std::size_t session, std::size_t top_k = 5, EstimateDepth depth = EstimateDepth::full) const;
   // The estimates of many sessions at once (sessions[i]'s is the i-th), each equal to estimate()'s: the sessions'
   // fits run side by side on RecognizerOptions::threads workers (a batch's estimate after every update; with the
   // Vulkan backend the belief is read one session at a time, then the fits run on the host's cores).
-  std::vector<Estimate> estimates(std::span<const std::size_t> sessions, std::size_t top_k = 5) const;
+  std::vector<Estimate> estimates(std::span<const std::size_t> sessions, std::size_t top_k = 5,
+                                  EstimateDepth depth = EstimateDepth::full) const;
   // Recognizer::set_prior, for one session.
   void set_prior(std::size_t session, const Prior& prior);
   // Forgets the session's readings and prior.

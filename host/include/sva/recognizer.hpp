@@ -26,6 +26,17 @@ BackendKind parse_backend_kind(const std::string& text, const std::string& optio
 const char* backend_kind_name(BackendKind kind);
 enum class Method { sva, appearance };  // appearance: the appearance-only baseline of [15]
 
+// How much of the estimate one call computes (docs/recognition.md, "Light and full estimates"):
+//   full:  every stage the RecognizerOptions ask for: the fine pose and the surface check on the host.
+//   light: the belief's answer alone (its objects, best bins, modes and parabolic pose; probabilities calibrated as
+//          before the fine pose exists), no fit on the host: a robot's answer after every touch, with the full one
+//          asked for when it must act on the fine pose or tell near-twins apart.
+enum class EstimateDepth { full, light };
+// "full" or "light"; anything else is an sva::Error naming `option` (e.g. "sva eval: --estimate").
+EstimateDepth parse_estimate_depth(const std::string& text, const std::string& option);
+// "full" or "light".
+const char* estimate_depth_name(EstimateDepth depth);
+
 struct RecognizerOptions {
   BackendKind backend = BackendKind::automatic;  // the policy of every command: a GPU where one is usable
   Method method = Method::sva;
@@ -146,8 +157,10 @@ class Recognizer {
   // every earlier reading, in both orders (Eq 3-5). Readings that are not
   // `converged` or that cannot be described are refused with sva::Error.
   void add_reading(const Reading& reading);
-  // top_k: the best bins (Estimate::top) and the distinct hypotheses (Estimate::hypotheses) to report.
-  Estimate estimate(std::size_t top_k = 5) const;
+  // top_k: the best bins (Estimate::top) and the distinct hypotheses (Estimate::hypotheses) to report; depth: the
+  // whole estimate, or the belief's answer without the host's fits (EstimateDepth). Either leaves the session as it
+  // was: a full estimate after a light one equals a full estimate alone.
+  Estimate estimate(std::size_t top_k = 5, EstimateDepth depth = EstimateDepth::full) const;
   // A prior over objects for this session (sva/prior.hpp), replacing any earlier one; sva::Error when it does not
   // fit the map. It may be set or changed at any time: it enters at estimate time.
   void set_prior(const Prior& prior);

@@ -2,6 +2,8 @@
 
 #include <chrono>
 
+#include <sva/error.hpp>
+
 #include "estimate/calibrate.hpp"
 #include "estimate/candidates.hpp"
 #include "estimate/fit.hpp"
@@ -28,6 +30,24 @@ CandidateRequest candidate_request(const EstimateRequest& r, std::size_t reading
 }
 
 }  // namespace
+
+EstimateRequest at_depth(const EstimateRequest& r, EstimateDepth depth) {
+  if (depth == EstimateDepth::full) return r;
+  EstimateRequest light = r;
+  light.surface = nullptr;
+  light.surface_model = nullptr;
+  light.refine_pose = false;
+  light.surface_check = false;
+  return light;
+}
+
+EstimateDepth parse_estimate_depth(const std::string& text, const std::string& option) {
+  if (text == "full") return EstimateDepth::full;
+  if (text == "light") return EstimateDepth::light;
+  throw Error(option + " expects full or light, got \"" + text + "\"");
+}
+
+const char* estimate_depth_name(EstimateDepth depth) { return depth == EstimateDepth::light ? "light" : "full"; }
 
 Estimate estimate_session(const EstimateInput& in, const std::vector<MapObject>& objects, const EstimateRequest& r) {
   return estimate_from(estimate_candidates(in, r), in.readings, in.space, objects, r);

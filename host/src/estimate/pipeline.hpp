@@ -63,6 +63,10 @@ struct EstimateRequest {
   EstimateStageTimes* times = nullptr;  // when given, estimate_from adds its stages' times to it
 };
 
+// The request at `depth`: a light estimate is stages 1, 4 and 5 alone (no surface: the parabolic pose, no fit, no
+// surface check; the calibration reads the evidence as before the fine pose exists).
+EstimateRequest at_depth(const EstimateRequest& r, EstimateDepth depth);
+
 // The estimate of a session with at least one reading (stages 1-5).
 Estimate estimate_session(const EstimateInput& in, const std::vector<MapObject>& objects, const EstimateRequest& r);
 // The same in two steps: stage 1, the only one that reads the belief (a device's belief: one session at a time),

@@ -63,12 +63,13 @@ struct BatchRecognizer::Impl {
         options(o),
         space(spec, static_cast<std::uint32_t>(MapAccess::pair_map(e.map()).objects.size())) {}
 
-  EstimateRequest request(const Session& s, std::size_t top_k, unsigned threads) const;
+  EstimateRequest request(const Session& s, std::size_t top_k, unsigned threads, EstimateDepth depth) const;
   Estimate estimate_without_belief(const Session& s) const;
   Estimate finish(const Session& s, Estimate e) const;
   // A device's reads of the sessions' beliefs ahead of their stage 1: each pass once for all of them (a round trip
   // each: the summaries, the best bins, then the bins read by key), so that each stage 1 reads what came back.
-  void read_ahead(const std::vector<const Session*>& piped, std::size_t top_k, unsigned threads) const;
+  void read_ahead(const std::vector<const Session*>& piped, std::size_t top_k, unsigned threads,
+                  EstimateDepth depth) const;
 
   const Session& at(std::size_t s) const {
     if (s >= sessions.size())
@@ -188,20 +189,22 @@ void BatchRecognizer::add_readings(std::span<const std::size_t> sessions, std::s
   }
 }
 
-EstimateRequest BatchRecognizer::Impl::request(const Session& s, std::size_t top_k, unsigned threads) const {
+EstimateRequest BatchRecognizer::Impl::request(const Session& s, std::size_t top_k, unsigned threads,
+                                               EstimateDepth depth) const {
   RefineSettings r = refine;
   r.threads = threads;
-  return EstimateRequest{.top_k = top_k,
-                         .hypothesis_radius_bins = options.hypothesis_radius_bins,
-                         .object_weight = s.prior_weight,
-                         .pose_weighting = s.pose_prior,
-                         .surface = surface,
-                         .refine = r,
-                         .refine_pose = options.refine_pose,
-                         .surface_check = options.surface_check,
-                         .surface_model = surface_model,
-                         .calibration = options.calibrate ? &pair_map->calibration : nullptr,
-                         .unknown_prior = options.unknown_prior};
+  return at_depth(EstimateRequest{.top_k = top_k,
+                                  .hypothesis_radius_bins = options.hypothesis_radius_bins,
+                                  .object_weight = s.prior_weight,
+                                  .pose_weighting = s.pose_prior,
+                                  .surface = surface,
+                                  .refine = r,
+                                  .refine_pose = options.refine_pose,
+                                  .surface_check = options.surface_check,
+                                  .surface_model = surface_model,
+                                  .calibration = options.calibrate ? &pair_map->calibration : nullptr,
+                                  .unknown_prior = options.unknown_prior},
+                  depth);
 }
 
 // The estimate of a session that needs no pipeline: no reading yet, or the appearance-only method. Without evidence
@@ -224,16 +227,16 @@ Estimate BatchRecognizer::Impl::finish(const Session& s, Estimate e) const {
   return e;
 }
 
-void BatchRecognizer::Impl::read_ahead(const std::vector<const Session*>& piped, std::size_t top_k,
-                                       unsigned threads) const {
+void BatchRecognizer::Impl::read_ahead(const std::vector<const Session*>& piped, std::size_t top_k, unsigned threads,
+                                       EstimateDepth depth) const {
   std::vector<const BeliefState*> beliefs;
   std::vector<KeyChoice> choices;  // for the next update to choose each session's keys on a device
   std::size_t best_bins = 0;
   for (const Session* s : piped) {
     beliefs.push_back(&s->filter->belief());
     const std::size_t readings = s->filter->observed().size();
-    best_bins = std::max(best_bins, estimate_best_bins(request(*s, top_k, threads), readings));
-    choices.push_back(estimate_key_choice(request(*s, top_k, threads), readings + 1));
+    best_bins = std::max(best_bins, estimate_best_bins(request(*s, top_k, threads, depth), readings));
+    choices.push_back(estimate_key_choice(request(*s, top_k, threads, depth), readings + 1));
   }
   backend->read_ahead(beliefs, best_bins, choices);
   std::vector<std::vector<std::uint64_t>> keys(piped.size());
@@ -241,19 +244,20 @@ void BatchRecognizer::Impl::read_ahead(const std::vector<const Session*>& piped,
       piped.size(),
       [&](std::size_t k) {
         const Session& s = *piped[k];
-        keys[k] =
-            estimate_keys({s.filter->belief(), s.filter->space(), s.filter->observed()}, request(s, top_k, threads));
+        keys[k] = estimate_keys({s.filter->belief(), s.filter->space(), s.filter->observed()},
+                                request(s, top_k, threads, depth));
       },
       options.threads);
   backend->look_up_ahead(beliefs, keys);
 }
 
 // One session's estimate is a batch's of one (which gives it every worker).
-Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k) const {
-  return estimates(std::span(&session, 1), top_k).front();
+Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k, EstimateDepth depth) const {
+  return estimates(std::span(&session, 1), top_k, depth).front();
 }
 
-std::vector<Estimate> BatchRecognizer::estimates(std::span<const std::size_t> sessions, std::size_t top_k) const {
+std::vector<Estimate> BatchRecognizer::estimates(std::span<const std::size_t> sessions, std::size_t top_k,
+                                                 EstimateDepth depth) const {
   const std::lock_guard lock(impl_->mutex);
   std::vector<Estimate> out(sessions.size());
   std::vector<std::size_t> piped;  // positions of the sessions that run the pipeline (readings and a belief)
@@ -282,7 +286,7 @@ std::vector<Estimate> BatchRecognizer::estimates(std::span<const std::size_t> se
   if (device) {
     std::vector<const Impl::Session*> ahead;
     for (std::size_t i : piped) ahead.push_back(&impl_->sessions[sessions[i]]);
-    impl_->read_ahead(ahead, top_k, inner);
+    impl_->read_ahead(ahead, top_k, inner, depth);
   }
   std::vector<EstimateStageTimes> took(piped.size());
   took.front().belief_ms =
@@ -291,7 +295,7 @@ std::vector<Estimate> BatchRecognizer::estimates(std::span<const std::size_t> se
       piped.size(),
       [&](std::size_t k) {
         const Impl::Session& s = impl_->sessions[sessions[piped[k]]];
-        EstimateRequest request = impl_->request(s, top_k, inner);
+        EstimateRequest request = impl_->request(s, top_k, inner, depth);
         request.times = &took[k];
         const auto start = std::chrono::steady_clock::now();
         const Candidates candidates =

@@ -24,7 +24,9 @@ void Recognizer::add_reading(const Reading& reading) {
   const std::size_t session = 0;
   impl_->batch.add_readings(std::span(&session, 1), std::span(&reading, 1));
 }
-Estimate Recognizer::estimate(std::size_t top_k) const { return impl_->batch.estimate(0, top_k); }
+Estimate Recognizer::estimate(std::size_t top_k, EstimateDepth depth) const {
+  return impl_->batch.estimate(0, top_k, depth);
+}
 void Recognizer::set_prior(const Prior& prior) { impl_->batch.set_prior(0, prior); }
 void Recognizer::save_session(const std::filesystem::path& file) const { impl_->batch.save_session(0, file); }
 void Recognizer::restore_session(const std::filesystem::path& file) { impl_->batch.restore_session(0, file); }

@@ -245,3 +245,39 @@ TEST_CASE("GPU batch: a group's sessions reset together in one submission, then 
     CHECK(same(a[i], b[i]));
   }
 }
+
+TEST_CASE("GPU batch: light estimates after every touch and a full one when asked, each the CPU reference's") {
+  // A robot's answer after every touch without the host's fits (EstimateDepth::light), and the full estimate at some
+  // touches. Both depths read the same summary, best bins and keys (a full estimate's fits start from the best bins
+  // the modes already read), so after the second pair each is answered by what the update read ahead: no round trip
+  // of its own at either depth, staged as on a discrete GPU.
+  const std::unique_ptr<BatchRecognizer> gpu = staged_gpu_batch();
+  RecognizerOptions co = gpu_options();
+  co.backend = BackendKind::cpu;
+  BatchRecognizer cpu(trained().map, paper_space(), 1, co);
+  const std::size_t session = 0;
+  const std::vector<Reading> rd = readings_at(2, random_pose(960, 100.0), util::Rng(960, 5), 9);
+  std::size_t estimates = 0, read_nothing = 0, refined = 0;
+  for (std::size_t r = 0; r < rd.size(); ++r) {
+    INFO("reading " << r + 1);
+    gpu->add_readings(std::span(&session, 1), std::span(&rd[r], 1));
+    cpu.add_readings(std::span(&session, 1), std::span(&rd[r], 1));
+    for (EstimateDepth depth : {EstimateDepth::light, EstimateDepth::full}) {
+      if (depth == EstimateDepth::full && r != 5 && r != 6 && r != 8) continue;
+      INFO(estimate_depth_name(depth));
+      const std::uint64_t s0 = gpu->device_submissions();
+      const Estimate g = gpu->estimate(session, 3, depth);
+      const std::uint64_t reads = gpu->device_submissions() - s0;
+      CHECK(same(g, cpu.estimate(session, 3, depth)));
+      if (depth == EstimateDepth::light) CHECK_FALSE(g.pose_refined);
+      refined += g.pose_refined ? 1 : 0;
+      if (r < 2) continue;  // the first pair's estimate reads alone
+      ++estimates;
+      read_nothing += reads == 0 ? 1 : 0;
+    }
+  }
+  CHECK(refined > 0);  // not vacuous: the full estimates fitted
+  INFO(read_nothing << " of " << estimates << " estimates read nothing");
+  CHECK(estimates == 10);
+  CHECK(read_nothing == estimates);
+}

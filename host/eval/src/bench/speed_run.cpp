@@ -211,8 +211,14 @@ json memory_json(const RunMemory& m, const BatchRecognizer& rec) {
 // update and of the checkpoints.
 class SpeedRecorder {
  public:
-  SpeedRecorder(BatchRecognizer& rec, const std::vector<std::size_t>& checkpoints, std::size_t top_k)
-      : rec_(rec), checkpoints_(checkpoints), top_k_(top_k), sessions_(rec.sessions()), after_last_(device_counts()) {}
+  SpeedRecorder(BatchRecognizer& rec, const std::vector<std::size_t>& checkpoints, std::size_t top_k,
+                EstimateDepth depth)
+      : rec_(rec),
+        checkpoints_(checkpoints),
+        top_k_(top_k),
+        depth_(depth),
+        sessions_(rec.sessions()),
+        after_last_(device_counts()) {}
 
   void on_step(const LockstepStep& s, const std::vector<eval::Trial>& tr) {
     StepFigures f;
@@ -223,7 +229,7 @@ class SpeedRecorder {
     const DeviceCounts updated = device_counts();
     f.update_submissions = updated.submissions - after_last_.submissions;
     f.update_allocations = updated.allocations - after_last_.allocations;
-    est = rec_.estimates(s.sessions, top_k_);
+    est = rec_.estimates(s.sessions, top_k_, depth_);
     after_last_ = device_counts();
     f.estimate_submissions = after_last_.submissions - updated.submissions;
     f.estimate_allocations = after_last_.allocations - updated.allocations;
@@ -260,7 +266,8 @@ class SpeedRecorder {
  private:
   BatchRecognizer& rec_;
   const std::vector<std::size_t>& checkpoints_;
-  std::size_t top_k_;  // hypotheses per estimate (SpeedRunSpec::top_k)
+  std::size_t top_k_;    // hypotheses per estimate (SpeedRunSpec::top_k)
+  EstimateDepth depth_;  // SpeedRunSpec::estimate
   std::map<std::size_t, Checkpoint> cp_;
   // The device's round trips and memory allocations so far.
   struct DeviceCounts {
@@ -307,7 +314,7 @@ json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, Me
   meter.start();
   util::Progress progress(spec.label, spec.trials * max_readings);
   BatchRecognizer rec(map, map.pose_space(), std::min(spec.sessions, spec.trials), ro);
-  SpeedRecorder recorder(rec, spec.checkpoints, spec.top_k);
+  SpeedRecorder recorder(rec, spec.checkpoints, spec.top_k, spec.estimate);
   std::vector<eval::Trial> tr;
   LockstepHooks hooks;
   hooks.progress = &progress;
@@ -335,6 +342,7 @@ json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, Me
             {"top_k", spec.top_k},
             {"refine_pose", spec.refine_pose},
             {"surface_check", spec.surface_check},
+            {"estimate", estimate_depth_name(spec.estimate)},
             {"pose_prior", pose_prior_json(spec.pose_prior)}};
   j.update(recorder.figures());
   j["memory"] = memory_json(memory, rec);
@@ -381,6 +389,7 @@ nlohmann::json run_all(const Map& map, const Dataset& test, const BenchPlan& pla
     spec.vulkan_device = plan.device;
     spec.refine_pose = plan.refine_pose;
     spec.surface_check = plan.surface_check;
+    spec.estimate = plan.estimate;
     spec.max_pairs_per_update = plan.max_pairs_per_update;
     spec.belief_budget_bins = plan.belief_budget_bins;
     spec.top_k = plan.top_k;

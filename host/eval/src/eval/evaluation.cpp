@@ -24,30 +24,32 @@ namespace {
 
 class RecognizerSession final : public Session {
  public:
-  RecognizerSession(const Map& map, const RecognizerOptions& options) : recognizer_(map, map.pose_space(), options) {}
-  RecognizerSession(const Engine& engine, const RecognizerOptions& options)
-      : recognizer_(engine, engine.map().pose_space(), options) {}
+  RecognizerSession(const Map& map, const RecognizerOptions& options, EstimateDepth depth)
+      : recognizer_(map, map.pose_space(), options), depth_(depth) {}
+  RecognizerSession(const Engine& engine, const RecognizerOptions& options, EstimateDepth depth)
+      : recognizer_(engine, engine.map().pose_space(), options), depth_(depth) {}
   void add_reading(const Reading& reading) override { recognizer_.add_reading(reading); }
-  Estimate estimate() const override { return recognizer_.estimate(1); }
+  Estimate estimate() const override { return recognizer_.estimate(1, depth_); }
   Estimate estimate_top(std::size_t top_k) const override {
-    return recognizer_.estimate(std::max<std::size_t>(top_k, 1));
+    return recognizer_.estimate(std::max<std::size_t>(top_k, 1), depth_);
   }
   void reset() override { recognizer_.reset(); }
 
  private:
   Recognizer recognizer_;
+  EstimateDepth depth_;
 };
 
 class RecognizerBatch final : public SessionBatch {
  public:
-  RecognizerBatch(const Map& map, std::size_t sessions, const RecognizerOptions& options)
-      : batch_(map, map.pose_space(), sessions, options) {}
+  RecognizerBatch(const Map& map, std::size_t sessions, const RecognizerOptions& options, EstimateDepth depth)
+      : batch_(map, map.pose_space(), sessions, options), depth_(depth) {}
   std::size_t size() const override { return batch_.sessions(); }
   void add_readings(std::span<const std::size_t> sessions, std::span<const Reading> readings) override {
     batch_.add_readings(sessions, readings);
   }
   std::vector<Estimate> estimates(std::span<const std::size_t> sessions) const override {
-    return batch_.estimates(sessions, 1);
+    return batch_.estimates(sessions, 1, depth_);
   }
   void reset() override {
     for (std::size_t s = 0; s < batch_.sessions(); ++s) batch_.reset(s);
@@ -56,6 +58,7 @@ class RecognizerBatch final : public SessionBatch {
 
  private:
   BatchRecognizer batch_;
+  EstimateDepth depth_;
 };
 
 std::string join(const std::vector<std::string>& v) {
@@ -85,7 +88,7 @@ EvalResult run_active(const Map& map, const Dataset& test, TrialSetup setup, con
   ActiveSetup active = options.active;
   active.policy = options.policy;
   EvalResult r = run_trials_active(
-      test, setup, [&] { return std::make_unique<RecognizerSession>(engine, ro); }, planner, active);
+      test, setup, [&] { return std::make_unique<RecognizerSession>(engine, ro, options.estimate); }, planner, active);
   r.device = engine.backend_description();
   r.backend_fallback_reason = engine.fallback_reason();
   return r;
@@ -155,6 +158,7 @@ EvalResult run_checked_evaluation(const Map& map, const Dataset& test, const Eva
   setup.scene = map.scene_name();
   setup.backend = backend_name(options.recognizer.backend);
   setup.method = method_name(options.recognizer.method);
+  setup.estimate = estimate_depth_name(options.estimate);
   if (options.policy != Policy::random) return run_active(map, test, setup, options);
   RecognizerOptions ro = options.recognizer;
   // The Vulkan backend runs the trials in lock step, a batch per submission
@@ -162,7 +166,7 @@ EvalResult run_checked_evaluation(const Map& map, const Dataset& test, const Eva
   // With auto, the backend factory decides (BatchRecognizer::backend()).
   std::string fallback;
   if (ro.backend != BackendKind::cpu && ro.method == Method::sva) {
-    RecognizerBatch batch(map, std::min<std::size_t>(options.trials, options.vulkan_batch), ro);
+    RecognizerBatch batch(map, std::min<std::size_t>(options.trials, options.vulkan_batch), ro, options.estimate);
     if (batch.recognizer().backend() == BackendKind::vulkan) {
       setup.backend = backend_name(BackendKind::vulkan);
       EvalResult r = run_trials_batched(test, setup, batch);
@@ -177,7 +181,8 @@ EvalResult run_checked_evaluation(const Map& map, const Dataset& test, const Eva
   // Trials already occupy the cores; a recognizer on one thread each avoids
   // oversubscription (its results do not depend on its thread count).
   if (options.trials > 1) ro.threads = 1;
-  EvalResult r = run_trials(test, setup, [&] { return std::make_unique<RecognizerSession>(map, ro); });
+  EvalResult r =
+      run_trials(test, setup, [&] { return std::make_unique<RecognizerSession>(map, ro, options.estimate); });
   const unsigned threads = options.threads ? options.threads : util::default_threads();
   r.device = "CPU reference (" + std::to_string(std::min<std::size_t>(threads, options.trials)) + " threads)";
   r.backend_fallback_reason = fallback;

@@ -213,6 +213,7 @@ std::string to_json(const EvalResult& result, const Curve& curve) {
   j["backend"] = result.backend;
   j["method"] = result.method;
   j["policy"] = result.policy;
+  j["estimate"] = result.estimate;
   j["trials"] = result.trials.size();
   j["seed"] = result.seed;
   j["max_readings"] = result.max_readings;
@@ -276,7 +277,8 @@ std::string to_csv(const EvalResult& result) {
 
 std::string format_table(const Curve& curve) {
   std::ostringstream s;
-  s << "scene " << curve.scene << ", method " << curve.method << ", backend " << curve.backend << ", " << curve.trials
+  s << "scene " << curve.scene << ", method " << curve.method << ", backend " << curve.backend
+    << (curve.estimate == "light" ? ", light estimates" : "") << ", " << curve.trials
     << " trials (errors: median, mean and 90th percentile over trials with the right object)\n";
   // MSSD and ADD-S only where the objects' meshes were read (a result without them prints as it always has).
   bool surface = false;
@@ -324,9 +326,9 @@ Curve read_curve_json(const std::filesystem::path& file) {
   c.scene = j["scene"].get<std::string>();
   c.backend = j["backend"].get<std::string>();
   c.method = j["method"].get<std::string>();
-  c.label = c.method;
   if (j.contains("policy") && j["policy"].is_string()) c.policy = j["policy"].get<std::string>();
-  if (c.method == "sva" && c.policy != "random") c.label = "sva " + c.policy;
+  if (j.contains("estimate") && j["estimate"].is_string()) c.estimate = j["estimate"].get<std::string>();
+  c.label = curve_label(c.method, c.policy, c.estimate);
   if (j.contains("readings_to_95") && j["readings_to_95"].is_object()) {
     const json& r = j["readings_to_95"];
     auto get = [&](const char* key) -> std::optional<double> {

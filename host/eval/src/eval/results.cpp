@@ -30,13 +30,21 @@ Confidence readings_to_confidence(const EvalResult& result, double threshold) {
   return c;
 }
 
+std::string curve_label(const std::string& method, const std::string& policy, const std::string& estimate) {
+  std::string label = method;
+  if (method == "sva" && policy != "random") label += " " + policy;
+  if (method == "sva" && estimate == "light") label += " light";
+  return label;
+}
+
 Curve summarize(const EvalResult& result, std::optional<double> stop_at) {
   Curve c;
   c.calibration = calibration_summary(result);
   if (stop_at) c.stop = stop_summary(result, *stop_at);
   c.unknown = unknown_summary(result, std::min<std::size_t>(15, result.max_readings));
-  c.label = result.method == "sva" && result.policy != "random" ? "sva " + result.policy : result.method;
+  c.label = curve_label(result.method, result.policy, result.estimate);
   c.policy = result.policy;
+  c.estimate = result.estimate;
   c.to_95 = readings_to_confidence(result, 0.95);
   std::vector<double> plans;
   for (const auto& trial : result.trials)

@@ -51,6 +51,7 @@ EvalResult empty_result(const Dataset& test, const TrialSetup& setup) {
   result.scene = setup.scene.empty() ? test.scene.name : setup.scene;
   result.backend = setup.backend;
   result.method = setup.method;
+  result.estimate = setup.estimate;
   result.seed = setup.seed;
   result.max_readings = setup.max_readings;
   for (const auto& o : test.scene.objects) {

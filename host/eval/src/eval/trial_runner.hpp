@@ -51,6 +51,7 @@ struct TrialSetup {
   bool progress = true;
   std::string source = "test set";     // names the test set in errors
   std::string scene, backend, method;  // copied into the result
+  std::string estimate = "full";       // likewise: the sessions' estimate depth
   // Per object of the test set: its id in the map, or -1 when the map does not hold it (--unknown-objects);
   // empty: the same objects in the same order.
   std::vector<std::int32_t> map_object;

@@ -22,9 +22,10 @@ struct EvalOptions {
   std::size_t trials = 0;         // >= 1
   std::size_t max_readings = 30;  // >= 1
   std::uint64_t seed = 1;
-  RecognizerOptions recognizer;   // backend, method, eps, speed knobs
-  unsigned threads = 0;           // trials in parallel; 0 = util::default_threads()
-  std::size_t vulkan_batch = 64;  // Vulkan backend: trials stepped together per submission
+  RecognizerOptions recognizer;                  // backend, method, eps, speed knobs
+  EstimateDepth estimate = EstimateDepth::full;  // each step's estimate (light: the belief's answer, no host fits)
+  unsigned threads = 0;                          // trials in parallel; 0 = util::default_threads()
+  std::size_t vulkan_batch = 64;                 // Vulkan backend: trials stepped together per submission
   bool progress = true;
   std::string map_name = "map";  // names the files in errors
   std::string data_name = "test set";

@@ -137,6 +137,7 @@ struct Curve {
   std::string label;  // legend text (the method, or a file name)
   std::string scene, backend, method;
   std::string policy = "random";  // how each next reading was chosen (host/eval/src/eval/active_trials.hpp)
+  std::string estimate = "full";  // each step's estimate: "full" or "light" (EstimateDepth)
   Confidence to_95;               // readings until the true object holds >= 95%
   std::optional<double> plan_ms;  // median time per plan (active policies)
   std::size_t trials = 0;
@@ -151,6 +152,7 @@ struct EvalResult {
   std::string backend;            // "cpu" | "vulkan"
   std::string method;             // "sva" | "appearance"
   std::string policy = "random";  // "random" | "active" | "active-sim"
+  std::string estimate = "full";  // "full" | "light": each step's estimate (EvalOptions::estimate)
   std::uint64_t seed = 0;
   std::size_t max_readings = 0;
   std::vector<std::string> objects;   // the test set's, by TrialResult::object
@@ -169,5 +171,8 @@ struct EvalResult {
 Curve summarize(const EvalResult& result, std::optional<double> stop_at = std::nullopt);
 
 Confidence readings_to_confidence(const EvalResult& result, double threshold);
+
+// A curve's legend: the method, with a policy other than random ("sva active") and a light estimate ("sva light").
+std::string curve_label(const std::string& method, const std::string& policy, const std::string& estimate);
 
 }  // namespace sva::eval

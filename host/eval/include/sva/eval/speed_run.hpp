@@ -40,6 +40,9 @@ struct SpeedRunSpec {
   // update (and only where the map's calibration says "none of these", from that fit): what a batch study that
   // checks surfaces only at its sessions' ends pays.
   bool surface_check = true;
+  // The estimate after every update: full, or light (the belief's answer alone, no host fit: what a robot's answer
+  // after every touch, or a batch that fits only at its sessions' ends, pays per update).
+  EstimateDepth estimate = EstimateDepth::full;
   int max_pairs_per_update = 0;  // RecognizerOptions::max_pairs_per_update (0: the exact filter)
   std::size_t belief_budget_bins = RecognizerOptions{}.belief_budget_bins;  // RecognizerOptions::belief_budget_bins
   // Hypotheses per estimate after every update. 1 measures what the GPU runs so far measured; sva recognize's
@@ -65,6 +68,7 @@ struct BenchPlan {
   std::string device;
   bool refine_pose = true;
   bool surface_check = true;
+  EstimateDepth estimate = EstimateDepth::full;
   int max_pairs_per_update = 0;
   std::size_t belief_budget_bins = RecognizerOptions{}.belief_budget_bins;
   std::size_t top_k = 1;  // SpeedRunSpec::top_k

@@ -5,7 +5,7 @@
 // (steadier than wall time on a shared machine), and a digest of every answer (object, probabilities, poses,
 // hypotheses), which must not change when a stage is made faster.
 //   estimate_speed MAP TEST [sessions (default 6)] [readings (default 30)] [repeats (default 5)] [threads (default 1)]
-//                  [top_k (default 3)]
+//                  [top_k (default 3)] [depth: full (default) or light]
 // Session t touches object t % objects at a random pose, as `sva bench`'s trials do (seed 1).
 #include <sva/base/rng.hpp>
 #include <sva/base/so3.hpp>
@@ -95,7 +95,8 @@ std::size_t arg(int argc, char** argv, int i, std::size_t fallback, std::size_t 
 int main(int argc, char** argv) try {
   if (argc < 3 || std::strcmp(argv[1], "--help") == 0) {
     std::fprintf(stderr,
-                 "usage: estimate_speed MAP TEST [sessions=6] [readings=30] [repeats=5] [threads=1] [top_k=3]\n");
+                 "usage: estimate_speed MAP TEST [sessions=6] [readings=30] [repeats=5] [threads=1] [top_k=3] "
+                 "[depth=full|light]\n");
     return argc < 3 ? 2 : 0;
   }
   const std::size_t sessions = arg(argc, argv, 3, 6, 1, 4096);
@@ -105,6 +106,8 @@ int main(int argc, char** argv) try {
   options.backend = sva::BackendKind::cpu;
   options.threads = static_cast<unsigned>(arg(argc, argv, 6, 1, 1, 1024));
   const std::size_t top_k = arg(argc, argv, 7, 3, 0, 100);
+  const sva::EstimateDepth depth =
+      argc > 8 ? sva::parse_estimate_depth(argv[8], "estimate_speed: depth") : sva::EstimateDepth::full;
   const sva::Map map = sva::Map::load(argv[1]);
   const sva::Dataset test = sva::load_dataset(argv[2]);
   std::vector<std::vector<const sva::Reading*>> by_object(map.objects());
@@ -129,7 +132,7 @@ int main(int argc, char** argv) try {
   std::uint64_t answers = 0;
   for (int r = 0; r < repeats; ++r) {
     const double c0 = process_cpu_seconds();
-    const std::vector<sva::Estimate> e = batch.estimates(ids, top_k);
+    const std::vector<sva::Estimate> e = batch.estimates(ids, top_k, depth);
     best_cpu = std::min(best_cpu, process_cpu_seconds() - c0);
     const sva::BatchRecognizer::EstimateTiming t = batch.last_estimate_timing();
     const double total = t.belief_ms + t.fit_ms + t.verify_ms + t.posterior_ms;
@@ -141,10 +144,12 @@ int main(int argc, char** argv) try {
   }
   const double n = static_cast<double>(sessions);
   std::printf(
-      "%zu sessions at %zu readings, top %zu, %u thread(s), best of %d: ms per session: estimate %.2f = belief %.2f + "
+      "%zu sessions at %zu readings, top %zu, %s, %u thread(s), best of %d: ms per session: estimate %.2f = belief "
+      "%.2f + "
       "fits %.2f + verify %.2f + posterior %.2f; CPU %.2f ms per session; digest %016llx\n",
-      sessions, readings, top_k, options.threads, repeats, best_total / n, best.belief_ms / n, best.fit_ms / n,
-      best.verify_ms / n, best.posterior_ms / n, 1e3 * best_cpu / n, static_cast<unsigned long long>(answers));
+      sessions, readings, top_k, sva::estimate_depth_name(depth), options.threads, repeats, best_total / n,
+      best.belief_ms / n, best.fit_ms / n, best.verify_ms / n, best.posterior_ms / n, 1e3 * best_cpu / n,
+      static_cast<unsigned long long>(answers));
   return 0;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "estimate_speed: %s\n", e.what());

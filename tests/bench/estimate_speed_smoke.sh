@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # bench/speed/estimate_speed.sh on the tiny scene: the stages' line with its digest, the same digest on 1 and 2
-# threads (the estimate's answers do not depend on the thread count), and a bad argument refused with its position.
+# threads (the estimate's answers do not depend on the thread count), a light estimate without the fits' stages and
+# with other answers (8 readings: the full one fits), and bad arguments refused by position and by name.
 #   tests/bench/estimate_speed_smoke.sh SOURCE BUILD SVA PYTHON WORK
 set -euo pipefail
 source_dir=$1 sva=$3 work=$5
@@ -8,13 +9,23 @@ export BUILD_DIR=$2  # this build's bench program, not another build folder's
 rm -rf "$work" && mkdir -p "$work"
 "$sva" --quiet simulate --scene tiny --out "$work" --train 20 --test 12 --seed 1 --threads 2
 "$sva" --quiet train --data "$work/train.svad" --out "$work/map.svam" --seed 1 --threads 2 > /dev/null
-line='^3 sessions at 8 readings, top 3, [12] thread\(s\), best of 2: ms per session: estimate [0-9.]+ = belief [0-9.]+ \+ fits [0-9.]+ \+ verify [0-9.]+ \+ posterior [0-9.]+; CPU [0-9.]+ ms per session; digest [0-9a-f]{16}$'
+line='^3 sessions at 8 readings, top 3, (full|light), [12] thread\(s\), best of 2: ms per session: estimate [0-9.]+ = belief [0-9.]+ \+ fits [0-9.]+ \+ verify [0-9.]+ \+ posterior [0-9.]+; CPU [0-9.]+ ms per session; digest [0-9a-f]{16}$'
 one=$(bash "$source_dir/bench/speed/estimate_speed.sh" "$work/map.svam" "$work/test.svad" 3 8 2 1 3)
 two=$(bash "$source_dir/bench/speed/estimate_speed.sh" "$work/map.svam" "$work/test.svad" 3 8 2 2 3)
 echo "$one"
 echo "$two"
 grep -Eq "$line" <<< "$one" && grep -Eq "$line" <<< "$two" || { echo "missing or malformed line" >&2; exit 1; }
 [ "${one##*digest }" = "${two##*digest }" ] || { echo "other answers on 2 threads" >&2; exit 1; }
+light=$(bash "$source_dir/bench/speed/estimate_speed.sh" "$work/map.svam" "$work/test.svad" 3 8 2 1 3 light)
+echo "$light"
+grep -Eq "$line" <<< "$light" || { echo "missing or malformed light line" >&2; exit 1; }
+grep -q ', light, .* fits 0.00 + verify 0.00 + ' <<< "$light" || { echo "a light estimate ran the fits" >&2; exit 1; }
+[ "${one##*digest }" != "${light##*digest }" ] || { echo "light gave the full estimate's answers" >&2; exit 1; }
+if err=$(bash "$source_dir/bench/speed/estimate_speed.sh" "$work/map.svam" "$work/test.svad" 3 8 2 1 3 fine 2>&1); then
+  echo "accepted depth fine" >&2
+  exit 1
+fi
+grep -q 'depth expects full or light, got "fine"' <<< "$err" || { echo "unclear refusal: $err" >&2; exit 1; }
 if err=$(bash "$source_dir/bench/speed/estimate_speed.sh" "$work/map.svam" "$work/test.svad" 0 2>&1); then
   echo "accepted 0 sessions" >&2
   exit 1

@@ -124,14 +124,15 @@ void BeliefShard::add_band_mass(std::uint64_t max, std::vector<std::uint64_t>* m
 
 namespace {
 
-// The best `k` bins of `table` that pass `keep`, best first, through a bounded heap (worst on top): one pass, no
-// copy of the table. *passed counts the bins that pass.
-template <class Keep>
-std::vector<BinOffset> best_of(const BeliefTable& table, std::size_t k, Keep keep, std::size_t* passed) {
+// The best `k` bins that `each_bin` gives (it calls its argument with every bin's key and offset) and that pass
+// `keep`, best first, through a bounded heap (worst on top): one pass, no copy of the bins. *passed counts the bins
+// that pass.
+template <class EachBin, class Keep>
+std::vector<BinOffset> best_of(EachBin&& each_bin, std::size_t k, Keep keep, std::size_t* passed) {
   std::vector<BinOffset> heap;
   heap.reserve(k);
   *passed = 0;
-  table.for_each([&](std::uint64_t key, std::uint64_t off) {
+  each_bin([&](std::uint64_t key, std::uint64_t off) {
     if (!keep(off)) return;
     ++*passed;
     const BinOffset b{key, off};
@@ -152,14 +153,14 @@ std::vector<BinOffset> best_of(const BeliefTable& table, std::size_t k, Keep kee
 
 std::vector<BinOffset> BeliefShard::band_top(std::size_t n) const {
   std::size_t in_band_bins = 0;
-  return best_of(
-      band_, n, [&](std::uint64_t off) { return in_band(off, max_); }, &in_band_bins);
+  return best_of([&](auto&& fn) { band_.for_each(fn); }, n, [&](std::uint64_t off) { return in_band(off, max_); },
+                 &in_band_bins);
 }
 
 std::vector<BinOffset> BeliefShard::top(std::size_t k) const {
   std::size_t in_band_bins = 0;
-  std::vector<BinOffset> best = best_of(
-      band_, k, [&](std::uint64_t off) { return in_band(off, max_); }, &in_band_bins);
+  std::vector<BinOffset> best = best_of([&](auto&& fn) { band_.for_each(fn); }, k,
+                                        [&](std::uint64_t off) { return in_band(off, max_); }, &in_band_bins);
   // Every bin outside the band lies below every bin in it: the band holds the top k unless it has fewer than k
   // bins. A sharp belief asked past its band (an estimate's next modes) takes the whole table, in place.
   if (in_band_bins < k && in_band_bins < offset_.size()) return best_past_band(k);
@@ -178,16 +179,18 @@ std::vector<BinOffset> BeliefShard::best_past_band(std::size_t k) const {
   if (upper_floor_ != 0 && upper_.size() > kGrowth * upper_made_size_) drop_upper();
   std::size_t passed = 0;
   if (upper_floor_ != 0 && upper_.size() >= k) {
-    BeliefTable current(upper_.size());
-    upper_.for_each([&](std::uint64_t key, std::uint64_t) { current.set(key, offset_.get(key)); });
+    // Each kept bin's offset as it is now, read in place (asked again and again as a merge grows its request).
+    const auto each_upper = [&](auto&& fn) {
+      upper_.for_each([&](std::uint64_t key, std::uint64_t) { fn(key, offset_.get(key)); });
+    };
     return best_of(
-        current, k, [](std::uint64_t) { return true; }, &passed);
+        each_upper, k, [](std::uint64_t) { return true; }, &passed);
   }
   // A pass over the table for 4k bins: those above the 4k-th best's offset become the upper set (equal offsets at
   // the edge stay out, so that every bin outside lies strictly below the floor).
   const std::size_t wide = 4 * k;
-  std::vector<BinOffset> best = best_of(
-      offset_, wide, [](std::uint64_t) { return true; }, &passed);
+  std::vector<BinOffset> best =
+      best_of([&](auto&& fn) { offset_.for_each(fn); }, wide, [](std::uint64_t) { return true; }, &passed);
   drop_upper();
   if (best.size() == wide && best.back().offset + 1 > best.back().offset) {
     upper_floor_ = best.back().offset + 1;

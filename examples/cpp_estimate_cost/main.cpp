@@ -1,6 +1,7 @@
 // What an estimate costs: Recognizer::estimate(0) (no hypotheses), estimate(1) and estimate(3) (distinct
-// hypotheses with masses and covariances, and one per object), on the CPU backend, after N readings of one object
-// (default 3) of a dataset, with the fine pose off (it is the same in every case).
+// hypotheses with masses and covariances, and one per object), each light (the belief's answer, no fit on the host),
+// then estimate(3) in full (the fine pose and the surface check, from 6 readings on), on the CPU backend, after N
+// readings of one object (default 3) of a dataset.
 //
 //   cpp_estimate_cost MAP.svam TEST.svad N [OBJECT]
 #include <chrono>
@@ -23,9 +24,7 @@ int main(int argc, char** argv) {
   sva::EngineOptions eo;
   eo.backend = sva::BackendKind::cpu;
   const sva::Engine engine(map, eo);
-  sva::RecognizerOptions ro;
-  ro.refine_pose = false;
-  sva::Recognizer rec(engine, map.pose_space(), ro);
+  sva::Recognizer rec(engine, map.pose_space());
   std::size_t used = 0;
   auto t0 = std::chrono::steady_clock::now();
   for (const auto& s : data.samples) {
@@ -42,16 +41,19 @@ int main(int argc, char** argv) {
     return 1;
   }
   const double upd = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() / used;
-  auto time = [&](std::size_t k) {
+  auto time = [&](std::size_t k, sva::EstimateDepth depth) {
     const int reps = 20;
     auto a = std::chrono::steady_clock::now();
-    for (int i = 0; i < reps; ++i) (void)rec.estimate(k);
+    for (int i = 0; i < reps; ++i) (void)rec.estimate(k, depth);
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - a).count() / reps;
   };
-  const double e0 = time(0), e1 = time(1), e3 = time(3);
+  const auto light = sva::EstimateDepth::light;
+  const double e0 = time(0, light), e1 = time(1, light), e3 = time(3, light);
+  const double full = time(3, sva::EstimateDepth::full);
   const sva::Estimate e = rec.estimate(3);
   std::printf(
-      "%zu readings, %zu objects: update %.1f ms (mean); estimate(0) %.2f ms, estimate(1) %.2f ms, estimate(3) %.2f "
-      "ms; %zu hypotheses, best %s p=%.3f\n",
-      used, map.objects(), upd, e0, e1, e3, e.hypotheses.size(), e.object_name.c_str(), e.object_probability[e.object]);
+      "%zu readings, %zu objects: update %.1f ms (mean); light estimate(0) %.2f ms, estimate(1) %.2f ms, estimate(3) "
+      "%.2f ms; full estimate(3) %.2f ms (fine pose %s); %zu hypotheses, best %s p=%.3f\n",
+      used, map.objects(), upd, e0, e1, e3, full, e.pose_refined ? "on" : "not yet", e.hypotheses.size(),
+      e.object_name.c_str(), e.object_probability[e.object]);
 }

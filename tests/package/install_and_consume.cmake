@@ -48,7 +48,8 @@ function(run_example name expect)
   endif()
 endfunction()
 run_example(cpp_recognize "after 6 readings: pebble" "${WORK}/data/tiny.svam" "${WORK}/data/tiny.svad" 1 6)
-run_example(cpp_estimate_cost "^6 readings, 2 objects: update [0-9.]+ ms .*; [1-9][0-9]* hypotheses, best pebble"
+run_example(cpp_estimate_cost
+            "^6 readings, 2 objects: update [0-9.]+ ms .*; light estimate\\(0\\) [0-9.]+ ms, .*; full estimate\\(3\\) [0-9.]+ ms \\(fine pose (on|not yet)\\); [1-9][0-9]* hypotheses, best pebble"
             "${WORK}/data/tiny.svam" "${WORK}/data/tiny.svad" 6 1)
 file(GLOB examples RELATIVE "${SOURCE}/../../../examples" "${SOURCE}/../../../examples/cpp_*")
 list(REMOVE_ITEM examples cpp_recognize cpp_estimate_cost)

@@ -171,6 +171,23 @@ def test_converters_need_no_bag(tiny, tiny_map):
         sva.ros.time_msg(-1)
 
 
+def test_a_light_node_publishes_the_light_estimates(tiny, tiny_map):
+    """depth="light": every /sva/pose is the light estimate's, never the fine pose; a bad depth names itself."""
+    readings = [reading_of(r) for r in tiny.session_lines()[0]["readings"]]
+    rec, ref = sva.Recognizer(tiny_map, backend="cpu"), sva.Recognizer(tiny_map, backend="cpu")
+    poses = [m for t, _, m in sva.ros.session_messages(rec, readings, depth="light") if t == "/sva/pose"]
+    want = []
+    for r in readings:
+        ref.add_reading(r)
+        est = ref.estimate(5, depth="light")
+        assert not est.pose_refined
+        if est.ready and est.hypotheses:
+            want.append(sva.ros.pose_with_covariance(est.hypotheses[0]))
+    assert [p["pose"] for p in poses] == want and len(want) >= 4
+    with pytest.raises(sva.Error, match="depth"):
+        list(sva.ros.session_messages(sva.Recognizer(tiny_map, backend="cpu"), readings[:1], depth="fine"))
+
+
 def test_a_replayed_recording_becomes_a_bag_on_its_recorded_stamps(tiny, tmp_path):
     """A sensor recording (here a simulated one, `sva export --recording`) replayed through the live pipeline into
     a sessions file (`sva replay --write-session`), then into a bag on the readings' recorded times."""

@@ -196,12 +196,15 @@ def object_marker(estimate: "_core.Estimate", mesh: Optional[ObjectMesh], stamp_
 def session_messages(recognizer: "_core.Recognizer", readings: Iterable["_core.Reading"], *, frame_id: str = "world",
                      start_ns: int = 0, period_ns: int = 500_000_000, top_k: int = 5, detection_id: str = "",
                      meshes: Optional[Sequence[Optional[ObjectMesh]]] = None,
-                     stamps_ns: Optional[Sequence[int]] = None) -> Iterator[tuple[str, int, dict]]:
+                     stamps_ns: Optional[Sequence[int]] = None,
+                     depth: str = "full") -> Iterator[tuple[str, int, dict]]:
     """Adds the readings to ``recognizer`` one by one and yields ``(topic, stamp_ns, message)`` after each: the
     detections, the best pose and its /tf frame (once there is one), the touches, and the best object's mesh
     (when the best object changes: /tf moves it), reading i at
     ``stamps_ns[i]`` when given (a recording's times: non-decreasing, one per reading), else at
-    ``start_ns + i * period_ns``."""
+    ``start_ns + i * period_ns``. ``depth="light"``: each update's estimate without the host's fits, the histogram's
+    pose (Recognizer.estimate; docs/recognition.md, "Light and full estimates"), for a node that answers every touch
+    fast."""
     if period_ns <= 0:
         raise ValueError(f"sva.ros: the period between readings must be positive, got {period_ns} ns")
     if stamps_ns is not None:
@@ -216,7 +219,7 @@ def session_messages(recognizer: "_core.Recognizer", readings: Iterable["_core.R
     for i, reading in enumerate(readings):
         recognizer.add_reading(reading)
         taken.append(reading)
-        est = recognizer.estimate(top_k)
+        est = recognizer.estimate(top_k, depth=depth)
         stamp = stamps_ns[i] if stamps_ns is not None else start_ns + i * period_ns
         yield "/sva/detections", stamp, detection_array(est, stamp, frame_id, detection_id=detection_id, boxes=boxes)
         pose = best_pose(est, stamp, frame_id)

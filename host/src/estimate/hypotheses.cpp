@@ -126,6 +126,10 @@ void moments(const PoseSpace& space, const Hood& hood, std::uint64_t max_offset,
     const std::uint64_t m = belief_math::sva_exp2_neg_units(max_offset - offset, mass_bits);
     mass += m;
     prior_mass += static_cast<double>(m) * pmath::exp2(hood.prior_of(i));
+    w[i] = pmath::exp2(belief_math::units_to_bits(offset) + hood.prior_of(i) - centre_bits);
+    // A bin whose weight relative to the mode's own underflows to 0 adds exactly +-0 to the sums below, which start
+    // at +0 and are never -0: it is left out, the same bits (most of a neighbourhood at 100 paper3d readings).
+    if (w[i] == 0.0) continue;
     const glm::dvec3 dt = space.translation_centre(bins[i]) - t0;
     // Few distinct rotation bins (3^3 at radius 1) recur across the translations: one exp and log each.
     const std::array<int, 3> rkey{bins[i].r[0], bins[i].r[1], bins[i].r[2]};
@@ -134,16 +138,17 @@ void moments(const PoseSpace& space, const Hood& hood, std::uint64_t max_offset,
       it = small_rotation.emplace(rkey, so3::log(so3::exp(space.rotation_centre(bins[i])) * r0t)).first;
     const glm::dvec3 dr = it->second;
     x[i] = {dt.x, dt.y, dt.z, dr.x, dr.y, dr.z};
-    w[i] = pmath::exp2(belief_math::units_to_bits(offset) + hood.prior_of(i) - centre_bits);
     sum += w[i];
     for (int a = 0; a < 6; ++a) mean[a] += w[i] * x[i][a];
   }
   h->probability = (hood.prior_bits.empty() ? static_cast<double>(mass) : prior_mass) / z;
   for (double& m : mean) m /= sum;
   h->covariance.fill(0.0);
-  for (std::size_t i = 0; i < bins.size(); ++i)
+  for (std::size_t i = 0; i < bins.size(); ++i) {
+    if (w[i] == 0.0) continue;  // +-0 to every term, as above
     for (int a = 0; a < 6; ++a)
       for (int b = 0; b < 6; ++b) h->covariance[a * 6 + b] += w[i] * (x[i][a] - mean[a]) * (x[i][b] - mean[b]) / sum;
+  }
   // A bin is a box, not a point: its uniform spread adds width^2 / 12 per free axis.
   const double tw = (spec.translation_max_mm - spec.translation_min_mm) / spec.translation_bins;
   const double rw = 2.0 * std::numbers::pi / spec.rotation_bins;

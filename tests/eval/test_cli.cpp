@@ -380,48 +380,38 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
   for (std::size_t i = 0; i < single[0]["curve"].size(); ++i)
     for (const char* key : {"accuracy", "translation_error_mm", "votes_per_update"})
       CHECK(top3[0]["curve"][i][key] == single[0]["curve"][i][key]);
-  // --refine off --surface-check off: the estimate's host stages asked for are recorded and printed; the votes are
-  // the same.
-  REQUIRE(sva::test::run_sva(
-              bench + "--backend cpu --batch 0 --refine off --surface-check off --json " + f.path("light.json"),
-              &out) == 0);
-  CHECK(out.find("top 1 per estimate, refine off, surface check off)") != std::string::npos);
-  const auto light = nlohmann::json::parse(read_file(f.path("light.json")))["runs"];
-  REQUIRE(light.size() == 1);
+  // A single-session run with other estimate options: the summary line names them, and the votes are the same
+  // (they change what the estimate reads or fits, never the votes).
+  const auto variant = [&](const std::string& options, const std::string& name, const std::string& printed) {
+    REQUIRE(sva::test::run_sva(bench + "--backend cpu --batch 0 " + options + " --json " + f.path(name), &out) == 0);
+    CHECK(out.find(printed) != std::string::npos);
+    const auto runs = nlohmann::json::parse(read_file(f.path(name)))["runs"];
+    REQUIRE(runs.size() == 1);
+    REQUIRE(runs[0]["curve"].size() == single[0]["curve"].size());
+    for (std::size_t i = 0; i < single[0]["curve"].size(); ++i)
+      CHECK(runs[0]["curve"][i]["votes_per_update"] == single[0]["curve"][i]["votes_per_update"]);
+    return runs[0];
+  };
+  // --refine off --surface-check off: the estimate's host stages asked for are recorded and printed.
+  const auto light =
+      variant("--refine off --surface-check off", "light.json", "top 1 per estimate, refine off, surface check off)");
   CHECK(single[0]["refine_pose"] == true);
   CHECK(single[0]["surface_check"] == true);
-  CHECK(light[0]["refine_pose"] == false);
-  CHECK(light[0]["surface_check"] == false);
-  REQUIRE(light[0]["curve"].size() == single[0]["curve"].size());
-  for (std::size_t i = 0; i < single[0]["curve"].size(); ++i)
-    CHECK(light[0]["curve"][i]["votes_per_update"] == single[0]["curve"][i]["votes_per_update"]);
-  // --estimate light: the belief's answer after every update, no host fits; recorded and printed, the same votes.
-  REQUIRE(sva::test::run_sva(bench + "--backend cpu --batch 0 --estimate light --json " + f.path("belief.json"),
-                             &out) == 0);
-  CHECK(out.find("top 1 per estimate, light estimates (no host fits))") != std::string::npos);
-  const auto belief = nlohmann::json::parse(read_file(f.path("belief.json")))["runs"];
-  REQUIRE(belief.size() == 1);
+  CHECK(light["refine_pose"] == false);
+  CHECK(light["surface_check"] == false);
+  // --estimate light: the belief's answer after every update, no host fits; recorded and printed.
+  const auto belief = variant("--estimate light", "belief.json", "top 1 per estimate, light estimates (no host fits))");
   CHECK(single[0]["estimate"] == "full");
-  CHECK(belief[0]["estimate"] == "light");
-  REQUIRE(belief[0]["curve"].size() == single[0]["curve"].size());
-  for (std::size_t i = 0; i < single[0]["curve"].size(); ++i)
-    CHECK(belief[0]["curve"][i]["votes_per_update"] == single[0]["curve"][i]["votes_per_update"]);
+  CHECK(belief["estimate"] == "light");
   // --pose-prior: every session gets a camera's prior at its trial's true pose, recorded and printed. It reweights
-  // the bins the estimate reads, never the votes: the same votes, other poses (a 1 mm prior pulls them).
-  REQUIRE(sva::test::run_sva(bench + "--backend cpu --batch 0 --pose-prior 1,10 --json " + f.path("prior.json"),
-                             &out) == 0);
-  CHECK(out.find("surface check on, pose prior 1 mm and 10 deg)") != std::string::npos);
-  const auto prior = nlohmann::json::parse(read_file(f.path("prior.json")))["runs"];
-  REQUIRE(prior.size() == 1);
+  // the bins the estimate reads, never the votes: other poses (a 1 mm prior pulls them).
+  const auto prior = variant("--pose-prior 1,10", "prior.json", "surface check on, pose prior 1 mm and 10 deg)");
   CHECK(single[0]["pose_prior"].is_null());
-  CHECK(prior[0]["pose_prior"]["position_sigma_mm"] == 1.0);
-  CHECK(prior[0]["pose_prior"]["rotation_sigma_deg"] == 10.0);
-  REQUIRE(prior[0]["curve"].size() == single[0]["curve"].size());
+  CHECK(prior["pose_prior"]["position_sigma_mm"] == 1.0);
+  CHECK(prior["pose_prior"]["rotation_sigma_deg"] == 10.0);
   bool moved = false;
-  for (std::size_t i = 0; i < single[0]["curve"].size(); ++i) {
-    CHECK(prior[0]["curve"][i]["votes_per_update"] == single[0]["curve"][i]["votes_per_update"]);
-    moved = moved || prior[0]["curve"][i]["translation_error_mm"] != single[0]["curve"][i]["translation_error_mm"];
-  }
+  for (std::size_t i = 0; i < single[0]["curve"].size(); ++i)
+    moved = moved || prior["curve"][i]["translation_error_mm"] != single[0]["curve"][i]["translation_error_mm"];
   CHECK(moved);
   // --max-pairs bounds the pairs per update: the new reading with the most recent one only (2 pairs, both orders)
   // casts fewer votes at 6 readings than with all 5 earlier ones, and the report says which ran.

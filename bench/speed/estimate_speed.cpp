@@ -144,9 +144,9 @@ int main(int argc, char** argv) try {
   }
   const double n = static_cast<double>(sessions);
   std::printf(
-      "%zu sessions at %zu readings, top %zu, %s, %u thread(s), best of %d: ms per session: estimate %.2f = belief "
-      "%.2f + "
-      "fits %.2f + verify %.2f + posterior %.2f; CPU %.2f ms per session; digest %016llx\n",
+      "%zu sessions at %zu readings, top %zu, %s, %u thread(s), best of %d: ms per session: "
+      "estimate %.2f = belief %.2f + fits %.2f + verify %.2f + posterior %.2f; CPU %.2f ms per session; digest "
+      "%016llx\n",
       sessions, readings, top_k, sva::estimate_depth_name(depth), options.threads, repeats, best_total / n,
       best.belief_ms / n, best.fit_ms / n, best.verify_ms / n, best.posterior_ms / n, 1e3 * best_cpu / n,
       static_cast<unsigned long long>(answers));

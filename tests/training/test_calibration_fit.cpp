@@ -119,6 +119,40 @@ TEST_CASE("fit_top_label recovers the top label of sessions whose top is right a
   CHECK(all_right.top_label == Calibration{}.top_label);
 }
 
+TEST_CASE("fit_light learns a light estimate's calibration from the sessions' light view, from their first fine pose") {
+  // Sessions whose light view is the calibrated posterior of temperature 0.3 (no surface bits), to which steps from 6
+  // readings on add a fine pose and surface bits that point at the true object: the full calibration learns with
+  // them, and the light one must find the temperature without them and leave its top label near the identity.
+  std::vector<CalibrationSession> sessions = synthetic_sessions(0.3, 400);
+  for (CalibrationSession& s : sessions)
+    for (EvidenceLevel& level : s.steps) {
+      if (level.readings < 6) continue;
+      level.fit_cost_share = 0.1;
+      level.fine_pose_from = 6;
+      for (std::size_t o = 0; o < level.object_log2_mass.size(); ++o)
+        level.surface_log2_fit.push_back(o == s.object ? 8.0 : 0.0);
+    }
+  Calibration c;
+  fit_temperature(sessions, &c);
+  fit_light(sessions, sessions, &c);
+  REQUIRE_FALSE(c.light.empty());
+  CHECK(c.light.from == 6);
+  // (Within 10%: on these draws the full fit, leaning on the surface bits, found 0.26 at 8 readings, the light 0.30.)
+  for (std::size_t n : {2, 4, 6, 8}) {
+    INFO(n << " readings");
+    if (n < 6) CHECK(c.temperature(n, true) == c.temperature(n));
+    if (n >= 6) CHECK(c.temperature(n, true) == Approx(0.3).epsilon(0.1));
+  }
+  CHECK_FALSE(c.temperature(8) == Approx(0.3).epsilon(0.1));
+  CHECK(c.light.top_label[0] == Approx(0.0).margin(0.3));
+  CHECK(c.light.top_label[1] == Approx(1.0).margin(0.2));
+  CHECK(c.light.unknown.empty());  // no unknown sessions
+  // Sessions that never reach a fine pose: light and full estimates are the same steps, nothing of its own.
+  Calibration none;
+  fit_light(synthetic_sessions(0.3, 20), synthetic_sessions(0.3, 20), &none);
+  CHECK(none.light.empty());
+}
+
 TEST_CASE("the temperature's map holds every object: the same readings held out, no object held out whole") {
   sim::SimulateOptions so;
   so.train_per_object = 20;

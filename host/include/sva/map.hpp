@@ -121,6 +121,12 @@ struct MapSummary {
     bool unknown_from_fit = false;  // ... from the fine pose's fit once it exists (format 6); else the evidence alone
     std::uint32_t known_sessions = 0, unknown_sessions = 0, session_readings = 0;
     std::uint32_t fine_pose_from = 0;  // readings from which the fine pose and the surface check run
+    // Light estimates' own calibration from `light_from` readings on (format 10; 0: none, they read the evidence
+    // regime extrapolated): its temperature, top label and "none of these" from the evidence alone.
+    std::uint32_t light_from = 0;
+    double light_temperature_scale = 0.0, light_temperature_power = 0.0;
+    std::array<double, 2> light_top_label{0.0, 1.0};
+    bool light_unknown_model = false;
   } calibration;
 };
 

@@ -7,9 +7,12 @@
 
 namespace sva {
 
-double Calibration::temperature(std::size_t readings) const {
+double Calibration::temperature(std::size_t readings, bool light_estimate) const {
   if (readings < 2) return 1.0;
-  const double t = temperature_scale * pmath::exp2(-temperature_power * pmath::log2(static_cast<double>(readings - 1)));
+  const bool l = light_regime(readings, light_estimate);
+  const double scale = l ? light.temperature_scale : temperature_scale;
+  const double power = l ? light.temperature_power : temperature_power;
+  const double t = scale * pmath::exp2(-power * pmath::log2(static_cast<double>(readings - 1)));
   return std::min(t, kMaxTemperature);
 }
 
@@ -32,11 +35,12 @@ std::vector<double> tempered_posterior(std::span<const double> log2_mass, double
 
 std::vector<double> Calibration::object_probability(const EvidenceLevel& level,
                                                     std::span<const double> object_weight) const {
-  return tempered_posterior(level.object_log2_mass, temperature(level.readings), object_weight, level.surface_log2_fit,
-                            surface_weight);
+  return tempered_posterior(level.object_log2_mass, temperature(level.readings, level.light_estimate), object_weight,
+                            level.surface_log2_fit, surface_weight);
 }
 
 Calibration::TopLabel Calibration::top_label_at(const EvidenceLevel& level) const {
+  if (light_regime(level.readings, level.light_estimate)) return light.top_label;
   if (level.fit_cost_share < 0.0) return top_label[0];
   if (level.fine_pose_from == 0 || level.readings < level.fine_pose_from) return top_label[1];
   const double w = static_cast<double>(level.readings - level.fine_pose_from + 1) / kTopLabelBlendReadings;
@@ -89,9 +93,10 @@ std::array<double, kUnknownFeatures> Calibration::unknown_features(const Evidenc
 }
 
 double Calibration::p_unknown(const EvidenceLevel& level, double unknown_prior) const {
-  if (unknown.empty() || level.readings < 2 || !(unknown_prior > 0.0 && unknown_prior < 1.0)) return unknown_prior;
-  const UnknownCoefficients& c = unknown.per_readings[std::min(level.readings - 2, unknown.per_readings.size() - 1)];
-  const std::array<double, kUnknownFeatures> f = unknown_features(level, unknown.features);
+  const UnknownModel& model = light_regime(level.readings, level.light_estimate) ? light.unknown : unknown;
+  if (model.empty() || level.readings < 2 || !(unknown_prior > 0.0 && unknown_prior < 1.0)) return unknown_prior;
+  const UnknownCoefficients& c = model.per_readings[std::min(level.readings - 2, model.per_readings.size() - 1)];
+  const std::array<double, kUnknownFeatures> f = unknown_features(level, model.features);
   // The model was fitted with known and unknown sessions weighted equally (even odds); the prior moves the odds.
   double logit = c[0] + pmath::log(unknown_prior / (1.0 - unknown_prior));
   for (std::size_t i = 0; i < kUnknownFeatures; ++i) logit += c[i + 1] * f[i];

@@ -47,6 +47,9 @@ struct EvidenceLevel {
   // readings at its own fine pose, added to the tempered log-evidence with the calibration's surface weight.
   // Empty when it was not run (too few readings, no surface, switched off).
   std::vector<double> surface_log2_fit;
+  // A light estimate's level (EstimateDepth::light: no fit, no surface check, by the caller's choice rather than for
+  // too few readings): from the light calibration's first reading count on, the calibration reads its light regime.
+  bool light_estimate = false;
 };
 
 // The features "none of these" reads (Calibration::unknown_features). Before the fine pose exists (fewer readings
@@ -87,6 +90,22 @@ std::vector<double> tempered_posterior(std::span<const double> log2_mass, double
                                        std::span<const double> object_weight,
                                        std::span<const double> surface_log2_fit = {}, double surface_weight = 1.0);
 
+// A light estimate's calibration (EstimateDepth::light), learned from the same held-out sessions with their fits
+// left out. From the fine pose's first reading count on, a full estimate's probabilities rest on the fine pose and the
+// surface check, and its calibration was learned with them; a light estimate has neither, and the evidence regime
+// extrapolated past the fine pose's start left it uninformative among near-twins (lookalikes: the true object reached
+// 0.95 in 1 trial of 100, against 65 with the fits; docs/recognition.md, "Light and full estimates"). Before that
+// count a light estimate is the full one and reads the calibration above.
+struct LightCalibration {
+  using TopLabel = std::array<double, 2>;
+  std::uint32_t from = 0;  // the first reading count it applies at; 0: none (maps of format 1-9, no fine pose in
+                           // the sessions, calibration off): the evidence regime, extrapolated
+  double temperature_scale = 0.25, temperature_power = 0.8;  // tau(n), as Calibration's
+  TopLabel top_label{0.0, 1.0};                              // Platt scaling of the top object, as Calibration's
+  UnknownModel unknown;  // "none of these" from the evidence alone (evidence_gap_share, the share's weight 0)
+  bool empty() const { return from == 0; }
+};
+
 struct Calibration {
   // The temperature of maps trained without held-out readings (map format versions 1-3, or training with
   // calibration off): fitted on paper3d and household50 (docs/recognition.md, "Calibration").
@@ -114,7 +133,8 @@ struct Calibration {
   std::array<TopLabel, 2> top_label{TopLabel{0.0, 1.0}, TopLabel{0.0, 1.0}};
   static constexpr double kTopLabelBlendReadings = 5.0;
   // The {a, b} recalibrate_top applies at `level`: the first regime before the fine pose, then (1 - w) of it and w
-  // of the second, w = (readings - fine_pose_from + 1) / kTopLabelBlendReadings up to 1 (1 when fine_pose_from is 0).
+  // of the second, w = (readings - fine_pose_from + 1) / kTopLabelBlendReadings up to 1 (1 when fine_pose_from is 0);
+  // the light calibration's in its regime.
   TopLabel top_label_at(const EvidenceLevel& level) const;
   UnknownModel unknown;  // empty: the map cannot say "none of these" (p_unknown is then the prior)
   // The reading count from which the fine pose, the surface check and the fit's "none of these" model run, and the
@@ -132,8 +152,14 @@ struct Calibration {
   // How the fit was made (sva inspect): held-out sessions on known and unknown objects, readings per session.
   std::uint32_t known_sessions = 0, unknown_sessions = 0, session_readings = 0;
 
-  // tau(n); 1 for n < 2 (no pair, nothing counted twice).
-  double temperature(std::size_t readings) const;
+  LightCalibration light;
+  // Whether a light estimate after `readings` readings reads the light calibration.
+  bool light_regime(std::size_t readings, bool light_estimate) const {
+    return light_estimate && !light.empty() && readings >= light.from;
+  }
+
+  // tau(n); 1 for n < 2 (no pair, nothing counted twice). `light_estimate`: a light estimate's (light_regime).
+  double temperature(std::size_t readings, bool light_estimate = false) const;
   // The calibrated object posterior; `object_weight`: the prior per object (largest 1; empty: flat).
   std::vector<double> object_probability(const EvidenceLevel& level, std::span<const double> object_weight) const;
   // Recalibrates the top object of `p` (a posterior over objects at `level`) by top_label, the rest scaled to sum to
@@ -152,7 +178,7 @@ struct Calibration {
   static bool valid_bias(double a) { return std::isfinite(a) && std::abs(a) <= kTopLabelMaxBias; }
   static bool valid_slope(double b) { return std::isfinite(b) && b >= 0.0 && b <= kTopLabelMaxSlope; }
   // The probability that the touched object is none of the map's, at prior probability `unknown_prior` of that.
-  // The prior itself before any pair or without a model.
+  // The prior itself before any pair or without a model. In the light regime, the light calibration's model.
   double p_unknown(const EvidenceLevel& level, double unknown_prior) const;
   // The features a model of `set` reads.
   static std::array<double, kUnknownFeatures> unknown_features(

@@ -38,6 +38,7 @@ EstimateRequest at_depth(const EstimateRequest& r, EstimateDepth depth) {
   light.surface_model = nullptr;
   light.refine_pose = false;
   light.surface_check = false;
+  light.depth = EstimateDepth::light;
   return light;
 }
 
@@ -53,9 +54,17 @@ Estimate estimate_session(const EstimateInput& in, const std::vector<MapObject>&
   return estimate_from(estimate_candidates(in, r), in.readings, in.space, objects, r);
 }
 
+namespace {
+
+double temperature_at(const EstimateRequest& r, std::size_t readings) {
+  return r.calibration ? r.calibration->temperature(readings, r.depth == EstimateDepth::light) : 1.0;
+}
+
+}  // namespace
+
 Candidates estimate_candidates(const EstimateInput& in, const EstimateRequest& r) {
   const std::size_t n = in.readings.size();
-  const double temperature = r.calibration ? r.calibration->temperature(n) : 1.0;
+  const double temperature = temperature_at(r, n);
   return find_candidates(in.belief, in.space, candidate_request(r, n, temperature));
 }
 
@@ -86,7 +95,7 @@ double lap_ms(std::chrono::steady_clock::time_point* t0) {
 Estimate estimate_from(const Candidates& c, std::span<const ObservedReading> readings, const PoseSpace& space,
                        const std::vector<MapObject>& objects, const EstimateRequest& r) {
   const std::size_t n = readings.size();
-  const double temperature = r.calibration ? r.calibration->temperature(n) : 1.0;
+  const double temperature = temperature_at(r, n);
   auto t0 = std::chrono::steady_clock::now();
   EstimateStageTimes took;
   const Fits fits = fit_candidates(c, readings, r.surface, r.refine, r.pose_weighting.empty());
@@ -95,7 +104,8 @@ Estimate estimate_from(const Candidates& c, std::span<const ObservedReading> rea
                              ? verify_candidates(fits, readings, *r.surface, r.refine, objects.size(), r.surface_model)
                              : Verification{};
   took.verify_ms = lap_ms(&t0);
-  const EvidenceLevel level = evidence_after(c, fits, v, n, r.refine);
+  EvidenceLevel level = evidence_after(c, fits, v, n, r.refine);
+  level.light_estimate = r.depth == EstimateDepth::light;
   const CalibratedPosterior p = calibrate(c, fits, v, level,
                                           {.calibration = r.calibration,
                                            .temperature = temperature,

@@ -59,12 +59,14 @@ struct EstimateRequest {
   bool surface_check = true;                    // with `surface`: verify the leading objects against their surfaces
   const SurfaceModel* surface_model = nullptr;  // the map's meshes (verify's measurement model); none: the contacts
   const Calibration* calibration = nullptr;     // none: Eq 5's raw posterior and p_unknown = 0
+  EstimateDepth depth = EstimateDepth::full;    // light (at_depth): the calibration's light regime applies
   double unknown_prior = 0.1;
   EstimateStageTimes* times = nullptr;  // when given, estimate_from adds its stages' times to it
 };
 
 // The request at `depth`: a light estimate is stages 1, 4 and 5 alone (no surface: the parabolic pose, no fit, no
-// surface check; the calibration reads the evidence as before the fine pose exists).
+// surface check; the calibration reads the evidence as before the fine pose exists, and from the fine pose's first
+// reading count on its light regime where the map learned one: Calibration::light).
 EstimateRequest at_depth(const EstimateRequest& r, EstimateDepth depth);
 
 // The estimate of a session with at least one reading (stages 1-5).

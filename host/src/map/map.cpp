@@ -108,6 +108,12 @@ MapSummary Map::summary() const {
   s.calibration.unknown_sessions = m.calibration.unknown_sessions;
   s.calibration.session_readings = m.calibration.session_readings;
   s.calibration.fine_pose_from = fine_pose_from();
+  const LightCalibration& light = m.calibration.light;
+  s.calibration.light_from = light.from;
+  s.calibration.light_temperature_scale = light.temperature_scale;
+  s.calibration.light_temperature_power = light.temperature_power;
+  s.calibration.light_top_label = light.top_label;
+  s.calibration.light_unknown_model = !light.unknown.empty();
   return s;
 }
 

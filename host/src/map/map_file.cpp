@@ -47,6 +47,25 @@ std::uint32_t unknown_feature_count(UnknownFeatureSet set) {
   return set == UnknownFeatureSet::evidence_gap_share ? 3 : static_cast<std::uint32_t>(kUnknownFeatures);
 }
 
+// The unknown model after the session counts: its feature count, then its rows.
+void put_unknown_model(io::BinaryWriter& w, const UnknownModel& model, std::uint32_t version) {
+  const std::uint32_t features = unknown_feature_count(model.features);
+  w.put<std::uint32_t>(version < 6 ? 3 : features);
+  w.put<std::uint64_t>(model.per_readings.size());
+  for (const UnknownCoefficients& k : model.per_readings) w.put_array(k.data(), features + 1);
+}
+
+// Version 10: the light estimates' calibration after the unknown model: its first reading count (0: none, and
+// nothing follows), then its temperature, top label and unknown model.
+void put_light_calibration(io::BinaryWriter& w, const LightCalibration& light) {
+  w.put<std::uint32_t>(light.from);
+  if (light.empty()) return;
+  w.put<double>(light.temperature_scale);
+  w.put<double>(light.temperature_power);
+  w.put_array(light.top_label.data(), light.top_label.size());
+  put_unknown_model(w, light.unknown, 10);
+}
+
 // Version 4: the calibration (calibration/calibration.hpp), after the entries.
 // Version 5: the surface check's weight after the temperature.
 // Version 6: the unknown model may read this build's features (evidence, then the fit).
@@ -55,8 +74,7 @@ std::uint32_t unknown_feature_count(UnknownFeatureSet set) {
 // default when the calibration says 0); older versions mean that default and hold no other.
 void put_calibration(io::BinaryWriter& w, const PairMap& m, std::uint32_t version) {
   const Calibration& c = m.calibration;
-  const std::uint32_t features = unknown_feature_count(c.unknown.features);
-  if (version < 6 && features != 3 && !c.unknown.empty())
+  if (version < 6 && unknown_feature_count(c.unknown.features) != 3 && !c.unknown.empty())
     throw Error("map version " + std::to_string(version) +
                 " cannot hold this build's \"none of these\" model (its features need version 6)");
   if (version < 7 && c.top_label != Calibration{}.top_label)
@@ -77,9 +95,11 @@ void put_calibration(io::BinaryWriter& w, const PairMap& m, std::uint32_t versio
   w.put<std::uint32_t>(c.known_sessions);
   w.put<std::uint32_t>(c.unknown_sessions);
   w.put<std::uint32_t>(c.session_readings);
-  w.put<std::uint32_t>(version < 6 ? 3 : features);
-  w.put<std::uint64_t>(c.unknown.per_readings.size());
-  for (const UnknownCoefficients& k : c.unknown.per_readings) w.put_array(k.data(), features + 1);
+  put_unknown_model(w, c.unknown, version);
+  if (version < 10 && !c.light.empty())
+    throw Error("map version " + std::to_string(version) +
+                " cannot hold the light estimates' calibration (it needs version 10)");
+  if (version >= 10) put_light_calibration(w, c.light);
 }
 
 // The unknown model after the session counts: its feature count, then its rows.
@@ -101,15 +121,43 @@ void get_unknown_model(io::BinaryReader& r, UnknownModel* model) {
   }
 }
 
-// The top label's {a, b} per regime, within Calibration's bounds.
-void get_top_label(io::BinaryReader& r, Calibration* c) {
-  for (Calibration::TopLabel& t : c->top_label) {
-    r.get_array(t.data(), t.size());
-    if (!Calibration::valid_bias(t[0]))
-      r.fail("calibration: top-label bias " + std::to_string(t[0]) + " is not in [-1000, 1000]");
-    if (!Calibration::valid_slope(t[1]))
-      r.fail("calibration: top-label slope " + std::to_string(t[1]) + " is not in [0, 100]");
-  }
+// A top label's {a, b}, within Calibration's bounds; `what` names the section.
+void get_top_label(io::BinaryReader& r, const char* what, Calibration::TopLabel* t) {
+  r.get_array(t->data(), t->size());
+  if (!Calibration::valid_bias((*t)[0]))
+    r.fail(std::string(what) + ": top-label bias " + std::to_string((*t)[0]) + " is not in [-1000, 1000]");
+  if (!Calibration::valid_slope((*t)[1]))
+    r.fail(std::string(what) + ": top-label slope " + std::to_string((*t)[1]) + " is not in [0, 100]");
+}
+
+// A temperature's scale and power, within the bounds every map has held.
+void get_temperature(io::BinaryReader& r, const char* what, double* scale, double* power) {
+  *scale = r.get<double>();
+  *power = r.get<double>();
+  if (!(std::isfinite(*scale) && *scale > 0.0 && *scale <= 1e6))
+    r.fail(std::string(what) + ": temperature scale " + std::to_string(*scale) + " is not in (0, 1e6]");
+  if (!(std::isfinite(*power) && *power >= 0.0 && *power <= 10.0))
+    r.fail(std::string(what) + ": temperature power " + std::to_string(*power) + " is not in [0, 10]");
+}
+
+// A reading count from which the fine pose (or the light calibration) applies, read as `from`.
+std::uint32_t check_fine_pose_from(const io::BinaryReader& r, std::uint32_t from, const char* what) {
+  if (from < Calibration::kMinFinePoseFrom || from > Calibration::kMaxFinePoseFrom)
+    r.fail(std::string(what) + " " + std::to_string(from) + " readings is not in [" +
+           std::to_string(Calibration::kMinFinePoseFrom) + ", " + std::to_string(Calibration::kMaxFinePoseFrom) + "]");
+  return from;
+}
+
+// Version 10: the light estimates' calibration (put_light_calibration).
+LightCalibration get_light_calibration(io::BinaryReader& r) {
+  LightCalibration light;
+  const auto from = r.get<std::uint32_t>();
+  if (from == 0) return light;  // none
+  light.from = check_fine_pose_from(r, from, "light calibration: from");
+  get_temperature(r, "light calibration", &light.temperature_scale, &light.temperature_power);
+  get_top_label(r, "light calibration", &light.top_label);
+  get_unknown_model(r, &light.unknown);
+  return light;
 }
 
 Calibration get_calibration(io::BinaryReader& r) {
@@ -117,29 +165,22 @@ Calibration get_calibration(io::BinaryReader& r) {
   const auto learned = r.get<std::uint8_t>();
   if (learned > 1) r.fail("calibration: invalid learned flag " + std::to_string(learned));
   c.learned = learned == 1;
-  c.temperature_scale = r.get<double>();
-  c.temperature_power = r.get<double>();
-  if (!(std::isfinite(c.temperature_scale) && c.temperature_scale > 0.0 && c.temperature_scale <= 1e6))
-    r.fail("calibration: temperature scale " + std::to_string(c.temperature_scale) + " is not in (0, 1e6]");
-  if (!(std::isfinite(c.temperature_power) && c.temperature_power >= 0.0 && c.temperature_power <= 10.0))
-    r.fail("calibration: temperature power " + std::to_string(c.temperature_power) + " is not in [0, 10]");
+  get_temperature(r, "calibration", &c.temperature_scale, &c.temperature_power);
   if (r.version() >= 5) {  // older maps: the documented default
     c.surface_weight = r.get<double>();
     if (!(std::isfinite(c.surface_weight) && c.surface_weight >= 0.0 && c.surface_weight <= 16.0))
       r.fail("calibration: surface weight " + std::to_string(c.surface_weight) + " is not in [0, 16]");
   }
-  if (r.version() >= 7) get_top_label(r, &c);  // older maps: the identity
-  if (r.version() >= 8) {                      // older maps: 0, the pose space's default
-    c.fine_pose_from = r.get<std::uint32_t>();
-    if (c.fine_pose_from < Calibration::kMinFinePoseFrom || c.fine_pose_from > Calibration::kMaxFinePoseFrom)
-      r.fail("calibration: fine pose from " + std::to_string(c.fine_pose_from) + " readings is not in [" +
-             std::to_string(Calibration::kMinFinePoseFrom) + ", " + std::to_string(Calibration::kMaxFinePoseFrom) +
-             "]");
-  }
+  if (r.version() >= 7)  // older maps: the identity
+    for (Calibration::TopLabel& t : c.top_label) get_top_label(r, "calibration", &t);
+  // Older maps: 0, the pose space's default.
+  if (r.version() >= 8)
+    c.fine_pose_from = check_fine_pose_from(r, r.get<std::uint32_t>(), "calibration: fine pose from");
   c.known_sessions = r.get<std::uint32_t>();
   c.unknown_sessions = r.get<std::uint32_t>();
   c.session_readings = r.get<std::uint32_t>();
   get_unknown_model(r, &c.unknown);
+  if (r.version() >= 10) c.light = get_light_calibration(r);  // older maps: none
   return c;
 }
 

@@ -10,6 +10,7 @@
 namespace sva {
 
 inline constexpr char kMapMagic[] = "SVAMAP01";
+// Version 10: the light estimates' calibration (calibration.hpp, LightCalibration; older maps: none).
 // Version 9: the objects' surfaces (sva::ObjectSurface; older maps: none).
 // Version 8: the fine pose's start (calibration.hpp).
 // Version 7: the calibration's top label (calibration.hpp; older maps: the identity).
@@ -19,7 +20,7 @@ inline constexpr char kMapMagic[] = "SVAMAP01";
 // adds a point of each symmetry axis; version 2 stores each
 // unordered training pair once (entry_a < entry_b); version 1 stored both
 // orders, and loads by dropping the second order.
-inline constexpr std::uint32_t kMapVersion = 9;
+inline constexpr std::uint32_t kMapVersion = 10;
 inline constexpr std::uint32_t kMapOldestVersion = 1;
 
 void save_pair_map(const PairMap& map, const std::filesystem::path& file);

@@ -167,29 +167,86 @@ bool any_surface_fit(const std::vector<CalibrationSession>& sessions) {
 
 }  // namespace
 
-void fit_top_label(const std::vector<CalibrationSession>& sessions, Calibration* calibration) {
+namespace {
+
+// Platt scaling of the top object after `tempered`'s temperature, per regime: over the known sessions' steps from 2
+// readings on that `regime_of` puts in regime 0 or 1 (-1: none). A regime without both right and wrong steps keeps
+// `labels`' own.
+template <class RegimeOf>
+void fit_top_labels(const std::vector<CalibrationSession>& sessions, const Calibration& tempered, RegimeOf regime_of,
+                    std::array<Calibration::TopLabel, 2>* labels) {
   std::array<std::vector<std::array<double, 2>>, 2> x;
   std::array<std::vector<bool>, 2> right;
-  Calibration tempered = *calibration;
-  tempered.top_label = Calibration{}.top_label;
   for (const CalibrationSession& s : sessions) {
     if (!s.known) continue;
     for (const EvidenceLevel& level : s.steps) {
-      if (level.readings < 2 || s.object >= level.object_log2_mass.size()) continue;
+      const int regime = regime_of(level);
+      if (level.readings < 2 || s.object >= level.object_log2_mass.size() || regime < 0) continue;
       const std::vector<double> p = tempered.object_probability(level, {});
       const std::size_t top = static_cast<std::size_t>(std::max_element(p.begin(), p.end()) - p.begin());
-      const int regime = level.fit_cost_share >= 0.0 ? 1 : 0;
       x[regime].push_back({1.0, Calibration::top_logit(p[top])});
       right[regime].push_back(top == s.object);
     }
   }
   for (int regime = 0; regime < 2; ++regime) {
-    // A regime needs right and wrong steps to say how far its probabilities are off; else the identity.
+    // A regime needs right and wrong steps to say how far its probabilities are off.
     const auto hits = std::count(right[regime].begin(), right[regime].end(), true);
     if (hits == 0 || hits == static_cast<std::ptrdiff_t>(right[regime].size())) continue;
     const std::array<double, 2> w = fit_logistic(x[regime], right[regime], false, kTopLabelRidge, {0.0, 1.0});
-    if (Calibration::valid_bias(w[0]) && Calibration::valid_slope(w[1])) calibration->top_label[regime] = {w[0], w[1]};
+    if (Calibration::valid_bias(w[0]) && Calibration::valid_slope(w[1])) (*labels)[regime] = {w[0], w[1]};
   }
+}
+
+// The sessions as light estimates see them: every step without its fine pose and surface check.
+std::vector<CalibrationSession> light_view(std::vector<CalibrationSession> sessions) {
+  for (CalibrationSession& s : sessions)
+    for (EvidenceLevel& level : s.steps) {
+      level.fit_cost_share = -1.0;
+      level.fine_pose_from = 0;
+      level.surface_log2_fit.clear();
+    }
+  return sessions;
+}
+
+// The first reading count at which the sessions have a fine pose; 0: none has one.
+std::uint32_t first_fine_pose(const std::vector<CalibrationSession>& sessions) {
+  std::size_t first = 0;
+  for (const CalibrationSession& s : sessions)
+    for (const EvidenceLevel& level : s.steps)
+      if (level.fit_cost_share >= 0.0 && (first == 0 || level.readings < first)) first = level.readings;
+  return static_cast<std::uint32_t>(first);
+}
+
+}  // namespace
+
+void fit_top_label(const std::vector<CalibrationSession>& sessions, Calibration* calibration) {
+  Calibration tempered = *calibration;
+  tempered.top_label = Calibration{}.top_label;
+  calibration->top_label = Calibration{}.top_label;
+  fit_top_labels(
+      sessions, tempered, [](const EvidenceLevel& level) { return level.fit_cost_share >= 0.0 ? 1 : 0; },
+      &calibration->top_label);
+}
+
+void fit_light(const std::vector<CalibrationSession>& tempering, const std::vector<CalibrationSession>& sessions,
+               Calibration* calibration) {
+  calibration->light = {};
+  const std::uint32_t from = first_fine_pose(tempering);
+  if (from == 0) return;  // light and full estimates are the same on every step
+  // The light view's own calibration, learned as the full one is: its temperature over every step (before `from`
+  // the two views are the same steps), its top label over the steps it applies to, "none of these" from the evidence.
+  Calibration light;
+  const std::vector<CalibrationSession> view = light_view(tempering);
+  fit_temperature(view, &light);
+  std::array<Calibration::TopLabel, 2> labels = Calibration{}.top_label;
+  fit_top_labels(
+      view, light, [from](const EvidenceLevel& level) { return level.readings >= from ? 0 : -1; }, &labels);
+  fit_unknown(light_view(sessions), &light);
+  calibration->light = {.from = from,
+                        .temperature_scale = light.temperature_scale,
+                        .temperature_power = light.temperature_power,
+                        .top_label = labels[0],
+                        .unknown = light.unknown};
 }
 
 void fit_temperature(const std::vector<CalibrationSession>& sessions, Calibration* calibration) {
@@ -290,6 +347,7 @@ Calibration learn_calibration(const Dataset& data, const TrainParameters& params
   fit_temperature(tempering, &c);
   fit_top_label(tempering, &c);
   fit_unknown(sessions, &c);
+  fit_light(tempering, sessions, &c);
   c.learned = true;
   for (const CalibrationSession& s : sessions) ++(s.known ? c.known_sessions : c.unknown_sessions);
   c.session_readings = static_cast<std::uint32_t>(so.readings);

@@ -36,6 +36,13 @@ void fit_top_label(const std::vector<CalibrationSession>& sessions, Calibration*
 // model empty without unknown sessions.
 void fit_unknown(const std::vector<CalibrationSession>& sessions, Calibration* calibration);
 
+// Light estimates' calibration (Calibration::light), after the rest: the same fits on the sessions' light view (each
+// step without its fine pose and surface check), the temperature over every step, the top label over the steps from
+// the sessions' first fine pose on, "none of these" from the evidence alone (`sessions`: known and unknown). None
+// when no step has a fine pose.
+void fit_light(const std::vector<CalibrationSession>& tempering, const std::vector<CalibrationSession>& sessions,
+               Calibration* calibration);
+
 // The whole learning: split `data`, train a calibration map with `params` on the kept part, run the sessions, fit
 // "none of these"; then the same on a map of every object (readings alone held out), whose sessions fit the
 // temperature, the surface weight and the top label.

@@ -414,9 +414,17 @@ std::string describe_calibration(const MapSummary& map) {
   }
   std::snprintf(buf, sizeof buf, ", fine pose from %u readings", c.fine_pose_from);
   s += buf;
-  if (!c.unknown_model) return s + "; cannot say \"none of these\"";
-  return s + (c.unknown_from_fit ? "; says \"none of these\" (from the evidence, then the fine pose's fit)"
-                                 : "; says \"none of these\" (from the evidence alone)");
+  if (!c.unknown_model)
+    s += "; cannot say \"none of these\"";
+  else
+    s += c.unknown_from_fit ? "; says \"none of these\" (from the evidence, then the fine pose's fit)"
+                            : "; says \"none of these\" (from the evidence alone)";
+  if (c.light_from == 0) return s;
+  std::snprintf(buf, sizeof buf,
+                "; light estimates from %u readings: temperature %.3g (n-1)^-%.2f, top label %.3g + %.3g logit p%s",
+                c.light_from, c.light_temperature_scale, c.light_temperature_power, c.light_top_label[0],
+                c.light_top_label[1], c.light_unknown_model ? ", \"none of these\" from the evidence" : "");
+  return s + buf;
 }
 
 }  // namespace sva::eval

@@ -46,6 +46,11 @@ void bind_map(nb::module_& m) {
       .def_prop_ro("readings", &Map::readings, "training readings used")
       .def_prop_ro("fine_pose_from", &Map::fine_pose_from,
                    "readings from which the fine pose and the surface check run (sva.train's fine_pose_from)")
+      .def_prop_ro(
+          "light_calibration_from", [](const Map& map) { return map.summary().calibration.light_from; },
+          "readings from which light estimates (depth=\"light\") read their own calibration; 0: none (a map of format "
+          "9 "
+          "or older, or trained without calibration): retrain to give them one")
       .def_prop_ro("bytes", &Map::bytes, "in-memory size of the map's arrays (the objects' surfaces apart)")
       .def_prop_ro(
           "surface_objects", [](const Map& map) { return map.summary().surface_objects; },

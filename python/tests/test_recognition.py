@@ -69,6 +69,23 @@ def test_estimate_arrays(tiny, tiny_map):
     assert np.allclose(est.pose.apply(x), est.pose.R @ x + est.pose.T)
 
 
+def test_light_estimates_read_their_own_calibration(tiny, tiny_map):
+    """A map of this build carries light estimates' calibration from its fine pose's first reading (tests/calibration
+    show what it changes); before that reading a light estimate's probabilities are the full estimate's."""
+    assert tiny_map.light_calibration_from == tiny_map.fine_pose_from == 6
+    rec = sva.Recognizer(tiny_map, backend="cpu")
+    compared = 0
+    for s in tiny.session_lines():
+        rec.reset()
+        for reading in s["readings"][:5]:
+            rec.add_reading(reading_of(reading))
+            light, full = rec.estimate(top_k=0, depth="light"), rec.estimate(top_k=0)
+            assert light.object_probability.tolist() == full.object_probability.tolist()
+            assert light.p_unknown == full.p_unknown
+            compared += 1
+    assert compared > 0
+
+
 def test_light_estimate_is_the_beliefs_answer(tiny, tiny_map):
     """depth="light": the parabolic pose, no fit; what a recognizer built without fits says (calibration off on both,
     so that neither fits for "none of these"); a full estimate after it is the full estimate alone."""

@@ -293,7 +293,7 @@ TEST_CASE("the map file keeps the calibration (version 8), older maps load with 
   std::filesystem::remove_all(dir);
 }
 
-TEST_CASE("the map file keeps the light calibration (version 10); older versions refuse it by name, load without") {
+TEST_CASE("the map file keeps the light calibration (version 10), older versions refuse it by name and load without") {
   sim::SimulateOptions so;
   so.train_per_object = 12;
   so.test_per_object = 1;

@@ -304,6 +304,9 @@ int cmd_eval(const std::vector<std::string>& argv) {
   // The scene's declared symmetries (the angle error's) against its meshes' (MSSD's): docs/pose-errors.md.
   for (const std::string& w : eval::symmetry_warnings(test.scene))
     std::fprintf(stderr, "sva eval: warning: %s\n", w.c_str());
+  if (const std::string w = eval::light_calibration_warning(map, map_file, o.estimate, o.recognizer.calibrate);
+      !w.empty())
+    std::fprintf(stderr, "sva eval: warning: %s\n", w.c_str());
   o.trials = trials_arg > 0 ? static_cast<std::size_t>(trials_arg) : 3 * test.scene.objects.size();
   if (o.policy == eval::Policy::active_sim) o.active.simulate = touch_simulator(test.scene, data_file);
   const std::vector<eval::Curve> others = compared_curves(compare_files, map, o);

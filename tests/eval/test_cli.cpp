@@ -15,6 +15,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "map/map_access.hpp"
+#include "map/map_file.hpp"
 #include "test_support.hpp"
 
 using namespace sva;
@@ -179,6 +181,17 @@ TEST_CASE("sva eval --estimate light: the full curve until the fits start, recor
   bool differs = false;  // from 6 on the full estimate's fine pose moves the errors
   for (std::size_t i = 5; i < 8; ++i) differs = differs || light["curve"][i] != full["curve"][i];
   CHECK(differs);
+  CHECK(out.find("no light calibration") == std::string::npos);  // this build's map has its own
+  // A map of format 9 has none: its light estimates read the full calibration's evidence regime, and eval says so.
+  const Map map = Map::load(f.map);
+  REQUIRE(map.summary().calibration.light_from == 6);
+  sva::PairMap v9 = sva::MapAccess::pair_map(map);
+  v9.calibration.light = {};
+  sva::write_pair_map(v9, f.path("v9.svam"), 9);
+  REQUIRE(sva::test::run_sva("eval --map " + f.path("v9.svam") + " --data " + f.test +
+                                 " --backend cpu --trials 2 --max-readings 3 --estimate light",
+                             &out) == 0);
+  CHECK(out.find("v9.svam has no light calibration") != std::string::npos);
   for (const std::string bad : {"--estimate fine", "--estimate "}) {
     INFO(bad);
     CHECK(sva::test::run_sva(common + bad, &out) != 0);

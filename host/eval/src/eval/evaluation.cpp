@@ -109,6 +109,16 @@ std::vector<std::int32_t> map_objects_of(const Map& map, const Dataset& test) {
   return out;
 }
 
+std::string light_calibration_warning(const Map& map, const std::string& map_name, EstimateDepth depth,
+                                      bool calibrate) {
+  const MapSummary::Calibration c = map.summary().calibration;
+  if (depth != EstimateDepth::light || !calibrate || !c.learned || c.light_from != 0) return "";
+  return "the map " + map_name +
+         " has no light calibration (map format 9 or older): light estimates from the fine pose's first reading on "
+         "read the full calibration's evidence regime, which is underconfident among near-twins; retrain it (sva "
+         "train) to give them their own";
+}
+
 void check_compatible(const Map& map, const Dataset& test, const std::string& map_name, const std::string& data_name,
                       bool unknown_objects) {
   const std::string both = "the map " + map_name + " and the test set " + data_name;

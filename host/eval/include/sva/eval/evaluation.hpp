@@ -45,6 +45,10 @@ struct EvalOptions {
 // `unknown_objects`: the map's objects need only be among the test set's (by name; at least one shared).
 void check_compatible(const Map& map, const Dataset& test, const std::string& map_name, const std::string& data_name,
                       bool unknown_objects = false);
+// A warning for light estimates (`depth` light, calibrated) on a map whose calibration was learned without their own
+// (map format 9 or older): their probabilities then read the full calibration's evidence regime, underconfident among
+// near-twins (docs/recognition.md, "Light and full estimates"). "" when there is nothing to say.
+std::string light_calibration_warning(const Map& map, const std::string& map_name, EstimateDepth depth, bool calibrate);
 // Per object of the test set: its id in the map, or -1 when the map does not hold it.
 std::vector<std::int32_t> map_objects_of(const Map& map, const Dataset& test);
 

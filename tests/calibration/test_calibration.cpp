@@ -207,14 +207,23 @@ TEST_CASE("a model of an earlier map reads the evidence, the gap and the fit cos
   CHECK(c.p_unknown(level, 0.5) == Approx(0.5));
 }
 
-TEST_CASE("the map file keeps the calibration (version 8), older maps load with theirs or the defaults") {
+namespace {
+
+// A small map of the tiny scene trained without a calibration, for the map file's calibration fields.
+PairMap uncalibrated_tiny_map() {
   sim::SimulateOptions so;
   so.train_per_object = 12;
   so.test_per_object = 1;
   TrainOptions to;
   to.clusters = 3;
   to.calibrate = false;
-  PairMap m = MapAccess::pair_map(Map::train(sim::simulate(load_scene("tiny"), so).train, to));
+  return MapAccess::pair_map(Map::train(sim::simulate(load_scene("tiny"), so).train, to));
+}
+
+}  // namespace
+
+TEST_CASE("the map file keeps the calibration (version 8), older maps load with theirs or the defaults") {
+  PairMap m = uncalibrated_tiny_map();
   CHECK_FALSE(m.calibration.learned);
   m.calibration.learned = true;
   m.calibration.temperature_scale = 0.7;
@@ -294,13 +303,7 @@ TEST_CASE("the map file keeps the calibration (version 8), older maps load with 
 }
 
 TEST_CASE("the map file keeps the light calibration (version 10), older versions refuse it by name and load without") {
-  sim::SimulateOptions so;
-  so.train_per_object = 12;
-  so.test_per_object = 1;
-  TrainOptions to;
-  to.clusters = 3;
-  to.calibrate = false;
-  PairMap m = MapAccess::pair_map(Map::train(sim::simulate(load_scene("tiny"), so).train, to));
+  PairMap m = uncalibrated_tiny_map();
   m.calibration.learned = true;
   m.calibration.light.from = 6;
   m.calibration.light.temperature_scale = 0.3;

@@ -39,13 +39,26 @@ std::vector<double> Calibration::object_probability(const EvidenceLevel& level,
                             level.surface_log2_fit, surface_weight);
 }
 
+namespace {
+
+// From `first` to `then` over kTopLabelBlendReadings readings from reading `from` on.
+Calibration::TopLabel blended(const Calibration::TopLabel& first, const Calibration::TopLabel& then,
+                              std::size_t readings, std::size_t from) {
+  const double w = static_cast<double>(readings - from + 1) / Calibration::kTopLabelBlendReadings;
+  if (w >= 1.0) return then;
+  return {(1.0 - w) * first[0] + w * then[0], (1.0 - w) * first[1] + w * then[1]};
+}
+
+}  // namespace
+
 Calibration::TopLabel Calibration::top_label_at(const EvidenceLevel& level) const {
-  if (light_regime(level.readings, level.light_estimate)) return light.top_label;
+  // Light estimates phase their own in as the fine pose's regime is: one label from `from` on was too sure at 6-10
+  // readings on lookalikes (a mean top probability of 0.57 where 47% were right; 0.53 blended).
+  if (light_regime(level.readings, level.light_estimate))
+    return blended(top_label[0], light.top_label, level.readings, light.from);
   if (level.fit_cost_share < 0.0) return top_label[0];
   if (level.fine_pose_from == 0 || level.readings < level.fine_pose_from) return top_label[1];
-  const double w = static_cast<double>(level.readings - level.fine_pose_from + 1) / kTopLabelBlendReadings;
-  if (w >= 1.0) return top_label[1];
-  return {(1.0 - w) * top_label[0][0] + w * top_label[1][0], (1.0 - w) * top_label[0][1] + w * top_label[1][1]};
+  return blended(top_label[0], top_label[1], level.readings, level.fine_pose_from);
 }
 
 void Calibration::recalibrate_top(const EvidenceLevel& level, std::vector<double>* p) const {

@@ -101,8 +101,9 @@ struct LightCalibration {
   std::uint32_t from = 0;  // the first reading count it applies at; 0: none (maps of format 1-9, no fine pose in
                            // the sessions, calibration off): the evidence regime, extrapolated
   double temperature_scale = 0.25, temperature_power = 0.8;  // tau(n), as Calibration's
-  TopLabel top_label{0.0, 1.0};                              // Platt scaling of the top object, as Calibration's
-  UnknownModel unknown;  // "none of these" from the evidence alone (evidence_gap_share, the share's weight 0)
+  TopLabel top_label{0.0, 1.0};  // Platt scaling of the top object, phased in from the first regime's over
+                                 // kTopLabelBlendReadings readings from `from`, as Calibration's second
+  UnknownModel unknown;          // "none of these" from the evidence alone (evidence_gap_share, the share's weight 0)
   bool empty() const { return from == 0; }
 };
 
@@ -134,7 +135,7 @@ struct Calibration {
   static constexpr double kTopLabelBlendReadings = 5.0;
   // The {a, b} recalibrate_top applies at `level`: the first regime before the fine pose, then (1 - w) of it and w
   // of the second, w = (readings - fine_pose_from + 1) / kTopLabelBlendReadings up to 1 (1 when fine_pose_from is 0);
-  // the light calibration's in its regime.
+  // in the light regime, the first and the light calibration's blended the same way from its `from`.
   TopLabel top_label_at(const EvidenceLevel& level) const;
   UnknownModel unknown;  // empty: the map cannot say "none of these" (p_unknown is then the prior)
   // The reading count from which the fine pose, the surface check and the fit's "none of these" model run, and the

@@ -129,7 +129,7 @@ struct Calibration {
   // The fine-pose regime comes in over its first kTopLabelBlendReadings readings (top_label_at): at 6 readings the
   // fine pose and the surface check lift the top object's probability at once, while the share of right answers
   // follows over the next four readings, so one label from 6 readings on was too sure at 6-8 and too unsure at 10-12
-  // (lookalikes: docs/evaluation.md, "The top label phased in").
+  // (lookalikes: docs/notes/evaluation-2026-11.md, "The top label phased in").
   using TopLabel = std::array<double, 2>;
   std::array<TopLabel, 2> top_label{TopLabel{0.0, 1.0}, TopLabel{0.0, 1.0}};
   static constexpr double kTopLabelBlendReadings = 5.0;

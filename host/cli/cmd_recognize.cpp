@@ -57,6 +57,9 @@ int cmd_recognize(const std::vector<std::string>& argv) {
       .option("--refine", "on|off", "fine pose: align the readings to the object's surface (default on)")
       .option("--surface-check", "on|off",
               "weigh the leading objects by how well their surfaces explain the readings (default on)")
+      .option("--estimate", "full|light",
+              "each session's estimate at its end: full (default) or light, the belief's answer without the host's "
+              "fits (the parabolic pose, no surface check; docs/recognition.md, \"Light and full estimates\")")
       .option("--belief-budget", "BINS",
               "touched pose bins per session before hopeless ones are forgotten (default 4194304; 0 = no bound; "
               "32768 keeps a paper3d session of 30 readings near 4 MB in a batch; docs/batch-format.md)")
@@ -71,6 +74,7 @@ int cmd_recognize(const std::vector<std::string>& argv) {
   if (!a.parse()) return 0;
   if (auto ws = a.get("--write-sessions")) return write_sessions(a, *ws);
   const std::string map_file = a.required("--map"), batch_file = a.required("--batch"), out_file = a.required("--out");
+  const EstimateDepth depth = parse_estimate_depth(a.get_or("--estimate", "full"), "sva recognize: --estimate");
   const Map map = Map::load(map_file);
   // Checked whole first (a bad line anywhere stops it before any recognition), then streamed a group at a time.
   const BatchSessionsFile sessions(batch_file, map.sensor().elements());
@@ -94,10 +98,12 @@ int cmd_recognize(const std::vector<std::string>& argv) {
   if (!rec.backend_fallback_reason().empty())
     std::fprintf(stderr, "sva recognize: backend auto chose the CPU reference: %s\n",
                  rec.backend_fallback_reason().c_str());
-  sessions.recognize(recs, map, out_file, top_k, true);
-  std::fprintf(stderr, "recognised %zu sessions (%zu readings) with %s, %zu per submission, %zu in flight; wrote %s\n",
+  sessions.recognize(recs, map, out_file, top_k, true, depth);
+  std::fprintf(stderr,
+               "recognised %zu sessions (%zu readings) with %s, %zu per submission, %zu in flight, %s estimates; "
+               "wrote %s\n",
                sessions.sessions(), sessions.readings(), rec.backend_description().c_str(), rec.sessions(), recs.size(),
-               out_file.c_str());
+               estimate_depth_name(depth), out_file.c_str());
   return 0;
 }
 

@@ -40,13 +40,15 @@ void add_readings(PyBatchRecognizer& b, const std::vector<std::size_t>& sessions
 
 // One shard of a sessions file, recognised on this batch (host/include/sva/batch_file.hpp).
 nb::bytes recognize_shard(PyBatchRecognizer& b, const Map& map, nb::bytes text, const std::string& source,
-                          std::size_t first_line, std::size_t first_session, std::size_t top_k) {
+                          std::size_t first_line, std::size_t first_session, std::size_t top_k,
+                          const std::string& depth) {
+  const EstimateDepth d = parse_estimate_depth(depth, "sva.recognize_batch: depth");
   std::string results;
   {
     const std::string_view lines(text.c_str(), text.size());
     EngineScope scope(true);
     std::lock_guard lock(b.mutex);
-    results = recognize_batch_shard(b.rec, map, lines, source, first_line, first_session, top_k);
+    results = recognize_batch_shard(b.rec, map, lines, source, first_line, first_session, top_k, d);
   }
   return nb::bytes(results.data(), results.size());
 }
@@ -55,15 +57,16 @@ nb::bytes recognize_shard(PyBatchRecognizer& b, const Map& map, nb::bytes text, 
 // groups in flight at once (sva.recognize_batch; host/include/sva/batch_file.hpp).
 nb::bytes recognize_shard_in_flight(const Engine& engine, nb::bytes text, const std::string& source,
                                     std::size_t first_line, std::size_t first_session, std::size_t top_k,
-                                    std::size_t total, std::size_t sessions, std::size_t in_flight,
-                                    const nb::kwargs& options) {
+                                    const std::string& depth, std::size_t total, std::size_t sessions,
+                                    std::size_t in_flight, const nb::kwargs& options) {
+  const EstimateDepth d = parse_estimate_depth(depth, "sva.recognize_batch: depth");
   const RecognizerOptions o = recognizer_options(options, "sva.recognize_batch");
   std::string results;
   {
     const std::string_view lines(text.c_str(), text.size());
     EngineScope scope(true);
     std::vector<BatchRecognizer> recs = batch_recognizers(engine, total, sessions, in_flight, o);
-    results = recognize_batch_shard(recs, engine.map(), lines, source, first_line, first_session, top_k);
+    results = recognize_batch_shard(recs, engine.map(), lines, source, first_line, first_session, top_k, d);
   }
   return nb::bytes(results.data(), results.size());
 }
@@ -72,7 +75,7 @@ nb::bytes recognize_shard_in_flight(const Engine& engine, nb::bytes text, const 
 
 void bind_batch_recognizer(nb::module_& m) {
   m.def("_recognize_shard_in_flight", &recognize_shard_in_flight, "engine"_a, "text"_a, "source"_a, "first_line"_a,
-        "first_session"_a, "top_k"_a, "total"_a, "sessions"_a, "in_flight"_a, "options"_a,
+        "first_session"_a, "top_k"_a, "depth"_a, "total"_a, "sessions"_a, "in_flight"_a, "options"_a,
         "Result lines (bytes) of the sessions in `text` (as BatchRecognizer._recognize_shard), on `in_flight` "
         "recognizers of `engine` at once, `sessions` sessions each (sva.recognize_batch).");
   nb::class_<PyBatchRecognizer>(m, "BatchRecognizer",
@@ -153,7 +156,7 @@ void bind_batch_recognizer(nb::module_& m) {
       .def("backend_description", [](const PyBatchRecognizer& b) { return b.rec.backend_description(); })
       .def("backend_fallback_reason", [](const PyBatchRecognizer& b) { return b.rec.backend_fallback_reason(); })
       .def("_recognize_shard", &recognize_shard, "map"_a, "text"_a, "source"_a, "first_line"_a, "first_session"_a,
-           "top_k"_a,
+           "top_k"_a, "depth"_a = "full",
            "Result lines (bytes) of the sessions in `text`, whole lines of the sessions file `source` from line "
            "`first_line`, preceded by `first_session` sessions (sva.recognize_batch, sva.distributed).");
 }

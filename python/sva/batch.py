@@ -92,6 +92,7 @@ def recognize_batch(
     sessions_per_submission: Optional[int] = None,
     in_flight: Optional[int] = None,
     top: int = 3,
+    depth: str = "full",
     **options,
 ) -> list[str]:
     """Recognises every session of a sessions file, as ``sva recognize --batch SESSIONS --out OUT`` does: the
@@ -101,7 +102,8 @@ def recognize_batch(
     (``Engine.sessions_per_submission``: on a GPU as many as half its memory holds, 64 on the CPU), and
     ``in_flight``, the groups recognised at once (one recognizer each, so that the host prepares one group's update
     while the device runs another's), to the engine's (``Engine.submissions_in_flight``: 2 on a GPU, 1 on the CPU).
-    The results do not depend on either."""
+    The results do not depend on either. ``depth``: each session's estimate at its end, "full" or "light" (the
+    belief's answer without the host's fits, as ``--estimate light``; docs/recognition.md)."""
     if not isinstance(map, Map):
         map = Map.load(map)
     if sessions_per_submission is not None and sessions_per_submission < 1:
@@ -118,7 +120,7 @@ def recognize_batch(
         in_flight = engine.submissions_in_flight()
     (whole,) = file.shards(file.sessions)
     results = _recognize_shard_in_flight(
-        engine, whole.text, file.name, whole.first_line, whole.first_session, top, whole.sessions,
+        engine, whole.text, file.name, whole.first_line, whole.first_session, top, depth, whole.sessions,
         sessions_per_submission, in_flight, **options
     )
     if out is not None:

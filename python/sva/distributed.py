@@ -48,11 +48,12 @@ def _engine(map_file: str, sessions_per_submission: int, options: tuple) -> tupl
 
 
 def _recognize_shard(
-    map_file: str, sessions_per_submission: int, options: tuple, shard: Shard, source: str, top: int
+    map_file: str, sessions_per_submission: int, options: tuple, shard: Shard, source: str, top: int,
+    depth: str = "full",
 ) -> bytes:
     """Runs on a worker: the result lines of one shard, on this worker's engine."""
     m, rec = _engine(map_file, sessions_per_submission, options)
-    return rec._recognize_shard(m, shard.text, source, shard.first_line, shard.first_session, top)
+    return rec._recognize_shard(m, shard.text, source, shard.first_line, shard.first_session, top, depth)
 
 
 def default_sessions_per_shard(sessions: int, workers: int, sessions_per_submission: int) -> int:
@@ -70,6 +71,7 @@ def recognize_batch(
     sessions_per_shard: Optional[int] = None,
     sessions_per_submission: int = 64,
     top: int = 3,
+    depth: str = "full",
     **options,
 ) -> list[str]:
     """:func:`sva.recognize_batch` sharded over the Dask cluster of ``client`` (a ``distributed.Client``; default:
@@ -96,7 +98,7 @@ def recognize_batch(
     shards = file.shards(per_shard)
     opts = tuple(sorted(options.items()))
     futures = [
-        client.submit(_recognize_shard, map_file, sessions_per_submission, opts, s, file.name, top, pure=False)
+        client.submit(_recognize_shard, map_file, sessions_per_submission, opts, s, file.name, top, depth, pure=False)
         for s in shards
     ]
     wait(futures)
@@ -129,6 +131,8 @@ def main(argv: Optional[list[str]] = None) -> int:
     p.add_argument("--sessions-per-shard", type=int, default=None)
     p.add_argument("--top", type=int, default=3, help="hypotheses reported per session")
     p.add_argument("--refine", choices=["on", "off"], default="on", help="fine pose (default on)")
+    p.add_argument("--estimate", choices=["full", "light"], default="full",
+                   help="each session's estimate at its end (light: no host fits; default full)")
     a = p.parse_args(argv)
     from distributed import Client, LocalCluster
 
@@ -142,7 +146,7 @@ def main(argv: Optional[list[str]] = None) -> int:
             start = time.perf_counter()
             lines = recognize_batch(
                 a.map, a.batch, a.out, client=client, sessions_per_shard=a.sessions_per_shard,
-                sessions_per_submission=a.sessions_per_submission, top=a.top, backend=a.backend,
+                sessions_per_submission=a.sessions_per_submission, top=a.top, depth=a.estimate, backend=a.backend,
                 threads=a.threads, refine_pose=a.refine == "on",
             )
             seconds = time.perf_counter() - start

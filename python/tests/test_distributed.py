@@ -38,6 +38,12 @@ def test_sharded_results_equal_the_single_machine_file(tiny, client, tmp_path):
     assert sorted(engines.values()) == [1, 1]
 
 
+def test_sharded_light_estimates_equal_the_single_machine_ones(tiny, client):
+    lines = sd.recognize_batch(tiny.map, tiny.sessions, client=client, depth="light", backend="cpu", threads=1)
+    assert lines == sva.recognize_batch(str(tiny.map), tiny.sessions, depth="light", backend="cpu")
+    assert lines != tiny.results.read_text().splitlines()
+
+
 def test_shard_sizes_do_not_change_the_results(tiny, client, tmp_path):
     for per_shard in (4, 100):
         out = tmp_path / f"r{per_shard}.jsonl"

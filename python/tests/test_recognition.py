@@ -167,6 +167,21 @@ def test_recognize_batch_writes_the_cli_file(tiny, tiny_map, tmp_path, per_submi
     assert [p.name for p in tmp_path.iterdir()] == ["results.jsonl"]  # no temporary file left behind
 
 
+def test_recognize_batch_light_estimates_are_the_cli_files(tiny, tiny_map, tmp_path):
+    """depth="light": each session's estimate at its end without the host's fits, as `sva recognize --estimate
+    light` writes them; the tiny sessions' 6 readings reach the fine pose, so the full file differs."""
+    cli = tmp_path / "cli.jsonl"
+    run_sva("recognize", "--map", str(tiny.map), "--batch", str(tiny.sessions), "--out", str(cli), "--backend", "cpu",
+            "--top", "3", "--estimate", "light")
+    out = tmp_path / "light.jsonl"
+    lines = sva.recognize_batch(tiny_map, tiny.sessions, out, backend="cpu", depth="light")
+    assert out.read_bytes() == cli.read_bytes()
+    assert lines == cli.read_text().splitlines()
+    assert out.read_bytes() != tiny.results.read_bytes()
+    with pytest.raises(sva.Error, match='depth expects full or light, got "fine"'):
+        sva.recognize_batch(tiny_map, tiny.sessions, backend="cpu", depth="fine")
+
+
 def test_recognize_batch_reports_the_bad_line(tiny, tmp_path):
     lines = tiny.sessions.read_text().splitlines()
     bad = lines[:3] + [lines[3].replace('"position":[', '"position":["x",', 1)] + lines[4:]

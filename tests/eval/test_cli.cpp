@@ -200,6 +200,25 @@ TEST_CASE("sva eval --estimate light: the full curve until the fits start, recor
   }
 }
 
+TEST_CASE("sva recognize --estimate light: each session's answer without the host's fits, said, bad depths named") {
+  Fixture f;
+  std::string out;
+  REQUIRE(sva::test::run_sva("recognize --write-sessions " + f.path("s.jsonl") + " --map " + f.map + " --data " +
+                                 f.test + " --trials 3 --max-readings 8",
+                             &out) == 0);
+  const std::string run = "recognize --map " + f.map + " --batch " + f.path("s.jsonl") + " --backend cpu --out ";
+  REQUIRE(sva::test::run_sva(run + f.path("full.jsonl"), &out) == 0);
+  CHECK(out.find("full estimates") != std::string::npos);
+  REQUIRE(sva::test::run_sva(run + f.path("light.jsonl") + " --estimate light", &out) == 0);
+  CHECK(out.find("light estimates") != std::string::npos);
+  const std::string full = read_file(f.path("full.jsonl")), light = read_file(f.path("light.jsonl"));
+  CHECK(std::count(light.begin(), light.end(), '\n') == 3);
+  CHECK(light != full);  // 8 readings: the full estimates' fine pose moved the poses
+  CHECK(sva::test::run_sva(run + f.path("bad.jsonl") + " --estimate fine", &out) != 0);
+  CHECK(out.find("--estimate expects full or light, got \"fine\"") != std::string::npos);
+  CHECK_FALSE(std::filesystem::exists(f.dir / "bad.jsonl"));
+}
+
 TEST_CASE("sva eval overlays another method's curve with --compare") {
   Fixture f;
   std::string out;

@@ -54,6 +54,33 @@ std::string read_all(const std::filesystem::path& file) {
 
 }  // namespace
 
+TEST_CASE("Batch recognition: light estimates at the sessions' ends are each session's light estimate") {
+  const Trained& t = trained();
+  const auto dir = temp_dir("batch-light");
+  std::vector<BatchSession> sessions(3);  // 7 readings: past the fine pose's first, where the depths differ
+  for (std::size_t i = 0; i < sessions.size(); ++i) {
+    sessions[i].id = "s" + std::to_string(i);
+    sessions[i].readings = readings_of(static_cast<std::uint32_t>(i), 700 + i, 7);
+  }
+  write_batch_sessions(dir / "sessions.jsonl", sessions);
+  const BatchSessionsFile file(dir / "sessions.jsonl", t.data.scene.sensor.elements());
+  BatchRecognizer rec(t.map, paper_space(), 2);
+  file.recognize(rec, t.map, dir / "light.jsonl", 3, false, EstimateDepth::light);
+  file.recognize(rec, t.map, dir / "full.jsonl", 3);
+  // Each session's light estimate, alone on a recognizer of its own.
+  std::vector<Estimate> alone;
+  for (const BatchSession& s : sessions) {
+    BatchRecognizer one(t.map, paper_space(), 1);
+    const std::size_t id = 0;
+    for (const Reading& r : s.readings) one.add_readings(std::span(&id, 1), std::span(&r, 1));
+    alone.push_back(one.estimate(0, 3, EstimateDepth::light));
+    CHECK_FALSE(alone.back().pose_refined);
+  }
+  CHECK(read_all(dir / "light.jsonl") == batch::format_results(sessions, alone, t.map.object_names()));
+  CHECK(read_all(dir / "light.jsonl") != read_all(dir / "full.jsonl"));
+  std::filesystem::remove_all(dir);
+}
+
 TEST_CASE("Batch recognition: a streamed file gives the whole file's result lines, for any group size and shards") {
   const Trained& t = trained();
   const auto dir = temp_dir("batch-stream");
@@ -65,7 +92,7 @@ TEST_CASE("Batch recognition: a streamed file gives the whole file's result line
   CHECK(all[2].truth == R"({"note":[1,2.5],"object":"b"})");  // any JSON, kept as text
   BatchRecognizer whole(t.map, paper_space(), 7);
   const std::string expected = batch::format_results(
-      all, batch::recognize_sessions(std::span(&whole, 1), all, 3, file.string()), t.map.object_names());
+      all, batch::recognize_sessions(std::span(&whole, 1), all, {.top_k = 3}, file.string()), t.map.object_names());
   CHECK(expected.find(R"("truth":{"note":[1,2.5],"object":"b"})") != std::string::npos);
 
   const BatchSessionsFile checked(file, elements);
@@ -88,8 +115,8 @@ TEST_CASE("Batch recognition: a streamed file gives the whole file's result line
     REQUIRE(recs.size() == in_flight);
     checked.recognize(recs, t.map, dir / "results.jsonl", 3);
     CHECK(read_all(dir / "results.jsonl") == expected);
-    CHECK(batch::format_results(all, batch::recognize_sessions(recs, all, 3, file.string()), t.map.object_names()) ==
-          expected);
+    CHECK(batch::format_results(all, batch::recognize_sessions(recs, all, {.top_k = 3}, file.string()),
+                                t.map.object_names()) == expected);
   }
   // Recognizers that cannot share a batch are refused by name, before any recognition.
   std::vector<BatchRecognizer> uneven;

@@ -53,14 +53,15 @@ class BatchSessionsFile {
 
   // Recognises every session on `rec` (made from `map`), `top_k` hypotheses each, and writes their results to
   // `results`, which appears whole or not at all. With `progress`, a progress line on stderr
-  // (util::Progress). sva::Error names the file and the failing update's first session.
+  // (util::Progress). `depth`: each session's estimate at its end (light: the belief's answer, no host fits;
+  // docs/recognition.md, "Light and full estimates"). sva::Error names the file and the failing update's first session.
   void recognize(BatchRecognizer& rec, const Map& map, const std::filesystem::path& results, std::size_t top_k = 3,
-                 bool progress = false) const;
+                 bool progress = false, EstimateDepth depth = EstimateDepth::full) const;
   // The same with groups in flight on several recognizers at once, one thread each (batch_recognizers() makes them,
   // on one Engine, as many sessions each): while one group's update runs on the device, the next group's host work
   // goes on. The results file holds the same bytes as on one.
   void recognize(std::span<BatchRecognizer> recs, const Map& map, const std::filesystem::path& results,
-                 std::size_t top_k = 3, bool progress = false) const;
+                 std::size_t top_k = 3, bool progress = false, EstimateDepth depth = EstimateDepth::full) const;
 
  private:
   std::filesystem::path file_;
@@ -75,11 +76,11 @@ class BatchSessionsFile {
 // file's results. Errors name `source`:LINE as for the whole file.
 std::string recognize_batch_shard(BatchRecognizer& rec, const Map& map, std::string_view text,
                                   const std::string& source, std::size_t first_line, std::size_t first_session,
-                                  std::size_t top_k = 3);
+                                  std::size_t top_k = 3, EstimateDepth depth = EstimateDepth::full);
 // The same with groups in flight on several recognizers at once (as BatchSessionsFile::recognize).
 std::string recognize_batch_shard(std::span<BatchRecognizer> recs, const Map& map, std::string_view text,
                                   const std::string& source, std::size_t first_line, std::size_t first_session,
-                                  std::size_t top_k = 3);
+                                  std::size_t top_k = 3, EstimateDepth depth = EstimateDepth::full);
 
 // The recognizers of a batch of `sessions` sessions with `in_flight` groups of `per_group` at once (the defaults:
 // engine.sessions_per_submission(options), engine.submissions_in_flight()): as many as there are groups, at most

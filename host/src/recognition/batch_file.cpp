@@ -40,8 +40,8 @@ std::size_t group_size(std::span<BatchRecognizer> recs) {
 // from `first_session`.
 template <class Fetch, class Done>
 void recognize_group(BatchRecognizer& rec, std::size_t group, std::size_t first, std::size_t count, GroupTurns& turns,
-                     std::size_t top_k, const std::string& source, std::size_t first_session, util::Progress* progress,
-                     Fetch& fetch, Done& done) {
+                     const EstimateAsk& ask, const std::string& source, std::size_t first_session,
+                     util::Progress* progress, Fetch& fetch, Done& done) {
   std::vector<BatchSession> storage;  // what fetch() read for this group, when it reads
   turns.wait(GroupTurns::kFetch, group);
   const std::span<const BatchSession> sessions = fetch(first, count, storage);
@@ -61,7 +61,7 @@ void recognize_group(BatchRecognizer& rec, std::size_t group, std::size_t first,
   run_lockstep(rec, count, hooks);
   std::vector<std::size_t> slots(count);
   std::iota(slots.begin(), slots.end(), std::size_t{0});
-  std::vector<Estimate> estimates = rec.estimates(slots, top_k);
+  std::vector<Estimate> estimates = rec.estimates(slots, ask.top_k, ask.depth);
   turns.wait(GroupTurns::kDone, group);
   done(first, sessions, std::move(estimates));
   turns.pass(GroupTurns::kDone);
@@ -71,14 +71,14 @@ void recognize_group(BatchRecognizer& rec, std::size_t group, std::size_t first,
 // span into `storage` or into what the caller keeps); `done(first, group, estimates)` takes each group's estimates
 // in group order. Group g runs on recs[g % recs.size()], the groups of different recognizers at once.
 template <class Fetch, class Done>
-void recognize_groups(std::span<BatchRecognizer> recs, std::size_t sessions, std::size_t top_k,
+void recognize_groups(std::span<BatchRecognizer> recs, std::size_t sessions, const EstimateAsk& ask,
                       const std::string& source, std::size_t first_session, util::Progress* progress, Fetch fetch,
                       Done done) {
   const std::size_t per = group_size(recs);
   GroupTurns turns;
   run_groups((sessions + per - 1) / per, recs.size(), turns, [&](std::size_t g, std::size_t w) {
     const std::size_t first = g * per;
-    recognize_group(recs[w], g, first, std::min(per, sessions - first), turns, top_k, source, first_session, progress,
+    recognize_group(recs[w], g, first, std::min(per, sessions - first), turns, ask, source, first_session, progress,
                     fetch, done);
   });
 }
@@ -86,11 +86,11 @@ void recognize_groups(std::span<BatchRecognizer> recs, std::size_t sessions, std
 }  // namespace
 
 std::vector<Estimate> recognize_sessions(std::span<BatchRecognizer> recs, std::span<const BatchSession> sessions,
-                                         std::size_t top_k, const std::string& source, std::size_t first_session,
+                                         const EstimateAsk& ask, const std::string& source, std::size_t first_session,
                                          util::Progress* progress) {
   std::vector<Estimate> out(sessions.size());
   recognize_groups(
-      recs, sessions.size(), top_k, source, first_session, progress,
+      recs, sessions.size(), ask, source, first_session, progress,
       [&](std::size_t first, std::size_t count, std::vector<BatchSession>&) { return sessions.subspan(first, count); },
       [&](std::size_t first, std::span<const BatchSession>, std::vector<Estimate> estimates) {
         std::move(estimates.begin(), estimates.end(), out.begin() + static_cast<std::ptrdiff_t>(first));
@@ -127,12 +127,12 @@ BatchSessionsFile::BatchSessionsFile(std::filesystem::path file, int elements)
 }
 
 void BatchSessionsFile::recognize(BatchRecognizer& rec, const Map& map, const std::filesystem::path& results,
-                                  std::size_t top_k, bool progress) const {
-  recognize(std::span(&rec, 1), map, results, top_k, progress);
+                                  std::size_t top_k, bool progress, EstimateDepth depth) const {
+  recognize(std::span(&rec, 1), map, results, top_k, progress, depth);
 }
 
 void BatchSessionsFile::recognize(std::span<BatchRecognizer> recs, const Map& map, const std::filesystem::path& results,
-                                  std::size_t top_k, bool progress) const {
+                                  std::size_t top_k, bool progress, EstimateDepth depth) const {
   const std::string source = file_.string();
   const std::vector<std::string> objects = map.object_names();
   std::optional<util::Progress> shown;
@@ -141,7 +141,7 @@ void BatchSessionsFile::recognize(std::span<BatchRecognizer> recs, const Map& ma
   io::write_file_atomically(results, [&](std::ostream& out) {
     batch::SessionReader reader(source, elements_);  // read in group order (the fetch turn)
     batch::recognize_groups(
-        recs, sessions_, top_k, source, 0, shown ? &*shown : nullptr,
+        recs, sessions_, {top_k, depth}, source, 0, shown ? &*shown : nullptr,
         [&](std::size_t first, std::size_t count, std::vector<BatchSession>& held) {
           held = reader.next(count);  // the groups in flight: all the memory the file's sessions take
           if (held.size() != count)
@@ -158,15 +158,15 @@ void BatchSessionsFile::recognize(std::span<BatchRecognizer> recs, const Map& ma
 
 std::string recognize_batch_shard(BatchRecognizer& rec, const Map& map, std::string_view text,
                                   const std::string& source, std::size_t first_line, std::size_t first_session,
-                                  std::size_t top_k) {
-  return recognize_batch_shard(std::span(&rec, 1), map, text, source, first_line, first_session, top_k);
+                                  std::size_t top_k, EstimateDepth depth) {
+  return recognize_batch_shard(std::span(&rec, 1), map, text, source, first_line, first_session, top_k, depth);
 }
 
 std::string recognize_batch_shard(std::span<BatchRecognizer> recs, const Map& map, std::string_view text,
                                   const std::string& source, std::size_t first_line, std::size_t first_session,
-                                  std::size_t top_k) {
+                                  std::size_t top_k, EstimateDepth depth) {
   const auto sessions = batch::parse_sessions(text, source, first_line, first_session, map.sensor().elements());
-  const auto estimates = batch::recognize_sessions(recs, sessions, top_k, source, first_session);
+  const auto estimates = batch::recognize_sessions(recs, sessions, {top_k, depth}, source, first_session);
   return batch::format_results(sessions, estimates, map.object_names());
 }
 

@@ -53,12 +53,18 @@ class SessionReader {
   std::size_t sessions_ = 0;  // sessions returned so far
 };
 
-// The estimates of `sessions`, in order, `top_k` hypotheses each. Each recognizer of `recs` steps rec.sessions() of
+// What a batch asks of each session's estimate at its end.
+struct EstimateAsk {
+  std::size_t top_k = 3;
+  EstimateDepth depth = EstimateDepth::full;
+};
+
+// The estimates of `sessions`, in order, as `ask` says. Each recognizer of `recs` steps rec.sessions() of
 // them together (its sessions are reset first), the recognizers' groups in flight at once (group_turns.hpp). An
 // error names `source` and the failing update's first session, counted from `first_session` (the shard's place in
 // the whole file).
 std::vector<Estimate> recognize_sessions(std::span<BatchRecognizer> recs, std::span<const BatchSession> sessions,
-                                         std::size_t top_k, const std::string& source, std::size_t first_session = 0,
-                                         util::Progress* progress = nullptr);
+                                         const EstimateAsk& ask, const std::string& source,
+                                         std::size_t first_session = 0, util::Progress* progress = nullptr);
 
 }  // namespace sva::batch

@@ -203,8 +203,8 @@ TEST_CASE(
   RecognizerOptions co = gpu_options();
   co.backend = BackendKind::cpu;
   BatchRecognizer cpu(trained().map, paper_space(), 8, co);
-  const auto a = batch::recognize_sessions(gpu, sessions, 3, "gpu");
-  const auto b = batch::recognize_sessions(std::span(&cpu, 1), sessions, 3, "cpu");
+  const auto a = batch::recognize_sessions(gpu, sessions, {.top_k = 3}, "gpu");
+  const auto b = batch::recognize_sessions(std::span(&cpu, 1), sessions, {.top_k = 3}, "cpu");
   REQUIRE(a.size() == sessions.size());
   for (std::size_t i = 0; i < sessions.size(); ++i) {
     INFO("session " << i);

@@ -49,13 +49,17 @@ std::uint64_t mix(std::uint64_t h, const sva::RigidPose& p) {
   return h;
 }
 
-// Every number an estimate reports that the stages decide.
+// Every number an estimate reports that the stages decide (the hypotheses' covariances and each object's too).
 std::uint64_t digest(std::uint64_t h, const sva::Estimate& e) {
   h = mix(mix(h, static_cast<std::uint64_t>(e.object)), e.p_unknown);
   for (double p : e.object_probability) h = mix(h, p);
   h = mix(mix(mix(h, e.pose), e.parabolic_pose), static_cast<std::uint64_t>(e.pose_refined));
-  for (const sva::PoseHypothesis& m : e.hypotheses)
+  const auto add = [&](const sva::PoseHypothesis& m) {
     h = mix(mix(mix(h, static_cast<std::uint64_t>(m.object)), m.pose), m.probability);
+    for (double c : m.covariance) h = mix(h, c);
+  };
+  for (const sva::PoseHypothesis& m : e.hypotheses) add(m);
+  for (const sva::PoseHypothesis& m : e.object_hypotheses) add(m);
   return h;
 }
 

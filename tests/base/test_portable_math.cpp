@@ -82,6 +82,28 @@ TEST_CASE("portable math: within 1 ulp of glibc over the engine's ranges") {
               -1e3, 1e3) <= 1);
 }
 
+TEST_CASE("portable math: exp2 scales its kernel by 2^k exactly, at every exponent down to the subnormals") {
+  // exp2(x) is 2^f scaled by 2^k (k the nearest integer, |f| <= 1/2); the scaling is a product where the result is
+  // normal and ldexp elsewhere. Both must give ldexp's bits: checked against ldexp of exp2(f), whose k is 0.
+  sva::util::Rng rng(7);
+  std::size_t checked = 0, subnormal = 0;
+  for (int k = -1075; k <= 1023; ++k)
+    for (double f : {-0.5, -0.49, -0.25, -1e-9, 0.0, 1e-9, 0.3, 0.4999, 0.5, rng.uniform(-0.5, 0.5)}) {
+      const double x = k + f;
+      if (x < -1075.0 || x >= 1024.0) continue;
+      const double kk = std::nearbyint(x);
+      const double want = std::ldexp(pm::exp2(x - kk), static_cast<int>(kk));
+      INFO("x = " << x);
+      CHECK(pm::exp2(x) == want);  // positive or +0: equal values are equal bits
+      ++checked;
+      subnormal += want > 0.0 && want < std::numeric_limits<double>::min();
+    }
+  CHECK(checked > 20000);
+  CHECK(subnormal > 400);  // the ldexp path is exercised
+  CHECK(pm::exp2(1023.5) < std::numeric_limits<double>::infinity());
+  CHECK(pm::exp2(-1074.0) == std::numeric_limits<double>::denorm_min());
+}
+
 TEST_CASE("portable math: exact points, quadrants and special values") {
   const double inf = std::numeric_limits<double>::infinity(), nan = std::numeric_limits<double>::quiet_NaN();
   CHECK(pm::exp(0.0) == 1.0);

@@ -13,6 +13,7 @@
 #include "estimate/candidates.hpp"
 #include "estimate/hypotheses.hpp"
 #include "recognition/fixture.hpp"
+#include "votes/neighbourhood_steps.hpp"
 
 using namespace sva;
 using namespace sva::test;
@@ -152,4 +153,108 @@ TEST_CASE("hypotheses: a bin two modes share counts for the stronger one only") 
   const double z = total_mass(s, space);
   const double unit = std::ldexp(1.0, static_cast<int>(belief_math::mass_bits(space.bins_per_object()))) / z;
   CHECK(h.modes[1].probability == Approx((0.5 + (729.0 - 243.0 - 1.0) * std::exp2(-40.0)) * unit).epsilon(1e-8));
+}
+
+namespace {
+
+// Every bin of c's object within `radius` steps of it, by within_steps over a box of the grid about it (the
+// planar angle's whole circle).
+template <class Fn>
+void for_each_within(const PoseSpace& space, const BinIndex& c, int radius, Fn&& fn) {
+  const PoseSpaceSpec& spec = space.spec();
+  int lo[6], hi[6];
+  for (int a = 0; a < 6; ++a) {
+    const int at = a < 3 ? c.t[a] : c.r[a - 3], bins = a < 3 ? spec.translation_bins : spec.rotation_bins;
+    const bool fixed = space.planar() && (a == 2 || a == 3 || a == 4), circle = space.planar() && a == 5;
+    lo[a] = fixed ? at : circle ? 0 : std::max(0, at - radius);
+    hi[a] = fixed ? at : circle ? bins - 1 : std::min(bins - 1, at + radius);
+  }
+  for (int tx = lo[0]; tx <= hi[0]; ++tx)
+    for (int ty = lo[1]; ty <= hi[1]; ++ty)
+      for (int tz = lo[2]; tz <= hi[2]; ++tz)
+        for (int rx = lo[3]; rx <= hi[3]; ++rx)
+          for (int ry = lo[4]; ry <= hi[4]; ++ry)
+            for (int rz = lo[5]; rz <= hi[5]; ++rz) {
+              const BinIndex b = bin(c.object, tx, ty, tz, rx, ry, rz);
+              if (within_steps(b, c, space, radius)) fn(b);
+            }
+}
+
+// A mode's mass-weighted spread computed here bin by bin: every bin within `radius` steps of the centre, weighed
+// by 2^(its bits - the centre's), its rotation log(R_bin R_c^T).
+std::array<double, 36> spread_of(const PoseSpace& space, const Belief& belief, const BinIndex& c, int radius) {
+  const PoseSpaceSpec& spec = space.spec();
+  const glm::dmat3 r0t = glm::transpose(so3::exp(space.rotation_centre(c)));
+  const auto bits_at = [&](const BinIndex& b) {
+    return belief_math::units_to_bits(belief.offsets(std::vector{space.pack(b)})[0]);
+  };
+  const double centre_bits = bits_at(c);
+  std::vector<std::array<double, 6>> x;
+  std::vector<double> w;
+  for_each_within(space, c, radius, [&](const BinIndex& b) {
+    const glm::dvec3 dt = space.translation_centre(b) - space.translation_centre(c);
+    const glm::dvec3 dr = so3::log(so3::exp(space.rotation_centre(b)) * r0t);
+    x.push_back({dt.x, dt.y, dt.z, dr.x, dr.y, dr.z});
+    w.push_back(std::exp2(bits_at(b) - centre_bits));
+  });
+  double sum = 0.0;
+  std::array<double, 6> mean{};
+  for (std::size_t i = 0; i < w.size(); ++i) {
+    sum += w[i];
+    for (int a = 0; a < 6; ++a) mean[a] += w[i] * x[i][a];
+  }
+  for (double& m : mean) m /= sum;
+  std::array<double, 36> cov{};
+  for (std::size_t i = 0; i < w.size(); ++i)
+    for (int a = 0; a < 6; ++a)
+      for (int b = 0; b < 6; ++b) cov[a * 6 + b] += w[i] * (x[i][a] - mean[a]) * (x[i][b] - mean[b]) / sum;
+  const double tw = (spec.translation_max_mm - spec.translation_min_mm) / spec.translation_bins;
+  const double rw = 2.0 * std::numbers::pi / spec.rotation_bins;
+  for (int a = 0; a < 6; ++a) {
+    if (space.planar() && (a == 2 || a == 3 || a == 4))
+      for (int b = 0; b < 6; ++b) cov[a * 6 + b] = cov[b * 6 + a] = 0.0;
+    else
+      cov[a * 6 + a] += (a < 3 ? tw * tw : rw * rw) / 12.0;
+  }
+  return cov;
+}
+
+// A belief with random evidence (0-6 bits under the centre's 20) on every bin within 2 steps of `c`.
+Belief rough_belief(const PoseSpace& space, const BinIndex& c, std::uint64_t seed) {
+  util::Rng rng(seed);
+  std::map<std::uint64_t, double> bits;
+  for_each_within(space, c, 2, [&](const BinIndex& b) { bits[space.pack(b)] = 14.0 + 6.0 * rng.uniform(0.0, 1.0); });
+  bits[space.pack(c)] = 20.0;
+  return belief_of(space, bits);
+}
+
+}  // namespace
+
+TEST_CASE("hypotheses: a mode's covariance is its bins' weighted spread, round the planar circle too") {
+  // Radius 2 on a planar circle of 4 and 5 bins (steps -1..2 and -2..2: every angle once) and on the paper's 3-D
+  // grid at an edge: each rotation bin's small rotation must be its own, wherever the neighbourhood wraps.
+  for (int rotation_bins : {4, 5, 9}) {
+    PoseSpaceSpec spec = letters_space();
+    spec.rotation_bins = rotation_bins;
+    const PoseSpace space(spec, 1);
+    for (int r : {0, rotation_bins - 1}) {
+      const BinIndex c = bin(0, 10, 0, 0, 0, 0, r);
+      const Belief belief = rough_belief(space, c, 11 + static_cast<std::uint64_t>(rotation_bins * 7 + r));
+      const HypothesisSet h = hypotheses(belief, space, belief.summarise(), 1, 2);
+      REQUIRE(h.modes.size() == 1);
+      REQUIRE(h.modes[0].key == space.pack(c));
+      const std::array<double, 36> want = spread_of(space, belief, c, 2);
+      INFO("rotation bins " << rotation_bins << ", centre angle bin " << r);
+      for (int i = 0; i < 36; ++i) CHECK(h.modes[0].covariance[i] == Approx(want[i]).epsilon(1e-9).margin(1e-15));
+      CHECK(h.modes[0].covariance[35] > 0.0);
+    }
+  }
+  const PoseSpace space(paper_space(), 1);
+  const BinIndex c = bin(0, 0, 20, 49, 0, 4, 8);  // at the grid's edges: the neighbourhood is cut
+  const Belief belief = rough_belief(space, c, 5);
+  const HypothesisSet h = hypotheses(belief, space, belief.summarise(), 1, 2);
+  REQUIRE(h.modes.size() == 1);
+  REQUIRE(h.modes[0].key == space.pack(c));
+  const std::array<double, 36> want = spread_of(space, belief, c, 2);
+  for (int i = 0; i < 36; ++i) CHECK(h.modes[0].covariance[i] == Approx(want[i]).epsilon(1e-9).margin(1e-15));
 }

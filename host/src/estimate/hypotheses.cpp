@@ -6,8 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <numbers>
+#include <span>
 #include <unordered_set>
 
 #include "belief/belief_math.hpp"
@@ -25,7 +25,9 @@ std::vector<BinIndex> neighbourhood(const PoseSpace& space, const BinIndex& cent
   const PoseSpaceSpec& spec = space.spec();
   int lo[6], hi[6];
   for (std::uint32_t a = 0; a < 6; ++a) lo[a] = hood_step_lo(space, a, radius), hi[a] = hood_step_hi(space, a, radius);
-  std::vector<BinIndex> out{centre};
+  std::vector<BinIndex> out;
+  out.reserve(neighbourhood_steps(space, radius));
+  out.push_back(centre);
   for (int dx = lo[0]; dx <= hi[0]; ++dx)
     for (int dy = lo[1]; dy <= hi[1]; ++dy)
       for (int dz = lo[2]; dz <= hi[2]; ++dz)
@@ -102,52 +104,98 @@ RigidPose parabolic_peak(const PoseSpace& space, const BinIndex& c, const Hood& 
   return pose;
 }
 
-// Mass and covariance of the bins around a mode: each bin weighs its posterior probability; a bin's coordinates
-// are its translation from the mode's bin and the small rotation log(R_bin R_mode^T).
+// The small rotations log(R_bin R_centre^T) of a neighbourhood's rotation bins, each computed once: few distinct
+// rotation bins (3^3 at radius 1) recur across its translations. A bin's slot is its step from the centre along each
+// rotation axis (the planar angle round the circle), so the value is the same function of the bin as before.
+class SmallRotations {
+ public:
+  SmallRotations(const PoseSpace& space, const BinIndex& centre, int radius) : space_(space), centre_(centre) {
+    std::size_t size = 1;
+    for (int k = 0; k < 3; ++k) {
+      lo_[k] = hood_step_lo(space, 3 + k, radius);
+      hi_[k] = hood_step_hi(space, 3 + k, radius);
+      size *= static_cast<std::size_t>(hi_[k] - lo_[k] + 1);
+    }
+    r0t_ = glm::transpose(so3::exp(space.rotation_centre(centre)));
+    values_.resize(size);
+    known_.assign(size, false);
+  }
+
+  const glm::dvec3& of(const BinIndex& b) {
+    const int bins = space_.spec().rotation_bins;
+    std::size_t slot = 0;
+    for (int k = 0; k < 3; ++k) {
+      int d = b.r[k] - centre_.r[k];
+      if (space_.planar() && k == 2) {
+        d = ((d % bins) + bins) % bins;
+        if (d > hi_[k]) d -= bins;
+      }
+      slot = slot * static_cast<std::size_t>(hi_[k] - lo_[k] + 1) + static_cast<std::size_t>(d - lo_[k]);
+    }
+    if (!known_[slot]) {
+      values_[slot] = so3::log(so3::exp(space_.rotation_centre(b)) * r0t_);
+      known_[slot] = true;
+    }
+    return values_[slot];
+  }
+
+ private:
+  const PoseSpace& space_;
+  BinIndex centre_;
+  int lo_[3], hi_[3];
+  glm::dmat3 r0t_;
+  std::vector<glm::dvec3> values_;
+  std::vector<bool> known_;
+};
+
+// Mass and covariance of the bins around a mode (its hood's entries `kept`, the centre first): each bin weighs its
+// posterior probability; a bin's coordinates are its translation from the mode's bin and the small rotation
+// log(R_bin R_mode^T).
 // The mass is counted as the object posterior's is (estimate.cpp: integer weights at mass_bits, over the same
 // total `z`), so the modes' masses add up within their object's probability; the spread weighs bins by their
 // posterior relative to the mode's own bin (never 0, however far the mode is below the maximum).
-void moments(const PoseSpace& space, const Hood& hood, std::uint64_t max_offset, std::uint32_t mass_bits, double z,
-             ModeHypothesis* h) {
+void moments(const PoseSpace& space, const Hood& hood, std::span<const std::uint32_t> kept, int radius,
+             std::uint64_t max_offset, std::uint32_t mass_bits, double z, ModeHypothesis* h) {
   const PoseSpaceSpec& spec = space.spec();
-  const std::vector<BinIndex>& bins = hood.bins;
-  const glm::dvec3 t0 = space.translation_centre(bins.front());
-  const glm::dmat3 r0t = glm::transpose(so3::exp(space.rotation_centre(bins.front())));
-  std::vector<std::array<double, 6>> x(bins.size());
-  std::vector<double> w(bins.size());
-  std::map<std::array<int, 3>, glm::dvec3> small_rotation;
+  const BinIndex& centre = hood.bins.front();
+  const glm::dvec3 t0 = space.translation_centre(centre);
+  SmallRotations small_rotation(space, centre, std::max(radius, 1));
+  const bool prior = !hood.prior_bits.empty();
+  std::vector<std::array<double, 6>> x(kept.size());
+  std::vector<double> w(kept.size());
   double sum = 0.0;
   std::uint64_t mass = 0;
   double prior_mass = 0.0;  // with a pose prior: each bin's integer weight times the prior's there
   const double centre_bits = belief_math::units_to_bits(hood.offsets.front()) + hood.prior_of(0);
   std::array<double, 6> mean{};
-  for (std::size_t i = 0; i < bins.size(); ++i) {
+  for (std::size_t j = 0; j < kept.size(); ++j) {
+    const std::size_t i = kept[j];
     const std::uint64_t offset = hood.offsets[i];
     const std::uint64_t m = belief_math::sva_exp2_neg_units(max_offset - offset, mass_bits);
     mass += m;
-    prior_mass += static_cast<double>(m) * pmath::exp2(hood.prior_of(i));
-    w[i] = pmath::exp2(belief_math::units_to_bits(offset) + hood.prior_of(i) - centre_bits);
+    if (prior) prior_mass += static_cast<double>(m) * pmath::exp2(hood.prior_bits[i]);
+    w[j] = pmath::exp2(belief_math::units_to_bits(offset) + hood.prior_of(i) - centre_bits);
     // A bin whose weight relative to the mode's own underflows to 0 adds exactly +-0 to the sums below, which start
     // at +0 and are never -0: it is left out, the same bits (most of a neighbourhood at 100 paper3d readings).
-    if (w[i] == 0.0) continue;
-    const glm::dvec3 dt = space.translation_centre(bins[i]) - t0;
-    // Few distinct rotation bins (3^3 at radius 1) recur across the translations: one exp and log each.
-    const std::array<int, 3> rkey{bins[i].r[0], bins[i].r[1], bins[i].r[2]};
-    auto it = small_rotation.find(rkey);
-    if (it == small_rotation.end())
-      it = small_rotation.emplace(rkey, so3::log(so3::exp(space.rotation_centre(bins[i])) * r0t)).first;
-    const glm::dvec3 dr = it->second;
-    x[i] = {dt.x, dt.y, dt.z, dr.x, dr.y, dr.z};
-    sum += w[i];
-    for (int a = 0; a < 6; ++a) mean[a] += w[i] * x[i][a];
+    if (w[j] == 0.0) continue;
+    const glm::dvec3 dt = space.translation_centre(hood.bins[i]) - t0;
+    const glm::dvec3& dr = small_rotation.of(hood.bins[i]);
+    x[j] = {dt.x, dt.y, dt.z, dr.x, dr.y, dr.z};
+    sum += w[j];
+    for (int a = 0; a < 6; ++a) mean[a] += w[j] * x[j][a];
   }
-  h->probability = (hood.prior_bits.empty() ? static_cast<double>(mass) : prior_mass) / z;
+  h->probability = (prior ? prior_mass : static_cast<double>(mass)) / z;
   for (double& m : mean) m /= sum;
   h->covariance.fill(0.0);
-  for (std::size_t i = 0; i < bins.size(); ++i) {
-    if (w[i] == 0.0) continue;  // +-0 to every term, as above
-    for (int a = 0; a < 6; ++a)
-      for (int b = 0; b < 6; ++b) h->covariance[a * 6 + b] += w[i] * (x[i][a] - mean[a]) * (x[i][b] - mean[b]) / sum;
+  for (std::size_t j = 0; j < kept.size(); ++j) {
+    if (w[j] == 0.0) continue;  // +-0 to every term, as above
+    // Each term is (w (x_a - m_a)) (x_b - m_b) / sum, rounded as written: the first product shared along the row.
+    std::array<double, 6> d;
+    for (int b = 0; b < 6; ++b) d[b] = x[j][b] - mean[b];
+    for (int a = 0; a < 6; ++a) {
+      const double u = w[j] * d[a];
+      for (int b = 0; b < 6; ++b) h->covariance[a * 6 + b] += u * d[b] / sum;
+    }
   }
   // A bin is a box, not a point: its uniform spread adds width^2 / 12 per free axis.
   const double tw = (spec.translation_max_mm - spec.translation_min_mm) / spec.translation_bins;
@@ -254,14 +302,11 @@ HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, cons
     h.pose = parabolic_peak(space, centres[m], hoods[m]);
     // The parabola needed the 1-neighbourhood; at radius 0 the mass and spread take the bin alone. The centre
     // lies beyond every stronger mode's radius: never claimed.
-    Hood hood;
-    for (std::size_t i = 0; i < hoods[m].bins.size() && (radius > 0 || i == 0); ++i) {
-      if (claim && !claim->insert(hoods[m].keys[i]).second) continue;
-      hood.bins.push_back(hoods[m].bins[i]);
-      hood.offsets.push_back(hoods[m].offsets[i]);
-      if (!hoods[m].prior_bits.empty()) hood.prior_bits.push_back(hoods[m].prior_bits[i]);
-    }
-    moments(space, hood, summary.max_offset, mass_bits, z, &h);
+    std::vector<std::uint32_t> kept;
+    kept.reserve(hoods[m].bins.size());
+    for (std::size_t i = 0; i < hoods[m].bins.size() && (radius > 0 || i == 0); ++i)
+      if (!claim || claim->insert(hoods[m].keys[i]).second) kept.push_back(static_cast<std::uint32_t>(i));
+    moments(space, hoods[m], kept, radius, summary.max_offset, mass_bits, z, &h);
     if (!object_weight.empty()) h.probability *= object_weight[h.object];
     return h;
   };

@@ -8,7 +8,6 @@
 #include <cmath>
 #include <numbers>
 #include <span>
-#include <unordered_set>
 
 #include "belief/belief_math.hpp"
 #include "belief/object_mass.hpp"
@@ -294,8 +293,9 @@ HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, cons
   // Neighbourhoods of two modes may overlap (modes radius + 1 steps apart): a bin counts for the stronger mode
   // only, so the modes' masses never sum past the object's. The modes claim in order; each object's best mode
   // claims nothing, so those run on the workers.
-  std::unordered_set<std::uint64_t> claimed;
-  const auto mode_of = [&](std::size_t m, std::unordered_set<std::uint64_t>* claim) {
+  // The claimed keys, sorted (a neighbourhood lists each bin once, so a mode's own bins never collide).
+  std::vector<std::uint64_t> claimed;
+  const auto mode_of = [&](std::size_t m, std::vector<std::uint64_t>* claim) {
     ModeHypothesis h;
     h.object = centres[m].object;
     h.key = space.pack(centres[m]);
@@ -305,7 +305,14 @@ HypothesisSet hypotheses(const BeliefState& belief, const PoseSpace& space, cons
     std::vector<std::uint32_t> kept;
     kept.reserve(hoods[m].bins.size());
     for (std::size_t i = 0; i < hoods[m].bins.size() && (radius > 0 || i == 0); ++i)
-      if (!claim || claim->insert(hoods[m].keys[i]).second) kept.push_back(static_cast<std::uint32_t>(i));
+      if (!claim || !std::binary_search(claim->begin(), claim->end(), hoods[m].keys[i]))
+        kept.push_back(static_cast<std::uint32_t>(i));
+    if (claim) {
+      const std::size_t before = claim->size();
+      for (std::uint32_t i : kept) claim->push_back(hoods[m].keys[i]);
+      std::sort(claim->begin() + static_cast<std::ptrdiff_t>(before), claim->end());
+      std::inplace_merge(claim->begin(), claim->begin() + static_cast<std::ptrdiff_t>(before), claim->end());
+    }
     moments(space, hoods[m], kept, radius, summary.max_offset, mass_bits, z, &h);
     if (!object_weight.empty()) h.probability *= object_weight[h.object];
     return h;

@@ -1,9 +1,11 @@
 // The estimate's host stages timed on fixed sessions (bench/speed/estimate_speed.sh): a batch of sessions is fed
-// its readings once, then the same estimates are asked for again and again, so that each repeat does the same work
-// and the best of the repeats is the stages' time free of the first run's cold caches. Prints the ms per session of
-// each stage (docs/architecture.md: 1 belief, 2 fits, 3 verify, 4-5 posterior), the process's CPU time per session
+// its readings once, then the same estimates are asked for again and again, and the best of the repeats is the
+// stages' time free of the first run's cold caches. Every repeat after the first reads the best bins the CPU belief
+// kept from the first (Belief::best_bins keeps them until the next fold), so the best leaves out the pass over the
+// belief that a fresh estimate after an update makes for them: `sva bench`'s est. ms has it. Prints the ms per session
+// of each stage (docs/architecture.md: 1 belief, 2 fits, 3 verify, 4-5 posterior), the process's CPU time per session
 // (steadier than wall time on a shared machine), and a digest of every answer (object, probabilities, poses,
-// hypotheses), which must not change when a stage is made faster.
+// hypotheses with their covariances, each object's too), which must not change when a stage is made faster.
 //   estimate_speed MAP TEST [sessions (default 6)] [readings (default 30)] [repeats (default 5)] [threads (default 1)]
 //                  [top_k (default 3)] [depth: full (default) or light]
 // Session t touches object t % objects at a random pose, as `sva bench`'s trials do (seed 1).

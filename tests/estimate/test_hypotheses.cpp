@@ -228,6 +228,17 @@ Belief rough_belief(const PoseSpace& space, const BinIndex& c, std::uint64_t see
   return belief_of(space, bits);
 }
 
+// The one mode of a rough belief about c, at radius 2: centred on c, its covariance the spread computed bin by bin.
+void check_spread(const PoseSpace& space, const BinIndex& c, std::uint64_t seed) {
+  const Belief belief = rough_belief(space, c, seed);
+  const HypothesisSet h = hypotheses(belief, space, belief.summarise(), 1, 2);
+  REQUIRE(h.modes.size() == 1);
+  REQUIRE(h.modes[0].key == space.pack(c));
+  const std::array<double, 36> want = spread_of(space, belief, c, 2);
+  for (int i = 0; i < 36; ++i) CHECK(h.modes[0].covariance[i] == Approx(want[i]).epsilon(1e-9).margin(1e-15));
+  CHECK(h.modes[0].covariance[35] > 0.0);
+}
+
 }  // namespace
 
 TEST_CASE("hypotheses: a mode's covariance is its bins' weighted spread, round the planar circle too") {
@@ -238,23 +249,10 @@ TEST_CASE("hypotheses: a mode's covariance is its bins' weighted spread, round t
     spec.rotation_bins = rotation_bins;
     const PoseSpace space(spec, 1);
     for (int r : {0, rotation_bins - 1}) {
-      const BinIndex c = bin(0, 10, 0, 0, 0, 0, r);
-      const Belief belief = rough_belief(space, c, 11 + static_cast<std::uint64_t>(rotation_bins * 7 + r));
-      const HypothesisSet h = hypotheses(belief, space, belief.summarise(), 1, 2);
-      REQUIRE(h.modes.size() == 1);
-      REQUIRE(h.modes[0].key == space.pack(c));
-      const std::array<double, 36> want = spread_of(space, belief, c, 2);
       INFO("rotation bins " << rotation_bins << ", centre angle bin " << r);
-      for (int i = 0; i < 36; ++i) CHECK(h.modes[0].covariance[i] == Approx(want[i]).epsilon(1e-9).margin(1e-15));
-      CHECK(h.modes[0].covariance[35] > 0.0);
+      check_spread(space, bin(0, 10, 0, 0, 0, 0, r), 11 + static_cast<std::uint64_t>(rotation_bins * 7 + r));
     }
   }
-  const PoseSpace space(paper_space(), 1);
-  const BinIndex c = bin(0, 0, 20, 49, 0, 4, 8);  // at the grid's edges: the neighbourhood is cut
-  const Belief belief = rough_belief(space, c, 5);
-  const HypothesisSet h = hypotheses(belief, space, belief.summarise(), 1, 2);
-  REQUIRE(h.modes.size() == 1);
-  REQUIRE(h.modes[0].key == space.pack(c));
-  const std::array<double, 36> want = spread_of(space, belief, c, 2);
-  for (int i = 0; i < 36; ++i) CHECK(h.modes[0].covariance[i] == Approx(want[i]).epsilon(1e-9).margin(1e-15));
+  // At the grid's edges: the neighbourhood is cut.
+  check_spread(PoseSpace(paper_space(), 1), bin(0, 0, 20, 49, 0, 4, 8), 5);
 }

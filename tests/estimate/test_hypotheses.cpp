@@ -237,6 +237,14 @@ void check_spread(const PoseSpace& space, const BinIndex& c, std::uint64_t seed)
   const std::array<double, 36> want = spread_of(space, belief, c, 2);
   for (int i = 0; i < 36; ++i) CHECK(h.modes[0].covariance[i] == Approx(want[i]).epsilon(1e-9).margin(1e-15));
   CHECK(h.modes[0].covariance[35] > 0.0);
+  // Symmetric bit for bit, in the grid's frame and turned into a tilted workspace's.
+  const std::array<double, 36> robot = covariance_to_robot(h.modes[0].covariance, so3::exp({0.3, -0.7, 1.1}));
+  for (int a = 0; a < 6; ++a)
+    for (int b = 0; b < a; ++b) {
+      INFO("entry " << a << ", " << b);
+      CHECK(h.modes[0].covariance[a * 6 + b] == h.modes[0].covariance[b * 6 + a]);
+      CHECK(robot[a * 6 + b] == robot[b * 6 + a]);
+    }
 }
 
 }  // namespace

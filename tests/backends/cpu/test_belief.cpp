@@ -134,6 +134,40 @@ TEST_CASE("the best bins past the band, kept between folds as bins rise past the
   CHECK(s.max_offset - top.back().offset >= band);
 }
 
+TEST_CASE("a belief that sharpens prunes its band: the flat phase's bins stop costing memory and reads") {
+  // A flat phase (thousands of bins, each within the band of the maximum), then pairs that vote one small region
+  // of 128 bins, which falls in every shard: each shard's maximum climbs past the band's width, and every flat bin
+  // leaves the band.
+  const sva::PoseSpace space(sva::test::paper_space(), 2);
+  sva::Belief belief(space, 1e-6);
+  sva::util::Rng rng(31, 1);
+  fold_sharp_pairs(belief, space, rng, 3, 3000, 0, 50);
+  const std::size_t flat_bins = belief.touched(), flat_bytes = belief.table_bytes();
+  for (int pair = 0; pair < 12; ++pair) {
+    sva::BinAccumulator acc(256);
+    for (int v = 0; v < 128; ++v) {
+      sva::BinIndex i;
+      i.object = static_cast<std::uint32_t>(v % 2);
+      i.t[0] = 60 + (v / 2) % 4, i.t[1] = 60 + (v / 8) % 4, i.t[2] = 60 + v / 32;
+      i.r[0] = i.r[1] = i.r[2] = 4;
+      acc.add(space.pack(i), 1 << 20);
+    }
+    REQUIRE(belief.add(belief.terms(acc), 1));
+  }
+  INFO("bins " << flat_bins << " -> " << belief.touched() << ", bytes " << flat_bytes << " -> "
+               << belief.table_bytes());
+  REQUIRE(belief.touched() == flat_bins + 128);
+  const sva::BeliefSummary s = belief.summarise();
+  const std::vector<sva::BinOffset> top = full_top(belief, 129);
+  const std::uint64_t band = (std::uint64_t{sva::belief_math::mass_bits(space.bins_per_object())} + 1) << 32;
+  REQUIRE(top.size() == 129);
+  REQUIRE(s.max_offset - top[128].offset >= band);  // not vacuous: every flat bin lies below the band
+  // The band's tables, kept stale, held every flat bin: pruned, the belief is a third smaller.
+  CHECK(belief.table_bytes() * 3 < flat_bytes * 2);
+  CHECK(s == full_pass(belief, space));
+  for (std::size_t k : {1u, 3u, 200u}) CHECK(belief.best_bins(k) == full_top(belief, k));
+}
+
 TEST_CASE("forgetting gives the memory back: the table is sized for the bins it keeps") {
   const sva::PoseSpace space(sva::test::paper_space(), 2);
   sva::Belief belief(space, 1e-6);

@@ -75,6 +75,7 @@ class BeliefShard {
   std::vector<std::uint64_t> touched_, best_offset_, best_key_;
   BeliefTable band_;  // each band bin's offset as of its last addition (current while it is in the band)
   std::size_t band_pruned_size_ = 0;
+  std::uint64_t band_pruned_max_ = 0;      // max_ at the last prune
   mutable BeliefTable upper_{4};           // best_past_band's bins (read and made under the belief's kept-best lock)
   mutable std::uint64_t upper_floor_ = 0;  // 0: upper_ is not kept
   mutable std::size_t upper_made_size_ = 0;

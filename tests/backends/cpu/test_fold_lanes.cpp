@@ -36,8 +36,9 @@ TEST_CASE("fold terms in lanes equal sva_fold_units_given bit for bit") {
                                           bm::eps_units(0.999)};
   std::size_t terms = 0;
   for (int t = 0; t < 300; ++t) {
-    // 1 to 70 bins (whole groups of 8 and not), masses from one unit to a full vote (2^24) and beyond.
-    std::vector<std::uint64_t> mass(1 + rng.below(70));
+    // 1 to 100 bins (none, one and three whole groups of 32, and a rest), masses from one unit to a full vote
+    // (2^24) and beyond.
+    std::vector<std::uint64_t> mass(1 + rng.below(100));
     const int bits = 1 + static_cast<int>(rng.below(40));
     for (std::uint64_t& m : mass) m = 1 + rng.below(std::uint64_t{1} << bits);
     for (std::uint64_t e : eps) {
@@ -52,5 +53,12 @@ TEST_CASE("fold terms in lanes equal sva_fold_units_given bit for bit") {
     CHECK(mismatches({1}, e) == 0);
     CHECK(mismatches({(std::uint64_t{1} << 62) + 12345, (std::uint64_t{1} << 62) - 1, 1, 7}, e) == 0);
     CHECK(mismatches({1, 1, 1, 1, 1, 1, 1, 1, 1, std::uint64_t{1} << 40}, e) == 0);
+    // The same extremes in whole groups of lanes, not only in the rest.
+    std::vector<std::uint64_t> group;
+    for (int k = 0; k < 24; ++k)
+      for (std::uint64_t m :
+           {(std::uint64_t{1} << 61) + 12345u, std::uint64_t{1}, std::uint64_t{7}, std::uint64_t{1} << 40})
+        group.push_back(m);
+    CHECK(mismatches(group, e) == 0);
   }
 }

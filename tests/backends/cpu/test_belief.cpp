@@ -70,6 +70,51 @@ void fold_sharp_pairs(sva::Belief& belief, const sva::PoseSpace& space, sva::uti
 
 }  // namespace
 
+TEST_CASE("a pair's fold terms are its bins with votes, grouped by shard in slot order, each term the fold's") {
+  const sva::PoseSpace space(sva::test::paper_space(), 3);
+  const sva::Belief belief(space, 1e-6);
+  const std::uint64_t eps = sva::belief_math::eps_units(1e-6);
+  sva::util::Rng rng(11, 3);
+  std::size_t terms = 0, left_out = 0;
+  // A large pair first, then small ones: the thread's scratch, sized by the large one, must not leak its bins into
+  // the next; bins whose votes sum to zero or below are no terms.
+  for (const int votes : {20000, 300, 7, 1, 2500}) {
+    sva::BinAccumulator acc(16);
+    for (int v = 0; v < votes; ++v) {
+      sva::BinIndex i;
+      i.object = static_cast<std::uint32_t>(rng.below(3));
+      for (int a = 0; a < 3; ++a) {
+        i.t[a] = static_cast<int>(rng.below(40));
+        i.r[a] = static_cast<int>(rng.below(9));
+      }
+      const std::uint64_t pick = rng.below(10);
+      const std::int64_t m = pick == 0 ? 0 : pick == 1 ? -5 : static_cast<std::int64_t>(1 + rng.below(1u << 20));
+      acc.add(space.pack(i), m);
+    }
+    // The definition: every bin with positive mass, in slot order, grouped by shard.
+    std::uint64_t total = 0;
+    std::vector<std::pair<std::uint64_t, std::uint64_t>> bins;
+    acc.for_each([&](std::uint64_t k, std::int64_t m) {
+      if (m <= 0) return;
+      bins.emplace_back(k, static_cast<std::uint64_t>(m));
+      total += static_cast<std::uint64_t>(m);
+    });
+    std::vector<sva::BinOffset> expected;
+    for (std::size_t shard = 0; shard < sva::kBeliefShards; ++shard)
+      for (const auto& [k, m] : bins)
+        if (sva::belief_shard_of(k) == shard) expected.push_back({k, sva::belief_math::sva_fold_units(m, total, eps)});
+    const sva::BeliefTerms got = belief.terms(acc);
+    INFO(votes << " votes");
+    CHECK(got.terms == expected);
+    for (std::size_t shard = 0; shard < sva::kBeliefShards; ++shard)
+      for (const sva::BinOffset& t : got.shard(shard)) CHECK(sva::belief_shard_of(t.key) == shard);
+    terms += got.size();
+    left_out += acc.size() - got.size();
+  }
+  CHECK(terms > 10000);    // not vacuous: pairs with terms
+  CHECK(left_out > 1000);  // and bins without votes that are left out
+}
+
 TEST_CASE("the belief's incremental reductions equal a full pass, through folds that move the maximum far") {
   const sva::PoseSpace space(sva::test::paper_space(), 3);
   sva::Belief belief(space, 1e-6);

@@ -62,29 +62,32 @@ void Belief::terms(const BinAccumulator& votes, BeliefTerms* out) const {
   thread_local std::vector<std::uint8_t> shard;
   out->terms.clear();
   out->begin.fill(0);
-  mass.clear();
-  key.clear();
-  shard.clear();
+  // Sized up only (shrinking and growing again would zero the scratch every pair); n of each are this pair's.
+  if (key.size() < votes.capacity()) {
+    key.resize(votes.capacity());
+    mass.resize(votes.capacity());
+  }
+  // The pair's bins with votes (masses are positive: int64 and uint64 share the bits).
+  const std::size_t n = votes.copy_positive(key.data(), reinterpret_cast<std::int64_t*>(mass.data()));
+  if (shard.size() < n) {
+    shard.resize(n);
+    units.resize(n);
+  }
   std::uint64_t total = 0;  // < 2^63: votes are clamped (SVA_FIXED_MAX_VOTE_UNITS)
-  votes.for_each([&](std::uint64_t k, std::int64_t m) {
-    if (m <= 0) return;
-    key.push_back(k);
-    mass.push_back(static_cast<std::uint64_t>(m));
-    const std::size_t s = belief_shard_of(k);
-    shard.push_back(static_cast<std::uint8_t>(s));
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t s = belief_shard_of(key[i]);
+    shard[i] = static_cast<std::uint8_t>(s);
     ++out->begin[s + 1];
-    total += static_cast<std::uint64_t>(m);
-  });
+    total += mass[i];
+  }
   if (total == 0) return;
-  units.resize(mass.size());
-  cpu::fold_units(mass.data(), mass.size(), total, eps_units_, belief_math::sva_floor_log(total, eps_units_),
-                  units.data());
+  cpu::fold_units(mass.data(), n, total, eps_units_, belief_math::sva_floor_log(total, eps_units_), units.data());
   // Grouped by shard (a counting sort), each group in the pair table's slot order.
   for (std::size_t s = 0; s < kBeliefShards; ++s) out->begin[s + 1] += out->begin[s];
   std::array<std::uint32_t, kBeliefShards> next;
   std::copy(out->begin.begin(), out->begin.end() - 1, next.begin());
-  out->terms.resize(key.size());
-  for (std::size_t i = 0; i < key.size(); ++i) out->terms[next[shard[i]]++] = {key[i], units[i]};
+  out->terms.resize(n);
+  for (std::size_t i = 0; i < n; ++i) out->terms[next[shard[i]]++] = {key[i], units[i]};
 }
 
 bool Belief::add(const BeliefTerms& terms, std::uint32_t count) {

@@ -63,9 +63,9 @@ void Belief::terms(const BinAccumulator& votes, BeliefTerms* out) const {
   out->terms.clear();
   out->begin.fill(0);
   // Sized up only (shrinking and growing again would zero the scratch every pair); n of each are this pair's.
-  if (key.size() < votes.capacity()) {
-    key.resize(votes.capacity());
-    mass.resize(votes.capacity());
+  if (key.size() < votes.size() + 1) {
+    key.resize(votes.size() + 1);
+    mass.resize(votes.size() + 1);
   }
   // The pair's bins with votes (masses are positive: int64 and uint64 share the bits).
   const std::size_t n = votes.copy_positive(key.data(), reinterpret_cast<std::int64_t*>(mass.data()));

@@ -87,9 +87,10 @@ class BinTable {
       if (s.key != kEmpty) fn(s.key, s.value);
   }
   // Copies every key whose value is above zero, with its value, in slot order, into keys and values (each with room
-  // for capacity() entries); returns how many. Every slot is written and the position advanced by whether it is kept,
-  // without a branch: in a pair's table, a fifth to a half full, a branch per slot went the wrong way at random, and
-  // its mispredictions were most of Belief::terms' time.
+  // for size() + 1 entries: a slot is written at the count so far, which never passes size()); returns how many.
+  // Every slot is written and the position advanced by whether it is kept, without a branch: in a pair's table, a
+  // fifth to a half full, a branch per slot went the wrong way at random, and its mispredictions were most of
+  // Belief::terms' time.
   std::size_t copy_positive(std::uint64_t* keys, Value* values) const {
     std::size_t n = 0;
     for (const Slot& s : slots_) {

@@ -77,12 +77,9 @@ SVA_BFN uint sva_msb64(uint64_t x) {
   return r;
 }
 
-// log2(v) for v != 0 in fixed point with 32 fractional bits. The top 32 bits
-// of v form a mantissa y in [1, 2); each squaring of y yields one bit of
-// log2(y) (y^2 >= 2: the bit is 1 and y halves). Truncation is monotone, so
-// v <= w gives sva_log2_u128(v) <= sva_log2_u128(w).
-SVA_BFN uint64_t sva_log2_u128(SvaU128 v) {
-  uint p = v.hi != uint64_t(0) ? 64u + sva_msb64(v.hi) : sva_msb64(v.lo);
+// The mantissa: the 32 bits of v from its top bit p down, in [2^31, 2^32).
+// The CPU's fold lanes (host/src/backends/cpu/fold_lanes.cpp) start from it too.
+SVA_BFN uint64_t sva_log2_mantissa(SvaU128 v, uint p) {
   uint64_t y;
   if (p < 31u) {
     y = v.lo << (31u - p);
@@ -93,6 +90,16 @@ SVA_BFN uint64_t sva_log2_u128(SvaU128 v) {
     else y = (v.lo >> s) | (v.hi << (64u - s));
     y &= uint64_t(0xffffffffu);
   }
+  return y;
+}
+
+// log2(v) for v != 0 in fixed point with 32 fractional bits. The top 32 bits
+// of v form a mantissa y in [1, 2); each squaring of y yields one bit of
+// log2(y) (y^2 >= 2: the bit is 1 and y halves). Truncation is monotone, so
+// v <= w gives sva_log2_u128(v) <= sva_log2_u128(w).
+SVA_BFN uint64_t sva_log2_u128(SvaU128 v) {
+  uint p = v.hi != uint64_t(0) ? 64u + sva_msb64(v.hi) : sva_msb64(v.lo);
+  uint64_t y = sva_log2_mantissa(v, p);
   uint64_t frac = uint64_t(0);
   for (uint i = 0u; i < 32u; ++i) {
     y = y * y;  // in [2^62, 2^64): Q2.62

@@ -16,24 +16,12 @@ namespace {
 // scalar); 32 lanes are four AVX-512 or eight AVX2 registers of independent chains, which hide the multiply's latency.
 constexpr std::size_t kLanes = 32;
 
-// sva_log2_u128's position of the top bit (v != 0) and its 32-bit mantissa, with the same shifts.
+// sva_log2_u128's position of the top bit (v != 0: std::countl_zero is sva_msb64 in one instruction) and its
+// mantissa (the shared text's own).
 inline void mantissa(belief_math::SvaU128 v, std::uint64_t* y, std::uint64_t* p) {
   const std::uint32_t top = v.hi != 0 ? 127u - static_cast<std::uint32_t>(std::countl_zero(v.hi))
                                       : 63u - static_cast<std::uint32_t>(std::countl_zero(v.lo));
-  std::uint64_t m;
-  if (top < 31u) {
-    m = v.lo << (31u - top);
-  } else {
-    const std::uint32_t s = top - 31u;
-    if (s == 0u)
-      m = v.lo;
-    else if (s >= 64u)
-      m = v.hi >> (s - 64u);
-    else
-      m = (v.lo >> s) | (v.hi << (64u - s));
-    m &= 0xffffffffu;
-  }
-  *y = m;
+  *y = belief_math::sva_log2_mantissa(v, top);
   *p = top;
 }
 

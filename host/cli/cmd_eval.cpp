@@ -64,7 +64,7 @@ int sweep_report(const Args& a) {
   const auto plot_file = a.get("--plot"), table_file = a.get("--table");
   if (plot_file) check_writable("--plot", *plot_file);
   if (table_file) check_writable("--table", *table_file);
-  for (const char* o : {"--map", "--data", "--json", "--csv", "--compare"})
+  for (const char* o : {"--map", "--data", "--json", "--csv", "--evidence", "--compare"})
     if (a.has(o)) throw Error(std::string("sva eval: --sweep reports earlier runs; ") + o + " does not apply");
   std::vector<eval::SweepLevel> levels;
   for (const auto& arg : a.all("--sweep")) levels.push_back(eval::read_sweep_level(arg));
@@ -199,6 +199,9 @@ void declare_eval_options(Args& a) {
   a.option("--method", "sva|appearance", "sva, or the appearance-only baseline of [15] (default sva)");
   a.option("--json", "OUT.json", "write the summary curve as JSON");
   a.option("--csv", "OUT.csv", "write one row per (trial, readings)");
+  a.option("--evidence", "OUT.jsonl",
+           "write what each estimate's object posterior was made of, a line per (trial, readings): the pairs' and the "
+           "surface check's bits per object, to weigh them otherwise offline (docs/evaluation.md)");
   a.option("--html", "DIR",
            "write a page per trial (sva view's: the touches and hypotheses in 3-D, reading by reading), "
            "the accuracy figure and an index with the worst trials first (random policy; docs/view.md)");
@@ -283,6 +286,8 @@ int cmd_eval(const std::vector<std::string>& argv) {
   const bool reliability_beside_plot = !reliability_file && plot_file;
   if (json_file) check_writable("--json", *json_file);
   if (csv_file) check_writable("--csv", *csv_file);
+  const auto evidence_file = a.get("--evidence");
+  if (evidence_file) check_writable("--evidence", *evidence_file);
   if (plot_file) check_writable("--plot", *plot_file);
   const auto confusion_file = a.get("--confusion");
   if (confusion_file) check_writable("--confusion", *confusion_file);
@@ -319,6 +324,7 @@ int cmd_eval(const std::vector<std::string>& argv) {
   std::fputs(eval::format_table(curve).c_str(), stdout);
   if (json_file) io::write_text_file(*json_file, eval::to_json(result, curve));
   if (csv_file) io::write_text_file(*csv_file, eval::to_csv(result));
+  if (evidence_file) io::write_text_file(*evidence_file, eval::to_evidence_jsonl(result));
   if (plot_file) {
     std::vector<eval::Curve> curves{curve};
     curves.insert(curves.end(), others.begin(), others.end());

@@ -89,8 +89,29 @@ void bind_hypotheses(nb::module_& m) {
       });
 }
 
+void bind_evidence(nb::module_& m) {
+  nb::class_<ObjectEvidence>(m, "ObjectEvidence",
+                             "What Estimate.object_probability is made of, per object id: proportional to 2 ** "
+                             "(temperature * pairs_log2_mass + surface_weight * surface_log2_fit) times the prior, "
+                             "then the calibration's top label (docs/recognition.md, \"What the posterior is made "
+                             "of\").")
+      .def_prop_ro(
+          "pairs_log2_mass", [](const ObjectEvidence& e) { return doubles_copy(e.pairs_log2_mass); },
+          nb::rv_policy::automatic,
+          "the pairs' votes: log2 of each object's mass over poses, relative to the belief's best bin (a NumPy array; "
+          "empty before the first reading)")
+      .def_prop_ro(
+          "surface_log2_fit", [](const ObjectEvidence& e) { return doubles_copy(e.surface_log2_fit); },
+          nb::rv_policy::automatic,
+          "the surface check's bits per object (the leading ones fitted, the others at the worst of theirs; a NumPy "
+          "array, empty when the check did not run)")
+      .def_ro("temperature", &ObjectEvidence::temperature, "the calibration's temperature at this reading count")
+      .def_ro("surface_weight", &ObjectEvidence::surface_weight, "the calibration's weight of surface_log2_fit");
+}
+
 void bind_estimate(nb::module_& m) {
   bind_hypotheses(m);
+  bind_evidence(m);
   nb::class_<Estimate>(m, "Estimate", "The recognizer's belief after the readings so far.")
       .def_ro("ready", &Estimate::ready,
               "False before the first reading: no answer yet (object and object_name are None, object_probability "
@@ -111,6 +132,7 @@ void bind_estimate(nb::module_& m) {
       .def_ro("p_unknown", &Estimate::p_unknown,
               "the probability that the touched object is none of the map's: object o has (1 - p_unknown) * "
               "object_probability[o] (docs/recognition.md, \"None of these\")")
+      .def_ro("evidence", &Estimate::evidence, "what object_probability is made of (sva.ObjectEvidence)")
       .def_rw("pose", &Estimate::pose, "continuous pose of `object` (the fine pose when refined)")
       .def_rw("parabolic_pose", &Estimate::parabolic_pose,
               "the histogram's pose of `object`: the parabolic peak of the log-belief at its best bin")

@@ -69,6 +69,24 @@ def test_estimate_arrays(tiny, tiny_map):
     assert np.allclose(est.pose.apply(x), est.pose.R @ x + est.pose.T)
 
 
+def test_estimate_evidence_weighs_into_its_object(tiny, tiny_map):
+    """Estimate.evidence: what the object posterior is made of, as arrays per object id; weighed as the calibration
+    weighs it, it ranks the estimate's object first (docs/recognition.md, "What the posterior is made of")."""
+    rec = sva.Recognizer(tiny_map, backend="cpu")
+    assert rec.estimate().evidence.pairs_log2_mass.shape == (0,)  # not ready: nothing yet
+    for r in tiny.session_lines()[0]["readings"]:
+        rec.add_reading(reading_of(r))
+    est = rec.estimate()
+    ev = est.evidence
+    assert isinstance(ev, sva.ObjectEvidence)
+    assert ev.pairs_log2_mass.shape == (tiny_map.objects,) and ev.pairs_log2_mass.dtype == np.float64
+    assert ev.surface_log2_fit.shape in ((0,), (tiny_map.objects,))
+    q = ev.temperature * ev.pairs_log2_mass
+    if ev.surface_log2_fit.size:
+        q = q + ev.surface_weight * ev.surface_log2_fit
+    assert int(np.argmax(q)) == est.object
+
+
 def test_light_estimates_read_their_own_calibration(tiny, tiny_map):
     """A map of this build carries light estimates' calibration from its fine pose's first reading (tests/calibration
     show what it changes); before that reading a light estimate's probabilities are the full estimate's."""

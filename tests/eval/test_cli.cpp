@@ -164,6 +164,45 @@ TEST_CASE(
   CHECK(c["seed"] == 8);
 }
 
+TEST_CASE(
+    "sva eval --evidence writes what each posterior was made of; weighed as the estimate weighs it, it names "
+    "the estimate's object") {
+  Fixture f;
+  std::string out;
+  REQUIRE(sva::test::run_sva(
+              f.base() + "--backend cpu --trials 4 --max-readings 8 --seed 7 --evidence " + f.path("ev.jsonl"), &out) ==
+          0);
+  std::istringstream lines(read_file(f.path("ev.jsonl")));
+  std::size_t rows = 0, weighed = 0, surfaces = 0;
+  for (std::string line; std::getline(lines, line); ++rows) {
+    const auto j = nlohmann::json::parse(line);
+    INFO(line.substr(0, 300));
+    CHECK(j["readings"].get<std::size_t>() == rows % 8 + 1);
+    CHECK(j["trial"].get<std::size_t>() == rows / 8);
+    REQUIRE(j["map_object"].is_number());  // every test object is in the map
+    CHECK(j["correct"].get<bool>() == (j["map_object"] == j["estimated_object"]));
+    const auto pairs = j["pairs_log2_mass"].get<std::vector<double>>();
+    const auto surface = j["surface_log2_fit"].get<std::vector<double>>();
+    REQUIRE(pairs.size() == 2);  // the tiny scene's objects
+    CHECK((surface.empty() || surface.size() == pairs.size()));
+    if (pairs[0] == pairs[1]) continue;  // one reading: no pair has voted
+    // The estimate's own weighing (docs/recognition.md, "What the posterior is made of") names its object.
+    std::vector<double> q(2);
+    for (std::size_t o = 0; o < 2; ++o)
+      q[o] = j["temperature"].get<double>() * pairs[o] +
+             (surface.empty() ? 0.0 : j["surface_weight"].get<double>() * surface[o]);
+    CHECK((q[1] > q[0] ? 1u : 0u) == j["estimated_object"].get<unsigned>());
+    ++weighed;
+    surfaces += !surface.empty();
+  }
+  CHECK(rows == 4 * 8);
+  CHECK(weighed >= 4 * 6);  // not vacuous: the pairs and, from the fine pose on, the surfaces weighed
+  CHECK(surfaces > 0);
+  // A file that cannot be written is refused before any trial runs, naming the option.
+  CHECK(sva::test::run_sva(f.base() + "--trials 1 --max-readings 2 --evidence /nonexistent/dir/ev.jsonl", &out) != 0);
+  CHECK(out.find("--evidence") != std::string::npos);
+}
+
 TEST_CASE("sva eval --estimate light: the full curve until the fits start, recorded and printed, bad depths named") {
   Fixture f;
   std::string out;

@@ -13,7 +13,10 @@ inline bool same(const Estimate& a, const Estimate& b) {
             same_pose(a.parabolic_pose, b.parabolic_pose) && same_pose(a.bin_pose, b.bin_pose) &&
             a.pose_refined == b.pose_refined && a.pose_valid == b.pose_valid && a.top.size() == b.top.size() &&
             a.hypotheses.size() == b.hypotheses.size() && a.object_hypotheses.size() == b.object_hypotheses.size() &&
-            a.votes == b.votes && a.votes_outside == b.votes_outside && a.votes_zero == b.votes_zero;
+            a.votes == b.votes && a.votes_outside == b.votes_outside && a.votes_zero == b.votes_zero &&
+            a.evidence.pairs_log2_mass == b.evidence.pairs_log2_mass &&
+            a.evidence.surface_log2_fit == b.evidence.surface_log2_fit &&
+            a.evidence.temperature == b.evidence.temperature && a.evidence.surface_weight == b.evidence.surface_weight;
   for (std::size_t i = 0; ok && i < a.top.size(); ++i)
     ok = a.top[i].object == b.top[i].object && a.top[i].probability == b.top[i].probability &&
          same_pose(a.top[i].pose, b.top[i].pose);

@@ -6,6 +6,7 @@
 #include <sva/error.hpp>
 #include <sva/recognizer.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -367,4 +368,49 @@ TEST_CASE("Recognizer: the fine pose and the surface check start at the reading 
   CHECK(refined_early > 0);  // the early map fitted at 4 and 5 readings
   o.fine_pose_from = 2;      // too few contacts to fit a pose: refused by name
   CHECK_THROWS_WITH(Map::train(t.data, o), Catch::Contains("fine pose from 2 readings"));
+}
+
+TEST_CASE("Recognizer: the estimate's evidence is what its object probabilities are made of") {
+  const Trained& t = trained();
+  RecognizerOptions plain;
+  plain.backend = BackendKind::cpu;
+  plain.calibrate = false;  // Eq 5's posterior with the surfaces' bits as they are: 2^(pairs + surface), normalised
+  RecognizerOptions calibrated;
+  calibrated.backend = BackendKind::cpu;
+  Recognizer raw(t.map, paper_space(), plain), cal(t.map, paper_space(), calibrated);
+  CHECK(raw.estimate().evidence.pairs_log2_mass.empty());  // not ready: no evidence yet
+  std::size_t with_surfaces = 0;
+  for (const Reading& r : readings_at(2, random_pose(710, 100.0), util::Rng(45, 1), 12)) {
+    raw.add_reading(r);
+    cal.add_reading(r);
+    const Estimate e = raw.estimate(), c = cal.estimate();
+    INFO("reading " << raw.reading_count());
+    const ObjectEvidence& ev = e.evidence;
+    REQUIRE(ev.pairs_log2_mass.size() == e.object_probability.size());
+    CHECK(ev.temperature == 1.0);
+    std::vector<double> q(ev.pairs_log2_mass);
+    if (!ev.surface_log2_fit.empty()) {
+      REQUIRE(ev.surface_log2_fit.size() == q.size());
+      CHECK(ev.surface_weight == 1.0);
+      for (std::size_t o = 0; o < q.size(); ++o) q[o] += ev.surface_log2_fit[o];
+      ++with_surfaces;
+    }
+    const double top = *std::max_element(q.begin(), q.end());
+    double z = 0.0;
+    for (double v : q) z += std::exp2(v - top);
+    // The masses are the belief summary's (an object's far tail bounded rather than summed): a part in a thousand.
+    for (std::size_t o = 0; o < q.size(); ++o)
+      CHECK(e.object_probability[o] == Approx(std::exp2(q[o] - top) / z).epsilon(1e-3).margin(1e-9));
+    // Calibrated: the map's temperature and surface weight, which weigh the same parts into its ranking.
+    const ObjectEvidence& cv = c.evidence;
+    CHECK(cv.pairs_log2_mass == ev.pairs_log2_mass);
+    CHECK(cv.surface_log2_fit == ev.surface_log2_fit);
+    if (raw.reading_count() >= 2) CHECK(cv.temperature != 1.0);
+    std::vector<double> w(q.size());
+    for (std::size_t o = 0; o < w.size(); ++o)
+      w[o] = cv.temperature * cv.pairs_log2_mass[o] +
+             (cv.surface_log2_fit.empty() ? 0.0 : cv.surface_weight * cv.surface_log2_fit[o]);
+    CHECK(static_cast<std::uint32_t>(std::max_element(w.begin(), w.end()) - w.begin()) == c.object);
+  }
+  CHECK(with_surfaces > 0);  // the surface check ran from the fine pose on
 }

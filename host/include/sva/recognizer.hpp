@@ -104,6 +104,19 @@ struct RosPose {
 };
 RosPose to_ros(const PoseHypothesis& hypothesis);
 
+// What the posterior over objects is made of (docs/recognition.md, "What the posterior is made of"), per object id:
+// object_probability is proportional to 2^(temperature x pairs_log2_mass + surface_weight x surface_log2_fit) times
+// the prior, then the calibration's top label reshapes the leading object's share. For studies that weigh the
+// evidence otherwise (`sva eval --evidence`); a robot needs only object_probability.
+struct ObjectEvidence {
+  std::vector<double> pairs_log2_mass;   // the pairs' votes (Eq 5): log2 of the object's mass over poses, relative to
+                                         // the belief's best bin (empty before the first reading)
+  std::vector<double> surface_log2_fit;  // the surface check's bits: how well each leading object's surface explains
+                                         // the readings, the others at the worst of theirs (empty when it did not run)
+  double temperature = 1.0;              // the calibration's at this reading count (1 without one)
+  double surface_weight = 0.0;           // the calibration's learned weight of surface_log2_fit
+};
+
 struct Estimate {
   // false before the session's first reading: there is no answer yet. object_probability is then the prior
   // (uniform without one); object_name is empty, the poses are the identity, top and the hypotheses are empty.
@@ -117,6 +130,7 @@ struct Estimate {
   // the probability of object o is then (1 - p_unknown) object_probability[o]. The prior before the second reading
   // and on maps that cannot say it; 0 with calibration off.
   double p_unknown = 0.0;
+  ObjectEvidence evidence;                 // what object_probability is made of (empty parts before the first reading)
   RigidPose pose;                          // continuous pose of `object`: the fine pose when refined, else
                                            // `parabolic_pose`
   RigidPose parabolic_pose;                // the histogram's: parabolic peak of the log-belief at the best bin

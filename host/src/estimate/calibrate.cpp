@@ -24,6 +24,7 @@ void weigh_surfaces(const Candidates& c, const Fits& fits, const Verification& v
                     const CalibrationInput& in, CalibratedPosterior* out) {
   // Uncalibrated, the surfaces' bits count as they are, each reading once.
   const double weight = in.calibration ? in.calibration->surface_weight : 1.0;
+  out->surface_weight = weight;
   out->object_probability =
       tempered_posterior(level.object_log2_mass, in.temperature, in.object_weight, v.log2_fit, weight);
   std::uint32_t best = c.object;

@@ -30,6 +30,7 @@ struct CalibratedPosterior {
   std::vector<double> object_probability;  // sums to 1
   double p_unknown = 0.0;                  // "none of these" (0 without a calibration)
   bool reweighed = false;                  // the probabilities are no longer the candidates' raw shares
+  double surface_weight = 0.0;             // the weight the surfaces' bits entered with (0: they did not)
 };
 
 struct CalibrationInput {

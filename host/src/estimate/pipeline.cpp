@@ -112,6 +112,10 @@ Estimate estimate_from(const Candidates& c, std::span<const ObservedReading> rea
                                            .object_weight = r.object_weight,
                                            .unknown_prior = r.unknown_prior});
   Estimate out = report(c, fits, p, space, objects, {.hypotheses = r.top_k > 0, .fine_pose = r.refine_pose});
+  out.evidence = {.pairs_log2_mass = level.object_log2_mass,
+                  .surface_log2_fit = v.log2_fit,
+                  .temperature = temperature,
+                  .surface_weight = p.surface_weight};
   took.posterior_ms = lap_ms(&t0);
   if (r.times) {
     r.times->fit_ms += took.fit_ms;

@@ -32,6 +32,7 @@ void record_step(StepResult& s, const Estimate& est, const Trial& trial, const S
   s.true_object_probability = known && truth < est.object_probability.size() ? est.object_probability[truth] : 0.0;
   s.top_probability = est.object < est.object_probability.size() ? est.object_probability[est.object] : 0.0;
   s.p_unknown = est.p_unknown;
+  s.evidence = est.evidence;
   s.pose_valid = est.pose_valid;
   if (s.pose_valid && !(finite(est.pose.T) && std::isfinite(est.pose.R[0][0] + est.pose.R[1][1] + est.pose.R[2][2])))
     throw std::logic_error("eval: the recognizer returned a non-finite pose in trial " + std::to_string(trial.index));

@@ -19,6 +19,11 @@ namespace sva::eval {
 std::string to_json(const EvalResult& result, const Curve& curve);
 // One row per (trial, readings).
 std::string to_csv(const EvalResult& result);
+// One JSON object a line per (trial, readings): what each estimate's object posterior was made of, to weigh it
+// otherwise offline (docs/evaluation.md, "The evidence behind each answer"): {"trial", "readings", "object" (the
+// test set's name), "map_object" (the truth's id in the map, null when the map lacks it), "estimated_object",
+// "correct", "temperature", "surface_weight", "pairs_log2_mass", "surface_log2_fit"} (arrays indexed by map object id).
+std::string to_evidence_jsonl(const EvalResult& result);
 // The curve as a fixed-width table (readings, accuracy, errors, ms/update).
 std::string format_table(const Curve& curve);
 

@@ -3,6 +3,7 @@
 // correctness, pose errors and update time; and the curve that summarises
 // them against the number of readings (the paper's Fig. 4 and 5).
 #include <sva/pose.hpp>
+#include <sva/recognizer.hpp>
 
 #include <array>
 #include <cstdint>
@@ -32,6 +33,7 @@ struct StepResult {
   std::uint64_t votes = 0;       // votes cast inside the pose space by this reading's update
   std::uint64_t votes_zero = 0;  // of them, those whose fixed-point mass rounds to 0 (they add nothing)
   RigidPose estimate;            // the estimated pose (when pose_valid)
+  ObjectEvidence evidence;       // what the estimate's object posterior was made of (`sva eval --evidence`)
   bool has_pose_error() const { return correct && pose_valid; }
 };
 

@@ -288,6 +288,7 @@ int cmd_eval(const std::vector<std::string>& argv) {
   if (csv_file) check_writable("--csv", *csv_file);
   const auto evidence_file = a.get("--evidence");
   if (evidence_file) check_writable("--evidence", *evidence_file);
+  o.keep_evidence = evidence_file.has_value();
   if (plot_file) check_writable("--plot", *plot_file);
   const auto confusion_file = a.get("--confusion");
   if (confusion_file) check_writable("--confusion", *confusion_file);

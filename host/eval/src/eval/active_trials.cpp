@@ -144,7 +144,7 @@ void run_active_trial(const Trial& trial, const TrialGenerator& gen, const Choos
       throw Error(setup.source + ": trial " + std::to_string(trial.index) + ", reading " + std::to_string(k + 1) +
                   " (" + what + "): " + e.what());
     }
-    record_step(out.steps[k], est, trial, object, ms_since(start), map_object_of(setup, trial.object));
+    record_step(out.steps[k], est, trial, object, ms_since(start), setup);
     out.steps[k].plan_ms = c.plan_ms;
     out.samples[k] = c.sample;
     if (c.sample != kSimulated) tr.show(c.sample);

@@ -165,6 +165,7 @@ EvalResult run_checked_evaluation(const Map& map, const Dataset& test, const Eva
   setup.threads = options.threads;
   setup.progress = options.progress;
   setup.source = options.data_name;
+  setup.keep_evidence = options.keep_evidence;
   setup.scene = map.scene_name();
   setup.backend = backend_name(options.recognizer.backend);
   setup.method = method_name(options.recognizer.method);

@@ -21,7 +21,8 @@ namespace sva::eval {
 
 // What one step of a trial shows: the estimate against the truth.
 void record_step(StepResult& s, const Estimate& est, const Trial& trial, const SceneObject& object, double update_ms,
-                 std::int32_t map_object) {
+                 const TrialSetup& setup) {
+  const std::int32_t map_object = map_object_of(setup, trial.object);
   s.update_ms = update_ms;
   s.votes = est.votes;
   s.votes_zero = est.votes_zero;
@@ -32,7 +33,7 @@ void record_step(StepResult& s, const Estimate& est, const Trial& trial, const S
   s.true_object_probability = known && truth < est.object_probability.size() ? est.object_probability[truth] : 0.0;
   s.top_probability = est.object < est.object_probability.size() ? est.object_probability[est.object] : 0.0;
   s.p_unknown = est.p_unknown;
-  s.evidence = est.evidence;
+  if (setup.keep_evidence) s.evidence = est.evidence;
   s.pose_valid = est.pose_valid;
   if (s.pose_valid && !(finite(est.pose.T) && std::isfinite(est.pose.R[0][0] + est.pose.R[1][1] + est.pose.R[2][2])))
     throw std::logic_error("eval: the recognizer returned a non-finite pose in trial " + std::to_string(trial.index));
@@ -110,7 +111,7 @@ EvalResult run_trials(const Dataset& test, const TrialSetup& setup, const Sessio
           }
           const auto stop = std::chrono::steady_clock::now();
           record_step(out.steps[k], est, trial, object, std::chrono::duration<double, std::milli>(stop - start).count(),
-                      map_object_of(setup, trial.object));
+                      setup);
         }
         pool.give_back(std::move(session));
         if (progress) progress->advance();
@@ -148,7 +149,7 @@ EvalResult run_trials_batched(const Dataset& test, const TrialSetup& setup, Sess
       const std::size_t i = s.sessions[k];
       const Trial& trial = trials[i];
       record_step(result.trials[s.first + i].steps[s.step], estimates[k], trial, test.scene.objects[trial.object],
-                  s.update_ms / static_cast<double>(s.sessions.size()), map_object_of(setup, trial.object));
+                  s.update_ms / static_cast<double>(s.sessions.size()), setup);
     }
   };
   hooks.on_error = [&](const Error& e, const LockstepStep& s) {

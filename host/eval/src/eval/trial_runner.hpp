@@ -55,6 +55,7 @@ struct TrialSetup {
   // Per object of the test set: its id in the map, or -1 when the map does not hold it (--unknown-objects);
   // empty: the same objects in the same order.
   std::vector<std::int32_t> map_object;
+  bool keep_evidence = false;  // EvalOptions::keep_evidence
 };
 
 // Runs setup.trials trials on the test set. Each trial's randomness comes from
@@ -76,9 +77,9 @@ EvalResult empty_result(const Dataset& test, const TrialSetup& setup);
 std::int32_t map_object_of(const TrialSetup& setup, std::uint32_t object);
 // Copies the trial's object, pose and samples into its result and sizes its steps.
 void start_trial(TrialResult& out, const Trial& trial, const TrialSetup& setup);
-// Records the estimate after one more reading against the trial's truth (`map_object`: the true object's id in
-// the map, -1 when the map does not hold it).
+// Records the estimate after one more reading against the trial's truth (the true object's id in the map by
+// setup.map_object; its evidence when setup.keep_evidence).
 void record_step(StepResult& s, const Estimate& est, const Trial& trial, const SceneObject& object, double update_ms,
-                 std::int32_t map_object);
+                 const TrialSetup& setup);
 
 }  // namespace sva::eval

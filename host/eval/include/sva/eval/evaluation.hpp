@@ -35,6 +35,9 @@ struct EvalOptions {
   // The test set may hold objects the map does not (matched by name): their trials count as right only when
   // they say "none of these" (the stop summary), and the curve reports p_unknown's ROC.
   bool unknown_objects = false;
+  // Keep each step's ObjectEvidence in the result (`sva eval --evidence`): two numbers per object per trial-reading,
+  // so off unless asked (10,000 trials of 30 readings on 100 objects would hold 480 MB).
+  bool keep_evidence = false;
   std::optional<double> stop_at;  // the stop summary's threshold (summarize)
   ActiveSetup active;             // its policy is set from `policy`
 };

@@ -22,7 +22,8 @@ std::string to_csv(const EvalResult& result);
 // One JSON object a line per (trial, readings): what each estimate's object posterior was made of, to weigh it
 // otherwise offline (docs/evaluation.md, "The evidence behind each answer"): {"trial", "readings", "object" (the
 // test set's name), "map_object" (the truth's id in the map, null when the map lacks it), "estimated_object",
-// "correct", "temperature", "surface_weight", "pairs_log2_mass", "surface_log2_fit"} (arrays indexed by map object id).
+// "correct", "temperature", "surface_weight", "pairs_log2_mass", "surface_log2_fit"} (arrays indexed by map object id;
+// empty unless the run kept them: EvalOptions::keep_evidence).
 std::string to_evidence_jsonl(const EvalResult& result);
 // The curve as a fixed-width table (readings, accuracy, errors, ms/update).
 std::string format_table(const Curve& curve);

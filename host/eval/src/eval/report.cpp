@@ -275,30 +275,15 @@ std::string to_csv(const EvalResult& result) {
   return s.str();
 }
 
-namespace {
-
-// The map's id of each of the test set's objects (-1: the map lacks it).
-std::vector<std::int64_t> map_ids(const EvalResult& result) {
-  std::vector<std::int64_t> ids(result.objects.size(), -1);
-  for (std::size_t o = 0; o < result.objects.size(); ++o)
-    for (std::size_t m = 0; m < result.map_objects.size(); ++m)
-      if (result.map_objects[m] == result.objects[o]) ids[o] = static_cast<std::int64_t>(m);
-  return ids;
-}
-
-}  // namespace
-
 std::string to_evidence_jsonl(const EvalResult& result) {
-  const std::vector<std::int64_t> ids = map_ids(result);
   std::string out;
   for (const auto& t : result.trials) {
-    const std::int64_t truth = t.object < ids.size() ? ids[t.object] : -1;
     for (std::size_t k = 0; k < t.steps.size(); ++k) {
       const StepResult& st = t.steps[k];
       nlohmann::json row = {{"trial", t.index},
                             {"readings", k + 1},
                             {"object", t.object < result.objects.size() ? result.objects[t.object] : ""},
-                            {"map_object", truth >= 0 && t.known ? nlohmann::json(truth) : nlohmann::json(nullptr)},
+                            {"map_object", t.known ? nlohmann::json(t.map_object) : nlohmann::json(nullptr)},
                             {"estimated_object", st.estimated_object},
                             {"correct", st.correct},
                             {"temperature", st.evidence.temperature},

@@ -72,7 +72,8 @@ std::int32_t map_object_of(const TrialSetup& setup, std::uint32_t object) {
 void start_trial(TrialResult& out, const Trial& trial, const TrialSetup& setup) {
   out.index = trial.index;
   out.object = trial.object;
-  out.known = map_object_of(setup, trial.object) >= 0;
+  out.map_object = map_object_of(setup, trial.object);
+  out.known = out.map_object >= 0;
   out.pose = trial.pose;
   out.samples = trial.samples;
   out.steps.resize(trial.readings.size());

@@ -41,6 +41,7 @@ struct TrialResult {
   std::size_t index = 0;
   std::uint32_t object = 0;          // in the test set's scene
   bool known = true;                 // the map holds the object (`sva eval --unknown-objects`: not always)
+  std::int32_t map_object = 0;       // and its id there (-1 when it does not)
   RigidPose pose;                    // true pose
   std::vector<std::size_t> samples;  // test sample presented at each step
   std::vector<StepResult> steps;     // steps[n - 1]: after n readings

@@ -165,7 +165,7 @@ TEST_CASE(
 }
 
 TEST_CASE(
-    "sva eval --evidence writes what each posterior was made of; weighed as the estimate weighs it, it names "
+    "sva eval --evidence writes what each posterior was made of, which weighed as the estimate weighs it names "
     "the estimate's object") {
   Fixture f;
   std::string out;

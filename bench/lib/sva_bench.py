@@ -8,6 +8,7 @@ A script in bench/<folder>/ imports it with
 and finds the sva package itself on PYTHONPATH (build-ci/python, or an installed one) where a helper needs it.
 
 - logit: the log-odds, clipped
+- object_families: each object's family in a scene (its own name when it has none)
 - converged_rows, Surface: a dataset's converged readings by object, and the nearest of them to a place
 - rotation, placed: a `sva eval` trial's true pose, and a reading moved by it
 - random_trials, replay, session: the trials of a `sva eval --csv` run, replayed through a recognizer
@@ -26,6 +27,13 @@ def logit(p, eps: float = 1e-9):
     """log(p / (1 - p)), p clipped to [eps, 1 - eps] so that a certain 0 or 1 stays finite."""
     p = np.clip(p, eps, 1 - eps)
     return np.log(p / (1 - p))
+
+
+def object_families(scene) -> dict[str, str]:
+    """Each object's family by name in a loaded scene (`sva.load_scene`); an object without one is its own."""
+    import json
+
+    return {o["name"]: o.get("family") or o["name"] for o in json.loads(scene.to_json())["objects"]}
 
 
 def converged_rows(data) -> dict[int, list[int]]:

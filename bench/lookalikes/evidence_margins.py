@@ -24,8 +24,12 @@ import json
 import statistics
 import sys
 from collections import defaultdict
+from pathlib import Path
 
 import sva
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "lib"))  # bench/lib: the helpers the scripts share
+from sva_bench import object_families  # noqa: E402
 
 PROG = "evidence_margins.py"
 
@@ -132,10 +136,9 @@ def main() -> None:
         fail(f"--weights {a.weights!r}: each weight must be finite and at least 0")
     try:
         names = list(sva.Map.load(a.map).object_names)
-        scene = json.loads(sva.load_scene(a.scene).to_json())
+        family_by_name = object_families(sva.load_scene(a.scene))
     except Exception as e:  # the package's errors name the file and the fault
         fail(str(e))
-    family_by_name = {o["name"]: o.get("family") or o["name"] for o in scene["objects"]}
     missing = [n for n in names if n not in family_by_name]
     if missing:
         fail(f"{a.map}: object {missing[0]!r} is not in scene {a.scene!r}")

@@ -20,7 +20,6 @@ in what the image alone might show. Objects without siblings count as told apart
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 
@@ -29,7 +28,7 @@ import numpy as np
 import sva
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "lib"))  # bench/lib: the helpers the scripts share
-from sva_bench import converged_rows  # noqa: E402
+from sva_bench import converged_rows, object_families  # noqa: E402
 
 DEPTH_MM = 1.0  # how far off the contact plane the pad still presses (the skin's indentation is 0.2 mm at 20 kPa)
 
@@ -173,8 +172,8 @@ def main() -> None:
     except Exception as e:  # the package's errors name the file and the fault
         sys.exit(f"family_ceiling.py: {e}")
     families: dict[str, list[int]] = {}
-    for i, o in enumerate(json.loads(scene.to_json())["objects"]):
-        families.setdefault(o.get("family") or o["name"], []).append(i)
+    for i, family in enumerate(object_families(scene).values()):
+        families.setdefault(family, []).append(i)
     if list(test.scene.object_names) != list(scene.object_names):
         sys.exit(f"family_ceiling.py: {a.test} is not a dataset of scene {a.scene!r} (its objects differ)")
     position, normal, _ = readings_by_object(test)

@@ -18,6 +18,7 @@ and finds the sva package itself on PYTHONPATH (build-ci/python, or an installed
 from __future__ import annotations
 
 import csv
+import json
 from collections import defaultdict
 
 import numpy as np
@@ -31,8 +32,6 @@ def logit(p, eps: float = 1e-9):
 
 def object_families(scene) -> dict[str, str]:
     """Each object's family by name in a loaded scene (`sva.load_scene`); an object without one is its own."""
-    import json
-
     return {o["name"]: o.get("family") or o["name"] for o in json.loads(scene.to_json())["objects"]}
 
 

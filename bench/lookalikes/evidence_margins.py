@@ -50,6 +50,9 @@ def read_rows(path: str, objects: int) -> list[dict]:
             continue
         try:
             r = json.loads(line)
+            if r.get("map_object", 0) is None:
+                fail(f"{path}, line {number}: trial {r.get('trial')}'s object {r.get('object')!r} is not in the map "
+                     "(--unknown-objects); this script reads runs on the map's own objects")
             if len(r["pairs_log2_mass"]) != objects or len(r["surface_log2_fit"]) not in (0, objects):
                 fail(f"{path}, line {number}: {len(r['pairs_log2_mass'])} objects' evidence, the map has {objects}")
             float(r["temperature"]), float(r["surface_weight"]), int(r["readings"]), int(r["map_object"])

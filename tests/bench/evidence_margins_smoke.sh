@@ -23,9 +23,17 @@ grep -q "^  (the weighing reproduces the estimate's object in 64 of 64 trial-rea
   grep -q "^at 8 readings: [0-9] of 8 trials wrong" <<< "$out" &&
   grep -q "^  balls  *[0-9]/4 " <<< "$out" &&
   grep -q "^  edges  *[0-9]/4 " <<< "$out" || { echo "unexpected tables" >&2; exit 1; }
-# Bad input is refused by name: a line that is not evidence, a reading count the run lacks, a weight below 0, a map
-# whose objects the scene does not hold.
+# Bad input is refused by name: a line that is not evidence, a truth the map lacks, a reading count the run lacks, a
+# weight below 0, a map whose objects the scene does not hold.
 head -c 40 "$work/evidence.jsonl" > "$work/broken.jsonl"
+"$python" - "$work/evidence.jsonl" "$work/unknown.jsonl" <<'EOF'
+import json
+import sys
+
+rows = [json.loads(line) for line in open(sys.argv[1])]
+rows[3]["map_object"] = None  # as --unknown-objects writes a truth the map lacks
+open(sys.argv[2], "w").write("".join(json.dumps(r) + "\n" for r in rows))
+EOF
 refused() {
   local expect=$1
   shift
@@ -36,6 +44,8 @@ refused() {
   grep -q -e "$expect" "$work/err.txt" || { cat "$work/err.txt" >&2; exit 1; }
 }
 refused "broken.jsonl, line 1: not a row of sva eval --evidence" "$work/broken.jsonl" "$work/map.svam" "$work/families.json"
+refused "unknown.jsonl, line 4: trial [0-9]*'s object .* is not in the map" "$work/unknown.jsonl" "$work/map.svam" \
+  "$work/families.json"
 refused "no trial at that many readings" "$work/evidence.jsonl" "$work/map.svam" "$work/families.json" --readings 9
 refused "must be finite and at least 0" "$work/evidence.jsonl" "$work/map.svam" "$work/families.json" --weights=-1
 refused "object 'ball_64' is not in scene 'tiny'" "$work/evidence.jsonl" "$work/map.svam" tiny

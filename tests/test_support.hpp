@@ -40,6 +40,23 @@ inline std::filesystem::path temp_dir(const std::string& name) {
   return dir;
 }
 
+// An environment variable set for one scope (SVA_THREADS for a test that runs a path on one thread and on two), put
+// back as it was when the scope ends.
+class ScopedEnv {
+ public:
+  ScopedEnv(const char* name, const std::string& value) : name_(name) {
+    if (const char* v = std::getenv(name)) had_ = true, before_ = v;
+    ::setenv(name, value.c_str(), 1);
+  }
+  ~ScopedEnv() { had_ ? ::setenv(name_.c_str(), before_.c_str(), 1) : ::unsetenv(name_.c_str()); }
+  ScopedEnv(const ScopedEnv&) = delete;
+  ScopedEnv& operator=(const ScopedEnv&) = delete;
+
+ private:
+  std::string name_, before_;
+  bool had_ = false;
+};
+
 // Runs the sva CLI (path from SVA_BIN) with arguments; returns the exit code
 // and captures stdout+stderr in `output`.
 int run_sva(const std::string& arguments, std::string* output = nullptr);

@@ -144,6 +144,31 @@ TEST_CASE("dataset: a bad record is refused naming the file, the sample and the 
   std::filesystem::remove_all(dir);
 }
 
+// The loader weighs a large file's checksum beside its parse where it may use a second thread: a flipped byte that
+// breaks the parse (the scene's length, its JSON, a sample's object id) is still named a checksum mismatch, on one
+// thread and on two.
+TEST_CASE("dataset: a flipped byte is named corrupt wherever it lies, the checksum weighed first or beside the parse") {
+  const auto dir = test::temp_dir("dataset-flips");
+  Dataset data = small_dataset();
+  while (data.samples.size() < 300) data.samples.push_back(data.samples[data.samples.size() % 6]);  // past 64 KiB
+  save_dataset(data, dir / "whole.svad");
+  std::ifstream in(dir / "whole.svad", std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+  for (const char* threads : {"1", "2"}) {
+    const test::ScopedEnv env("SVA_THREADS", threads);
+    CHECK(load_dataset(dir / "whole.svad").samples.size() == 300);
+    for (const std::size_t at : {std::size_t{32}, std::size_t{45}, bytes.size() / 2, bytes.size() - 1}) {
+      std::string flipped = bytes;
+      flipped[at] = static_cast<char>(flipped[at] ^ 0x40);
+      std::ofstream(dir / "flipped.svad", std::ios::binary | std::ios::trunc) << flipped;
+      INFO(threads << " thread(s), byte " << at << " of " << bytes.size());
+      CHECK_THROWS_WITH(load_dataset(dir / "flipped.svad"),
+                        Catch::Contains("flipped.svad") && Catch::Contains("checksum"));
+    }
+  }
+  std::filesystem::remove_all(dir);
+}
+
 TEST_CASE("dataset: without some objects, their samples are dropped and the others renumbered in order") {
   Dataset data = small_dataset();
   data.scene.objects.push_back(data.scene.objects[0]);  // a third object (the tiny scene has two)

@@ -52,6 +52,45 @@ TEST_CASE("binary container round-trips and refuses damage") {
   std::filesystem::remove_all(dir);
 }
 
+TEST_CASE("binary container: a checksum weighed beside the parse reads the same and still refuses damage") {
+  using sva::io::Checksum;
+  auto dir = sva::test::temp_dir("binary-alongside");
+  const std::vector<double> values(20000, 0.25);  // enough bytes that the checksum may still run while they are read
+  BinaryWriter w;
+  w.put<std::uint32_t>(42);
+  w.put_vector(values);
+  w.write_file(dir / "x.bin", "SVATEST1", 3);
+  {
+    BinaryReader r(dir / "x.bin", "SVATEST1", 3, 3, "test", Checksum::alongside);
+    CHECK(r.get<std::uint32_t>() == 42);
+    CHECK(r.get_vector<double>() == values);
+    r.expect_end();
+    CHECK_NOTHROW(r.verify());
+    CHECK_NOTHROW(r.verify());
+  }
+  std::string bytes;
+  {
+    std::ifstream in(dir / "x.bin", std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  // A flipped byte anywhere in the payload: the constructor returns, the parse reads what is there, verify refuses it
+  // (and again when asked again); weighed first, the constructor refuses it.
+  for (const std::size_t at : {std::size_t{32}, std::size_t{40}, bytes.size() / 2, bytes.size() - 1}) {
+    auto corrupt = bytes;
+    corrupt[at] ^= 0x5a;
+    std::ofstream(dir / "c.bin", std::ios::binary | std::ios::trunc) << corrupt;
+    INFO("byte " << at << " of " << bytes.size());
+    BinaryReader r(dir / "c.bin", "SVATEST1", 3, 3, "test", Checksum::alongside);
+    CHECK_THROWS_WITH(r.verify(), Catch::Contains("c.bin") && Catch::Contains("checksum"));
+    CHECK_THROWS_WITH(r.verify(), Catch::Contains("checksum"));
+    CHECK_THROWS_WITH(BinaryReader(dir / "c.bin", "SVATEST1", 3, 3, "test", Checksum::first),
+                      Catch::Contains("checksum"));
+  }
+  // Left unverified (a parse that threw past it): the checksum's thread is joined with the reader, nothing thrown.
+  CHECK_NOTHROW(BinaryReader(dir / "c.bin", "SVATEST1", 3, 3, "test", Checksum::alongside));
+  std::filesystem::remove_all(dir);
+}
+
 TEST_CASE("binary container: a file cut short says truncated with both sizes, even inside the header") {
   auto dir = sva::test::temp_dir("binary-cut");
   BinaryWriter w;

@@ -220,6 +220,28 @@ TEST_CASE("map: corrupt, truncated and wrong-version files are refused with the 
   std::filesystem::remove_all(dir);
 }
 
+// The loader weighs the checksum beside its parse where it may use a second thread (SVA_THREADS > 1): a flipped byte
+// that breaks the parse (the scene's name length, an object count, an entry) must still be named a checksum mismatch,
+// on one thread and on two.
+TEST_CASE("map: a flipped byte is named corrupt wherever it lies, the checksum weighed first or beside the parse") {
+  const auto dir = test::temp_dir("map-flips");
+  trained().save(dir / "good.svamap");
+  const auto bytes = bytes_of(dir / "good.svamap");
+  for (const char* threads : {"1", "2"}) {
+    const test::ScopedEnv env("SVA_THREADS", threads);
+    CHECK_NOTHROW(Map::load(dir / "good.svamap"));
+    for (const std::size_t at :
+         {std::size_t{32}, std::size_t{39}, std::size_t{100}, bytes.size() / 3, bytes.size() / 2, bytes.size() - 1}) {
+      auto flipped = bytes;
+      flipped[at] ^= 0x40;
+      write_bytes(dir / "flipped.svamap", flipped);
+      INFO(threads << " thread(s), byte " << at << " of " << bytes.size());
+      CHECK_THROWS_WITH(Map::load(dir / "flipped.svamap"), Contains("flipped.svamap") && Contains("checksum"));
+    }
+  }
+  std::filesystem::remove_all(dir);
+}
+
 TEST_CASE("map: a version-1 map (both orders of every pair) loads as version 2 (each pair once)") {
   const auto dir = test::temp_dir("map-v1");
   const PairMap v2 = MapAccess::pair_map(trained());

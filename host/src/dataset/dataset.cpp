@@ -9,6 +9,7 @@
 #include <sva/io/binary_file.hpp>
 
 #include <sva/base/finite.hpp>
+#include <sva/base/parallel.hpp>
 
 namespace sva {
 
@@ -101,8 +102,10 @@ void save_dataset(const Dataset& d, const std::filesystem::path& file) {
   w.write_file(file, std::string_view(kMagic, 8), kVersion);
 }
 
-Dataset load_dataset(const std::filesystem::path& file) {
-  io::BinaryReader r(file, std::string_view(kMagic, 8), kOldestVersion, kVersion, "dataset");
+namespace {
+
+// The payload's fields in the order save_dataset wrote them, each checked as it is read.
+Dataset read_dataset(io::BinaryReader& r, const std::filesystem::path& file) {
   const bool has_truth = r.version() >= 2;
   Dataset d;
   std::string scene_json = r.get_string(64 << 20);
@@ -150,6 +153,17 @@ Dataset load_dataset(const std::filesystem::path& file) {
       s.truth = {rd.position, rd.normal, rd.x_axis, glm::dvec3(0.0)};
   }
   r.expect_end();
+  return d;
+}
+
+}  // namespace
+
+// The checksum runs beside the parse where a second thread may, as a map's does (map/map_file.cpp).
+Dataset load_dataset(const std::filesystem::path& file) {
+  const io::Checksum when = util::default_threads() > 1 ? io::Checksum::alongside : io::Checksum::first;
+  io::BinaryReader r(file, std::string_view(kMagic, 8), kOldestVersion, kVersion, "dataset", when);
+  Dataset d;
+  r.parse_verified([&] { d = read_dataset(r, file); });
   return d;
 }
 

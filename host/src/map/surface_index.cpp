@@ -1,6 +1,7 @@
 #include "map/surface_index.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 namespace sva {
@@ -20,10 +21,17 @@ struct AxisOrder {
   }
 };
 
+// The one order of neighbours: nearer first, ties to the smaller index.
+bool before(const SurfaceNeighbour& a, const SurfaceNeighbour& b) {
+  return a.distance_sq < b.distance_sq || (a.distance_sq == b.distance_sq && a.index < b.index);
+}
+
+double distance_sq(const glm::dvec3& p, const glm::dvec3& q) {
+  const glm::dvec3 d = p - q;
+  return glm::dot(d, d);
+}
+
 void insert_neighbour(std::vector<SurfaceNeighbour>* best, std::size_t k, SurfaceNeighbour n) {
-  auto before = [](const SurfaceNeighbour& a, const SurfaceNeighbour& b) {
-    return a.distance_sq < b.distance_sq || (a.distance_sq == b.distance_sq && a.index < b.index);
-  };
   if (best->size() == k && !before(n, best->back())) return;
   best->insert(std::upper_bound(best->begin(), best->end(), n, before), n);
   if (best->size() > k) best->pop_back();
@@ -88,8 +96,7 @@ void SurfaceIndex::search(const Tree& tree, std::int32_t id, const glm::dvec3& q
   const Node& n = tree.nodes[static_cast<std::size_t>(id)];
   if (n.left < 0) {
     for (std::uint32_t i = n.begin; i < n.end; ++i) {
-      const glm::dvec3 d = tree.points[i].position - q;
-      insert_neighbour(best, k, {i, glm::dot(d, d)});
+      insert_neighbour(best, k, {i, distance_sq(tree.points[i].position, q)});
     }
     return;
   }
@@ -109,6 +116,34 @@ void SurfaceIndex::nearest(std::uint32_t object, const glm::dvec3& q, std::size_
   const Tree& t = trees_[object];
   if (t.nodes.empty()) return;
   search(t, 0, q, k, out);
+}
+
+// Every contact lies within delta = |q - memo.q| of its distance to the memo's point, so any contact the memo does not
+// hold lies at least r_K - delta from q (r_K: the memo's farthest). When the k-th nearest of the memo's contacts,
+// weighed at q, lies nearer than that (by a margin far above the rounding of these distances, so that no near tie
+// crosses), they are the k nearest of all. A memo of every contact of the object always holds.
+bool SurfaceIndex::from_memo(const NeighbourMemo& memo, std::uint32_t object, const glm::dvec3& q, std::size_t k,
+                             std::vector<SurfaceNeighbour>* out) const {
+  if (!memo.valid || memo.object != object || memo.k != k) return false;
+  const std::vector<SurfacePoint>& pts = trees_[object].points;
+  out->clear();
+  for (const SurfaceNeighbour& n : memo.near) out->push_back({n.index, distance_sq(pts[n.index].position, q)});
+  std::sort(out->begin(), out->end(), before);
+  if (out->size() > k) out->resize(k);
+  if (memo.near.size() < memo_size(k)) return true;
+  const double delta = glm::length(q - memo.q), reach = std::sqrt(memo.near.back().distance_sq);
+  const glm::dvec3 a = glm::abs(q);
+  const double margin = 1e-9 * (1.0 + std::max({a.x, a.y, a.z}) + reach);
+  return std::sqrt(out->back().distance_sq) + delta + margin < reach;
+}
+
+void SurfaceIndex::nearest(std::uint32_t object, const glm::dvec3& q, std::size_t k, std::vector<SurfaceNeighbour>* out,
+                           NeighbourMemo* memo) const {
+  if (object >= trees_.size() || k == 0 || trees_[object].nodes.empty()) return nearest(object, q, k, out);
+  if (from_memo(*memo, object, q, k, out)) return;
+  nearest(object, q, memo_size(k), &memo->near);
+  memo->valid = true, memo->object = object, memo->k = k, memo->q = q;
+  out->assign(memo->near.begin(), memo->near.begin() + static_cast<std::ptrdiff_t>(std::min(k, memo->near.size())));
 }
 
 }  // namespace sva

@@ -25,6 +25,18 @@ struct SurfaceNeighbour {
   double distance_sq = 0.0;
 };
 
+// What a query keeps for the next one nearby (SurfaceIndex::nearest with a memo): its point and its 2k nearest. The
+// fine pose asks again for each reading at every step of its fit, a micron to a few mm from the last query; while
+// the k nearest of those 2k, weighed at the new point, lie nearer than any contact the memo does not hold can have
+// come, they are the answer without a search. One per reading, per fit: never shared between threads.
+struct NeighbourMemo {
+  bool valid = false;
+  std::uint32_t object = 0;
+  std::size_t k = 0;
+  glm::dvec3 q{0.0};                   // the last searched point
+  std::vector<SurfaceNeighbour> near;  // its 2k nearest (fewer: every contact of the object), nearest first
+};
+
 class SurfaceIndex {
  public:
   explicit SurfaceIndex(const MapReadings& readings, std::size_t objects);
@@ -35,6 +47,10 @@ class SurfaceIndex {
   // nearest first; ties go to the smaller index, so the answer is one and the
   // same on every machine. `out` is overwritten.
   void nearest(std::uint32_t object, const glm::dvec3& q, std::size_t k, std::vector<SurfaceNeighbour>* out) const;
+  // The same answer, bit for bit, from `memo`'s last search when q lies close enough to it, else by a search that
+  // refills the memo.
+  void nearest(std::uint32_t object, const glm::dvec3& q, std::size_t k, std::vector<SurfaceNeighbour>* out,
+               NeighbourMemo* memo) const;
 
  private:
   // A node covers points [begin, end); an inner node splits them at `split`
@@ -51,6 +67,10 @@ class SurfaceIndex {
   };
   static void search(const Tree& tree, std::int32_t node, const glm::dvec3& q, std::size_t k,
                      std::vector<SurfaceNeighbour>* best);
+  static std::size_t memo_size(std::size_t k) { return 2 * k; }
+  // The k nearest to q from the memo alone, into `out`, when the memo proves them (NeighbourMemo).
+  bool from_memo(const NeighbourMemo& memo, std::uint32_t object, const glm::dvec3& q, std::size_t k,
+                 std::vector<SurfaceNeighbour>* out) const;
 
   std::vector<Tree> trees_;
 };

@@ -27,8 +27,8 @@ struct SurfaceNeighbour {
 
 // What a query keeps for the next one nearby (SurfaceIndex::nearest with a memo): its point and its 2k nearest. The
 // fine pose asks again for each reading at every step of its fit, a micron to a few mm from the last query; while
-// the k nearest of those 2k, weighed at the new point, lie nearer than any contact the memo does not hold can have
-// come, they are the answer without a search. One per reading, per fit: never shared between threads.
+// the k nearest of those 2k, weighed at the new point, lie nearer than any contact outside the memo can now be, they
+// are the answer without a search. One per reading, per fit: never shared between threads.
 struct NeighbourMemo {
   bool valid = false;
   std::uint32_t object = 0;
@@ -68,7 +68,7 @@ class SurfaceIndex {
   static void search(const Tree& tree, std::int32_t node, const glm::dvec3& q, std::size_t k,
                      std::vector<SurfaceNeighbour>* best);
   static std::size_t memo_size(std::size_t k) { return 2 * k; }
-  // The k nearest to q from the memo alone, into `out`, when the memo proves them (NeighbourMemo).
+  // Whether the memo proves the k nearest to q (NeighbourMemo); `out` is overwritten either way, and holds them if so.
   bool from_memo(const NeighbourMemo& memo, std::uint32_t object, const glm::dvec3& q, std::size_t k,
                  std::vector<SurfaceNeighbour>* out) const;
 

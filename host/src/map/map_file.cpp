@@ -373,8 +373,8 @@ void read_pair_map(io::BinaryReader& r, PairMap& m) {
 
 }  // namespace
 
-// The checksum runs beside the parse where a second thread may (a 112 MB map: 0.42 -> 0.29 s on 2 cores); a corrupt file is
-// still named as corrupt, before anything its parse or its validation found.
+// The checksum runs beside the parse where a second thread may (a 112 MB map: 0.42 -> 0.29 s on 2 cores); a corrupt
+// file is still named corrupt, before anything its parse or its validation found.
 std::shared_ptr<PairMap> load_pair_map(const std::filesystem::path& file) {
   const io::Checksum when = util::default_threads() > 1 ? io::Checksum::alongside : io::Checksum::first;
   io::BinaryReader r(file, std::string_view(kMapMagic, 8), kMapOldestVersion, kMapVersion, "map", when);

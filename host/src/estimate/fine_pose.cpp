@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "calibration/calibration.hpp"
@@ -206,8 +207,12 @@ class Problem {
     spread_ = std::max(1.0, std::sqrt(spread / static_cast<double>(readings.size())));
   }
 
-  // `memos`: one per reading, kept across one run's fits (run), or null.
-  Fit fit(const RigidPose& pose, double scale, std::vector<NeighbourMemo>* memos = nullptr) const;
+  // `memos`: one per reading, kept across one run's fits (run), or null. `beat`: a cost the caller only asks this fit
+  // to fall below (a step's candidate against the pose it would replace). The fit stops at the first reading whose
+  // running sum reaches it: a sum of non-negative terms, rounded, never falls as it grows, so the whole cost could not
+  // have fallen below either, and the caller decides alike. Such a fit's cost and matches are partial: only compared.
+  Fit fit(const RigidPose& pose, double scale, std::vector<NeighbourMemo>* memos = nullptr,
+          double beat = std::numeric_limits<double>::infinity()) const;
   Equations normal_equations(const Fit& fit, double scale) const;
   Step step(const Fit& fit, double scale) const;
   RigidPose apply(const RigidPose& pose, const Vec& delta, double t) const;
@@ -242,7 +247,7 @@ Match Problem::match(const RigidPose& pose, const ObservedReading& r, double sca
   return m;
 }
 
-Fit Problem::fit(const RigidPose& pose, double scale, std::vector<NeighbourMemo>* memos) const {
+Fit Problem::fit(const RigidPose& pose, double scale, std::vector<NeighbourMemo>* memos, double beat) const {
   Fit f;
   f.matches.reserve(readings_.size());
   for (std::size_t i = 0; i < readings_.size(); ++i) {
@@ -250,6 +255,7 @@ Fit Problem::fit(const RigidPose& pose, double scale, std::vector<NeighbourMemo>
     f.cost += m.found ? tukey_cost(m.s2, scale) : scale * scale / 6.0;
     f.inliers += m.found && m.s2 < scale * scale;
     f.matches.push_back(m);
+    if (f.cost >= beat) break;
   }
   return f;
 }
@@ -354,7 +360,7 @@ std::pair<RigidPose, Fit> Problem::run(const RigidPose& start, int* observable) 
       bool accepted = false;
       for (double t = 1.0; t > 0.06 && !accepted; t *= 0.5) {
         const RigidPose candidate = apply(pose, st.delta, t);
-        Fit fc = fit(candidate, c, &memos);
+        Fit fc = fit(candidate, c, &memos, f.cost);
         if (fc.cost < f.cost) {
           pose = candidate;
           f = std::move(fc);
@@ -442,7 +448,8 @@ RigidPose polish_on_mesh(const SurfaceModel& model, std::uint32_t object, std::s
   const Problem problem(mesh, readings, s);
   int observable = 0;
   const auto [pose, f] = problem.run(start, &observable);
-  return f.cost < problem.fit(start, s.scale_final_mm).cost ? pose : start;
+  const double beat = std::nextafter(f.cost, std::numeric_limits<double>::infinity());  // the start loses above f
+  return f.cost < problem.fit(start, s.scale_final_mm, nullptr, beat).cost ? pose : start;
 }
 
 double surface_log2_fit(const SurfaceIndex& surface, std::uint32_t object, std::span<const ObservedReading> readings,

@@ -62,9 +62,14 @@ class BeliefShard {
   // The best bins past the band without a pass over the table each time: upper_ holds the key of every bin whose
   // offset is at least upper_floor_ (offsets only grow, so a bin that enters never leaves, and add() sees every bin
   // that crosses the floor; its offset is read from the table when asked); every other bin lies below the floor. Set
-  // by a pass over the table for 4 times the bins asked, dropped when it has grown eightfold, when bins are forgotten
-  // and on reset (upper_floor_ 0: none kept, the next request past the band makes it again).
+  // by a pass over the table for 4 times the bins asked, cut back to its own best 4k when it has grown eightfold,
+  // dropped when bins are forgotten and on reset (upper_floor_ 0: none kept, the next request past the band makes it
+  // again).
   std::vector<BinOffset> best_past_band(std::size_t k) const;
+  std::vector<BinOffset> upper_best(std::size_t n) const;  // the upper set's best n, best first
+  // Makes the upper set from `best`, a best-first top `wide` of bins that holds every bin of the table above its last
+  // one; none when it has fewer than `wide`.
+  void keep_upper(const std::vector<BinOffset>& best, std::size_t wide) const;
   void drop_upper() const;
 
   std::uint32_t mass_bits_;

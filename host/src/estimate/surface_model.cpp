@@ -48,6 +48,7 @@ SurfaceModel::Nearest SurfaceModel::nearest(std::uint32_t object, const glm::dve
   best.point = hit.point;
   best.normal = m.normal[hit.index];
   best.distance = std::sqrt(hit.d2);
+  best.d2 = hit.d2;
   best.triangle = m.index[hit.index];
   return best;
 }

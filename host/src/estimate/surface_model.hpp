@@ -16,6 +16,7 @@
 
 #include <glm/glm.hpp>
 
+#include <algorithm>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -62,11 +63,19 @@ class SurfaceModel {
     glm::dvec3 point{0.0};
     glm::dvec3 normal{0.0};  // the triangle's unit normal, outward by its winding
     double distance = 0.0;
+    double d2 = 0.0;  // the squared distance the search weighed (distance is its square root)
     std::uint32_t triangle = 0;
   };
   // The point of `object`'s surface nearest to `p` (object frame) within `radius` (at most the reach); ties go to
   // the smaller triangle index, so the answer is one and the same on every machine.
   Nearest nearest(std::uint32_t object, const glm::dvec3& p, double radius) const;
+  // Whether a nearest point found at squared distance d2 lies within `radius` as nearest() tests it. So the answer
+  // of nearest() at a smaller radius follows from one at a larger: the same point where this holds, none where not
+  // (every other point within the larger radius lay no nearer).
+  bool within(double d2, double radius) const {
+    const double r = std::min(radius, reach_);
+    return r > 0.0 && d2 < r * r;
+  }
 
   // log2 p(readings | object, pose), each reading once (grid frame: the readings and the pose alike).
   double log2_likelihood(std::uint32_t object, std::span<const ObservedReading> readings, const RigidPose& pose,

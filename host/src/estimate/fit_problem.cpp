@@ -1,9 +1,9 @@
 #include "estimate/fit_problem.hpp"
 
+#include <sva/base/so3.hpp>
+
 #include <algorithm>
 #include <cmath>
-
-#include <sva/base/so3.hpp>
 
 namespace sva::pose_fit {
 

@@ -87,10 +87,18 @@ bool solve_spd(Mat a, Vec b, int m, Vec* y) {
   return true;
 }
 
+// Adds weight * row row^T to h and weight * residual * row to g. A row's zero entries (the tilt rows hold two of six,
+// the translation's never) are skipped: each would add +-0 to a sum that starts at +0 and so is never -0, which leaves
+// its bits as they are (the rows are finite).
 void add_row(Mat* h, Vec* g, const Vec& row, double residual, double weight, int d) {
-  for (int i = 0; i < d; ++i) {
+  std::array<int, kMaxDim> nonzero{};
+  int n = 0;
+  for (int i = 0; i < d; ++i)
+    if (row[i] != 0.0) nonzero[n++] = i;
+  for (int a = 0; a < n; ++a) {
+    const int i = nonzero[a];
     (*g)[i] += weight * row[i] * residual;
-    for (int j = 0; j < d; ++j) (*h)[i][j] += weight * row[i] * row[j];
+    for (int b = 0; b < n; ++b) (*h)[i][nonzero[b]] += weight * row[i] * row[nonzero[b]];
   }
 }
 

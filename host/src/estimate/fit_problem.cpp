@@ -87,9 +87,9 @@ bool solve_spd(Mat a, Vec b, int m, Vec* y) {
   return true;
 }
 
-// Adds weight * row row^T to h and weight * residual * row to g. A row's zero entries (the tilt rows hold two of six,
-// the translation's never) are skipped: each would add +-0 to a sum that starts at +0 and so is never -0, which leaves
-// its bits as they are (the rows are finite).
+// Adds weight * row row^T to h and weight * residual * row to g. A row's zero entries (four of a tilt row's six) are
+// skipped: each would add +-0 to a sum that starts at +0 and so is never -0, which leaves its bits as they are (the
+// rows are finite).
 void add_row(Mat* h, Vec* g, const Vec& row, double residual, double weight, int d) {
   std::array<int, kMaxDim> nonzero{};
   int n = 0;

@@ -14,6 +14,7 @@
 
 #include <sva/eval/evaluation.hpp>
 #include <sva/eval/results.hpp>
+#include "estimate/blob.hpp"
 #include "estimate/fine_pose.hpp"
 #include "eval/metrics.hpp"
 #include "map/surface_index.hpp"
@@ -24,23 +25,9 @@ using namespace sva;
 
 namespace {
 
-// An asymmetric blob: an ellipsoid whose radius grows along +x and +y and twists
-// with y z, so no rotation maps it onto itself. Normals by finite differences.
-glm::dvec3 blob_point(double theta, double phi) {
-  const glm::dvec3 u(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
-  const double grow = 1.0 + 0.25 * u.x + 0.15 * u.y + 0.2 * u.y * u.z;
-  return grow * glm::dvec3(30.0, 22.0, 15.0) * u;
-}
-
 SurfacePoint blob_sample(util::Rng& rng) {
   const double theta = std::acos(rng.uniform(-1.0, 1.0)), phi = rng.uniform(0.0, 2.0 * std::numbers::pi);
-  const double h = 1e-5;
-  const glm::dvec3 p = blob_point(theta, phi);
-  const glm::dvec3 dt = blob_point(theta + h, phi) - blob_point(theta - h, phi);
-  const glm::dvec3 dp = blob_point(theta, phi + h) - blob_point(theta, phi - h);
-  glm::dvec3 n = glm::normalize(glm::cross(dt, dp));
-  if (glm::dot(n, p) < 0.0) n = -n;
-  return {p, n};
+  return {test::blob_point(theta, phi), test::blob_normal(theta, phi)};
 }
 
 // A closed cylinder about z (radius 20, height 60): its spin is unobservable.

@@ -10,6 +10,7 @@
 #include <limits>
 #include <vector>
 
+#include "estimate/blob.hpp"
 #include "estimate/fit_problem.hpp"
 #include "recognition/fixture.hpp"
 
@@ -18,12 +19,8 @@ using namespace sva::pose_fit;
 
 namespace {
 
-// An asymmetric blob (no rotation maps it onto itself), about 60 x 45 x 30 mm.
-glm::dvec3 blob_point(double theta, double phi) {
-  const glm::dvec3 u(std::sin(theta) * std::cos(phi), std::sin(theta) * std::sin(phi), std::cos(theta));
-  const double grow = 1.0 + 0.25 * u.x + 0.15 * u.y + 0.2 * u.y * u.z;
-  return grow * glm::dvec3(30.0, 22.0, 15.0) * u;
-}
+using test::blob_normal;
+using test::blob_point;
 
 // The blob cut into about 3,000 triangles of 2-3 mm, and its vertices with their normals as training contacts.
 struct Blob {
@@ -34,16 +31,14 @@ struct Blob {
 Blob blob() {
   Blob b;
   const int rings = 30, segments = 50;
-  const double pi = std::acos(-1.0), h = 1e-5;
+  const double pi = std::acos(-1.0);
   for (int i = 0; i <= rings; ++i)
     for (int j = 0; j < segments; ++j) {
       const double th = pi * i / rings, ph = 2.0 * pi * j / segments;
       const glm::dvec3 p = blob_point(th, ph);
       b.mesh.positions.emplace_back(p);
       if (i == 0 || i == rings) continue;  // the poles' normals are not defined by the grid
-      const glm::dvec3 n = glm::normalize(
-          glm::cross(blob_point(th + h, ph) - blob_point(th - h, ph), blob_point(th, ph + h) - blob_point(th, ph - h)));
-      b.contacts.push_back(0, p, glm::dot(n, p) < 0.0 ? -n : n, 1.0f);
+      b.contacts.push_back(0, p, blob_normal(th, ph), 1.0f);
     }
   for (int i = 0; i < rings; ++i)
     for (int j = 0; j < segments; ++j) {

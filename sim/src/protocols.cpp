@@ -12,6 +12,7 @@
 #include <memory>
 #include <string>
 
+#include <sva/base/float_environment.hpp>
 #include <sva/base/parallel.hpp>
 #include <sva/base/portable_math.hpp>
 #include <sva/base/progress.hpp>
@@ -151,6 +152,7 @@ ErrorModel scale_errors(const ErrorModel& errors, double factor) {
 }
 
 SimulatedData simulate(const Scene& scene_as_written, const SimulateOptions& options) {
+  const util::StandardFloats floats;  // float_environment.hpp: the same bits whatever the caller's thread holds
   Scene scene = scene_as_written;
   scene.errors = scale_errors(scene_as_written.errors, options.error_scale);
   if (scene.objects.empty()) throw Error("scene \"" + scene.name + "\" has no objects");

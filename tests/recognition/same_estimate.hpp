@@ -20,10 +20,13 @@ inline bool same(const Estimate& a, const Estimate& b) {
   for (std::size_t i = 0; ok && i < a.top.size(); ++i)
     ok = a.top[i].object == b.top[i].object && a.top[i].probability == b.top[i].probability &&
          same_pose(a.top[i].pose, b.top[i].pose);
-  for (std::size_t i = 0; ok && i < a.hypotheses.size(); ++i)
-    ok = a.hypotheses[i].object == b.hypotheses[i].object &&
-         a.hypotheses[i].probability == b.hypotheses[i].probability &&
-         same_pose(a.hypotheses[i].pose, b.hypotheses[i].pose);
+  const auto same_hypothesis = [](const PoseHypothesis& x, const PoseHypothesis& y) {
+    return x.object == y.object && x.probability == y.probability && same_pose(x.pose, y.pose) &&
+           x.covariance == y.covariance && x.valid == y.valid;
+  };
+  for (std::size_t i = 0; ok && i < a.hypotheses.size(); ++i) ok = same_hypothesis(a.hypotheses[i], b.hypotheses[i]);
+  for (std::size_t i = 0; ok && i < a.object_hypotheses.size(); ++i)
+    ok = same_hypothesis(a.object_hypotheses[i], b.object_hypotheses[i]);
   return ok;
 }
 

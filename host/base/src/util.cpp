@@ -3,6 +3,7 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <chrono>
 #include <exception>
 #include <string>
 #include <thread>
@@ -13,6 +14,7 @@
 #include <unistd.h>
 #include <vector>
 
+#include <sva/base/float_environment.hpp>
 #include <sva/base/interrupt.hpp>
 #include <sva/base/parallel.hpp>
 #include <sva/base/progress.hpp>
@@ -46,29 +48,72 @@ unsigned default_threads() {
   return hw ? hw : 1;
 }
 
-// oneTBB's workers persist across calls (one pool per process), so the
-// per-update loops of recognition pay no thread start-up; an arena caps the
-// threads at the caller's count.
+// oneTBB's workers persist across calls (one pool per process), so the per-update loops of recognition pay no
+// thread start-up. A loop runs in the caller's arena, isolated (a worker waiting at its end takes none of the caller's
+// other tasks), where that arena has no more threads than asked: nested loops (an estimate's objects, then each
+// object's starts) made an arena each before 2026-11-30, and a nested arena cost hundreds of microseconds to fill
+// (notebook, recognition-2026-11.md). Otherwise an arena caps the threads at the caller's count. Every task runs in
+// sva's floating-point environment (float_environment.hpp), whatever its thread or arena held.
+namespace {
+
+thread_local SpanProbe::Frame* t_span = nullptr;  // the item a live probe is timing on this thread
+
+double now_ms() {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+// A loop under a probe: its items in turn, each timed in a frame of its own.
+void probed_for(std::size_t n, const std::function<void(std::size_t)>& fn) {
+  SpanProbe::Frame* outer = t_span;
+  const StandardFloats floats;
+  const double start = now_ms();
+  double longest = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    throw_if_interrupted();
+    SpanProbe::Frame item;
+    t_span = &item;
+    const double t = now_ms();
+    try {
+      fn(i);
+    } catch (...) {
+      t_span = outer;
+      throw;
+    }
+    t_span = outer;
+    longest = std::max(longest, now_ms() - t - item.nested_ms + item.nested_span_ms);
+  }
+  outer->nested_ms += now_ms() - start;
+  outer->nested_span_ms += longest;
+}
+
+}  // namespace
+
+SpanProbe::SpanProbe() : outer_(t_span), start_ms_(now_ms()) { t_span = &root_; }
+SpanProbe::~SpanProbe() { t_span = outer_; }
+double SpanProbe::work_ms() const { return now_ms() - start_ms_; }
+double SpanProbe::span_ms() const { return work_ms() - root_.nested_ms + root_.nested_span_ms; }
+
 void parallel_for(std::size_t n, const std::function<void(std::size_t)>& fn, unsigned threads) {
   if (threads == 0) threads = default_threads();
   if (n == 0) return;
-  if (threads <= 1 || n == 1) {
-    for (std::size_t i = 0; i < n; ++i) {
+  if (t_span) return probed_for(n, fn);
+  const auto run = [&](std::size_t begin, std::size_t end) {
+    const StandardFloats floats;
+    for (std::size_t i = begin; i != end; ++i) {
       throw_if_interrupted();
       fn(i);
     }
-    return;
-  }
+  };
+  if (threads <= 1 || n == 1) return run(0, n);
+  // Grain 1: items (observed pairs, readings, chunks) are few and uneven.
+  const auto loop = [&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1),
+                      [&](const tbb::blocked_range<std::size_t>& r) { run(r.begin(), r.end()); });
+  };
+  if (static_cast<unsigned>(tbb::this_task_arena::max_concurrency()) <= threads)
+    return tbb::this_task_arena::isolate(loop);
   tbb::task_arena arena(static_cast<int>(std::min<std::size_t>(threads, n)));
-  arena.execute([&] {
-    // Grain 1: items (observed pairs, readings, chunks) are few and uneven.
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1), [&](const tbb::blocked_range<std::size_t>& r) {
-      for (std::size_t i = r.begin(); i != r.end(); ++i) {
-        throw_if_interrupted();
-        fn(i);
-      }
-    });
-  });
+  arena.execute(loop);
 }
 
 Progress::Progress(std::string label, std::size_t total)

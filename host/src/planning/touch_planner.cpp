@@ -13,6 +13,7 @@
 #include <string>
 
 #include <sva/base/finite.hpp>
+#include <sva/base/float_environment.hpp>
 #include <sva/base/portable_math.hpp>
 #include <sva/base/rng.hpp>
 #include "estimate/verify.hpp"
@@ -341,6 +342,7 @@ double TouchPlanner::longest_pair_mm() const { return impl_->longest_pair_mm; }
 
 TouchPlan TouchPlanner::plan(const Estimate& estimate, std::span<const CandidateTouch> candidates,
                              const TouchPlanOptions& options) const {
+  const util::StandardFloats floats;  // float_environment.hpp: the same bits whatever the caller's thread holds
   check_options(options);
   const Resolved r = resolve(*impl_, options);
   TouchPlan plan;
@@ -380,6 +382,7 @@ TouchPlan TouchPlanner::plan(const Estimate& estimate, std::span<const Candidate
 
 std::vector<CandidateTouch> TouchPlanner::sample_candidates(const Estimate& estimate, std::size_t count,
                                                             std::uint64_t seed, const TouchPlanOptions& options) const {
+  const util::StandardFloats floats;  // float_environment.hpp: the same bits whatever the caller's thread holds
   check_options(options);
   const std::vector<Weighed> hyps = weighed_hypotheses(estimate, options, impl_->surface.objects());
   std::vector<CandidateTouch> out;

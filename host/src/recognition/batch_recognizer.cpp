@@ -1,6 +1,7 @@
 // The session table of batch recognition: each session is a Bayes filter (Method::sva) or an appearance-only
 // posterior (Method::appearance); one backend serves all sessions, and one update carries every session that got
 // a reading. The estimate runs as the stages of estimate/pipeline.hpp, a prior is checked in prior_checks.cpp.
+#include <sva/base/float_environment.hpp>
 #include <sva/base/parallel.hpp>
 #include <sva/batch_recognizer.hpp>
 #include <sva/error.hpp>
@@ -157,6 +158,7 @@ BatchRecognizer& BatchRecognizer::operator=(BatchRecognizer&&) noexcept = defaul
 std::size_t BatchRecognizer::sessions() const { return impl_->sessions.size(); }
 
 void BatchRecognizer::add_readings(std::span<const std::size_t> sessions, std::span<const Reading> readings) {
+  const util::StandardFloats floats;  // float_environment.hpp: the same bits whatever the caller's thread holds
   const std::lock_guard lock(impl_->mutex);
   if (sessions.size() != readings.size())
     throw Error("batch recognizer: " + std::to_string(sessions.size()) + " sessions but " +
@@ -258,6 +260,7 @@ Estimate BatchRecognizer::estimate(std::size_t session, std::size_t top_k, Estim
 
 std::vector<Estimate> BatchRecognizer::estimates(std::span<const std::size_t> sessions, std::size_t top_k,
                                                  EstimateDepth depth) const {
+  const util::StandardFloats floats;  // float_environment.hpp: the same bits whatever the caller's thread holds
   const std::lock_guard lock(impl_->mutex);
   std::vector<Estimate> out(sessions.size());
   std::vector<std::size_t> piped;  // positions of the sessions that run the pipeline (readings and a belief)
@@ -342,6 +345,7 @@ void BatchRecognizer::save_session(std::size_t session, const std::filesystem::p
 }
 
 void BatchRecognizer::restore_session(std::size_t session, const std::filesystem::path& file) {
+  const util::StandardFloats floats;  // float_environment.hpp: the same bits whatever the caller's thread holds
   const io::SessionFile f = io::load_session_file(file);
   const PairMap& m = *impl_->pair_map;
   if (f.scene_hash != m.scene_hash || f.objects != m.objects.size())

@@ -2,6 +2,7 @@
 // from recognition sessions on training readings it never saw (training/calibration_fit.hpp). Learning sits above
 // recognition, which reads the calibration the map carries (calibration/calibration.hpp): map building never runs
 // the recogniser.
+#include <sva/base/float_environment.hpp>
 #include <sva/error.hpp>
 #include <sva/map.hpp>
 
@@ -57,6 +58,7 @@ Calibration calibration_for(const Dataset& data, const TrainParameters& params, 
 }  // namespace
 
 Map Map::train(const Dataset& data, const TrainOptions& options, TrainReport* report) {
+  const util::StandardFloats floats;  // float_environment.hpp: the same bits whatever the caller's thread holds
   const TrainParameters params = resolve_train_parameters(data.scene, options);
   if (!options.surfaces.empty() && options.surfaces.size() != data.scene.objects.size())
     throw Error("train: " + std::to_string(options.surfaces.size()) + " surfaces for the scene's " +

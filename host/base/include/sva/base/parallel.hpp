@@ -14,4 +14,30 @@ unsigned default_threads();
 // cancelled). Checks for Ctrl-C between items.
 void parallel_for(std::size_t n, const std::function<void(std::size_t)>& fn, unsigned threads = 0);
 
+// The work and the span (critical path) of parallel code, measured on one thread: while a probe lives, this thread's
+// parallel_for loops run their items in turn and time each, and the span counts, for each loop, only its longest item
+// (an item's own span: its time less its nested loops', plus their spans). So span_ms is what unlimited cores could
+// not beat, and a P-core run takes at least max(work / P, span) and, greedily scheduled, at most work / P + span
+// (Brent), scheduling costs aside: a model of a many-core host from a machine with few. The loops decompose as for
+// their `threads`, which the probe does not change; a loop that deals its work from a shared counter (the CPU
+// update's largest pairs first) is timed as one item, so its span is an upper bound. One probe per thread at a time.
+class SpanProbe {
+ public:
+  SpanProbe();
+  ~SpanProbe();
+  SpanProbe(const SpanProbe&) = delete;
+  SpanProbe& operator=(const SpanProbe&) = delete;
+  double work_ms() const;  // since the probe began
+  double span_ms() const;
+
+  struct Frame {  // an item's nested loops so far (internal)
+    double nested_ms = 0.0, nested_span_ms = 0.0;
+  };
+
+ private:
+  Frame root_;
+  Frame* outer_;
+  double start_ms_;
+};
+
 }  // namespace sva::util

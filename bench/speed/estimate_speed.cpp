@@ -5,10 +5,13 @@
 // belief that a fresh estimate after an update makes for them: `sva bench`'s est. ms has it. Prints the ms per session
 // of each stage (docs/architecture.md: 1 belief, 2 fits, 3 verify, 4-5 posterior), the process's CPU time per session
 // (steadier than wall time on a shared machine), and a digest of every answer (object, probabilities, poses,
-// hypotheses with their covariances, each object's too), which must not change when a stage is made faster.
+// hypotheses with their covariances, each object's too), which must not change when a stage is made faster. Last, each
+// session's estimate alone under a span probe (sva/base/parallel.hpp): its work and critical path, as its loops split
+// for `threads` (a model of one robot's session on that many cores).
 //   estimate_speed MAP TEST [sessions (default 6)] [readings (default 30)] [repeats (default 5)] [threads (default 1)]
 //                  [top_k (default 3)] [depth: full (default) or light]
 // Session t touches object t % objects at a random pose, as `sva bench`'s trials do (seed 1).
+#include <sva/base/parallel.hpp>
 #include <sva/base/rng.hpp>
 #include <sva/base/so3.hpp>
 #include <sva/batch_recognizer.hpp>
@@ -148,6 +151,15 @@ int main(int argc, char** argv) try {
     if (r > 0 && h != answers) throw sva::Error("the same estimates asked again gave other answers");
     answers = h;
   }
+  // Each session's estimate alone, under a span probe: its work and its critical path as the loops split it for
+  // `threads` (sva/base/parallel.hpp), a model of a many-core host's latency for one robot's session.
+  double work = 0.0, span = 0.0, longest_span = 0.0;
+  for (std::size_t t = 0; t < sessions; ++t) {
+    const sva::util::SpanProbe probe;
+    batch.estimates(std::span(&ids[t], 1), top_k, depth);
+    work += probe.work_ms(), span += probe.span_ms();
+    longest_span = std::max(longest_span, probe.span_ms());
+  }
   const double n = static_cast<double>(sessions);
   std::printf(
       "%zu sessions at %zu readings, top %zu, %s, %u thread(s), best of %d: ms per session: "
@@ -156,6 +168,10 @@ int main(int argc, char** argv) try {
       sessions, readings, top_k, sva::estimate_depth_name(depth), options.threads, repeats, best_total / n,
       best.belief_ms / n, best.fit_ms / n, best.verify_ms / n, best.posterior_ms / n, 1e3 * best_cpu / n,
       static_cast<unsigned long long>(answers));
+  std::printf(
+      "one session alone, its loops split for %u thread(s), timed on one: work %.2f ms, span %.2f ms (longest %.2f): "
+      "on P cores at least max(work / P, span), at most work / P + span (a model)\n",
+      options.threads, work / n, span / n, longest_span);
   return 0;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "estimate_speed: %s\n", e.what());

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # bench/speed/estimate_speed.sh on the tiny scene: the stages' line with its digest, the same digest on 1 and 2
 # threads (the estimate's answers do not depend on the thread count), a light estimate without the fits' stages and
-# with other answers (8 readings: the full one fits), and bad arguments refused by position and by name.
+# with other answers (8 readings: the full one fits), the span probe's line (a critical path within its work), and bad
+# arguments refused by position and by name.
 #   tests/bench/estimate_speed_smoke.sh SOURCE BUILD SVA PYTHON WORK
 set -euo pipefail
 source_dir=$1 sva=$3 work=$5
@@ -15,12 +16,18 @@ two=$(bash "$source_dir/bench/speed/estimate_speed.sh" "$work/map.svam" "$work/t
 echo "$one"
 echo "$two"
 grep -Eq "$line" <<< "$one" && grep -Eq "$line" <<< "$two" || { echo "missing or malformed line" >&2; exit 1; }
-[ "${one##*digest }" = "${two##*digest }" ] || { echo "other answers on 2 threads" >&2; exit 1; }
+digest() { grep -Eo 'digest [0-9a-f]{16}' <<< "$1"; }
+[ "$(digest "$one")" = "$(digest "$two")" ] || { echo "other answers on 2 threads" >&2; exit 1; }
+# The span probe's line: each session's estimate alone, its critical path no longer than its work.
+span='^one session alone, its loops split for 2 thread\(s\), timed on one: work ([0-9.]+) ms, span ([0-9.]+) ms \(longest [0-9.]+\): '
+grep -Eq "$span" <<< "$two" || { echo "missing or malformed span line" >&2; exit 1; }
+sed -nE "s/${span}.*/\1 \2/p" <<< "$two" | awk '{ exit !($2 > 0 && $2 <= $1) }' ||
+  { echo "a span longer than its work, or none" >&2; exit 1; }
 light=$(bash "$source_dir/bench/speed/estimate_speed.sh" "$work/map.svam" "$work/test.svad" 3 8 2 1 3 light)
 echo "$light"
 grep -Eq "$line" <<< "$light" || { echo "missing or malformed light line" >&2; exit 1; }
 grep -q ', light, .* fits 0.00 + verify 0.00 + ' <<< "$light" || { echo "a light estimate ran the fits" >&2; exit 1; }
-[ "${one##*digest }" != "${light##*digest }" ] || { echo "light gave the full estimate's answers" >&2; exit 1; }
+[ "$(digest "$one")" != "$(digest "$light")" ] || { echo "light gave the full estimate's answers" >&2; exit 1; }
 if err=$(bash "$source_dir/bench/speed/estimate_speed.sh" "$work/map.svam" "$work/test.svad" 3 8 2 1 3 fine 2>&1); then
   echo "accepted depth fine" >&2
   exit 1

@@ -178,3 +178,55 @@ TEST_CASE("pose fit: a run gives its start's own fit at the final scale, from th
     CHECK(f.cost <= start_fit.cost);  // the run never ends worse than where it began
   }
 }
+
+TEST_CASE("pose fit: a fit split over its readings is the fit in turn, stop and runs included, on both sources") {
+  // One robot's session on many cores: a run's fits match their readings side by side in chunks
+  // (RefineSettings::reading_threads), then add them in order. Bit for bit the fit in turn, for any chunking, with a
+  // bar that stops it, and whole runs from the same start with their memos.
+  const Blob b = blob();
+  const SurfaceModel model({b.mesh}, 3.0);
+  const SurfaceIndex index(b.contacts, 1);
+  RefineSettings in_turn = settings();
+  in_turn.scale_start_mm = 3.0;
+  in_turn.scale_final_mm = 0.75;
+  util::Rng rng(10, 1);
+  const RigidPose truth = test::random_pose(6, 80.0);
+  const std::vector<ObservedReading> readings = readings_on(truth, rng, 31);  // chunks of unequal size
+  std::size_t stopped = 0;
+  for (const unsigned split : {2u, 3u, 7u, 16u}) {
+    RefineSettings side = in_turn;
+    side.reading_threads = split;
+    const MeshCorrespondences mesh(model, 0, in_turn), mesh_split(model, 0, side);
+    const ContactCorrespondences contacts(index, 0, in_turn), contacts_split(index, 0, side);
+    const std::vector<std::pair<const Correspondences*, const Correspondences*>> sources{{&mesh, &mesh_split},
+                                                                                         {&contacts, &contacts_split}};
+    for (const auto& [one, other] : sources) {
+      const Problem a(*one, readings, in_turn), c(*other, readings, side);
+      for (int trial = 0; trial < 8; ++trial) {
+        const RigidPose pose = near(truth, rng, 1.5, 0.04);
+        const Fit whole = a.fit(pose, 1.0);
+        INFO("split " << split << ", trial " << trial);
+        REQUIRE(same_fit(c.fit(pose, 1.0), whole));
+        const Fit part = c.fit(pose, 1.0, nullptr, 0.5 * whole.cost);
+        REQUIRE(same_fit(part, a.fit(pose, 1.0, nullptr, 0.5 * whole.cost)));
+        stopped += part.matches.size() < readings.size();
+        int oa = 0, oc = 0;
+        Fit sa, sc;
+        const auto [pa, fa] = a.run(pose, &oa, &sa);
+        const auto [pc, fc] = c.run(pose, &oc, &sc);
+        REQUIRE(pa.R == pc.R);
+        REQUIRE(pa.T == pc.T);
+        REQUIRE(same_fit(fa, fc));
+        REQUIRE(same_fit(sa, sc));
+        REQUIRE(oa == oc);
+      }
+    }
+  }
+  CHECK(stopped > 16);  // not vacuous: the bar stopped split fits too
+  RefineSettings many = in_turn;
+  many.threads = 16;
+  CHECK(with_runs_side_by_side(many, 12).reading_threads == 16);  // 4 idle workers: each run may split
+  CHECK(with_runs_side_by_side(many, 16).reading_threads == 1);   // the runs fill the workers
+  many.threads = 2;
+  CHECK(with_runs_side_by_side(many, 12).reading_threads == 1);
+}

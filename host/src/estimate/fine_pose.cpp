@@ -33,6 +33,13 @@ RefineSettings refine_settings(const PoseSpace& space, std::uint32_t fine_pose_f
   return s;
 }
 
+RefineSettings with_runs_side_by_side(const RefineSettings& settings, std::size_t runs) {
+  RefineSettings s = settings;
+  const unsigned threads = settings.threads ? settings.threads : util::default_threads();
+  s.reading_threads = runs < threads ? threads : 1;
+  return s;
+}
+
 RefinedPose refine_pose(const SurfaceIndex& surface, std::uint32_t object, std::span<const ObservedReading> readings,
                         std::span<const RigidPose> starts, const RefineSettings& settings) {
   RefinedPose out;

@@ -34,7 +34,15 @@ struct RefineSettings {
   double min_information = 0.02;           // eigenvalue of the point-to-plane equations (observed normals) below which
   double min_relative_information = 2e-3;  // ... (or this share of the largest) a direction is unobservable
   unsigned threads = 0;                    // workers for the fits (RecognizerOptions::threads; 0: all cores)
+  // Workers a run's fit may split its readings over (pose_fit::Problem::fit): more than 1 only where the workers
+  // outnumber the runs side by side (one robot's session on many cores), so that the longest run, the estimate's
+  // critical path, is not one core's. The same bits for any value.
+  unsigned reading_threads = 1;
 };
+
+// The settings for `runs` fits side by side on settings.threads workers: each run's fits split their readings over
+// the workers the runs leave idle (reading_threads), none where the runs fill them.
+RefineSettings with_runs_side_by_side(const RefineSettings& settings, std::size_t runs);
 
 // Settings for a pose space: scales in units of its translation bin (paper3d:
 // 8 mm bins give 16 -> 2 mm and 1 mm/rad; the letters' 0.95 mm bins 1.9 -> 0.24 mm). `fine_pose_from`: the map's

@@ -1,5 +1,6 @@
 #include "estimate/fit_problem.hpp"
 
+#include <sva/base/parallel.hpp>
 #include <sva/base/so3.hpp>
 
 #include <algorithm>
@@ -155,9 +156,30 @@ Match Problem::match(const RigidPose& pose, const ObservedReading& r, double sca
 
 Fit Problem::fit(const RigidPose& pose, double scale, std::vector<NeighbourMemo>* memos, double beat) const {
   Fit f;
-  f.matches.reserve(readings_.size());
-  for (std::size_t i = 0; i < readings_.size(); ++i) {
-    add(&f, match(pose, readings_[i], scale, memos ? &(*memos)[i] : nullptr), scale);
+  const std::size_t n = readings_.size();
+  f.matches.reserve(n);
+  const auto matched = [&](std::size_t i) { return match(pose, readings_[i], scale, memos ? &(*memos)[i] : nullptr); };
+  // Split: the readings matched side by side in chunks of at least kMinChunk, then added in their order with the same
+  // stop, so the same sum (a match reads only its own reading's memo, which changes no answer).
+  constexpr std::size_t kMinChunk = 4;
+  const std::size_t chunks = std::min<std::size_t>(s_.reading_threads, n / kMinChunk);
+  if (chunks > 1) {
+    std::vector<Match> m(n);
+    const std::size_t size = (n + chunks - 1) / chunks;
+    util::parallel_for(
+        chunks,
+        [&](std::size_t c) {
+          for (std::size_t i = c * size; i < std::min(n, (c + 1) * size); ++i) m[i] = matched(i);
+        },
+        s_.reading_threads);
+    for (const Match& x : m) {
+      add(&f, x, scale);
+      if (f.cost >= beat) break;
+    }
+    return f;
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    add(&f, matched(i), scale);
     if (f.cost >= beat) break;
   }
   return f;

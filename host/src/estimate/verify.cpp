@@ -46,13 +46,14 @@ std::vector<double> model_bits(const SurfaceModel& model, const Fits& fits, std:
   ContactNoise contacts = noise;
   contacts.pad_sigma_mm = 0.0;
   const std::size_t n = fits.leading.size();
+  const RefineSettings side_by_side = with_runs_side_by_side(settings, n * n);
   std::vector<RigidPose> pose(n * n);  // [object i * n + start j]
   std::vector<double> bits(n * n, 0.0);
   util::parallel_for(
       n * n,
       [&](std::size_t t) {
         const std::uint32_t object = fits.leading[t / n].object;
-        pose[t] = polish_on_mesh(model, object, readings, fits.leading[t % n].fine.pose, settings, contacts);
+        pose[t] = polish_on_mesh(model, object, readings, fits.leading[t % n].fine.pose, side_by_side, contacts);
         bits[t] = model.log2_likelihood(object, readings, pose[t], contacts);
       },
       settings.threads);

@@ -1,0 +1,97 @@
+// util::SpanProbe (sva/base/parallel.hpp): the work and critical path of parallel loops, measured on one thread, the
+// model estimate_speed gives of one session's latency on many cores. Each item's time is taken inside it as well, so
+// the checks hold on a loaded machine: a preempted item is longer in both measures.
+#include <catch2/catch.hpp>
+
+#include <sva/base/parallel.hpp>
+
+#include <algorithm>
+#include <chrono>
+#include <stdexcept>
+#include <thread>
+#include <vector>
+
+using sva::util::parallel_for;
+using sva::util::SpanProbe;
+
+namespace {
+
+// Busy for `ms` of wall time; returns the time it took, as the item itself saw it.
+double busy(double ms) {
+  const auto t0 = std::chrono::steady_clock::now();
+  double took = 0.0;
+  while ((took = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count()) < ms) {
+  }
+  return took;
+}
+
+constexpr double kSlack = 1.0;  // ms: the loop's own bookkeeping around the items, however loaded the machine
+
+}  // namespace
+
+TEST_CASE("a span probe counts each loop's longest item, a nested loop by its own span, on the caller's thread") {
+  std::vector<double> top(2, 0.0), inner(3, 0.0);
+  double serial = 0.0, between = 0.0;
+  std::vector<std::thread::id> ran(5);
+  const std::thread::id caller = std::this_thread::get_id();
+  double work = 0.0, span = 0.0;
+  {
+    const SpanProbe probe;
+    serial = busy(2.0);  // outside any loop: on the critical path, whole
+    parallel_for(
+        2,
+        [&](std::size_t i) {
+          ran[i] = std::this_thread::get_id();
+          if (i == 0) {
+            top[0] = busy(1.0);
+            parallel_for(
+                3,
+                [&](std::size_t j) {
+                  ran[2 + j] = std::this_thread::get_id();
+                  inner[j] = busy(2.0 + j);
+                },
+                4);
+          } else {
+            top[1] = busy(3.0);
+          }
+        },
+        4);
+    between = busy(1.0);
+    work = probe.work_ms();
+    span = probe.span_ms();
+  }
+  for (const std::thread::id& id : ran) CHECK(id == caller);  // in turn, on the probe's thread, though 4 were asked
+  // Item 0: 1 ms then a loop whose longest item is the third; item 1: 3 ms alone. The span takes the longer item.
+  const double item0 = top[0] + inner[2], item1 = top[1];
+  const double expected_span = serial + std::max(item0, item1) + between;
+  const double expected_work = serial + top[0] + inner[0] + inner[1] + inner[2] + top[1] + between;
+  INFO("work " << work << " ms (items " << expected_work << "), span " << span << " ms (items " << expected_span
+               << ")");
+  CHECK(span >= expected_span);
+  CHECK(span < expected_span + kSlack);
+  CHECK(work >= expected_work);
+  CHECK(work < expected_work + kSlack);
+  CHECK(span < work - 4.0);  // the two short inner items and the shorter top item are off the path
+}
+
+TEST_CASE("a span probe lets an item's error through and measures nothing after it ends") {
+  {
+    const SpanProbe probe;
+    CHECK_THROWS_AS(parallel_for(
+                        3,
+                        [](std::size_t i) {
+                          if (i == 1) throw std::runtime_error("item 1");
+                        },
+                        2),
+                    std::runtime_error);
+    const double before = probe.span_ms();
+    parallel_for(
+        2, [](std::size_t) { busy(1.0); }, 2);  // the probe still counts after the error
+    CHECK(probe.span_ms() >= before + 1.0);
+  }
+  // No probe: the loop runs on the pool as before, every item once.
+  std::vector<int> hit(64, 0);
+  parallel_for(
+      64, [&](std::size_t i) { ++hit[i]; }, 2);
+  CHECK(std::count(hit.begin(), hit.end(), 1) == 64);
+}

@@ -324,3 +324,34 @@ TEST_CASE("one session's pairs added shard by shard in parallel give the belief 
   // Not vacuous: the pairs spread over every shard.
   for (std::size_t s = 0; s < sva::kBeliefShards; ++s) CHECK(terms[0].shard(s).size() > 0);
 }
+
+TEST_CASE("a belief's offsets of many keys, looked up in chunks on the workers, are each key's own, 0 when untouched") {
+  // An estimate's neighbourhoods read about 10,000 bins at once (Belief::offsets, in chunks of 2,048 on the belief's
+  // workers): every answer in its key's place, for any thread count, touched keys among untouched ones.
+  const sva::PoseSpace space(sva::test::paper_space(), 3);
+  sva::util::Rng rng(32, 1);
+  for (unsigned threads : {1u, 2u, 8u}) {
+    INFO(threads << " threads");
+    sva::Belief belief(space, 1e-6, threads);
+    for (int pair = 0; pair < 6; ++pair) belief.add(belief.terms(sharp_votes(space, rng, 1500, 60, 30)), 1);
+    const std::vector<sva::BinOffset> table = belief.table();
+    REQUIRE(table.size() > 3000);
+    std::vector<std::uint64_t> keys;
+    std::vector<std::uint64_t> expected;
+    for (std::size_t i = 0; i < table.size(); ++i) {
+      keys.push_back(table[i].key), expected.push_back(table[i].offset);
+      if (i % 3 == 0 && (i + 1 == table.size() || table[i + 1].key != table[i].key + 1))
+        keys.push_back(table[i].key + 1), expected.push_back(0);  // a key between touched ones: untouched
+    }
+    for (std::size_t i = keys.size(); i > 1; --i) {  // shuffled, the answers with their keys
+      const std::size_t j = static_cast<std::size_t>(rng.uniform(0.0, static_cast<double>(i))) % i;
+      std::swap(keys[i - 1], keys[j]);
+      std::swap(expected[i - 1], expected[j]);
+    }
+    REQUIRE(keys.size() % 2048 != 0);  // a last chunk shorter than the others
+    CHECK(belief.offsets(keys) == expected);
+    CHECK(belief.offsets(std::span(keys).first(5)) ==
+          std::vector<std::uint64_t>(expected.begin(), expected.begin() + 5));
+    CHECK(belief.offsets({}).empty());
+  }
+}

@@ -270,12 +270,23 @@ std::vector<BinOffset> Belief::best_bins(std::size_t k) const {
 }
 
 std::vector<std::uint64_t> Belief::offsets(std::span<const std::uint64_t> keys) const {
-  std::vector<std::uint64_t> out;
-  out.reserve(keys.size());
-  // Home slots loaded ahead, as a shard's additions do: a lookup's probe loop branches on its miss too.
+  std::vector<std::uint64_t> out(keys.size());
+  // Home slots loaded ahead, as a shard's additions do: a lookup's probe loop branches on its miss too. Chunks of the
+  // keys on the workers: an estimate's neighbourhoods ask about 10,000 lookups, each a wait on memory, which were a
+  // third of one session's critical path (notebook recognition-2026-11.md, "a seventh session").
   const ShardHomes homes{&shards_};
-  for_each_loaded(
-      homes, keys, [](std::uint64_t k) { return k; }, [&](std::uint64_t k) { out.push_back(offset(k)); });
+  constexpr std::size_t kChunk = 2048;
+  const std::size_t chunks = (keys.size() + kChunk - 1) / kChunk;
+  util::parallel_for(
+      chunks,
+      [&](std::size_t c) {
+        const std::size_t begin = c * kChunk, n = std::min(kChunk, keys.size() - begin);
+        std::size_t i = begin;
+        for_each_loaded(
+            homes, keys.subspan(begin, n), [](std::uint64_t k) { return k; },
+            [&](std::uint64_t k) { out[i++] = offset(k); });
+      },
+      threads_);
   return out;
 }
 

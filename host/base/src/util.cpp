@@ -48,12 +48,6 @@ unsigned default_threads() {
   return hw ? hw : 1;
 }
 
-// oneTBB's workers persist across calls (one pool per process), so the per-update loops of recognition pay no
-// thread start-up. A loop runs in the caller's arena, isolated (a worker waiting at its end takes none of the caller's
-// other tasks), where that arena has no more threads than asked: nested loops (an estimate's objects, then each
-// object's starts) made an arena each before 2026-11-30, and a nested arena cost hundreds of microseconds to fill
-// (notebook, recognition-2026-11.md). Otherwise an arena caps the threads at the caller's count. Every task runs in
-// sva's floating-point environment (float_environment.hpp), whatever its thread or arena held.
 namespace {
 
 thread_local SpanProbe::Frame* t_span = nullptr;  // the item a live probe is timing on this thread
@@ -93,6 +87,12 @@ SpanProbe::~SpanProbe() { t_span = outer_; }
 double SpanProbe::work_ms() const { return now_ms() - start_ms_; }
 double SpanProbe::span_ms() const { return work_ms() - root_.nested_ms + root_.nested_span_ms; }
 
+// oneTBB's workers persist across calls (one pool per process), so the per-update loops of recognition pay no
+// thread start-up. A loop runs in the caller's arena, isolated (a worker waiting at its end takes none of the caller's
+// other tasks), where that arena has no more threads than asked: nested loops (an estimate's objects, then each
+// object's starts) made an arena each before 2026-11-30, and a nested arena cost hundreds of microseconds to fill
+// (notebook, recognition-2026-11.md). Otherwise an arena caps the threads at the caller's count. Every task runs in
+// sva's floating-point environment (float_environment.hpp), whatever its thread or arena held.
 void parallel_for(std::size_t n, const std::function<void(std::size_t)>& fn, unsigned threads) {
   if (threads == 0) threads = default_threads();
   if (n == 0) return;

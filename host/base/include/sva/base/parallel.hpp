@@ -9,9 +9,10 @@ namespace sva::util {
 // Threads to use: SVA_THREADS if set, else hardware concurrency (at least 1).
 unsigned default_threads();
 // Runs fn(i) for i in [0, n) on up to `threads` threads (0 = default_threads()).
-// Indices are handed out dynamically on oneTBB's persistent worker pool; the
-// first exception thrown is rethrown after the loop stops (the rest are
-// cancelled). Checks for Ctrl-C between items.
+// Indices are handed out dynamically on oneTBB's persistent worker pool (a nested
+// loop in its caller's arena, isolated); every item runs in sva's floating-point
+// environment (float_environment.hpp). The first exception thrown is rethrown
+// after the loop stops (the rest are cancelled). Checks for Ctrl-C between items.
 void parallel_for(std::size_t n, const std::function<void(std::size_t)>& fn, unsigned threads = 0);
 
 // The work and the span (critical path) of parallel code, measured on one thread: while a probe lives, this thread's

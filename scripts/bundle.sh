@@ -11,7 +11,7 @@
 #                                      (build-aarch64; scripts/setup.sh --aarch64), for a
 #                                      Jetson-class machine; its libraries found under qemu
 #
-# OUT_DIR/  sva, tests/sva_tests_<area>, assets/ (scenes and objects), lib/ (every
+# OUT_DIR/  sva, tests/sva_tests_<area>, bench/estimate_speed (where built), assets/ (scenes and objects), lib/ (every
 #           shared library they load but the C library and the Vulkan drivers),
 #           run-tests.sh, run-bench.sh, env.sh, README.txt
 # The binaries get the run path $ORIGIN/lib (patchelf), so they run from any folder;
@@ -82,6 +82,14 @@ echo "== bundle $build -> $out"
 
 cp "$build/sva" "$out/sva"
 cp "${tests[@]}" "$out/tests/"
+# The estimate's stages timed, with one session's critical path (bench/speed/estimate_speed.cpp), where the build made
+# it: the device check compares a many-core host's measured latency with the model.
+benches=()
+if [[ -x $build/bench/estimate_speed ]]; then
+  mkdir -p "$out/bench"
+  cp "$build/bench/estimate_speed" "$out/bench/"
+  benches=("$out/bench/estimate_speed")
+fi
 # The built-in scenes and objects, loaded at run time through SVA_ASSETS (the
 # generator's source stays behind).
 cp -r "$root/assets/scenes" "$root/assets/objects" "$root/assets/view" "$out/assets/"
@@ -104,7 +112,7 @@ chmod +x "$out/run-tests.sh" "$out/run-bench.sh" "$out/run-device-check.sh"
 # loader is bundled; the drivers (ICDs) it opens at run time are the machine's.
 glibc_re='^(linux-vdso|ld-linux|libc|libm|libmvec|libpthread|libdl|librt|libresolv|libutil|libanl|libnsl|libBrokenLocale|libthread_db)\.so'
 declare -A libs=()
-for bin in "$out/sva" "$out"/tests/sva_tests_*; do
+for bin in "$out/sva" "$out"/tests/sva_tests_* "${benches[@]}"; do
   while read -r name _ path _; do
     [[ $name =~ $glibc_re ]] && continue
     [[ $path == /* ]] || { echo "bundle: $bin needs $name, which is not found" >&2; exit 1; }
@@ -142,16 +150,16 @@ CONF
 
 # Debug information stays in the build tree; the bundle is for running.
 if command -v "$strip_tool" >/dev/null && [[ ${STRIP:-1} != 0 ]]; then
-  "$strip_tool" --strip-debug "$out/sva" "$out"/tests/sva_tests_* "$out"/lib/*
+  "$strip_tool" --strip-debug "$out/sva" "$out"/tests/sva_tests_* "${benches[@]}" "$out"/lib/*
 fi
 patchelf --set-rpath '$ORIGIN/lib' "$out/sva"
-for t in "$out"/tests/sva_tests_*; do patchelf --set-rpath '$ORIGIN/../lib' "$t"; done
+for t in "$out"/tests/sva_tests_* "${benches[@]}"; do patchelf --set-rpath '$ORIGIN/../lib' "$t"; done
 for l in "$out"/lib/*; do patchelf --set-rpath '$ORIGIN' "$l"; done
 
 # Check: every library resolves inside the bundle or to the C library, with no
 # help from LD_LIBRARY_PATH.
 bad=0
-for bin in "$out/sva" "$out"/tests/sva_tests_* "$out"/lib/*; do
+for bin in "$out/sva" "$out"/tests/sva_tests_* "${benches[@]}" "$out"/lib/*; do
   while read -r name _ path _; do
     [[ $name =~ $glibc_re || $(realpath -m "$path") == "$out/lib/"* ]] && continue
     echo "bundle: $bin loads $name from $path, outside the bundle" >&2; bad=1

@@ -5,15 +5,16 @@
 #   3. the whole test suite, areas in parallel, while paper3d is simulated and its map trained (suite.txt);
 #   4. sva bench on paper3d: the Vulkan backend one session at a time (10, 30, 100 readings, 3 trials), the same
 #      with 3 hypotheses per estimate as sva recognize asks (10 and 30 readings: the modes' path), then 64 per
-#      submission (10 and 30 readings; again with light estimates, no host fits), then the CPU reference
-#      on the same machine (bench-*.txt), then its scaling:
+#      submission (10 and 30 readings; again with light estimates, no host fits), then one session's estimate on
+#      every thread beside the model of its critical path (estimate-span.txt: bench/estimate_speed, 30 and 100
+#      readings), then the CPU reference on the same machine (bench-*.txt), then its scaling:
 #      one session on 8 and 16 threads, 64 sessions per update on 2 and 16 threads, and on the device 256 sessions
 #      per submission (the two groups in flight together that Engine::sessions_per_submission gives an 80-141 GB GPU
 #      at the default bound, 105-184 each)
 #      (on a host of 16 cores or more: a GPU machine); each cut at the budget's end;
 #      before the CPU's scaling: sva recognize of 512 sessions with one group in flight and with two (the double
 #      buffering), wall times and whether the results are the same bytes (recognize-in-flight.txt).
-# The per-test logs and the benchmarks' JSON go into details.tgz: 9 files in all, 15 on a host of 16 cores.
+# The per-test logs and the benchmarks' JSON go into details.tgz: 10 files in all, 16 on a host of 16 cores.
 #
 #   run-device-check.sh OUT_DIR [SECONDS]    SECONDS: the budget for all of it (default 480)
 # Environment: VK_DRIVER_FILES (the caller's ICD, kept), WORK (paper3d's data and map, default OUT_DIR/paper3d:
@@ -114,6 +115,22 @@ recognize_in_flight() {
   cat "$out/recognize-in-flight.txt"
 }
 
+# One robot's session on this host's cores: its estimate timed with every thread, beside the model of the estimate's
+# critical path on one thread (bench/estimate_speed's span probe), at 30 and 100 readings (estimate-span.txt).
+estimate_span() {
+  local t=$(($(left) * 10 / 100)) r rc exe=$BUNDLE/bench/estimate_speed
+  if [[ ! -x $exe ]]; then echo "estimate span: this bundle has no bench/estimate_speed" | tee "$out/estimate-span.txt"; return; fi
+  ((t >= 20)) || t=20  # a few seconds on paper3d: never left out for want of a share
+  say "one session's estimate and its span on $SVA_THREADS threads ($t s at most)"
+  for r in 30 100; do
+    timeout $((t / 2)) "$exe" "$work/map.svam" "$work/test.svad" 1 "$r" 10 "$SVA_THREADS" 3
+    rc=$?
+    if ((rc == 124)); then echo "(stopped at the budget's end)"
+    elif ((rc != 0)); then echo "(failed: exit $rc)"; suite_failed=$((suite_failed + 1)); fi
+  done >"$out/estimate-span.txt" 2>&1
+  cat "$out/estimate-span.txt"
+}
+
 bench() {  # NAME SHARE-OF-WHAT-IS-LEFT sva-bench-options...
   local name=$1 share=$2 t
   shift 2
@@ -139,6 +156,7 @@ if [[ -f $work/map.svam ]]; then
   # 10,000 session-updates/s when the host's fits after every reading, which bound it on 16 cores to about 2,300/s
   # at 30 readings, are left to the sessions' ends (the restated goal).
   bench vulkan-batch-light 15 --backend vulkan --trials 64 --batch 64 --readings 10,30 --estimate light
+  estimate_span
   bench cpu 95 --backend cpu --trials 1 --batch 0 --readings 10,30,100
   # The CPU reference's scaling on the host's cores (issue 52's goals: one session on 16 threads >= 1.6x 8 threads,
   # 64 sessions on 16 threads >= 6x 2 threads), where the host has 16 of them.

@@ -6,37 +6,15 @@
 #include <sva/base/float_environment.hpp>
 #include <sva/base/parallel.hpp>
 
-#include <cstdint>
 #include <vector>
 
-#if defined(__x86_64__) || defined(__i386__)
-#include <xmmintrin.h>
-#endif
+#include "base/flush_to_zero.hpp"
 
+using sva::test::set_flush_to_zero;
 using sva::util::standard_floats;
 using sva::util::StandardFloats;
 
 namespace {
-
-// The caller's flush-to-zero (x86: FTZ and DAZ; aarch64: FZ), as Embree's builds and -ffast-math libraries set it.
-// false where this CPU's has no such switch that the test can reach.
-bool set_flush_to_zero(bool on) {
-#if defined(__x86_64__) || defined(__i386__)
-  const unsigned bits = 0x8040;
-  _mm_setcsr(on ? _mm_getcsr() | bits : _mm_getcsr() & ~bits);
-  return true;
-#elif defined(__aarch64__)
-  std::uint64_t v;
-  asm volatile("mrs %0, fpcr" : "=r"(v));
-  const std::uint64_t fz = std::uint64_t{1} << 24;
-  v = on ? v | fz : v & ~fz;
-  asm volatile("msr fpcr, %0" : : "r"(v));
-  return true;
-#else
-  (void)on;
-  return false;
-#endif
-}
 
 // A product whose exact value is subnormal: 0 where results are flushed.
 double subnormal_product() {

@@ -6,40 +6,23 @@
 #include <sva/base/float_environment.hpp>
 #include <sva/recognizer.hpp>
 
+#include "base/flush_to_zero.hpp"
 #include "recognition/fixture.hpp"
 #include "recognition/same_estimate.hpp"
 #include "recognition/trained_map.hpp"
-
-#if defined(__x86_64__) || defined(__i386__)
-#include <xmmintrin.h>
-#endif
 
 using namespace sva;
 using namespace sva::test;
 
 namespace {
 
-// Runs fn with the calling thread's flush-to-zero on (x86: FTZ and DAZ; aarch64: FZ); false where the test cannot
-// reach such a switch.
+// Runs fn with the calling thread's flush-to-zero on; false where the test cannot reach such a switch.
 template <class Fn>
 bool flushing(Fn fn) {
-#if defined(__x86_64__) || defined(__i386__)
-  const unsigned saved = _mm_getcsr();
-  _mm_setcsr(saved | 0x8040u);
+  if (!set_flush_to_zero(true)) return false;
   fn();
-  _mm_setcsr(saved);
+  set_flush_to_zero(false);
   return true;
-#elif defined(__aarch64__)
-  std::uint64_t saved;
-  asm volatile("mrs %0, fpcr" : "=r"(saved));
-  asm volatile("msr fpcr, %0" : : "r"(saved | (std::uint64_t{1} << 24)));
-  fn();
-  asm volatile("msr fpcr, %0" : : "r"(saved));
-  return true;
-#else
-  (void)fn;
-  return false;
-#endif
 }
 
 }  // namespace

@@ -159,27 +159,23 @@ Fit Problem::fit(const RigidPose& pose, double scale, std::vector<NeighbourMemo>
   const std::size_t n = readings_.size();
   f.matches.reserve(n);
   const auto matched = [&](std::size_t i) { return match(pose, readings_[i], scale, memos ? &(*memos)[i] : nullptr); };
-  // Split: the readings matched side by side in chunks of at least kMinChunk, then added in their order with the same
-  // stop, so the same sum (a match reads only its own reading's memo, which changes no answer).
+  // Split: the readings matched side by side in chunks of at least kMinChunk first, then added in their order with the
+  // same stop, so the same sum (a match reads only its own reading's memo, which changes no answer).
   constexpr std::size_t kMinChunk = 4;
   const std::size_t chunks = std::min<std::size_t>(s_.reading_threads, n / kMinChunk);
+  std::vector<Match> ahead;
   if (chunks > 1) {
-    std::vector<Match> m(n);
+    ahead.resize(n);
     const std::size_t size = (n + chunks - 1) / chunks;
     util::parallel_for(
         chunks,
         [&](std::size_t c) {
-          for (std::size_t i = c * size; i < std::min(n, (c + 1) * size); ++i) m[i] = matched(i);
+          for (std::size_t i = c * size; i < std::min(n, (c + 1) * size); ++i) ahead[i] = matched(i);
         },
         s_.reading_threads);
-    for (const Match& x : m) {
-      add(&f, x, scale);
-      if (f.cost >= beat) break;
-    }
-    return f;
   }
   for (std::size_t i = 0; i < n; ++i) {
-    add(&f, matched(i), scale);
+    add(&f, ahead.empty() ? matched(i) : ahead[i], scale);
     if (f.cost >= beat) break;
   }
   return f;

@@ -7,6 +7,7 @@
 
 #include "backends/vulkan/gpu_belief.hpp"
 #include "recognition/engine.hpp"
+#include "recognition/engine_access.hpp"
 #include "recognition/trained_map.hpp"
 
 using namespace sva;
@@ -53,14 +54,27 @@ TEST_CASE("submission size: 64 on a CPU, without a bound, or when the map leaves
   CHECK(in_flight({"integrated", 4 * kGiB, 0, belief}) == 2);
 }
 
-TEST_CASE("submission size: an engine on the CPU reference or on lavapipe steps 64 sessions together") {
+TEST_CASE("submission size: an engine steps 64 sessions on a CPU or lavapipe, its device's share on a GPU") {
   const sva::test::Trained& t = sva::test::trained();
   CHECK(Engine(t.map, {BackendKind::cpu, ""}).sessions_per_submission() == kMinSubmission);
   CHECK(Engine(t.map, {BackendKind::cpu, ""}).submissions_in_flight() == 1);
   try {
     const Engine gpu(t.map, {BackendKind::vulkan, ""});
-    CHECK(gpu.sessions_per_submission() == kMinSubmission);  // lavapipe is a CPU device
-    CHECK(gpu.submissions_in_flight() == 1);
+    const Engine::Impl& impl = *EngineAccess::impl(gpu);
+    INFO("device " << gpu.backend_description() << ", type '" << impl.device_type << "'");
+    REQUIRE(!impl.device_type.empty());
+    if (impl.device_type == "cpu") {  // lavapipe: the host's cores, as the CPU reference
+      CHECK(gpu.sessions_per_submission() == kMinSubmission);
+      CHECK(gpu.submissions_in_flight() == 1);
+    } else {  // a GPU (an H200 took 186): its memory as the backend found it, the map's upload within it
+      REQUIRE(impl.device_memory_bytes > impl.map_device_bytes);
+      REQUIRE(impl.map_device_bytes > 0);
+      const RecognizerOptions options;
+      const std::uint64_t belief = GpuBelief::bytes_at(options.belief_budget_bins, impl.keep_space->objects());
+      CHECK(gpu.sessions_per_submission(options) ==
+            submission_sessions({impl.device_type, impl.device_memory_bytes, impl.map_device_bytes, belief}));
+      CHECK(gpu.submissions_in_flight() == 2);
+    }
   } catch (const Error& e) {
     WARN("no Vulkan device: " << e.what());
   }

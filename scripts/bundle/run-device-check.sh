@@ -19,7 +19,9 @@
 #   run-device-check.sh OUT_DIR [SECONDS]    SECONDS: the budget for all of it (default 480)
 # Environment: VK_DRIVER_FILES (the caller's ICD, kept), WORK (paper3d's data and map, default OUT_DIR/paper3d:
 #   kept, so a second call skips the simulation), SIM_ARGS (extra `sva simulate` options, e.g. "--train 100
-#   --test 20" for a quick small dataset), AREAS (the suite's areas, default all: tests/sva_tests_<area>).
+#   --test 20" for a quick small dataset), AREAS (the suite's areas, default all: tests/sva_tests_<area>),
+#   ARCHIVE (a file: every file of OUT_DIR in one gzip'd tar too, written last, for a loan's tool that brings back
+#   only a few files: the seventh GPU run lost all but 8 of its 17 files; docs/vulkan-backend.md).
 # Prints a summary; exits 1 when a test failed, the agreement tests found no Vulkan device, or a benchmark failed or
 # could not run; 2 on bad usage.
 set -uo pipefail
@@ -173,5 +175,9 @@ if [[ -f $work/map.svam ]]; then
 fi
 tar -czf "$out/details.tgz" -C "$out" .suite .agreement 2>/dev/null
 rm -rf "$out/.suite" "$out/.agreement"
+if [[ -n ${ARCHIVE:-} ]]; then
+  tar -czf "$ARCHIVE" -C "$(dirname "$out")" --exclude="$(basename "$out")/paper3d" "$(basename "$out")" ||
+    { echo "run-device-check: could not write ARCHIVE '$ARCHIVE'" >&2; suite_failed=$((suite_failed + 1)); }
+fi
 say "done: $suite_failed failed test(s) or benchmark(s); files in $out"
 ((suite_failed == 0))

@@ -22,13 +22,16 @@ LOG_DIR="$tmp/logs" env -u LD_LIBRARY_PATH "$tmp/bundle/run-tests.sh" io 'vulkan
 tail -n 1 run.txt | grep -q ', 0 skipped$' || { echo "bundle: tests were skipped (something the bundle should carry)" >&2; exit 1; }
 # The one-call device check of a GPU loan (run-device-check.sh), small: one area, a tiny paper3d, a short budget
 # (150 s: at 90 the suite, simulation and training left the CPU benchmark under 20 s on a busy 2-core machine).
-WORK="$tmp/p3d" AREAS=io SIM_ARGS="--train 30 --test 12" env -u LD_LIBRARY_PATH \
+WORK="$tmp/p3d" AREAS=io SIM_ARGS="--train 30 --test 12" ARCHIVE="$tmp/check.tgz" env -u LD_LIBRARY_PATH \
   "$tmp/bundle/run-device-check.sh" "$tmp/check" 150 >check.txt 2>&1 || { cat check.txt; exit 1; }
 tail -n 1 check.txt
 for f in device.txt agreement.txt suite.txt bench-vulkan.txt bench-vulkan-top3.txt bench-vulkan-top3-prior.txt \
   bench-vulkan-batch-light.txt estimate-span.txt bench-cpu.txt details.tgz; do
   [[ -s $tmp/check/$f ]] || { cat check.txt; echo "bundle: run-device-check.sh wrote no $f" >&2; exit 1; }
 done
+# ARCHIVE: the same files in one archive, under the folder's name.
+tar -tzf "$tmp/check.tgz" | grep -qx 'check/estimate-span.txt' && tar -tzf "$tmp/check.tgz" | grep -qx 'check/details.tgz' ||
+  { tar -tzf "$tmp/check.tgz"; echo "bundle: ARCHIVE lacks the check's files" >&2; exit 1; }
 grep -q '^io: [0-9]* passed, 0 failed, 0 skipped' "$tmp/check/suite.txt" || { echo "bundle: the device check's suite failed" >&2; exit 1; }
 grep -q '^cpu  *100 ' "$tmp/check/bench-cpu.txt" || { echo "bundle: the device check's CPU benchmark did not finish" >&2; exit 1; }
 # One session's estimate beside its modelled critical path, from the bundled bench program, at 30 and 100 readings.

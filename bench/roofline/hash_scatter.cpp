@@ -23,7 +23,7 @@ struct Push {
 
 HashScatter::HashScatter(vk::Context& context, std::size_t initial_capacity)
     : ctx_(context),
-      pipeline_(context.create_pipeline(sva_spv_hash_scatter, 5, sizeof(Push))),
+      pipeline_(context.create_pipeline("hash_scatter", sva_spv_hash_scatter, 5, sizeof(Push))),
       capacity_(std::bit_ceil(std::max<std::size_t>(initial_capacity, 64))) {
   // 12 bytes per vote (key + weight); stay well under the binding limit.
   const std::size_t by_range = context.info().max_storage_buffer_range / sizeof(std::uint64_t);

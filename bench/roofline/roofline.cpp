@@ -28,7 +28,7 @@ struct ScatterPush {
 // GPU time when the device has timestamps, else wall time.
 double fixed_point_scatter_ms(vk::Context& ctx, vk::Buffer& w, vk::Buffer& b, vk::Buffer& s, std::size_t votes,
                               std::size_t bins) {
-  auto pipeline = ctx.create_pipeline(sva_spv_fixed_point_scatter, 3, sizeof(ScatterPush));
+  auto pipeline = ctx.create_pipeline("fixed_point_scatter", sva_spv_fixed_point_scatter, 3, sizeof(ScatterPush));
   // One dispatch covers at most maxComputeWorkGroupCount[0] workgroups.
   std::vector<vk::Dispatch> dispatches;
   const std::size_t per = std::size_t{ctx.info().max_workgroup_count_x} * SVA_WORKGROUP_SIZE;

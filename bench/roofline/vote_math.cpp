@@ -52,9 +52,9 @@ vm::SvaPatch patch_at(const float* f) {
 }
 
 // One kernel over the matches: best of three GPU times (0 without timestamps), its checksums in `out`.
-double run_kernel(vk::Context& ctx, std::span<const std::uint32_t> spirv, vk::Buffer& in, vk::Buffer& out,
-                  std::size_t matches) {
-  const vk::Pipeline pipe = ctx.create_pipeline(spirv, 2, sizeof(GridPush));
+double run_kernel(vk::Context& ctx, const char* name, std::span<const std::uint32_t> spirv, vk::Buffer& in,
+                  vk::Buffer& out, std::size_t matches) {
+  const vk::Pipeline pipe = ctx.create_pipeline(name, spirv, 2, sizeof(GridPush));
   GridPush push;
   push.n = static_cast<std::uint32_t>(matches);
   const vk::Dispatch d{&pipe,
@@ -112,14 +112,15 @@ VoteMathRoofline measure_vote_math(vk::Context& ctx, std::size_t matches) {
   auto bin = ctx.create_buffer(in.size() * sizeof(float));
   auto bout = ctx.create_buffer(matches * 3 * sizeof(std::uint32_t));
   std::memcpy(bin.data(), in.data(), in.size() * sizeof(float));
-  r.exact_ms = run_kernel(ctx, sva_spv_vote_math, bin, bout, matches);
+  r.exact_ms = run_kernel(ctx, "vote_math", sva_spv_vote_math, bin, bout, matches);
   r.exact_agrees = true;
   for (std::size_t c = 0; c < matches; ++c) {  // every match: its samples are counted here too
     std::uint32_t want[3];
     r.samples += vote_math_checksum(&in[c * kMatchFloats], want);
     r.exact_agrees = r.exact_agrees && std::memcmp(want, bout.as<std::uint32_t>() + 3 * c, sizeof want) == 0;
   }
-  r.device_division_ms = run_kernel(ctx, sva_spv_vote_math_device_division, bin, bout, matches);
+  r.device_division_ms =
+      run_kernel(ctx, "vote_math_device_division", sva_spv_vote_math_device_division, bin, bout, matches);
   return r;
 }
 

@@ -16,8 +16,11 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <map>
 #include <nlohmann/json.hpp>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include <sva/io/json.hpp>
 #include "args.hpp"
@@ -142,6 +145,74 @@ void print_update_split(const json& runs) {
                   num(u["wait_past_device"]).c_str(), num(u["recording"]).c_str(),
                   num(u["host_outside_submissions"]).c_str(), num(u["belief_growth"]).c_str());
     }
+}
+
+// The device's time by kernel at one curve point, for one pipeline or, with name "", summed over them all (ms,
+// dispatches); null where the point did not time its kernels.
+json kernel_cell(const json& point, const std::string& name) {
+  const json& k = point["kernel_ms_by_pipeline"];
+  if (k.is_null()) return nullptr;
+  if (!name.empty()) return k.contains(name) ? k[name] : json{{"ms", 0.0}, {"dispatches", 0.0}};
+  double ms = 0.0, dispatches = 0.0;
+  for (const auto& [n, v] : k.items()) {
+    ms += v["ms"].get<double>();
+    dispatches += v["dispatches"].get<double>();
+  }
+  return {{"ms", ms}, {"dispatches", dispatches}};
+}
+
+// A run's pipelines with timed kernels, the heaviest first (at the largest reading count that ran each).
+std::vector<std::string> pipelines_by_time(const json& curve) {
+  std::map<std::string, double> last_ms;
+  for (const auto& p : curve)  // by reading count, ascending
+    if (p["kernel_ms_by_pipeline"].is_object())
+      for (const auto& [name, v] : p["kernel_ms_by_pipeline"].items()) last_ms[name] = v["ms"].get<double>();
+  std::vector<std::string> names;
+  for (const auto& [name, ms] : last_ms) names.push_back(name);
+  std::stable_sort(names.begin(), names.end(),
+                   [&](const std::string& a, const std::string& b) { return last_ms[a] > last_ms[b]; });
+  return names;
+}
+
+// The header of print_kernels_by_pipeline: a column pair per reading count of `curve`, which it returns.
+std::vector<std::size_t> print_kernels_header(const json& curve) {
+  std::printf(
+      "\nthe device's time by kernel, ms and dispatches per submission, the mean over its updates "
+      "(docs/evaluation.md, \"kernel_ms_by_pipeline\"):\n%-14s %-20s",
+      "", "");
+  std::vector<std::size_t> readings;
+  for (const auto& p : curve) {
+    readings.push_back(p["readings"].get<std::size_t>());
+    std::printf(" %19s", (std::to_string(readings.back()) + " readings").c_str());
+  }
+  std::printf("\n%-14s %-20s", "run", "pipeline");
+  for (std::size_t i = 0; i < readings.size(); ++i) std::printf(" %10s %8s", "ms", "disp.");
+  std::printf("\n");
+  return readings;
+}
+
+// Which kernels a device update's time is (speed_run.cpp's kernel_by_pipeline_json): a row per run and pipeline,
+// the heaviest first, then all of them together; a column pair per reading count.
+void print_kernels_by_pipeline(const json& runs) {
+  std::vector<std::size_t> readings;  // the columns: the first timed run's reading counts
+  for (const auto& r : runs) {
+    const json& curve = r["curve"];
+    const std::vector<std::string> names = pipelines_by_time(curve);
+    if (names.empty()) continue;
+    if (readings.empty()) readings = print_kernels_header(curve);
+    for (std::size_t row = 0; row <= names.size(); ++row) {
+      const std::string name = row < names.size() ? names[row] : "";
+      std::printf("%-14s %-20s", run_name(r).c_str(), name.empty() ? "(all kernels)" : name.c_str());
+      for (std::size_t want : readings) {
+        json cell;
+        for (const auto& p : curve)
+          if (p["readings"].get<std::size_t>() == want) cell = kernel_cell(p, name);
+        std::printf(" %10s %8s", number_or_na(cell.is_null() ? cell : cell["ms"], "%.3f").c_str(),
+                    number_or_na(cell.is_null() ? cell : cell["dispatches"], "%.1f").c_str());
+      }
+      std::printf("\n");
+    }
+  }
 }
 
 // The work per update as the backend counts it (the CPU reference: all but device atomics; Vulkan: all but the
@@ -364,6 +435,7 @@ int cmd_bench(const std::vector<std::string>& argv) {
   print_table(out["runs"]);
   print_estimate_stages(out["runs"]);
   print_update_split(out["runs"]);
+  print_kernels_by_pipeline(out["runs"]);
   print_work(out["runs"]);
   print_model(out["runs"]);
   print_run_summaries(out["runs"]);

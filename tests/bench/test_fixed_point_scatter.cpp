@@ -41,7 +41,7 @@ TEST_CASE("fixed-point scatter on the GPU equals the CPU sum bit for bit") {
     bin_ids.as<std::uint32_t>()[i] = b;
     if (b < bins) expect[b] += sva::to_fixed(w);
   }
-  auto pipeline = ctx->create_pipeline(sva_spv_fixed_point_scatter, 3, sizeof(Push));
+  auto pipeline = ctx->create_pipeline("fixed_point_scatter", sva_spv_fixed_point_scatter, 3, sizeof(Push));
   Push push{n, bins, 0};
   std::vector<std::uint8_t> pb(sizeof push);
   std::memcpy(pb.data(), &push, sizeof push);

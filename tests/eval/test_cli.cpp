@@ -436,6 +436,8 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
                             "estimate_device_allocations"})
       CHECK(p[key].is_null());
   for (const auto& p : batch["curve"]) CHECK(p["update_split_ms"].is_null());
+  for (const auto& p : batch["curve"]) CHECK(p["kernel_ms_by_pipeline"].is_null());  // no kernels: null, not {}
+  CHECK(out.find("the device's time by kernel") == std::string::npos);
 
   REQUIRE(sva::test::run_sva(bench + "--backend cpu --batch 0 --json " + f.path("single.json"), &out) == 0);
   const auto single = nlohmann::json::parse(read_file(f.path("single.json")))["runs"];
@@ -577,6 +579,26 @@ TEST_CASE("sva bench on the Vulkan backend reports device memory (n/a until the 
       CHECK((u[key].is_null() || u[key].get<double>() >= 0.0));
   }
   CHECK(out.find("an update's time by part") != std::string::npos);
+  // The device's time by kernel: per pipeline, the votes and the fold in every update, a dispatch at least; null
+  // where the device has no timestamps (as the split's device parts).
+  for (const auto& point : batch["curve"]) {
+    const auto& k = point["kernel_ms_by_pipeline"];
+    if (point["update_split_ms"]["device_between_kernels"].is_null()) {
+      CHECK(k.is_null());
+      continue;
+    }
+    REQUIRE(k.is_object());
+    CHECK((k.contains("match_votes") || k.contains("match_votes_portable")));
+    REQUIRE(k.contains("belief_fold"));
+    CHECK(k["belief_fold"]["ms"].get<double>() > 0.0);
+    for (const auto& [name, v] : k.items()) {
+      INFO(name);
+      CHECK(v["dispatches"].get<double>() > 0.0);
+      CHECK(v["ms"].get<double>() >= 0.0);
+    }
+    CHECK(out.find("the device's time by kernel") != std::string::npos);
+    CHECK(out.find("belief_fold") != std::string::npos);
+  }
   CHECK(out.find("upd. alloc.") != std::string::npos);
   CHECK(out.find("est. alloc.") != std::string::npos);
   // The device counts its work: the vote tables' atomics (a compare-and-swap per probe, an add per pre-aggregated

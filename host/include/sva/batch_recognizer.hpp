@@ -10,8 +10,10 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <memory>
 #include <span>
+#include <string>
 #include <vector>
 
 namespace sva {
@@ -59,6 +61,11 @@ class BatchRecognizer {
   BackendKind backend() const;
   // With BackendKind::automatic on the CPU: why no Vulkan device was usable ("" otherwise).
   std::string backend_fallback_reason() const;
+  // One kernel's share of an update's device time: its GPU ms and its dispatches.
+  struct KernelTime {
+    double ms = 0.0;
+    std::uint64_t dispatches = 0;
+  };
   // Where the last update's vote time went (Vulkan: GPU kernel time and the
   // backend's host-side preparation and read-back; CPU: all host).
   struct Timing {
@@ -74,6 +81,9 @@ class BatchRecognizer {
     double record_ms = 0.0;
     double wait_ms = 0.0;
     double device_span_ms = 0.0;  // 0 where the device has no timestamps
+    // The device's time by kernel, per pipeline named by its shader ("match_votes", "belief_fold", ...): which
+    // kernels kernel_ms is, summed over the names. Empty on the CPU and where the device has no timestamps.
+    std::map<std::string, KernelTime> kernel_ms_by_pipeline;
   };
   Timing last_backend_timing() const;
   // Where the last estimates()'s time went, in ms summed over its sessions (run side by side, so the sum can exceed

@@ -5,6 +5,7 @@
 // through the interface, never by casting to a concrete backend.
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <string>
 
 #include <sva/batch_recognizer.hpp>
@@ -35,6 +36,9 @@ struct BackendStats {
   double last_record_ms = 0.0;
   double last_wait_ms = 0.0;
   double last_device_span_ms = 0.0;
+  // The last update's device time by kernel (vk::SubmitTimes::kernels; empty on the CPU and without timestamps),
+  // likewise of every backend that submitted meanwhile.
+  std::map<std::string, BatchRecognizer::KernelTime> last_kernel_by_pipeline;
   // Device submissions so far (each a round trip: submit, then wait), the estimates' reads of the beliefs included;
   // with a shared engine, of every backend on its device. 0 on the CPU.
   std::uint64_t device_submissions = 0;

@@ -416,6 +416,7 @@ BatchRecognizer::Timing BatchRecognizer::last_backend_timing() const {
     t.record_ms = st.last_record_ms;
     t.wait_ms = st.last_wait_ms;
     t.device_span_ms = st.last_device_span_ms;
+    t.kernel_ms_by_pipeline = st.last_kernel_by_pipeline;
   }
   return t;
 }

@@ -66,7 +66,8 @@ TEST_CASE("the belief's integer math on the device equals the CPU's bit for bit"
   auto bin = ctx->create_buffer(in.size() * sizeof(std::uint64_t));
   auto bout = ctx->create_buffer(std::size_t{n} * kWords * sizeof(std::uint64_t));
   std::memcpy(bin.data(), in.data(), in.size() * sizeof(std::uint64_t));
-  const sva::vk::Pipeline pipe = ctx->create_pipeline(sva_spv_belief_math_device, 2, sizeof(std::uint32_t));
+  const sva::vk::Pipeline pipe =
+      ctx->create_pipeline("belief_math_device", sva_spv_belief_math_device, 2, sizeof(std::uint32_t));
   ctx->run({sva::vk::Dispatch{&pipe, {&bin, &bout}, sva::gpu::push_bytes(n), (n + 63) / 64}});
   const auto* gpu = bout.as<std::uint64_t>();
   const char* names[kWords] = {"fold units", "floor log", "exp2_neg units", "mul hi", "mul lo", "msb", "log2"};

@@ -3,6 +3,7 @@
 #include <sva/error.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -11,6 +12,7 @@
 #include "backends/vulkan/context.hpp"
 #include "backends/vulkan/faults.hpp"
 #include "backends/vulkan/gpu_layout.hpp"
+#include "spv/belief_math_device.h"
 #include "vk_test_support.hpp"
 #include "votes/fixed_point.hpp"
 
@@ -66,6 +68,48 @@ TEST_CASE("a submission's time is counted: recording it and waiting for it, the 
   CHECK(t1.wait_ms > t0.wait_ms);
   CHECK(t1.span_ms == t0.span_ms);  // no timed dispatch: no span
   CHECK(a.as<std::uint32_t>()[(1 << 18) - 1] == 1u);
+}
+
+TEST_CASE("the timed dispatches' time is summed by pipeline name, untimed runs add nothing, a reset empties it") {
+  auto ctx = sva::test::vulkan_context_or_skip();
+  const std::uint32_t n = 16384;  // cases: enough work for a dispatch to span ticks of any timestamp clock
+  std::vector<std::uint64_t> in(std::size_t{n} * 7);
+  for (std::size_t c = 0; c < n; ++c)  // mass, total, eps units, d, a, b, mass bits: in the kernel's domain
+    std::copy_n(std::array<std::uint64_t, 7>{1 + c, 2 + 2 * c, 3, c, 5 + c, 7, 20}.begin(), 7, &in[c * 7]);
+  auto bin = ctx->create_buffer(in.size() * sizeof(std::uint64_t)), bout = ctx->create_buffer(bin.size());
+  std::memcpy(bin.data(), in.data(), bin.size());
+  // One shader under two names: the name, not the code, is what the time is summed under.
+  const sva::vk::Pipeline a = ctx->create_pipeline("first", sva_spv_belief_math_device, 2, sizeof(std::uint32_t));
+  const sva::vk::Pipeline b = ctx->create_pipeline("second", sva_spv_belief_math_device, 2, sizeof(std::uint32_t));
+  const auto dispatch = [&](const sva::vk::Pipeline& p) {
+    return sva::vk::Dispatch{&p, {&bin, &bout}, sva::gpu::push_bytes(n), (n + 63) / 64};
+  };
+  const sva::vk::KernelTimes before = ctx->submit_times().kernels;
+  std::vector<double> ms1, ms2;
+  ctx->run({dispatch(a), dispatch(b), dispatch(a)}, &ms1);
+  ctx->run({dispatch(b)}, &ms2);
+  ctx->run({dispatch(a)});  // not timed: not counted
+  const sva::vk::SubmitTimes t = ctx->submit_times();
+  const sva::vk::KernelTimes k = sva::vk::kernel_times_since(before, t.kernels);
+  if (!ctx->info().timestamps) {
+    WARN("no timestamps on " << ctx->info().name << ": nothing timed");
+    CHECK(k.empty());
+    return;
+  }
+  REQUIRE(k.size() == 2);
+  REQUIRE(ms1.size() == 3);
+  REQUIRE(ms2.size() == 1);
+  CHECK(k.at("first").dispatches == 2);
+  CHECK(k.at("second").dispatches == 2);
+  CHECK(k.at("first").ms == Approx(ms1[0] + ms1[2]).epsilon(1e-12));
+  CHECK(k.at("second").ms == Approx(ms1[1] + ms2[0]).epsilon(1e-12));
+  for (const auto& [name, time] : k) CHECK(time.ms > 0.0);
+  CHECK(k.at("first").ms + k.at("second").ms == Approx(ms1[0] + ms1[1] + ms1[2] + ms2[0]).epsilon(1e-12));
+  ctx->reset_submit_times();
+  const sva::vk::SubmitTimes r = ctx->submit_times();
+  CHECK(r.kernels.empty());
+  CHECK(r.span_ms == 0.0);
+  CHECK(ctx->validation_messages() == 0);
 }
 
 TEST_CASE("a device buffer of undefined contents is poisoned on demand, a zeroed one never") {

@@ -84,7 +84,7 @@ std::size_t compare_with_ieee(sva::vk::Context& ctx, std::span<const std::uint32
   auto bq = ctx.create_buffer(n * sizeof(float)), br = ctx.create_buffer(n * sizeof(float));
   std::memcpy(ba.data(), a.data(), n * sizeof(float));
   std::memcpy(bb.data(), b.data(), n * sizeof(float));
-  const sva::vk::Pipeline pipe = ctx.create_pipeline(spirv, 4, static_cast<std::uint32_t>(push.size()));
+  const sva::vk::Pipeline pipe = ctx.create_pipeline("exact_math", spirv, 4, static_cast<std::uint32_t>(push.size()));
   ctx.run({sva::vk::Dispatch{&pipe, {&ba, &bb, &bq, &br}, push, (n + 63) / 64}});
   const float* q = bq.as<float>();
   const float* r = br.as<float>();

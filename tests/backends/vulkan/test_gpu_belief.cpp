@@ -100,6 +100,7 @@ TEST_CASE("GPU beliefs: tiny tables grow through overflow, from garbage, and sta
   vk::faults::set_poison_uncleared(true);
   Twin t(w, space, 3, {}, {}, vo);
   double growth_ms = 0.0;
+  bool rehashed = false, timestamps = false;
   for (int r = 0; r < 6; ++r) {
     std::vector<ObservedReading> obs;
     for (std::size_t s = 0; s < 3; ++s)
@@ -118,8 +119,20 @@ TEST_CASE("GPU beliefs: tiny tables grow through overflow, from garbage, and sta
     CHECK(st.last_belief_growth_ms <= st.last_host_ms);
     if (allocations() > before) CHECK(st.last_belief_growth_ms > 0.0);  // a belief table grew in this update
     growth_ms += st.last_belief_growth_ms;
+    // The update's kernels by pipeline (`sva bench`'s kernel_ms_by_pipeline): every timed dispatch under its
+    // shader's name, so that the names sum to the kernels' time; empty where the device has no timestamps.
+    double by_pipeline_ms = 0.0;
+    for (const auto& [name, k] : st.last_kernel_by_pipeline) {
+      by_pipeline_ms += k.ms;
+      CHECK(k.dispatches > 0);
+      rehashed = rehashed || name == "belief_rehash";
+    }
+    CHECK(by_pipeline_ms == Approx(st.last_kernel_ms).epsilon(1e-9));
+    CHECK(st.last_kernel_by_pipeline.count("belief_fold") == (st.last_device_span_ms > 0.0 ? 1u : 0u));
+    timestamps = st.last_device_span_ms > 0.0;
   }
   CHECK(growth_ms > 0.0);
+  CHECK(rehashed == timestamps);                            // the tables' moves, timed under their own name
   CHECK(t.cpu->statistics().last_belief_growth_ms == 0.0);  // the CPU reference grows inside its fold
   for (std::size_t s = 0; s < 3; ++s) {
     t.require_same(s);

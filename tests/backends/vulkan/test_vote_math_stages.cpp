@@ -164,7 +164,8 @@ void compare_cases(const std::vector<float>& in, const GridPush& grid_in, const 
   auto bout = ctx->create_buffer(static_cast<std::size_t>(n) * kWords * sizeof(std::uint32_t));
   std::memcpy(bin.data(), in.data(), in.size() * sizeof(float));
   std::memset(bout.data(), 0, bout.size());
-  const sva::vk::Pipeline pipe = ctx->create_pipeline(sva_spv_vote_math_stages, 2, sizeof(GridPush));
+  const sva::vk::Pipeline pipe =
+      ctx->create_pipeline("vote_math_stages", sva_spv_vote_math_stages, 2, sizeof(GridPush));
   std::vector<std::uint8_t> push(sizeof(GridPush));
   std::memcpy(push.data(), &g, sizeof(GridPush));
   ctx->run({sva::vk::Dispatch{&pipe, {&bin, &bout}, push, (n + 63) / 64}});

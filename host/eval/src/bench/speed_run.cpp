@@ -7,6 +7,7 @@
 #include <chrono>
 #include <map>
 #include <numbers>
+#include <string>
 
 #include <nlohmann/json.hpp>
 #include <sva/base/parallel.hpp>
@@ -50,6 +51,9 @@ struct Checkpoint {
   // A device update's time by part (update_split_json), each update's own: the device between its kernels, the wait
   // past the device's span, recording the submissions, the host outside them.
   std::vector<double> between_kernels_ms, wait_past_ms, record_ms, outside_ms;
+  // The device's time by kernel (kernel_by_pipeline_json), summed over the updates it timed, and their count.
+  std::map<std::string, BatchRecognizer::KernelTime> by_pipeline;
+  std::size_t timed_updates = 0;
   std::vector<double> estimate_ms;           // per session: object, refined pose and top-1 after the update
   std::vector<double> estimate_submissions;  // per session: the device round trips of its estimate (a batch's share)
   std::vector<double> update_submissions;    // per session: the device round trips of its update (a batch's share)
@@ -124,6 +128,11 @@ void record_checkpoint(Checkpoint& c, const BatchRecognizer& rec, const std::vec
   if (t.device_span_ms > 0.0) {  // the device has timestamps
     c.between_kernels_ms.push_back(std::max(0.0, t.device_span_ms - t.kernel_ms));
     c.wait_past_ms.push_back(std::max(0.0, t.wait_ms - t.device_span_ms));
+    ++c.timed_updates;
+    for (const auto& [name, k] : t.kernel_ms_by_pipeline) {
+      c.by_pipeline[name].ms += k.ms;
+      c.by_pipeline[name].dispatches += k.dispatches;
+    }
   }
   const BatchRecognizer::Work w = rec.last_update_work();
   for (auto [sum, v] : {std::pair{&c.work.pairs, w.pairs},
@@ -158,6 +167,19 @@ json update_split_json(const Checkpoint& c, bool device) {
           {"belief_growth", median_or_null(c.belief_growth_ms)}};
 }
 
+// A device update's time by kernel: per pipeline (named by its shader: the votes, the fold, the estimate's passes,
+// a table's move), its GPU ms and dispatches per update (per submission of its sessions), each the mean over the
+// checkpoint's updates rather than the median, so that a rare pass (a growth) shows and the names sum to the
+// kernels' mean. Null on the CPU and where the device has no timestamps.
+json kernel_by_pipeline_json(const Checkpoint& c, bool device) {
+  if (!device || c.timed_updates == 0) return nullptr;
+  const auto n = static_cast<double>(c.timed_updates);
+  json out = json::object();
+  for (const auto& [name, k] : c.by_pipeline)
+    out[name] = {{"ms", k.ms / n}, {"dispatches", static_cast<double>(k.dispatches) / n}};
+  return out;
+}
+
 json checkpoint_json(std::size_t readings, const Checkpoint& c, bool device, std::size_t sessions) {
   const json work = work_json(c.work, c.session_updates, device);
   return {
@@ -173,6 +195,7 @@ json checkpoint_json(std::size_t readings, const Checkpoint& c, bool device, std
       {"backend_belief_growth_ms", median_or_null(c.belief_growth_ms)},
       {"gpu_fold_ms", median_or_null(c.fold_ms)},
       {"update_split_ms", update_split_json(c, device)},
+      {"kernel_ms_by_pipeline", kernel_by_pipeline_json(c, device)},
       {"estimate_ms", median_or_null(c.estimate_ms)},
       {"estimate_device_submissions", device ? median_or_null(c.estimate_submissions) : json(nullptr)},
       {"update_device_submissions", device ? median_or_null(c.update_submissions) : json(nullptr)},

@@ -9,6 +9,16 @@
 
 namespace sva::vk {
 
+KernelTimes kernel_times_since(const KernelTimes& before, const KernelTimes& now) {
+  KernelTimes out;
+  for (const auto& [name, k] : now) {
+    const auto b = before.find(name);
+    const KernelTime was = b == before.end() ? KernelTime{} : b->second;
+    if (k.dispatches > was.dispatches) out[name] = {k.ms - was.ms, k.dispatches - was.dispatches};
+  }
+  return out;
+}
+
 CommandRunner::CommandRunner(const Device& device) : device_(device) {
   VkCommandPoolCreateInfo cpi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   cpi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
@@ -59,7 +69,7 @@ void CommandRunner::run(const std::vector<Dispatch>& dispatches, std::vector<dou
     throw;
   }
   end_submit_free(cmd, started);
-  if (timing) read_kernel_ms(dispatches.size(), *kernel_ms);
+  if (timing) read_kernel_ms(dispatches, *kernel_ms);
 }
 
 VkCommandBuffer CommandRunner::begin() {
@@ -242,16 +252,20 @@ void CommandRunner::submit_and_wait(VkCommandBuffer cmd) {
   }
 }
 
-void CommandRunner::read_kernel_ms(std::size_t dispatches, std::vector<double>& kernel_ms) {
-  const auto n_queries = static_cast<std::uint32_t>(2 * dispatches + 2);
+void CommandRunner::read_kernel_ms(const std::vector<Dispatch>& dispatches, std::vector<double>& kernel_ms) {
+  const auto n_queries = static_cast<std::uint32_t>(2 * dispatches.size() + 2);
   std::vector<std::uint64_t> ticks(n_queries);
   check(vkGetQueryPoolResults(device_.handle(), queries_, 0, n_queries, ticks.size() * sizeof(std::uint64_t),
                               ticks.data(), sizeof(std::uint64_t), VK_QUERY_RESULT_64_BIT | VK_QUERY_RESULT_WAIT_BIT),
         "vkGetQueryPoolResults");
   kernel_ms.clear();
-  for (std::size_t i = 0; i < dispatches; ++i)
+  for (std::size_t i = 0; i < dispatches.size(); ++i) {
     kernel_ms.push_back(static_cast<double>(ticks[2 * i + 1] - ticks[2 * i]) * device_.info().timestamp_period_ns *
                         1e-6);
+    KernelTime& k = times_.kernels[dispatches[i].pipeline->name()];
+    k.ms += kernel_ms.back();
+    ++k.dispatches;
+  }
   times_.span_ms +=
       static_cast<double>(ticks[n_queries - 1] - ticks[n_queries - 2]) * device_.info().timestamp_period_ns * 1e-6;
 }

@@ -8,6 +8,8 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <map>
+#include <string>
 #include <vector>
 
 #include "backends/vulkan/buffer.hpp"
@@ -48,6 +50,17 @@ struct Dispatch {
   Buffer* indirect = nullptr;
 };
 
+// One pipeline's timed dispatches, summed: their GPU time and how many ran.
+struct KernelTime {
+  double ms = 0.0;
+  std::uint64_t dispatches = 0;
+};
+// The device's time by kernel: KernelTime per pipeline name (Pipeline::name, the shader's file stem).
+using KernelTimes = std::map<std::string, KernelTime>;
+// What `now` adds to `before` (a caller's window on a runner's running sums); names with no dispatch in it are left
+// out.
+KernelTimes kernel_times_since(const KernelTimes& before, const KernelTimes& now);
+
 // Where the submissions' time went, summed over them: the host recording each (descriptor sets, commands), the wait
 // from its submission until its fence (the device's work and the latency around it), and the device's span from its
 // first command to its last, where the device has timestamps (in runs whose kernels are timed; 0 elsewhere). A
@@ -56,6 +69,9 @@ struct SubmitTimes {
   double record_ms = 0.0;
   double wait_ms = 0.0;
   double span_ms = 0.0;
+  // The timed dispatches by pipeline: which kernels the kernels' time is (a fold's passes, the votes, a table's
+  // growth). Summed over the names, every run's kernel_ms.
+  KernelTimes kernels;
 };
 
 class CommandRunner {
@@ -76,6 +92,9 @@ class CommandRunner {
   // Submissions so far (each a round trip: submit, then wait for the fence): what a batch's reads save.
   std::uint64_t submissions() const { return submissions_; }
   const SubmitTimes& times() const { return times_; }
+  // Starts the sums of times() again (a benchmark's own window; the backends take differences instead, as a shared
+  // engine's runner serves several).
+  void reset_times() { times_ = {}; }
 
  private:
   VkCommandBuffer begin();
@@ -88,8 +107,9 @@ class CommandRunner {
   void record_copies(VkCommandBuffer cmd, const std::vector<Copy>& copies) const;
   void record_dispatch(VkCommandBuffer cmd, const Dispatch& d, std::uint32_t index, bool timing);
   void submit_and_wait(VkCommandBuffer cmd);
-  // The dispatches' times, and the run's span (its queries past theirs) into times_.
-  void read_kernel_ms(std::size_t dispatches, std::vector<double>& kernel_ms);
+  // The dispatches' times, and into times_ the run's span (its queries past theirs) and each one's time under its
+  // pipeline's name.
+  void read_kernel_ms(const std::vector<Dispatch>& dispatches, std::vector<double>& kernel_ms);
 
   const Device& device_;
   VkCommandPool command_pool_ = VK_NULL_HANDLE;

@@ -13,6 +13,7 @@
 #include <mutex>
 #include <span>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "backends/vulkan/buffer.hpp"
@@ -60,8 +61,10 @@ class Context {
   // A 2-D grid of SVA_WORKGROUP_SIZE-wide workgroups covering `invocations`
   // (x is capped at maxComputeWorkGroupCount[0]); shaders flatten it back.
   Grid grid(std::uint64_t invocations) const { return device_.grid(invocations); }
-  Pipeline create_pipeline(std::span<const std::uint32_t> spirv, std::uint32_t bindings, std::uint32_t push_bytes) {
-    return Pipeline(device_, spirv, bindings, push_bytes);
+  // `name`: the shader's file stem, what its dispatches' time is summed under (SubmitTimes::kernels).
+  Pipeline create_pipeline(std::string name, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
+                           std::uint32_t push_bytes) {
+    return Pipeline(device_, std::move(name), spirv, bindings, push_bytes);
   }
   // Records the fills, then the dispatches, then the `reads` (copies of their results into readback buffers, so that
   // a result comes back in the submission that computed it, not in a staged download of its own), into one command
@@ -88,10 +91,15 @@ class Context {
     return commands_.submissions();
   }
 
-  // Where the submissions' time went so far (CommandRunner's SubmitTimes).
+  // Where the submissions' time went so far (CommandRunner's SubmitTimes), the device's time by kernel included.
   SubmitTimes submit_times() {
     std::lock_guard lock(mutex_);
     return commands_.times();
+  }
+  // Starts those sums again (CommandRunner::reset_times).
+  void reset_submit_times() {
+    std::lock_guard lock(mutex_);
+    commands_.reset_times();
   }
   // Memory allocations so far (one per buffer made).
   std::uint64_t allocations() const { return device_.allocations(); }

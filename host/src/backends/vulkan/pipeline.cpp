@@ -8,9 +8,9 @@
 
 namespace sva::vk {
 
-Pipeline::Pipeline(const Device& device, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
+Pipeline::Pipeline(const Device& device, std::string name, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
                    std::uint32_t push_bytes)
-    : device_(device.handle()), bindings_(bindings), push_bytes_(push_bytes) {
+    : name_(std::move(name)), device_(device.handle()), bindings_(bindings), push_bytes_(push_bytes) {
   try {
     create(spirv);
   } catch (...) {
@@ -69,6 +69,7 @@ Pipeline::Pipeline(Pipeline&& o) noexcept { *this = std::move(o); }
 Pipeline& Pipeline::operator=(Pipeline&& o) noexcept {
   if (this != &o) {
     release();
+    std::swap(name_, o.name_);
     std::swap(device_, o.device_);
     std::swap(module_, o.module_);
     std::swap(set_layout_, o.set_layout_);

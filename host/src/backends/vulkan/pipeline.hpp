@@ -1,10 +1,13 @@
 #pragma once
 // A compute pipeline from embedded SPIR-V, with its descriptor-set layout (one
 // storage buffer per binding) and push-constant range: all a kernel launch needs.
+// Its name (the shader's file stem, e.g. "belief_fold") is what the device's time
+// by kernel is summed under (CommandRunner's SubmitTimes).
 #include <vulkan/vulkan.h>
 
 #include <cstdint>
 #include <span>
+#include <string>
 
 namespace sva::vk {
 
@@ -13,7 +16,7 @@ class Device;
 class Pipeline {
  public:
   Pipeline() = default;
-  Pipeline(const Device& device, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
+  Pipeline(const Device& device, std::string name, std::span<const std::uint32_t> spirv, std::uint32_t bindings,
            std::uint32_t push_bytes);
   Pipeline(Pipeline&&) noexcept;
   Pipeline& operator=(Pipeline&&) noexcept;
@@ -21,6 +24,7 @@ class Pipeline {
   Pipeline& operator=(const Pipeline&) = delete;
   ~Pipeline();
 
+  const std::string& name() const { return name_; }
   std::uint32_t bindings() const { return bindings_; }
   std::uint32_t push_bytes() const { return push_bytes_; }
   VkPipeline handle() const { return pipeline_; }
@@ -31,6 +35,7 @@ class Pipeline {
   void create(std::span<const std::uint32_t> spirv);
   void release();
 
+  std::string name_;
   VkDevice device_ = VK_NULL_HANDLE;
   VkShaderModule module_ = VK_NULL_HANDLE;
   VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;

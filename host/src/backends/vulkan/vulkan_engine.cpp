@@ -71,17 +71,17 @@ std::size_t VulkanEngine::map_device_bytes(const PairMap& map) {
 VulkanEngine::VulkanEngine(const PairMap& map, const vk::ContextOptions& context, std::size_t max_chunk_entries,
                            bool portable_kernel)
     : ctx(context),
-      expand(ctx.create_pipeline(sva_spv_expand_pair_keys, 4, sizeof(gpu::SvaExpandParams))),
-      scan(ctx.create_pipeline(sva_spv_scan_matches, 3, sizeof(gpu::SvaScanParams))),
-      match(ctx.create_pipeline(use_subgroups(ctx, portable_kernel)
-                                    ? std::span<const std::uint32_t>(sva_spv_match_votes)
-                                    : std::span<const std::uint32_t>(sva_spv_match_votes_portable),
-                                15, sizeof(gpu::SvaMatchParams))),
-      fold(ctx.create_pipeline(sva_spv_belief_fold, 7, sizeof(gpu::SvaFoldParams))),
-      rehash(ctx.create_pipeline(sva_spv_belief_rehash, 2, sizeof(gpu::SvaRehashParams))),
-      reduce(ctx.create_pipeline(sva_spv_belief_reduce, 1, sizeof(gpu::SvaReduceParams))),
-      lookup(ctx.create_pipeline(sva_spv_belief_lookup, 1, sizeof(gpu::SvaLookupParams))),
-      hoods(ctx.create_pipeline(sva_spv_belief_hoods, 3, sizeof(gpu::SvaHoodParams))) {
+      expand(ctx.create_pipeline("expand_pair_keys", sva_spv_expand_pair_keys, 4, sizeof(gpu::SvaExpandParams))),
+      scan(ctx.create_pipeline("scan_matches", sva_spv_scan_matches, 3, sizeof(gpu::SvaScanParams))),
+      match(use_subgroups(ctx, portable_kernel)
+                ? ctx.create_pipeline("match_votes", sva_spv_match_votes, 15, sizeof(gpu::SvaMatchParams))
+                : ctx.create_pipeline("match_votes_portable", sva_spv_match_votes_portable, 15,
+                                      sizeof(gpu::SvaMatchParams))),
+      fold(ctx.create_pipeline("belief_fold", sva_spv_belief_fold, 7, sizeof(gpu::SvaFoldParams))),
+      rehash(ctx.create_pipeline("belief_rehash", sva_spv_belief_rehash, 2, sizeof(gpu::SvaRehashParams))),
+      reduce(ctx.create_pipeline("belief_reduce", sva_spv_belief_reduce, 1, sizeof(gpu::SvaReduceParams))),
+      lookup(ctx.create_pipeline("belief_lookup", sva_spv_belief_lookup, 1, sizeof(gpu::SvaLookupParams))),
+      hoods(ctx.create_pipeline("belief_hoods", sva_spv_belief_hoods, 3, sizeof(gpu::SvaHoodParams))) {
   subgroup_aggregation = use_subgroups(ctx, portable_kernel);
   no_priors = ctx.create_buffer(64);
   std::memset(no_priors.as<std::uint8_t>(), 0, 64);

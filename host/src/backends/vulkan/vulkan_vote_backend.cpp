@@ -154,6 +154,7 @@ class VulkanVoteBackend final : public VoteBackend {
     s.last_record_ms = stats_.last_record_ms;
     s.last_wait_ms = stats_.last_wait_ms;
     s.last_device_span_ms = stats_.last_device_span_ms;
+    s.last_kernel_by_pipeline = stats_.last_kernel_by_pipeline;
     s.device_submissions = ctx_.submissions();
     s.device_allocations = ctx_.allocations();
     s.device_type = ctx_.info().type;
@@ -226,6 +227,9 @@ class VulkanVoteBackend final : public VoteBackend {
     stats_.last_record_ms = s1.record_ms - s0.record_ms;
     stats_.last_wait_ms = s1.wait_ms - s0.wait_ms;
     stats_.last_device_span_ms = s1.span_ms - s0.span_ms;
+    stats_.last_kernel_by_pipeline.clear();
+    for (const auto& [name, k] : vk::kernel_times_since(s0.kernels, s1.kernels))
+      stats_.last_kernel_by_pipeline[name] = {k.ms, k.dispatches};
     stats_.last_belief_growth_ms = growth_ms_;
     stats_.validation_messages = ctx_.validation_messages();
   }

@@ -9,6 +9,7 @@
 // map and device. A batch of pairs from any number of sessions votes and folds
 // in one submission; a hash-table overflow grows the table and reruns, so no
 // vote is ever dropped.
+#include <map>
 #include <memory>
 #include <string>
 
@@ -39,6 +40,7 @@ struct VulkanBackendStats {
   double last_host_ms = 0.0;           // host time of the last batch: preparation and read-back
   double last_belief_growth_ms = 0.0;  // of which growing the sessions' belief tables (buffers, submissions)
   double last_record_ms = 0.0, last_wait_ms = 0.0, last_device_span_ms = 0.0;  // its submissions (vk::SubmitTimes)
+  std::map<std::string, BatchRecognizer::KernelTime> last_kernel_by_pipeline;  // and its kernels by pipeline
   std::uint32_t validation_messages = 0;  // Vulkan validation-layer warnings and errors (SVA_VK_VALIDATION=1)
 };
 

@@ -86,8 +86,11 @@ TEST_CASE("the timed dispatches' time is summed by pipeline name, untimed runs a
   };
   const sva::vk::KernelTimes before = ctx->submit_times().kernels;
   std::vector<double> ms1, ms2;
+  // A pass of a pipeline (Dispatch::pass) is counted as "pipeline:pass", apart from the pipeline's other dispatches.
+  sva::vk::Dispatch pass = dispatch(b);
+  pass.pass = "third";
   ctx->run({dispatch(a), dispatch(b), dispatch(a)}, &ms1);
-  ctx->run({dispatch(b)}, &ms2);
+  ctx->run({dispatch(b), pass}, &ms2);
   ctx->run({dispatch(a)});  // not timed: not counted
   const sva::vk::SubmitTimes t = ctx->submit_times();
   const sva::vk::KernelTimes k = sva::vk::kernel_times_since(before, t.kernels);
@@ -96,15 +99,18 @@ TEST_CASE("the timed dispatches' time is summed by pipeline name, untimed runs a
     CHECK(k.empty());
     return;
   }
-  REQUIRE(k.size() == 2);
+  REQUIRE(k.size() == 3);
   REQUIRE(ms1.size() == 3);
-  REQUIRE(ms2.size() == 1);
+  REQUIRE(ms2.size() == 2);
   CHECK(k.at("first").dispatches == 2);
   CHECK(k.at("second").dispatches == 2);
+  CHECK(k.at("second:third").dispatches == 1);
   CHECK(k.at("first").ms == Approx(ms1[0] + ms1[2]).epsilon(1e-12));
   CHECK(k.at("second").ms == Approx(ms1[1] + ms2[0]).epsilon(1e-12));
+  CHECK(k.at("second:third").ms == Approx(ms2[1]).epsilon(1e-12));
   for (const auto& [name, time] : k) CHECK(time.ms > 0.0);
-  CHECK(k.at("first").ms + k.at("second").ms == Approx(ms1[0] + ms1[1] + ms1[2] + ms2[0]).epsilon(1e-12));
+  CHECK(k.at("first").ms + k.at("second").ms + k.at("second:third").ms ==
+        Approx(ms1[0] + ms1[1] + ms1[2] + ms2[0] + ms2[1]).epsilon(1e-12));
   ctx->reset_submit_times();
   const sva::vk::SubmitTimes r = ctx->submit_times();
   CHECK(r.kernels.empty());

@@ -262,7 +262,8 @@ void CommandRunner::read_kernel_ms(const std::vector<Dispatch>& dispatches, std:
   for (std::size_t i = 0; i < dispatches.size(); ++i) {
     kernel_ms.push_back(static_cast<double>(ticks[2 * i + 1] - ticks[2 * i]) * device_.info().timestamp_period_ns *
                         1e-6);
-    KernelTime& k = times_.kernels[dispatches[i].pipeline->name()];
+    const Dispatch& d = dispatches[i];
+    KernelTime& k = times_.kernels[d.pass ? d.pipeline->name() + ":" + d.pass : d.pipeline->name()];
     k.ms += kernel_ms.back();
     ++k.dispatches;
   }

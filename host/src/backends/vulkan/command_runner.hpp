@@ -48,6 +48,9 @@ struct Dispatch {
   // When set, the workgroup counts come from this buffer (VkDispatchIndirectCommand
   // at offset 0), written by an earlier dispatch of the same run.
   Buffer* indirect = nullptr;
+  // Which pass of a pipeline that runs several (chosen by a push constant, e.g. belief_reduce's MASS): the device's
+  // time by kernel counts it as "pipeline:pass" (a batch's fold column is mostly the belief passes read ahead).
+  const char* pass = nullptr;
 };
 
 // One pipeline's timed dispatches, summed: their GPU time and how many ran.

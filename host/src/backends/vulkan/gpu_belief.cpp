@@ -287,6 +287,7 @@ std::vector<vk::Dispatch> GpuBelief::reduce_dispatches(const std::vector<std::ui
     const vk::Grid g = k_->ctx->grid(pass == SVA_REDUCE_FLIP ? 1 : slot_invocations(entries));
     vk::Dispatch d{k_->reduce, {&candidates_}, push_bytes(reduce_params(pass)), g.x};
     d.groups_y = g.y;
+    d.pass = gpu::reduce_pass_name(pass);
     ds.push_back(std::move(d));
   }
   return ds;
@@ -397,6 +398,7 @@ vk::Dispatch GpuBelief::bucket_dispatch(std::uint32_t pass, std::size_t k) const
   const vk::Grid g = k_->ctx->grid(1);
   vk::Dispatch d{k_->reduce, {&candidates_}, push_bytes(p), g.x};
   d.groups_y = g.y;
+  d.pass = gpu::reduce_pass_name(pass);
   return d;
 }
 
@@ -570,6 +572,7 @@ bool GpuBelief::add_key_choice(std::vector<vk::Dispatch>* ds, std::vector<vk::Co
     const vk::Grid g = k_->ctx->grid(invocations);
     vk::Dispatch d{k_->hoods, {&candidates_, &hoods_, &priors}, push_bytes(hood_params(pass, steps, keys)), g.x};
     d.groups_y = g.y;
+    d.pass = gpu::hoods_pass_name(pass);
     ds->push_back(std::move(d));
   };
   if (c.best > 1) dispatch(SVA_HOODS_RANK, selection_room(ahead_k_));
@@ -791,6 +794,7 @@ vk::Dispatch GpuBelief::select_dispatch(std::uint32_t pass, std::uint32_t bucket
   const vk::Grid g = k_->ctx->grid(slot_invocations(entries));
   vk::Dispatch d{k_->reduce, {&candidates_}, push_bytes(p), g.x};
   d.groups_y = g.y;
+  d.pass = gpu::reduce_pass_name(pass);
   return d;
 }
 

@@ -5,6 +5,7 @@
 #include <bit>
 #include <cstdint>
 #include <cstring>
+#include <iterator>
 #include <vector>
 
 #include "backends/vulkan/context.hpp"
@@ -14,6 +15,22 @@ namespace sva::gpu {
 using uint = std::uint32_t;
 using std::uint64_t;
 #include "sva_gpu_layout.h"
+
+// The passes' names in the device's time by kernel (vk::Dispatch::pass): belief_fold.comp's, belief_reduce.comp's and
+// belief_hoods.comp's, as sva_gpu_layout.h numbers them.
+inline const char* fold_pass_name(uint pass) {
+  static const char* const names[] = {"reserve", "pair_log", "add", "reset", "best"};
+  return pass < std::size(names) ? names[pass] : "?";
+}
+inline const char* reduce_pass_name(uint pass) {
+  static const char* const names[] = {"mass",         "flip",   "select",      "rebuild", "table_histogram",
+                                      "table_select", "bucket", "table_bucket"};
+  return pass < std::size(names) ? names[pass] : "?";
+}
+inline const char* hoods_pass_name(uint pass) {
+  static const char* const names[] = {"rank", "centres", "keys"};
+  return pass < std::size(names) ? names[pass] : "?";
+}
 
 // Push-constant bytes of a parameter struct.
 template <class T>

@@ -534,6 +534,7 @@ class VulkanVoteBackend final : public VoteBackend {
                      push_bytes(p),
                      g.x};
       d.groups_y = g.y;
+      d.pass = gpu::fold_pass_name(pass);
       ds.push_back(std::move(d));
     }
     return ds;

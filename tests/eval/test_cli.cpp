@@ -530,6 +530,38 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
   }
 }
 
+TEST_CASE("sva bench untimed (SVA_VK_TIMESTAMPS=0) and serial (SVA_VK_SERIAL=1): the same votes, kernels n/a") {
+  // The device check's A/B of a batch's passes side by side against one at a time: the wall time without a timestamp
+  // between dispatches. Both switches change how the work is recorded, never what it computes.
+  Fixture f;
+  std::string out;
+  const std::string bench = "bench --backend vulkan --map " + f.map + " --data " + f.test +
+                            " --readings 2,4 --trials 3 --batch 3 --roofline-votes 4096 --json ";
+  if (sva::test::run_sva(bench + f.path("timed.json"), &out) != 0) {
+    if (out.find("ulkan") != std::string::npos && out.find("internal error") == std::string::npos)
+      sva::test::skip("no Vulkan device: " + out);
+    FAIL(out);
+  }
+  {
+    const sva::test::ScopedEnv untimed("SVA_VK_TIMESTAMPS", "0"), serial("SVA_VK_SERIAL", "1");
+    REQUIRE(sva::test::run_sva(bench + f.path("untimed.json"), &out) == 0);
+  }
+  INFO(out);
+  const auto timed = nlohmann::json::parse(read_file(f.path("timed.json")));
+  const auto untimed = nlohmann::json::parse(read_file(f.path("untimed.json")));
+  const auto& a = bench_run(timed, "vulkan", 3)["curve"];
+  const auto& b = bench_run(untimed, "vulkan", 3)["curve"];
+  REQUIRE(a.size() == b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    CHECK(a[i]["votes_per_update"] == b[i]["votes_per_update"]);
+    CHECK(a[i]["translation_error_mm"] == b[i]["translation_error_mm"]);
+    CHECK(b[i]["update_split_ms"]["kernels"].is_null());
+    CHECK(b[i]["kernel_ms_by_pipeline"].is_null());
+    CHECK(b[i]["update_ms"].get<double>() > 0.0);
+  }
+  CHECK(out.find("the device's time by kernel") == std::string::npos);
+}
+
 TEST_CASE("sva bench on the Vulkan backend reports device memory (n/a until the backend fills it)") {
   Fixture f;
   std::string out;
@@ -572,7 +604,10 @@ TEST_CASE("sva bench on the Vulkan backend reports device memory (n/a until the 
   for (const auto& point : batch["curve"]) {
     const auto& u = point["update_split_ms"];
     REQUIRE(u.is_object());
-    CHECK(u["kernels"].get<double>() > 0.0);
+    if (u["device_between_kernels"].is_null())
+      CHECK(u["kernels"].is_null());  // untimed: in no part, not 0 ms
+    else
+      CHECK(u["kernels"].get<double>() > 0.0);
     CHECK(u["recording"].get<double>() > 0.0);
     for (const char* key : {"host_outside_submissions", "belief_growth"}) CHECK(u[key].get<double>() >= 0.0);
     for (const char* key : {"device_between_kernels", "wait_past_device"})

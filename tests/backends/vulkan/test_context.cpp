@@ -118,6 +118,65 @@ TEST_CASE("the timed dispatches' time is summed by pipeline name, untimed runs a
   CHECK(ctx->validation_messages() == 0);
 }
 
+TEST_CASE("side_by_side records the lists round by round: one barrier before each round and each list in its order") {
+  // Lists of 3, 1 and 2 dispatches, told apart by their group counts (list * 10 + place).
+  std::vector<std::vector<sva::vk::Dispatch>> lists(3);
+  for (std::uint32_t l = 0; l < 3; ++l)
+    for (std::uint32_t i = 0; i < std::array<std::uint32_t, 3>{3, 1, 2}[l]; ++i)
+      lists[l].push_back(sva::vk::Dispatch{nullptr, {}, {}, 10 * l + i});
+  const std::vector<sva::vk::Dispatch> out = sva::vk::side_by_side(std::move(lists));
+  std::vector<std::uint32_t> order;
+  std::vector<bool> barriers;
+  for (const sva::vk::Dispatch& d : out) order.push_back(d.groups_x), barriers.push_back(d.barrier);
+  CHECK(order == std::vector<std::uint32_t>{0, 10, 20, 1, 21, 2});
+  CHECK(barriers == std::vector<bool>{true, false, false, true, false, true});
+  CHECK(sva::vk::side_by_side({}).empty());
+  CHECK(sva::vk::side_by_side({{}, {}}).empty());
+}
+
+TEST_CASE("dispatches side by side share a barrier per round and give what one at a time gives: serial records all") {
+  const std::uint32_t n = 4096;
+  const auto run = [&](bool serial, std::uint64_t* barriers) {
+    sva::vk::ContextOptions o = sva::vk::Context::from_environment();
+    o.serial_dispatches = serial;
+    std::unique_ptr<sva::vk::Context> ctx;
+    try {
+      ctx = std::make_unique<sva::vk::Context>(o);
+    } catch (const sva::Error& e) {
+      sva::test::skip(e.what());
+    }
+    const sva::vk::Pipeline p = ctx->create_pipeline("math", sva_spv_belief_math_device, 2, sizeof(std::uint32_t));
+    // Three sessions, each two passes over buffers of its own: its input, then the same input again into its output
+    // (the second pass overwrites the first's results with the same values: a later pass of one list).
+    std::vector<sva::vk::Buffer> in, out;
+    for (std::uint64_t s = 0; s < 3; ++s) {
+      std::vector<std::uint64_t> words(std::size_t{n} * 7);
+      for (std::size_t c = 0; c < n; ++c)
+        std::copy_n(std::array<std::uint64_t, 7>{1 + c + s, 2 + 2 * c, 3, c, 5 + c, 7, 20}.begin(), 7, &words[c * 7]);
+      in.push_back(ctx->create_buffer(words.size() * sizeof(std::uint64_t)));
+      out.push_back(ctx->create_buffer(in.back().size()));
+      std::memcpy(in.back().data(), words.data(), in.back().size());
+    }
+    std::vector<std::vector<sva::vk::Dispatch>> lists(3);
+    for (std::size_t s = 0; s < 3; ++s)
+      for (int pass = 0; pass < 2; ++pass)
+        lists[s].push_back(sva::vk::Dispatch{&p, {&in[s], &out[s]}, sva::gpu::push_bytes(n), (n + 63) / 64});
+    const std::uint64_t before = ctx->barriers();
+    ctx->run(sva::vk::side_by_side(std::move(lists)));
+    *barriers = ctx->barriers() - before;
+    std::vector<std::uint64_t> results;
+    for (const sva::vk::Buffer& b : out)
+      results.insert(results.end(), b.as<std::uint64_t>(), b.as<std::uint64_t>() + b.size() / sizeof(std::uint64_t));
+    CHECK(ctx->validation_messages() == 0);
+    return results;
+  };
+  std::uint64_t side = 0, serial = 0;
+  const std::vector<std::uint64_t> a = run(false, &side), b = run(true, &serial);
+  CHECK(side == 1);    // between the two rounds only
+  CHECK(serial == 5);  // before every dispatch but the first
+  CHECK(a == b);
+}
+
 TEST_CASE("a device buffer of undefined contents is poisoned on demand, a zeroed one never") {
   auto ctx = sva::test::vulkan_context_or_skip();
   struct PoisonOff {

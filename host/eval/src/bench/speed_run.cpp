@@ -156,10 +156,11 @@ void record_checkpoint(Checkpoint& c, const BatchRecognizer& rec, const std::vec
 // sessions): the kernels; the device between them (barriers, fills, copies: its span less the kernels); the wait
 // past the device's span (submitting, the fence, untimed transfers); recording the submissions; and the host's work
 // outside them (of which the beliefs' growth). One update's parts sum to its time. Null on the CPU; the parts that
-// need the device's timestamps are null without them.
+// need the device's timestamps, the kernels too, are null without them.
 json update_split_json(const Checkpoint& c, bool device) {
   if (!device || c.kernel_ms.empty()) return nullptr;
-  return {{"kernels", median_or_null(c.kernel_ms)},
+  // Untimed (no timestamps, or SVA_VK_TIMESTAMPS=0): the kernels are in no part, not 0 ms; the host's parts hold them.
+  return {{"kernels", c.timed_updates > 0 ? median_or_null(c.kernel_ms) : json(nullptr)},
           {"device_between_kernels", median_or_null(c.between_kernels_ms)},
           {"wait_past_device", median_or_null(c.wait_past_ms)},
           {"recording", median_or_null(c.record_ms)},

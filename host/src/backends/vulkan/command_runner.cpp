@@ -19,7 +19,24 @@ KernelTimes kernel_times_since(const KernelTimes& before, const KernelTimes& now
   return out;
 }
 
-CommandRunner::CommandRunner(const Device& device) : device_(device) {
+std::vector<Dispatch> side_by_side(std::vector<std::vector<Dispatch>> lists) {
+  std::vector<Dispatch> out;
+  std::size_t rounds = 0, total = 0;
+  for (const std::vector<Dispatch>& l : lists) rounds = std::max(rounds, l.size()), total += l.size();
+  out.reserve(total);
+  for (std::size_t r = 0; r < rounds; ++r) {
+    const std::size_t first = out.size();
+    for (std::vector<Dispatch>& l : lists) {
+      if (r >= l.size()) continue;
+      out.push_back(std::move(l[r]));
+      out.back().barrier = out.size() - 1 == first;
+    }
+  }
+  return out;
+}
+
+CommandRunner::CommandRunner(const Device& device, bool serial, bool timestamps)
+    : device_(device), serial_(serial), timestamps_(timestamps) {
   VkCommandPoolCreateInfo cpi{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   cpi.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
   cpi.queueFamilyIndex = device.queue_family();
@@ -43,7 +60,7 @@ void CommandRunner::run(const std::vector<Dispatch>& dispatches, std::vector<dou
                         const std::vector<Fill>& fills, const std::vector<Copy>& reads) {
   if (dispatches.empty() && fills.empty() && reads.empty()) return;
   const auto started = std::chrono::steady_clock::now();
-  const bool timing = kernel_ms && device_.info().timestamps && !dispatches.empty();
+  const bool timing = kernel_ms && timestamps_ && device_.info().timestamps && !dispatches.empty();
   if (kernel_ms) kernel_ms->clear();
   // Two per dispatch, then the run's first and last command.
   const auto n_queries = static_cast<std::uint32_t>(2 * dispatches.size() + 2);
@@ -212,7 +229,8 @@ void CommandRunner::record_dispatch(VkCommandBuffer cmd, const Dispatch& d, std:
   if (d.groups_x > device_.info().max_workgroup_count_x || d.groups_y > device_.info().max_workgroup_count_y)
     throw std::logic_error("Dispatch: too many workgroups");
   const VkDescriptorSet set = bind_buffers(d);
-  if (index > 0) {
+  if (index > 0 && (d.barrier || serial_)) {
+    ++barriers_;
     // Earlier writes are visible to this dispatch's shader and, for indirect
     // dispatches, to the read of its workgroup counts.
     VkMemoryBarrier mb{VK_STRUCTURE_TYPE_MEMORY_BARRIER, nullptr,

@@ -38,7 +38,7 @@ struct Copy {
 };
 
 // One dispatch of a recorded sequence; consecutive dispatches are separated by
-// a full compute->compute memory barrier.
+// a full compute->compute memory barrier, unless the later one runs beside it (barrier false: side_by_side).
 struct Dispatch {
   const Pipeline* pipeline;
   std::vector<Buffer*> buffers;    // one per binding, in binding order
@@ -51,7 +51,17 @@ struct Dispatch {
   // Which pass of a pipeline that runs several (chosen by a push constant, e.g. belief_reduce's MASS): the device's
   // time by kernel counts it as "pipeline:pass" (a batch's fold column is mostly the belief passes read ahead).
   const char* pass = nullptr;
+  // A full barrier before it: it sees every earlier dispatch's writes. false: it touches nothing that the dispatches
+  // since the last barrier write or read, and may run beside them (another session's passes: side_by_side).
+  bool barrier = true;
 };
+
+// Several sessions' lists of dispatches, each list in its own order, recorded round by round: the i-th dispatch of
+// every list side by side, one barrier before each round. A list's dispatches keep their order and their barriers
+// (consecutive ones are in consecutive rounds); lists must touch disjoint buffers (each session's own belief). On a
+// GPU a batch's 64 sessions' belief passes then fill the device together, where one barrier after each of them let
+// one small pass at a time run (the seventh GPU run: the fold column, 54 ms of a 64-session submission).
+std::vector<Dispatch> side_by_side(std::vector<std::vector<Dispatch>> lists);
 
 // One pipeline's timed dispatches, summed: their GPU time and how many ran.
 struct KernelTime {
@@ -79,7 +89,9 @@ struct SubmitTimes {
 
 class CommandRunner {
  public:
-  explicit CommandRunner(const Device& device);
+  // serial: a barrier before every dispatch, side_by_side's rounds ignored (env SVA_VK_SERIAL=1, to compare);
+  // timestamps false: no run is timed, whatever it asks (env SVA_VK_TIMESTAMPS=0).
+  explicit CommandRunner(const Device& device, bool serial = false, bool timestamps = true);
   ~CommandRunner();
   CommandRunner(const CommandRunner&) = delete;
   CommandRunner& operator=(const CommandRunner&) = delete;
@@ -98,6 +110,8 @@ class CommandRunner {
   // Starts the sums of times() again (a benchmark's own window; the backends take differences instead, as a shared
   // engine's runner serves several).
   void reset_times() { times_ = {}; }
+  // Barriers recorded between dispatches so far: what side_by_side saves.
+  std::uint64_t barriers() const { return barriers_; }
 
  private:
   VkCommandBuffer begin();
@@ -121,6 +135,9 @@ class CommandRunner {
   VkQueryPool queries_ = VK_NULL_HANDLE;
   std::uint32_t query_capacity_ = 0;
   std::uint64_t submissions_ = 0;  // the Context's lock orders every run and copy
+  std::uint64_t barriers_ = 0;
+  bool serial_ = false;
+  bool timestamps_ = true;
   SubmitTimes times_;
 };
 

@@ -13,13 +13,15 @@ ContextOptions Context::from_environment() {
   if (const char* d = std::getenv("SVA_VK_DEVICE")) o.device = d;
   if (const char* v = std::getenv("SVA_VK_VALIDATION")) o.validation = std::string(v) == "1";
   if (const char* v = std::getenv("SVA_VK_STAGING")) o.force_staging = std::string(v) == "1";
+  if (const char* v = std::getenv("SVA_VK_SERIAL")) o.serial_dispatches = std::string(v) == "1";
+  if (const char* v = std::getenv("SVA_VK_TIMESTAMPS")) o.timestamps = std::string(v) != "0";
   return o;
 }
 
 Context::Context(const ContextOptions& options)
     : instance_(options.validation),
       device_(instance_, options.device),
-      commands_(device_),
+      commands_(device_, options.serial_dispatches, options.timestamps),
       force_staging_(options.force_staging) {}
 
 Buffer Context::create_device_buffer(std::size_t bytes) {

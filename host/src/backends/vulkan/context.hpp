@@ -31,6 +31,12 @@ struct ContextOptions {
   // Keep device buffers unmapped and stage every upload and download, as on a
   // GPU without a large BAR (env SVA_VK_STAGING=1): tests the staging path on lavapipe.
   bool force_staging = false;
+  // A barrier before every dispatch, as before sessions' passes ran side by side (env SVA_VK_SERIAL=1): a device run
+  // compares the two (vk::side_by_side).
+  bool serial_dispatches = false;
+  // Timestamps around each dispatch where a caller asks for its kernels' times (env SVA_VK_TIMESTAMPS=0: none, so
+  // that a device run measures the wall time of dispatches side by side without a timestamp between them).
+  bool timestamps = true;
 };
 
 class Context {
@@ -89,6 +95,11 @@ class Context {
   std::uint64_t submissions() {
     std::lock_guard lock(mutex_);
     return commands_.submissions();
+  }
+  // Barriers recorded between dispatches so far (CommandRunner::barriers).
+  std::uint64_t barriers() {
+    std::lock_guard lock(mutex_);
+    return commands_.barriers();
   }
 
   // Where the submissions' time went so far (CommandRunner's SubmitTimes), the device's time by kernel included.

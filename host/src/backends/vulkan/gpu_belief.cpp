@@ -207,8 +207,8 @@ void GpuBelief::keep_half_empty(std::span<GpuBelief* const> beliefs) {
 void GpuBelief::grow_all(std::span<GpuBelief* const> beliefs, std::span<const std::uint64_t> slots,
                          const std::function<void(std::size_t, const vk::OutOfMemory&)>& out_of_memory) {
   if (beliefs.empty()) return;
-  std::vector<Move> moves(beliefs.size());  // sized once: the dispatches and fills point into it
-  std::vector<vk::Dispatch> ds;
+  std::vector<Move> moves(beliefs.size());    // sized once: the dispatches and fills point into it
+  std::vector<std::vector<vk::Dispatch>> ds;  // each belief's rehash into its own new table: side by side
   std::vector<vk::Fill> fills;
   for (std::size_t i = 0; i < beliefs.size(); ++i) {
     GpuBelief& b = *beliefs[i];
@@ -220,12 +220,12 @@ void GpuBelief::grow_all(std::span<GpuBelief* const> beliefs, std::span<const st
       out_of_memory(i, e);
       throw;
     }
-    ds.push_back(moves[i].rehash);
+    ds.push_back({moves[i].rehash});
     fills.insert(fills.end(), moves[i].fills.begin(), moves[i].fills.end());
   }
   GpuBeliefKernels& k = *beliefs.front()->k_;
   std::vector<double> ms;
-  k.ctx->run(ds, &ms, fills);
+  k.ctx->run(vk::side_by_side(std::move(ds)), &ms, fills);
   for (double t : ms) k.kernel_ms += t;
   for (std::size_t i = 0; i < beliefs.size(); ++i) {
     if (beliefs[i]->adopt(moves[i])) continue;
@@ -436,18 +436,20 @@ void GpuBelief::keep_selection_ahead(std::size_t k) const {
 void GpuBelief::read_summaries(std::vector<const GpuBelief*> pending, std::size_t k) {
   for (int attempt = 0; !pending.empty(); ++attempt) {
     GpuBeliefKernels& kernels = *pending.front()->k_;
-    std::vector<vk::Dispatch> ds;
+    std::vector<std::vector<vk::Dispatch>> ds(pending.size());  // each belief's passes, side by side
     std::vector<vk::Fill> fills;
     std::vector<vk::Copy> reads;
     // One submission: a stale band rebuilt first (a table moved since the last estimate: each growth of an update's
-    // sessions), then every belief's MASS and FLIP passes, and their state words back. The rebuild's fills (the
+    // sessions), then the belief's MASS and FLIP passes, and their state words back. The rebuild's fills (the
     // band's marks and counts) and the passes' (the masses) touch different words, and every fill precedes every pass.
-    for (const GpuBelief* b : pending) b->add_rebuild_if_stale(&ds, &fills);
     // With k, each belief's best k bins are selected in the same submission, from the bucket its histogram gives on
     // the device (the BUCKET pass): the summary and the best bins in one round trip, where they took two.
     const auto asked = [k](const GpuBelief* b) { return std::min(k, b->count_); };
-    for (const GpuBelief* b : pending) b->add_summary_reads(asked(b), &ds, &fills, &reads);
-    run(kernels, ds, fills, reads);
+    for (std::size_t i = 0; i < pending.size(); ++i) {
+      pending[i]->add_rebuild_if_stale(&ds[i], &fills);
+      pending[i]->add_summary_reads(asked(pending[i]), &ds[i], &fills, &reads);
+    }
+    run(kernels, vk::side_by_side(std::move(ds)), fills, reads);
     std::vector<const GpuBelief*> lost;
     for (const GpuBelief* b : pending) {
       if (b->band_stale_) b->rebuilt();
@@ -703,7 +705,7 @@ void GpuBelief::read_best_ahead(std::span<const GpuBelief* const> beliefs, std::
   }
   if (sel.empty()) return;
   read_table_histograms_ahead(sel);
-  std::vector<vk::Dispatch> ds;
+  std::vector<std::vector<vk::Dispatch>> ds;  // each belief's passes, side by side
   std::vector<vk::Fill> fills;
   std::vector<vk::Copy> reads;  // each selection's count comes back in the same submission
   std::vector<std::pair<const BestRead*, std::uint64_t>> made;
@@ -713,15 +715,16 @@ void GpuBelief::read_best_ahead(std::span<const GpuBelief* const> beliefs, std::
     // Past every bucket, or past one binding: best_bins' own ways, alone.
     if (bucket == SVA_BELIEF_BUCKETS || n * 2 * sizeof(std::uint64_t) > b.k_->ctx->info().max_storage_buffer_range)
       continue;
-    if (s.pass == SVA_REDUCE_SELECT) b.add_rebuild_if_stale(&ds, &fills);  // its table moved since it was read
-    ds.push_back(b.select_dispatch(s.pass, bucket, n, s.pass == SVA_REDUCE_SELECT ? b.band_capacity_ : b.capacity_));
+    std::vector<vk::Dispatch>& own = ds.emplace_back();
+    if (s.pass == SVA_REDUCE_SELECT) b.add_rebuild_if_stale(&own, &fills);  // its table moved since it was read
+    own.push_back(b.select_dispatch(s.pass, bucket, n, s.pass == SVA_REDUCE_SELECT ? b.band_capacity_ : b.capacity_));
     fills.push_back(b.select_fill());
     for (const vk::Copy& c : b.state_reads(SVA_STATE_CANDIDATES, 1)) reads.push_back(c);
     gpu::add_mirror_read(*b.k_->ctx, b.candidates_, b.candidates_mirror_, n * 2 * sizeof(std::uint64_t), &reads);
     made.emplace_back(&s, n);
   }
   if (made.empty()) return;
-  run(*made.front().first->belief->k_, ds, fills, reads);
+  run(*made.front().first->belief->k_, vk::side_by_side(std::move(ds)), fills, reads);
   for (const auto& [s, n] : made) {
     if (s->pass == SVA_REDUCE_SELECT && s->belief->band_stale_) s->belief->rebuilt();
     s->belief->keep_best(s->belief->read_candidates(n), s->k);
@@ -733,16 +736,16 @@ void GpuBelief::read_table_histograms_ahead(std::vector<BestRead>& sel) {
   GpuBeliefKernels& kernels = *sel.front().belief->k_;
   if (!sel.front().belief->passes_over_table()) return;
   std::vector<BestRead*> past;
-  std::vector<vk::Dispatch> ds;
+  std::vector<std::vector<vk::Dispatch>> ds;  // each belief's pass, side by side
   std::vector<vk::Fill> fills;
   std::vector<vk::Copy> reads;
   for (BestRead& s : sel) {
     if (bucket_holding(s.histogram, s.k).first != SVA_BELIEF_BUCKETS) continue;
-    s.belief->add_table_histogram(&ds, &fills, &reads);
+    s.belief->add_table_histogram(&ds.emplace_back(), &fills, &reads);
     past.push_back(&s);
   }
   if (past.empty()) return;
-  run(kernels, ds, fills, reads);
+  run(kernels, vk::side_by_side(std::move(ds)), fills, reads);
   for (BestRead* s : past) {
     s->histogram = s->belief->read_table_histogram();
     s->pass = SVA_REDUCE_TABLE_SELECT;
@@ -877,25 +880,25 @@ bool GpuBelief::looked_up(std::span<const std::uint64_t> keys, std::vector<std::
 
 void GpuBelief::look_up_ahead(std::span<const GpuBelief* const> beliefs,
                               std::span<const std::vector<std::uint64_t>> keys) {
-  std::vector<vk::Dispatch> ds;
+  std::vector<std::vector<vk::Dispatch>> ds(beliefs.size());  // each belief's passes, side by side
   std::vector<vk::Copy> reads;
   std::vector<std::uint8_t> asked(beliefs.size(), 0);
   for (std::size_t i = 0; i < beliefs.size(); ++i) {
     beliefs[i]->last_keys_ = keys[i].size();  // the room of the next update's choice
     // Chosen and looked up already, in the update's submission (belief_hoods.comp): the same keys, read nothing.
     if (keys[i].empty() || keys[i] == beliefs[i]->looked_up_keys_) continue;
-    ds.push_back(beliefs[i]->lookup_dispatch(keys[i], &reads));
+    ds[i].push_back(beliefs[i]->lookup_dispatch(keys[i], &reads));
     asked[i] = 1;
   }
-  if (ds.empty()) return;
+  if (std::find(asked.begin(), asked.end(), 1) == asked.end()) return;
   for (const GpuBelief* b : beliefs)
     if (b->k_ != beliefs.front()->k_)
       throw std::logic_error("GpuBelief::look_up_ahead: beliefs of two backends in one submission");
   // A band list that a table's move left stale (its summary read before the move) is rebuilt here, in a submission
   // the estimate makes anyway, so that the next update reads that belief ahead again.
   std::vector<vk::Fill> fills;
-  for (const GpuBelief* b : beliefs) b->add_rebuild_if_stale(&ds, &fills);
-  run(*beliefs.front()->k_, ds, fills, reads);
+  for (std::size_t i = 0; i < beliefs.size(); ++i) beliefs[i]->add_rebuild_if_stale(&ds[i], &fills);
+  run(*beliefs.front()->k_, vk::side_by_side(std::move(ds)), fills, reads);
   for (const GpuBelief* b : beliefs)
     if (b->band_stale_) b->rebuilt();
   for (std::size_t i = 0; i < beliefs.size(); ++i) {

@@ -562,9 +562,10 @@ class VulkanVoteBackend final : public VoteBackend {
     a.dispatches = fold_dispatches(P, beliefs, fold);
     fold_reads(P, S, &a.reads);
     fold.read_ahead.assign(S, 0);
+    std::vector<std::vector<vk::Dispatch>> ahead(S);  // each session's passes, side by side with the others'
     for (std::size_t s = 0; s < S; ++s)
-      if (fold.pending[s] && beliefs[s]->add_reads_after_fold(&a.dispatches, &a.fills, &a.reads))
-        fold.read_ahead[s] = 1;
+      if (fold.pending[s] && beliefs[s]->add_reads_after_fold(&ahead[s], &a.fills, &a.reads)) fold.read_ahead[s] = 1;
+    for (vk::Dispatch& d : vk::side_by_side(std::move(ahead))) a.dispatches.push_back(std::move(d));
     return a;
   }
 
@@ -614,8 +615,10 @@ class VulkanVoteBackend final : public VoteBackend {
       Added again;  // the grown sessions' fold, and their reads ahead after it
       again.dispatches = fold_dispatches(P, beliefs, fold);
       fold_reads(P, S, &again.reads);
-      for (std::size_t s : full)
-        if (beliefs[s]->add_reads_after_fold(&again.dispatches, &again.fills, &again.reads)) fold.read_ahead[s] = 1;
+      std::vector<std::vector<vk::Dispatch>> ahead(full.size());
+      for (std::size_t i = 0; i < full.size(); ++i)
+        if (beliefs[full[i]]->add_reads_after_fold(&ahead[i], &again.fills, &again.reads)) fold.read_ahead[full[i]] = 1;
+      for (vk::Dispatch& d : vk::side_by_side(std::move(ahead))) again.dispatches.push_back(std::move(d));
       std::vector<double> ms;
       ctx_.run(again.dispatches, &ms, again.fills, again.reads);
       for (double m : ms) fold_ms_ += m;

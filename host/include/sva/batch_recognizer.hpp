@@ -81,8 +81,9 @@ class BatchRecognizer {
     double record_ms = 0.0;
     double wait_ms = 0.0;
     double device_span_ms = 0.0;  // 0 where the device has no timestamps
-    // The device's time by kernel, per pipeline named by its shader ("match_votes", "belief_fold", ...): which
-    // kernels kernel_ms is, summed over the names. Empty on the CPU and where the device has no timestamps.
+    // The device's time by kernel, per pipeline named by its shader ("match_votes", ...), and the passes of one that
+    // runs several apart ("belief_fold:add", "belief_reduce:mass", ...): which kernels kernel_ms is, summed over the
+    // names. Empty on the CPU, where the device has no timestamps, and with SVA_VK_TIMESTAMPS=0.
     std::map<std::string, KernelTime> kernel_ms_by_pipeline;
   };
   Timing last_backend_timing() const;

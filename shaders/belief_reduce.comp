@@ -11,7 +11,7 @@
 //  FLIP:    one invocation: the other side becomes the current one;
 //  SELECT:  the band's bins whose distance bucket is at most select_bucket,
 //           appended to the candidate list (the host sorts the few it gets);
-//  BUCKET:  one invocation: the bucket that SELECT needs for the best k bins,
+//  BUCKET:  one workgroup: the bucket that SELECT needs for the best k bins,
 //           from the histogram MASS made, so that the summary and the best
 //           bins come back in one submission (the host checks it again);
 //           TABLE_BUCKET the same from the table's histogram, where the band
@@ -96,31 +96,58 @@ void histogram_slot(uint slot) {
   atomicAdd(st.w[sva_state_table_bucket(pc.objects, sva_distance_bucket(d))], 1ul);
 }
 
+// The workgroup's sums of its invocations' runs of buckets (first_bucket_holding).
+shared uint64_t bucket_runs[SVA_WORKGROUP_SIZE];
+
+uint64_t histogram_word(bool table, uint b) {
+  return state().w[table ? sva_state_table_bucket(pc.objects, b) : sva_state_bucket(pc.objects, b)];
+}
+
 // The first bucket of the band's histogram (or, `table`, of the table's) whose cumulative count reaches
 // select_capacity bins, or every touched bin where there are fewer (GpuBelief::bucket_holding of min(k, touched) on
 // the host: an update's reads ahead ask for the k of the last estimate before its fold touched more bins);
-// SVA_BELIEF_BUCKETS when none does.
+// SVA_BELIEF_BUCKETS when none does. One workgroup: each invocation sums a run of buckets side by side, then
+// invocation 0 walks the runs' sums and the one run that holds it (one invocation had walked up to 1,025 words of the
+// device's memory one after another, once per session). Integer sums: the bucket the walk finds. The answer is
+// invocation 0's; every invocation of the workgroup must call it (a barrier).
 uint first_bucket_holding(bool table) {
+  const uint per = (SVA_BELIEF_BUCKETS + SVA_WORKGROUP_SIZE - 1u) / SVA_WORKGROUP_SIZE;
+  uint t = gl_LocalInvocationID.x, first = t * per, last = min(first + per, SVA_BELIEF_BUCKETS);
+  uint64_t run = 0ul;
+  for (uint b = first; b < last; ++b) run += histogram_word(table, b);
+  bucket_runs[t] = run;
+  barrier();
+  if (t != 0u) return SVA_BELIEF_BUCKETS;
   SvaWords st = state();
   uint64_t touched = 0ul;
   for (uint o = 0u; o < pc.objects; ++o) touched += st.w[sva_state_object(SVA_STATE_TOUCHED, pc.objects, o)];
   uint64_t want = min(uint64_t(pc.select_capacity), touched);
   uint64_t n = 0ul;
-  for (uint b = 0u; b < SVA_BELIEF_BUCKETS; ++b) {
-    n += st.w[table ? sva_state_table_bucket(pc.objects, b) : sva_state_bucket(pc.objects, b)];
-    if (n >= want) return b;
+  for (uint r = 0u; r < SVA_WORKGROUP_SIZE; ++r) {
+    if (n + bucket_runs[r] < want) {
+      n += bucket_runs[r];
+      continue;
+    }
+    for (uint b = r * per; b < min(r * per + per, SVA_BELIEF_BUCKETS); ++b) {
+      n += histogram_word(table, b);
+      if (n >= want) return b;
+    }
   }
   return SVA_BELIEF_BUCKETS;
 }
 
+// BUCKET and TABLE_BUCKET, by the one workgroup of their dispatch: the bucket into the state word that SELECT and
+// TABLE_SELECT read.
 void choose_bucket() {
   SvaWords st = state();
   if (pc.pass == SVA_REDUCE_BUCKET) {
-    st.w[SVA_STATE_SELECT_BUCKET] = uint64_t(first_bucket_holding(false));
+    uint bucket = first_bucket_holding(false);
+    if (gl_LocalInvocationID.x == 0u) st.w[SVA_STATE_SELECT_BUCKET] = uint64_t(bucket);
     return;
   }
-  bool band_short = st.w[SVA_STATE_SELECT_BUCKET] >= uint64_t(SVA_BELIEF_BUCKETS);
-  st.w[SVA_STATE_TABLE_BUCKET] = uint64_t(band_short ? first_bucket_holding(true) : SVA_BELIEF_BUCKETS);
+  bool band_short = st.w[SVA_STATE_SELECT_BUCKET] >= uint64_t(SVA_BELIEF_BUCKETS);  // the same word for all
+  uint bucket = band_short ? first_bucket_holding(true) : SVA_BELIEF_BUCKETS;
+  if (gl_LocalInvocationID.x == 0u) st.w[SVA_STATE_TABLE_BUCKET] = uint64_t(bucket);
 }
 
 void rebuild_slot(uint slot) {
@@ -132,7 +159,7 @@ void rebuild_slot(uint slot) {
 
 void main() {
   if (pc.pass == SVA_REDUCE_BUCKET || pc.pass == SVA_REDUCE_TABLE_BUCKET) {
-    if (sva_flat_index() == 0u) choose_bucket();
+    if (gl_WorkGroupID.x == 0u && gl_WorkGroupID.y == 0u) choose_bucket();  // the whole workgroup (a barrier)
     return;
   }
   if (pc.pass == SVA_REDUCE_FLIP) {

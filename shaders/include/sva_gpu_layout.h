@@ -190,13 +190,13 @@ struct SvaReduceParams {
 #define SVA_REDUCE_REBUILD 3u  // per table slot: the band list from scratch (after a growth or a lost append)
 #define SVA_REDUCE_TABLE_HISTOGRAM 4u  // per table slot: the distance histogram of every bin (top-k past the band)
 #define SVA_REDUCE_TABLE_SELECT 5u     // per table slot: the bins up to select_bucket into the candidate list
-// One invocation: the first bucket of the band's histogram at which select_capacity bins are reached, into
+// One workgroup: the first bucket of the band's histogram at which select_capacity bins are reached, into
 // SVA_STATE_SELECT_BUCKET (SVA_BELIEF_BUCKETS: the band holds fewer), so that a SELECT after the MASS pass needs no
 // round trip to the host between them.
 #define SVA_REDUCE_BUCKET 6u
 #define SVA_SELECT_FROM_STATE 0xffffffffu  // SELECT's select_bucket: the one SVA_REDUCE_BUCKET chose
 // For a top-k past the band in the same submission: TABLE_HISTOGRAM with select_bucket SVA_SELECT_FROM_STATE runs
-// only where BUCKET found the band short; TABLE_BUCKET (one invocation) picks the bucket from the table's histogram
+// only where BUCKET found the band short; TABLE_BUCKET (one workgroup) picks the bucket from the table's histogram
 // there (SVA_BELIEF_BUCKETS elsewhere); TABLE_SELECT with SVA_SELECT_FROM_STATE selects with it.
 #define SVA_REDUCE_TABLE_BUCKET 7u
 

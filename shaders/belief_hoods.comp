@@ -6,7 +6,7 @@
 // where the two lists are equal; elsewhere it looks the keys up as before.
 //  RANK:     per candidate of the selection: its place among them (offset descending, then key ascending, as the
 //            host's best_bins), the first `best` written in order;
-//  CENTRES:  one invocation: up to `modes` distinct modes, greedily from the best bins (a bin within `suppress` grid
+//  CENTRES:  one workgroup: up to `modes` distinct modes, greedily from the best bins (a bin within `suppress` grid
 //            steps of a mode of its object is not one), then every touched object's best bin; for each, where its
 //            neighbourhood starts in the list, and the list's length. With pose priors, the modes' candidates in
 //            the order of evidence plus prior, and each object's best bin under its prior (estimate/pose_prior.hpp),
@@ -209,7 +209,9 @@ uint64_t object_best(uint o, uint n) {
   return best;
 }
 
-void choose_centres() {
+// The header and the modes' centres, by invocation 0: false where the device chooses nothing (nothing touched, a
+// selection that missed bins, a prior over more candidates than one invocation sorts).
+bool choose_modes(inout uint c, inout uint64_t next) {
   SvaWords st = state();
   uint64_t touched = 0ul;
   for (uint o = 0u; o < pc.objects; ++o) touched += st.w[sva_state_object(SVA_STATE_TOUCHED, pc.objects, o)];
@@ -217,35 +219,77 @@ void choose_centres() {
   hood[1] = 0ul;
   if (touched == 0ul) {  // nothing to read
     hood[0] = 0ul;
-    return;
+    return false;
   }
-  uint c = 0u;
-  uint64_t next = 0ul;
   if (pc.best <= 1u) {  // one mode at most: the best bin itself
     uint64_t key;
     if (pc.modes > 0u && best_bin(key)) add_centre(c++, key, next);
-  } else {
-    uint n = min(candidates_found(), pc.best);
-    if (uint64_t(n) < min(uint64_t(pc.best), touched)) return;  // the selection missed bins: the host reads them
-    uint m = min(n, pc.mode_best);
-    uint order[SVA_PRIOR_MOST_CANDIDATES];
-    if (pc.priors != 0u) {
-      if (m > SVA_PRIOR_MOST_CANDIDATES) return;  // more than one invocation sorts: the host chooses (key_choice)
-      order_by_prior(m, order);
-    }
-    for (uint i = 0u; i < m && c < pc.modes; ++i) {
-      uint64_t key = hood[sorted_word(pc.priors != 0u ? order[i] : i)];
-      bool suppressed = false;
-      for (uint j = 0u; j < c && !suppressed; ++j) suppressed = within(key, hood[centre_word(j)]);
-      if (!suppressed) add_centre(c++, key, next);
-    }
+    return true;
   }
-  for (uint o = 0u; o < pc.objects; ++o)
-    if (st.w[sva_state_object(SVA_STATE_TOUCHED, pc.objects, o)] > 0ul)
-      add_centre(c++, object_best(o, min(candidates_found(), pc.best)), next);
-  if (next > uint64_t(pc.keys)) return;  // more keys than the output holds: the host reads them
-  hood[1] = uint64_t(c);
-  hood[0] = next;
+  uint n = min(candidates_found(), pc.best);
+  if (uint64_t(n) < min(uint64_t(pc.best), touched)) return false;  // the selection missed bins: the host reads them
+  uint m = min(n, pc.mode_best);
+  uint order[SVA_PRIOR_MOST_CANDIDATES];
+  if (pc.priors != 0u) {
+    if (m > SVA_PRIOR_MOST_CANDIDATES) return false;  // more than one invocation sorts: the host chooses (key_choice)
+    order_by_prior(m, order);
+  }
+  for (uint i = 0u; i < m && c < pc.modes; ++i) {
+    uint64_t key = hood[sorted_word(pc.priors != 0u ? order[i] : i)];
+    bool suppressed = false;
+    for (uint j = 0u; j < c && !suppressed; ++j) suppressed = within(key, hood[centre_word(j)]);
+    if (!suppressed) add_centre(c++, key, next);
+  }
+  return true;
+}
+
+// What invocation 0 found, for the workgroup: go on, the centres so far, where the next neighbourhood starts; and a
+// chunk of objects' centres and neighbourhood sizes (0: untouched).
+shared uint centres_go, centres_count;
+shared uint64_t centres_next;
+shared uint64_t chunk_key[SVA_WORKGROUP_SIZE], chunk_size[SVA_WORKGROUP_SIZE];
+
+// CENTRES, by the dispatch's one workgroup: the modes by invocation 0, then every touched object's best bin a chunk
+// of objects at a time, each invocation one object's centre and neighbourhood size (the grid's 64-bit arithmetic side
+// by side, where one invocation did it for every object in turn: a map of 78 objects had 78 in a row), listed in
+// order by invocation 0.
+void choose_centres() {
+  uint t = gl_LocalInvocationID.x;
+  if (t == 0u) {
+    uint c = 0u;
+    uint64_t next = 0ul;
+    centres_go = choose_modes(c, next) ? 1u : 0u;
+    centres_count = c;
+    centres_next = next;
+  }
+  barrier();
+  if (centres_go == 0u) return;  // the same shared word for the whole workgroup
+  SvaWords st = state();
+  uint found = min(candidates_found(), pc.best);
+  for (uint first = 0u; first < pc.objects; first += SVA_WORKGROUP_SIZE) {
+    uint o = first + t;
+    chunk_size[t] = 0ul;
+    if (o < pc.objects && st.w[sva_state_object(SVA_STATE_TOUCHED, pc.objects, o)] > 0ul) {
+      int ti[3], ri[3];
+      chunk_key[t] = object_best(o, found);
+      indices(chunk_key[t], ti, ri);
+      chunk_size[t] = hood_size(ti, ri);  // at least 1: the centre
+    }
+    barrier();
+    if (t == 0u) {
+      for (uint j = 0u; j < SVA_WORKGROUP_SIZE; ++j) {
+        if (chunk_size[j] == 0ul) continue;
+        hood[centre_word(centres_count)] = chunk_key[j];
+        hood[centre_word(centres_count) + 1u] = centres_next;
+        centres_next += chunk_size[j];
+        ++centres_count;
+      }
+    }
+    barrier();
+  }
+  if (t != 0u || centres_next > uint64_t(pc.keys)) return;  // more keys than the output holds: the host reads them
+  hood[1] = uint64_t(centres_count);
+  hood[0] = centres_next;
 }
 
 // Step s of a centre's neighbourhood (mixed radix over the axes' steps, rz fastest) and its place after the centre.
@@ -294,7 +338,7 @@ void main() {
   if (pc.pass == SVA_HOODS_RANK) {
     rank_candidate(i);
   } else if (pc.pass == SVA_HOODS_CENTRES) {
-    if (i == 0u) choose_centres();
+    if (gl_WorkGroupID.x == 0u && gl_WorkGroupID.y == 0u) choose_centres();  // the whole workgroup (barriers)
   } else {
     neighbour(i);
   }

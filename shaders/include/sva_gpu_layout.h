@@ -231,7 +231,7 @@ struct SvaHoodParams {
 // The most candidates a prior orders on the device (one invocation sorts them); more: the host chooses the keys.
 #define SVA_PRIOR_MOST_CANDIDATES 256u
 #define SVA_HOODS_RANK 0u     // per candidate: its place among them (offset descending, key ascending); the best kept
-#define SVA_HOODS_CENTRES 1u  // one invocation: the centres and the place of each one's neighbourhood
+#define SVA_HOODS_CENTRES 1u  // one workgroup: the centres and the place of each one's neighbourhood
 #define SVA_HOODS_KEYS 2u     // per (centre, step): the neighbour's packed key and offset at its place
 // The output's u64 words: [0] keys in all (SVA_HOODS_NONE: not chosen here, the host reads them), [1] centres, then
 // the best `best` (linear key, offset) pairs in order, then per centre its linear key and the place of its first key,

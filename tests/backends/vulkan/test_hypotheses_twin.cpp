@@ -2,6 +2,7 @@
 // covariances and poses, spatial and planar, at every suppression radius.
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <optional>
 
 #include "backends/vulkan/gpu_belief.hpp"
@@ -54,7 +55,11 @@ void twin(const test::WorldSpec& spec, const PoseSpaceSpec& space_spec, double t
 // After an estimate's mark, each update chooses on the device the keys hypothesis_keys chooses on the host, for every
 // count of modes and suppression radius: the estimate's lookup of those keys then reads nothing, and their offsets
 // are the CPU reference's.
-void keys_chosen_on_device(const test::WorldSpec& spec, const PoseSpaceSpec& space_spec, double t_range) {
+// `least` >= 0: a map of many objects, whose touched objects outgrow the last list's room (more than a quarter and
+// two neighbourhoods), so that not every second update chooses: at least least[0] of the 16 updates must, on mapped
+// memory, and least[1] staged.
+void keys_chosen_on_device(const test::WorldSpec& spec, const PoseSpaceSpec& space_spec, double t_range,
+                           std::array<int, 2> least = {-1, -1}) {
   auto w = test::make_world(spec);
   PoseSpace space(space_spec, static_cast<std::uint32_t>(spec.objects));
   VulkanBackendOptions vo;
@@ -87,12 +92,17 @@ void keys_chosen_on_device(const test::WorldSpec& spec, const PoseSpaceSpec& spa
     CHECK(g.offsets(keys) == fc.belief().offsets(keys));
     // Chosen and looked up in the update's submission. Where the modes' candidates lie past the band, a CPU device
     // (lavapipe's mapped memory) reads its table on the host, so its keys are looked up alone.
-    if (r % 2 == 1 && (vo.force_staging || modes <= 1)) {
+    if (least[0] >= 0) {
+      chosen += gpu->statistics().device_submissions == s0 ? 1 : 0;
+    } else if (r % 2 == 1 && (vo.force_staging || modes <= 1)) {
       CHECK(gpu->statistics().device_submissions == s0);
       ++chosen;
     }
   }
-  CHECK(chosen >= (vo.force_staging ? 7 : 3));
+  if (least[0] >= 0)
+    CHECK(chosen >= least[vo.force_staging ? 1 : 0]);
+  else
+    CHECK(chosen >= (vo.force_staging ? 7 : 3));
   CHECK(gpu->statistics().validation_messages == 0);
 }
 
@@ -178,6 +188,16 @@ TEST_CASE("GPU hypotheses: an update chooses the keys the next estimate reads, a
 
 TEST_CASE("GPU hypotheses: an update chooses the keys the next estimate reads, as the host does (planar)") {
   keys_chosen_on_device(test::planar_spec(), test::letters_space(), 6.0);
+}
+
+// belief_hoods.comp lists the objects' centres a workgroup's width (64) at a time: a map of more objects takes the
+// later chunks too.
+TEST_CASE("GPU hypotheses: an update chooses the keys the next estimate reads past 64 objects (spatial)") {
+  test::WorldSpec spec;
+  spec.objects = 70;
+  spec.points = 16;
+  // 5 and 8 chosen on lavapipe; 1 and 1 where only the first 64 objects' centres were listed.
+  keys_chosen_on_device(spec, test::paper_space(), 120.0, {3, 6});
 }
 
 TEST_CASE("GPU hypotheses: distinct modes, masses and covariances equal the CPU reference's (spatial)") {

@@ -562,11 +562,22 @@ class VulkanVoteBackend final : public VoteBackend {
     a.dispatches = fold_dispatches(P, beliefs, fold);
     fold_reads(P, S, &a.reads);
     fold.read_ahead.assign(S, 0);
-    std::vector<std::vector<vk::Dispatch>> ahead(S);  // each session's passes, side by side with the others'
+    std::vector<std::size_t> folding;
     for (std::size_t s = 0; s < S; ++s)
-      if (fold.pending[s] && beliefs[s]->add_reads_after_fold(&ahead[s], &a.fills, &a.reads)) fold.read_ahead[s] = 1;
-    for (vk::Dispatch& d : vk::side_by_side(std::move(ahead))) a.dispatches.push_back(std::move(d));
+      if (fold.pending[s]) folding.push_back(s);
+    add_reads_ahead(beliefs, folding, fold, &a);
     return a;
+  }
+
+  // After their fold, the reads ahead of `sessions` that an estimate asked for (GpuBelief::add_reads_after_fold), each
+  // session's passes side by side with the others' (vk::side_by_side: each touches its own belief only), marked in
+  // fold.read_ahead.
+  void add_reads_ahead(const std::vector<GpuBelief*>& beliefs, const std::vector<std::size_t>& sessions, Fold& fold,
+                       Added* a) {
+    std::vector<std::vector<vk::Dispatch>> ahead(sessions.size());
+    for (std::size_t i = 0; i < sessions.size(); ++i)
+      if (beliefs[sessions[i]]->add_reads_after_fold(&ahead[i], &a->fills, &a->reads)) fold.read_ahead[sessions[i]] = 1;
+    for (vk::Dispatch& d : vk::side_by_side(std::move(ahead))) a->dispatches.push_back(std::move(d));
   }
 
   // The copies of the fold's results that finish_fold reads (gpu::add_mirror_read): each session's status and each
@@ -615,10 +626,7 @@ class VulkanVoteBackend final : public VoteBackend {
       Added again;  // the grown sessions' fold, and their reads ahead after it
       again.dispatches = fold_dispatches(P, beliefs, fold);
       fold_reads(P, S, &again.reads);
-      std::vector<std::vector<vk::Dispatch>> ahead(full.size());
-      for (std::size_t i = 0; i < full.size(); ++i)
-        if (beliefs[full[i]]->add_reads_after_fold(&ahead[i], &again.fills, &again.reads)) fold.read_ahead[full[i]] = 1;
-      for (vk::Dispatch& d : vk::side_by_side(std::move(ahead))) again.dispatches.push_back(std::move(d));
+      add_reads_ahead(beliefs, full, fold, &again);
       std::vector<double> ms;
       ctx_.run(again.dispatches, &ms, again.fills, again.reads);
       for (double m : ms) fold_ms_ += m;

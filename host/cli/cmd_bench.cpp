@@ -178,21 +178,22 @@ std::vector<std::string> pipelines_by_time(const json& curve) {
 std::vector<std::size_t> print_kernels_header(const json& curve) {
   std::printf(
       "\nthe device's time by kernel, ms and dispatches per submission, the mean over its updates "
-      "(docs/evaluation.md, \"kernel_ms_by_pipeline\"):\n%-14s %-20s",
+      "(docs/evaluation.md, \"kernel_ms_by_pipeline\"):\n%-14s %-29s",
       "", "");
   std::vector<std::size_t> readings;
   for (const auto& p : curve) {
     readings.push_back(p["readings"].get<std::size_t>());
     std::printf(" %19s", (std::to_string(readings.back()) + " readings").c_str());
   }
-  std::printf("\n%-14s %-20s", "run", "pipeline");
+  std::printf("\n%-14s %-29s", "run", "pipeline");
   for (std::size_t i = 0; i < readings.size(); ++i) std::printf(" %10s %8s", "ms", "disp.");
   std::printf("\n");
   return readings;
 }
 
-// Which kernels a device update's time is (speed_run.cpp's kernel_by_pipeline_json): a row per run and pipeline,
-// the heaviest first, then all of them together; a column pair per reading count.
+// Which kernels a device update's time is (speed_run.cpp's kernel_by_pipeline_json): a row per run and pipeline (or
+// pass: "belief_reduce:table_histogram" is the longest name, 29 characters), the heaviest first, then all of them
+// together; a column pair per reading count.
 void print_kernels_by_pipeline(const json& runs) {
   std::vector<std::size_t> readings;  // the columns: the first timed run's reading counts
   for (const auto& r : runs) {
@@ -202,7 +203,7 @@ void print_kernels_by_pipeline(const json& runs) {
     if (readings.empty()) readings = print_kernels_header(curve);
     for (std::size_t row = 0; row <= names.size(); ++row) {
       const std::string name = row < names.size() ? names[row] : "";
-      std::printf("%-14s %-20s", run_name(r).c_str(), name.empty() ? "(all kernels)" : name.c_str());
+      std::printf("%-14s %-29s", run_name(r).c_str(), name.empty() ? "(all kernels)" : name.c_str());
       for (std::size_t want : readings) {
         json cell;
         for (const auto& p : curve)

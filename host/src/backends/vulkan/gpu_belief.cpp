@@ -554,11 +554,15 @@ bool GpuBelief::add_key_choice(std::vector<vk::Dispatch>* ds, std::vector<vk::Co
   if (c.best > 1 && c.best > ahead_k_) return false;
   const std::uint64_t steps = neighbourhood_steps(*k_->space, c.radius);  // belief_hoods.comp's axis_steps
   const std::uint64_t centres = std::uint64_t{c.modes} + k_->space->objects();
-  // Room for every centre's every step, or, once an estimate has read its keys, for as many and a quarter and two
-  // neighbourhoods more (a batch's sessions each hold one list); a longer list is not chosen here, and the estimate
-  // looks its keys up itself.
+  // Room for every centre's every step, or, once an estimate has read its keys and where that bound is large (a
+  // batch's sessions each hold one list), for as many and a quarter and two neighbourhoods more; a longer list is not
+  // chosen here, and the estimate looks its keys up itself. A bound of at most kWholeKeys is held whole: with many
+  // objects the touched ones outgrow the quarter (a map of 70 objects chose on 5 of 16 updates, a round trip each
+  // of the rest), and 1 MiB per session is cheap beside a belief's tables.
+  constexpr std::uint64_t kWholeKeys = std::uint64_t{1} << 16;
   const std::uint64_t bound = centres * steps;
-  const std::uint64_t keys = last_keys_ == 0 ? bound : std::min(bound, last_keys_ + last_keys_ / 4 + 2 * steps);
+  const std::uint64_t keys =
+      last_keys_ == 0 || bound <= kWholeKeys ? bound : std::min(bound, last_keys_ + last_keys_ / 4 + 2 * steps);
   constexpr std::uint64_t kMostKeys = std::uint64_t{1} << 22;  // 64 MiB of keys and offsets
   if (keys > kMostKeys) return false;
   // In the device's memory, where the kernels read their own lists at its speed; on a discrete GPU its words come

@@ -70,12 +70,21 @@ TEST_CASE("a submission's time is counted: recording it and waiting for it, the 
   CHECK(a.as<std::uint32_t>()[(1 << 18) - 1] == 1u);
 }
 
+namespace {
+// n cases of belief_math_device.comp's input, 7 words each (mass, total, eps units, d, a, b, mass bits: in the
+// kernel's domain), the masses shifted by `shift` so that sessions' inputs differ.
+std::vector<std::uint64_t> math_cases(std::uint32_t n, std::uint64_t shift) {
+  std::vector<std::uint64_t> in(std::size_t{n} * 7);
+  for (std::size_t c = 0; c < n; ++c)
+    std::copy_n(std::array<std::uint64_t, 7>{1 + c + shift, 2 + 2 * c, 3, c, 5 + c, 7, 20}.begin(), 7, &in[c * 7]);
+  return in;
+}
+}  // namespace
+
 TEST_CASE("the timed dispatches' time is summed by pipeline name, untimed runs add nothing, a reset empties it") {
   auto ctx = sva::test::vulkan_context_or_skip();
   const std::uint32_t n = 16384;  // cases: enough work for a dispatch to span ticks of any timestamp clock
-  std::vector<std::uint64_t> in(std::size_t{n} * 7);
-  for (std::size_t c = 0; c < n; ++c)  // mass, total, eps units, d, a, b, mass bits: in the kernel's domain
-    std::copy_n(std::array<std::uint64_t, 7>{1 + c, 2 + 2 * c, 3, c, 5 + c, 7, 20}.begin(), 7, &in[c * 7]);
+  const std::vector<std::uint64_t> in = math_cases(n, 0);
   auto bin = ctx->create_buffer(in.size() * sizeof(std::uint64_t)), bout = ctx->create_buffer(bin.size());
   std::memcpy(bin.data(), in.data(), bin.size());
   // One shader under two names: the name, not the code, is what the time is summed under.
@@ -150,9 +159,7 @@ TEST_CASE("dispatches side by side share a barrier per round and give what one a
     // (the second pass overwrites the first's results with the same values: a later pass of one list).
     std::vector<sva::vk::Buffer> in, out;
     for (std::uint64_t s = 0; s < 3; ++s) {
-      std::vector<std::uint64_t> words(std::size_t{n} * 7);
-      for (std::size_t c = 0; c < n; ++c)
-        std::copy_n(std::array<std::uint64_t, 7>{1 + c + s, 2 + 2 * c, 3, c, 5 + c, 7, 20}.begin(), 7, &words[c * 7]);
+      const std::vector<std::uint64_t> words = math_cases(n, s);
       in.push_back(ctx->create_buffer(words.size() * sizeof(std::uint64_t)));
       out.push_back(ctx->create_buffer(in.back().size()));
       std::memcpy(in.back().data(), words.data(), in.back().size());

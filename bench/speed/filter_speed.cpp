@@ -3,7 +3,11 @@
 // whose fixed-point mass rounds to zero, the recognition error those updates
 // buy and the peak resident memory (RSS) of the process.
 //   filter_speed MAP.svam TEST.svad [trials=3] [readings=100] [threads=0]
-//                [object_prune_probability=0] [max_pairs_per_update=0] [likelihood_cutoff=0]
+//                [object_prune_probability=0] [max_pairs_per_update=0] [likelihood_cutoff=0] [span=0]
+// span=1: the updates at readings 10, 30 and 100 run under a span probe (sva/base/parallel.hpp) instead of on the
+// workers: their loops split for `threads` but run in turn on one core, timed, which gives their work and critical
+// path and so a model of the update on `threads` cores of this machine's kind (docs/recognition.md, "One session on
+// many cores").
 // Trial t recognises object t % objects from its test readings, drawn at
 // random, moved by a random pose (rotation arbitrary, translation in the pose
 // space's range, as in the paper's protocol).
@@ -18,13 +22,17 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <ctime>
 #include <numbers>
 #include <string>
 #include <vector>
 
+#include <sva/base/parallel.hpp>
 #include <sva/base/so3.hpp>
 #include <sva/eval/process_memory.hpp>
+
+#include "whole_number_arg.hpp"
 
 namespace {
 
@@ -35,6 +43,18 @@ double process_cpu_seconds() {
   timespec ts{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// Argument i as a number in [0, 1], 0 when not given (the prune probability and the likelihood cut-off).
+double fraction_arg(int argc, char** argv, int i) {
+  if (argc <= i) return 0.0;
+  char* end = nullptr;
+  const double v = std::strtod(argv[i], &end);
+  if (!end || end == argv[i] || *end != '\0' || !(v >= 0.0 && v <= 1.0)) {
+    std::fprintf(stderr, "filter_speed: argument %d (\"%s\") is not a number in 0..1\n", i, argv[i]);
+    std::exit(2);
+  }
+  return v;
 }
 
 double median(std::vector<double> v) {
@@ -51,21 +71,23 @@ double p95(std::vector<double> v) {
 }  // namespace
 
 int main(int argc, char** argv) try {
-  if (argc < 3) {
+  if (argc < 3 || std::strcmp(argv[1], "--help") == 0) {
     std::fprintf(stderr,
                  "usage: filter_speed MAP.svam TEST.svad [trials=3] [readings=100] [threads=0] [prune=0] [max_pairs=0] "
-                 "[cutoff=0]\n");
-    return 2;
+                 "[cutoff=0] [span=0]\n");
+    return argc < 3 ? 2 : 0;
   }
+  const int trials = static_cast<int>(sva::bench::whole_number_arg("filter_speed", argc, argv, 3, 3, 1, 100000));
+  const int readings = static_cast<int>(sva::bench::whole_number_arg("filter_speed", argc, argv, 4, 100, 1, 100000));
+  sva::RecognizerOptions options;
+  options.threads = static_cast<unsigned>(sva::bench::whole_number_arg("filter_speed", argc, argv, 5, 0, 0, 1024));
+  options.object_prune_probability = fraction_arg(argc, argv, 6);
+  options.max_pairs_per_update =
+      static_cast<int>(sva::bench::whole_number_arg("filter_speed", argc, argv, 7, 0, 0, 1000000));
+  options.likelihood_cutoff = static_cast<float>(fraction_arg(argc, argv, 8));
+  const bool span_model = sva::bench::whole_number_arg("filter_speed", argc, argv, 9, 0, 0, 1) != 0;
   const sva::Map map = sva::Map::load(argv[1]);
   const sva::Dataset test = sva::load_dataset(argv[2]);
-  const int trials = argc > 3 ? std::atoi(argv[3]) : 3;
-  const int readings = argc > 4 ? std::atoi(argv[4]) : 100;
-  sva::RecognizerOptions options;
-  options.threads = argc > 5 ? static_cast<unsigned>(std::atoi(argv[5])) : 0;
-  options.object_prune_probability = argc > 6 ? std::atof(argv[6]) : 0.0;
-  options.max_pairs_per_update = argc > 7 ? std::atoi(argv[7]) : 0;
-  options.likelihood_cutoff = argc > 8 ? static_cast<float>(std::atof(argv[8])) : 0.0f;
   const sva::PoseSpaceSpec space = map.pose_space();
   const std::size_t objects = map.objects();
   std::vector<std::vector<const sva::Reading*>> by_object(objects);
@@ -74,7 +96,7 @@ int main(int argc, char** argv) try {
       by_object[s.object].push_back(&s.reading);
 
   const int marks[] = {10, 30, 100};
-  std::vector<double> at_mark[3], cpu_at_mark[3];
+  std::vector<double> at_mark[3], cpu_at_mark[3], work_at_mark[3], span_at_mark[3];
   double total_votes = 0.0, total_seconds = 0.0;
   std::uint64_t total_zero = 0;  // votes inside the space whose mass rounds to 0: counted, they add nothing
   int correct = 0;
@@ -97,20 +119,27 @@ int main(int argc, char** argv) try {
       r.position = truth.apply(r.position);
       r.normal = truth.rotate(r.normal);
       r.x_axis = truth.rotate(r.x_axis);
+      const int mark = static_cast<int>(std::find(marks, marks + 3, i + 1) - marks);
       const auto t0 = std::chrono::steady_clock::now();
       const double c0 = process_cpu_seconds();
-      rec.add_reading(r);
+      if (span_model && mark < 3) {
+        const sva::util::SpanProbe probe;
+        rec.add_reading(r);
+        work_at_mark[mark].push_back(probe.work_ms());
+        span_at_mark[mark].push_back(probe.span_ms());
+      } else {
+        rec.add_reading(r);
+      }
       const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       const double cpu = process_cpu_seconds() - c0;
       const sva::Estimate e = rec.estimate(1);
       total_votes += static_cast<double>(e.votes);
       total_zero += e.votes_zero;
       total_seconds += sec;
-      for (int m = 0; m < 3; ++m)
-        if (i + 1 == marks[m]) {
-          at_mark[m].push_back(sec);
-          cpu_at_mark[m].push_back(cpu);
-        }
+      if (mark < 3 && !span_model) {
+        at_mark[mark].push_back(sec);
+        cpu_at_mark[mark].push_back(cpu);
+      }
     }
     const sva::Estimate e = rec.estimate(1);
     if (e.object == object) {
@@ -130,6 +159,19 @@ int main(int argc, char** argv) try {
     if (!at_mark[m].empty())
       std::printf("update at reading %3d: wall median %.3f s, p95 %.3f s; CPU median %.3f s (%zu trials)\n", marks[m],
                   median(at_mark[m]), p95(at_mark[m]), median(cpu_at_mark[m]), at_mark[m].size());
+  for (int m = 0; m < 3; ++m)
+    if (!work_at_mark[m].empty()) {
+      const double work = median(work_at_mark[m]), span = median(span_at_mark[m]), p = options.threads;
+      std::printf(
+          "update at reading %3d under a span probe, its loops split for %s threads: work median %.2f ms, span median "
+          "%.2f ms (%zu trials)",
+          marks[m], options.threads ? std::to_string(options.threads).c_str() : "all", work, span,
+          work_at_mark[m].size());
+      if (options.threads)
+        std::printf("; on %u cores of this machine's kind between %.2f and %.2f ms (a model)", options.threads,
+                    std::max(work / p, span), work / p + span);
+      std::printf("\n");
+    }
   std::printf("votes per second: %.3g (%.3g votes in %.1f s of updates)\n", total_votes / std::max(total_seconds, 1e-9),
               total_votes, total_seconds);
   std::printf("votes of mass 0 (below half a 2^-24 unit): %llu of %.3g (%.3g%%)\n",

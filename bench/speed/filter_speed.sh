@@ -2,7 +2,8 @@
 # Benchmark of the Bayes filter (CPU reference backend): time per update at 10,
 # 30 and 100 readings, votes per second, votes of mass 0, the error after the
 # run and the peak RSS of the process.
-#   bench/speed/filter_speed.sh [BUILD_DIR] [trials=3] [readings=100] [threads=2] [prune max_pairs cutoff]
+#   bench/speed/filter_speed.sh [BUILD_DIR] [trials=3] [readings=100] [threads=2] [prune max_pairs cutoff span]
+# span 1: the updates at 10, 30 and 100 readings under a span probe, a model of them on `threads` cores.
 # BUILD_DIR: a build with the bench programs (SVA_BUILD_BENCH=ON; default build-ci, then build), whose sva it runs too.
 # Simulates paper3d and trains its map first (cached in $SVA_BENCH_DIR, default /tmp/sva-bench-p3d).
 set -euo pipefail

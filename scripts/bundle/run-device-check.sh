@@ -134,6 +134,22 @@ estimate_span() {
   cat "$out/estimate-span.txt"
 }
 
+# One session's update under the span probe, its loops split for 16 and for 8 threads (bench/speed/filter_speed.cpp):
+# the model of issue 52's 16-against-8 goal on this host, beside bench-cpu-t8 and bench-cpu-t16's measured times.
+update_span() {
+  local t=$(($(left) * 5 / 100)) p rc exe=$BUNDLE/bench/filter_speed
+  if [[ ! -x $exe ]]; then echo "update span: this bundle has no bench/filter_speed" | tee "$out/update-span.txt"; return; fi
+  ((t >= 20)) || t=20
+  say "one session's update and its span, split for 16 and 8 threads ($t s at most)"
+  for p in 16 8; do
+    SVA_THREADS=$p timeout $((t / 2)) "$exe" "$work/map.svam" "$work/test.svad" 3 100 "$p" 0 0 0 1
+    rc=$?
+    if ((rc == 124)); then echo "(stopped at the budget's end)"
+    elif ((rc != 0)); then echo "(failed: exit $rc)"; suite_failed=$((suite_failed + 1)); fi
+  done >"$out/update-span.txt" 2>&1
+  grep 'span probe' "$out/update-span.txt"
+}
+
 bench() {  # NAME SHARE-OF-WHAT-IS-LEFT sva-bench-options...
   local name=$1 share=$2 t
   shift 2
@@ -164,6 +180,7 @@ if [[ -f $work/map.svam ]]; then
   SVA_VK_TIMESTAMPS=0 bench vulkan-batch-untimed 10 --backend vulkan --trials 64 --batch 64 --readings 10
   SVA_VK_TIMESTAMPS=0 SVA_VK_SERIAL=1 bench vulkan-batch-serial 10 --backend vulkan --trials 64 --batch 64 --readings 10
   estimate_span
+  update_span
   bench cpu 95 --backend cpu --trials 1 --batch 0 --readings 10,30,100
   # The CPU reference's scaling on the host's cores (issue 52's goals: one session on 16 threads >= 1.6x 8 threads,
   # 64 sessions on 16 threads >= 6x 2 threads), where the host has 16 of them.

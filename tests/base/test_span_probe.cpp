@@ -6,6 +6,7 @@
 #include <sva/base/parallel.hpp>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <stdexcept>
 #include <thread>
@@ -94,4 +95,48 @@ TEST_CASE("a span probe lets an item's error through and measures nothing after 
   parallel_for(
       64, [&](std::size_t i) { ++hit[i]; }, 2);
   CHECK(std::count(hit.begin(), hit.end(), 1) == 64);
+}
+
+TEST_CASE("a dealt loop runs every item once, in order under a probe, and lets the first error through") {
+  using sva::util::parallel_deal;
+  // On the workers: every item once, whatever the thread count.
+  for (const unsigned threads : {1u, 2u, 16u}) {
+    std::vector<int> hit(100, 0);
+    parallel_deal(
+        hit.size(), [&](std::size_t i) { ++hit[i]; }, threads);
+    CHECK(std::count(hit.begin(), hit.end(), 1) == 100);
+  }
+  // Under a probe: in turn on the probe's thread, in the caller's order, the span its longest item.
+  std::vector<std::size_t> order;
+  std::vector<std::thread::id> ran;
+  std::vector<double> took(3, 0.0);
+  double span = 0.0;
+  {
+    const SpanProbe probe;
+    parallel_deal(
+        3,
+        [&](std::size_t i) {
+          order.push_back(i);
+          ran.push_back(std::this_thread::get_id());
+          took[i] = busy(i == 1 ? 3.0 : 1.0);
+        },
+        8);
+    span = probe.span_ms();
+  }
+  CHECK(order == std::vector<std::size_t>{0, 1, 2});
+  for (const std::thread::id& id : ran) CHECK(id == std::this_thread::get_id());
+  CHECK(span >= took[1]);
+  CHECK(span < took[1] + kSlack);
+  // An item's error reaches the caller; the workers take no new item after it (some may finish theirs).
+  std::atomic<int> started{0};
+  CHECK_THROWS_AS(parallel_deal(
+                      1000,
+                      [&](std::size_t i) {
+                        ++started;
+                        if (i == 3) throw std::runtime_error("item 3");
+                        busy(0.05);
+                      },
+                      2),
+                  std::runtime_error);
+  CHECK(started.load() < 1000);
 }

@@ -26,7 +26,7 @@ WORK="$tmp/p3d" AREAS=io SIM_ARGS="--train 30 --test 12" ARCHIVE="$tmp/check.tgz
   "$tmp/bundle/run-device-check.sh" "$tmp/check" 150 >check.txt 2>&1 || { cat check.txt; exit 1; }
 tail -n 1 check.txt
 for f in device.txt agreement.txt suite.txt bench-vulkan.txt bench-vulkan-top3.txt bench-vulkan-top3-prior.txt \
-  bench-vulkan-batch-light.txt bench-vulkan-batch-untimed.txt bench-vulkan-batch-serial.txt estimate-span.txt \
+  bench-vulkan-batch-light.txt bench-vulkan-batch-untimed.txt bench-vulkan-batch-serial.txt estimate-span.txt update-span.txt \
   bench-cpu.txt details.tgz; do
   [[ -s $tmp/check/$f ]] || { cat check.txt; echo "bundle: run-device-check.sh wrote no $f" >&2; exit 1; }
 done
@@ -39,6 +39,10 @@ grep -q '^cpu  *100 ' "$tmp/check/bench-cpu.txt" || { echo "bundle: the device c
 [[ $(grep -cE '^1 sessions at (30|100) readings, .*digest [0-9a-f]{16}$' "$tmp/check/estimate-span.txt") == 2 &&
   $(grep -c '^one session alone, its loops split for ' "$tmp/check/estimate-span.txt") == 2 ]] ||
   { cat "$tmp/check/estimate-span.txt"; echo "bundle: the device check's estimate span is missing" >&2; exit 1; }
+# One session's update under the span probe, split for 16 and for 8 threads, at 10, 30 and 100 readings.
+[[ $(grep -cE '^update at reading +(10|30|100) under a span probe, its loops split for (16|8) threads: ' \
+  "$tmp/check/update-span.txt") == 6 ]] ||
+  { cat "$tmp/check/update-span.txt"; echo "bundle: the device check's update span is missing" >&2; exit 1; }
 # A driver that does not load fails the check, which then checked nothing, and device.txt names the file.
 [[ -f $tmp/bundle/glvnd/libEGL.so.1 && -f $tmp/bundle/glvnd/libGLdispatch.so.0 ]] ||
   { echo "bundle: no libglvnd (libEGL.so.1, libGLdispatch.so.0) for NVIDIA's driver" >&2; exit 1; }

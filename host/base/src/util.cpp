@@ -116,6 +116,26 @@ void parallel_for(std::size_t n, const std::function<void(std::size_t)>& fn, uns
   arena.execute(loop);
 }
 
+void parallel_deal(std::size_t n, const std::function<void(std::size_t)>& fn, unsigned threads) {
+  if (threads == 0) threads = default_threads();
+  if (t_span || threads <= 1 || n <= 1) return parallel_for(n, fn, 1);  // in order; under a probe, each item timed
+  std::atomic<std::size_t> next{0};
+  parallel_for(
+      std::min<std::size_t>(threads, n),
+      [&](std::size_t) {
+        try {
+          for (std::size_t k; (k = next.fetch_add(1)) < n;) {
+            throw_if_interrupted();  // as parallel_for does between its items
+            fn(k);
+          }
+        } catch (...) {
+          next.store(n);  // the other workers stop after their current item
+          throw;
+        }
+      },
+      threads);
+}
+
 Progress::Progress(std::string label, std::size_t total)
     : label_(std::move(label)),
       total_(total),

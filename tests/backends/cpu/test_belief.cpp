@@ -355,3 +355,57 @@ TEST_CASE("a belief's offsets of many keys, looked up in chunks on the workers, 
     CHECK(belief.offsets({}).empty());
   }
 }
+
+TEST_CASE("a pair's votes in parts join into the terms of its votes summed whole, shard by shard on the workers") {
+  // A pair cut into pieces (cpu_vote_backend.cpp) votes into one table per piece; Belief::terms joins the parts
+  // shard by shard. Each bin's mass is the sum of its parts', so the terms must be the whole pair's: the same bins
+  // and units in every shard (in another order within it), for any thread count.
+  const sva::PoseSpace space(sva::test::paper_space(), 3);
+  const sva::Belief belief(space, 1e-6);
+  sva::util::Rng rng(8, 2);
+  for (const std::size_t parts : {1u, 2u, 5u}) {
+    sva::BinAccumulator whole(16);
+    std::vector<sva::BinAccumulator> part(parts, sva::BinAccumulator(16));
+    for (int v = 0; v < 30000; ++v) {
+      sva::BinIndex i;
+      i.object = static_cast<std::uint32_t>(rng.below(3));
+      for (int a = 0; a < 3; ++a) {
+        i.t[a] = static_cast<int>(rng.below(12));  // few bins: most are met by several parts
+        i.r[a] = static_cast<int>(rng.below(9));
+      }
+      const auto m = static_cast<std::int64_t>(1 + rng.below(1u << 20));
+      whole.add(space.pack(i), m);
+      part[rng.below(parts)].add(space.pack(i), m);
+    }
+    std::vector<sva::ShardedVotes> sharded(parts);
+    for (std::size_t p = 0; p < parts; ++p) sva::ShardedVotes::of(part[p], &sharded[p]);
+    const sva::BeliefTerms expected = belief.terms(whole);
+    for (const unsigned threads : {1u, 4u}) {
+      INFO(parts << " parts, " << threads << " threads");
+      sva::BeliefTerms got;
+      std::uint64_t probes = 0;
+      belief.terms(sharded, threads, &got, &probes);
+      CHECK(got.begin == expected.begin);
+      for (std::size_t s = 0; s < sva::kBeliefShards; ++s) {
+        std::vector<sva::BinOffset> a(got.shard(s).begin(), got.shard(s).end());
+        std::vector<sva::BinOffset> b(expected.shard(s).begin(), expected.shard(s).end());
+        const auto by_key = [](const sva::BinOffset& x, const sva::BinOffset& y) { return x.key < y.key; };
+        std::sort(a.begin(), a.end(), by_key);
+        std::sort(b.begin(), b.end(), by_key);
+        CHECK(a == b);
+      }
+      CHECK(probes >= got.size());  // each part's bin added once
+    }
+    CHECK(expected.size() > 10000);  // not vacuous
+  }
+  // No parts, or parts without votes: no terms.
+  sva::BeliefTerms none;
+  std::uint64_t probes = 1;
+  belief.terms(std::span<const sva::ShardedVotes>(), 2, &none, &probes);
+  CHECK(none.empty());
+  CHECK(probes == 0);
+  std::vector<sva::ShardedVotes> empty(2);
+  for (sva::ShardedVotes& e : empty) sva::ShardedVotes::of(sva::BinAccumulator(16), &e);
+  belief.terms(empty, 2, &none, &probes);
+  CHECK(none.empty());
+}

@@ -79,3 +79,63 @@ TEST_CASE("merging a pair's key ranges finds the owner rule's matches, owners an
   CHECK(matches > 1000);
   CHECK(shared > matches);  // ranges overlapped: some pairs had several holders
 }
+
+TEST_CASE("a pair's ranges cut by first reading hold its matches, each once, with the whole pair's owners and units") {
+  // The CPU update cuts a pair far larger than the rest into pieces that vote on several workers
+  // (cpu_vote_backend.cpp): together the pieces' merges must meet every map pair once, with the owner and the summed
+  // likelihood units the whole pair's merge gives it.
+  const World world = make_world(WorldSpec{});
+  const PairMap& map = *world.map;
+  util::Rng rng(5, 9);
+  std::size_t cut = 0, pieces_made = 0;
+  for (int t = 0; t < 200; ++t) {
+    std::vector<KeyRange> ranges;
+    const int count = 1 + static_cast<int>(rng.below(6));
+    for (int k = 0; k < count; ++k) {
+      const std::size_t slot = rng.below(map.keys.size());
+      ranges.push_back(
+          {map.offsets[slot], map.offsets[slot + 1], static_cast<float>(rng.uniform(0.0, 1.0)), rng.below(2) == 1});
+      if (rng.below(3) == 0) ranges.push_back(ranges[rng.below(ranges.size())]);  // a key met twice
+      if (rng.below(5) == 0) ranges.push_back({ranges.back().begin, ranges.back().begin, 0.5f, false});  // empty
+    }
+    const std::size_t asked = 1 + rng.below(8);
+    const std::vector<std::vector<KeyRange>> pieces = cpu::split_by_first_reading(map, ranges, asked);
+    INFO("trial " << t << ", " << asked << " pieces asked");
+    CHECK(pieces.size() <= asked);
+    std::vector<Match> joined;
+    std::uint64_t entries = 0;
+    for (const std::vector<KeyRange>& piece : pieces) {
+      REQUIRE(piece.size() == ranges.size());  // the same ranges in the same key order, each cut
+      CHECK(cpu::map_entries(piece) > 0);      // no piece without entries
+      for (std::size_t k = 0; k < ranges.size(); ++k) {
+        CHECK(piece[k].begin >= ranges[k].begin);
+        CHECK(piece[k].end <= ranges[k].end);
+        CHECK(piece[k].weight == ranges[k].weight);
+        CHECK(piece[k].reversed == ranges[k].reversed);
+      }
+      entries += cpu::map_entries(piece);
+      const std::vector<Match> mine = by_merge(map, piece);
+      joined.insert(joined.end(), mine.begin(), mine.end());
+    }
+    std::sort(joined.begin(), joined.end());
+    CHECK(entries == cpu::map_entries(ranges));
+    CHECK(joined == by_merge(map, ranges));
+    if (pieces.size() > 1) ++cut, pieces_made += pieces.size();
+  }
+  CHECK(cut > 100);  // not vacuous: most pairs were cut, into several pieces each
+  CHECK(pieces_made > 3 * cut);
+}
+
+TEST_CASE("cutting a pair with no entries, or into one piece, leaves it whole") {
+  const World world = make_world(WorldSpec{});
+  const PairMap& map = *world.map;
+  CHECK(cpu::split_by_first_reading(map, {}, 4).empty());
+  const std::vector<KeyRange> empty{{map.offsets[0], map.offsets[0], 1.0f, false}};
+  CHECK(cpu::split_by_first_reading(map, empty, 4).empty());
+  const std::vector<KeyRange> one{{map.offsets[0], map.offsets[1], 1.0f, false}};
+  REQUIRE(map.offsets[1] > map.offsets[0]);
+  const auto whole = cpu::split_by_first_reading(map, one, 1);
+  REQUIRE(whole.size() == 1);
+  CHECK(whole[0][0].begin == one[0].begin);
+  CHECK(whole[0][0].end == one[0].end);
+}

@@ -90,6 +90,92 @@ void Belief::terms(const BinAccumulator& votes, BeliefTerms* out) const {
   for (std::size_t i = 0; i < n; ++i) out->terms[next[shard[i]]++] = {key[i], units[i]};
 }
 
+void ShardedVotes::of(const BinAccumulator& votes, ShardedVotes* out) {
+  thread_local std::vector<std::uint64_t> key;  // scratch, as Belief::terms's
+  thread_local std::vector<std::int64_t> mass;
+  thread_local std::vector<std::uint8_t> shard;
+  if (key.size() < votes.size() + 1) {
+    key.resize(votes.size() + 1);
+    mass.resize(votes.size() + 1);
+    shard.resize(votes.size() + 1);
+  }
+  const std::size_t n = votes.copy_positive(key.data(), mass.data());
+  out->begin.fill(0);
+  out->total = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    shard[i] = static_cast<std::uint8_t>(belief_shard_of(key[i]));
+    ++out->begin[shard[i] + 1];
+    out->total += static_cast<std::uint64_t>(mass[i]);
+  }
+  for (std::size_t s = 0; s < kBeliefShards; ++s) out->begin[s + 1] += out->begin[s];
+  std::array<std::uint32_t, kBeliefShards> next;
+  std::copy(out->begin.begin(), out->begin.end() - 1, next.begin());
+  out->key.resize(n);
+  out->mass.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint32_t at = next[shard[i]]++;
+    out->key[at] = key[i];
+    out->mass[at] = mass[i];
+  }
+}
+
+namespace {
+
+// One shard's bins of a pair's parts, summed per bin: a table sized for them all beforehand (never grown, so filling
+// it in the parts' slot order costs no sweep, bin_accumulator.hpp), its homes above the shard's bits, which its keys
+// share. The worker's table, kept between joins where it is the size this one needs: emptying it and reading it out
+// cost its size, and a larger one left by a larger join cost a tenth of a cut pair's work.
+using ShardJoin = BinTable<std::int64_t, HomeBits::low, kBeliefShardBits>;
+ShardJoin& shard_join(std::size_t expected) {
+  thread_local ShardJoin table(1024);
+  if (table.capacity() != ShardJoin::capacity_for(expected))
+    table = ShardJoin(expected);
+  else
+    table.clear_keeping_capacity();
+  return table;
+}
+
+}  // namespace
+
+void Belief::terms(std::span<const ShardedVotes> parts, unsigned threads, BeliefTerms* out,
+                   std::uint64_t* probes) const {
+  out->terms.clear();
+  out->begin.fill(0);
+  *probes = 0;
+  std::uint64_t total = 0;  // < 2^63 as a whole pair's
+  for (const ShardedVotes& p : parts) total += p.total;
+  if (total == 0) return;
+  const std::uint64_t floor_log = belief_math::sva_floor_log(total, eps_units_);
+  std::array<std::vector<BinOffset>, kBeliefShards> joined;
+  std::array<std::uint64_t, kBeliefShards> shard_probes{};
+  util::parallel_for(
+      kBeliefShards,
+      [&](std::size_t s) {
+        std::size_t expected = 0;
+        for (const ShardedVotes& p : parts) expected += p.begin[s + 1] - p.begin[s];
+        ShardJoin& table = shard_join(expected);
+        for (const ShardedVotes& p : parts)
+          for (std::uint32_t j = p.begin[s]; j < p.begin[s + 1]; ++j) table.add(p.key[j], p.mass[j]);
+        shard_probes[s] = table.probes();
+        thread_local std::vector<std::uint64_t> key, mass, units;
+        if (key.size() < table.size() + 1) {
+          key.resize(table.size() + 1);
+          mass.resize(table.size() + 1);
+          units.resize(table.size() + 1);
+        }
+        const std::size_t n = table.copy_positive(key.data(), reinterpret_cast<std::int64_t*>(mass.data()));
+        cpu::fold_units(mass.data(), n, total, eps_units_, floor_log, units.data());
+        joined[s].resize(n);
+        for (std::size_t i = 0; i < n; ++i) joined[s][i] = {key[i], units[i]};
+      },
+      threads);
+  for (std::size_t s = 0; s < kBeliefShards; ++s) {
+    out->begin[s + 1] = out->begin[s] + static_cast<std::uint32_t>(joined[s].size());
+    out->terms.insert(out->terms.end(), joined[s].begin(), joined[s].end());
+    *probes += shard_probes[s];
+  }
+}
+
 bool Belief::add(const BeliefTerms& terms, std::uint32_t count) {
   if (terms.empty() || count == 0) return false;
   forget_best();

@@ -21,7 +21,8 @@ struct PairVotes;
 
 // Shards of a belief: a fixed count, so that which shard holds a bin, and so every table's contents, do not depend on
 // the thread count. 32 keep 16 workers' shares within a few percent of each other; an empty shard costs 2 KB.
-inline constexpr std::size_t kBeliefShards = 32;
+inline constexpr unsigned kBeliefShardBits = 5;
+inline constexpr std::size_t kBeliefShards = std::size_t{1} << kBeliefShardBits;
 inline std::size_t belief_shard_of(std::uint64_t key) {
   // The low bits of the hash: each shard's table takes its homes from the high bits (BeliefTable).
   return static_cast<std::size_t>(hash::sva_hash64(key) & (kBeliefShards - 1));
@@ -40,6 +41,19 @@ struct BeliefTerms {
   static BeliefTerms grouped(std::span<const BinOffset> terms);
 };
 
+// A part of one pair's votes, summed per bin: a piece of its matches voted on a worker of its own (a pair far larger
+// than the rest, backends/cpu/cpu_vote_backend.cpp). Its bins grouped by shard as BeliefTerms groups them, so that
+// the parts are joined shard by shard on every worker (Belief::terms); and its mass.
+struct ShardedVotes {
+  std::vector<std::uint64_t> key;
+  std::vector<std::int64_t> mass;  // > 0
+  std::array<std::uint32_t, kBeliefShards + 1> begin{};
+  std::uint64_t total = 0;
+  std::size_t size() const { return key.size(); }
+  // The accumulator's bins with votes, grouped.
+  static void of(const BinAccumulator& votes, ShardedVotes* out);
+};
+
 // The CPU reference belief.
 class Belief final : public BeliefState {
  public:
@@ -56,6 +70,10 @@ class Belief final : public BeliefState {
   // addition (integers: the order of pairs does not matter).
   BeliefTerms terms(const BinAccumulator& votes) const;
   void terms(const BinAccumulator& votes, BeliefTerms* out) const;  // into *out, its capacity reused
+  // A pair's terms from its votes in parts (each bin's mass the sum of its parts'), the shards joined in parallel on
+  // `threads` workers: the terms of the pair's votes summed whole, in another order within a shard. *probes: the
+  // slots the joins probed.
+  void terms(std::span<const ShardedVotes> parts, unsigned threads, BeliefTerms* out, std::uint64_t* probes) const;
   bool add(const BeliefTerms& terms, std::uint32_t count);
   // Many pairs' terms (pair i `counts[i]` times), the shards added in parallel on `threads` workers (0: the pool's
   // default), each shard by one worker, the pairs in order. The same offsets as add() per pair. (*folded)[i]: whether

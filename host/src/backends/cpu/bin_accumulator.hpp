@@ -22,10 +22,12 @@ namespace sva {
 // low bits a belief smaller than the pair's table (just after forgetting) was swept once per size ratio while it grew,
 // each sweep piling onto the last: up to 783 probes per addition, 21 on average (paper3d, a budget of 32,768). A
 // copy into a table sized beforehand (growth, forgetting, the band's pruning) may share the bits: linear probing's
-// total displacement does not depend on the order of insertion, only growing midway does.
+// total displacement does not depend on the order of insertion, only growing midway does. kSkip: a low-bits table
+// starts that many bits up, for keys that share their lowest hash bits (one belief shard's, belief.hpp), which would
+// otherwise all have their homes in one slot of 2^kSkip.
 enum class HomeBits { low, high };
 
-template <class Value, HomeBits kHome = HomeBits::low>
+template <class Value, HomeBits kHome = HomeBits::low, unsigned kSkip = 0>
 class BinTable {
  public:
   explicit BinTable(std::size_t expected = 1024) { init(expected); }
@@ -74,6 +76,12 @@ class BinTable {
     probes_ = 0;
   }
   std::size_t capacity() const { return slots_.size(); }
+  // The slots a table made for `expected` keys has: at most half full.
+  static std::size_t capacity_for(std::size_t expected) {
+    std::size_t cap = 16;
+    while (cap < 2 * expected) cap *= 2;
+    return cap;
+  }
   std::size_t bytes() const { return slots_.size() * sizeof(Slot); }
   // Slots read by additions since the last clear (the first one each, and every step of a collision): the work
   // `sva bench` counts.
@@ -126,11 +134,10 @@ class BinTable {
   // The GPU tables' hash: one mixing function for every pose-bin table.
   std::size_t home(std::uint64_t key) const {
     const std::uint64_t h = hash::sva_hash64(key);
-    return static_cast<std::size_t>(kHome == HomeBits::low ? h & mask_ : h >> shift_);
+    return static_cast<std::size_t>(kHome == HomeBits::low ? (h >> kSkip) & mask_ : h >> shift_);
   }
   void init(std::size_t expected) {
-    std::size_t cap = 16;
-    while (cap < 2 * expected) cap *= 2;
+    const std::size_t cap = capacity_for(expected);
     slots_.assign(cap, Slot{});
     set_mask(cap);
     size_ = 0;

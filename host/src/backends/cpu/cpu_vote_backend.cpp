@@ -11,9 +11,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
-#include <functional>
 #include <mutex>
-#include <numeric>
 #include <string>
 
 #include "backends/cpu/align_lanes.hpp"
@@ -163,19 +161,54 @@ class CpuVoteBackend final : public VoteBackend {
     out->belief_probes = belief.table_probes() - probes;
   }
 
-  // One session's pairs: each pair's votes and terms on the workers, largest pairs first from one counter (the last
-  // to finish is a small one, so no worker waits long for another; split by index range, one worker got the large
-  // pairs), then every pair's terms added shard by shard in parallel.
+  // A pair's votes, or a piece's of a pair cut into pieces (split_pairs).
+  struct Piece {
+    std::size_t pair, part;        // part: its place among the pair's pieces
+    std::vector<KeyRange> ranges;  // empty for a whole pair (its own ranges)
+    std::uint64_t entries;
+  };
+
+  // One session's pairs: each pair's votes and terms on the workers, largest first from one counter (the last to
+  // finish is a small one, so no worker waits long for another), then every pair's terms added shard by shard in
+  // parallel. A pair far larger than a worker's share is cut into pieces that vote on several workers (split_pairs),
+  // and the last of its pieces to finish joins their votes into the pair's terms, shard by shard on every worker
+  // (Belief::terms): at 10 to 30 paper3d readings the largest pair was a fifth to a seventh of the update's work and
+  // bounded it on 16 threads. Integer sums: the same terms.
   void vote_and_fold_session(const VoteBatch& batch, const std::vector<std::vector<KeyRange>>& ranges, Belief& belief,
                              std::vector<PairStats>& out) const {
+    const std::vector<Piece> pieces = split_pairs(ranges);
     std::vector<BeliefTerms> terms(batch.pairs.size());
-    largest_first(ranges, [&](std::size_t i) {
-      BinAccumulator& acc = pair_accumulator();
-      vote_pair(batch, batch.pairs[i], ranges[i], acc, &out[i]);
-      out[i].table_probes = acc.probes();
-      belief.terms(acc, &terms[i]);
-      out[i].bins = terms[i].size();
-    });
+    std::vector<std::vector<ShardedVotes>> parts(batch.pairs.size());  // of each cut pair, by part
+    std::vector<std::vector<PairStats>> part_stats(batch.pairs.size());
+    for (const Piece& piece : pieces)
+      if (!piece.ranges.empty()) {
+        parts[piece.pair].resize(std::max(parts[piece.pair].size(), piece.part + 1));
+        part_stats[piece.pair].resize(parts[piece.pair].size());
+      }
+    std::vector<std::atomic<std::size_t>> left(batch.pairs.size());  // parts of the pair still voting
+    for (std::size_t i = 0; i < left.size(); ++i) left[i].store(parts[i].size(), std::memory_order_relaxed);
+    util::parallel_deal(
+        pieces.size(),
+        [&](std::size_t k) {
+          const Piece& piece = pieces[k];
+          const std::size_t i = piece.pair;
+          if (piece.entries == 0) return;  // no match: no votes, no terms (and no table to empty)
+          BinAccumulator& acc = pair_accumulator();
+          if (piece.ranges.empty()) {  // a whole pair
+            vote_pair(batch, batch.pairs[i], ranges[i], acc, &out[i]);
+            out[i].table_probes = acc.probes();
+            belief.terms(acc, &terms[i]);
+            out[i].bins = terms[i].size();
+            return;
+          }
+          PairStats& stats = part_stats[i][piece.part];
+          vote_pair(batch, batch.pairs[i], piece.ranges, acc, &stats);
+          stats.table_probes = acc.probes();
+          ShardedVotes::of(acc, &parts[i][piece.part]);
+          if (left[i].fetch_sub(1, std::memory_order_acq_rel) == 1)
+            join_parts(parts[i], part_stats[i], belief, &terms[i], &out[i]);
+        },
+        settings_.threads);
     std::vector<std::uint32_t> counts(batch.pairs.size());
     for (std::size_t i = 0; i < counts.size(); ++i) counts[i] = batch.pairs[i].fold_count;
     std::vector<std::uint8_t> folded;
@@ -187,37 +220,51 @@ class CpuVoteBackend final : public VoteBackend {
     }
   }
 
-  // Runs fn(i) for every pair on the workers, the pairs with the most map entries first, from one counter.
-  void largest_first(const std::vector<std::vector<KeyRange>>& ranges,
-                     const std::function<void(std::size_t)>& fn) const {
+  // The session's pairs as work items, the most map entries first: a pair of more than half a worker's fair share
+  // (its part of all the pairs' entries) is cut into pieces of about that half (key_ranges.hpp,
+  // split_by_first_reading), so that no item is much longer than half a share. On 2 workers paper3d's pairs stay
+  // whole (at 30 readings the largest holds a seventh of the entries).
+  std::vector<Piece> split_pairs(const std::vector<std::vector<KeyRange>>& ranges) const {
+    const std::uint64_t workers = settings_.threads ? settings_.threads : util::default_threads();
     std::vector<std::uint64_t> entries(ranges.size());
-    for (std::size_t i = 0; i < ranges.size(); ++i) entries[i] = map_entries(ranges[i]);
-    std::vector<std::size_t> order(ranges.size());
-    std::iota(order.begin(), order.end(), std::size_t{0});
-    std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return entries[a] > entries[b]; });
-    std::atomic<std::size_t> next{0};
-    const unsigned workers = settings_.threads ? settings_.threads : util::default_threads();
-    util::parallel_for(
-        std::min<std::size_t>(workers, order.size()),
-        [&](std::size_t) {
-          try {
-            for (std::size_t k; (k = next.fetch_add(1)) < order.size();) {
-              util::throw_if_interrupted();  // as parallel_for does between its items
-              fn(order[k]);
-            }
-          } catch (...) {
-            next.store(order.size());  // the other workers stop after their current pair
-            throw;
-          }
-        },
-        settings_.threads);
+    std::uint64_t total = 0;
+    for (std::size_t i = 0; i < ranges.size(); ++i) total += entries[i] = cpu::map_entries(ranges[i]);
+    const std::uint64_t half_share = std::max<std::uint64_t>(total / (2 * workers), 1);
+    std::vector<Piece> pieces;
+    for (std::size_t i = 0; i < ranges.size(); ++i) {
+      const std::uint64_t cut = workers > 1 ? (entries[i] + half_share - 1) / half_share : 1;
+      std::vector<std::vector<KeyRange>> split;
+      if (cut > 1) split = cpu::split_by_first_reading(map_, ranges[i], cut);
+      if (split.size() <= 1) {
+        pieces.push_back({i, 0, {}, entries[i]});
+        continue;
+      }
+      for (std::size_t j = 0; j < split.size(); ++j) {
+        const std::uint64_t n = cpu::map_entries(split[j]);
+        pieces.push_back({i, j, std::move(split[j]), n});
+      }
+    }
+    std::stable_sort(pieces.begin(), pieces.end(),
+                     [](const Piece& a, const Piece& b) { return a.entries > b.entries; });
+    return pieces;
   }
 
-  // The map entries a pair's key ranges hold: the matches it will align, before the owner rule and the cutoffs.
-  static std::uint64_t map_entries(const std::vector<KeyRange>& ranges) {
-    std::uint64_t n = 0;
-    for (const KeyRange& r : ranges) n += r.end - r.begin;
-    return n;
+  // A cut pair's parts joined into its terms (each bin's votes summed over the parts: the whole pair's), its counts
+  // summed.
+  void join_parts(const std::vector<ShardedVotes>& parts, const std::vector<PairStats>& stats, const Belief& belief,
+                  BeliefTerms* terms, PairStats* out) const {
+    for (const PairStats& p : stats) {
+      out->entries += p.entries;
+      out->matches += p.matches;
+      out->votes += p.votes;
+      out->votes_outside += p.votes_outside;
+      out->votes_zero += p.votes_zero;
+      out->table_probes += p.table_probes;
+    }
+    std::uint64_t probes = 0;
+    belief.terms(parts, settings_.threads, terms, &probes);
+    out->table_probes += probes;
+    out->bins = terms->size();
   }
 
   // The ranges of the pair's keys that the map holds, in the pair's key order.
@@ -239,7 +286,7 @@ class CpuVoteBackend final : public VoteBackend {
     const std::uint8_t* active =
         batch.object_active.empty() ? nullptr : batch.object_active.data() + std::size_t{q.session} * objects_;
     std::uint32_t seen = 0;
-    out->entries += map_entries(ranges);
+    out->entries += cpu::map_entries(ranges);
     // Matches are aligned a block at a time (align_lanes.hpp), then each votes.
     const cpu::ObservedLanes observed(a1, b1);
     cpu::MatchLanes block;

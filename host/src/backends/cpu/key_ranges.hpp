@@ -7,6 +7,7 @@
 //    merge over the ranges meets every map pair with all of its holders together, reading each range once, in order.
 //    The owner (the first range, in the pair's key order, holding the pair) and the integer sum are the rule's;
 //    tests/backends/cpu/test_key_ranges.cpp compares the two.
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -80,6 +81,48 @@ void for_each_match(const PairMap& map, const std::vector<KeyRange>& ranges, Fn&
       fn(owner, reversed ? b : a, reversed ? a : b, units);
     }
   }
+}
+
+// The map entries the ranges hold: the matches a pair will align, before the owner rule and the cutoffs.
+inline std::uint64_t map_entries(const std::vector<KeyRange>& ranges) {
+  std::uint64_t n = 0;
+  for (const KeyRange& r : ranges) n += r.end - r.begin;
+  return n;
+}
+
+// One observed pair's ranges cut into up to `pieces` pieces of about equal entries, so that a pair many times the
+// others' size can vote on several workers: piece j holds, under each range (in the same key order), the entries whose
+// first reading as stored lies in its interval of readings. Every holder of a map pair stores it as (a, b) with a < b
+// (for_each_match above), so a map pair's holders all fall in one piece: the owner and the summed units within it are
+// the whole pair's, and the pieces' matches together are the pair's. The cuts are the longest range's quantiles of
+// first readings; pieces left without entries are dropped (one reading's entries stay whole, so there may be fewer).
+inline std::vector<std::vector<KeyRange>> split_by_first_reading(const PairMap& map,
+                                                                 const std::vector<KeyRange>& ranges,
+                                                                 std::size_t pieces) {
+  const auto longest = std::max_element(ranges.begin(), ranges.end(), [](const KeyRange& x, const KeyRange& y) {
+    return x.end - x.begin < y.end - y.begin;
+  });
+  std::vector<std::uint32_t> cuts;  // the first reading of every piece after the first, increasing
+  if (longest != ranges.end() && longest->end > longest->begin)
+    for (std::size_t j = 1; j < pieces; ++j) {
+      const std::uint64_t at = longest->begin + (std::uint64_t{longest->end - longest->begin} * j) / pieces;
+      const std::uint32_t a = map.entry_a[at];
+      if (a > map.entry_a[longest->begin] && (cuts.empty() || a > cuts.back())) cuts.push_back(a);
+    }
+  std::vector<std::vector<KeyRange>> out(cuts.size() + 1, ranges);
+  for (std::size_t k = 0; k < ranges.size(); ++k) {
+    const auto first = map.entry_a.begin();
+    std::uint32_t from = ranges[k].begin;
+    for (std::size_t j = 0; j < cuts.size(); ++j) {
+      const auto to =
+          static_cast<std::uint32_t>(std::lower_bound(first + from, first + ranges[k].end, cuts[j]) - first);
+      out[j][k].begin = from, out[j][k].end = to;
+      from = to;
+    }
+    out.back()[k].begin = from;
+  }
+  std::erase_if(out, [](const std::vector<KeyRange>& piece) { return map_entries(piece) == 0; });
+  return out;
 }
 
 }  // namespace sva::cpu

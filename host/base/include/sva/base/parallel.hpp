@@ -15,13 +15,19 @@ unsigned default_threads();
 // after the loop stops (the rest are cancelled). Checks for Ctrl-C between items.
 void parallel_for(std::size_t n, const std::function<void(std::size_t)>& fn, unsigned threads = 0);
 
+// Runs fn(i) for i in [0, n) on up to `threads` workers (0 = default_threads()), dealt in index order from one shared
+// counter: the caller orders the items (the largest first, so that the last to finish is a small one and no worker
+// waits long for another; parallel_for's split by index ranges may give one worker all the large ones). Errors and
+// Ctrl-C as parallel_for's: after the first error the other workers take no new item. Under a SpanProbe its items
+// run in turn, each timed, as parallel_for's do.
+void parallel_deal(std::size_t n, const std::function<void(std::size_t)>& fn, unsigned threads = 0);
+
 // The work and the span (critical path) of parallel code, measured on one thread: while a probe lives, this thread's
 // parallel_for loops run their items in turn and time each, and the span counts, for each loop, only its longest item
 // (an item's own span: its time less its nested loops', plus their spans). So span_ms is what unlimited cores could
 // not beat, and a P-core run takes at least max(work / P, span) and, greedily scheduled, at most work / P + span
 // (Brent), scheduling costs aside: a model of a many-core host from a machine with few. The loops decompose as for
-// their `threads`, which the probe does not change; a loop that deals its work from a shared counter (the CPU
-// update's largest pairs first) is timed as one item, so its span is an upper bound. One probe per thread at a time.
+// their `threads`, which the probe does not change. One probe per thread at a time.
 class SpanProbe {
  public:
   SpanProbe();

@@ -49,7 +49,6 @@ struct ShardedVotes {
   std::vector<std::int64_t> mass;  // > 0
   std::array<std::uint32_t, kBeliefShards + 1> begin{};
   std::uint64_t total = 0;
-  std::size_t size() const { return key.size(); }
   // The accumulator's bins with votes, grouped.
   static void of(const BinAccumulator& votes, ShardedVotes* out);
 };

@@ -172,7 +172,7 @@ class CpuVoteBackend final : public VoteBackend {
   // finish is a small one, so no worker waits long for another), then every pair's terms added shard by shard in
   // parallel. A pair far larger than a worker's share is cut into pieces that vote on several workers (split_pairs),
   // and the last of its pieces to finish joins their votes into the pair's terms, shard by shard on every worker
-  // (Belief::terms): at 10 to 30 paper3d readings the largest pair was a fifth to a seventh of the update's work and
+  // (Belief::terms): the largest pair was a fifth of the update's work at 10 paper3d readings and a ninth at 30, and
   // bounded it on 16 threads. Integer sums: the same terms.
   void vote_and_fold_session(const VoteBatch& batch, const std::vector<std::vector<KeyRange>>& ranges, Belief& belief,
                              std::vector<PairStats>& out) const {
@@ -222,8 +222,8 @@ class CpuVoteBackend final : public VoteBackend {
 
   // The session's pairs as work items, the most map entries first: a pair of more than half a worker's fair share
   // (its part of all the pairs' entries) is cut into pieces of about that half (key_ranges.hpp,
-  // split_by_first_reading), so that no item is much longer than half a share. On 2 workers paper3d's pairs stay
-  // whole (at 30 readings the largest holds a seventh of the entries).
+  // split_by_first_reading), so that no item is much longer than half a share. On 2 workers only a pair of more than
+  // a quarter of the entries is cut.
   std::vector<Piece> split_pairs(const std::vector<std::vector<KeyRange>>& ranges) const {
     const std::uint64_t workers = settings_.threads ? settings_.threads : util::default_threads();
     std::vector<std::uint64_t> entries(ranges.size());

@@ -47,6 +47,27 @@ std::vector<Match> by_merge(const PairMap& map, const std::vector<KeyRange>& ran
   return out;
 }
 
+// An observed pair's ranges as a test meets them: 1 to 9 keys of the map, either orientation, a third of them only a
+// part of their key's entries (still sorted, possibly empty), some met twice.
+std::vector<KeyRange> random_ranges(const PairMap& map, util::Rng& rng) {
+  std::vector<KeyRange> ranges;
+  const int count = 1 + static_cast<int>(rng.below(9));
+  for (int k = 0; k < count; ++k) {
+    const std::size_t slot = rng.below(map.keys.size());
+    std::uint32_t begin = map.offsets[slot], end = map.offsets[slot + 1];
+    if (rng.below(3) == 0) {  // a part of the key's entries
+      const std::uint32_t span = end - begin;
+      const std::uint32_t from = begin + static_cast<std::uint32_t>(rng.below(span + 1));
+      begin = from;
+      end = from + static_cast<std::uint32_t>(rng.below(end - from + 1));
+    }
+    const bool reversed = rng.below(2) == 1;
+    ranges.push_back({begin, end, static_cast<float>(rng.uniform(0.0, 1.0)), reversed});
+    if (rng.below(4) == 0) ranges.push_back(ranges[rng.below(ranges.size())]);  // a key met twice
+  }
+  return ranges;
+}
+
 }  // namespace
 
 TEST_CASE("merging a pair's key ranges finds the owner rule's matches, owners and likelihoods") {
@@ -56,21 +77,7 @@ TEST_CASE("merging a pair's key ranges finds the owner rule's matches, owners an
   util::Rng rng(3, 4);
   std::size_t matches = 0, shared = 0;
   for (int t = 0; t < 300; ++t) {
-    std::vector<KeyRange> ranges;
-    const int count = 1 + static_cast<int>(rng.below(9));
-    for (int k = 0; k < count; ++k) {
-      const std::size_t slot = rng.below(map.keys.size());
-      std::uint32_t begin = map.offsets[slot], end = map.offsets[slot + 1];
-      if (rng.below(3) == 0) {  // a part of the key's entries (still sorted), possibly empty
-        const std::uint32_t span = end - begin;
-        const std::uint32_t from = begin + static_cast<std::uint32_t>(rng.below(span + 1));
-        begin = from;
-        end = from + static_cast<std::uint32_t>(rng.below(end - from + 1));
-      }
-      const bool reversed = rng.below(2) == 1;
-      ranges.push_back({begin, end, static_cast<float>(rng.uniform(0.0, 1.0)), reversed});
-      if (rng.below(4) == 0) ranges.push_back(ranges[rng.below(ranges.size())]);  // a key met twice
-    }
+    const std::vector<KeyRange> ranges = random_ranges(map, rng);
     const std::vector<Match> rule = by_rule(map, ranges), merged = by_merge(map, ranges);
     REQUIRE(merged == rule);
     matches += rule.size();
@@ -83,21 +90,13 @@ TEST_CASE("merging a pair's key ranges finds the owner rule's matches, owners an
 TEST_CASE("a pair's ranges cut by first reading hold its matches, each once, with the whole pair's owners and units") {
   // The CPU update cuts a pair far larger than the rest into pieces that vote on several workers
   // (cpu_vote_backend.cpp): together the pieces' merges must meet every map pair once, with the owner and the summed
-  // likelihood units the whole pair's merge gives it.
+  // likelihood units the whole pair's merge gives it, also where ranges are parts of keys, empty or met twice.
   const World world = make_world(WorldSpec{});
   const PairMap& map = *world.map;
   util::Rng rng(5, 9);
   std::size_t cut = 0, pieces_made = 0;
   for (int t = 0; t < 200; ++t) {
-    std::vector<KeyRange> ranges;
-    const int count = 1 + static_cast<int>(rng.below(6));
-    for (int k = 0; k < count; ++k) {
-      const std::size_t slot = rng.below(map.keys.size());
-      ranges.push_back(
-          {map.offsets[slot], map.offsets[slot + 1], static_cast<float>(rng.uniform(0.0, 1.0)), rng.below(2) == 1});
-      if (rng.below(3) == 0) ranges.push_back(ranges[rng.below(ranges.size())]);  // a key met twice
-      if (rng.below(5) == 0) ranges.push_back({ranges.back().begin, ranges.back().begin, 0.5f, false});  // empty
-    }
+    const std::vector<KeyRange> ranges = random_ranges(map, rng);
     const std::size_t asked = 1 + rng.below(8);
     const std::vector<std::vector<KeyRange>> pieces = cpu::split_by_first_reading(map, ranges, asked);
     INFO("trial " << t << ", " << asked << " pieces asked");

@@ -58,40 +58,24 @@ BeliefTerms Belief::terms(const BinAccumulator& votes) const {
 void Belief::terms(const BinAccumulator& votes, BeliefTerms* out) const {
   // The worker thread's scratch, kept between pairs: a pair's bins run to tens of thousands, and buffers that size
   // allocated and freed per pair went back to the system and came back as fresh (zeroed, faulted-in) pages.
-  thread_local std::vector<std::uint64_t> mass, units, key;
-  thread_local std::vector<std::uint8_t> shard;
+  thread_local ShardedVotes grouped;
+  thread_local std::vector<std::uint64_t> units;
+  ShardedVotes::of(votes, &grouped);  // the bins with votes, by shard, each shard in the pair table's slot order
   out->terms.clear();
-  out->begin.fill(0);
-  // Sized up only (shrinking and growing again would zero the scratch every pair); n of each are this pair's.
-  if (key.size() < votes.size() + 1) {
-    key.resize(votes.size() + 1);
-    mass.resize(votes.size() + 1);
-  }
-  // The pair's bins with votes (masses are positive: int64 and uint64 share the bits).
-  const std::size_t n = votes.copy_positive(key.data(), reinterpret_cast<std::int64_t*>(mass.data()));
-  if (shard.size() < n) {
-    shard.resize(n);
-    units.resize(n);
-  }
-  std::uint64_t total = 0;  // < 2^63: votes are clamped (SVA_FIXED_MAX_VOTE_UNITS)
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t s = belief_shard_of(key[i]);
-    shard[i] = static_cast<std::uint8_t>(s);
-    ++out->begin[s + 1];
-    total += mass[i];
-  }
-  if (total == 0) return;
-  cpu::fold_units(mass.data(), n, total, eps_units_, belief_math::sva_floor_log(total, eps_units_), units.data());
-  // Grouped by shard (a counting sort), each group in the pair table's slot order.
-  for (std::size_t s = 0; s < kBeliefShards; ++s) out->begin[s + 1] += out->begin[s];
-  std::array<std::uint32_t, kBeliefShards> next;
-  std::copy(out->begin.begin(), out->begin.end() - 1, next.begin());
+  out->begin = grouped.begin;
+  const std::size_t n = grouped.key.size();
+  if (n == 0) return;
+  if (units.size() < n) units.resize(n);  // sized up only, as the scratch is
+  // Masses are positive: int64 and uint64 share the bits. total < 2^63: votes are clamped (SVA_FIXED_MAX_VOTE_UNITS).
+  const auto* mass = reinterpret_cast<const std::uint64_t*>(grouped.mass.data());
+  cpu::fold_units(mass, n, grouped.total, eps_units_, belief_math::sva_floor_log(grouped.total, eps_units_),
+                  units.data());
   out->terms.resize(n);
-  for (std::size_t i = 0; i < n; ++i) out->terms[next[shard[i]]++] = {key[i], units[i]};
+  for (std::size_t i = 0; i < n; ++i) out->terms[i] = {grouped.key[i], units[i]};
 }
 
 void ShardedVotes::of(const BinAccumulator& votes, ShardedVotes* out) {
-  thread_local std::vector<std::uint64_t> key;  // scratch, as Belief::terms's
+  thread_local std::vector<std::uint64_t> key;  // scratch, as Belief::terms's, sized up only
   thread_local std::vector<std::int64_t> mass;
   thread_local std::vector<std::uint8_t> shard;
   if (key.size() < votes.size() + 1) {

@@ -31,8 +31,10 @@ for f in device.txt agreement.txt suite.txt bench-vulkan.txt bench-vulkan-top3.t
   [[ -s $tmp/check/$f ]] || { cat check.txt; echo "bundle: run-device-check.sh wrote no $f" >&2; exit 1; }
 done
 # ARCHIVE: the same files in one archive, under the folder's name.
-tar -tzf "$tmp/check.tgz" | grep -qx 'check/estimate-span.txt' && tar -tzf "$tmp/check.tgz" | grep -qx 'check/details.tgz' ||
-  { tar -tzf "$tmp/check.tgz"; echo "bundle: ARCHIVE lacks the check's files" >&2; exit 1; }
+# Listed once: `tar | grep -q` under pipefail fails when grep's early exit cuts tar's listing short (SIGPIPE).
+listing=$(tar -tzf "$tmp/check.tgz")
+grep -qx 'check/estimate-span.txt' <<< "$listing" && grep -qx 'check/update-span.txt' <<< "$listing" &&
+  grep -qx 'check/details.tgz' <<< "$listing" || { echo "$listing"; echo "bundle: ARCHIVE lacks the check's files" >&2; exit 1; }
 grep -q '^io: [0-9]* passed, 0 failed, 0 skipped' "$tmp/check/suite.txt" || { echo "bundle: the device check's suite failed" >&2; exit 1; }
 grep -q '^cpu  *100 ' "$tmp/check/bench-cpu.txt" || { echo "bundle: the device check's CPU benchmark did not finish" >&2; exit 1; }
 # One session's estimate beside its modelled critical path, from the bundled bench program, at 30 and 100 readings.

@@ -118,18 +118,24 @@ recognize_in_flight() {
   cat "$out/recognize-in-flight.txt"
 }
 
+# Runs a command within SECONDS (timeout's arguments), then says so when the budget's end stopped it, and counts a
+# failure: the benchmarks' and the span models' one rule.
+within() {
+  timeout "$@"
+  local rc=$?
+  if ((rc == 124)); then echo "(stopped at the budget's end)"
+  elif ((rc != 0)); then echo "(failed: exit $rc)"; suite_failed=$((suite_failed + 1)); fi
+}
+
 # One robot's session on this host's cores: its estimate timed with every thread, beside the model of the estimate's
 # critical path on one thread (bench/estimate_speed's span probe), at 30 and 100 readings (estimate-span.txt).
 estimate_span() {
-  local t=$(($(left) * 10 / 100)) r rc exe=$BUNDLE/bench/estimate_speed
+  local t=$(($(left) * 10 / 100)) r exe=$BUNDLE/bench/estimate_speed
   if [[ ! -x $exe ]]; then echo "estimate span: this bundle has no bench/estimate_speed" | tee "$out/estimate-span.txt"; return; fi
   ((t >= 20)) || t=20  # a few seconds on paper3d: never left out for want of a share
   say "one session's estimate and its span on $SVA_THREADS threads ($t s at most)"
   for r in 30 100; do
-    timeout $((t / 2)) "$exe" "$work/map.svam" "$work/test.svad" 1 "$r" 10 "$SVA_THREADS" 3
-    rc=$?
-    if ((rc == 124)); then echo "(stopped at the budget's end)"
-    elif ((rc != 0)); then echo "(failed: exit $rc)"; suite_failed=$((suite_failed + 1)); fi
+    within $((t / 2)) "$exe" "$work/map.svam" "$work/test.svad" 1 "$r" 10 "$SVA_THREADS" 3
   done >"$out/estimate-span.txt" 2>&1
   cat "$out/estimate-span.txt"
 }
@@ -137,15 +143,12 @@ estimate_span() {
 # One session's update under the span probe, its loops split for 16 and for 8 threads (bench/speed/filter_speed.cpp):
 # the model of issue 52's 16-against-8 goal on this host, beside bench-cpu-t8 and bench-cpu-t16's measured times.
 update_span() {
-  local t=$(($(left) * 5 / 100)) p rc exe=$BUNDLE/bench/filter_speed
+  local t=$(($(left) * 5 / 100)) p exe=$BUNDLE/bench/filter_speed
   if [[ ! -x $exe ]]; then echo "update span: this bundle has no bench/filter_speed" | tee "$out/update-span.txt"; return; fi
   ((t >= 20)) || t=20
   say "one session's update and its span, split for 16 and 8 threads ($t s at most)"
   for p in 16 8; do
-    SVA_THREADS=$p timeout $((t / 2)) "$exe" "$work/map.svam" "$work/test.svad" 3 100 "$p" 0 0 0 1
-    rc=$?
-    if ((rc == 124)); then echo "(stopped at the budget's end)"
-    elif ((rc != 0)); then echo "(failed: exit $rc)"; suite_failed=$((suite_failed + 1)); fi
+    SVA_THREADS=$p within $((t / 2)) "$exe" "$work/map.svam" "$work/test.svad" 3 100 "$p" 0 0 0 1
   done >"$out/update-span.txt" 2>&1
   grep 'span probe' "$out/update-span.txt"
 }
@@ -156,11 +159,8 @@ bench() {  # NAME SHARE-OF-WHAT-IS-LEFT sva-bench-options...
   t=$(($(left) * share / 100))
   if ((t < 20)); then echo "bench $name: no time left" | tee "$out/bench-$name.txt"; return; fi
   say "sva bench $name ($t s at most)"
-  timeout "$t" "$BUNDLE/sva" --quiet bench --map "$work/map.svam" --data "$work/test.svad" --json "$out/.suite/bench-$name.json" \
+  within "$t" "$BUNDLE/sva" --quiet bench --map "$work/map.svam" --data "$work/test.svad" --json "$out/.suite/bench-$name.json" \
     "$@" >"$out/bench-$name.txt" 2>&1
-  local rc=$?
-  if ((rc == 124)); then echo "(stopped at the budget's end)" >>"$out/bench-$name.txt"
-  elif ((rc != 0)); then echo "(failed: exit $rc)" >>"$out/bench-$name.txt"; suite_failed=$((suite_failed + 1)); fi
   grep -vE '^(cpu|vulkan)( batch)?: [0-9]+/' "$out/bench-$name.txt" | head -50
 }
 [[ -f $work/map.svam ]] || { echo "no paper3d map in $work: no benchmark" >&2; suite_failed=$((suite_failed + 1)); }

@@ -140,3 +140,53 @@ TEST_CASE("a dealt loop runs every item once, in order under a probe, and lets t
                   std::runtime_error);
   CHECK(started.load() < 1000);
 }
+
+TEST_CASE("span laps split a probe's span into its stages, and are 0 without a probe") {
+  using sva::util::SpanLap;
+  double stage1 = 0.0, stage2 = 0.0, span = 0.0, longest = 0.0, between = 0.0;
+  {
+    const SpanProbe probe;
+    SpanLap lap;
+    // Stage 1: a loop of 3 items, its span the longest (4 ms) plus the 1 ms after it.
+    std::vector<double> took(3, 0.0);
+    parallel_for(
+        3, [&](std::size_t i) { took[i] = busy(2.0 + static_cast<double>(i)); }, 4);
+    between = busy(1.0);
+    stage1 = lap.lap_ms();
+    longest = *std::max_element(took.begin(), took.end());
+    // Stage 2: serial, whole on the path.
+    const double serial = busy(2.0);
+    stage2 = lap.lap_ms();
+    span = probe.span_ms();
+    CHECK(stage2 >= serial);
+    CHECK(stage2 < serial + kSlack);
+  }
+  CHECK(stage1 >= longest + between);
+  CHECK(stage1 < longest + between + kSlack);
+  CHECK(stage1 + stage2 <= span + 1e-9);
+  CHECK(stage1 + stage2 > span - kSlack);
+  // Inside a probed loop's item the lap counts that item's own path; a lap begun in another item counts 0.
+  {
+    const SpanProbe probe;
+    SpanLap outside;
+    double inside = 0.0, crossed = -1.0;
+    parallel_for(
+        2,
+        [&](std::size_t i) {
+          if (i == 0) {
+            SpanLap lap;
+            const double t = busy(1.0);
+            inside = lap.lap_ms();
+            CHECK(inside >= t);
+          } else {
+            crossed = outside.lap_ms();  // begun outside the loop, read in an item: not one path
+          }
+        },
+        2);
+    CHECK(inside < 1.0 + kSlack);
+    CHECK(crossed == 0.0);
+  }
+  SpanLap none;
+  busy(0.5);
+  CHECK(none.lap_ms() == 0.0);
+}

@@ -87,6 +87,19 @@ SpanProbe::~SpanProbe() { t_span = outer_; }
 double SpanProbe::work_ms() const { return now_ms() - start_ms_; }
 double SpanProbe::span_ms() const { return work_ms() - root_.nested_ms + root_.nested_span_ms; }
 
+SpanLap::SpanLap() { lap_ms(); }
+double SpanLap::lap_ms() {
+  const double now = now_ms();
+  const bool same = t_span && t_span == frame_;
+  const double span =
+      same ? now - at_ms_ - (t_span->nested_ms - nested_ms_) + (t_span->nested_span_ms - nested_span_ms_) : 0.0;
+  frame_ = t_span;
+  at_ms_ = now;
+  nested_ms_ = t_span ? t_span->nested_ms : 0.0;
+  nested_span_ms_ = t_span ? t_span->nested_span_ms : 0.0;
+  return span;
+}
+
 // oneTBB's workers persist across calls (one pool per process), so the per-update loops of recognition pay no
 // thread start-up. A loop runs in the caller's arena, isolated (a worker waiting at its end takes none of the caller's
 // other tasks), where that arena has no more threads than asked: nested loops (an estimate's objects, then each

@@ -96,6 +96,9 @@ class BatchRecognizer {
     double fit_ms = 0.0;
     double verify_ms = 0.0;
     double posterior_ms = 0.0;
+    // Under a util::SpanProbe (sva/base/parallel.hpp) on the calling thread, each stage's span (critical path) as its
+    // loops split for the recognizer's threads, summed likewise; 0 without one. Which stage bounds a many-core host.
+    double belief_span_ms = 0.0, fit_span_ms = 0.0, verify_span_ms = 0.0, posterior_span_ms = 0.0;
   };
   EstimateTiming last_estimate_timing() const;
   // Device submissions so far (each a round trip to the device: submit, then wait), the estimates' reads of the

@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include <sva/base/parallel.hpp>
 #include <sva/error.hpp>
 
 #include "estimate/calibrate.hpp"
@@ -97,13 +98,16 @@ Estimate estimate_from(const Candidates& c, std::span<const ObservedReading> rea
   const std::size_t n = readings.size();
   const double temperature = temperature_at(r, n);
   auto t0 = std::chrono::steady_clock::now();
+  util::SpanLap span;
   EstimateStageTimes took;
   const Fits fits = fit_candidates(c, readings, r.surface, r.refine, r.pose_weighting.empty());
   took.fit_ms = lap_ms(&t0);
+  took.fit_span_ms = span.lap_ms();
   const Verification v = r.surface
                              ? verify_candidates(fits, readings, *r.surface, r.refine, objects.size(), r.surface_model)
                              : Verification{};
   took.verify_ms = lap_ms(&t0);
+  took.verify_span_ms = span.lap_ms();
   EvidenceLevel level = evidence_after(c, fits, v, n, r.refine);
   level.light_estimate = r.depth == EstimateDepth::light;
   const CalibratedPosterior p = calibrate(c, fits, v, level,
@@ -117,10 +121,14 @@ Estimate estimate_from(const Candidates& c, std::span<const ObservedReading> rea
                   .temperature = temperature,
                   .surface_weight = p.surface_weight};
   took.posterior_ms = lap_ms(&t0);
+  took.posterior_span_ms = span.lap_ms();
   if (r.times) {
     r.times->fit_ms += took.fit_ms;
     r.times->verify_ms += took.verify_ms;
     r.times->posterior_ms += took.posterior_ms;
+    r.times->fit_span_ms += took.fit_span_ms;
+    r.times->verify_span_ms += took.verify_span_ms;
+    r.times->posterior_span_ms += took.posterior_span_ms;
   }
   return out;
 }

@@ -44,6 +44,8 @@ struct EstimateStageTimes {
   double fit_ms = 0.0;        // 2: the fine poses
   double verify_ms = 0.0;     // 3: the surface check
   double posterior_ms = 0.0;  // 4-5: the calibrated posterior and the report
+  // Under a util::SpanProbe, each stage's span (BatchRecognizer::EstimateTiming); 0 without one.
+  double belief_span_ms = 0.0, fit_span_ms = 0.0, verify_span_ms = 0.0, posterior_span_ms = 0.0;
 };
 
 // What a session's estimate asks.

@@ -301,10 +301,12 @@ std::vector<Estimate> BatchRecognizer::estimates(std::span<const std::size_t> se
         EstimateRequest request = impl_->request(s, top_k, inner, depth);
         request.times = &took[k];
         const auto start = std::chrono::steady_clock::now();
+        util::SpanLap span;
         const Candidates candidates =
             estimate_candidates({s.filter->belief(), s.filter->space(), s.filter->observed()}, request);
         took[k].belief_ms +=
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+        took[k].belief_span_ms += span.lap_ms();
         out[piped[k]] =
             impl_->finish(s, estimate_from(candidates, s.filter->observed(), s.filter->space(), objects, request));
       },
@@ -314,6 +316,8 @@ std::vector<Estimate> BatchRecognizer::estimates(std::span<const std::size_t> se
   for (const EstimateStageTimes& t : took) {
     sum.belief_ms += t.belief_ms, sum.fit_ms += t.fit_ms, sum.verify_ms += t.verify_ms;
     sum.posterior_ms += t.posterior_ms;
+    sum.belief_span_ms += t.belief_span_ms, sum.fit_span_ms += t.fit_span_ms;
+    sum.verify_span_ms += t.verify_span_ms, sum.posterior_span_ms += t.posterior_span_ms;
   }
   return out;
 }

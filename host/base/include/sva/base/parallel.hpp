@@ -47,4 +47,16 @@ class SpanProbe {
   double start_ms_;
 };
 
+// The span of this thread's code between two laps, under a live SpanProbe (0 without one, or where the laps fall in
+// different items of a probed loop): a stage's share of the probe's span, so that a model says which stage bounds it.
+class SpanLap {
+ public:
+  SpanLap();
+  double lap_ms();  // the span since construction or the last lap
+
+ private:
+  const SpanProbe::Frame* frame_ = nullptr;
+  double at_ms_ = 0.0, nested_ms_ = 0.0, nested_span_ms_ = 0.0;
+};
+
 }  // namespace sva::util

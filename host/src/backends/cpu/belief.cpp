@@ -345,13 +345,17 @@ std::vector<std::uint64_t> Belief::offsets(std::span<const std::uint64_t> keys) 
   // Home slots loaded ahead, as a shard's additions do: a lookup's probe loop branches on its miss too. Chunks of the
   // keys on the workers: an estimate's neighbourhoods ask about 10,000 lookups, each a wait on memory, which were a
   // third of one session's critical path (notebook recognition-2026-11.md, "a seventh session").
+  // A chunk is a worker's share, at least 256 lookups (a task's scheduling costs about as much as a few dozen) and at
+  // most 2,048: 2,048 a chunk left one session's 9,477 lookups at 30 paper3d readings in 5 chunks, a sixth of its
+  // estimate's critical path on 16 workers.
   const ShardHomes homes{&shards_};
-  constexpr std::size_t kChunk = 2048;
-  const std::size_t chunks = (keys.size() + kChunk - 1) / kChunk;
+  const std::size_t workers = threads_ ? threads_ : util::default_threads();
+  const std::size_t chunk = std::clamp<std::size_t>((keys.size() + workers - 1) / workers, 256, 2048);
+  const std::size_t chunks = (keys.size() + chunk - 1) / chunk;
   util::parallel_for(
       chunks,
       [&](std::size_t c) {
-        const std::size_t begin = c * kChunk, n = std::min(kChunk, keys.size() - begin);
+        const std::size_t begin = c * chunk, n = std::min(chunk, keys.size() - begin);
         std::size_t i = begin;
         for_each_loaded(
             homes, keys.subspan(begin, n), [](std::uint64_t k) { return k; },

@@ -12,8 +12,6 @@
 //                  [top_k (default 3)] [depth: full (default) or light]
 // Session t touches object t % objects at a random pose, as `sva bench`'s trials do (seed 1).
 #include <sva/base/parallel.hpp>
-#include <sva/base/rng.hpp>
-#include <sva/base/so3.hpp>
 #include <sva/batch_recognizer.hpp>
 #include <sva/dataset.hpp>
 #include <sva/error.hpp>
@@ -26,10 +24,10 @@
 #include <cstring>
 #include <ctime>
 #include <exception>
-#include <numbers>
 #include <string>
 #include <vector>
 
+#include "sessions.hpp"
 #include "whole_number_arg.hpp"
 
 namespace {
@@ -38,61 +36,6 @@ double process_cpu_seconds() {
   timespec ts{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
-
-std::uint64_t mix(std::uint64_t h, std::uint64_t v) { return (h ^ v) * 0x100000001b3ULL; }
-std::uint64_t mix(std::uint64_t h, double v) {
-  std::uint64_t bits;
-  std::memcpy(&bits, &v, sizeof bits);
-  return mix(h, bits);
-}
-std::uint64_t mix(std::uint64_t h, const sva::RigidPose& p) {
-  for (int c = 0; c < 3; ++c) {
-    h = mix(h, p.T[c]);
-    for (int r = 0; r < 3; ++r) h = mix(h, p.R[c][r]);
-  }
-  return h;
-}
-
-// Every number an estimate reports that the stages decide (the hypotheses' covariances and each object's too).
-std::uint64_t digest(std::uint64_t h, const sva::Estimate& e) {
-  h = mix(mix(h, static_cast<std::uint64_t>(e.object)), e.p_unknown);
-  for (double p : e.object_probability) h = mix(h, p);
-  h = mix(mix(mix(h, e.pose), e.parabolic_pose), static_cast<std::uint64_t>(e.pose_refined));
-  const auto add = [&](const sva::PoseHypothesis& m) {
-    h = mix(mix(mix(h, static_cast<std::uint64_t>(m.object)), m.pose), m.probability);
-    for (double c : m.covariance) h = mix(h, c);
-  };
-  for (const sva::PoseHypothesis& m : e.hypotheses) add(m);
-  for (const sva::PoseHypothesis& m : e.object_hypotheses) add(m);
-  return h;
-}
-
-// Session t's readings: object t % objects, moved by a random pose of the map's space.
-std::vector<sva::Reading> session_readings(const std::vector<std::vector<const sva::Reading*>>& by_object,
-                                           const sva::PoseSpaceSpec& space, std::size_t t, std::size_t readings) {
-  const auto& pool = by_object[t % by_object.size()];
-  std::vector<sva::Reading> out;
-  if (pool.empty()) return out;
-  sva::util::Rng rng(1, t);
-  sva::RigidPose truth;
-  const double lo = space.translation_min_mm, hi = space.translation_max_mm;
-  if (space.kind == sva::PoseSpaceSpec::Kind::planar) {
-    truth.R = sva::so3::about_z(rng.uniform(-3.1, 3.1));
-    truth.T = {rng.uniform(lo, hi), rng.uniform(lo, hi), 0.0};
-  } else {
-    const glm::dvec3 axis = glm::normalize(glm::dvec3(rng.normal(), rng.normal(), rng.normal()));
-    truth.R = sva::so3::exp(axis * rng.uniform(0.0, std::numbers::pi));
-    truth.T = {rng.uniform(lo, hi), rng.uniform(lo, hi), rng.uniform(lo, hi)};
-  }
-  for (std::size_t i = 0; i < readings; ++i) {
-    sva::Reading r = *pool[rng.below(pool.size())];
-    r.position = truth.apply(r.position);
-    r.normal = truth.rotate(r.normal);
-    r.x_axis = truth.rotate(r.x_axis);
-    out.push_back(r);
-  }
-  return out;
 }
 
 std::size_t arg(int argc, char** argv, int i, std::size_t fallback, std::size_t lo, std::size_t hi) {
@@ -119,17 +62,13 @@ int main(int argc, char** argv) try {
       argc > 8 ? sva::parse_estimate_depth(argv[8], "estimate_speed: depth") : sva::EstimateDepth::full;
   const sva::Map map = sva::Map::load(argv[1]);
   const sva::Dataset test = sva::load_dataset(argv[2]);
-  std::vector<std::vector<const sva::Reading*>> by_object(map.objects());
-  for (const sva::Sample& s : test.samples)
-    if (s.reading.status == sva::ControllerStatus::converged && s.object < map.objects())
-      by_object[s.object].push_back(&s.reading);
+  const auto by_object = sva::bench::readings_by_object(map, test);
   sva::BatchRecognizer batch(map, map.pose_space(), sessions, options);
   std::vector<std::size_t> ids(sessions);
   std::vector<std::vector<sva::Reading>> per_session(sessions);
   for (std::size_t t = 0; t < sessions; ++t) {
     ids[t] = t;
-    per_session[t] = session_readings(by_object, map.pose_space(), t, readings);
-    if (per_session[t].size() != readings) throw sva::Error(std::string(argv[2]) + ": an object has no test readings");
+    per_session[t] = sva::bench::session_readings(by_object, map.pose_space(), t, readings, argv[2]);
   }
   for (std::size_t i = 0; i < readings; ++i) {
     std::vector<sva::Reading> step;
@@ -146,8 +85,8 @@ int main(int argc, char** argv) try {
     const sva::BatchRecognizer::EstimateTiming t = batch.last_estimate_timing();
     const double total = t.belief_ms + t.fit_ms + t.verify_ms + t.posterior_ms;
     if (total < best_total) best_total = total, best = t;
-    std::uint64_t h = 0xcbf29ce484222325ULL;
-    for (const sva::Estimate& x : e) h = digest(h, x);
+    std::uint64_t h = sva::bench::kDigestStart;
+    for (const sva::Estimate& x : e) h = sva::bench::digest(h, x);
     if (r > 0 && h != answers) throw sva::Error("the same estimates asked again gave other answers");
     answers = h;
   }

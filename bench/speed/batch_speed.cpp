@@ -52,13 +52,16 @@ struct Batch {
 // Where one run of the batch spent its time, summed over its steps (ms), and what it answered last.
 struct Run {
   double update_ms = 0.0, estimate_ms = 0.0, cpu_s = 0.0;
-  double update_work = 0.0, update_span = 0.0, estimate_work = 0.0, estimate_span = 0.0;  // under the probe
+  // Under the probe: each call's work, span and list schedule on the threads (SpanProbe::scheduled_ms).
+  struct Model {
+    double work = 0.0, span = 0.0, scheduled = 0.0;
+  } update, estimate;
   std::uint64_t digest = sva::bench::kDigestStart;
 };
 
-// One step's call, timed on the workers, or under a span probe (its work and span added to *work and *span).
+// One step's call, timed on the workers, or under a span probe (its work, span and schedule added to *model).
 template <class F>
-double timed(F&& call, bool probed, double* work, double* span) {
+double timed(F&& call, bool probed, Run::Model* model) {
   const auto t0 = std::chrono::steady_clock::now();
   if (!probed) {
     call();
@@ -66,7 +69,8 @@ double timed(F&& call, bool probed, double* work, double* span) {
   }
   const sva::util::SpanProbe probe;
   call();
-  *work += probe.work_ms(), *span += probe.span_ms();
+  model->work += probe.work_ms(), model->span += probe.span_ms();
+  model->scheduled += probe.scheduled_ms();
   return ms_since(t0);
 }
 
@@ -76,9 +80,8 @@ Run run_batch(const sva::Map& map, const sva::RecognizerOptions& options, const 
   const double c0 = process_cpu_seconds();
   std::vector<sva::Estimate> last;
   for (const std::vector<sva::Reading>& step : b.steps) {
-    r.update_ms += timed([&] { batch.add_readings(b.ids, step); }, probed, &r.update_work, &r.update_span);
-    r.estimate_ms += timed([&] { last = batch.estimates(b.ids, b.top_k, b.depth); }, probed, &r.estimate_work,
-                           &r.estimate_span);
+    r.update_ms += timed([&] { batch.add_readings(b.ids, step); }, probed, &r.update);
+    r.estimate_ms += timed([&] { last = batch.estimates(b.ids, b.top_k, b.depth); }, probed, &r.estimate);
   }
   r.cpu_s = process_cpu_seconds() - c0;
   for (const sva::Estimate& e : last) r.digest = sva::bench::digest(r.digest, e);
@@ -126,13 +129,15 @@ int main(int argc, char** argv) try {
   if (!span_model) return 0;
   const Run p = run_batch(map, options, b, true);
   if (p.digest != w.digest) throw sva::Error("the batch under the span probe gave other answers");
-  const double work = p.update_work + p.estimate_work, span = p.update_span + p.estimate_span;
-  const double cores = static_cast<double>(threads);
+  const double work = p.update.work + p.estimate.work, span = p.update.span + p.estimate.span;
+  const double cores = static_cast<double>(threads), fastest = std::max(work / cores, span);
+  const double scheduled = std::max(p.update.scheduled + p.estimate.scheduled, fastest);
   std::printf(
       "under a span probe, its loops split for %u thread(s), timed on one: work %.1f ms (update %.1f + estimate %.1f), "
-      "span %.1f ms (update %.1f + estimate %.1f): on %u cores between %.1f and %.1f session-updates/s (a model)\n",
-      threads, work, p.update_work, p.estimate_work, span, p.update_span, p.estimate_span, threads,
-      updates / (1e-3 * (work / cores + span)), updates / (1e-3 * std::max(work / cores, span)));
+      "span %.1f ms (update %.1f + estimate %.1f), scheduled on %u %.1f ms: on %u cores between %.1f and %.1f "
+      "session-updates/s, %.1f as scheduled (a model)\n",
+      threads, work, p.update.work, p.estimate.work, span, p.update.span, p.estimate.span, threads, scheduled, threads,
+      updates / (1e-3 * (work / cores + span)), updates / (1e-3 * fastest), updates / (1e-3 * scheduled));
   return 0;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "batch_speed: %s\n", e.what());

@@ -190,3 +190,62 @@ TEST_CASE("span laps split a probe's span into its stages, and are 0 without a p
   busy(0.5);
   CHECK(none.lap_ms() == 0.0);
 }
+
+TEST_CASE("a span probe's schedule places each loop's items in order on the worker that frees first") {
+  using sva::util::parallel_deal;
+  // 4 items of 3, 1, 1, 1 ms on 2 workers: 3 on one, the three short ones on the other, 3 ms; on 1 worker, 6 ms.
+  const auto loop = [](unsigned threads, bool dealt, std::vector<double>* took) {
+    took->assign(4, 0.0);
+    const auto item = [&](std::size_t i) { (*took)[i] = busy(i == 0 ? 3.0 : 1.0); };
+    if (dealt)
+      parallel_deal(4, item, threads);
+    else
+      parallel_for(4, item, threads);
+  };
+  for (const bool dealt : {false, true}) {
+    std::vector<double> took;
+    double two = 0.0, one = 0.0, span = 0.0;
+    {
+      const SpanProbe probe;
+      loop(2, dealt, &took);
+      span = probe.span_ms();
+      two = probe.scheduled_ms();  // read after the span: the time between the reads counts in both
+    }
+    const double short_ones = took[1] + took[2] + took[3];
+    INFO((dealt ? "dealt" : "parallel_for")
+         << ": scheduled on 2 " << two << " ms, items " << took[0] << " and " << short_ones);
+    CHECK(two >= std::max(took[0], short_ones));
+    CHECK(two < std::max(took[0], short_ones) + kSlack);
+    CHECK(two >= span);
+    {
+      const SpanProbe probe;
+      loop(1, dealt, &took);
+      one = probe.scheduled_ms();
+      CHECK(one >= probe.work_ms() - kSlack);  // one worker: the loop's whole work
+    }
+    CHECK(one >= took[0] + took[1] + took[2] + took[3]);
+  }
+  // A nested loop counts by its own schedule: an item of 1 ms then 2 x 2 ms on 2 workers is 3 ms, beside an item of
+  // 2 ms on the other worker.
+  double nested = 0.0, first = 0.0, inner = 0.0, second = 0.0;
+  {
+    const SpanProbe probe;
+    parallel_for(
+        2,
+        [&](std::size_t i) {
+          if (i == 1) {
+            second = busy(2.0);
+            return;
+          }
+          first = busy(1.0);
+          std::vector<double> t(2, 0.0);
+          parallel_for(
+              2, [&](std::size_t j) { t[j] = busy(2.0); }, 2);
+          inner = std::max(t[0], t[1]);
+        },
+        2);
+    nested = probe.scheduled_ms();
+  }
+  CHECK(nested >= first + inner);
+  CHECK(nested < std::max(first + inner, second) + kSlack);
+}

@@ -112,3 +112,31 @@ TEST_CASE("a batch's estimates say where their time went, stage by stage, over t
   CHECK(batch.last_estimate_timing().sessions == 0);
   CHECK(batch.last_estimate_timing().fit_ms == 0.0);
 }
+
+TEST_CASE("a batch refuses the first bad reading in its sessions' order, whatever the thread count, changing nothing") {
+  // The readings are described on the workers (BatchRecognizer::Impl::describe); with two bad ones the refusal must
+  // still name the first, and no session may have taken its reading.
+  const Trained& t = trained();
+  for (const unsigned threads : {1u, 2u, 16u}) {
+    RecognizerOptions options;
+    options.backend = BackendKind::cpu;
+    options.threads = threads;
+    BatchRecognizer batch(t.map, paper_space(), 4, options);
+    std::vector<Reading> rd;
+    for (std::size_t i = 0; i < 4; ++i) rd.push_back(session_readings(1).front());
+    batch.add_readings(std::vector<std::size_t>{0, 1, 2, 3}, rd);
+    const Estimate before = batch.estimate(2, 3);
+    rd[1].pressure.front() = std::nanf("");
+    rd[3].status = ControllerStatus::not_converged;
+    INFO(threads << " threads");
+    CHECK_THROWS_WITH(batch.add_readings(std::vector<std::size_t>{3, 2, 1, 0}, rd),
+                      Catch::Contains("session 2, reading 2: the pressure image has a non-finite value"));
+    CHECK_THROWS_WITH(batch.add_readings(std::vector<std::size_t>{0, 1, 2, 3}, rd),
+                      Catch::Contains("session 1, reading 2: the pressure image has a non-finite value"));
+    std::swap(rd[1], rd[3]);
+    CHECK_THROWS_WITH(batch.add_readings(std::vector<std::size_t>{0, 1, 2, 3}, rd),
+                      Catch::Contains("session 1, reading 2: the contact controller did not converge"));
+    CHECK(same(batch.estimate(2, 3), before));
+    CHECK(batch.estimate(0, 3).readings == 1);
+  }
+}

@@ -56,12 +56,14 @@ double now_ms() {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-// A loop under a probe: its items in turn, each timed in a frame of its own.
-void probed_for(std::size_t n, const std::function<void(std::size_t)>& fn) {
+// A loop under a probe: its items in turn, each timed in a frame of its own, and placed in their order on the one of
+// `threads` workers that frees first (SpanProbe::scheduled_ms).
+void probed_for(std::size_t n, const std::function<void(std::size_t)>& fn, unsigned threads) {
   SpanProbe::Frame* outer = t_span;
   const StandardFloats floats;
   const double start = now_ms();
   double longest = 0.0;
+  std::vector<double> free_at(std::min<std::size_t>(std::max(threads, 1u), n), 0.0);  // each worker's finish
   for (std::size_t i = 0; i < n; ++i) {
     throw_if_interrupted();
     SpanProbe::Frame item;
@@ -74,10 +76,13 @@ void probed_for(std::size_t n, const std::function<void(std::size_t)>& fn) {
       throw;
     }
     t_span = outer;
-    longest = std::max(longest, now_ms() - t - item.nested_ms + item.nested_span_ms);
+    const double own = now_ms() - t - item.nested_ms;
+    longest = std::max(longest, own + item.nested_span_ms);
+    *std::min_element(free_at.begin(), free_at.end()) += own + item.nested_scheduled_ms;
   }
   outer->nested_ms += now_ms() - start;
   outer->nested_span_ms += longest;
+  outer->nested_scheduled_ms += *std::max_element(free_at.begin(), free_at.end());
 }
 
 }  // namespace
@@ -86,6 +91,7 @@ SpanProbe::SpanProbe() : outer_(t_span), start_ms_(now_ms()) { t_span = &root_; 
 SpanProbe::~SpanProbe() { t_span = outer_; }
 double SpanProbe::work_ms() const { return now_ms() - start_ms_; }
 double SpanProbe::span_ms() const { return work_ms() - root_.nested_ms + root_.nested_span_ms; }
+double SpanProbe::scheduled_ms() const { return work_ms() - root_.nested_ms + root_.nested_scheduled_ms; }
 
 SpanLap::SpanLap() { lap_ms(); }
 double SpanLap::lap_ms() {
@@ -109,7 +115,7 @@ double SpanLap::lap_ms() {
 void parallel_for(std::size_t n, const std::function<void(std::size_t)>& fn, unsigned threads) {
   if (threads == 0) threads = default_threads();
   if (n == 0) return;
-  if (t_span) return probed_for(n, fn);
+  if (t_span) return probed_for(n, fn, threads);
   const auto run = [&](std::size_t begin, std::size_t end) {
     const StandardFloats floats;
     for (std::size_t i = begin; i != end; ++i) {
@@ -131,7 +137,8 @@ void parallel_for(std::size_t n, const std::function<void(std::size_t)>& fn, uns
 
 void parallel_deal(std::size_t n, const std::function<void(std::size_t)>& fn, unsigned threads) {
   if (threads == 0) threads = default_threads();
-  if (t_span || threads <= 1 || n <= 1) return parallel_for(n, fn, 1);  // in order; under a probe, each item timed
+  if (t_span) return parallel_for(n, fn, threads);  // in order, each item timed and dealt on `threads` in the model
+  if (threads <= 1 || n <= 1) return parallel_for(n, fn, 1);
   std::atomic<std::size_t> next{0};
   parallel_for(
       std::min<std::size_t>(threads, n),

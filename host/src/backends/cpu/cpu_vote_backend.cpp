@@ -78,11 +78,12 @@ class CpuVoteBackend final : public VoteBackend {
     return std::make_unique<Belief>(space, eps, settings_.threads);
   }
 
-  // Pairs vote and compute their fold terms in parallel on the worker pool. One session's pairs then add their terms
-  // shard by shard, every shard on its own worker (Belief::add_all): the additions, 14% of the work at 100 paper3d
-  // readings, ran under one lock and bounded the update past 8 threads. A batch of sessions adds each pair under its
-  // session's lock as it finishes: its many sessions keep the workers apart, and only the pairs in flight hold terms.
-  // Integers either way: the order of pairs does not change the belief.
+  // Pairs vote and compute their fold terms in parallel on the worker pool, a pair far larger than a worker's share cut
+  // into pieces (vote_and_fold_pieces). One session's pairs then add their terms shard by shard, every shard on its own
+  // worker (Belief::add_all): the additions, 14% of the work at 100 paper3d readings, ran under one lock and bounded
+  // the update past 8 threads. A batch of sessions adds each pair under its session's lock as it finishes: its many
+  // sessions keep the workers apart, and only the pairs in flight hold terms. Integers either way: the order of pairs
+  // does not change the belief.
   std::vector<PairStats> vote_and_fold(const VoteBatch& batch, std::span<BeliefState* const> beliefs) override {
     const auto start = Clock::now();
     const std::vector<Belief*> target = cpu_beliefs(batch, beliefs);
@@ -92,17 +93,7 @@ class CpuVoteBackend final : public VoteBackend {
         batch.pairs.size(), [&](std::size_t i) { ranges[i] = key_ranges(batch, batch.pairs[i]); }, settings_.threads);
     const bool one_session =
         std::all_of(target.begin(), target.end(), [&](const Belief* b) { return b == target.front(); });
-    if (!one_session) {
-      std::vector<std::mutex> locks(beliefs.size());
-      util::parallel_for(
-          batch.pairs.size(),
-          [&](std::size_t i) {
-            vote_and_fold_pair(batch, batch.pairs[i], ranges[i], *target[i], locks[batch.pairs[i].session], &out[i]);
-          },
-          settings_.threads);
-    } else if (!target.empty()) {
-      vote_and_fold_session(batch, ranges, *target[0], out);
-    }
+    if (!target.empty()) vote_and_fold_pieces(batch, ranges, target, one_session ? 0 : beliefs.size(), out);
     last_ms_ = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
     last_work_ = work_of(out);
     return out;
@@ -146,21 +137,6 @@ class CpuVoteBackend final : public VoteBackend {
     return target;
   }
 
-  // One pair: its votes into the worker's table, then its terms into its session's belief under that session's lock.
-  void vote_and_fold_pair(const VoteBatch& batch, const PairQuery& q, const std::vector<KeyRange>& ranges,
-                          Belief& belief, std::mutex& lock, PairStats* out) const {
-    BinAccumulator& acc = pair_accumulator();
-    vote_pair(batch, q, ranges, acc, out);
-    out->table_probes = acc.probes();
-    thread_local BeliefTerms terms;  // reused: see Belief::terms
-    belief.terms(acc, &terms);
-    out->bins = terms.size();
-    std::lock_guard guard(lock);
-    const std::uint64_t probes = belief.table_probes();
-    out->folded = belief.add(terms, q.fold_count);
-    out->belief_probes = belief.table_probes() - probes;
-  }
-
   // A pair's votes, or a piece's of a pair cut into pieces (split_pairs).
   struct Piece {
     std::size_t pair, part;        // part: its place among the pair's pieces
@@ -168,16 +144,20 @@ class CpuVoteBackend final : public VoteBackend {
     std::uint64_t entries;
   };
 
-  // One session's pairs: each pair's votes and terms on the workers, largest first from one counter (the last to
-  // finish is a small one, so no worker waits long for another), then every pair's terms added shard by shard in
-  // parallel. A pair far larger than a worker's share is cut into pieces that vote on several workers (split_pairs),
-  // and the last of its pieces to finish joins their votes into the pair's terms, shard by shard on every worker
-  // (Belief::terms): the largest pair was a fifth of the update's work at 10 paper3d readings and a ninth at 30, and
-  // bounded it on 16 threads. Integer sums: the same terms.
-  void vote_and_fold_session(const VoteBatch& batch, const std::vector<std::vector<KeyRange>>& ranges, Belief& belief,
-                             std::vector<PairStats>& out) const {
+  // The pairs' votes and terms on the workers, largest first from one counter (the last to finish is a small one, so no
+  // worker waits long for another). A pair far larger than a worker's share is cut into pieces that vote on several
+  // workers (split_pairs), and the last of its pieces to finish joins their votes into the pair's terms, shard by shard
+  // on every worker (Belief::terms): in one session the largest pair was a fifth of the update's work at 10 paper3d
+  // readings and a ninth at 30, and in a batch of 64 sessions at 10 readings a pair of 30-75 ms bounded a step of
+  // 945 ms of work, on 16 threads. With `sessions` (a batch) each pair's terms are added under its session's lock as
+  // they are made; with 0 (one session) every pair's are added at the end, shard by shard (Belief::add_all). Integer
+  // sums: the same terms, and the same belief in any order.
+  void vote_and_fold_pieces(const VoteBatch& batch, const std::vector<std::vector<KeyRange>>& ranges,
+                            const std::vector<Belief*>& target, std::size_t sessions,
+                            std::vector<PairStats>& out) const {
     const std::vector<Piece> pieces = split_pairs(ranges);
-    std::vector<BeliefTerms> terms(batch.pairs.size());
+    std::vector<BeliefTerms> terms(sessions ? 0 : batch.pairs.size());  // one session's, added at the end
+    std::vector<std::mutex> locks(sessions);
     std::vector<std::vector<ShardedVotes>> parts(batch.pairs.size());  // of each cut pair, by part
     std::vector<std::vector<PairStats>> part_stats(batch.pairs.size());
     for (const Piece& piece : pieces)
@@ -187,43 +167,56 @@ class CpuVoteBackend final : public VoteBackend {
       }
     std::vector<std::atomic<std::size_t>> left(batch.pairs.size());  // parts of the pair still voting
     for (std::size_t i = 0; i < left.size(); ++i) left[i].store(parts[i].size(), std::memory_order_relaxed);
+    // Pair i's terms, complete: a batch's into its session's belief now.
+    const auto made = [&](std::size_t i, const BeliefTerms& t) {
+      if (!sessions) return;
+      Belief& belief = *target[i];
+      std::lock_guard guard(locks[batch.pairs[i].session]);
+      const std::uint64_t probes = belief.table_probes();
+      out[i].folded = belief.add(t, batch.pairs[i].fold_count);
+      out[i].belief_probes = belief.table_probes() - probes;
+    };
     util::parallel_deal(
         pieces.size(),
         [&](std::size_t k) {
           const Piece& piece = pieces[k];
           const std::size_t i = piece.pair;
-          if (piece.entries == 0) return;  // no match: no votes, no terms (and no table to empty)
+          if (piece.entries == 0) return;    // no match: no votes, no terms (and no table to empty)
+          thread_local BeliefTerms scratch;  // a batch's pair's terms, reused (see Belief::terms)
+          BeliefTerms& t = sessions ? scratch : terms[i];
           BinAccumulator& acc = pair_accumulator();
           if (piece.ranges.empty()) {  // a whole pair
             vote_pair(batch, batch.pairs[i], ranges[i], acc, &out[i]);
             out[i].table_probes = acc.probes();
-            belief.terms(acc, &terms[i]);
-            out[i].bins = terms[i].size();
-            return;
+            target[i]->terms(acc, &t);
+            out[i].bins = t.size();
+            return made(i, t);
           }
           PairStats& stats = part_stats[i][piece.part];
           vote_pair(batch, batch.pairs[i], piece.ranges, acc, &stats);
           stats.table_probes = acc.probes();
           ShardedVotes::of(acc, &parts[i][piece.part]);
-          if (left[i].fetch_sub(1, std::memory_order_acq_rel) == 1)
-            join_parts(parts[i], part_stats[i], belief, &terms[i], &out[i]);
+          if (left[i].fetch_sub(1, std::memory_order_acq_rel) != 1) return;
+          join_parts(parts[i], part_stats[i], *target[i], &t, &out[i]);
+          made(i, t);
         },
         settings_.threads);
+    if (sessions) return;
     std::vector<std::uint32_t> counts(batch.pairs.size());
     for (std::size_t i = 0; i < counts.size(); ++i) counts[i] = batch.pairs[i].fold_count;
     std::vector<std::uint8_t> folded;
     std::vector<std::uint64_t> probes;
-    belief.add_all(terms, counts, settings_.threads, &folded, &probes);
+    target.front()->add_all(terms, counts, settings_.threads, &folded, &probes);
     for (std::size_t i = 0; i < out.size(); ++i) {
       out[i].folded = folded[i] != 0;
       out[i].belief_probes = probes[i];
     }
   }
 
-  // The session's pairs as work items, the most map entries first: a pair of more than half a worker's fair share
-  // (its part of all the pairs' entries) is cut into pieces of about that half (key_ranges.hpp,
-  // split_by_first_reading), so that no item is much longer than half a share. On 2 workers only a pair of more than
-  // a quarter of the entries is cut.
+  // The update's pairs as work items, the most map entries first: a pair of more than half a worker's fair share
+  // (its part of all the pairs' entries, of every session of a batch) is cut into pieces of about that half
+  // (key_ranges.hpp, split_by_first_reading), so that no item is much longer than half a share. On 2 workers only a
+  // pair of more than a quarter of the entries is cut.
   std::vector<Piece> split_pairs(const std::vector<std::vector<KeyRange>>& ranges) const {
     const std::uint64_t workers = settings_.threads ? settings_.threads : util::default_threads();
     std::vector<std::uint64_t> entries(ranges.size());

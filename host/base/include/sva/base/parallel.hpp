@@ -28,6 +28,11 @@ void parallel_deal(std::size_t n, const std::function<void(std::size_t)>& fn, un
 // not beat, and a P-core run takes at least max(work / P, span) and, greedily scheduled, at most work / P + span
 // (Brent), scheduling costs aside: a model of a many-core host from a machine with few. The loops decompose as for
 // their `threads`, which the probe does not change. One probe per thread at a time.
+// scheduled_ms is the model's point estimate between those bounds: each loop's items placed in the order they are
+// handed out, each on the worker that frees first, of as many workers as the loop's `threads` (a dealt loop deals so;
+// parallel_for's workers steal alike), a nested loop with every worker of its own. It leaves out what the bounds leave
+// out, and the workers a nested loop shares with its outer loop's other items, so it is never below max(work / P,
+// span) as printed (the bench programs take the larger).
 class SpanProbe {
  public:
   SpanProbe();
@@ -36,9 +41,10 @@ class SpanProbe {
   SpanProbe& operator=(const SpanProbe&) = delete;
   double work_ms() const;  // since the probe began
   double span_ms() const;
+  double scheduled_ms() const;
 
   struct Frame {  // an item's nested loops so far (internal)
-    double nested_ms = 0.0, nested_span_ms = 0.0;
+    double nested_ms = 0.0, nested_span_ms = 0.0, nested_scheduled_ms = 0.0;
   };
 
  private:

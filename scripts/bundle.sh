@@ -11,7 +11,7 @@
 #                                      (build-aarch64; scripts/setup.sh --aarch64), for a
 #                                      Jetson-class machine; its libraries found under qemu
 #
-# OUT_DIR/  sva, tests/sva_tests_<area>, bench/estimate_speed and bench/filter_speed (where built), assets/ (scenes and objects), lib/ (every
+# OUT_DIR/  sva, tests/sva_tests_<area>, bench/estimate_speed, filter_speed and batch_speed (where built), assets/ (scenes and objects), lib/ (every
 #           shared library they load but the C library and the Vulkan drivers),
 #           run-tests.sh, run-bench.sh, env.sh, README.txt
 # The binaries get the run path $ORIGIN/lib (patchelf), so they run from any folder;
@@ -84,9 +84,10 @@ cp "$build/sva" "$out/sva"
 cp "${tests[@]}" "$out/tests/"
 # The estimate's stages timed, with one session's critical path (bench/speed/estimate_speed.cpp), where the build made
 # it: the device check compares a many-core host's measured latency with the model.
-# The same for one session's update (bench/speed/filter_speed.cpp): its span on the host's threads.
+# The same for one session's update (bench/speed/filter_speed.cpp): its span on the host's threads; and for a batch of
+# 64 sessions (bench/speed/batch_speed.cpp).
 benches=()
-for b in estimate_speed filter_speed; do
+for b in estimate_speed filter_speed batch_speed; do
   [[ -x $build/bench/$b ]] || continue
   mkdir -p "$out/bench"
   cp "$build/bench/$b" "$out/bench/"

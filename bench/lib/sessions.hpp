@@ -26,15 +26,23 @@ inline std::vector<std::vector<const Reading*>> readings_by_object(const Map& ma
   return by_object;
 }
 
-// Session t's `readings` readings: object t % objects, moved by a random pose of the map's space. Throws naming
-// `test` when that object has no test readings.
-inline std::vector<Reading> session_readings(const std::vector<std::vector<const Reading*>>& by_object,
-                                             const PoseSpaceSpec& space, std::size_t t, std::size_t readings,
-                                             const std::string& test) {
-  const auto& pool = by_object[t % by_object.size()];
-  if (pool.empty()) throw Error(test + ": object " + std::to_string(t % by_object.size()) + " has no test readings");
-  util::Rng rng(1, t);
+// A bench session: its readings of one object, moved by one pose (the truth its estimates are judged by).
+struct BenchSession {
+  std::vector<Reading> readings;
+  std::uint32_t object = 0;
   RigidPose truth;
+};
+
+// Session t of `readings` readings: object t % objects, moved by a random pose of the map's space. Throws naming
+// `test` when that object has no test readings.
+inline BenchSession make_session(const std::vector<std::vector<const Reading*>>& by_object, const PoseSpaceSpec& space,
+                                 std::size_t t, std::size_t readings, const std::string& test) {
+  BenchSession out;
+  out.object = static_cast<std::uint32_t>(t % by_object.size());
+  const auto& pool = by_object[out.object];
+  if (pool.empty()) throw Error(test + ": object " + std::to_string(out.object) + " has no test readings");
+  util::Rng rng(1, t);
+  RigidPose& truth = out.truth;
   const double lo = space.translation_min_mm, hi = space.translation_max_mm;
   if (space.kind == PoseSpaceSpec::Kind::planar) {
     truth.R = so3::about_z(rng.uniform(-3.1, 3.1));
@@ -44,13 +52,12 @@ inline std::vector<Reading> session_readings(const std::vector<std::vector<const
     truth.R = so3::exp(axis * rng.uniform(0.0, std::numbers::pi));
     truth.T = {rng.uniform(lo, hi), rng.uniform(lo, hi), rng.uniform(lo, hi)};
   }
-  std::vector<Reading> out;
   for (std::size_t i = 0; i < readings; ++i) {
     Reading r = *pool[rng.below(pool.size())];
     r.position = truth.apply(r.position);
     r.normal = truth.rotate(r.normal);
     r.x_axis = truth.rotate(r.x_axis);
-    out.push_back(r);
+    out.readings.push_back(r);
   }
   return out;
 }

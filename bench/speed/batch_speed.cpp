@@ -44,6 +44,7 @@ std::size_t arg(int argc, char** argv, int i, std::size_t fallback, std::size_t 
 
 struct Batch {
   std::vector<std::size_t> ids;
+  std::vector<sva::bench::BenchSession> sessions;
   std::vector<std::vector<sva::Reading>> steps;  // [reading][session]
   std::size_t top_k = 1;
   sva::EstimateDepth depth = sva::EstimateDepth::full;
@@ -57,6 +58,7 @@ struct Run {
     double work = 0.0, span = 0.0, scheduled = 0.0;
   } update, estimate;
   std::uint64_t digest = sva::bench::kDigestStart;
+  std::vector<sva::Estimate> last;  // each session's after its last reading
 };
 
 // One step's call, timed on the workers, or under a span probe (its work, span and schedule added to *model).
@@ -78,7 +80,7 @@ Run run_batch(const sva::Map& map, const sva::RecognizerOptions& options, const 
   sva::BatchRecognizer batch(map, map.pose_space(), b.ids.size(), options);
   Run r;
   const double c0 = process_cpu_seconds();
-  std::vector<sva::Estimate> last;
+  std::vector<sva::Estimate>& last = r.last;
   for (const std::vector<sva::Reading>& step : b.steps) {
     r.update_ms += timed([&] { batch.add_readings(b.ids, step); }, probed, &r.update);
     r.estimate_ms += timed([&] { last = batch.estimates(b.ids, b.top_k, b.depth); }, probed, &r.estimate);
@@ -112,19 +114,25 @@ int main(int argc, char** argv) try {
   b.steps.assign(readings, {});
   for (std::size_t t = 0; t < sessions; ++t) {
     b.ids.push_back(t);
-    const std::vector<sva::Reading> own =
-        sva::bench::session_readings(by_object, map.pose_space(), t, readings, argv[2]);
-    for (std::size_t i = 0; i < readings; ++i) b.steps[i].push_back(own[i]);
+    b.sessions.push_back(sva::bench::make_session(by_object, map.pose_space(), t, readings, argv[2]));
+    for (std::size_t i = 0; i < readings; ++i) b.steps[i].push_back(b.sessions.back().readings[i]);
   }
   const unsigned threads = options.threads ? options.threads : sva::util::default_threads();
   const double updates = static_cast<double>(sessions * readings);
   const Run w = run_batch(map, options, b, false);
   const double wall_s = 1e-3 * (w.update_ms + w.estimate_ms);
+  // What the speed buys: the objects right after the last reading, and their median translation error.
+  std::vector<double> errors;
+  for (std::size_t t = 0; t < sessions; ++t)
+    if (w.last[t].object == b.sessions[t].object)
+      errors.push_back(glm::length(w.last[t].pose.T - b.sessions[t].truth.T));
+  std::sort(errors.begin(), errors.end());
   std::printf(
       "%zu sessions x %zu readings, top %zu, %s, %u thread(s): %.1f session-updates/s (update %.2f + estimate %.2f ms "
-      "a step); CPU %.2f s; digest %016llx\n",
+      "a step); CPU %.2f s; %zu/%zu objects right, median translation error %.2f mm; digest %016llx\n",
       sessions, readings, b.top_k, sva::estimate_depth_name(b.depth), threads, updates / wall_s,
       w.update_ms / static_cast<double>(readings), w.estimate_ms / static_cast<double>(readings), w.cpu_s,
+      errors.size(), sessions, errors.empty() ? 0.0 : errors[errors.size() / 2],
       static_cast<unsigned long long>(w.digest));
   if (!span_model) return 0;
   const Run p = run_batch(map, options, b, true);

@@ -68,7 +68,7 @@ int main(int argc, char** argv) try {
   std::vector<std::vector<sva::Reading>> per_session(sessions);
   for (std::size_t t = 0; t < sessions; ++t) {
     ids[t] = t;
-    per_session[t] = sva::bench::session_readings(by_object, map.pose_space(), t, readings, argv[2]);
+    per_session[t] = sva::bench::make_session(by_object, map.pose_space(), t, readings, argv[2]).readings;
   }
   for (std::size_t i = 0; i < readings; ++i) {
     std::vector<sva::Reading> step;
@@ -92,12 +92,13 @@ int main(int argc, char** argv) try {
   }
   // Each session's estimate alone, under a span probe: its work and its critical path as the loops split it for
   // `threads` (sva/base/parallel.hpp), a model of a many-core host's latency for one robot's session.
-  double work = 0.0, span = 0.0, longest_span = 0.0;
+  double work = 0.0, span = 0.0, longest_span = 0.0, scheduled = 0.0;
   sva::BatchRecognizer::EstimateTiming stages{};
   for (std::size_t t = 0; t < sessions; ++t) {
     const sva::util::SpanProbe probe;
     batch.estimates(std::span(&ids[t], 1), top_k, depth);
     work += probe.work_ms(), span += probe.span_ms();
+    scheduled += std::max(probe.scheduled_ms(), std::max(probe.work_ms() / options.threads, probe.span_ms()));
     longest_span = std::max(longest_span, probe.span_ms());
     const sva::BatchRecognizer::EstimateTiming s = batch.last_estimate_timing();
     stages.belief_span_ms += s.belief_span_ms, stages.fit_span_ms += s.fit_span_ms;
@@ -113,10 +114,10 @@ int main(int argc, char** argv) try {
       static_cast<unsigned long long>(answers));
   std::printf(
       "one session alone, its loops split for %u thread(s), timed on one: work %.2f ms, span %.2f ms (longest %.2f): "
-      "on P cores at least max(work / P, span), at most work / P + span (a model); span by stage: belief %.2f + "
-      "fits %.2f + verify %.2f + posterior %.2f\n",
-      options.threads, work / n, span / n, longest_span, stages.belief_span_ms / n, stages.fit_span_ms / n,
-      stages.verify_span_ms / n, stages.posterior_span_ms / n);
+      "on P cores at least max(work / P, span), at most work / P + span, as scheduled on %u %.2f ms (a model); span by "
+      "stage: belief %.2f + fits %.2f + verify %.2f + posterior %.2f\n",
+      options.threads, work / n, span / n, longest_span, options.threads, scheduled / n, stages.belief_span_ms / n,
+      stages.fit_span_ms / n, stages.verify_span_ms / n, stages.posterior_span_ms / n);
   return 0;
 } catch (const std::exception& e) {
   std::fprintf(stderr, "estimate_speed: %s\n", e.what());

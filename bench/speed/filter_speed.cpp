@@ -7,7 +7,7 @@
 // span=1: the updates at readings 10, 30 and 100 run under a span probe (sva/base/parallel.hpp) instead of on the
 // workers: their loops split for `threads` but run in turn on one core, timed, which gives their work and critical
 // path and so a model of the update on `threads` cores of this machine's kind (docs/recognition.md, "One session on
-// many cores").
+// many cores"): Brent's bounds, and between them the loops' list schedule on the threads (SpanProbe::scheduled_ms).
 // Trial t recognises object t % objects from its test readings, drawn at
 // random, moved by a random pose (rotation arbitrary, translation in the pose
 // space's range, as in the paper's protocol).
@@ -96,7 +96,7 @@ int main(int argc, char** argv) try {
       by_object[s.object].push_back(&s.reading);
 
   const int marks[] = {10, 30, 100};
-  std::vector<double> at_mark[3], cpu_at_mark[3], work_at_mark[3], span_at_mark[3];
+  std::vector<double> at_mark[3], cpu_at_mark[3], work_at_mark[3], span_at_mark[3], sched_at_mark[3];
   double total_votes = 0.0, total_seconds = 0.0;
   std::uint64_t total_zero = 0;  // votes inside the space whose mass rounds to 0: counted, they add nothing
   int correct = 0;
@@ -127,6 +127,7 @@ int main(int argc, char** argv) try {
         rec.add_reading(r);
         work_at_mark[mark].push_back(probe.work_ms());
         span_at_mark[mark].push_back(probe.span_ms());
+        sched_at_mark[mark].push_back(probe.scheduled_ms());
       } else {
         rec.add_reading(r);
       }
@@ -168,8 +169,9 @@ int main(int argc, char** argv) try {
           marks[m], options.threads ? std::to_string(options.threads).c_str() : "all", work, span,
           work_at_mark[m].size());
       if (options.threads)
-        std::printf("; on %u cores of this machine's kind between %.2f and %.2f ms (a model)", options.threads,
-                    std::max(work / p, span), work / p + span);
+        std::printf("; on %u cores of this machine's kind between %.2f and %.2f ms, as scheduled %.2f ms (a model)",
+                    options.threads, std::max(work / p, span), work / p + span,
+                    std::max(median(sched_at_mark[m]), std::max(work / p, span)));
       std::printf("\n");
     }
   std::printf("votes per second: %.3g (%.3g votes in %.1f s of updates)\n", total_votes / std::max(total_seconds, 1e-9),

@@ -22,10 +22,10 @@ grep -Eq '^update at reading  10: wall median [0-9.]+ s' <<< "$one" || { echo "m
 answers() { grep -E '^(trial|after)' <<< "$1"; }
 [ "$(answers "$one")" = "$(answers "$many")" ] || { echo "other answers on 16 threads" >&2; exit 1; }
 [ "$(answers "$one")" = "$(answers "$probed")" ] || { echo "other answers under the span probe" >&2; exit 1; }
-span='^update at reading  10 under a span probe, its loops split for 16 threads: work median ([0-9.]+) ms, span median ([0-9.]+) ms \(3 trials\); on 16 cores of this machine.s kind between ([0-9.]+) and ([0-9.]+) ms \(a model\)$'
+span='^update at reading  10 under a span probe, its loops split for 16 threads: work median ([0-9.]+) ms, span median ([0-9.]+) ms \(3 trials\); on 16 cores of this machine.s kind between ([0-9.]+) and ([0-9.]+) ms, as scheduled ([0-9.]+) ms \(a model\)$'
 grep -Eq "$span" <<< "$probed" || { echo "missing or malformed span line" >&2; exit 1; }
-sed -nE "s/${span}/\1 \2 \3 \4/p" <<< "$probed" | awk '{ exit !($2 > 0 && $2 <= $1 && $3 <= $4) }' ||
-  { echo "a span longer than its work, or bounds out of order" >&2; exit 1; }
+sed -nE "s/${span}/\1 \2 \3 \4 \5/p" <<< "$probed" | awk '{ exit !($2 > 0 && $2 <= $1 && $3 <= $5 && $5 <= $4) }' ||
+  { echo "a span longer than its work, or the bounds and the schedule out of order" >&2; exit 1; }
 if err=$("$filter_speed" "$work/map.svam" "$work/test.svad" 3 10 16 0 0 0 2 2>&1); then
   echo "accepted span 2" >&2
   exit 1

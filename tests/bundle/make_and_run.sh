@@ -27,7 +27,7 @@ WORK="$tmp/p3d" AREAS=io SIM_ARGS="--train 30 --test 12" ARCHIVE="$tmp/check.tgz
 tail -n 1 check.txt
 for f in device.txt agreement.txt suite.txt bench-vulkan.txt bench-vulkan-top3.txt bench-vulkan-top3-prior.txt \
   bench-vulkan-batch-light.txt bench-vulkan-batch-untimed.txt bench-vulkan-batch-serial.txt estimate-span.txt update-span.txt \
-  bench-cpu.txt details.tgz; do
+  batch-span.txt bench-cpu.txt details.tgz; do
   [[ -s $tmp/check/$f ]] || { cat check.txt; echo "bundle: run-device-check.sh wrote no $f" >&2; exit 1; }
 done
 # ARCHIVE: the same files in one archive, under the folder's name.
@@ -45,6 +45,12 @@ grep -q '^cpu  *100 ' "$tmp/check/bench-cpu.txt" || { echo "bundle: the device c
 [[ $(grep -cE '^update at reading +(10|30|100) under a span probe, its loops split for (16|8) threads: ' \
   "$tmp/check/update-span.txt") == 6 ]] ||
   { cat "$tmp/check/update-span.txt"; echo "bundle: the device check's update span is missing" >&2; exit 1; }
+# 64 sessions to 10 readings on 16 and on 2 threads, each measured and under the span probe, the same answers.
+[[ $(grep -cE '^64 sessions x 10 readings, top 1, full, (16|2) thread\(s\): .*digest [0-9a-f]{16}$' "$tmp/check/batch-span.txt") == 2 &&
+  $(grep -cE '^under a span probe, its loops split for (16|2) thread\(s\), .* as scheduled \(a model\)$' \
+    "$tmp/check/batch-span.txt") == 2 &&
+  $(grep -Eo 'digest [0-9a-f]{16}' "$tmp/check/batch-span.txt" | sort -u | wc -l) == 1 ]] ||
+  { cat "$tmp/check/batch-span.txt"; echo "bundle: the device check's batch span is missing" >&2; exit 1; }
 # A driver that does not load fails the check, which then checked nothing, and device.txt names the file.
 [[ -f $tmp/bundle/glvnd/libEGL.so.1 && -f $tmp/bundle/glvnd/libGLdispatch.so.0 ]] ||
   { echo "bundle: no libglvnd (libEGL.so.1, libGLdispatch.so.0) for NVIDIA's driver" >&2; exit 1; }

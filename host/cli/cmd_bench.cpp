@@ -377,6 +377,7 @@ bench::BenchPlan parse_plan(const Args& a) {
   plan.surface_check = a.on_off("--surface-check", true);
   plan.estimate = parse_estimate_depth(a.get_or("--estimate", "full"), "sva bench: --estimate");
   plan.max_pairs_per_update = static_cast<int>(a.integer("--max-pairs", 0, 0, 1 << 20));
+  plan.likelihood_cutoff = static_cast<float>(a.number("--likelihood-cutoff", 0.0, 0.0, 128.0));
   plan.belief_budget_bins = static_cast<std::size_t>(
       a.integer("--belief-budget", static_cast<long long>(plan.belief_budget_bins), 0, 1ll << 40));
   plan.top_k = static_cast<std::size_t>(a.integer("--top-k", 1, 1, 1000));
@@ -411,6 +412,9 @@ int cmd_bench(const std::vector<std::string>& argv) {
       .option("--max-pairs", "N",
               "bounded cost per update: pairs per update, both orders counted (58: the new reading with the 29 most "
               "recent ones; default 0, every earlier reading: the exact filter; docs/recognition.md)")
+      .option("--likelihood-cutoff", "L",
+              "matches whose likelihood (Eq 15, summed over the keys they share) is below L cast no vote (default 0: "
+              "every match votes, the paper's method; the map's calibration was fitted at 0; docs/recognition.md)")
       .option("--belief-budget", "BINS",
               "touched pose bins per session before hopeless ones are forgotten (default 4194304; 0 = no bound; "
               "docs/recognition.md, \"Bounded memory\")")

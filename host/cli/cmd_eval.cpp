@@ -148,6 +148,7 @@ eval::EvalOptions eval_options(const Args& a) {
   o.recognizer.belief_budget_bins = static_cast<std::size_t>(
       a.integer("--belief-budget", static_cast<long long>(o.recognizer.belief_budget_bins), 0, 1ll << 40));
   o.recognizer.max_pairs_per_update = static_cast<int>(a.integer("--max-pairs", 0, 0, 1 << 20));
+  o.recognizer.likelihood_cutoff = static_cast<float>(a.number("--likelihood-cutoff", 0.0, 0.0, 128.0));
   o.recognizer.calibrate = a.on_off("--calibration", o.recognizer.calibrate);
   o.recognizer.unknown_prior = a.number("--unknown-prior", o.recognizer.unknown_prior, 1e-9, 1.0 - 1e-9);
   o.unknown_objects = a.has("--unknown-objects");
@@ -236,6 +237,9 @@ void declare_eval_options(Args& a) {
   a.option("--max-pairs", "N",
            "bounded cost per update: pairs per update, both orders counted (58: the new reading with the 29 most "
            "recent ones; default 0, every earlier reading: the exact filter; docs/recognition.md)");
+  a.option("--likelihood-cutoff", "L",
+           "matches whose likelihood (Eq 15, summed over the keys they share) is below L cast no vote (default 0: "
+           "every match votes, the paper's method; the map's calibration was fitted at 0; docs/recognition.md)");
   a.option("--belief-budget", "BINS",
            "touched pose bins per session before hopeless ones are forgotten (default 4194304; 0 = no bound)");
   a.option("--policy", "random|active|active-sim",

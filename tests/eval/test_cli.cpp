@@ -162,6 +162,10 @@ TEST_CASE(
   REQUIRE(sva::test::run_sva(f.base() + "--trials 4 --max-readings 5 --seed 8 --json " + f.path("c.json"), &out) == 0);
   auto c = nlohmann::json::parse(read_file(f.path("c.json")));
   CHECK(c["seed"] == 8);
+  // --likelihood-cutoff: the same trials, and the matches below it cast no vote.
+  REQUIRE(sva::test::run_sva(common + "--likelihood-cutoff 0.4 --json " + f.path("cut.json"), &out) == 0);
+  auto cut = nlohmann::json::parse(read_file(f.path("cut.json")));
+  CHECK(cut["curve"][4]["votes"].get<std::uint64_t>() < a["curve"][4]["votes"].get<std::uint64_t>());
 }
 
 TEST_CASE(
@@ -284,7 +288,8 @@ TEST_CASE("sva eval refuses bad options with the value named") {
        {Case{"--trials 0", "--trials 0"}, Case{"--max-readings 0", "--max-readings 0"},
         Case{"--trials -3", "--trials -3"}, Case{"--max-readings x", "--max-readings"}, Case{"--backend cuda", "cuda"},
         Case{"--method geometry", "geometry"}, Case{"--json /nonexistent-dir/a.json", "/nonexistent-dir"},
-        Case{"--max-pairs -2", "--max-pairs"}}) {
+        Case{"--max-pairs -2", "--max-pairs"}, Case{"--likelihood-cutoff -1", "--likelihood-cutoff"},
+        Case{"--likelihood-cutoff 1e9", "--likelihood-cutoff"}}) {
     INFO(c.args);
     CHECK(sva::test::run_sva(f.base() + c.args, &out) != 0);
     CHECK(out.find(c.expect) != std::string::npos);
@@ -520,9 +525,19 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
         exact["curve"][0]["belief_bytes_per_session"].get<double>());
   CHECK(bounded["curve"][1]["work_per_update"]["pairs"].get<double>() ==
         1.0);  // 2 pairs: one order voted, folded twice
-  for (const std::string bad : {"--batch -1", "--batch x", "--backend gpu", "--readings 0", "--max-pairs -1",
-                                "--top-k 0", "--surface-check maybe", "--estimate fine", "--pose-prior 0",
-                                "--pose-prior 5,200", "--pose-prior 5,", "--pose-prior x"}) {
+  // --likelihood-cutoff: matches below it cast no vote, so the same pairs cast fewer votes; the report says which ran.
+  REQUIRE(sva::test::run_sva(six + "--likelihood-cutoff 0.4 --json " + f.path("cut.json"), &out) == 0);
+  const auto cut = nlohmann::json::parse(read_file(f.path("cut.json")))["runs"][0];
+  CHECK(exact["likelihood_cutoff"] == 0.0);
+  CHECK(cut["likelihood_cutoff"].get<double>() == Approx(0.4));
+  for (std::size_t i = 0; i < 2; ++i) {
+    CHECK(cut["curve"][i]["work_per_update"]["pairs"] == exact["curve"][i]["work_per_update"]["pairs"]);
+    CHECK(cut["curve"][i]["votes_per_update"].get<double>() < exact["curve"][i]["votes_per_update"].get<double>());
+  }
+  for (const std::string bad :
+       {"--batch -1", "--batch x", "--backend gpu", "--readings 0", "--max-pairs -1", "--top-k 0",
+        "--surface-check maybe", "--estimate fine", "--pose-prior 0", "--pose-prior 5,200", "--pose-prior 5,",
+        "--pose-prior x", "--likelihood-cutoff -0.1", "--likelihood-cutoff 200", "--likelihood-cutoff x"}) {
     INFO(bad);
     CHECK(sva::test::run_sva(base + bad, &out) != 0);
     CHECK(out.find(bad.substr(bad.find(' ') + 1)) != std::string::npos);

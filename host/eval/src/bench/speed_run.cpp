@@ -334,6 +334,7 @@ json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, Me
   ro.refine_pose = spec.refine_pose;
   ro.surface_check = spec.surface_check;
   ro.max_pairs_per_update = spec.max_pairs_per_update;
+  ro.likelihood_cutoff = spec.likelihood_cutoff;
   ro.belief_budget_bins = spec.belief_budget_bins;
   meter.start();
   util::Progress progress(spec.label, spec.trials * max_readings);
@@ -362,6 +363,7 @@ json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, Me
             {"sessions_per_submission", spec.sessions},
             {"trials", spec.trials},
             {"max_pairs_per_update", spec.max_pairs_per_update},
+            {"likelihood_cutoff", spec.likelihood_cutoff},
             {"belief_budget_bins", spec.belief_budget_bins},
             {"top_k", spec.top_k},
             {"refine_pose", spec.refine_pose},
@@ -415,6 +417,7 @@ nlohmann::json run_all(const Map& map, const Dataset& test, const BenchPlan& pla
     spec.surface_check = plan.surface_check;
     spec.estimate = plan.estimate;
     spec.max_pairs_per_update = plan.max_pairs_per_update;
+    spec.likelihood_cutoff = plan.likelihood_cutoff;
     spec.belief_budget_bins = plan.belief_budget_bins;
     spec.top_k = plan.top_k;
     spec.pose_prior = plan.pose_prior;

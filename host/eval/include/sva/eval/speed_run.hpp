@@ -43,7 +43,8 @@ struct SpeedRunSpec {
   // The estimate after every update: full, or light (the belief's answer alone, no host fit: what a robot's answer
   // after every touch, or a batch that fits only at its sessions' ends, pays per update).
   EstimateDepth estimate = EstimateDepth::full;
-  int max_pairs_per_update = 0;  // RecognizerOptions::max_pairs_per_update (0: the exact filter)
+  int max_pairs_per_update = 0;    // RecognizerOptions::max_pairs_per_update (0: the exact filter)
+  float likelihood_cutoff = 0.0f;  // RecognizerOptions::likelihood_cutoff (0: every match votes)
   std::size_t belief_budget_bins = RecognizerOptions{}.belief_budget_bins;  // RecognizerOptions::belief_budget_bins
   // Hypotheses per estimate after every update. 1 measures what the GPU runs so far measured; sva recognize's
   // default, 3, takes the estimate's modes (the device's key choice ranks its selection: belief_hoods.comp's RANK).
@@ -70,6 +71,7 @@ struct BenchPlan {
   bool surface_check = true;
   EstimateDepth estimate = EstimateDepth::full;
   int max_pairs_per_update = 0;
+  float likelihood_cutoff = 0.0f;
   std::size_t belief_budget_bins = RecognizerOptions{}.belief_budget_bins;
   std::size_t top_k = 1;  // SpeedRunSpec::top_k
   BenchPosePrior pose_prior;

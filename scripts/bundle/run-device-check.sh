@@ -161,7 +161,7 @@ update_span() {
 batch_span() {
   local t=$(($(left) * 10 / 100)) p exe=$BUNDLE/bench/batch_speed
   if [[ ! -x $exe ]]; then echo "batch span: this bundle has no bench/batch_speed" | tee "$out/batch-span.txt"; return; fi
-  ((t >= 40)) || t=40  # about 30 s on paper3d at 2 cores (the probe's two runs on one core, 11 s each)
+  ((t >= 50)) || t=50  # about 30 s on paper3d at 2 cores (the probe's two runs on one core, 11 s each)
   say "64 sessions to 10 readings and their span, on 16 and 2 threads ($t s at most)"
   for p in 16 2; do
     SVA_THREADS=$p within $((t / 2)) "$exe" "$work/map.svam" "$work/test.svad" 64 10 "$p" 1 full 1

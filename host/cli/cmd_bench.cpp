@@ -302,15 +302,31 @@ std::string estimate_kind(const json& r) {
   return kind;
 }
 
+// What the run left out of the paper's votes (--max-pairs, --likelihood-cutoff), or nothing.
+std::string vote_kind(const json& r) {
+  std::string kind;
+  char text[64];
+  if (r["max_pairs_per_update"].get<int>() > 0) {
+    std::snprintf(text, sizeof text, ", max pairs %d", r["max_pairs_per_update"].get<int>());
+    kind += text;
+  }
+  if (r["likelihood_cutoff"].get<double>() > 0.0) {
+    std::snprintf(text, sizeof text, ", likelihood cut-off %.3g", r["likelihood_cutoff"].get<double>());
+    kind += text;
+  }
+  return kind;
+}
+
 // Per run: throughput and zero-mass votes over all its updates, then memory.
 void print_run_summaries(const json& runs) {
   for (const auto& r : runs) {
     const json& m = r["memory"];
     std::printf(
-        "%s (%zu per submission, top %zu per estimate, %s): %.3g session-updates/s, %.3g votes/s; "
+        "%s (%zu per submission, top %zu per estimate, %s%s): %.3g session-updates/s, %.3g votes/s; "
         "votes of mass 0: %llu of %llu (%.3g%%)\n",
         run_name(r).c_str(), r["sessions_per_submission"].get<std::size_t>(), r["top_k"].get<std::size_t>(),
-        estimate_kind(r).c_str(), r["session_updates_per_second"].get<double>(), r["votes_per_second"].get<double>(),
+        estimate_kind(r).c_str(), vote_kind(r).c_str(), r["session_updates_per_second"].get<double>(),
+        r["votes_per_second"].get<double>(),
         r["votes_zero"].get<unsigned long long>(), r["votes"].get<unsigned long long>(),
         100.0 * r["votes_zero_fraction"].get<double>());
     const bool cpu = r["backend"] == "cpu";

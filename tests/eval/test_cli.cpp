@@ -496,6 +496,7 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
   const std::string six = base + "--readings 2,6 --backend cpu --batch 0 ";
   REQUIRE(sva::test::run_sva(six + "--json " + f.path("exact.json"), &out) == 0);
   REQUIRE(sva::test::run_sva(six + "--max-pairs 2 --json " + f.path("bounded.json"), &out) == 0);
+  CHECK(out.find("surface check on, max pairs 2)") != std::string::npos);
   const auto exact = nlohmann::json::parse(read_file(f.path("exact.json")))["runs"][0];
   const auto bounded = nlohmann::json::parse(read_file(f.path("bounded.json")))["runs"][0];
   CHECK(exact["max_pairs_per_update"] == 0);
@@ -527,6 +528,7 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
         1.0);  // 2 pairs: one order voted, folded twice
   // --likelihood-cutoff: matches below it cast no vote, so the same pairs cast fewer votes; the report says which ran.
   REQUIRE(sva::test::run_sva(six + "--likelihood-cutoff 0.4 --json " + f.path("cut.json"), &out) == 0);
+  CHECK(out.find("surface check on, likelihood cut-off 0.4)") != std::string::npos);
   const auto cut = nlohmann::json::parse(read_file(f.path("cut.json")))["runs"][0];
   CHECK(exact["likelihood_cutoff"] == 0.0);
   CHECK(cut["likelihood_cutoff"].get<double>() == Approx(0.4));

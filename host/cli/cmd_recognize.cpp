@@ -66,6 +66,10 @@ int cmd_recognize(const std::vector<std::string>& argv) {
       .option("--max-pairs", "N",
               "bounded cost per update: pairs per update, both orders counted (default 0: the exact filter; "
               "docs/recognition.md)")
+      .option("--likelihood-cutoff", "L",
+              "matches whose likelihood (Eq 15, summed over the keys they share) is below L cast no vote (default 0: "
+              "every match votes, the paper's method; the map's calibration was fitted at 0; docs/recognition.md, "
+              "\"Fewer votes\")")
       .option("--write-sessions", "FILE.jsonl", "write trials as a sessions file instead (needs --map, --data)")
       .option("--data", "TEST", "test dataset for --write-sessions")
       .option("--trials", "N", "sessions to write (default: one per object)")
@@ -87,6 +91,7 @@ int cmd_recognize(const std::vector<std::string>& argv) {
   ro.belief_budget_bins = static_cast<std::size_t>(
       a.integer("--belief-budget", static_cast<long long>(ro.belief_budget_bins), 0, 1ll << 40));
   ro.max_pairs_per_update = static_cast<int>(a.integer("--max-pairs", 0, 0, 1 << 20));
+  ro.likelihood_cutoff = static_cast<float>(a.number("--likelihood-cutoff", 0.0, 0.0, 128.0));
 
   const Engine engine(map, {ro.backend, ro.vulkan_device});
   const auto per = static_cast<std::size_t>(

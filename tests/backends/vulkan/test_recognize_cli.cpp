@@ -79,7 +79,8 @@ TEST_CASE("sva recognize: a malformed sessions file names the line and the fault
   CHECK_FALSE(std::filesystem::exists(d / "x.jsonl"));
 }
 
-TEST_CASE("sva recognize: --max-pairs and --belief-budget reach the sessions, bad values are refused") {
+TEST_CASE("sva recognize: --max-pairs, --likelihood-cutoff and --belief-budget reach the sessions, bad values are "
+          "refused") {
   const auto d = tiny_world();
   const std::string map = (d / "map.svam").string();
   std::string out;
@@ -90,11 +91,14 @@ TEST_CASE("sva recognize: --max-pairs and --belief-budget reach the sessions, ba
   REQUIRE(run_sva(base + "--out " + (d / "exact.jsonl").string(), &out) == 0);
   REQUIRE(run_sva(base + "--belief-budget 0 --out " + (d / "unbounded.jsonl").string(), &out) == 0);
   REQUIRE(run_sva(base + "--max-pairs 2 --out " + (d / "bounded.jsonl").string(), &out) == 0);
+  REQUIRE(run_sva(base + "--likelihood-cutoff 0.9 --out " + (d / "cut.jsonl").string(), &out) == 0);
   // A tiny scene's six readings stay far below the default budget: no bound changes nothing; two pairs per update
   // (the new reading with the last one) cast other votes.
   CHECK(slurp(d / "exact.jsonl") == slurp(d / "unbounded.jsonl"));
   CHECK(slurp(d / "exact.jsonl") != slurp(d / "bounded.jsonl"));
-  for (const std::string bad : {"--belief-budget -1", "--belief-budget x", "--max-pairs -2"}) {
+  CHECK(slurp(d / "exact.jsonl") != slurp(d / "cut.jsonl"));  // fewer votes: other evidence
+  for (const std::string bad :
+       {"--belief-budget -1", "--belief-budget x", "--max-pairs -2", "--likelihood-cutoff -1", "--likelihood-cutoff y"}) {
     INFO(bad);
     CHECK(run_sva(base + bad + " --out " + (d / "bad.jsonl").string(), &out) != 0);
     CHECK_THAT(out, Contains(bad.substr(0, bad.find(' '))));

@@ -18,21 +18,15 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
-#include <ctime>
 #include <exception>
 #include <string>
 #include <vector>
 
 #include "sessions.hpp"
+#include "cpu_time.hpp"
 #include "whole_number_arg.hpp"
 
 namespace {
-
-double process_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 double ms_since(std::chrono::steady_clock::time_point t0) {
   return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
@@ -79,13 +73,13 @@ double timed(F&& call, bool probed, Run::Model* model) {
 Run run_batch(const sva::Map& map, const sva::RecognizerOptions& options, const Batch& b, bool probed) {
   sva::BatchRecognizer batch(map, map.pose_space(), b.ids.size(), options);
   Run r;
-  const double c0 = process_cpu_seconds();
+  const double c0 = sva::bench::process_cpu_seconds();
   std::vector<sva::Estimate>& last = r.last;
   for (const std::vector<sva::Reading>& step : b.steps) {
     r.update_ms += timed([&] { batch.add_readings(b.ids, step); }, probed, &r.update);
     r.estimate_ms += timed([&] { last = batch.estimates(b.ids, b.top_k, b.depth); }, probed, &r.estimate);
   }
-  r.cpu_s = process_cpu_seconds() - c0;
+  r.cpu_s = sva::bench::process_cpu_seconds() - c0;
   for (const sva::Estimate& e : last) r.digest = sva::bench::digest(r.digest, e);
   return r;
 }

@@ -22,21 +22,15 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <ctime>
 #include <exception>
 #include <string>
 #include <vector>
 
 #include "sessions.hpp"
+#include "cpu_time.hpp"
 #include "whole_number_arg.hpp"
 
 namespace {
-
-double process_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 std::size_t arg(int argc, char** argv, int i, std::size_t fallback, std::size_t lo, std::size_t hi) {
   return sva::bench::whole_number_arg("estimate_speed", argc, argv, i, fallback, lo, hi);
@@ -79,9 +73,9 @@ int main(int argc, char** argv) try {
   double best_total = 1e300, best_cpu = 1e300;
   std::uint64_t answers = 0;
   for (int r = 0; r < repeats; ++r) {
-    const double c0 = process_cpu_seconds();
+    const double c0 = sva::bench::process_cpu_seconds();
     const std::vector<sva::Estimate> e = batch.estimates(ids, top_k, depth);
-    best_cpu = std::min(best_cpu, process_cpu_seconds() - c0);
+    best_cpu = std::min(best_cpu, sva::bench::process_cpu_seconds() - c0);
     const sva::BatchRecognizer::EstimateTiming t = batch.last_estimate_timing();
     const double total = t.belief_ms + t.fit_ms + t.verify_ms + t.posterior_ms;
     if (total < best_total) best_total = total, best = t;

@@ -23,7 +23,6 @@
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
-#include <ctime>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -32,18 +31,10 @@
 #include <sva/base/so3.hpp>
 #include <sva/eval/process_memory.hpp>
 
+#include "cpu_time.hpp"
 #include "whole_number_arg.hpp"
 
 namespace {
-
-// CPU seconds of the whole process (all threads): on a shared machine this is
-// steadier than wall time; divided by the threads it bounds the wall time an
-// idle machine would give.
-double process_cpu_seconds() {
-  timespec ts{};
-  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
-}
 
 // Argument i as a number in [0, 1], 0 when not given (the prune probability and the likelihood cut-off).
 double fraction_arg(int argc, char** argv, int i) {
@@ -121,7 +112,7 @@ int main(int argc, char** argv) try {
       r.x_axis = truth.rotate(r.x_axis);
       const int mark = static_cast<int>(std::find(marks, marks + 3, i + 1) - marks);
       const auto t0 = std::chrono::steady_clock::now();
-      const double c0 = process_cpu_seconds();
+      const double c0 = sva::bench::process_cpu_seconds();
       if (span_model && mark < 3) {
         const sva::util::SpanProbe probe;
         rec.add_reading(r);
@@ -132,7 +123,7 @@ int main(int argc, char** argv) try {
         rec.add_reading(r);
       }
       const double sec = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const double cpu = process_cpu_seconds() - c0;
+      const double cpu = sva::bench::process_cpu_seconds() - c0;
       const sva::Estimate e = rec.estimate(1);
       total_votes += static_cast<double>(e.votes);
       total_zero += e.votes_zero;

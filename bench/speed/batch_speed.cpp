@@ -74,13 +74,12 @@ Run run_batch(const sva::Map& map, const sva::RecognizerOptions& options, const 
   sva::BatchRecognizer batch(map, map.pose_space(), b.ids.size(), options);
   Run r;
   const double c0 = sva::bench::process_cpu_seconds();
-  std::vector<sva::Estimate>& last = r.last;
   for (const std::vector<sva::Reading>& step : b.steps) {
     r.update_ms += timed([&] { batch.add_readings(b.ids, step); }, probed, &r.update);
-    r.estimate_ms += timed([&] { last = batch.estimates(b.ids, b.top_k, b.depth); }, probed, &r.estimate);
+    r.estimate_ms += timed([&] { r.last = batch.estimates(b.ids, b.top_k, b.depth); }, probed, &r.estimate);
   }
   r.cpu_s = sva::bench::process_cpu_seconds() - c0;
-  for (const sva::Estimate& e : last) r.digest = sva::bench::digest(r.digest, e);
+  for (const sva::Estimate& e : r.last) r.digest = sva::bench::digest(r.digest, e);
   return r;
 }
 

@@ -345,9 +345,9 @@ std::vector<std::uint64_t> Belief::offsets(std::span<const std::uint64_t> keys) 
   // Home slots loaded ahead, as a shard's additions do: a lookup's probe loop branches on its miss too. Chunks of the
   // keys on the workers: an estimate's neighbourhoods ask about 10,000 lookups, each a wait on memory, which were a
   // third of one session's critical path (notebook recognition-2026-11.md, "a seventh session").
-  // A chunk is a worker's share, at least 256 lookups (a task's scheduling costs about as much as a few dozen) and at
-  // most 2,048: 2,048 a chunk left one session's 9,477 lookups at 30 paper3d readings in 5 chunks, a sixth of its
-  // estimate's critical path on 16 workers.
+  // A chunk is a worker's share, at least 256 lookups (so that a task is worth its scheduling) and at most 2,048:
+  // 2,048 a chunk left one session's 9,477 lookups at 30 paper3d readings in 5 chunks, a sixth of its estimate's
+  // critical path on 16 workers.
   const ShardHomes homes{&shards_};
   const std::size_t workers = threads_ ? threads_ : util::default_threads();
   const std::size_t chunk = std::clamp<std::size_t>((keys.size() + workers - 1) / workers, 256, 2048);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <iomanip>
+#include <sstream>
 
 namespace sva::cli {
 
@@ -96,7 +98,11 @@ double Args::number(const std::string& name, double fallback, double lo, double 
   double x = std::strtod(v->c_str(), &end);
   if (v->empty() || *end != '\0' || !std::isfinite(x))
     throw Error(command_ + ": " + name + " expects a finite number, got \"" + *v + "\"");
-  if (x < lo || x > hi) throw Error(command_ + ": " + name + " " + *v + " is out of range");
+  if (x < lo || x > hi) {
+    std::ostringstream range;  // 10 digits: a bound just below 1 is not shown as 1
+    range << std::setprecision(10) << "[" << lo << ", " << hi << "]";
+    throw Error(command_ + ": " + name + " " + *v + " is out of range " + range.str());
+  }
   return x;
 }
 

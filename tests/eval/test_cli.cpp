@@ -289,7 +289,8 @@ TEST_CASE("sva eval refuses bad options with the value named") {
         Case{"--trials -3", "--trials -3"}, Case{"--max-readings x", "--max-readings"}, Case{"--backend cuda", "cuda"},
         Case{"--method geometry", "geometry"}, Case{"--json /nonexistent-dir/a.json", "/nonexistent-dir"},
         Case{"--max-pairs -2", "--max-pairs"}, Case{"--likelihood-cutoff -1", "--likelihood-cutoff"},
-        Case{"--likelihood-cutoff 1e9", "--likelihood-cutoff"}}) {
+        Case{"--likelihood-cutoff 1e9", "--likelihood-cutoff 1e9 is out of range [0, 128]"},
+        Case{"--unknown-prior 1", "--unknown-prior 1 is out of range [1e-09, 0.999999999]"}}) {
     INFO(c.args);
     CHECK(sva::test::run_sva(f.base() + c.args, &out) != 0);
     CHECK(out.find(c.expect) != std::string::npos);

@@ -1,7 +1,8 @@
 #pragma once
-// The bench programs' fixed sessions (bench/speed/estimate_speed.cpp, batch_speed.cpp): session t touches object
-// t % objects at a random pose of the map's space, as `sva bench`'s trials do (seed 1), and a digest of every number an
-// estimate reports that its stages decide, which must not change when a stage is made faster or the threads change.
+// The bench programs' fixed sessions (bench/speed/estimate_speed.cpp, batch_speed.cpp; filter_speed.cpp groups its
+// readings by object here too, and draws its own trials): session t touches object t % objects at a random pose of the
+// map's space, as `sva bench`'s trials do (seed 1), and a digest of every number an estimate reports that its stages
+// decide, which must not change when a stage is made faster or the threads change.
 #include <sva/base/rng.hpp>
 #include <sva/base/so3.hpp>
 #include <sva/dataset.hpp>

@@ -32,6 +32,7 @@
 #include <sva/eval/process_memory.hpp>
 
 #include "cpu_time.hpp"
+#include "sessions.hpp"
 #include "whole_number_arg.hpp"
 
 namespace {
@@ -81,10 +82,7 @@ int main(int argc, char** argv) try {
   const sva::Dataset test = sva::load_dataset(argv[2]);
   const sva::PoseSpaceSpec space = map.pose_space();
   const std::size_t objects = map.objects();
-  std::vector<std::vector<const sva::Reading*>> by_object(objects);
-  for (const sva::Sample& s : test.samples)
-    if (s.reading.status == sva::ControllerStatus::converged && s.object < objects)
-      by_object[s.object].push_back(&s.reading);
+  const auto by_object = sva::bench::readings_by_object(map, test);
 
   const int marks[] = {10, 30, 100};
   std::vector<double> at_mark[3], cpu_at_mark[3], work_at_mark[3], span_at_mark[3], sched_at_mark[3];

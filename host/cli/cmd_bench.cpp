@@ -302,7 +302,8 @@ std::string estimate_kind(const json& r) {
   return kind;
 }
 
-// What the run left out of the paper's votes (--max-pairs, --likelihood-cutoff), or nothing.
+// What the run left out of the paper's votes (--max-pairs, --likelihood-cutoff), and whether its tables were warm
+// (--warm), or nothing.
 std::string vote_kind(const json& r) {
   std::string kind;
   char text[64];
@@ -314,6 +315,7 @@ std::string vote_kind(const json& r) {
     std::snprintf(text, sizeof text, ", likelihood cut-off %.3g", r["likelihood_cutoff"].get<double>());
     kind += text;
   }
+  if (r["warm"].get<bool>()) kind += ", warm tables";
   return kind;
 }
 
@@ -326,9 +328,8 @@ void print_run_summaries(const json& runs) {
         "votes of mass 0: %llu of %llu (%.3g%%)\n",
         run_name(r).c_str(), r["sessions_per_submission"].get<std::size_t>(), r["top_k"].get<std::size_t>(),
         estimate_kind(r).c_str(), vote_kind(r).c_str(), r["session_updates_per_second"].get<double>(),
-        r["votes_per_second"].get<double>(),
-        r["votes_zero"].get<unsigned long long>(), r["votes"].get<unsigned long long>(),
-        100.0 * r["votes_zero_fraction"].get<double>());
+        r["votes_per_second"].get<double>(), r["votes_zero"].get<unsigned long long>(),
+        r["votes"].get<unsigned long long>(), 100.0 * r["votes_zero_fraction"].get<double>());
     const bool cpu = r["backend"] == "cpu";
     std::printf("  host: peak RSS %s (process so far), RSS %s -> %s (%s), %s; device: %s (map %s)\n",
                 mib(m["peak_rss_bytes"]).c_str(), mib(m["rss_before_bytes"]).c_str(), mib(m["rss_after_bytes"]).c_str(),
@@ -398,6 +399,7 @@ bench::BenchPlan parse_plan(const Args& a) {
       a.integer("--belief-budget", static_cast<long long>(plan.belief_budget_bins), 0, 1ll << 40));
   plan.top_k = static_cast<std::size_t>(a.integer("--top-k", 1, 1, 1000));
   if (auto p = a.get("--pose-prior")) plan.pose_prior = parse_pose_prior(*p);
+  plan.warm = a.on_off("--warm", false);
   return plan;
 }
 
@@ -440,6 +442,10 @@ int cmd_bench(const std::vector<std::string>& argv) {
       .option("--pose-prior", "MM[,DEG]",
               "give every session a camera's pose prior: every object at the trial's true pose, with these sigmas "
               "of position and rotation (default none; sva/prior.hpp)")
+      .option("--warm", "on|off",
+              "first step one untimed group of each run's sessions to the last reading count, so that the timed "
+              "sessions' tables start at the size they reach, as in a long study's later groups (default off: a "
+              "batched run whose trials fill one group grows every session's tables)")
       .option("--device", "NAME|INDEX", "Vulkan device (default: prefer a discrete GPU; env SVA_VK_DEVICE)")
       .option("--roofline-votes", "N", "votes in the bare-scatter measurement (default 4194304)");
   if (!a.parse()) return 0;

@@ -548,6 +548,44 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
   }
 }
 
+TEST_CASE("sva bench --warm: the timed sessions start with the tables their group reaches, the same votes and errors") {
+  Fixture f;
+  std::string out;
+  const std::string bench =
+      "bench --map " + f.map + " --data " + f.test + " --trials 4 --readings 2,8 --backend cpu --batch 4 ";
+  REQUIRE(sva::test::run_sva(bench + "--json " + f.path("cold.json"), &out) == 0);
+  CHECK(out.find("warm tables") == std::string::npos);
+  REQUIRE(sva::test::run_sva(bench + "--warm on --json " + f.path("warm.json"), &out) == 0);
+  INFO(out);
+  CHECK(out.find("surface check on, warm tables)") != std::string::npos);
+  const auto cold = nlohmann::json::parse(read_file(f.path("cold.json")))["runs"];
+  const auto warm = nlohmann::json::parse(read_file(f.path("warm.json")))["runs"];
+  REQUIRE(cold.size() == 2);
+  REQUIRE(warm.size() == 2);
+  for (std::size_t r = 0; r < 2; ++r) {
+    CHECK(cold[r]["warm"] == false);
+    CHECK(warm[r]["warm"] == true);
+    REQUIRE(warm[r]["curve"].size() == 2);
+    REQUIRE(cold[r]["curve"].size() == 2);
+    for (std::size_t i = 0; i < 2; ++i)  // a reset session's tables change how fast, never what, it answers
+      for (const char* key : {"votes_per_update", "accuracy", "translation_error_mm"})
+        CHECK(warm[r]["curve"][i][key] == cold[r]["curve"][i][key]);
+  }
+  // The batch's sessions grow their beliefs between 2 and 8 readings; warm, they hold the size at 2 already.
+  const auto bytes = [](const nlohmann::json& run, std::size_t i) {
+    return run["curve"][i]["belief_bytes_per_session"].get<double>();
+  };
+  INFO("belief bytes per session at 2 and 8 readings: cold " << bytes(cold[1], 0) << ", " << bytes(cold[1], 1)
+                                                             << "; warm " << bytes(warm[1], 0) << ", "
+                                                             << bytes(warm[1], 1));
+  // (A belief's bytes are its offset tables and its band's list, which varies by a few hundred bytes.)
+  REQUIRE(bytes(cold[1], 1) > 2 * bytes(cold[1], 0));
+  CHECK(bytes(warm[1], 0) > 0.99 * bytes(cold[1], 1));
+  CHECK(bytes(warm[1], 1) == Approx(bytes(cold[1], 1)).epsilon(0.01));
+  CHECK(sva::test::run_sva(bench + "--warm maybe", &out) != 0);
+  CHECK(out.find("maybe") != std::string::npos);
+}
+
 TEST_CASE("sva bench untimed (SVA_VK_TIMESTAMPS=0) and serial (SVA_VK_SERIAL=1): the same votes, kernels n/a") {
   // The device check's A/B of a batch's passes side by side against one at a time: the wall time without a timestamp
   // between dispatches. Both switches change how the work is recorded, never what it computes.

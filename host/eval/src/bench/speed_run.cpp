@@ -323,6 +323,28 @@ json pose_prior_json(const BenchPosePrior& p) {
           {"rotation_sigma_deg", p.rotation_sigma_deg > 0.0 ? json(p.rotation_sigma_deg) : json(nullptr)}};
 }
 
+// SpeedRunSpec::warm: the first group's trials stepped to the end with the run's estimates, nothing recorded.
+void warm_up(BatchRecognizer& rec, eval::TrialGenerator& gen, const SpeedRunSpec& spec, std::size_t objects) {
+  const std::size_t count = rec.sessions();
+  util::Progress progress(spec.label + " warm-up", count * spec.checkpoints.back());
+  std::vector<eval::Trial> tr;
+  LockstepHooks hooks;
+  hooks.progress = &progress;
+  hooks.group = [&](std::size_t first, std::size_t n) {
+    std::vector<std::span<const Reading>> readings;
+    for (std::size_t i = 0; i < n; ++i) tr.push_back(gen.make(first + i));
+    for (const auto& t : tr) readings.emplace_back(t.readings);
+    return readings;
+  };
+  if (spec.pose_prior.on())
+    hooks.on_group_start = [&](std::size_t, std::size_t n) {
+      for (std::size_t i = 0; i < n; ++i) rec.set_prior(i, prior_of(tr[i], spec.pose_prior, objects));
+    };
+  hooks.on_step = [&](const LockstepStep& s) { rec.estimates(s.sessions, spec.top_k, spec.estimate); };
+  run_lockstep(rec, count, hooks);
+  progress.finish();
+}
+
 }  // namespace
 
 json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, MemoryMeter& meter) {
@@ -339,6 +361,7 @@ json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, Me
   meter.start();
   util::Progress progress(spec.label, spec.trials * max_readings);
   BatchRecognizer rec(map, map.pose_space(), std::min(spec.sessions, spec.trials), ro);
+  if (spec.warm) warm_up(rec, gen, spec, map.objects());
   SpeedRecorder recorder(rec, spec.checkpoints, spec.top_k, spec.estimate);
   std::vector<eval::Trial> tr;
   LockstepHooks hooks;
@@ -369,7 +392,8 @@ json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, Me
             {"refine_pose", spec.refine_pose},
             {"surface_check", spec.surface_check},
             {"estimate", estimate_depth_name(spec.estimate)},
-            {"pose_prior", pose_prior_json(spec.pose_prior)}};
+            {"pose_prior", pose_prior_json(spec.pose_prior)},
+            {"warm", spec.warm}};
   j.update(recorder.figures());
   j["memory"] = memory_json(memory, rec);
   return j;
@@ -421,6 +445,7 @@ nlohmann::json run_all(const Map& map, const Dataset& test, const BenchPlan& pla
     spec.belief_budget_bins = plan.belief_budget_bins;
     spec.top_k = plan.top_k;
     spec.pose_prior = plan.pose_prior;
+    spec.warm = plan.warm;
     spec.label = eval::backend_name(backend);
     runs.push_back(run_speed(map, test, spec, meter));
     if (plan.batch <= 1) continue;

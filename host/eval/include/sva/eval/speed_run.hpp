@@ -50,6 +50,10 @@ struct SpeedRunSpec {
   // default, 3, takes the estimate's modes (the device's key choice ranks its selection: belief_hoods.comp's RANK).
   std::size_t top_k = 1;
   BenchPosePrior pose_prior;  // each session's, set after its batch slot is reset
+  // First step one group of `sessions` trials to the last reading count, untimed: a reset session keeps its tables, so
+  // the timed run's start at the size its sessions reach, as in a long study's later groups (and in the one-session
+  // run after its first trial). Off, a batched run whose trials fill one group grows every session's tables.
+  bool warm = false;
 };
 
 // One run, as the JSON report gives it (docs/evaluation.md, "sva bench").
@@ -75,6 +79,7 @@ struct BenchPlan {
   std::size_t belief_budget_bins = RecognizerOptions{}.belief_budget_bins;
   std::size_t top_k = 1;  // SpeedRunSpec::top_k
   BenchPosePrior pose_prior;
+  bool warm = false;  // SpeedRunSpec::warm
 };
 
 // The whole report of `sva bench` (docs/evaluation.md, "sva bench"): the scene, the map's size and the threads;

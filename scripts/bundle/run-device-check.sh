@@ -6,8 +6,8 @@
 #   4. sva bench on paper3d: the Vulkan backend one session at a time (10, 30, 100 readings, 3 trials), the same
 #      with 3 hypotheses per estimate as sva recognize asks (10 and 30 readings: the modes' path), then 64 per
 #      submission (10 and 30 readings; again with light estimates, no host fits; again with a likelihood cut-off of
-#      0.2, fewer votes; then to 10 readings untimed, the
-#      sessions' passes side by side and one at a time: SVA_VK_SERIAL=1), then one session's estimate on
+#      0.2, fewer votes; again with its tables warm, as a long study's later groups find them; then to 10 readings
+#      untimed, the sessions' passes side by side and one at a time: SVA_VK_SERIAL=1), then one session's estimate on
 #      every thread beside the model of its critical path (estimate-span.txt: bench/estimate_speed, 30 and 100
 #      readings), one session's update under the span probe (update-span.txt), 64 sessions to 10 readings on 16 and 2
 #      threads beside the model of their critical path (batch-span.txt: bench/batch_speed), then the CPU reference on
@@ -17,7 +17,7 @@
 #      (on a host of 16 cores or more: a GPU machine); each cut at the budget's end;
 #      last: sva recognize of 512 sessions with one group in flight and with two (the double buffering), wall
 #      times and whether the results are the same bytes (recognize-in-flight.txt).
-# The per-test logs and the benchmarks' JSON go into details.tgz: 16 files in all, 20 on a host of 16 cores.
+# The per-test logs and the benchmarks' JSON go into details.tgz: 17 files in all, 21 on a host of 16 cores.
 #
 #   run-device-check.sh OUT_DIR [SECONDS]    SECONDS: the budget for all of it (default 480)
 # Environment: VK_DRIVER_FILES (the caller's ICD, kept), WORK (paper3d's data and map, default OUT_DIR/paper3d:
@@ -195,6 +195,10 @@ if [[ -f $work/map.svam ]]; then
   # at about the same accuracy and errors in 100 CPU trials (docs/recognition.md, "Fewer votes"): what the device
   # makes of fewer votes, since issue 52's batch goal needs them.
   bench vulkan-batch-cut 10 --backend vulkan --trials 64 --batch 64 --readings 10,30 --likelihood-cutoff 0.2
+  # The same batch with its tables warm (--warm on: one untimed group first, as a long study's later groups find
+  # them): what the sessions' growth costs the batch (`growth ms`, 12.3 of 72 ms per submission at 10 readings in the
+  # seventh run), and so whether tables sized ahead for a batch's first group would pay.
+  bench vulkan-batch-warm 8 --backend vulkan --trials 64 --batch 64 --readings 10,30 --warm on
   # The sessions' belief passes side by side against one at a time (SVA_VK_SERIAL=1), by wall time: without the
   # timestamps around each dispatch, which may serialise them themselves (docs/vulkan-backend.md, "Batches").
   SVA_VK_TIMESTAMPS=0 bench vulkan-batch-untimed 10 --backend vulkan --trials 64 --batch 64 --readings 10

@@ -36,6 +36,12 @@ listing=$(tar -tzf "$tmp/check.tgz")
 grep -qx 'check/estimate-span.txt' <<< "$listing" && grep -qx 'check/update-span.txt' <<< "$listing" &&
   grep -qx 'check/details.tgz' <<< "$listing" || { echo "$listing"; echo "bundle: ARCHIVE lacks the check's files" >&2; exit 1; }
 grep -q '^io: [0-9]* passed, 0 failed, 0 skipped' "$tmp/check/suite.txt" || { echo "bundle: the device check's suite failed" >&2; exit 1; }
+# The summary against issue 52's goals reads this check's own files (scripts/device-check-summary.py).
+python3 "$source_dir/scripts/device-check-summary.py" "$tmp/check.tgz" >summary.md ||
+  { cat summary.md; echo "bundle: device-check-summary.py failed on the check" >&2; exit 1; }
+grep -q '^- suite: [1-9][0-9]* passed, 0 failed' summary.md && grep -q '^## One session' summary.md &&
+  grep -q '^## Batches' summary.md ||
+  { cat summary.md; echo "bundle: the check's summary lacks its figures" >&2; exit 1; }
 grep -q '^cpu  *100 ' "$tmp/check/bench-cpu.txt" || { echo "bundle: the device check's CPU benchmark did not finish" >&2; exit 1; }
 # One session's estimate beside its modelled critical path, from the bundled bench program, at 30 and 100 readings.
 [[ $(grep -cE '^1 sessions at (30|100) readings, .*digest [0-9a-f]{16}$' "$tmp/check/estimate-span.txt") == 2 &&

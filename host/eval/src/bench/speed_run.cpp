@@ -323,23 +323,32 @@ json pose_prior_json(const BenchPosePrior& p) {
           {"rotation_sigma_deg", p.rotation_sigma_deg > 0.0 ? json(p.rotation_sigma_deg) : json(nullptr)}};
 }
 
+// The lock-step hooks of a run's trials: each group's trials made into *tr (alive until the next group) and, with a
+// camera's prior, each session's prior at its trial's true pose.
+LockstepHooks trial_hooks(BatchRecognizer& rec, eval::TrialGenerator& gen, const SpeedRunSpec& spec,
+                          std::size_t objects, std::vector<eval::Trial>* tr) {
+  LockstepHooks hooks;
+  hooks.group = [&gen, tr](std::size_t first, std::size_t count) {
+    tr->clear();
+    std::vector<std::span<const Reading>> readings;
+    for (std::size_t i = 0; i < count; ++i) tr->push_back(gen.make(first + i));
+    for (const auto& t : *tr) readings.emplace_back(t.readings);
+    return readings;
+  };
+  if (spec.pose_prior.on())
+    hooks.on_group_start = [&rec, tr, prior = spec.pose_prior, objects](std::size_t, std::size_t count) {
+      for (std::size_t i = 0; i < count; ++i) rec.set_prior(i, prior_of((*tr)[i], prior, objects));
+    };
+  return hooks;
+}
+
 // SpeedRunSpec::warm: the first group's trials stepped to the end with the run's estimates, nothing recorded.
 void warm_up(BatchRecognizer& rec, eval::TrialGenerator& gen, const SpeedRunSpec& spec, std::size_t objects) {
   const std::size_t count = rec.sessions();
   util::Progress progress(spec.label + " warm-up", count * spec.checkpoints.back());
   std::vector<eval::Trial> tr;
-  LockstepHooks hooks;
+  LockstepHooks hooks = trial_hooks(rec, gen, spec, objects, &tr);
   hooks.progress = &progress;
-  hooks.group = [&](std::size_t first, std::size_t n) {
-    std::vector<std::span<const Reading>> readings;
-    for (std::size_t i = 0; i < n; ++i) tr.push_back(gen.make(first + i));
-    for (const auto& t : tr) readings.emplace_back(t.readings);
-    return readings;
-  };
-  if (spec.pose_prior.on())
-    hooks.on_group_start = [&](std::size_t, std::size_t n) {
-      for (std::size_t i = 0; i < n; ++i) rec.set_prior(i, prior_of(tr[i], spec.pose_prior, objects));
-    };
   hooks.on_step = [&](const LockstepStep& s) { rec.estimates(s.sessions, spec.top_k, spec.estimate); };
   run_lockstep(rec, count, hooks);
   progress.finish();
@@ -364,19 +373,8 @@ json run_speed(const Map& map, const Dataset& test, const SpeedRunSpec& spec, Me
   if (spec.warm) warm_up(rec, gen, spec, map.objects());
   SpeedRecorder recorder(rec, spec.checkpoints, spec.top_k, spec.estimate);
   std::vector<eval::Trial> tr;
-  LockstepHooks hooks;
+  LockstepHooks hooks = trial_hooks(rec, gen, spec, map.objects(), &tr);
   hooks.progress = &progress;
-  hooks.group = [&](std::size_t first, std::size_t count) {
-    tr.clear();
-    std::vector<std::span<const Reading>> readings;
-    for (std::size_t i = 0; i < count; ++i) tr.push_back(gen.make(first + i));
-    for (const auto& t : tr) readings.emplace_back(t.readings);
-    return readings;
-  };
-  if (spec.pose_prior.on())
-    hooks.on_group_start = [&](std::size_t, std::size_t count) {
-      for (std::size_t i = 0; i < count; ++i) rec.set_prior(i, prior_of(tr[i], spec.pose_prior, map.objects()));
-    };
   hooks.on_step = [&](const LockstepStep& s) { recorder.on_step(s, tr); };
   run_lockstep(rec, spec.trials, hooks);
   progress.finish();

@@ -324,12 +324,13 @@ void print_run_summaries(const json& runs) {
   for (const auto& r : runs) {
     const json& m = r["memory"];
     std::printf(
-        "%s (%zu per submission, top %zu per estimate, %s%s): %.3g session-updates/s, %.3g votes/s; "
-        "votes of mass 0: %llu of %llu (%.3g%%)\n",
+        "%s (%zu per submission, top %zu per estimate, %s%s): %.3g session-updates/s (%.3g with their estimates), "
+        "%.3g votes/s; votes of mass 0: %llu of %llu (%.3g%%)\n",
         run_name(r).c_str(), r["sessions_per_submission"].get<std::size_t>(), r["top_k"].get<std::size_t>(),
         estimate_kind(r).c_str(), vote_kind(r).c_str(), r["session_updates_per_second"].get<double>(),
-        r["votes_per_second"].get<double>(), r["votes_zero"].get<unsigned long long>(),
-        r["votes"].get<unsigned long long>(), 100.0 * r["votes_zero_fraction"].get<double>());
+        r["session_updates_with_estimates_per_second"].get<double>(), r["votes_per_second"].get<double>(),
+        r["votes_zero"].get<unsigned long long>(), r["votes"].get<unsigned long long>(),
+        100.0 * r["votes_zero_fraction"].get<double>());
     const bool cpu = r["backend"] == "cpu";
     std::printf("  host: peak RSS %s (process so far), RSS %s -> %s (%s), %s; device: %s (map %s)\n",
                 mib(m["peak_rss_bytes"]).c_str(), mib(m["rss_before_bytes"]).c_str(), mib(m["rss_after_bytes"]).c_str(),

@@ -433,6 +433,13 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
   check_bench_run(bench_run(j, "cpu", 1), "cpu", 1, 2);
   const auto& batch = bench_run(j, "cpu", 4);
   check_bench_run(batch, "cpu", 4, 4);  // a batch is filled: max(batch, trials) trials
+  // With the estimate after every update, as a study that asks an answer after every reading runs: fewer per second.
+  for (const auto* run : {&bench_run(j, "cpu", 1), &batch}) {
+    CHECK((*run)["session_updates_with_estimates_per_second"].get<double>() > 0.0);
+    CHECK((*run)["session_updates_with_estimates_per_second"].get<double>() <
+          (*run)["session_updates_per_second"].get<double>());
+  }
+  CHECK(out.find("with their estimates), ") != std::string::npos);
   CHECK(batch["memory"]["device_bytes"] == 0);
   CHECK(batch["memory"]["map_device_bytes"] == 0);
   CHECK(j["peak_rss_bytes"].get<std::uint64_t>() >= batch["memory"]["peak_rss_bytes"].get<std::uint64_t>());

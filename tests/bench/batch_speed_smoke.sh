@@ -7,9 +7,8 @@
 set -euo pipefail
 source_dir=$1 sva=$3 work=$5
 export BUILD_DIR=$2  # this build's bench program, not another build folder's
-rm -rf "$work" && mkdir -p "$work"
-"$sva" --quiet simulate --scene tiny --out "$work" --train 40 --test 12 --seed 1 --threads 2
-"$sva" --quiet train --data "$work/train.svad" --out "$work/map.svam" --seed 1 --threads 2 > /dev/null
+source "$(dirname "$0")/tiny_session_data.sh"
+tiny_map "$sva" "$work" 40 12
 run() { bash "$source_dir/bench/speed/batch_speed.sh" "$work/map.svam" "$work/test.svad" 5 6 "$@"; }
 one=$(run 1)
 two=$(run 2 1 full 0)

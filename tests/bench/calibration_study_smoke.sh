@@ -5,9 +5,8 @@
 #   tests/bench/calibration_study_smoke.sh SOURCE BUILD SVA PYTHON WORK
 set -euo pipefail
 source_dir=$1 build=$2 sva=$3 python=$4 work=$5
-rm -rf "$work" && mkdir -p "$work"
-"$sva" --quiet simulate --scene tiny --out "$work" --train 20 --test 12 --seed 1 --threads 2
-"$sva" --quiet train --data "$work/train.svad" --out "$work/map.svam" --seed 1 --threads 2 > /dev/null
+source "$(dirname "$0")/tiny_session_data.sh"
+tiny_map "$sva" "$work" 20 12
 out=$(BUILD_DIR="$build" PYTHON="$python" bash "$source_dir/bench/calibration/calibration_study.sh" "$work" 1 10 120 2>&1)
 echo "$out"
 for f in objects_held_out every_object test; do

@@ -7,9 +7,8 @@
 set -euo pipefail
 source_dir=$1 sva=$3 work=$5
 export BUILD_DIR=$2  # this build's bench program, not another build folder's
-rm -rf "$work" && mkdir -p "$work"
-"$sva" --quiet simulate --scene tiny --out "$work" --train 20 --test 12 --seed 1 --threads 2
-"$sva" --quiet train --data "$work/train.svad" --out "$work/map.svam" --seed 1 --threads 2 > /dev/null
+source "$(dirname "$0")/tiny_session_data.sh"
+tiny_map "$sva" "$work" 20 12
 line='^3 sessions at 8 readings, top 3, (full|light), [12] thread\(s\), best of 2: ms per session: estimate [0-9.]+ = belief [0-9.]+ \+ fits [0-9.]+ \+ verify [0-9.]+ \+ posterior [0-9.]+; CPU [0-9.]+ ms per session; digest [0-9a-f]{16}$'
 one=$(bash "$source_dir/bench/speed/estimate_speed.sh" "$work/map.svam" "$work/test.svad" 3 8 2 1 3)
 two=$(bash "$source_dir/bench/speed/estimate_speed.sh" "$work/map.svam" "$work/test.svad" 3 8 2 2 3)

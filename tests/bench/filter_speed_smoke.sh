@@ -8,9 +8,8 @@ source_dir=$1 sva=$3 work=$5
 export BUILD_DIR=$2  # this build's bench program, not another build folder's
 source "$source_dir/bench/lib/common.sh"
 filter_speed=$(bench_program filter_speed)
-rm -rf "$work" && mkdir -p "$work"
-"$sva" --quiet simulate --scene tiny --out "$work" --train 80 --test 20 --seed 1 --threads 2
-"$sva" --quiet train --data "$work/train.svad" --out "$work/map.svam" --seed 1 --threads 2 > /dev/null
+source "$(dirname "$0")/tiny_session_data.sh"
+tiny_map "$sva" "$work" 80 20
 run() { "$filter_speed" "$work/map.svam" "$work/test.svad" 3 10 "$@"; }
 one=$(run 1)
 many=$(run 16)

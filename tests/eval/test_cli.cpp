@@ -656,12 +656,13 @@ TEST_CASE("sva bench on the Vulkan backend reports device memory (n/a until the 
   CHECK(host_reads["readback_ns_per_load"].get<double>() > 0.0);
   CHECK(out.find("host reads of a kernel's result") != std::string::npos);
   // Round trips and memory allocations per session, counted: the batch's first updates make its vote tables, input
-  // buffers and, after the sessions' first estimates, the buffers of the estimates' reads made in the update.
+  // buffers and, after the sessions' first estimates, the buffers of the estimates' reads made in the update, as
+  // ranges of the memory pool's blocks: at most a block a session (tests/backends/vulkan count the blocks).
   for (const auto& point : batch["curve"])
     for (const char* key : {"update_device_submissions", "estimate_device_submissions", "update_device_allocations",
                             "estimate_device_allocations"})
       CHECK(point[key].get<double>() >= 0.0);
-  CHECK(batch["curve"][0]["update_device_allocations"].get<double>() > 0.0);
+  CHECK(batch["curve"][0]["update_device_allocations"].get<double>() <= 1.0);
   // An update's time by part: every update records and waits for its submissions; the parts that need the device's
   // timestamps are null without them, never negative.
   for (const auto& point : batch["curve"]) {

@@ -105,8 +105,8 @@ class BatchRecognizer {
   // beliefs included: what `sva bench` divides by the estimates made. With an Engine shared by recognizers, of
   // every recognizer on its device. 0 on the CPU.
   std::uint64_t device_submissions() const;
-  // Device memory allocations so far (one per device buffer made: on a GPU each a call into its driver), counted
-  // likewise; 0 on the CPU.
+  // Device memory allocations so far (on a GPU each a call into its driver: a block that many buffers share, or a
+  // large buffer's own), counted likewise; 0 on the CPU.
   std::uint64_t device_allocations() const;
   // What the last update did, summed over its sessions' pairs (`sva bench` reports it per stage; docs/recognition.md,
   // "Work counted"). The CPU reference counts all but the atomics; the Vulkan backend all but the belief probes

@@ -225,22 +225,22 @@ TEST_CASE("memory types: a discrete GPU keeps device buffers out of the host's m
   CHECK_THROWS_WITH(sva::vk::memory_types(m, 0x03, Memory::mapped, true), Catch::Contains("no usable memory type"));
 }
 
-TEST_CASE("gpu::ensure grows a work buffer to a power of two, allocating only when it must, each allocation counted") {
+TEST_CASE("gpu::ensure grows a work buffer to a power of two, remaking it only when it must, each buffer counted") {
   auto ctx = sva::test::vulkan_context_or_skip();
   sva::vk::Buffer b;
-  const std::uint64_t a0 = ctx->allocations();
+  const std::uint64_t a0 = ctx->buffers_made();
   sva::gpu::ensure(*ctx, b, 100);
   CHECK(b.size() == 128);
-  CHECK(ctx->allocations() == a0 + 1);
-  // A batch's inputs grow by a few pairs an update: within the power of two, no new allocation.
+  CHECK(ctx->buffers_made() == a0 + 1);
+  // A batch's inputs grow by a few pairs an update: within the power of two, no new buffer.
   std::memset(b.data(), 0x5a, b.size());
   for (std::size_t bytes : {101u, 120u, 128u, 16u}) sva::gpu::ensure(*ctx, b, bytes);
   CHECK(b.size() == 128);
-  CHECK(ctx->allocations() == a0 + 1);
+  CHECK(ctx->buffers_made() == a0 + 1);
   CHECK(b.as<std::uint8_t>()[127] == 0x5a);  // kept, not remade
   sva::gpu::ensure(*ctx, b, 129);
   CHECK(b.size() == 256);
-  CHECK(ctx->allocations() == a0 + 2);
+  CHECK(ctx->buffers_made() == a0 + 2);
   // The power of two never passes one binding's range (a dispatch would refuse the buffer): the range itself.
   const std::size_t cap = std::min<std::size_t>(ctx->info().max_storage_buffer_range, ctx->info().max_allocation);
   if (cap <= (std::size_t{1} << 28)) {  // lavapipe: 2^27 bytes

@@ -81,6 +81,19 @@ OutOfMemory out_of_memory(const Device& device, VkResult r, std::size_t bytes) {
   return OutOfMemory(what, bytes);
 }
 
+// Past the device's count of live allocations (maxMemoryAllocationCount), even with buffers sharing blocks: an
+// out-of-memory error, so that a batch splits further as for a full device, and its words say which limit.
+OutOfMemory too_many_allocations(const Device& device, std::size_t bytes) {
+  std::string what = "Vulkan: out of memory allocations allocating " + std::to_string(bytes) + " bytes on " +
+                     device.info().name + ", which allows " + std::to_string(device.info().max_allocations) +
+                     " live at once (maxMemoryAllocationCount)";
+  if (const std::uint64_t cap = faults::max_allocations())
+    what += " (SVA_VK_MAX_ALLOCATIONS " + std::to_string(cap) + ")";
+  return OutOfMemory(what + "; sva holds " + std::to_string(device.pool().live_allocations()) + " holding " +
+                         mib(device.pool().held_bytes()),
+                     bytes);
+}
+
 }  // namespace
 
 Buffer::Buffer(const Device& device, std::size_t bytes, Memory kind, bool never_map, Contents contents)
@@ -107,24 +120,20 @@ Buffer::Buffer(const Device& device, std::size_t bytes, Memory kind, bool never_
 void Buffer::allocate(const Device& device, Memory kind, bool never_map, Contents contents) {
   VkMemoryRequirements req;
   vkGetBufferMemoryRequirements(device_, buffer_, &req);
-  VkMemoryAllocateFlagsInfo flags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
-  flags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
-  VkMemoryAllocateInfo mai{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
-  mai.pNext = &flags;
-  mai.allocationSize = req.size;
   VkResult r = VK_ERROR_OUT_OF_DEVICE_MEMORY;
-  bool host_visible = false;
   const bool discrete = device.info().type == "discrete";
   for (std::uint32_t type : memory_types(device.memory(), req.memoryTypeBits, kind, discrete)) {
-    mai.memoryTypeIndex = type;
     const VkMemoryPropertyFlags f = device.memory().memoryTypes[type].propertyFlags;
     const bool local = (f & VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT) != 0;
+    const bool host_visible = (f & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) != 0;
+    // A discrete GPU's device buffers are never mapped (memory_types says why).
+    const bool map = host_visible && !(kind == Memory::device && (never_map || discrete));
     r = local && over_budget(device, req.size) ? VK_ERROR_OUT_OF_DEVICE_MEMORY
-                                               : vkAllocateMemory(device_, &mai, nullptr, &memory_);
+                                               : device.pool().allocate(req, type, map, &range_);
     if (r == VK_SUCCESS) {
-      device.count_allocation();
+      pool_ = &device.pool();
+      device.count_buffer();
       device_local_ = local;
-      host_visible = (f & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT) != 0;
       if (device_local_) {
         owner_ = &device;
         counted_ = req.size;
@@ -135,14 +144,12 @@ void Buffer::allocate(const Device& device, Memory kind, bool never_map, Content
     if (r != VK_ERROR_OUT_OF_DEVICE_MEMORY && r != VK_ERROR_OUT_OF_HOST_MEMORY) break;
   }
   if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY) throw out_of_memory(device, r, size_);
+  if (r == VK_ERROR_TOO_MANY_OBJECTS) throw too_many_allocations(device, size_);
   check(r, "vkAllocateMemory");
-  check(vkBindBufferMemory(device_, buffer_, memory_, 0), "vkBindBufferMemory");
-  // A discrete GPU's device buffers are never mapped (memory_types says why).
-  if (host_visible && !(kind == Memory::device && (never_map || discrete))) {
-    check(vkMapMemory(device_, memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
-    if (contents == Contents::zero || faults::poison_uncleared())
-      std::memset(mapped_, contents == Contents::zero ? 0 : 0xa5, size_);
-  }
+  check(vkBindBufferMemory(device_, buffer_, range_.memory, range_.offset), "vkBindBufferMemory");
+  mapped_ = range_.mapped;
+  if (mapped_ && (contents == Contents::zero || faults::poison_uncleared()))
+    std::memset(mapped_, contents == Contents::zero ? 0 : 0xa5, size_);
   VkBufferDeviceAddressInfo ai{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
   ai.buffer = buffer_;
   address_ = vkGetBufferDeviceAddress(device_, &ai);
@@ -152,14 +159,12 @@ void Buffer::release() {
   if (owner_ && counted_) owner_->count_device_bytes(-static_cast<std::int64_t>(counted_));
   owner_ = nullptr;
   counted_ = 0;
-  if (device_) {
-    if (mapped_) vkUnmapMemory(device_, memory_);
-    if (buffer_) vkDestroyBuffer(device_, buffer_, nullptr);
-    if (memory_) vkFreeMemory(device_, memory_, nullptr);
-  }
+  if (device_ && buffer_) vkDestroyBuffer(device_, buffer_, nullptr);
+  if (pool_) pool_->free(range_);  // after the buffer bound to it is gone
+  pool_ = nullptr;
+  range_ = {};
   device_ = VK_NULL_HANDLE;
   buffer_ = VK_NULL_HANDLE;
-  memory_ = VK_NULL_HANDLE;
   mapped_ = nullptr;
   size_ = 0;
   address_ = 0;
@@ -175,7 +180,8 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
     std::swap(counted_, o.counted_);
     std::swap(device_, o.device_);
     std::swap(buffer_, o.buffer_);
-    std::swap(memory_, o.memory_);
+    std::swap(pool_, o.pool_);
+    std::swap(range_, o.range_);
     std::swap(mapped_, o.mapped_);
     std::swap(size_, o.size_);
     std::swap(address_, o.address_);

@@ -1,5 +1,6 @@
 #pragma once
-// A storage buffer with its memory, reachable by device address. Two kinds:
+// A storage buffer with its memory (a range of the device's memory pool, backends/vulkan/memory_pool.hpp),
+// reachable by device address. Two kinds:
 //  - mapped: host-visible coherent memory, mapped for its whole life; inputs
 //    are written and results read in place (the device's own memory where it
 //    has such, else host memory);
@@ -13,6 +14,8 @@
 #include <cstddef>
 #include <cstdint>
 #include <vector>
+
+#include "backends/vulkan/memory_pool.hpp"
 
 namespace sva::vk {
 
@@ -70,7 +73,8 @@ class Buffer {
   std::size_t counted_ = 0;
   VkDevice device_ = VK_NULL_HANDLE;
   VkBuffer buffer_ = VK_NULL_HANDLE;
-  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  MemoryPool* pool_ = nullptr;  // the device's, from which range_ came
+  MemoryRange range_;
   void* mapped_ = nullptr;
   std::size_t size_ = 0;
   VkDeviceAddress address_ = 0;

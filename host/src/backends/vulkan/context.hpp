@@ -112,8 +112,9 @@ class Context {
     std::lock_guard lock(mutex_);
     commands_.reset_times();
   }
-  // Memory allocations so far (one per buffer made).
+  // Memory allocations so far (vkAllocateMemory: the pool's blocks and large buffers' own), and buffers made.
   std::uint64_t allocations() const { return device_.allocations(); }
+  std::uint64_t buffers_made() const { return device_.buffers_made(); }
 
   const Instance& instance() const { return instance_; }
   const Device& device() const { return device_; }

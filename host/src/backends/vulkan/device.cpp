@@ -156,6 +156,7 @@ DeviceInfo describe(const Candidate& c) {
   p2.pNext = &m3;
   vkGetPhysicalDeviceProperties2(c.dev, &p2);
   info.max_allocation = m3.maxMemoryAllocationSize;
+  info.max_allocations = c.props.limits.maxMemoryAllocationCount;
   info.subgroup_size = sg.subgroupSize;
   const VkSubgroupFeatureFlags ops = VK_SUBGROUP_FEATURE_BASIC_BIT | VK_SUBGROUP_FEATURE_VOTE_BIT |
                                      VK_SUBGROUP_FEATURE_BALLOT_BIT | VK_SUBGROUP_FEATURE_ARITHMETIC_BIT;
@@ -201,11 +202,16 @@ Device::Device(const Instance& instance, const std::string& choice) {
       info_.device_local_bytes = std::max<std::uint64_t>(info_.device_local_bytes, memory_.memoryHeaps[h].size);
   device_ = create_device(physical_, queue_family_);
   vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
+  MemoryPoolOptions po;
+  po.max_allocation = info_.max_allocation;
+  po.max_allocations = info_.max_allocations;
+  pool_ = std::make_unique<MemoryPool>(device_, memory_, po);
 }
 
 Device::~Device() {
   if (device_) {  // a lost device's wait returns VK_ERROR_DEVICE_LOST at once; the objects are destroyed all the same
     vkDeviceWaitIdle(device_);
+    pool_.reset();
     vkDestroyDevice(device_, nullptr);
   }
 }

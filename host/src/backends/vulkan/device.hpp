@@ -6,7 +6,10 @@
 
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <string>
+
+#include "backends/vulkan/memory_pool.hpp"
 
 namespace sva::vk {
 
@@ -18,8 +21,9 @@ struct DeviceInfo {
   std::uint64_t max_storage_buffer_range = 0;
   std::uint32_t max_workgroup_count_x = 0;
   std::uint32_t max_workgroup_count_y = 0;
-  std::uint64_t max_allocation = 0;  // maxMemoryAllocationSize
-  bool timestamps = false;           // per-dispatch GPU timing available
+  std::uint64_t max_allocation = 0;   // maxMemoryAllocationSize
+  std::uint32_t max_allocations = 0;  // maxMemoryAllocationCount: allocations live at once (4096 on many drivers)
+  bool timestamps = false;            // per-dispatch GPU timing available
   std::uint32_t subgroup_size = 0;
   // Basic, vote, ballot and arithmetic subgroup operations in compute shaders: the
   // vote kernel pre-aggregates equal keys across a subgroup before its atomics.
@@ -52,10 +56,14 @@ class Device {
   std::uint64_t device_bytes() const { return device_bytes_.load(); }
   std::uint64_t peak_device_bytes() const { return peak_device_bytes_.load(); }
   void count_device_bytes(std::int64_t delta) const;
-  // Memory allocations made so far (vkAllocateMemory, one per buffer): on a GPU each is a call into the driver's
-  // kernel side, which `sva bench` counts per update beside the submissions.
-  std::uint64_t allocations() const { return allocations_.load(); }
-  void count_allocation() const { allocations_.fetch_add(1); }
+  // Memory allocations made so far (vkAllocateMemory: a block of the pool, or a large buffer's own): on a GPU each
+  // is a call into the driver's kernel side, which `sva bench` counts per update beside the submissions.
+  std::uint64_t allocations() const { return pool_->allocations(); }
+  // Buffers made so far, each a range of the pool or an allocation of its own.
+  std::uint64_t buffers_made() const { return buffers_made_.load(); }
+  void count_buffer() const { buffers_made_.fetch_add(1); }
+  // Where every buffer's memory comes from (backends/vulkan/memory_pool.hpp).
+  MemoryPool& pool() const { return *pool_; }
   // A 2-D grid of SVA_WORKGROUP_SIZE-wide workgroups covering `invocations`
   // (x is capped at maxComputeWorkGroupCount[0]); shaders flatten it back.
   Grid grid(std::uint64_t invocations) const;
@@ -71,7 +79,8 @@ class Device {
   std::uint32_t queue_family_ = 0;
   DeviceInfo info_;
   VkPhysicalDeviceMemoryProperties memory_{};
-  mutable std::atomic<std::uint64_t> device_bytes_{0}, peak_device_bytes_{0}, allocations_{0};
+  mutable std::atomic<std::uint64_t> device_bytes_{0}, peak_device_bytes_{0}, buffers_made_{0};
+  std::unique_ptr<MemoryPool> pool_;  // freed before the device
   mutable std::atomic<bool> lost_{false};
 };
 

@@ -22,12 +22,14 @@ std::uint64_t env_count(const char* name) {
 // The state, first read from the environment; the hooks replace it.
 struct State {
   std::atomic<std::uint64_t> budget{0};
+  std::atomic<std::uint64_t> max_allocations{0};
   std::atomic<bool> poison{false};
   std::atomic<std::int64_t> submissions_before_loss{-1};  // -1: no loss pending
   std::mutex mutex;
   std::string missing;
   State() {
     budget = env_count("SVA_VK_MEMORY_BUDGET_BYTES");
+    max_allocations = env_count("SVA_VK_MAX_ALLOCATIONS");
     if (const char* v = std::getenv("SVA_VK_FAULT_DEVICE_LOST_AFTER"); v && *v)
       submissions_before_loss = static_cast<std::int64_t>(env_count("SVA_VK_FAULT_DEVICE_LOST_AFTER"));
     if (const char* v = std::getenv("SVA_VK_FAULT_MISSING_FEATURE")) missing = v;
@@ -44,6 +46,9 @@ State& state() {
 
 std::uint64_t memory_budget() { return state().budget.load(); }
 void set_memory_budget(std::uint64_t bytes) { state().budget = bytes; }
+
+std::uint64_t max_allocations() { return state().max_allocations.load(); }
+void set_max_allocations(std::uint64_t count) { state().max_allocations = count; }
 
 bool take_device_loss() {
   std::atomic<std::int64_t>& n = state().submissions_before_loss;

@@ -6,6 +6,9 @@
 //   SVA_VK_MEMORY_BUDGET_BYTES=N   the device's own memory past N bytes (all live
 //                                  buffers of one device) fails to allocate with
 //                                  VK_ERROR_OUT_OF_DEVICE_MEMORY, as a full GPU would;
+//   SVA_VK_MAX_ALLOCATIONS=N       the device holds at most N memory allocations at
+//                                  once (maxMemoryAllocationCount, 4096 on many drivers):
+//                                  one more fails with VK_ERROR_TOO_MANY_OBJECTS;
 //   SVA_VK_FAULT_DEVICE_LOST_AFTER=N  the submission after the next N returns
 //                                  VK_ERROR_DEVICE_LOST (once; later devices work);
 //   SVA_VK_FAULT_MISSING_FEATURE=F the device reports feature F (shaderInt64,
@@ -24,6 +27,10 @@ namespace sva::vk::faults {
 // 0 = no budget.
 std::uint64_t memory_budget();
 void set_memory_budget(std::uint64_t bytes);  // tests; 0 clears
+
+// 0 = the device's own count only.
+std::uint64_t max_allocations();
+void set_max_allocations(std::uint64_t count);  // tests; 0 clears
 
 // Whether this submission is to fail as lost (counts submissions down; fires once).
 bool take_device_loss();

@@ -284,8 +284,9 @@ TEST_CASE("GPU batch: light estimates after every touch and a full one when aske
 }
 
 TEST_CASE("GPU batch: 320 sessions live in a few memory allocations, under a driver's cap of 64, each as on the CPU") {
-  // Every session holds a belief table, a band list and a state on the device; one allocation each was 960 and more,
-  // past the 4096 many drivers allow (maxMemoryAllocationCount) for a batch of a thousand. The buffers share the
+  // Every session holds a belief table, a band list and a state on the device (and, once estimated, the buffers of
+  // its reads): one allocation each was 960 and more here, and a batch of about 400 passed the 4096 live
+  // allocations many drivers allow (maxMemoryAllocationCount). The buffers share the
   // memory pool's blocks (backends/vulkan/memory_pool.hpp): a cap of 64 live allocations, injected, holds them all
   // (with a buffer per allocation, this batch failed at its construction: "out of memory allocations").
   struct Cleared {

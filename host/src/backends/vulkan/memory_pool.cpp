@@ -89,13 +89,16 @@ void MemoryPool::give_back(Block& b, VkDeviceSize offset, VkDeviceSize size) {
   b.free.emplace(offset, size);
 }
 
-// A new block of `type`: twice its type's largest so far (the first `first_block`), at most `largest_block`, and
-// at least four times the request. Where the driver refuses it, smaller ones down to the request's own size.
+// A new block of `type`: twice its type's largest so far (the first `first_block`), and at least four times the
+// request; at most `largest_block` and an eighth of the type's heap (a discrete GPU's BAR is a heap of 256 MiB on many
+// boards, where the inputs' mapped buffers live). Where the driver refuses it, smaller ones down to the request's size.
 VkResult MemoryPool::add_block(const VkMemoryRequirements& req, std::uint32_t type, Block** out) {
+  const VkDeviceSize heap = memory_.memoryHeaps[memory_.memoryTypes[type].heapIndex].size;
+  const VkDeviceSize largest = std::max(std::min(options_.largest_block, std::bit_floor(heap / 8)), req.size);
   VkDeviceSize size = options_.first_block;
   for (const auto& b : blocks_)
-    if (b->type == type) size = std::max(size, std::min(2 * b->size, options_.largest_block));
-  size = std::min(std::max(size, std::bit_ceil(4 * req.size)), options_.largest_block);
+    if (b->type == type) size = std::max(size, std::min(2 * b->size, largest));
+  size = std::min(std::max(size, std::bit_ceil(4 * req.size)), largest);
   auto b = std::make_unique<Block>();
   b->type = type;
   VkResult r = VK_ERROR_OUT_OF_DEVICE_MEMORY;

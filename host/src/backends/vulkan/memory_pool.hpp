@@ -1,10 +1,10 @@
 #pragma once
 // The device's memory in blocks: buffers take ranges of a few large allocations
-// (vkAllocateMemory) rather than one each. A batch of hundreds of sessions held
-// several buffers per session (belief table, band list, state), and every table
-// that grew was a new allocation and a free: each a call into a GPU driver's
-// kernel side, and a count many drivers cap at 4096 live allocations
-// (maxMemoryAllocationCount), which a batch of a thousand sessions passed
+// (vkAllocateMemory) rather than one each. A batch held about ten buffers per
+// session once estimated (belief table, band list, state, the estimate's reads),
+// and every table that grew was a new allocation and a free: each a call into a
+// GPU driver's kernel side, and a count many drivers cap at 4096 live allocations
+// (maxMemoryAllocationCount), which a batch of about 400 sessions passed
 // (issue 52: "tables from a pool"). A buffer larger than a quarter of the
 // largest block keeps an allocation of its own (the map, a large batch's vote
 // table). Thread-safe: a batch's estimates make their read-back buffers on the

@@ -90,6 +90,13 @@ class VoteBackend {
   virtual std::vector<PairVotes> vote(const VoteBatch& batch) = 0;
   // A fresh belief (no pair folded) that lives with this backend.
   virtual std::unique_ptr<BeliefState> make_belief(const PoseSpace& space, double eps) = 0;
+  // `n` of them, for a batch's sessions: a device empties them all in one submission, where each new belief emptied
+  // its table in a round trip of its own (a thousand sessions' batch made a thousand).
+  virtual std::vector<std::unique_ptr<BeliefState>> make_beliefs(const PoseSpace& space, double eps, std::size_t n) {
+    std::vector<std::unique_ptr<BeliefState>> made;
+    for (std::size_t i = 0; i < n; ++i) made.push_back(make_belief(space, eps));
+    return made;
+  }
   // Votes every pair of the batch and folds it into beliefs[pair.session]
   // (each made by this backend's make_belief). Returns per-pair statistics.
   virtual std::vector<PairStats> vote_and_fold(const VoteBatch& batch, std::span<BeliefState* const> beliefs) = 0;

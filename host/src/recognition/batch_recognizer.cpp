@@ -136,8 +136,9 @@ BatchRecognizer::BatchRecognizer(const Engine& engine, const PoseSpaceSpec& pose
     fo.object_prune_probability = options.object_prune_probability;
     fo.max_pairs_per_update = options.max_pairs_per_update;
     fo.belief_budget_bins = options.belief_budget_bins;
-    for (auto& s : impl_->sessions)
-      s.filter = std::make_unique<BayesFilter>(*impl_->pair_map, impl_->space, fo, *impl_->backend);
+    std::vector<std::unique_ptr<BayesFilter>> filters =
+        BayesFilter::make_sessions(*impl_->pair_map, impl_->space, fo, *impl_->backend, sessions);
+    for (std::size_t i = 0; i < sessions; ++i) impl_->sessions[i].filter = std::move(filters[i]);
     // The fine pose's fit also tells p_unknown how well the best object's surface explains the contacts.
     if (options.refine_pose || options.surface_check ||
         (options.calibrate && !impl_->pair_map->calibration.unknown.empty())) {

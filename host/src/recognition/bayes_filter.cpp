@@ -13,12 +13,33 @@
 namespace sva {
 
 BayesFilter::BayesFilter(const PairMap& map, const PoseSpace& space, const FilterOptions& options, VoteBackend& backend)
+    : map_(&map), space_(&space), options_(options), backend_(&backend) {
+  check_options(map, space, options);
+  belief_ = backend.make_belief(space, options.eps);
+  max_pairs_ = belief_math::max_pairs(belief_math::eps_units(options.eps));
+}
+
+BayesFilter::BayesFilter(const PairMap& map, const PoseSpace& space, const FilterOptions& options, VoteBackend& backend,
+                         std::unique_ptr<BeliefState> belief)
     : map_(&map),
       space_(&space),
       options_(options),
       backend_(&backend),
-      belief_(backend.make_belief(space, options.eps)),
-      max_pairs_(belief_math::max_pairs(belief_math::eps_units(options.eps))) {
+      belief_(std::move(belief)),
+      max_pairs_(belief_math::max_pairs(belief_math::eps_units(options.eps))) {}
+
+std::vector<std::unique_ptr<BayesFilter>> BayesFilter::make_sessions(const PairMap& map, const PoseSpace& space,
+                                                                     const FilterOptions& options, VoteBackend& backend,
+                                                                     std::size_t n) {
+  check_options(map, space, options);
+  std::vector<std::unique_ptr<BeliefState>> beliefs = backend.make_beliefs(space, options.eps, n);
+  std::vector<std::unique_ptr<BayesFilter>> made;
+  for (auto& b : beliefs)
+    made.push_back(std::unique_ptr<BayesFilter>(new BayesFilter(map, space, options, backend, std::move(b))));
+  return made;
+}
+
+void BayesFilter::check_options(const PairMap& map, const PoseSpace& space, const FilterOptions& options) {
   if (space.objects() != map.objects.size())
     throw Error("pose space has " + std::to_string(space.objects()) + " objects but the map has " +
                 std::to_string(map.objects.size()));

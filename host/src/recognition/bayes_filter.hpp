@@ -47,6 +47,11 @@ class BayesFilter {
  public:
   // The belief is made by `backend`, which must outlive the filter.
   BayesFilter(const PairMap& map, const PoseSpace& space, const FilterOptions& options, VoteBackend& backend);
+  // `n` sessions of one backend, their beliefs made together (VoteBackend::make_beliefs: on a device, emptied in one
+  // submission). The options are checked before any belief is made.
+  static std::vector<std::unique_ptr<BayesFilter>> make_sessions(const PairMap& map, const PoseSpace& space,
+                                                                 const FilterOptions& options, VoteBackend& backend,
+                                                                 std::size_t n);
 
   // Adds one reading (as describe_reading and to_grid make it: checked, grid frame) and updates the belief.
   UpdateStats add(const ObservedReading& reading);
@@ -78,6 +83,11 @@ class BayesFilter {
   void require_complete() const;
 
  private:
+  // A filter around a belief its backend made; the options checked (check_options) by the caller.
+  BayesFilter(const PairMap& map, const PoseSpace& space, const FilterOptions& options, VoteBackend& backend,
+              std::unique_ptr<BeliefState> belief);
+  static void check_options(const PairMap& map, const PoseSpace& space, const FilterOptions& options);
+
   const PairMap* map_;
   const PoseSpace* space_;
   FilterOptions options_;

@@ -45,7 +45,10 @@ struct GpuBeliefKernels {
 
 class GpuBelief final : public BeliefState {
  public:
-  GpuBelief(GpuBeliefKernels& kernels, double eps);
+  // A new belief empties its table at once (a submission), or `later`: by the reset_all its maker runs next for
+  // many new beliefs at once (VoteBackend::make_beliefs). Until then it must not be used.
+  enum class Emptied { now, later };
+  GpuBelief(GpuBeliefKernels& kernels, double eps, Emptied emptied = Emptied::now);
 
   void reset() override;
   // reset() of many beliefs of one backend (a batch's group), all in one submission.

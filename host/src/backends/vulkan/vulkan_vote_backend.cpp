@@ -25,11 +25,12 @@ using Clock = std::chrono::steady_clock;
 using gpu::ensure;
 using gpu::push_bytes;
 
-// Keeps a device buffer (one only kernels touch) at least `bytes` large;
-// returns whether it was reallocated (its contents are then zeros).
+// Keeps a device buffer (one only kernels touch) at least `bytes` large; returns whether it was reallocated. Its
+// contents are then undefined: the caller's submission clears it (a cleared buffer cost a round trip of its own, 5 of
+// a cold batch's first update).
 bool ensure_device(vk::Context& ctx, vk::Buffer& b, std::size_t bytes) {
   if (b.size() >= std::max<std::size_t>(bytes, 16)) return false;
-  b = ctx.create_device_buffer(std::max<std::size_t>(bytes, 16));
+  b = ctx.create_uncleared_device_buffer(std::max<std::size_t>(bytes, 16));
   return true;
 }
 
@@ -102,6 +103,19 @@ class VulkanVoteBackend final : public VoteBackend {
   std::unique_ptr<BeliefState> make_belief(const PoseSpace& space, double eps) override {
     if (&space != &space_) throw Error("vulkan backend: a belief must use the backend's pose space");
     return std::make_unique<GpuBelief>(beliefs_, eps);
+  }
+
+  std::vector<std::unique_ptr<BeliefState>> make_beliefs(const PoseSpace& space, double eps, std::size_t n) override {
+    if (&space != &space_) throw Error("vulkan backend: a belief must use the backend's pose space");
+    std::vector<std::unique_ptr<BeliefState>> made;
+    std::vector<GpuBelief*> fresh;
+    for (std::size_t i = 0; i < n; ++i) {
+      auto b = std::make_unique<GpuBelief>(beliefs_, eps, GpuBelief::Emptied::later);
+      fresh.push_back(b.get());
+      made.push_back(std::move(b));
+    }
+    GpuBelief::reset_all(fresh);
+    return made;
   }
 
   std::vector<PairStats> vote_and_fold(const VoteBatch& batch, std::span<BeliefState* const> beliefs) override {

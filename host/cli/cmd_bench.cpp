@@ -332,10 +332,12 @@ void print_run_summaries(const json& runs) {
         r["votes_zero"].get<unsigned long long>(), r["votes"].get<unsigned long long>(),
         100.0 * r["votes_zero_fraction"].get<double>());
     const bool cpu = r["backend"] == "cpu";
-    std::printf("  host: peak RSS %s (process so far), RSS %s -> %s (%s), %s; device: %s (map %s)\n",
-                mib(m["peak_rss_bytes"]).c_str(), mib(m["rss_before_bytes"]).c_str(), mib(m["rss_after_bytes"]).c_str(),
-                mib(m["rss_increase_bytes"], "%+.1f MiB").c_str(), peak_during(m).c_str(),
-                cpu ? "none" : mib(m["device_bytes"]).c_str(), cpu ? "none" : mib(m["map_device_bytes"]).c_str());
+    std::printf(
+        "  host: peak RSS %s (process so far), RSS %s -> %s (%s), %s; device: %s (map %s; allocations hold %s)\n",
+        mib(m["peak_rss_bytes"]).c_str(), mib(m["rss_before_bytes"]).c_str(), mib(m["rss_after_bytes"]).c_str(),
+        mib(m["rss_increase_bytes"], "%+.1f MiB").c_str(), peak_during(m).c_str(),
+        cpu ? "none" : mib(m["device_bytes"]).c_str(), cpu ? "none" : mib(m["map_device_bytes"]).c_str(),
+        cpu ? "none" : mib(m["device_held_bytes"]).c_str());
   }
 }
 

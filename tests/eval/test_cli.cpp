@@ -442,6 +442,7 @@ TEST_CASE("sva bench reports host memory, zero-mass votes and the throughput of 
   CHECK(out.find("with their estimates), ") != std::string::npos);
   CHECK(batch["memory"]["device_bytes"] == 0);
   CHECK(batch["memory"]["map_device_bytes"] == 0);
+  CHECK(batch["memory"]["device_held_bytes"] == 0);
   CHECK(j["peak_rss_bytes"].get<std::uint64_t>() >= batch["memory"]["peak_rss_bytes"].get<std::uint64_t>());
   CHECK_FALSE(j.contains("roofline"));  // no device measured
   for (const auto& p : batch["curve"])  // the device's round trips and allocations: none on the CPU, null not 0
@@ -645,6 +646,11 @@ TEST_CASE("sva bench on the Vulkan backend reports device memory (n/a until the 
     CHECK((bytes.is_null() || bytes.get<std::uint64_t>() > 0));  // null: not reported, never "0 bytes"
   }
   if (batch["memory"]["device_bytes"].is_null()) CHECK(out.find("device: n/a") != std::string::npos);
+  // The memory pool's allocations hold every buffer, the map's included, and the blocks' free ranges.
+  if (!batch["memory"]["device_bytes"].is_null())
+    CHECK(batch["memory"]["device_held_bytes"].get<std::uint64_t>() >=
+          batch["memory"]["device_bytes"].get<std::uint64_t>());
+  CHECK(out.find("allocations hold") != std::string::npos);
   CHECK(j["roofline"]["votes_per_second"].get<double>() > 0);
   CHECK(j["roofline"]["vote_math"]["exact_agrees_with_cpu"] == true);  // the math alone, the engine's bits
   CHECK(j["roofline"]["vote_math"]["samples"].get<std::uint64_t>() > 0);

@@ -127,6 +127,9 @@ class BatchRecognizer {
   struct DeviceMemory {
     std::uint64_t bytes = 0;
     std::uint64_t map_bytes = 0;  // of `bytes`, the uploaded map's
+    // What the device's memory allocations hold: `bytes` and the free ranges of the blocks that buffers share
+    // (with host-visible memory the device maps, where `bytes` counts the device's own memory alone).
+    std::uint64_t held_bytes = 0;
   };
   DeviceMemory device_memory() const;
 

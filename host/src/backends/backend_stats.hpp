@@ -27,6 +27,9 @@ struct BackendStats {
   // it (reports print "n/a" then, not "0 bytes").
   std::uint64_t device_bytes = 0;
   std::uint64_t map_device_bytes = 0;
+  // What the device's memory allocations hold (vk::MemoryPool: the buffers' bytes, and the blocks' free ranges),
+  // every memory type's; 0 on the CPU.
+  std::uint64_t device_held_bytes = 0;
   unsigned band_rebuilds = 0;       // GPU band lists rebuilt from whole belief tables (after a growth or a full list)
   BatchRecognizer::Work last_work;  // what the last vote or vote_and_fold did (the backend's counts; 0 elsewhere)
   double last_belief_growth_ms = 0.0;  // of last_host_ms: growing the beliefs' tables (Vulkan; 0 on the CPU)
@@ -42,7 +45,8 @@ struct BackendStats {
   // Device submissions so far (each a round trip: submit, then wait), the estimates' reads of the beliefs included;
   // with a shared engine, of every backend on its device. 0 on the CPU.
   std::uint64_t device_submissions = 0;
-  // Device memory allocations so far (one per buffer made), likewise of the device; 0 on the CPU.
+  // Device memory allocations so far (a block of the memory pool, or a large buffer's own), likewise of the device;
+  // 0 on the CPU.
   std::uint64_t device_allocations = 0;
   // The device: its kind ("discrete", "integrated", "cpu" for lavapipe; "" on the CPU reference) and its largest
   // device-local heap (0 on the CPU).

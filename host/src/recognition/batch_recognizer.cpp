@@ -468,6 +468,7 @@ BatchRecognizer::DeviceMemory BatchRecognizer::device_memory() const {
     const BackendStats st = impl_->backend->statistics();
     m.bytes = st.device_bytes;
     m.map_bytes = st.map_device_bytes;
+    m.held_bytes = st.device_held_bytes;
   }
   return m;
 }

@@ -228,7 +228,8 @@ json memory_json(const RunMemory& m, const BatchRecognizer& rec) {
           {"rss_increase_bytes", m.rss_increase_bytes()},
           {"peak_rss_during_bytes", m.peak_during_bytes ? json(*m.peak_during_bytes) : json(nullptr)},
           {"device_bytes", device(d.bytes)},
-          {"map_device_bytes", device(d.map_bytes)}};
+          {"map_device_bytes", device(d.map_bytes)},
+          {"device_held_bytes", device(d.held_bytes)}};
 }
 
 // Steps the trials through the recognizer and keeps the figures of every

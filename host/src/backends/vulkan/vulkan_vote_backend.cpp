@@ -162,6 +162,7 @@ class VulkanVoteBackend final : public VoteBackend {
         stats_.chunks, stats_.table_slots, stats_.table_grows,    stats_.validation_messages};
     s.device_bytes = ctx_.device().device_bytes();
     s.map_device_bytes = engine_->map_bytes;
+    s.device_held_bytes = ctx_.device().pool().held_bytes();
     s.band_rebuilds = beliefs_.band_rebuilds;
     s.last_work = last_work_;
     s.last_belief_growth_ms = stats_.last_belief_growth_ms;

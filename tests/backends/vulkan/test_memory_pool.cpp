@@ -9,7 +9,10 @@
 #include <cstdint>
 #include <cstring>
 #include <numeric>
+#include <tuple>
 #include <vector>
+
+#include <sva/base/rng.hpp>
 
 #include "backends/vulkan/buffer.hpp"
 #include "backends/vulkan/context.hpp"
@@ -146,4 +149,63 @@ TEST_CASE("memory pool: a device's cap on live allocations is an out-of-memory e
   vk::Buffer after(ctx->device(), 40 << 20, vk::Memory::mapped);
   std::memset(after.data(), 1, after.size());
   CHECK(kept.back().as<std::uint8_t>()[0] == 0);  // the others' bytes untouched
+}
+
+TEST_CASE("memory pool: random takes and frees keep every range apart and in its block, and join back whole") {
+  // 3,000 random operations on small blocks (the series, and allocations of their own, both reached): no two live
+  // ranges of one allocation overlap, each lies within its block and keeps its alignment, and once every range is
+  // freed the last block is one free range again.
+  auto ctx = test::vulkan_context_or_skip();
+  vk::MemoryPoolOptions o;
+  o.first_block = 1 << 16;
+  o.largest_block = 1 << 20;
+  vk::MemoryPool pool(ctx->device().handle(), ctx->device().memory(), o);
+  const std::uint32_t type = storage_type(*ctx);
+  util::Rng rng(52, 7);
+  std::vector<vk::MemoryRange> live;
+  std::vector<VkDeviceSize> alignment;
+  std::size_t own = 0;
+  for (int op = 0; op < 3000; ++op) {
+    if (!live.empty() && rng.below(5) < 2) {  // two in five operations free a range
+      const std::size_t i = rng.below(live.size());
+      pool.free(live[i]);
+      live.erase(live.begin() + static_cast<std::ptrdiff_t>(i));
+      alignment.erase(alignment.begin() + static_cast<std::ptrdiff_t>(i));
+      continue;
+    }
+    const VkDeviceSize a = VkDeviceSize{1} << rng.below(13);                               // 1 to 4096
+    const VkDeviceSize size = 1 + rng.below(rng.below(16) == 0 ? 400u << 10 : 20u << 10);  // some past a quarter
+    vk::MemoryRange r;
+    REQUIRE(pool.allocate(request(size, a), type, false, &r) == VK_SUCCESS);
+    own += r.block == nullptr;
+    live.push_back(r);
+    alignment.push_back(a);
+  }
+  CHECK(own > 0);
+  CHECK(pool.live_allocations() > 2);
+  std::vector<std::size_t> order(live.size());
+  std::iota(order.begin(), order.end(), std::size_t{0});
+  std::sort(order.begin(), order.end(), [&](std::size_t x, std::size_t y) {
+    return std::tie(live[x].memory, live[x].offset) < std::tie(live[y].memory, live[y].offset);
+  });
+  for (std::size_t k = 0; k < order.size(); ++k) {
+    const vk::MemoryRange& r = live[order[k]];
+    CHECK(r.offset % alignment[order[k]] == 0);
+    if (k > 0 && live[order[k - 1]].memory == r.memory)
+      REQUIRE(live[order[k - 1]].offset + live[order[k - 1]].size <= r.offset);
+  }
+  for (const vk::MemoryRange& r : live) pool.free(r);
+  CHECK(pool.live_allocations() == 1);
+  // The kept block, whole again: filled to its last byte by pieces of at most a quarter of the largest block (larger
+  // ones take allocations of their own), without a new allocation.
+  const std::uint64_t held = pool.held_bytes(), made = pool.allocations();
+  const VkDeviceSize piece = std::min<VkDeviceSize>(held, o.largest_block / 4);
+  REQUIRE(held % piece == 0);
+  std::vector<vk::MemoryRange> pieces(held / piece);
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    REQUIRE(pool.allocate(request(piece, 1), type, false, &pieces[k]) == VK_SUCCESS);
+    CHECK(pieces[k].offset == k * piece);
+  }
+  CHECK(pool.allocations() == made);
+  for (const vk::MemoryRange& r : pieces) pool.free(r);
 }

@@ -204,7 +204,7 @@ Device::Device(const Instance& instance, const std::string& choice) {
   vkGetDeviceQueue(device_, queue_family_, 0, &queue_);
   MemoryPoolOptions po;
   po.max_allocation = info_.max_allocation;
-  po.max_allocations = info_.max_allocations;
+  if (info_.max_allocations > 0) po.max_allocations = info_.max_allocations;  // 0: a driver that did not say
   pool_ = std::make_unique<MemoryPool>(device_, memory_, po);
 }
 

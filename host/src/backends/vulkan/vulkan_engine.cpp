@@ -32,9 +32,11 @@ std::mutex g_registry_mutex;
 std::map<Key, std::weak_ptr<VulkanEngine>> g_registry;
 std::atomic<std::size_t> g_alive{0};
 
+// The upload writes every byte, so the new buffer is not cleared first (on a discrete GPU a submission per array of
+// the map); an empty array's placeholder is.
 template <class T>
 void upload_array(vk::Context& ctx, vk::Buffer& b, const T* data, std::size_t n) {
-  b = ctx.create_device_buffer(n * sizeof(T));
+  b = n > 0 ? ctx.create_uncleared_device_buffer(n * sizeof(T)) : ctx.create_device_buffer(0);
   ctx.upload(b, data, n * sizeof(T));
 }
 

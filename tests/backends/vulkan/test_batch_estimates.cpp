@@ -283,12 +283,40 @@ TEST_CASE("GPU batch: light estimates after every touch and a full one when aske
   CHECK(read_nothing == estimates);
 }
 
+namespace {
+
+// Three readings of object i mod 3 at its own pose (seeded by `seed` + i) into every session of `gpu` and of a CPU
+// reference's batch of as many; then every `every`-th session's estimate on both must be the same.
+void same_as_cpu_after_three_readings(BatchRecognizer& gpu, std::uint64_t seed, std::size_t every) {
+  const std::size_t n = gpu.sessions();
+  RecognizerOptions co = gpu_options();
+  co.backend = BackendKind::cpu;
+  BatchRecognizer cpu(trained().map, paper_space(), n, co);
+  std::vector<std::size_t> ids(n);
+  std::iota(ids.begin(), ids.end(), std::size_t{0});
+  for (std::size_t step = 0; step < 3; ++step) {
+    std::vector<Reading> rd;
+    for (std::size_t i = 0; i < n; ++i)
+      rd.push_back(readings_at(static_cast<std::uint32_t>(i % 3), random_pose(seed + i, 100.0), util::Rng(seed + i, 5),
+                               3)[step]);
+    gpu.add_readings(ids, rd);
+    cpu.add_readings(ids, rd);
+  }
+  for (std::size_t i = 0; i < n; i += every) {
+    INFO("session " << i);
+    CHECK(same(gpu.estimate(i, 1), cpu.estimate(i, 1)));
+  }
+}
+
+}  // namespace
+
 TEST_CASE("GPU batch: 128 sessions live in a few memory allocations, under a driver's cap of 32, each as on the CPU") {
   // Every session holds a belief table, a band list and a state on the device (and, once estimated, the buffers of
   // its reads): one allocation each was 384 and more here, and a batch of about 400 passed the 4096 live
-  // allocations many drivers allow (maxMemoryAllocationCount). The buffers share the
-  // memory pool's blocks (backends/vulkan/memory_pool.hpp): a cap of 32 live allocations, injected, holds them all
-  // (with a buffer per allocation, this batch failed at its construction: "out of memory allocations").
+  // allocations many drivers allow (maxMemoryAllocationCount). The buffers share the memory pool's blocks
+  // (backends/vulkan/memory_pool.hpp): a cap of 32 live allocations, injected, holds them all (with a buffer per
+  // allocation, this batch failed at its construction: "out of memory allocations"). The count takes in the
+  // estimates' reads too.
   struct Cleared {
     ~Cleared() { vk::faults::set_max_allocations(0); }
   } cleared;
@@ -299,26 +327,10 @@ TEST_CASE("GPU batch: 128 sessions live in a few memory allocations, under a dri
   vk::faults::set_max_allocations(32);
   constexpr std::size_t kMany = 128;
   const auto gpu = std::make_unique<BatchRecognizer>(trained().map, paper_space(), kMany, gpu_options());
-  RecognizerOptions co = gpu_options();
-  co.backend = BackendKind::cpu;
-  BatchRecognizer cpu(trained().map, paper_space(), kMany, co);
-  std::vector<std::size_t> ids(kMany);
-  std::iota(ids.begin(), ids.end(), std::size_t{0});
-  for (std::size_t step = 0; step < 3; ++step) {
-    std::vector<Reading> rd;
-    for (std::size_t i = 0; i < kMany; ++i)
-      rd.push_back(readings_at(static_cast<std::uint32_t>(i % 3), random_pose(1200 + i, 100.0), util::Rng(1200 + i, 5),
-                               3)[step]);
-    gpu->add_readings(ids, rd);
-    cpu.add_readings(ids, rd);
-  }
+  same_as_cpu_after_three_readings(*gpu, 1200, 8);
   const std::uint64_t made = gpu->device_allocations() - a0;
   CHECK(made > 0);   // the sessions' tables took new blocks, counted
   CHECK(made < 32);  // and far fewer than their 384 buffers
-  for (std::size_t i = 0; i < kMany; i += 8) {
-    INFO("session " << i);
-    CHECK(same(gpu->estimate(i, 1), cpu.estimate(i, 1)));
-  }
 }
 
 TEST_CASE("GPU batch: a new batch's sessions empty their beliefs in one submission, and answer as the CPU's") {
@@ -329,21 +341,5 @@ TEST_CASE("GPU batch: a new batch's sessions empty their beliefs in one submissi
   const std::uint64_t s0 = probe->device_submissions();
   const std::unique_ptr<BatchRecognizer> gpu = gpu_batch();
   CHECK(probe->device_submissions() - s0 == 1);
-  RecognizerOptions co = gpu_options();
-  co.backend = BackendKind::cpu;
-  BatchRecognizer cpu(trained().map, paper_space(), kSessions, co);
-  std::vector<std::size_t> ids(kSessions);
-  std::iota(ids.begin(), ids.end(), std::size_t{0});
-  for (std::size_t step = 0; step < 3; ++step) {
-    std::vector<Reading> rd;
-    for (std::size_t i = 0; i < kSessions; ++i)
-      rd.push_back(readings_at(static_cast<std::uint32_t>(i % 3), random_pose(1600 + i, 100.0), util::Rng(1600 + i, 5),
-                               3)[step]);
-    gpu->add_readings(ids, rd);
-    cpu.add_readings(ids, rd);
-  }
-  for (std::size_t i = 0; i < kSessions; i += 5) {
-    INFO("session " << i);
-    CHECK(same(gpu->estimate(i, 1), cpu.estimate(i, 1)));
-  }
+  same_as_cpu_after_three_readings(*gpu, 1600, 5);
 }

@@ -52,14 +52,12 @@ std::uint64_t slot_invocations(std::uint64_t slots) {
   return (slots + SVA_SLOTS_PER_INVOCATION - 1) / SVA_SLOTS_PER_INVOCATION;
 }
 
-GpuBelief::GpuBelief(GpuBeliefKernels& kernels, double eps, Emptied emptied)
+GpuBelief::GpuBelief(GpuBeliefKernels& kernels, double eps)
     : k_(&kernels),
       eps_units_(belief_math::eps_units(eps)),
       mass_bits_(belief_math::mass_bits(kernels.space->bins_per_object())),
       // sva_exp2_neg_units(d, mass_bits) is 0 from d = (mass_bits + 1) 2^32 on (as backends/cpu/belief.cpp).
-      band_width_((std::uint64_t{mass_bits_} + 1) << 32) {
-  if (emptied == Emptied::now) reset();
-}
+      band_width_((std::uint64_t{mass_bits_} + 1) << 32) {}
 
 std::uint64_t GpuBelief::bytes_at(std::uint64_t bins, std::uint32_t objects) {
   const std::uint64_t slots = std::bit_ceil(std::max<std::uint64_t>(2 * bins, 64));

@@ -45,10 +45,9 @@ struct GpuBeliefKernels {
 
 class GpuBelief final : public BeliefState {
  public:
-  // A new belief empties its table at once (a submission), or `later`: by the reset_all its maker runs next for
-  // many new beliefs at once (VoteBackend::make_beliefs). Until then it must not be used.
-  enum class Emptied { now, later };
-  GpuBelief(GpuBeliefKernels& kernels, double eps, Emptied emptied = Emptied::now);
+  // A new belief is empty once its maker has run reset_all on it, with the other new beliefs of a batch in one
+  // submission (VoteBackend::make_beliefs; one each was a round trip per session). Until then it must not be used.
+  GpuBelief(GpuBeliefKernels& kernels, double eps);
 
   void reset() override;
   // reset() of many beliefs of one backend (a batch's group), all in one submission.

@@ -53,7 +53,6 @@ class MemoryPool {
   std::uint64_t allocations() const;       // vkAllocateMemory calls that succeeded so far
   std::uint32_t live_allocations() const;  // blocks and allocations of their own held now
   std::uint64_t held_bytes() const;        // the bytes those hold
-  std::uint32_t max_allocations() const { return options_.max_allocations; }
 
  private:
   struct Block {

@@ -101,8 +101,7 @@ class VulkanVoteBackend final : public VoteBackend {
   }
 
   std::unique_ptr<BeliefState> make_belief(const PoseSpace& space, double eps) override {
-    if (&space != &space_) throw Error("vulkan backend: a belief must use the backend's pose space");
-    return std::make_unique<GpuBelief>(beliefs_, eps);
+    return std::move(make_beliefs(space, eps, 1).front());
   }
 
   std::vector<std::unique_ptr<BeliefState>> make_beliefs(const PoseSpace& space, double eps, std::size_t n) override {
@@ -110,7 +109,7 @@ class VulkanVoteBackend final : public VoteBackend {
     std::vector<std::unique_ptr<BeliefState>> made;
     std::vector<GpuBelief*> fresh;
     for (std::size_t i = 0; i < n; ++i) {
-      auto b = std::make_unique<GpuBelief>(beliefs_, eps, GpuBelief::Emptied::later);
+      auto b = std::make_unique<GpuBelief>(beliefs_, eps);
       fresh.push_back(b.get());
       made.push_back(std::move(b));
     }

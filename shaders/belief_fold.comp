@@ -89,7 +89,8 @@ void track_slot(uint i, uint64_t bin, uint s) {
   SvaWords state = session_state(s);
   uint best = sva_state_object(SVA_STATE_BEST_OFFSET, pc.objects, object);
   if (offset == state.w[best]) atomicMin(state.w[sva_state_object(SVA_STATE_BEST_KEY, pc.objects, object)], bin);
-  if (state.w[SVA_STATE_MAX] - offset < band_width())
+  uint64_t band_floor = uint64_t(sessions[s].floor_lo) | (uint64_t(sessions[s].floor_hi) << 32);
+  if (sva_on_band(state.w[SVA_STATE_MAX], offset, band_width(), band_floor))
     sva_band_join(state, sva_table_marks(sessions[s].table_lo, sessions[s].table_hi, capacity),
                   SvaWords32(sva_address(sessions[s].band_lo, sessions[s].band_hi)), sessions[s].band_capacity, slot);
   clear_slot(i);

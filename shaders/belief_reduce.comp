@@ -7,7 +7,8 @@
 //  MASS:    per band entry of the current side: a bin still in the band adds
 //           sva_exp2_neg_units(M - offset) to its object's mass and counts in
 //           the histogram of distances below M (top-k), and moves to the other
-//           side; a bin that fell out of the band loses its mark;
+//           side; a bin that fell out of the band loses its mark (the band:
+//           sva_on_band, within the band width or at or above its floor);
 //  FLIP:    one invocation: the other side becomes the current one;
 //  SELECT:  the band's bins whose distance bucket is at most select_bucket,
 //           appended to the candidate list (the host sorts the few it gets);
@@ -20,7 +21,9 @@
 //  TABLE_HISTOGRAM, TABLE_SELECT: the histogram and the selection over every
 //           slot, for a top-k that reaches past the band (an estimate's
 //           next modes on a sharp belief): two passes and a few hundred
-//           words back, where the whole table would cross the bus.
+//           words back, where the whole table would cross the bus. Once a
+//           session, in practice: the band's floor then keeps those bins on
+//           the list (sva_on_band).
 // Integer sums, so the results equal the CPU reference's
 // (host/src/backends/cpu/belief.cpp) whatever the order.
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require
@@ -43,6 +46,7 @@ SvaWords state() { return SvaWords(sva_address(pc.state_lo, pc.state_hi)); }
 SvaWords32 band() { return SvaWords32(sva_address(pc.band_lo, pc.band_hi)); }
 SvaWords32 marks() { return sva_table_marks(pc.table_lo, pc.table_hi, pc.capacity); }
 uint64_t band_width() { return uint64_t(pc.band_width_lo) | (uint64_t(pc.band_width_hi) << 32); }
+uint64_t band_floor() { return uint64_t(pc.floor_lo) | (uint64_t(pc.floor_hi) << 32); }
 
 // Entry i of the current side of the band list, or capacity when past its end.
 uint band_entry(uint i) {
@@ -56,13 +60,16 @@ void mass_entry(uint i) {
   if (slot == pc.capacity) return;
   SvaWords st = state();
   uint64_t key = sva_table_keys(pc.table_lo, pc.table_hi).w[slot];
-  uint64_t d = st.w[SVA_STATE_MAX] - sva_table_offsets(pc.table_lo, pc.table_hi, pc.capacity).w[slot];
-  if (d >= band_width()) {
+  uint64_t offset = sva_table_offsets(pc.table_lo, pc.table_hi, pc.capacity).w[slot];
+  if (!sva_on_band(st.w[SVA_STATE_MAX], offset, band_width(), band_floor())) {
     atomicAnd(marks().w[slot >> 5], ~(1u << (slot & 31u)));
     return;
   }
+  uint64_t d = st.w[SVA_STATE_MAX] - offset;
   uint object = uint(key >> pc.object_shift);
-  atomicAdd(st.w[sva_state_object(SVA_STATE_MASS, pc.objects, object)], sva_exp2_neg_units(d, pc.mass_bits));
+  // A bin on the list by the floor alone has mass 0 (past the band width): it adds nothing.
+  if (d < band_width())
+    atomicAdd(st.w[sva_state_object(SVA_STATE_MASS, pc.objects, object)], sva_exp2_neg_units(d, pc.mass_bits));
   atomicAdd(st.w[sva_state_bucket(pc.objects, sva_distance_bucket(d))], 1ul);
   uint other = 1u - uint(st.w[SVA_STATE_BAND_SIDE]);
   uint n = uint(atomicAdd(st.w[SVA_STATE_NEXT_COUNT], 1ul));  // <= the current side's entries: fits
@@ -154,7 +161,8 @@ void rebuild_slot(uint slot) {
   if (slot >= pc.capacity) return;
   if (sva_table_keys(pc.table_lo, pc.table_hi).w[slot] == SVA_HASH_EMPTY_KEY) return;
   uint64_t offset = sva_table_offsets(pc.table_lo, pc.table_hi, pc.capacity).w[slot];
-  if (state().w[SVA_STATE_MAX] - offset < band_width()) sva_band_join(state(), marks(), band(), pc.band_capacity, slot);
+  if (sva_on_band(state().w[SVA_STATE_MAX], offset, band_width(), band_floor()))
+    sva_band_join(state(), marks(), band(), pc.band_capacity, slot);
 }
 
 void main() {

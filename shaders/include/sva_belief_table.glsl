@@ -32,6 +32,13 @@ uint sva_state_table_bucket(uint objects, uint b) { return sva_state_bucket(obje
 #define SVA_STATE_RAISED 3u
 #define SVA_STATE_MASS 4u
 
+// Whether a bin belongs on the band list, with the maximum `max`: within the band width below it (its mass is not
+// 0), or at or above the band's floor (sva_gpu_layout.h). Both are bounds on M - offset at one M, so the list holds
+// every bin nearer M than some distance: the best k bins wherever it holds k.
+bool sva_on_band(uint64_t max, uint64_t offset, uint64_t band_width, uint64_t band_floor) {
+  return max - offset < band_width || offset >= band_floor;
+}
+
 // Puts table slot `slot` on the band list unless its mark says it is there:
 // one append per bin however many invocations find it. A full side raises
 // BAND_LOST (the host rebuilds the list larger before the estimate reads it).

@@ -104,6 +104,7 @@ struct SvaGpuSession {
   uint state_lo, state_hi;
   uint band_lo, band_hi;
   uint band_capacity;  // entries per side of the band list
+  uint floor_lo, floor_hi;  // the band's floor (sva_on_band; SVA_NO_FLOOR: none)
   uint pad0;
 };
 
@@ -137,7 +138,11 @@ struct SvaFoldParams {
 // the fold because offsets only grow: the maximum M, each object's touched
 // bins, best offset and smallest key at it, and the *band* list of the bins
 // within the band width of M (the only ones whose mass 2^(offset - M) at
-// mass_bits is not 0, see backends/cpu/belief.hpp). The band list has two
+// mass_bits is not 0, see backends/cpu/belief.hpp) or at or above the band's
+// floor (the estimate's k-th best offset, kept by the host: sva_on_band). The
+// floor is an offset, not a distance below M: a bin above it stays above it,
+// so the list keeps holding the best k bins however far the maximum runs
+// ahead, and a selection of them needs no pass over the table. The band list has two
 // sides: the estimate compacts the current side into the other, dropping
 // bins that fell out of the band, then flips. Then per object, written by
 // the estimate: the mass; and the histogram of distances below M of the
@@ -152,6 +157,7 @@ struct SvaFoldParams {
 #define SVA_STATE_TABLE_BUCKET 7   // and SVA_REDUCE_TABLE_BUCKET for a TABLE_SELECT (when the band held too few)
 #define SVA_STATE_OBJECTS 8      // then touched[o], best_offset[o], best_key[o], raised[o], mass[o]
 #define SVA_STATE_ARRAYS 5
+#define SVA_NO_FLOOR_WORD 0xffffffffu  // both words of a band without a floor (no offset reaches 2^64 - 1)
 #define SVA_BELIEF_BUCKETS 1025  // 0 for d = 0, then 16 per bit of the highest set bit of d
 // After the band's histogram, the whole table's (SVA_REDUCE_TABLE_HISTOGRAM), as many words.
 
@@ -183,6 +189,7 @@ struct SvaReduceParams {
   uint band_lo, band_hi;       // the band list: two sides of band_capacity slot indices
   uint band_capacity;
   uint band_width_lo, band_width_hi;
+  uint floor_lo, floor_hi;     // the band's floor (sva_on_band)
 };
 #define SVA_REDUCE_MASS 0u     // per band entry: object masses, distance histogram, compaction
 #define SVA_REDUCE_FLIP 1u     // one invocation: the compacted side becomes the current one

@@ -100,6 +100,7 @@ void GpuBelief::reset_all(std::span<GpuBelief* const> beliefs) {
     b->band_stale_ = false;
     b->count_ = 0;
     b->pairs_ = 0;
+    b->drop_floor();
     b->forget_cache();
   }
 }
@@ -179,7 +180,10 @@ bool GpuBelief::adopt(Move& m) {
   // harmlessly (the rebuild starts it afresh). A move that forgot no bin keeps what was read: the same bins, the
   // same offsets (a batch's reads ahead, made before its tables grew).
   band_stale_ = true;
-  if (m.forget) forget_cache();
+  if (m.forget) {
+    forget_cache();
+    drop_floor();  // the bins above it may be gone: it no longer holds its k
+  }
   return true;
 }
 
@@ -274,6 +278,8 @@ gpu::SvaReduceParams GpuBelief::reduce_params(std::uint32_t pass) const {
   p.band_capacity = band_capacity_;
   p.band_width_lo = lo(band_width_);
   p.band_width_hi = hi(band_width_);
+  p.floor_lo = lo(floor_);
+  p.floor_hi = hi(floor_);
   return p;
 }
 
@@ -408,7 +414,10 @@ void GpuBelief::add_selection_ahead(std::size_t k, std::vector<vk::Dispatch>* ds
   fills->push_back(select_fill());
   // The count is the device's choice: the room comes back, of which the host reads what the count says.
   gpu::add_mirror_read(*k_->ctx, candidates_, candidates_mirror_, room * 2 * sizeof(std::uint64_t), reads);
-  if (!passes_over_table()) return;  // a CPU device reads its table on the host instead
+  // A CPU device reads its table on the host instead. Where the band's floor holds k bins or more, so does the list:
+  // no pass over the table's slots (on a sharp belief they were most of an update's device time).
+  table_ahead_ = passes_over_table() && (floor_ == kNoFloor || floor_k_ < k);
+  if (!table_ahead_) return;
   // Where the band holds fewer than k bins (a sharp belief asked for its next modes): the table's histogram and its
   // selection, each pass a no-op elsewhere.
   fills->push_back(table_histogram_fill());
@@ -424,8 +433,7 @@ void GpuBelief::add_selection_ahead(std::size_t k, std::vector<vk::Dispatch>* ds
 
 void GpuBelief::keep_selection_ahead(std::size_t k) const {
   auto [bucket, n] = bucket_holding(histogram_, k);
-  if (bucket == SVA_BELIEF_BUCKETS && passes_over_table())
-    std::tie(bucket, n) = bucket_holding(read_table_histogram(), k);
+  if (bucket == SVA_BELIEF_BUCKETS && table_ahead_) std::tie(bucket, n) = bucket_holding(read_table_histogram(), k);
   // Past every bucket, or more candidates than the room: best_bins' own ways (read_best_ahead, or alone).
   if (bucket == SVA_BELIEF_BUCKETS || n > selection_room(k)) return;
   keep_best(read_candidates(n), k);
@@ -444,6 +452,7 @@ void GpuBelief::read_summaries(std::vector<const GpuBelief*> pending, std::size_
     // the device (the BUCKET pass): the summary and the best bins in one round trip, where they took two.
     const auto asked = [k](const GpuBelief* b) { return std::min(k, b->count_); };
     for (std::size_t i = 0; i < pending.size(); ++i) {
+      pending[i]->take_floor();
       pending[i]->add_rebuild_if_stale(&ds[i], &fills);
       pending[i]->add_summary_reads(asked(pending[i]), &ds[i], &fills, &reads);
     }
@@ -491,6 +500,7 @@ bool GpuBelief::add_reads_after_fold(std::vector<vk::Dispatch>* ds, std::vector<
   // selection's count), or, where the table moved since the list was built, the list itself (the same list: no new
   // buffer to name), which the fold then joins afresh and the REBUILD pass after it completes (the marks keep each bin
   // on it once).
+  take_floor();
   add_rebuild_if_stale(ds, fills);
   add_summary_reads(ahead_k_, ds, fills, reads);
   keys_chosen_ = ahead_keys_.on && add_key_choice(ds, reads);
@@ -660,7 +670,42 @@ std::vector<BinOffset> GpuBelief::keep_best(std::vector<BinOffset> out, std::siz
   out.resize(k);
   kept_best_ = out;
   kept_asked_ = k;
+  keep_floor(out);
   return out;
+}
+
+void GpuBelief::keep_floor(std::span<const BinOffset> best) const {
+  const std::size_t k = best.size();
+  // Every bin (a floor would put the whole table on the list), or fewer than the floor holds: nothing to learn.
+  if (k < 2 || k >= count_ || k < next_floor_k_ || !summary_cache_) return;
+  const std::uint64_t f = best.back().offset;
+  next_floor_ = f;
+  next_floor_k_ = k;
+  // At once where nothing changes on the list: a lower floor whose bins are all within the band width of the
+  // maximum the list was compacted at (on it already; a rebuild now would make the same list). A higher floor waits
+  // for the next MASS pass, which drops the bins below it: a rebuild before then (a table that moved) would leave
+  // the list shorter than the histogram that the selections count.
+  if (f < floor_ && summary_cache_->max_offset - f < band_width_) {
+    floor_ = f;
+    floor_k_ = k;
+  }
+}
+
+void GpuBelief::take_floor() const {
+  if (next_floor_ == floor_) {
+    floor_k_ = next_floor_k_;
+    return;
+  }
+  // A lower floor puts bins on the list that no fold joined: a rebuild from the table (once a session, where its
+  // belief first grew sharper than its band; later floors rise with its best bins).
+  if (next_floor_ < floor_) band_stale_ = true;
+  floor_ = next_floor_;
+  floor_k_ = next_floor_k_;
+}
+
+void GpuBelief::drop_floor() const {
+  floor_ = next_floor_ = kNoFloor;
+  floor_k_ = next_floor_k_ = 0;
 }
 
 std::vector<BinOffset> GpuBelief::select_best(std::size_t k) const {

@@ -72,8 +72,14 @@ class GpuBelief final : public BeliefState {
   VkDeviceAddress state_address() const { return state_.device_address(); }
   VkDeviceAddress band_address() const { return band_.device_address(); }
   std::uint32_t band_capacity() const { return band_capacity_; }
-  // A bin is in the band when M - offset < band_width() (belief units).
+  // A bin is on the band list when M - offset < band_width() (belief units), or when its offset is at least
+  // band_floor() (sva_on_band).
   std::uint64_t band_width() const { return band_width_; }
+  // The band's floor: the offset of the k-th best bin of the last selection of k bins (k as large as any asked
+  // since), so that the list keeps the best k bins when the belief grows sharp and a later selection of them reads
+  // the list, not every slot of the table. kNoFloor: none yet.
+  std::uint64_t band_floor() const { return floor_; }
+  static constexpr std::uint64_t kNoFloor = ~std::uint64_t{0};
   // Records a fold pass: `inserted` new keys; `folded` more pairs.
   void record(std::uint64_t inserted, std::size_t folded);
   // Moves the table into one of at least `slots` slots (a power of two).
@@ -199,6 +205,14 @@ class GpuBelief final : public BeliefState {
   vk::Fill table_histogram_fill() const;
   // The belief changed: its summary and best bins are to be read again.
   void forget_cache() const;
+  // After a selection of the best k bins (`best`, best first; the summary current): the band's next floor, at the
+  // k-th best offset. It takes effect at once where every bin above it is on the list already; else at the next
+  // MASS pass (take_floor), with the list rebuilt where it comes down.
+  void keep_floor(std::span<const BinOffset> best) const;
+  // The next floor in effect, before a submission's rebuild and MASS pass: a lower one makes the list stale.
+  void take_floor() const;
+  // No floor (a new or reset session, or bins forgotten).
+  void drop_floor() const;
   // best_bins without the kept answer: the k best bins from the device.
   std::vector<BinOffset> select_best(std::size_t k) const;
   // The first bucket whose cumulative count reaches k, and that count (SVA_BELIEF_BUCKETS when none does).
@@ -255,6 +269,11 @@ class GpuBelief final : public BeliefState {
   vk::Buffer keep_;         // forget_below's kept keys
   vk::Buffer move_status_;  // a move's rehash: nonzero when a probe ran too long (one word, kept between moves)
   std::uint32_t keep_count_ = 0;
+  // The band's floor in effect (the passes' and the fold's), the number of best bins it holds, and the next ones.
+  mutable std::uint64_t floor_ = kNoFloor, next_floor_ = kNoFloor;
+  mutable std::size_t floor_k_ = 0, next_floor_k_ = 0;
+  // Whether the update's submission selected past the band (its table's histogram read with the band's).
+  mutable bool table_ahead_ = false;
   mutable std::optional<BeliefSummary> summary_cache_;
   // best_bins' last answer (the best kept_asked_ bins), until the belief changes.
   mutable std::vector<BinOffset> kept_best_;

@@ -511,16 +511,10 @@ class VulkanVoteBackend final : public VoteBackend {
     auto* st = session_status_.as<gpu::SvaGpuSessionStatus>();
     for (std::size_t s = 0; s < S; ++s) {
       const GpuBelief& b = *beliefs[s];
-      sess[s] = {gpu::lo(b.address()),
-                 gpu::hi(b.address()),
-                 b.capacity(),
-                 fold.pending[s] ? 1u : 0u,
-                 gpu::lo(b.state_address()),
-                 gpu::hi(b.state_address()),
-                 gpu::lo(b.band_address()),
-                 gpu::hi(b.band_address()),
-                 b.band_capacity(),
-                 0u};
+      sess[s] = {gpu::lo(b.address()),      gpu::hi(b.address()),       b.capacity(),
+                 fold.pending[s] ? 1u : 0u, gpu::lo(b.state_address()), gpu::hi(b.state_address()),
+                 gpu::lo(b.band_address()), gpu::hi(b.band_address()),  b.band_capacity(),
+                 gpu::lo(b.band_floor()),   gpu::hi(b.band_floor()),    0u};
       st[s] = {};
     }
     std::memset(pair_totals_.data(), 0, 2 * P * sizeof(std::uint64_t));

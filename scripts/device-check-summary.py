@@ -105,9 +105,9 @@ def header(files):
     return out
 
 
-def one_session(files):
-    r = run_of(bench(files, "vulkan"), 1)
-    out = ["", "## One session (bench-vulkan)", ""]
+def one_session(files, name="vulkan", title="One session"):
+    r = run_of(bench(files, name), 1)
+    out = ["", f"## {title} (bench-{name})", ""]
     if r is None:
         return out + ["not run"]
     out += [f"device: {r.get('device')}", "",
@@ -191,7 +191,9 @@ def main(argv):
         return 0 if len(argv) == 2 else 2
     try:
         files = read_check(argv[1])
-        lines = header(files) + one_session(files) + batches(files) + cpu_scaling(files)
+        lines = (header(files) + one_session(files) +
+                 one_session(files, "vulkan-light", "One session, light estimates") + batches(files) +
+                 cpu_scaling(files))
     except CheckError as e:
         print(f"device-check-summary: {e}", file=sys.stderr)
         return 1

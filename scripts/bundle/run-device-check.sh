@@ -4,6 +4,7 @@
 #   2. the agreement tests first, whose printed lines locate a disagreement with the CPU reference (agreement.txt);
 #   3. the whole test suite, areas in parallel, while paper3d is simulated and its map trained (suite.txt);
 #   4. sva bench on paper3d: the Vulkan backend one session at a time (10, 30, 100 readings, 3 trials), the same
+#      with light estimates (a robot's touch without the host's fits), the same
 #      with 3 hypotheses per estimate as sva recognize asks (10 and 30 readings: the modes' path), then 64 per
 #      submission (10 and 30 readings; again with light estimates, no host fits; again with a likelihood cut-off of
 #      0.2, fewer votes; again with its tables warm, as a long study's later groups find them; then to 10 readings
@@ -17,7 +18,7 @@
 #      (on a host of 16 cores or more: a GPU machine); each cut at the budget's end;
 #      last: sva recognize of 512 sessions with one group in flight and with two (the double buffering), wall
 #      times and whether the results are the same bytes (recognize-in-flight.txt).
-# The per-test logs and the benchmarks' JSON go into details.tgz: 17 files in all, 21 on a host of 16 cores.
+# The per-test logs and the benchmarks' JSON go into details.tgz: 18 files in all, 22 on a host of 16 cores.
 #
 #   run-device-check.sh OUT_DIR [SECONDS]    SECONDS: the budget for all of it (default 480)
 # Environment: VK_DRIVER_FILES (the caller's ICD, kept), WORK (paper3d's data and map, default OUT_DIR/paper3d:
@@ -182,6 +183,9 @@ bench() {  # NAME SHARE-OF-WHAT-IS-LEFT sva-bench-options...
 [[ -f $work/map.svam ]] || { echo "no paper3d map in $work: no benchmark" >&2; suite_failed=$((suite_failed + 1)); }
 if [[ -f $work/map.svam ]]; then
   bench vulkan 40 --backend vulkan --trials 3 --batch 0 --readings 10,30,100
+  # One session with light estimates (the belief's answer after every touch, the host fitting nothing): against issue
+  # 52's 1.5 and 4 ms a touch, now that a sharp belief's best bins are read from its band list (the band's floor).
+  bench vulkan-light 8 --backend vulkan --trials 3 --batch 0 --readings 10,30,100 --estimate light
   bench vulkan-top3 15 --backend vulkan --trials 3 --batch 0 --readings 10,30 --top-k 3
   # The same with a camera's pose prior per session: est. subm. shows whether the device's key choice under a prior
   # keeps a robot's touch to one round trip, as lavapipe's tests say.

@@ -25,7 +25,7 @@ tail -n 1 run.txt | grep -q ', 0 skipped$' || { echo "bundle: tests were skipped
 WORK="$tmp/p3d" AREAS=io SIM_ARGS="--train 30 --test 12" ARCHIVE="$tmp/check.tgz" env -u LD_LIBRARY_PATH \
   "$tmp/bundle/run-device-check.sh" "$tmp/check" 150 >check.txt 2>&1 || { cat check.txt; exit 1; }
 tail -n 1 check.txt
-for f in device.txt agreement.txt suite.txt bench-vulkan.txt bench-vulkan-top3.txt bench-vulkan-top3-prior.txt \
+for f in device.txt agreement.txt suite.txt bench-vulkan.txt bench-vulkan-light.txt bench-vulkan-top3.txt bench-vulkan-top3-prior.txt \
   bench-vulkan-batch-light.txt bench-vulkan-batch-cut.txt bench-vulkan-batch-warm.txt bench-vulkan-batch-untimed.txt bench-vulkan-batch-serial.txt estimate-span.txt update-span.txt \
   batch-span.txt bench-cpu.txt details.tgz; do
   [[ -s $tmp/check/$f ]] || { cat check.txt; echo "bundle: run-device-check.sh wrote no $f" >&2; exit 1; }

@@ -57,6 +57,10 @@ benches = {
                                 point(100, update_ms=3.0, estimate_ms=2.0, accuracy=1.0, translation_error_mm=0.4,
                                       votes_per_update=4e6,
                                       kernel_ms_by_pipeline={"match_votes": {"dispatches": 1, "ms": 1.0}})])]},
+    # One session with light estimates: 0.9 + 0.3 ms at 30 readings (met), 2.5 + 0.5 at 100 (met).
+    "vulkan-light": {"runs": [run(1, [point(30, update_ms=0.9, estimate_ms=0.3, accuracy=1.0, translation_error_mm=0.7),
+                                      point(100, update_ms=2.5, estimate_ms=0.5, accuracy=1.0,
+                                            translation_error_mm=0.6)])]},
     # 64 sessions: at 10 readings 0.05 + 0.04 ms a session (11,111/s: met), at 30 0.2 + 0.05 (4,000/s: not met).
     "vulkan-batch": {"runs": [run(1, []), run(64, [point(10, update_ms=0.05, estimate_ms=0.04,
                                                          session_updates_per_second=20000.0),
@@ -80,6 +84,8 @@ check(rc == 0, f"the full check: rc {rc}, {err}")
 for line in ["- agreement: 5 passed, 1 failed, 0 skipped", "- suite: 21 passed, 0 failed, 0 skipped",
              "| 30 | 1 | 0.4 | 1.4 | <= 1.5 (met) | 1 | 0.5 |", "| 100 | 3 | 2 | 5 | <= 4.0 (not met) | 1 | 0.4 |",
              "4e+09 votes/s, goal >= 3e+09 at 100 (met)",
+             "## One session, light estimates (bench-vulkan-light)", "| 30 | 0.9 | 0.3 | 1.2 | <= 1.5 (met) | 1 | 0.7 |",
+             "| 100 | 2.5 | 0.5 | 3 | <= 4.0 (met) | 1 | 0.6 |",
              "| vulkan-batch (64) | 10 | 2e+04 | 1.11e+04 | >= 10,000 (met) |",
              "| vulkan-batch (64) | 30 | 5e+03 | 4e+03 | >= 10,000 (not met) |",
              "one session at 30 readings: 8 threads 8 ms, 16 threads 5 ms: 1.6x, goal >= 1.6x (met)",
@@ -100,6 +106,7 @@ make_check(folder, 2, {"vulkan": benches["vulkan"]}, {"batch-span.txt": texts["b
 rc, out, err = summary(folder)
 check(rc == 0, f"the 2-core check: rc {rc}, {err}")
 for line in ["- agreement: not run", "| not run |", "16 against 8 threads: not run",
+             "## One session, light estimates (bench-vulkan-light)\n\nnot run",
              "the host has 2 cores, so its 16 threads measure nothing of the goal"]:
     check(line in out, f"the 2-core summary lacks {line!r}:\n{out}")
 check("8.00x" not in out, "a 2-core host's 16 threads counted as the goal's measurement")

@@ -665,20 +665,26 @@ std::vector<BinOffset> GpuBelief::keep_best(std::vector<BinOffset> out, std::siz
   const auto best_first = [](const BinOffset& a, const BinOffset& b) {
     return a.offset != b.offset ? a.offset > b.offset : a.key < b.key;
   };
+  keep_floor(out, k);
   k = std::min(k, out.size());
   std::partial_sort(out.begin(), out.begin() + static_cast<std::ptrdiff_t>(k), out.end(), best_first);
   out.resize(k);
   kept_best_ = out;
   kept_asked_ = k;
-  keep_floor(out);
   return out;
 }
 
-void GpuBelief::keep_floor(std::span<const BinOffset> best) const {
-  const std::size_t k = best.size();
-  // Every bin (a floor would put the whole table on the list), or fewer than the floor holds: nothing to learn.
-  if (k < 2 || k >= count_ || k < next_floor_k_ || !summary_cache_) return;
-  const std::uint64_t f = best.back().offset;
+void GpuBelief::keep_floor(std::span<const BinOffset> candidates, std::size_t asked) const {
+  // The floor holds as many bins as any selection asked since it was dropped: a smaller one that found that many
+  // candidates raises it too (a light estimate's after a full one's), else risers would pile up on the list.
+  const std::size_t k = std::max(asked, next_floor_k_);
+  // Every bin (a floor would put the whole table on the list), or fewer candidates than k: nothing to learn.
+  if (k < 2 || k >= count_ || candidates.size() < k || !summary_cache_) return;
+  std::vector<std::uint64_t> offsets(candidates.size());
+  std::transform(candidates.begin(), candidates.end(), offsets.begin(), [](const BinOffset& b) { return b.offset; });
+  std::nth_element(offsets.begin(), offsets.begin() + static_cast<std::ptrdiff_t>(k - 1), offsets.end(),
+                   std::greater<>());
+  const std::uint64_t f = offsets[k - 1];
   next_floor_ = f;
   next_floor_k_ = k;
   // At once where nothing changes on the list: a lower floor whose bins are all within the band width of the

@@ -205,10 +205,11 @@ class GpuBelief final : public BeliefState {
   vk::Fill table_histogram_fill() const;
   // The belief changed: its summary and best bins are to be read again.
   void forget_cache() const;
-  // After a selection of the best k bins (`best`, best first; the summary current): the band's next floor, at the
-  // k-th best offset. It takes effect at once where every bin above it is on the list already; else at the next
-  // MASS pass (take_floor), with the list rebuilt where it comes down.
-  void keep_floor(std::span<const BinOffset> best) const;
+  // After a selection of the best `asked` bins from `candidates` (every bin nearer the maximum than some distance: a
+  // band's or a table's buckets up to one, or the whole table; the summary current): the band's next floor, at the
+  // k-th best offset, k the most bins asked since it was dropped. It takes effect at once where every bin above it is
+  // on the list already; else at the next MASS pass (take_floor), with the list rebuilt where it comes down.
+  void keep_floor(std::span<const BinOffset> candidates, std::size_t asked) const;
   // The next floor in effect, before a submission's rebuild and MASS pass: a lower one makes the list stale.
   void take_floor() const;
   // No floor (a new or reset session, or bins forgotten).

@@ -104,7 +104,9 @@ struct SvaGpuSession {
   uint state_lo, state_hi;
   uint band_lo, band_hi;
   uint band_capacity;  // entries per side of the band list
-  uint floor_lo, floor_hi;  // the band's floor (sva_on_band; SVA_NO_FLOOR: none)
+  // The band's floor (sva_on_band); all ones: none (no offset reaches
+  // 2^64 - 1).
+  uint floor_lo, floor_hi;
   uint pad0;
 };
 
@@ -142,8 +144,8 @@ struct SvaFoldParams {
 // floor (the estimate's k-th best offset, kept by the host: sva_on_band). The
 // floor is an offset, not a distance below M: a bin above it stays above it,
 // so the list keeps holding the best k bins however far the maximum runs
-// ahead, and a selection of them needs no pass over the table. The band list has two
-// sides: the estimate compacts the current side into the other, dropping
+// ahead, and a selection of them needs no pass over the table. The band list
+// has two sides: the estimate compacts the current side into the other, dropping
 // bins that fell out of the band, then flips. Then per object, written by
 // the estimate: the mass; and the histogram of distances below M of the
 // band's bins (bucket = sva_distance_bucket(d)).
@@ -157,7 +159,6 @@ struct SvaFoldParams {
 #define SVA_STATE_TABLE_BUCKET 7   // and SVA_REDUCE_TABLE_BUCKET for a TABLE_SELECT (when the band held too few)
 #define SVA_STATE_OBJECTS 8      // then touched[o], best_offset[o], best_key[o], raised[o], mass[o]
 #define SVA_STATE_ARRAYS 5
-#define SVA_NO_FLOOR_WORD 0xffffffffu  // both words of a band without a floor (no offset reaches 2^64 - 1)
 #define SVA_BELIEF_BUCKETS 1025  // 0 for d = 0, then 16 per bit of the highest set bit of d
 // After the band's histogram, the whole table's (SVA_REDUCE_TABLE_HISTOGRAM), as many words.
 

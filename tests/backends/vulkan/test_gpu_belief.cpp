@@ -504,3 +504,47 @@ TEST_CASE("GPU beliefs: tables grow together in one submission, and one that doe
   CHECK(beliefs[0]->capacity() == 1024);
   CHECK(beliefs[1]->capacity() == 8192);
 }
+
+TEST_CASE("GPU beliefs: light estimates after a full one bring the band list back to the band") {
+  // A robot's session asks for its 64 best bins once, then for the best alone after each touch (the summary holds
+  // it). The floor that first selection kept no longer rises with the best bins: bins climbing above it piled up on
+  // the list, thousands within twenty updates, each pass of the fold reading them all. Two light estimates in a row
+  // drop it: the list comes back to the band. Updates without an estimate keep it (dropping it would cost the next
+  // full estimate a pass over the table): that one raises it, and the list comes back to its 64 bins.
+  test::WorldSpec spec;
+  auto w = test::make_world(spec);
+  PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));
+  VulkanBackendOptions vo;
+  vo.force_staging = true;
+  const bool light_between = GENERATE(true, false);  // else no estimate between the two full ones
+  INFO((light_between ? "light estimates" : "no estimates") << " between full ones");
+  Twin t(w, space, 1, {}, {}, vo);
+  const auto& g = dynamic_cast<const GpuBelief&>(t.fg[0]->belief());
+  const BeliefState& c = t.fc[0]->belief();
+  const GpuBelief* one[] = {&g};
+  const RigidPose pose = test::random_pose(71, 150.0);
+  for (int r = 0; r < 20; ++r) {
+    t.add({test::observe(w.objects[1][static_cast<std::size_t>(r * 7 + 4) % w.objects[1].size()], pose)});
+    const bool full = r == 3 || r == 14;
+    const std::vector<BinOffset> table = c.table();
+    const std::uint64_t m = c.summarise().max_offset;
+    std::size_t in_band = 0;
+    for (const BinOffset& b : table) in_band += m - b.offset < g.band_width() ? 1 : 0;
+    INFO("update " << r << ": list " << g.band_keys().size() << ", " << in_band << " bins in the band of "
+                   << table.size());
+    const bool after_full = r == 4 || r == 15;  // the floor a full estimate kept, in effect from the next MASS pass
+    if (after_full || (!light_between && r > 4 && r < 14)) CHECK(g.band_floor() != GpuBelief::kNoFloor);
+    if (light_between && ((r >= 7 && r < 14) || r >= 18)) {
+      CHECK(g.band_floor() == GpuBelief::kNoFloor);
+      CHECK(g.band_keys().size() <= in_band + 8);
+    }
+    if (r == 15) CHECK(g.band_keys().size() <= in_band + 64 + 8);  // the second full estimate's floor
+    if (full || light_between) {
+      const std::size_t k = full ? 64 : 1;
+      GpuBelief::read_ahead(one, k);
+      CHECK(g.best_bins(k) == c.best_bins(k));
+    }
+  }
+  t.require_same(0);
+  CHECK(t.gpu->statistics().validation_messages == 0);
+}

@@ -133,6 +133,11 @@ std::vector<vk::Fill> GpuBelief::prepare_reset() {
 void GpuBelief::record(std::uint64_t inserted, std::size_t folded) {
   count_ += inserted;
   pairs_ += folded;
+  if (folded > 0) {
+    // An estimate asked for fewer bins than the floor holds (a light one after a full one): no selection raised it.
+    if (asked_since_fold_ > 0 && asked_since_fold_ < next_floor_k_) ++floor_age_;
+    asked_since_fold_ = 0;
+  }
   forget_cache();
 }
 
@@ -483,6 +488,7 @@ void GpuBelief::read_ahead(std::span<const GpuBelief* const> beliefs, std::size_
     if (b->k_ != beliefs.front()->k_)
       throw std::logic_error("GpuBelief::read_ahead: beliefs of two backends in one submission");
     b->ahead_k_ = std::max<std::size_t>(k, 1);  // the next update reads the same ahead
+    b->asked_since_fold_ = std::max(b->asked_since_fold_, b->ahead_k_);
     b->ahead_keys_ = i < keys.size() ? keys[i] : KeyChoice{};
   }
   std::vector<const GpuBelief*> unread;
@@ -653,6 +659,7 @@ void GpuBelief::forget_cache() const {
 std::vector<BinOffset> GpuBelief::best_bins(std::size_t k) const {
   k = std::min(k, count_);
   if (k == 0) return {};
+  asked_since_fold_ = std::max(asked_since_fold_, k);
   if (!summary_cache_) reduce();
   // An estimate asks for the best bins several times (top bins, modes, hypotheses, the surface check's objects),
   // each a selection pass and a round trip: the best `kept_asked_` stay until the belief changes, and a smaller k
@@ -687,6 +694,7 @@ void GpuBelief::keep_floor(std::span<const BinOffset> candidates, std::size_t as
   const std::uint64_t f = offsets[k - 1];
   next_floor_ = f;
   next_floor_k_ = k;
+  floor_age_ = 0;
   // At once where nothing changes on the list: a lower floor whose bins are all within the band width of the
   // maximum the list was compacted at (on it already; a rebuild now would make the same list). A higher floor waits
   // for the next MASS pass, which drops the bins below it: a rebuild before then (a table that moved) would leave
@@ -698,6 +706,15 @@ void GpuBelief::keep_floor(std::span<const BinOffset> candidates, std::size_t as
 }
 
 void GpuBelief::take_floor() const {
+  // Two estimates in a row asked for fewer bins than the floor holds (light ones after a full one, the best bin read
+  // from the summary): it no longer rises with the best bins, and the bins rising above it would pile up on the list.
+  // Dropped, it is a rise (the MASS pass leaves the band's bins only); a later full estimate passes over the table
+  // once. Updates without an estimate leave it: the next full one raises it, and the MASS pass drops the rest.
+  if (floor_age_ >= 2) {
+    next_floor_ = kNoFloor;
+    next_floor_k_ = 0;
+    floor_age_ = 0;
+  }
   if (next_floor_ == floor_) {
     floor_k_ = next_floor_k_;
     return;
@@ -712,6 +729,7 @@ void GpuBelief::take_floor() const {
 void GpuBelief::drop_floor() const {
   floor_ = next_floor_ = kNoFloor;
   floor_k_ = next_floor_k_ = 0;
+  floor_age_ = 0;
 }
 
 std::vector<BinOffset> GpuBelief::select_best(std::size_t k) const {

@@ -210,7 +210,8 @@ class GpuBelief final : public BeliefState {
   // k-th best offset, k the most bins asked since it was dropped. It takes effect at once where every bin above it is
   // on the list already; else at the next MASS pass (take_floor), with the list rebuilt where it comes down.
   void keep_floor(std::span<const BinOffset> candidates, std::size_t asked) const;
-  // The next floor in effect, before a submission's rebuild and MASS pass: a lower one makes the list stale.
+  // The next floor in effect, before a submission's rebuild and MASS pass: a lower one makes the list stale; none
+  // where two estimates in a row asked for fewer bins than it holds.
   void take_floor() const;
   // No floor (a new or reset session, or bins forgotten).
   void drop_floor() const;
@@ -273,6 +274,10 @@ class GpuBelief final : public BeliefState {
   // The band's floor in effect (the passes' and the fold's), the number of best bins it holds, and the next ones.
   mutable std::uint64_t floor_ = kNoFloor, next_floor_ = kNoFloor;
   mutable std::size_t floor_k_ = 0, next_floor_k_ = 0;
+  // Estimates in a row, one an update, that asked for fewer bins than the next floor holds since a selection last
+  // kept it (take_floor drops it at two), and the most bins best_bins or read_ahead was asked since the last fold.
+  mutable unsigned floor_age_ = 0;
+  mutable std::size_t asked_since_fold_ = 0;
   // Whether the update's submission selected past the band (its table's histogram read with the band's).
   mutable bool table_ahead_ = false;
   mutable std::optional<BeliefSummary> summary_cache_;

@@ -508,9 +508,9 @@ TEST_CASE("GPU beliefs: tables grow together in one submission, and one that doe
 TEST_CASE("GPU beliefs: light estimates after a full one bring the band list back to the band") {
   // A robot's session asks for its 64 best bins once, then for the best alone after each touch (the summary holds
   // it). The floor that first selection kept no longer rises with the best bins: bins climbing above it piled up on
-  // the list, thousands within twenty updates, each pass of the fold reading them all. Two light estimates in a row
-  // drop it: the list comes back to the band. Updates without an estimate keep it (dropping it would cost the next
-  // full estimate a pass over the table): that one raises it, and the list comes back to its 64 bins.
+  // the list, thousands within twenty updates, each estimate's summary pass reading them all. Two light estimates in
+  // a row drop it: the list comes back to the band. Updates without an estimate keep it (dropping it would cost the
+  // next full estimate a pass over the table): that one raises it, and the list comes back to its 64 bins.
   test::WorldSpec spec;
   auto w = test::make_world(spec);
   PoseSpace space(test::paper_space(), static_cast<std::uint32_t>(spec.objects));

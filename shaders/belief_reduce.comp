@@ -22,8 +22,9 @@
 //           slot, for a top-k that reaches past the band (an estimate's
 //           next modes on a sharp belief): two passes and a few hundred
 //           words back, where the whole table would cross the bus. Once a
-//           session, in practice: the band's floor then keeps those bins on
-//           the list (sva_on_band).
+//           session, in practice (again after light estimates that dropped
+//           the floor): the band's floor then keeps those bins on the list
+//           (sva_on_band).
 // Integer sums, so the results equal the CPU reference's
 // (host/src/backends/cpu/belief.cpp) whatever the order.
 #extension GL_EXT_shader_explicit_arithmetic_types_int64 : require

@@ -719,8 +719,9 @@ void GpuBelief::take_floor() const {
     floor_k_ = next_floor_k_;
     return;
   }
-  // A lower floor puts bins on the list that no fold joined: a rebuild from the table (once a session, where its
-  // belief first grew sharper than its band; later floors rise with its best bins).
+  // A lower floor puts bins on the list that no fold joined: a rebuild from the table (where the belief first grew
+  // sharper than its band, or a full estimate follows light ones that dropped it; later floors rise with its best
+  // bins).
   if (next_floor_ < floor_) band_stale_ = true;
   floor_ = next_floor_;
   floor_k_ = next_floor_k_;

@@ -105,17 +105,25 @@ def stop(p: subprocess.Popen) -> None:
             p.wait()
 
 
+def scheduler_address(info: Path, scheduler: subprocess.Popen, log: Path, timeout: float = 60) -> str:
+    """The address in the scheduler's file, once it is whole: the scheduler creates the file before it writes it, so
+    a read in between finds it empty (a CI run failed so, with JSONDecodeError)."""
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline and scheduler.poll() is None:
+        try:
+            return json.loads(info.read_text())["address"]
+        except (FileNotFoundError, json.JSONDecodeError, KeyError):
+            time.sleep(0.2)
+    pytest.fail(f"{info}: no scheduler address within {timeout} s\n{log.read_text()}")
+
+
 def test_python_m_sva_distributed_scheduler(tiny, tmp_path):
     """`dask scheduler` and `dask worker` as a lab would start them, on the loopback address only."""
     info = tmp_path / "scheduler.json"
     procs = [start("distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
                    "--scheduler-file", str(info), log=tmp_path / "scheduler.log")]
     try:
-        deadline = time.monotonic() + 60
-        while not info.is_file() and time.monotonic() < deadline and procs[0].poll() is None:
-            time.sleep(0.2)
-        assert info.is_file(), (tmp_path / "scheduler.log").read_text()
-        address = json.loads(info.read_text())["address"]
+        address = scheduler_address(info, procs[0], tmp_path / "scheduler.log")
         assert address.startswith("tcp://127.0.0.1:"), address
         procs.append(start("distributed.cli.dask_worker", "--scheduler-file", str(info), "--host", "127.0.0.1",
                            "--nworkers", "1", "--nthreads", "1", "--no-dashboard", log=tmp_path / "worker.log"))

@@ -128,7 +128,27 @@ def one_session(files, name="vulkan", title="One session"):
         rate = last["votes_per_update"] / (votes["ms"] / 1e3)
     out += ["", f"The vote kernel at {last['readings']} readings (match_votes alone): {fmt(rate)} votes/s, goal "
                 f">= {GOAL_VOTES_PER_S:.0e} at 100 ({met(rate, GOAL_VOTES_PER_S)})"]
-    return out
+    return out + table_passes(r)
+
+
+TABLE_PASSES = ("belief_reduce:table_histogram", "belief_reduce:table_select")
+
+
+def table_passes(run):
+    """The passes over every slot of the belief tables, per submission: the band's floor keeps a sharp belief's best
+    bins on its list, so that an update's reads ahead need none (docs/vulkan-backend.md, "The band's floor")."""
+    out = []
+    for p in run["curve"]:
+        kernels = p.get("kernel_ms_by_pipeline")
+        if not kernels:
+            continue
+        ms = sum(kernels[k].get("ms", 0.0) for k in TABLE_PASSES if k in kernels)
+        total = sum(v.get("ms", 0.0) for v in kernels.values())
+        out.append(f"- at {p['readings']} readings: {fmt(ms)} of {fmt(total)} ms of kernels per submission")
+    if not out:
+        return []
+    return ["", "The passes over the belief tables (table_histogram + table_select; the band's floor leaves none "
+                "once a belief is sharp):", ""] + out
 
 
 def batches(files):

@@ -147,8 +147,8 @@ def table_passes(run):
         out.append(f"- at {p['readings']} readings: {fmt(ms)} of {fmt(total)} ms of kernels per submission")
     if not out:
         return []
-    return ["", "The passes over the belief tables (table_histogram + table_select; the band's floor leaves none "
-                "once a belief is sharp):", ""] + out
+    return ["", "The passes over the belief tables (table_histogram + table_select; the band's floor leaves about none "
+                "once a belief is sharp, a first pass aside):", ""] + out
 
 
 def batches(files):

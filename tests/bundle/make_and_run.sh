@@ -21,9 +21,10 @@ LOG_DIR="$tmp/logs" env -u LD_LIBRARY_PATH "$tmp/bundle/run-tests.sh" io 'vulkan
   'sim:simulate: same seed*' 'eval:canvas*' 'eval:sva view writes*' | tee run.txt
 tail -n 1 run.txt | grep -q ', 0 skipped$' || { echo "bundle: tests were skipped (something the bundle should carry)" >&2; exit 1; }
 # The one-call device check of a GPU loan (run-device-check.sh), small: one area, a tiny paper3d, a short budget
-# (150 s: at 90 the suite, simulation and training left the CPU benchmark under 20 s on a busy 2-core machine).
+# (90 s: the goals' benchmarks, the CPU reference's third among them, get at least 20 s each while that is left; the
+# span models run whatever is left; the diagnostics after them mostly find no time left).
 WORK="$tmp/p3d" AREAS=io SIM_ARGS="--train 30 --test 12" ARCHIVE="$tmp/check.tgz" env -u LD_LIBRARY_PATH \
-  "$tmp/bundle/run-device-check.sh" "$tmp/check" 150 >check.txt 2>&1 || { cat check.txt; exit 1; }
+  "$tmp/bundle/run-device-check.sh" "$tmp/check" 90 >check.txt 2>&1 || { cat check.txt; exit 1; }
 tail -n 1 check.txt
 for f in device.txt agreement.txt suite.txt bench-vulkan.txt bench-vulkan-light.txt bench-vulkan-top3.txt bench-vulkan-top3-prior.txt \
   bench-vulkan-batch-light.txt bench-vulkan-batch-cut.txt bench-vulkan-batch-warm.txt bench-vulkan-batch-untimed.txt bench-vulkan-batch-serial.txt estimate-span.txt update-span.txt \

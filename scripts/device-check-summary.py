@@ -164,6 +164,37 @@ def table_bound(report, point):
     return scatter / votes if scatter and votes else None
 
 
+SPLIT_PARTS = ("kernels", "device_between_kernels", "wait_past_device", "recording", "host_outside_submissions",
+               "belief_growth")
+
+
+def where_time_goes(files, readings=30, top=8):
+    """At `readings`, one session's and the 64-session batch's update by part (update_split_ms) and its kernels by
+    pipeline, the longest first (kernel_ms_by_pipeline): which of the update's passes a GPU spends its time in."""
+    out = ["", f"## Where an update's time goes at {readings} readings (ms per submission)", ""]
+    found = False
+    for name, sessions in (("vulkan", 1), ("vulkan-batch", 64)):
+        r = run_of(bench(files, name), sessions)
+        p = next((x for x in (r or {}).get("curve", []) if x.get("readings") == readings), None)
+        kernels = (p or {}).get("kernel_ms_by_pipeline") or {}
+        split = (p or {}).get("update_split_ms") or {}
+        if not kernels and not split:
+            continue
+        found = True
+        parts = ", ".join(f"{k} {fmt(split[k])}" for k in SPLIT_PARTS if split.get(k) is not None)
+        out += [f"bench-{name} ({sessions} per submission): {parts or 'no split'}", "",
+                "| pipeline | ms | dispatches |", "|---|---|---|"]
+        ranked = sorted(kernels.items(), key=lambda kv: -kv[1].get("ms", 0.0))
+        for k, v in ranked[:top]:
+            out.append(f"| {k} | {fmt(v.get('ms'))} | {fmt(v.get('dispatches'))} |")
+        rest = ranked[top:]
+        if rest:
+            out.append(f"| {len(rest)} more | {fmt(sum(v.get('ms', 0.0) for _, v in rest))} | "
+                       f"{fmt(sum(v.get('dispatches', 0.0) for _, v in rest))} |")
+        out.append("")
+    return out + ([] if found else ["not measured (no timestamps, or not run)"])
+
+
 def batches(files):
     out = ["", "## Batches (bench-vulkan-batch*)", "",
            "| run | readings | updates/s (update alone) | with the estimate | goal | the table's bound | restated goal "
@@ -233,7 +264,7 @@ def main(argv):
         files = read_check(argv[1])
         lines = (header(files) + one_session(files) +
                  one_session(files, "vulkan-light", "One session, light estimates: the touch goal restated") +
-                 batches(files) + cpu_scaling(files))
+                 batches(files) + where_time_goes(files) + cpu_scaling(files))
     except CheckError as e:
         print(f"device-check-summary: {e}", file=sys.stderr)
         return 1
